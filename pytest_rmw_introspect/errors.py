@@ -1,0 +1,215 @@
+"""The errors a user of pytest-rmw-introspect can see.
+
+Every error is written for people: it names the file, the node, the interface or the
+command involved, and says what to do next. The pytest plugin turns them into test
+failures (``pytest.fail``) with the message as the failure text, never into internal errors.
+
+Hierarchy::
+
+    RmwIntrospectError
+    ├── SetupError          ROS 2 / compiler / CMake / middleware library missing
+    ├── ContractError       malformed contract file (YAML, schema, QoS, duplicates)
+    ├── CaptureFormatError  a capture file that is not a valid capture
+    └── TargetError         the target could not be captured
+        ├── TargetConfigError   inconsistent target options (no target, two targets...)
+        ├── ExecutableNotFound  package/executable/script not found
+        ├── TargetExited        the process exited non-zero before settling
+        ├── NoNodeCreated       the process created no ROS node
+        └── TargetTimeout       the process never settled within the timeout
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Sequence
+
+__all__ = [
+    "RmwIntrospectError",
+    "SetupError",
+    "ContractError",
+    "CaptureFormatError",
+    "TargetError",
+    "TargetConfigError",
+    "ExecutableNotFound",
+    "TargetExited",
+    "NoNodeCreated",
+    "TargetTimeout",
+]
+
+
+class RmwIntrospectError(Exception):
+    """Base class of every error this package raises on purpose."""
+
+
+class SetupError(RmwIntrospectError):
+    """Something the plugin needs is missing: ROS 2, a compiler, CMake, the middleware library."""
+
+
+class ContractError(RmwIntrospectError):
+    """A contract file that cannot be used.
+
+    ``path``: the file; ``location``: the place inside it as a dotted path
+    (``nodes./talker.publishers[0].qos.reliability``) or ``None`` for the whole file;
+    ``reason``: what is wrong; ``line``: 1-based line number when known.
+    """
+
+    def __init__(
+        self,
+        path: str | Path | None,
+        location: str | None,
+        reason: str,
+        line: int | None = None,
+    ) -> None:
+        self.path = Path(path) if path is not None else None
+        self.location = location
+        self.reason = reason
+        self.line = line
+        super().__init__(self._format())
+
+    def _format(self) -> str:
+        where = str(self.path) if self.path is not None else "<contract>"
+        if self.line is not None:
+            where += f":{self.line}"
+        if self.location:
+            where += f": at {self.location}"
+        return f"invalid contract {where}: {self.reason}"
+
+
+class CaptureFormatError(RmwIntrospectError):
+    """A capture file that is not a capture of a format version this package reads."""
+
+    def __init__(self, path: str | Path | None, reason: str) -> None:
+        self.path = Path(path) if path is not None else None
+        self.reason = reason
+        where = str(self.path) if self.path is not None else "<capture>"
+        super().__init__(f"unreadable capture {where}: {reason}")
+
+
+def _tail(text: str | None, lines: int = 20) -> str:
+    if not text:
+        return ""
+    return "\n".join(text.rstrip().splitlines()[-lines:])
+
+
+def _indent(text: str, prefix: str = "    ") -> str:
+    return "\n".join(prefix + line for line in text.splitlines())
+
+
+class TargetError(RmwIntrospectError):
+    """The target could not be captured. ``target`` describes it (a short string)."""
+
+    def __init__(self, message: str, *, target: str | None = None) -> None:
+        self.target = target
+        super().__init__(message)
+
+
+class TargetConfigError(TargetError):
+    """The target options are inconsistent or incomplete (e.g. no target at all)."""
+
+
+class ExecutableNotFound(TargetError):
+    """The package, executable, script or command could not be found.
+
+    ``searched``: the places looked at; ``found``: candidates seen (e.g. the executables a
+    package does have, or several prefixes that provide it).
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        target: str | None = None,
+        searched: Sequence[str | Path] = (),
+        found: Sequence[str | Path] = (),
+    ) -> None:
+        self.searched = [str(s) for s in searched]
+        self.found = [str(f) for f in found]
+        super().__init__(message, target=target)
+
+
+class _WithPartialCapture(TargetError):
+    partial: Any  # capture.Capture | None
+
+    def _partial_summary(self) -> str:
+        if self.partial is None:
+            return "Nothing was captured (no capture file was written)."
+        try:
+            return "Captured so far:\n" + _indent(self.partial.summary())
+        except Exception:  # pragma: no cover - summary must never hide the real error
+            return "Captured so far: (unprintable capture)"
+
+
+class TargetExited(_WithPartialCapture):
+    """The target process ended with a non-zero status (or a signal) before settling."""
+
+    def __init__(
+        self,
+        target: str,
+        status: int,
+        stderr_tail: str,
+        partial: Any = None,
+        argv: Sequence[str] = (),
+    ) -> None:
+        self.status = status
+        self.stderr_tail = _tail(stderr_tail)
+        self.partial = partial
+        self.argv = list(argv)
+        if status < 0:
+            how = f"was killed by signal {-status}"
+        else:
+            how = f"exited with status {status}"
+        parts = [f"The target {target} {how} before its interfaces settled."]
+        if self.argv:
+            parts.append("Command: " + " ".join(self.argv))
+        if self.stderr_tail:
+            parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
+        else:
+            parts.append("It wrote nothing to stderr.")
+        parts.append(self._partial_summary())
+        super().__init__("\n".join(parts), target=target)
+
+
+class NoNodeCreated(_WithPartialCapture):
+    """The target ran (and settled or exited) but never created a ROS node."""
+
+    def __init__(self, target: str, stderr_tail: str = "", partial: Any = None, argv: Sequence[str] = ()) -> None:
+        self.stderr_tail = _tail(stderr_tail)
+        self.partial = partial
+        self.argv = list(argv)
+        parts = [
+            f"The target {target} created no ROS node: is it the right executable, and does it "
+            "call rclpy.init() / create a Node before it exits?"
+        ]
+        if self.argv:
+            parts.append("Command: " + " ".join(self.argv))
+        if self.stderr_tail:
+            parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
+        super().__init__("\n".join(parts), target=target)
+
+
+class TargetTimeout(_WithPartialCapture):
+    """The target did not settle within ``timeout`` seconds (it never waited, or kept changing)."""
+
+    def __init__(
+        self,
+        target: str,
+        timeout: float,
+        partial: Any = None,
+        stderr_tail: str = "",
+        argv: Sequence[str] = (),
+    ) -> None:
+        self.timeout = timeout
+        self.partial = partial
+        self.stderr_tail = _tail(stderr_tail)
+        self.argv = list(argv)
+        parts = [
+            f"The target {target} did not settle within {timeout:g} s and was stopped. "
+            "A node settles once it waits for work (spins) and creates nothing new for the "
+            "settle time; a node that never spins never settles. Raise `timeout` if it is just slow."
+        ]
+        if self.argv:
+            parts.append("Command: " + " ".join(self.argv))
+        if self.stderr_tail:
+            parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
+        parts.append(self._partial_summary())
+        super().__init__("\n".join(parts), target=target)

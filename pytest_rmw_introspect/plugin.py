@@ -1,0 +1,1 @@
+"""pytest entry point of pytest-rmw-introspect (work in progress)."""

@@ -1,0 +1,184 @@
+"""Provide ``librmw_introspect_cpp.so``: an installed one, or the bundled sources built once.
+
+Order of preference:
+
+1. ``RMW_INTROSPECT_LIBRARY``: an explicit path to the library (for people who build it
+   themselves, e.g. with sanitizers);
+2. an installed ``rmw_introspect_cpp`` package in the ament prefixes (colcon workspace, apt);
+3. the sources shipped with this Python package, built with CMake into a cache directory
+   keyed by the sources' hash, the ROS distribution and the ROS prefix. A file lock makes
+   concurrent pytest-xdist workers build it once; the others wait and reuse it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+from filelock import FileLock
+
+from . import ros_env
+from .errors import SetupError
+
+LIBRARY_FILE = "librmw_introspect_cpp.so"
+_PACKAGE_DIR = Path(__file__).resolve().parent
+_BUILD_LOG_TAIL = 40
+
+
+@dataclass(frozen=True)
+class MiddlewareLibrary:
+    path: Path
+    origin: str  # "environment", "installed" or "built"
+
+
+def source_dir() -> Path:
+    """The middleware's ament package: inside the installed Python package, or the repository's."""
+    for candidate in (_PACKAGE_DIR / "rmw_introspect_cpp", _PACKAGE_DIR.parent / "rmw_introspect_cpp"):
+        if (candidate / "package.xml").is_file() and (candidate / "CMakeLists.txt").is_file():
+            return candidate
+    raise SetupError(
+        "The rmw_introspect_cpp sources are missing from this installation of pytest-rmw-introspect "
+        f"(looked in {_PACKAGE_DIR / 'rmw_introspect_cpp'}). Reinstall the package, or point "
+        "RMW_INTROSPECT_LIBRARY at a built librmw_introspect_cpp.so."
+    )
+
+
+def cache_root() -> Path:
+    explicit = os.environ.get("RMW_INTROSPECT_CACHE")
+    if explicit:
+        return Path(explicit)
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "pytest-rmw-introspect"
+
+
+def sources_hash(src: Path) -> str:
+    """Hash of every file of the package that affects the build (tests and docs excluded)."""
+    digest = hashlib.sha256()
+    for path in sorted(src.rglob("*")):
+        rel = path.relative_to(src)
+        if not path.is_file() or rel.parts[0] in {"test", "build"} or "__pycache__" in rel.parts:
+            continue
+        digest.update(str(rel).encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
+def find_installed(ros: ros_env.RosEnvironment) -> Path | None:
+    for prefix in ros.ament_prefixes:
+        marker = prefix / "share" / "ament_index" / "resource_index" / "packages" / ros_env.MIDDLEWARE_NAME
+        library = prefix / "lib" / LIBRARY_FILE
+        if marker.exists() and library.is_file():
+            return library
+    return None
+
+
+def _require_tools() -> None:
+    missing = []
+    if shutil.which("cmake") is None:
+        missing.append("CMake (apt-get install cmake, or pip install cmake)")
+    if not any(shutil.which(cxx) for cxx in (os.environ.get("CXX", "c++"), "g++", "clang++")):
+        missing.append("a C++17 compiler (apt-get install g++)")
+    if shutil.which("make") is None and shutil.which("ninja") is None:
+        missing.append("a build tool (apt-get install make)")
+    if missing:
+        raise SetupError(
+            "Cannot build the recording middleware rmw_introspect_cpp: missing "
+            + "; ".join(missing)
+            + ". Install them, or point RMW_INTROSPECT_LIBRARY at a built librmw_introspect_cpp.so."
+        )
+
+
+def _run_logged(cmd: list[str], log: Path, env: dict[str, str], what: str) -> None:
+    with log.open("a") as out:
+        out.write("$ " + " ".join(cmd) + "\n")
+        out.flush()
+        result = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT, env=env)
+    if result.returncode != 0:
+        tail = "\n".join(log.read_text(errors="replace").splitlines()[-_BUILD_LOG_TAIL:])
+        raise SetupError(
+            f"Building the recording middleware failed at the {what} step "
+            f"(exit status {result.returncode}). Full log: {log}\nLast lines:\n{tail}"
+        )
+
+
+def build(src: Path, ros: ros_env.RosEnvironment, dest: Path) -> Path:
+    """Configure, build and install ``src`` into ``dest/install``; return the library path."""
+    _require_tools()
+    build_dir, install_dir, log = dest / "build", dest / "install", dest / "build.log"
+    shutil.rmtree(build_dir, ignore_errors=True)
+    dest.mkdir(parents=True, exist_ok=True)
+    log.write_text("")
+    env = dict(os.environ)
+    env["AMENT_PREFIX_PATH"] = os.pathsep.join(str(p) for p in ros.ament_prefixes)
+    env["LD_LIBRARY_PATH"] = ros.library_path(env.get("LD_LIBRARY_PATH"))
+    prefix_path = os.pathsep.join(str(p) for p in ros.ament_prefixes)
+    _run_logged(
+        [
+            "cmake", "-S", str(src), "-B", str(build_dir),
+            f"-DCMAKE_PREFIX_PATH={prefix_path}",
+            f"-DCMAKE_INSTALL_PREFIX={install_dir}",
+            "-DCMAKE_BUILD_TYPE=Release",
+            "-DBUILD_TESTING=OFF",
+        ],
+        log, env, "CMake configure",
+    )
+    _run_logged(["cmake", "--build", str(build_dir), "-j", str(os.cpu_count() or 2)], log, env, "compile")
+    _run_logged(["cmake", "--install", str(build_dir)], log, env, "install")
+    library = install_dir / "lib" / LIBRARY_FILE
+    if not library.is_file():
+        raise SetupError(f"The middleware build finished but {library} is missing. Full log: {log}")
+    shutil.rmtree(build_dir, ignore_errors=True)
+    return library
+
+
+def ensure_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path | None = None) -> Path:
+    """Path of the middleware library to run targets on, building it if need be."""
+    return resolve_library(ros, cache_dir).path
+
+
+def resolve_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path | None = None) -> MiddlewareLibrary:
+    """The middleware library to run targets on and where it came from, building it if need be."""
+    explicit = os.environ.get("RMW_INTROSPECT_LIBRARY")
+    if explicit:
+        path = Path(explicit)
+        if not path.is_file():
+            raise SetupError(f"RMW_INTROSPECT_LIBRARY points at {path}, which does not exist.")
+        return MiddlewareLibrary(path.resolve(), "environment")
+    ros = ros or ros_env.detect()
+    installed = find_installed(ros)
+    if installed is not None:
+        return MiddlewareLibrary(installed, "installed")
+
+    src = source_dir()
+    key = hashlib.sha256(
+        f"{sources_hash(src)}|{ros.distro}|{ros.prefix}".encode()
+    ).hexdigest()[:16]
+    root = Path(cache_dir) if cache_dir else cache_root()
+    dest = root / f"{ros.distro}-{key}"
+    library = dest / "install" / "lib" / LIBRARY_FILE
+    stamp = dest / "complete"
+    root.mkdir(parents=True, exist_ok=True)
+    with FileLock(str(root / f"{ros.distro}-{key}.lock")):
+        if not (stamp.exists() and library.is_file()):
+            build(src, ros, dest)
+            stamp.write_text(str(library) + "\n")
+    return MiddlewareLibrary(library, "built")
+
+
+def main() -> int:
+    """``python -m pytest_rmw_introspect.middleware``: build if need be, print the library path."""
+    try:
+        found = resolve_library()
+    except SetupError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    print(found.path)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

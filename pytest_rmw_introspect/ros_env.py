@@ -1,0 +1,150 @@
+"""Which kind of ROS 2 install this is, and how the recording middleware is activated in it.
+
+Two kinds are supported:
+
+* ``wheels``: ROS 2 Jazzy installed from PyPI wheels into a virtual environment. The venv is
+  the ROS prefix. ``librcl`` and rclpy name ``librmw_fastrtps_cpp.so`` directly (runtime
+  selection through ``RMW_IMPLEMENTATION`` is compiled out), so the middleware can only take
+  over through ``LD_PRELOAD``. Processes that are not the venv's Python (C nodes) need the
+  venv's ``LD_LIBRARY_PATH`` set for them.
+* ``system``: a standard install (``/opt/ros/jazzy`` or a sourced workspace) where
+  ``librmw_implementation.so`` loads the middleware named by ``RMW_IMPLEMENTATION`` through the
+  ament index.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import sys
+from dataclasses import dataclass, field
+from importlib import metadata
+from pathlib import Path
+
+from .errors import SetupError
+
+WHEELS = "wheels"
+SYSTEM = "system"
+
+MIDDLEWARE_NAME = "rmw_introspect_cpp"
+
+INSTALL_HINT = (
+    "Install ROS 2 Jazzy into this virtual environment with\n"
+    "    pip install 'pytest-rmw-introspect[ros-wheels]'\n"
+    "or, on a machine with a standard ROS 2 install, source it first:\n"
+    "    source /opt/ros/jazzy/setup.bash"
+)
+
+
+@dataclass(frozen=True)
+class RosEnvironment:
+    """The ROS 2 install the plugin runs against."""
+
+    kind: str  # WHEELS or SYSTEM
+    prefix: Path  # the venv (wheels) or the underlay prefix that holds rmw_implementation
+    distro: str
+    ament_prefixes: tuple[Path, ...] = field(default_factory=tuple)
+    library_dirs: tuple[Path, ...] = field(default_factory=tuple)
+
+    def library_path(self, existing: str | None = None) -> str:
+        """``LD_LIBRARY_PATH`` for a process of this install, ahead of ``existing``."""
+        parts = [str(d) for d in self.library_dirs]
+        if existing:
+            parts += [p for p in existing.split(os.pathsep) if p and p not in parts]
+        return os.pathsep.join(parts)
+
+
+def _split_paths(value: str | None) -> list[Path]:
+    return [Path(p) for p in (value or "").split(os.pathsep) if p]
+
+
+def ament_prefixes(extra: tuple[Path, ...] = ()) -> list[Path]:
+    """The ament prefixes to search, in order: ``AMENT_PREFIX_PATH`` first, then ``extra``."""
+    seen: list[Path] = []
+    for prefix in [*_split_paths(os.environ.get("AMENT_PREFIX_PATH")), *extra]:
+        if prefix not in seen:
+            seen.append(prefix)
+    return seen
+
+
+def _wheels_distro() -> str | None:
+    """The distro of the ``ros-<distro>-rclpy`` meta-package installed here, if any."""
+    for dist in metadata.distributions():
+        name = (dist.metadata["Name"] or "").lower().replace("_", "-")
+        if name.startswith("ros-") and name.endswith("-rclpy") and name.count("-") == 2:
+            return name.split("-")[1]
+    return None
+
+
+def _detect_wheels(prefix: Path) -> RosEnvironment | None:
+    if not (prefix / "lib" / "librmw_fastrtps_cpp.so").exists():
+        return None
+    if (prefix / "lib" / "librmw_implementation.so").exists():
+        return None  # a prefix with runtime selection is handled like a standard install
+    site = prefix / "lib" / f"python{sys.version_info.major}.{sys.version_info.minor}" / "site-packages"
+    if not (site / "ros_wheels_bootstrapper").exists():
+        return None
+    lib_dirs = [prefix / "lib", *sorted(p.resolve() for p in site.glob("ros_*.libs") if p.is_dir())]
+    return RosEnvironment(
+        kind=WHEELS,
+        prefix=prefix,
+        distro=_wheels_distro() or os.environ.get("ROS_DISTRO", "jazzy"),
+        ament_prefixes=tuple(ament_prefixes((prefix,))),
+        library_dirs=tuple(lib_dirs),
+    )
+
+
+def _detect_system() -> RosEnvironment | None:
+    prefixes = ament_prefixes()
+    for prefix in prefixes:
+        if (prefix / "lib" / "librmw_implementation.so").exists():
+            distro = os.environ.get("ROS_DISTRO") or (prefix.name if prefix.parent == Path("/opt/ros") else "")
+            return RosEnvironment(
+                kind=SYSTEM,
+                prefix=prefix,
+                distro=distro or "unknown",
+                ament_prefixes=tuple(prefixes),
+                library_dirs=tuple(p / "lib" for p in prefixes),
+            )
+    return None
+
+
+@functools.lru_cache(maxsize=None)
+def detect() -> RosEnvironment:
+    """Find the ROS 2 install for this interpreter, or raise :class:`SetupError` saying how to get one."""
+    found = _detect_wheels(Path(sys.prefix)) or _detect_system()
+    if found is None:
+        raise SetupError(
+            "ROS 2 was not found: this Python environment has no ROS 2 Jazzy wheels "
+            f"(no librmw_fastrtps_cpp.so under {sys.prefix}/lib) and no sourced ROS 2 install "
+            "(no librmw_implementation.so under AMENT_PREFIX_PATH).\n" + INSTALL_HINT
+        )
+    return found
+
+
+def activation_env(library: Path, ros: RosEnvironment, base: dict[str, str] | None = None) -> dict[str, str]:
+    """Environment variables that make a process of ``ros`` run on the middleware ``library``.
+
+    ``base`` is the environment the process would otherwise get (default: ``os.environ``);
+    only the returned variables need to be set on top of it.
+    """
+    base = os.environ if base is None else base
+    library = Path(library).resolve()
+    env: dict[str, str] = {}
+    library_dirs = ros.library_path(base.get("LD_LIBRARY_PATH"))
+    prefixes = [str(p) for p in ros.ament_prefixes]
+    if ros.kind == WHEELS:
+        preload = [str(library)] + [p for p in base.get("LD_PRELOAD", "").split() if p != str(library)]
+        env["LD_PRELOAD"] = " ".join(preload)
+        env["LD_LIBRARY_PATH"] = library_dirs
+        # The wheels' bootstrapper would re-exec the interpreter just to set LD_LIBRARY_PATH;
+        # it is set already, so tell it to skip that (saves a whole interpreter start).
+        env["_ROS_WHEELS_BOOTSTRAP_COMPLETE"] = "1"
+    else:
+        install_prefix = library.parent.parent
+        env["RMW_IMPLEMENTATION"] = MIDDLEWARE_NAME
+        env["LD_LIBRARY_PATH"] = os.pathsep.join([str(library.parent), library_dirs])
+        if str(install_prefix) not in prefixes:
+            prefixes.insert(0, str(install_prefix))
+    env["AMENT_PREFIX_PATH"] = os.pathsep.join(prefixes)
+    return env

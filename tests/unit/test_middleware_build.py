@@ -1,0 +1,94 @@
+"""Where the middleware library comes from: explicit path, installed package, or cached build."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from pytest_rmw_introspect import middleware, ros_env
+from pytest_rmw_introspect.errors import SetupError
+
+
+def fake_ros(prefix: Path) -> ros_env.RosEnvironment:
+    return ros_env.RosEnvironment(ros_env.WHEELS, prefix, "jazzy", (prefix,), (prefix / "lib",))
+
+
+def test_explicit_library_wins(tmp_path, monkeypatch):
+    lib = tmp_path / "librmw_introspect_cpp.so"
+    lib.write_bytes(b"")
+    monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(lib))
+    found = middleware.resolve_library(ros=fake_ros(tmp_path))
+    assert (found.path, found.origin) == (lib.resolve(), "environment")
+
+
+def test_explicit_library_that_does_not_exist_is_an_error(tmp_path, monkeypatch):
+    monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(tmp_path / "nope.so"))
+    with pytest.raises(SetupError, match="RMW_INTROSPECT_LIBRARY points at .*nope.so"):
+        middleware.resolve_library(ros=fake_ros(tmp_path))
+
+
+def test_installed_package_is_found_through_the_ament_index(tmp_path, monkeypatch):
+    monkeypatch.delenv("RMW_INTROSPECT_LIBRARY", raising=False)
+    prefix = tmp_path / "install"
+    index = prefix / "share" / "ament_index" / "resource_index" / "packages"
+    index.mkdir(parents=True)
+    (index / "rmw_introspect_cpp").write_text("")
+    (prefix / "lib").mkdir()
+    (prefix / "lib" / "librmw_introspect_cpp.so").write_bytes(b"")
+    found = middleware.resolve_library(ros=fake_ros(prefix))
+    assert (found.path, found.origin) == (prefix / "lib" / "librmw_introspect_cpp.so", "installed")
+
+
+def test_sources_hash_follows_build_inputs_and_ignores_tests(tmp_path):
+    src = tmp_path / "src"
+    shutil.copytree(middleware.source_dir(), src, ignore=shutil.ignore_patterns("build"))
+    before = middleware.sources_hash(src)
+    (src / "test").mkdir(exist_ok=True)
+    (src / "test" / "extra_test.cpp").write_text("// a test changes nothing")
+    assert middleware.sources_hash(src) == before
+    (src / "CMakeLists.txt").write_text((src / "CMakeLists.txt").read_text() + "\n# changed\n")
+    assert middleware.sources_hash(src) != before
+
+
+def test_missing_build_tools_are_named_with_how_to_install_them(monkeypatch):
+    monkeypatch.setattr(shutil, "which", lambda name: None)
+    with pytest.raises(SetupError) as info:
+        middleware._require_tools()
+    message = str(info.value)
+    assert "CMake (apt-get install cmake" in message
+    assert "C++17 compiler" in message
+
+
+def test_cached_build_is_reused_without_rebuilding(tmp_path, monkeypatch):
+    monkeypatch.delenv("RMW_INTROSPECT_LIBRARY", raising=False)
+    calls = []
+
+    def fake_build(src, ros, dest):
+        calls.append(dest)
+        lib = dest / "install" / "lib" / middleware.LIBRARY_FILE
+        lib.parent.mkdir(parents=True)
+        lib.write_bytes(b"")
+        return lib
+
+    monkeypatch.setattr(middleware, "build", fake_build)
+    ros = fake_ros(tmp_path / "empty-prefix")
+    first = middleware.resolve_library(ros=ros, cache_dir=tmp_path / "cache")
+    second = middleware.resolve_library(ros=ros, cache_dir=tmp_path / "cache")
+    assert first == second and first.origin == "built"
+    assert len(calls) == 1
+    assert first.path.parent.parent.parent.name.startswith("jazzy-")
+
+
+def test_failed_build_reports_the_step_and_the_log_tail(tmp_path, monkeypatch):
+    src = tmp_path / "broken"
+    src.mkdir()
+    (src / "package.xml").write_text("<package/>")
+    (src / "CMakeLists.txt").write_text("cmake_minimum_required(VERSION 3.16)\nproject(broken)\nmessage(FATAL_ERROR \"deliberately broken\")\n")
+    with pytest.raises(SetupError) as info:
+        middleware.build(src, fake_ros(tmp_path), tmp_path / "out")
+    message = str(info.value)
+    assert "CMake configure step" in message
+    assert "deliberately broken" in message
+    assert str(tmp_path / "out" / "build.log") in message

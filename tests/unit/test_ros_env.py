@@ -1,0 +1,104 @@
+"""How the kind of ROS 2 install is detected and how the middleware is activated in each."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+from pytest_rmw_introspect import ros_env
+from pytest_rmw_introspect.errors import SetupError
+
+PYVER = f"python{sys.version_info.major}.{sys.version_info.minor}"
+
+
+def make_wheels_prefix(root: Path) -> Path:
+    (root / "lib").mkdir(parents=True)
+    (root / "lib" / "librmw_fastrtps_cpp.so").write_bytes(b"")
+    site = root / "lib" / PYVER / "site-packages"
+    (site / "ros_wheels_bootstrapper").mkdir(parents=True)
+    (site / "ros_rcl.libs").mkdir()
+    (site / "ros_fastrtps.libs").mkdir()
+    return root
+
+
+def make_system_prefix(root: Path) -> Path:
+    (root / "lib").mkdir(parents=True)
+    (root / "lib" / "librmw_implementation.so").write_bytes(b"")
+    return root
+
+
+@pytest.fixture(autouse=True)
+def fresh_detection():
+    ros_env.detect.cache_clear()
+    yield
+    ros_env.detect.cache_clear()
+
+
+def test_wheels_venv_is_detected_with_its_library_dirs(tmp_path, monkeypatch):
+    prefix = make_wheels_prefix(tmp_path / "venv")
+    monkeypatch.setattr(sys, "prefix", str(prefix))
+    monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
+    found = ros_env.detect()
+    assert found.kind == ros_env.WHEELS
+    assert found.prefix == prefix
+    assert found.ament_prefixes == (prefix,)
+    site = prefix / "lib" / PYVER / "site-packages"
+    assert found.library_dirs == (prefix / "lib", (site / "ros_fastrtps.libs").resolve(), (site / "ros_rcl.libs").resolve())
+
+
+def test_real_venv_of_this_suite_is_a_jazzy_wheels_install():
+    found = ros_env.detect()
+    if found.kind != ros_env.WHEELS:
+        pytest.skip("the suite runs on a standard ROS install, not the PyPI wheels")
+    assert found.distro == "jazzy"
+    assert (found.prefix / "lib" / "librcl.so").exists()
+
+
+def test_prefix_with_runtime_selection_is_a_system_install(tmp_path, monkeypatch):
+    wheels_like = make_wheels_prefix(tmp_path / "venv")
+    (wheels_like / "lib" / "librmw_implementation.so").write_bytes(b"")
+    monkeypatch.setattr(sys, "prefix", str(wheels_like))
+    monkeypatch.setenv("AMENT_PREFIX_PATH", str(wheels_like))
+    monkeypatch.setenv("ROS_DISTRO", "jazzy")
+    found = ros_env.detect()
+    assert found.kind == ros_env.SYSTEM
+    assert found.distro == "jazzy"
+
+
+def test_no_ros_at_all_says_how_to_install_it(tmp_path, monkeypatch):
+    monkeypatch.setattr(sys, "prefix", str(tmp_path))
+    monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
+    with pytest.raises(SetupError) as info:
+        ros_env.detect()
+    message = str(info.value)
+    assert "ROS 2 was not found" in message
+    assert "pip install 'pytest-rmw-introspect[ros-wheels]'" in message
+    assert "source /opt/ros/jazzy/setup.bash" in message
+
+
+def test_wheels_activation_preloads_the_library_and_skips_the_bootstrap_reexec(tmp_path):
+    prefix = make_wheels_prefix(tmp_path / "venv")
+    ros = ros_env.RosEnvironment(ros_env.WHEELS, prefix, "jazzy", (prefix,), (prefix / "lib",))
+    lib = tmp_path / "librmw_introspect_cpp.so"
+    lib.write_bytes(b"")
+    env = ros_env.activation_env(lib, ros, base={"LD_PRELOAD": "/other.so", "LD_LIBRARY_PATH": "/x"})
+    assert env["LD_PRELOAD"] == f"{lib.resolve()} /other.so"
+    assert env["LD_LIBRARY_PATH"].split(":") == [str(prefix / "lib"), "/x"]
+    assert env["_ROS_WHEELS_BOOTSTRAP_COMPLETE"] == "1"
+    assert "RMW_IMPLEMENTATION" not in env
+
+
+def test_system_activation_selects_by_name_and_adds_the_install_prefix(tmp_path):
+    underlay = make_system_prefix(tmp_path / "opt")
+    install = tmp_path / "install"
+    (install / "lib").mkdir(parents=True)
+    lib = install / "lib" / "librmw_introspect_cpp.so"
+    lib.write_bytes(b"")
+    ros = ros_env.RosEnvironment(ros_env.SYSTEM, underlay, "jazzy", (underlay,), (underlay / "lib",))
+    env = ros_env.activation_env(lib, ros, base={})
+    assert env["RMW_IMPLEMENTATION"] == "rmw_introspect_cpp"
+    assert env["AMENT_PREFIX_PATH"].split(":") == [str(install.resolve()), str(underlay)]
+    assert env["LD_LIBRARY_PATH"].split(":")[0] == str(install.resolve() / "lib")
+    assert "LD_PRELOAD" not in env

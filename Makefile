@@ -1,0 +1,26 @@
+# The two commands of the README. Both set up .venv/ first (idempotent; see scripts/bootstrap.sh).
+VENV ?= .venv
+export VENV
+
+.PHONY: example test lint bootstrap bench clean
+
+bootstrap:
+	scripts/bootstrap.sh
+
+## example: the main job: check the example package's interface contracts
+example: bootstrap
+	scripts/check-examples.sh
+
+## test: the whole test suite (middleware gtests, end-to-end, plugin, unit)
+test: bootstrap
+	$(VENV)/bin/pytest $(PYTEST_ARGS)
+
+lint: bootstrap
+	$(VENV)/bin/python -m pip install --quiet ruff
+	$(VENV)/bin/ruff check pytest_rmw_introspect tests bench
+
+bench: bootstrap
+	$(VENV)/bin/python bench/bench_time_to_capture.py
+
+clean:
+	rm -rf $(VENV) build .pytest_cache

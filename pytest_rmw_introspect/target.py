@@ -1,0 +1,487 @@
+"""What to run: target options → argv and environment.
+
+The same keys are accepted everywhere (the capture API, a contract's ``target`` block, the
+``interfaces`` marker's keyword arguments):
+
+=================  ==========================================================================
+``package``        ament package of the executable (with ``executable``), found like ``ros2 run``
+``executable``     executable name inside ``<prefix>/lib/<package>/``
+``command``        an explicit command: a list of strings (or one string, split like a shell)
+``script``         a Python file, run with the current interpreter (``sys.executable``)
+``module``         a Python module, run as ``python -m <module>``
+``arguments``      extra command-line arguments, placed before ``--ros-args``
+``namespace``      ``--ros-args -r __ns:=<namespace>``
+``node_name``      ``--ros-args -r __node:=<node_name>``
+``remappings``     mapping ``from → to`` (or a list of ``"from:=to"``): ``-r from:=to``
+``parameters``     mapping ``name → value``: ``-p name:=<YAML value>`` (nested mappings are
+                   flattened with dots)
+``params_file``    ``--params-file <path>``
+``env``            extra environment variables for the process
+``cwd``            working directory of the process (default: the directory of the contract
+                   or test file that named the target)
+``settle``         seconds without changes (while the node waits) after which the capture is
+                   final (``RMW_INTROSPECT_SETTLE_MS``)
+``timeout``        seconds to wait for the process to settle before stopping it
+=================  ==========================================================================
+
+Exactly one of ``package``+``executable``, ``command``, ``script``, ``module`` names the
+target. Relative paths (``script``, ``params_file``, ``cwd`` and a ``command`` whose first
+element contains a ``/``) are relative to the file that named them.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shlex
+import sys
+from dataclasses import dataclass, field, fields, replace
+from pathlib import Path
+from typing import Any, Iterable, Mapping, Sequence
+
+import yaml
+
+from .errors import ExecutableNotFound, TargetConfigError
+
+DEFAULT_TIMEOUT = 20.0
+DEFAULT_SETTLE = 0.1
+
+#: keys that say *what* to run; a layer that sets one of them replaces the whole choice
+KIND_KEYS = ("package", "executable", "command", "script", "module")
+#: every target key, in documentation order
+TARGET_KEYS = (
+    "package",
+    "executable",
+    "command",
+    "script",
+    "module",
+    "arguments",
+    "namespace",
+    "node_name",
+    "remappings",
+    "parameters",
+    "params_file",
+    "env",
+    "cwd",
+    "settle",
+    "timeout",
+)
+
+
+@dataclass(frozen=True)
+class TargetSpec:
+    """A fully described target. Build it with :meth:`from_mapping` or :func:`merge`."""
+
+    package: str | None = None
+    executable: str | None = None
+    command: tuple[str, ...] | None = None
+    script: Path | None = None
+    module: str | None = None
+    arguments: tuple[str, ...] = ()
+    namespace: str | None = None
+    node_name: str | None = None
+    remappings: tuple[tuple[str, str], ...] = ()
+    parameters: Mapping[str, Any] = field(default_factory=dict)
+    params_file: Path | None = None
+    env: Mapping[str, str] = field(default_factory=dict)
+    cwd: Path | None = None
+    settle: float | None = None
+    timeout: float | None = None
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def from_mapping(
+        cls,
+        options: Mapping[str, Any] | None,
+        *,
+        base_dir: str | Path | None = None,
+        source: str = "target options",
+    ) -> "TargetSpec":
+        """Validate ``options`` (the documented keys) and build a spec.
+
+        ``source`` names where the options come from in error messages (a contract file,
+        a marker, ...). Relative paths are resolved against ``base_dir``.
+        """
+        return cls()._with(options or {}, base_dir=base_dir, source=source)
+
+    def _with(self, options: Mapping[str, Any], *, base_dir: str | Path | None, source: str) -> "TargetSpec":
+        unknown = sorted(set(options) - set(TARGET_KEYS))
+        if unknown:
+            raise TargetConfigError(
+                f"{source}: unknown target option(s) {', '.join(map(repr, unknown))}; "
+                f"known: {', '.join(TARGET_KEYS)}"
+            )
+        base = Path(base_dir) if base_dir is not None else None
+        values: dict[str, Any] = {}
+        given = {k: v for k, v in options.items() if v is not None}
+        if any(k in given for k in KIND_KEYS):
+            # a new choice of what to run replaces the inherited one entirely
+            values.update(package=None, executable=None, command=None, script=None, module=None)
+        for key, value in given.items():
+            values[key] = _convert(key, value, base, source)
+        spec = replace(self, **values)
+        return spec
+
+    def merged(self, options: Mapping[str, Any] | None, *, base_dir: str | Path | None = None, source: str = "target options") -> "TargetSpec":
+        """This spec with ``options`` layered on top (``options`` win)."""
+        return self._with(options or {}, base_dir=base_dir, source=source)
+
+    # ------------------------------------------------------------------ queries
+    @property
+    def kind(self) -> str | None:
+        if self.command is not None:
+            return "command"
+        if self.script is not None:
+            return "script"
+        if self.module is not None:
+            return "module"
+        if self.package is not None or self.executable is not None:
+            return "executable"
+        return None
+
+    def describe(self) -> str:
+        """A short name for messages: ``demo_nodes_py/talker``, ``script talker.py``, ..."""
+        kind = self.kind
+        if kind == "executable":
+            return f"{self.package}/{self.executable}"
+        if kind == "command":
+            return "`" + shlex.join(self.command or ()) + "`"
+        if kind == "script":
+            return f"script {self.script}"
+        if kind == "module":
+            return f"module {self.module}"
+        return "(no target)"
+
+    def effective_timeout(self) -> float:
+        return DEFAULT_TIMEOUT if self.timeout is None else self.timeout
+
+    def effective_settle(self) -> float:
+        return DEFAULT_SETTLE if self.settle is None else self.settle
+
+    def validate(self) -> None:
+        """Raise :class:`TargetConfigError` unless exactly one way of running is chosen."""
+        chosen = [
+            name
+            for name, present in (
+                ("package/executable", self.package is not None or self.executable is not None),
+                ("command", self.command is not None),
+                ("script", self.script is not None),
+                ("module", self.module is not None),
+            )
+            if present
+        ]
+        if not chosen:
+            raise TargetConfigError(
+                "No target to run: give `package` and `executable`, `command`, `script` or "
+                "`module` (in the marker's keyword arguments, the contract's `target:` block, "
+                "or the capture() call)."
+            )
+        if len(chosen) > 1:
+            raise TargetConfigError(f"Ambiguous target: both {' and '.join(chosen)} are set; choose one.")
+        if chosen[0] == "package/executable" and (not self.package or not self.executable):
+            missing = "executable" if self.package else "package"
+            raise TargetConfigError(
+                f"Target package/executable is incomplete: `{missing}` is missing "
+                f"(got package={self.package!r}, executable={self.executable!r})."
+            )
+        if self.command is not None and not self.command:
+            raise TargetConfigError("Target `command` is empty.")
+        if self.timeout is not None and self.timeout <= 0:
+            raise TargetConfigError(f"Target `timeout` must be positive, got {self.timeout}.")
+        if self.settle is not None and self.settle < 0:
+            raise TargetConfigError(f"Target `settle` must not be negative, got {self.settle}.")
+
+    def to_mapping(self) -> dict[str, Any]:
+        """The non-default options as plain data (for messages and reports)."""
+        out: dict[str, Any] = {}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if value is None or value == () or value == {}:
+                continue
+            if isinstance(value, Path):
+                value = str(value)
+            elif f.name == "remappings":
+                value = {a: b for a, b in value}
+            elif isinstance(value, tuple):
+                value = list(value)
+            elif isinstance(value, Mapping):
+                value = dict(value)
+            out[f.name] = value
+        return out
+
+
+# ---------------------------------------------------------------------- conversions
+
+
+def _fail(source: str, key: str, expected: str, value: Any) -> TargetConfigError:
+    return TargetConfigError(f"{source}: `{key}` must be {expected}, got {value!r}")
+
+
+def _path(value: Any, base: Path | None, source: str, key: str) -> Path:
+    if not isinstance(value, (str, os.PathLike)) or not str(value):
+        raise _fail(source, key, "a path", value)
+    p = Path(os.path.expanduser(str(value)))
+    if not p.is_absolute() and base is not None:
+        p = base / p
+    return p
+
+
+def _str_list(value: Any, source: str, key: str) -> tuple[str, ...]:
+    if isinstance(value, str):
+        return tuple(shlex.split(value))
+    if isinstance(value, (list, tuple)) and all(isinstance(v, (str, int, float, os.PathLike)) for v in value):
+        return tuple(str(v) for v in value)
+    raise _fail(source, key, "a list of strings", value)
+
+
+def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
+    if key in ("package", "executable", "module", "node_name"):
+        if not isinstance(value, str) or not value:
+            raise _fail(source, key, "a non-empty string", value)
+        return value
+    if key == "namespace":
+        if not isinstance(value, str):
+            raise _fail(source, key, "a string", value)
+        return value if value.startswith("/") else "/" + value
+    if key == "command":
+        cmd = _str_list(value, source, key)
+        if cmd and "/" in cmd[0] and base is not None and not os.path.isabs(cmd[0]):
+            cmd = (str(base / cmd[0]),) + cmd[1:]
+        return cmd
+    if key == "arguments":
+        return _str_list(value, source, key)
+    if key in ("script", "params_file", "cwd"):
+        return _path(value, base, source, key)
+    if key == "remappings":
+        return _remappings(value, source)
+    if key == "parameters":
+        if not isinstance(value, Mapping) or not all(isinstance(k, str) for k in value):
+            raise _fail(source, key, "a mapping of parameter names to values", value)
+        return dict(value)
+    if key == "env":
+        if not isinstance(value, Mapping):
+            raise _fail(source, key, "a mapping of variable names to strings", value)
+        return {str(k): _env_value(v) for k, v in value.items()}
+    if key in ("settle", "timeout"):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or math.isnan(value):
+            raise _fail(source, key, "a number of seconds", value)
+        return float(value)
+    raise AssertionError(key)  # pragma: no cover
+
+
+def _env_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "1" if v else "0"
+    return str(v)
+
+
+def _remappings(value: Any, source: str) -> tuple[tuple[str, str], ...]:
+    pairs: list[tuple[str, str]] = []
+    if isinstance(value, Mapping):
+        items: Iterable[Any] = value.items()
+    elif isinstance(value, (list, tuple)):
+        items = value
+    else:
+        raise _fail(source, "remappings", "a mapping from → to or a list of 'from:=to'", value)
+    for item in items:
+        if isinstance(item, str) and ":=" in item:
+            a, b = item.split(":=", 1)
+        elif isinstance(item, (list, tuple)) and len(item) == 2:
+            a, b = item
+        else:
+            raise _fail(source, "remappings", "a mapping from → to or a list of 'from:=to'", value)
+        if not isinstance(a, str) or not isinstance(b, str) or not a or not b:
+            raise _fail(source, "remappings", "non-empty strings", item)
+        pairs.append((a, b))
+    return tuple(pairs)
+
+
+def merge(*layers: tuple[Mapping[str, Any] | None, str | Path | None, str]) -> TargetSpec:
+    """Layer target options: ``(options, base_dir, source)`` triples, later layers win."""
+    spec = TargetSpec()
+    for options, base, source in layers:
+        spec = spec.merged(options, base_dir=base, source=source)
+    return spec
+
+
+# ---------------------------------------------------------------------- parameters
+
+
+def _flatten(params: Mapping[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
+    out: list[tuple[str, Any]] = []
+    for name, value in params.items():
+        full = f"{prefix}{name}"
+        if isinstance(value, Mapping):
+            out.extend(_flatten(value, full + "."))
+        else:
+            out.append((full, value))
+    return out
+
+
+def yaml_value(value: Any) -> str:
+    """Encode a parameter value the way rcl parses ``-p name:=<value>`` (a YAML scalar or flow list).
+
+    Strings that YAML would read as something else (``"true"``, ``"1"``, ``""``) are quoted;
+    floats always carry a decimal point so that ``1.0`` stays a double.
+    """
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(yaml_value(v) for v in value) + "]"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return ".nan"
+        if math.isinf(value):
+            return ".inf" if value > 0 else "-.inf"
+        text = repr(value)
+        if "e" in text or "E" in text:
+            mantissa, exp = text.lower().split("e")
+            if "." not in mantissa:
+                mantissa += ".0"
+            text = f"{mantissa}e{exp}"
+        elif "." not in text:
+            text += ".0"
+        return text
+    if isinstance(value, (bytes, bytearray)):
+        return "[" + ", ".join(str(b) for b in value) + "]"
+    if isinstance(value, str):
+        dumped = yaml.safe_dump(value, default_flow_style=True, width=math.inf, allow_unicode=True)
+        dumped = dumped.strip()
+        if dumped.endswith("\n..."):
+            dumped = dumped[: -len("\n...")]
+        elif dumped.endswith("..."):
+            dumped = dumped[:-3].rstrip()
+        # plain scalars that contain ", " or brackets would confuse a flow list: quote those
+        if dumped == value and any(c in value for c in ",[]{}#") and not value.startswith(("'", '"')):
+            dumped = "'" + value.replace("'", "''") + "'"
+        return dumped
+    raise TargetConfigError(f"parameter value {value!r} has a type ROS parameters cannot hold")
+
+
+def ros_arguments(spec: TargetSpec) -> list[str]:
+    """The ``--ros-args ...`` part of the command line (empty when there is nothing to pass)."""
+    args: list[str] = []
+    if spec.namespace is not None:
+        args += ["-r", f"__ns:={spec.namespace}"]
+    if spec.node_name is not None:
+        args += ["-r", f"__node:={spec.node_name}"]
+    for a, b in spec.remappings:
+        args += ["-r", f"{a}:={b}"]
+    for name, value in _flatten(spec.parameters):
+        args += ["-p", f"{name}:={yaml_value(value)}"]
+    if spec.params_file is not None:
+        args += ["--params-file", str(spec.params_file)]
+    return ["--ros-args", *args] if args else []
+
+
+# ---------------------------------------------------------------------- ament index
+
+
+def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> Path:
+    """Find ``<prefix>/lib/<package>/<executable>`` like ``ros2 run``.
+
+    A prefix provides ``package`` when it has
+    ``share/ament_index/resource_index/packages/<package>``. The first prefix (in
+    ``AMENT_PREFIX_PATH`` order) providing the package wins, like ``ros2 run``.
+    """
+    providers = [
+        Path(p)
+        for p in prefixes
+        if (Path(p) / "share" / "ament_index" / "resource_index" / "packages" / package).exists()
+    ]
+    searched = [str(p) for p in prefixes]
+    if not providers:
+        raise ExecutableNotFound(
+            f"Package '{package}' was not found in the ament index. Searched the prefixes "
+            f"{searched or '(none: AMENT_PREFIX_PATH is empty)'}"
+            " for share/ament_index/resource_index/packages/" + package + ". Build and source the "
+            "workspace that provides it (or add its install prefix to AMENT_PREFIX_PATH).",
+            target=f"{package}/{executable}",
+            searched=searched,
+        )
+    prefix = providers[0]
+    lib_dir = prefix / "lib" / package
+    candidate = lib_dir / executable
+    available = sorted(
+        p.name for p in lib_dir.iterdir() if p.is_file() and os.access(p, os.X_OK)
+    ) if lib_dir.is_dir() else []
+    if not candidate.is_file():
+        also = [str(p) for p in providers[1:] if (p / "lib" / package / executable).is_file()]
+        hint = ""
+        if also:
+            hint = (
+                f" Other prefixes do have it ({', '.join(also)}) but {prefix} comes first in "
+                "AMENT_PREFIX_PATH and shadows them."
+            )
+        raise ExecutableNotFound(
+            f"Executable '{executable}' not found in package '{package}' (looked for {candidate}). "
+            + (f"The package has these executables: {', '.join(available)}." if available
+               else f"The package has no executables in {lib_dir}.")
+            + hint,
+            target=f"{package}/{executable}",
+            searched=[str(candidate)],
+            found=available,
+        )
+    if not os.access(candidate, os.X_OK):
+        raise ExecutableNotFound(
+            f"{candidate} exists but is not executable (chmod +x it, or install it with "
+            "`install(TARGETS ...)` / a console script entry point).",
+            target=f"{package}/{executable}",
+            searched=[str(candidate)],
+        )
+    return candidate
+
+
+def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | None = None) -> list[str]:
+    """The full command line of ``spec`` (``prefixes``: the ament prefixes to search)."""
+    spec.validate()
+    python = python or sys.executable
+    kind = spec.kind
+    if kind == "executable":
+        assert spec.package and spec.executable
+        base = [str(find_executable(spec.package, spec.executable, prefixes))]
+    elif kind == "script":
+        assert spec.script is not None
+        if not spec.script.is_file():
+            raise ExecutableNotFound(
+                f"Python script {spec.script} does not exist.",
+                target=spec.describe(),
+                searched=[str(spec.script)],
+            )
+        base = [python, str(spec.script)]
+    elif kind == "module":
+        base = [python, "-m", str(spec.module)]
+    else:
+        assert spec.command is not None
+        base = list(spec.command)
+        base[0] = _which(base[0], spec)
+    if spec.params_file is not None and not spec.params_file.is_file():
+        raise TargetConfigError(f"params_file {spec.params_file} does not exist.")
+    return [*base, *spec.arguments, *ros_arguments(spec)]
+
+
+def _which(program: str, spec: TargetSpec) -> str:
+    import shutil
+
+    if "/" in program:
+        if not os.path.isfile(program):
+            raise ExecutableNotFound(
+                f"Command {program} does not exist.", target=spec.describe(), searched=[program]
+            )
+        if not os.access(program, os.X_OK):
+            raise ExecutableNotFound(
+                f"Command {program} is not executable (chmod +x it).",
+                target=spec.describe(),
+                searched=[program],
+            )
+        return program
+    found = shutil.which(program, path=(spec.env or {}).get("PATH") or os.environ.get("PATH"))
+    if found is None:
+        raise ExecutableNotFound(
+            f"Command '{program}' was not found on PATH.",
+            target=spec.describe(),
+            searched=(os.environ.get("PATH") or "").split(os.pathsep),
+        )
+    return found

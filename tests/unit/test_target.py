@@ -1,0 +1,287 @@
+"""Target options → argv: ament index lookup, --ros-args, parameter encoding, merging."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+from pytest_rmw_introspect import target
+from pytest_rmw_introspect.errors import ExecutableNotFound, TargetConfigError, TargetError
+from pytest_rmw_introspect.target import TargetSpec, build_argv, merge, ros_arguments, yaml_value
+
+
+def make_prefix(root: Path, package: str, executables: dict[str, bool] | None = None) -> Path:
+    index = root / "share" / "ament_index" / "resource_index" / "packages"
+    index.mkdir(parents=True, exist_ok=True)
+    (index / package).write_text("")
+    lib = root / "lib" / package
+    lib.mkdir(parents=True, exist_ok=True)
+    for name, executable in (executables or {}).items():
+        f = lib / name
+        f.write_text("#!/bin/sh\n")
+        f.chmod(0o755 if executable else 0o644)
+    return root
+
+
+# ---------------------------------------------------------------------------- ament index
+
+
+def test_executable_is_found_in_the_prefix_that_provides_the_package(tmp_path):
+    a = make_prefix(tmp_path / "a", "other_pkg", {"x": True})
+    b = make_prefix(tmp_path / "b", "demo", {"talker": True})
+    spec = TargetSpec.from_mapping({"package": "demo", "executable": "talker"})
+    assert build_argv(spec, [a, b]) == [str(b / "lib" / "demo" / "talker")]
+
+
+def test_first_prefix_providing_the_package_wins_like_ros2_run(tmp_path):
+    a = make_prefix(tmp_path / "a", "demo", {"talker": True})
+    b = make_prefix(tmp_path / "b", "demo", {"talker": True})
+    assert target.find_executable("demo", "talker", [a, b]) == a / "lib" / "demo" / "talker"
+
+
+def test_missing_package_lists_the_searched_prefixes(tmp_path):
+    a = make_prefix(tmp_path / "a", "other", {})
+    with pytest.raises(ExecutableNotFound) as info:
+        target.find_executable("demo", "talker", [a])
+    msg = str(info.value)
+    assert "Package 'demo' was not found in the ament index" in msg
+    assert str(a) in msg
+    assert info.value.searched == [str(a)]
+
+
+def test_missing_executable_lists_the_executables_the_package_has(tmp_path):
+    a = make_prefix(tmp_path / "a", "demo", {"listener": True, "talker_py": True, "data.txt": False})
+    with pytest.raises(ExecutableNotFound) as info:
+        target.find_executable("demo", "talker", [a])
+    msg = str(info.value)
+    assert "Executable 'talker' not found in package 'demo'" in msg
+    assert "listener, talker_py" in msg
+    assert "data.txt" not in msg
+    assert info.value.found == ["listener", "talker_py"]
+
+
+def test_shadowed_executable_in_a_later_prefix_is_mentioned(tmp_path):
+    a = make_prefix(tmp_path / "a", "demo", {"listener": True})
+    b = make_prefix(tmp_path / "b", "demo", {"talker": True})
+    with pytest.raises(ExecutableNotFound, match="shadows them"):
+        target.find_executable("demo", "talker", [a, b])
+
+
+def test_non_executable_file_is_refused(tmp_path):
+    a = make_prefix(tmp_path / "a", "demo", {"talker": False})
+    with pytest.raises(ExecutableNotFound, match="not executable"):
+        target.find_executable("demo", "talker", [a])
+
+
+# ---------------------------------------------------------------------------- argv
+
+
+def test_script_and_module_run_with_the_given_interpreter(tmp_path):
+    script = tmp_path / "node.py"
+    script.write_text("pass\n")
+    spec = TargetSpec.from_mapping({"script": "node.py"}, base_dir=tmp_path)
+    assert build_argv(spec, python="/py") == ["/py", str(script)]
+    spec = TargetSpec.from_mapping({"module": "pkg.node", "arguments": ["--fast"]})
+    assert build_argv(spec, python="/py") == ["/py", "-m", "pkg.node", "--fast"]
+
+
+def test_default_interpreter_is_sys_executable(tmp_path):
+    spec = TargetSpec.from_mapping({"module": "x"})
+    assert build_argv(spec)[0] == sys.executable
+
+
+def test_missing_script_is_executable_not_found(tmp_path):
+    spec = TargetSpec.from_mapping({"script": "nope.py"}, base_dir=tmp_path)
+    with pytest.raises(ExecutableNotFound, match=r"nope\.py does not exist"):
+        build_argv(spec)
+
+
+def test_command_is_looked_up_on_path_and_relative_to_the_base_dir(tmp_path):
+    spec = TargetSpec.from_mapping({"command": ["sh", "-c", "true"]})
+    argv = build_argv(spec)
+    assert os.path.basename(argv[0]) == "sh" and argv[1:] == ["-c", "true"]
+    tool = tmp_path / "bin" / "node"
+    tool.parent.mkdir()
+    tool.write_text("#!/bin/sh\n")
+    tool.chmod(0o755)
+    spec = TargetSpec.from_mapping({"command": "bin/node --x"}, base_dir=tmp_path)
+    assert build_argv(spec) == [str(tool), "--x"]
+
+
+def test_unknown_command_is_executable_not_found():
+    spec = TargetSpec.from_mapping({"command": ["definitely-not-a-command-xyz"]})
+    with pytest.raises(ExecutableNotFound, match="not found on PATH"):
+        build_argv(spec)
+
+
+def test_ros_args_namespace_name_remappings_parameters_params_file(tmp_path):
+    params = tmp_path / "p.yaml"
+    params.write_text("{}\n")
+    spec = TargetSpec.from_mapping(
+        {
+            "module": "m",
+            "arguments": ["a1"],
+            "namespace": "robot1",
+            "node_name": "talker2",
+            "remappings": {"chatter": "/talk", "/x": "/y"},
+            "parameters": {"rate": 2.0, "name": "true", "count": 3, "on": True, "ids": [1, 2], "nested": {"a": "b c"}},
+            "params_file": "p.yaml",
+        },
+        base_dir=tmp_path,
+    )
+    argv = build_argv(spec, python="py")
+    assert argv == [
+        "py", "-m", "m", "a1",
+        "--ros-args",
+        "-r", "__ns:=/robot1",
+        "-r", "__node:=talker2",
+        "-r", "chatter:=/talk",
+        "-r", "/x:=/y",
+        "-p", "rate:=2.0",
+        "-p", "name:='true'",
+        "-p", "count:=3",
+        "-p", "on:=true",
+        "-p", "ids:=[1, 2]",
+        "-p", "nested.a:=b c",
+        "--params-file", str(params),
+    ]
+
+
+def test_no_ros_args_when_nothing_to_pass():
+    assert ros_arguments(TargetSpec.from_mapping({"module": "m"})) == []
+
+
+def test_remappings_accept_a_list_of_rules():
+    spec = TargetSpec.from_mapping({"module": "m", "remappings": ["a:=b", ["c", "d"]]})
+    assert spec.remappings == (("a", "b"), ("c", "d"))
+
+
+def test_missing_params_file_is_a_config_error(tmp_path):
+    spec = TargetSpec.from_mapping({"module": "m", "params_file": "nope.yaml"}, base_dir=tmp_path)
+    with pytest.raises(TargetConfigError, match="nope.yaml does not exist"):
+        build_argv(spec)
+
+
+@pytest.mark.parametrize(
+    "value, encoded",
+    [
+        (True, "true"),
+        (False, "false"),
+        (0, "0"),
+        (-7, "-7"),
+        (1.0, "1.0"),
+        (2.5, "2.5"),
+        (1e-5, "1.0e-05"),
+        (1e20, "1.0e+20"),
+        ("hello", "hello"),
+        ("", "''"),
+        ("true", "'true'"),
+        ("1", "'1'"),
+        ("1.5", "'1.5'"),
+        ("x: y", "'x: y'"),
+        ("a,b", "'a,b'"),
+        ("/ns/topic", "/ns/topic"),
+        ([1, 2], "[1, 2]"),
+        ([1.0, 2.5], "[1.0, 2.5]"),
+        (["a", "true"], "[a, 'true']"),
+        ([True, False], "[true, false]"),
+        ([], "[]"),
+    ],
+)
+def test_parameter_values_are_yaml_encoded(value, encoded):
+    assert yaml_value(value) == encoded
+
+
+def test_parameter_values_round_trip_through_yaml():
+    import yaml
+
+    for value in [True, 3, 2.0, 1e-9, "str", "true", "", "null", "~", "0x10", [1, 2], ["a", "b"]]:
+        assert yaml.safe_load(yaml_value(value)) == value
+
+
+def test_unsupported_parameter_value_is_refused():
+    with pytest.raises(TargetConfigError, match="cannot hold"):
+        yaml_value(object())
+
+
+# ---------------------------------------------------------------------------- validation & merging
+
+
+def test_no_target_is_a_config_error():
+    with pytest.raises(TargetConfigError, match="No target to run"):
+        TargetSpec().validate()
+
+
+def test_incomplete_package_executable():
+    with pytest.raises(TargetConfigError, match="`executable` is missing"):
+        TargetSpec.from_mapping({"package": "demo"}).validate()
+
+
+def test_two_targets_in_one_layer_is_ambiguous():
+    with pytest.raises(TargetConfigError, match="Ambiguous target"):
+        TargetSpec.from_mapping({"module": "m", "script": "x.py"}).validate()
+
+
+def test_unknown_key_is_reported_with_the_source():
+    with pytest.raises(TargetConfigError) as info:
+        TargetSpec.from_mapping({"pakage": "x"}, source="contracts/a.yaml: target")
+    assert "contracts/a.yaml: target" in str(info.value)
+    assert "'pakage'" in str(info.value)
+    assert isinstance(info.value, TargetError)
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        ({"timeout": "soon"}, "`timeout` must be a number of seconds"),
+        ({"settle": True}, "`settle` must be a number of seconds"),
+        ({"remappings": 3}, "`remappings` must be"),
+        ({"parameters": ["a"]}, "`parameters` must be a mapping"),
+        ({"command": {"a": 1}}, "`command` must be a list of strings"),
+        ({"package": ""}, "`package` must be a non-empty string"),
+    ],
+)
+def test_bad_option_values(options, message):
+    with pytest.raises(TargetConfigError, match=message):
+        TargetSpec.from_mapping(options)
+
+
+def test_later_layer_wins_and_a_new_kind_replaces_the_old_one(tmp_path):
+    contract_dir = tmp_path / "contracts"
+    test_dir = tmp_path / "tests"
+    spec = merge(
+        ({"package": "demo", "executable": "talker", "namespace": "/a", "timeout": 5}, contract_dir, "contract"),
+        ({"script": "nodes/t.py", "namespace": "/b"}, test_dir, "marker"),
+    )
+    spec.validate()
+    assert spec.kind == "script"
+    assert spec.package is None and spec.executable is None
+    assert spec.script == test_dir / "nodes" / "t.py"
+    assert spec.namespace == "/b"
+    assert spec.timeout == 5.0
+
+
+def test_layer_without_kind_keeps_the_inherited_target(tmp_path):
+    spec = merge(
+        ({"package": "demo", "executable": "talker"}, None, "contract"),
+        ({"node_name": "renamed", "env": {"A": 1, "B": True}}, None, "marker"),
+    )
+    assert spec.describe() == "demo/talker"
+    assert spec.node_name == "renamed"
+    assert spec.env == {"A": "1", "B": "1"}
+
+
+def test_defaults_and_describe():
+    spec = TargetSpec.from_mapping({"command": ["ros2", "run", "a b"]})
+    assert spec.effective_timeout() == target.DEFAULT_TIMEOUT
+    assert spec.effective_settle() == target.DEFAULT_SETTLE
+    assert spec.describe() == "`ros2 run 'a b'`"
+    assert TargetSpec.from_mapping({"module": "x.y"}).describe() == "module x.y"
+
+
+def test_to_mapping_round_trips():
+    options = {"module": "m", "remappings": {"a": "b"}, "parameters": {"p": 1}, "timeout": 3.0}
+    assert TargetSpec.from_mapping(options).to_mapping() == options

@@ -1,0 +1,509 @@
+"""Compare expected (contract) and actual (capture) contract nodes → classified DriftItems.
+
+The structural diff is DeepDiff's; this module prepares both sides so that equal interfaces
+compare equal (QoS expanded, interfaces keyed by name) and then judges every difference from the
+side of the node's peers: publishers and servers *offer*, subscriptions and clients *request*.
+The rule table, with the reasoning behind each severity, is docs/drift-rules.md.
+"""
+
+from __future__ import annotations
+
+import enum
+import json
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from deepdiff import DeepDiff
+
+from . import qos
+
+
+class Severity(enum.IntEnum):
+    SAFE = 0
+    RISKY = 1
+    BREAKING = 2
+
+
+@dataclass(frozen=True)
+class DriftItem:
+    node: str  # fully qualified node name
+    kind: str  # one of KINDS, or "node"
+    name: str  # interface name (node fqn for kind == "node")
+    change: str  # "added" | "removed" | "type" | "type_hash" | "qos.<field>"
+    old: Any  # contract side (None for added)
+    new: Any  # capture side (None for removed)
+    rule: str  # stable rule id, see RULES
+    severity: Severity
+    message: str  # one line for people
+
+
+@dataclass(frozen=True)
+class CompareOptions:
+    ignore_type_hash: bool = False
+    ignore_qos: frozenset[str] | bool = frozenset()  # True: every QoS field
+    allow_extra: bool = False  # the contract is a minimum: additions are not drift
+
+
+KINDS: tuple[str, ...] = (
+    "publishers",
+    "subscriptions",
+    "service_servers",
+    "service_clients",
+    "action_servers",
+    "action_clients",
+)
+TOPIC_KINDS = frozenset({"publishers", "subscriptions"})
+#: Kinds whose peers depend on them (they offer something). The others request.
+OFFERING_KINDS = frozenset({"publishers", "service_servers", "action_servers"})
+
+#: Singular words for people, per kind.
+KIND_LABELS: dict[str, str] = {
+    "node": "node",
+    "publishers": "publisher",
+    "subscriptions": "subscription",
+    "service_servers": "service server",
+    "service_clients": "service client",
+    "action_servers": "action server",
+    "action_clients": "action client",
+}
+
+#: Which part of an action each type_hash key stands for.
+ACTION_HASH_PARTS: dict[str, str] = {
+    "send_goal": "goal",
+    "get_result": "result",
+    "feedback": "feedback",
+}
+
+
+@dataclass(frozen=True)
+class Rule:
+    id: str
+    severity: Severity
+    summary: str  # what changed, for the docs and --help texts
+
+
+def _rules(*rules: Rule) -> dict[str, Rule]:
+    return {rule.id: rule for rule in rules}
+
+
+_B, _R, _S = Severity.BREAKING, Severity.RISKY, Severity.SAFE
+
+# Presence rules: (kind, "added"/"removed") → rule id.
+_PRESENCE: dict[tuple[str, str], str] = {
+    ("node", "removed"): "NODE_REMOVED",
+    ("node", "added"): "NODE_ADDED",
+    ("publishers", "removed"): "PUB_REMOVED",
+    ("publishers", "added"): "PUB_ADDED",
+    ("subscriptions", "removed"): "SUB_REMOVED",
+    ("subscriptions", "added"): "SUB_ADDED",
+    ("service_servers", "removed"): "SERVICE_SERVER_REMOVED",
+    ("service_servers", "added"): "SERVICE_SERVER_ADDED",
+    ("service_clients", "removed"): "SERVICE_CLIENT_REMOVED",
+    ("service_clients", "added"): "SERVICE_CLIENT_ADDED",
+    ("action_servers", "removed"): "ACTION_SERVER_REMOVED",
+    ("action_servers", "added"): "ACTION_SERVER_ADDED",
+    ("action_clients", "removed"): "ACTION_CLIENT_REMOVED",
+    ("action_clients", "added"): "ACTION_CLIENT_ADDED",
+}
+
+# QoS policies that decide matching, with the rule-id stem and a word for people.
+_MATCHING_POLICIES: dict[str, tuple[str, str]] = {
+    "reliability": ("RELIABILITY", "reliability"),
+    "durability": ("DURABILITY", "durability"),
+    "deadline_ns": ("DEADLINE", "deadline"),
+    "liveliness": ("LIVELINESS", "liveliness"),
+    "liveliness_lease_duration_ns": ("LEASE_DURATION", "liveliness lease duration"),
+}
+
+RULES: dict[str, Rule] = _rules(
+    Rule("NODE_REMOVED", _B, "node removed"),
+    Rule("NODE_ADDED", _S, "node added"),
+    Rule("PUB_REMOVED", _B, "publisher removed"),
+    Rule("PUB_ADDED", _S, "publisher added"),
+    Rule("SUB_REMOVED", _R, "subscription removed"),
+    Rule("SUB_ADDED", _R, "subscription added"),
+    Rule("SERVICE_SERVER_REMOVED", _B, "service server removed"),
+    Rule("SERVICE_SERVER_ADDED", _S, "service server added"),
+    Rule("SERVICE_CLIENT_REMOVED", _R, "service client removed"),
+    Rule("SERVICE_CLIENT_ADDED", _R, "service client added"),
+    Rule("ACTION_SERVER_REMOVED", _B, "action server removed"),
+    Rule("ACTION_SERVER_ADDED", _S, "action server added"),
+    Rule("ACTION_CLIENT_REMOVED", _R, "action client removed"),
+    Rule("ACTION_CLIENT_ADDED", _R, "action client added"),
+    Rule("TYPE_CHANGED", _B, "interface type name changed"),
+    Rule("TYPE_HASH_CHANGED", _B, "type definition changed under the same type name"),
+    *(
+        rule
+        for stem, word in _MATCHING_POLICIES.values()
+        for rule in (
+            Rule(f"QOS_{stem}_WEAKENED", _B, f"publisher offers weaker {word}"),
+            Rule(f"QOS_{stem}_STRENGTHENED", _S, f"publisher offers stronger {word}"),
+            Rule(f"QOS_{stem}_REQUEST_RAISED", _B, f"subscription requests stronger {word}"),
+            Rule(f"QOS_{stem}_REQUEST_LOWERED", _S, f"subscription requests weaker {word}"),
+            Rule(f"QOS_{stem}_UNCERTAIN", _R, f"{word} changed to or from a system default"),
+        )
+    ),
+    Rule("QOS_HISTORY_CHANGED", _R, "history kind changed"),
+    Rule("QOS_DEPTH_DECREASED", _R, "queue depth decreased"),
+    Rule("QOS_DEPTH_INCREASED", _S, "queue depth increased"),
+    Rule("QOS_DEPTH_UNCERTAIN", _R, "queue depth changed to or from the system default (0)"),
+    Rule("QOS_LIFESPAN_SHORTENED", _R, "publisher lifespan shortened"),
+    Rule("QOS_LIFESPAN_EXTENDED", _S, "publisher lifespan extended or unset"),
+    Rule("QOS_LIFESPAN_NO_EFFECT", _S, "subscription lifespan changed (a publisher-only policy)"),
+    Rule("QOS_NAMESPACE_CONVENTIONS_CHANGED", _B, "avoid_ros_namespace_conventions changed"),
+)
+
+
+# --------------------------------------------------------------------------- comparison
+
+
+def compare(
+    expected_nodes: Mapping | None,
+    actual_nodes: Mapping | None,
+    options: CompareOptions = CompareOptions(),
+) -> list[DriftItem]:
+    """Classified differences between the contract's nodes and the captured nodes.
+
+    Both sides are ``nodes`` mappings of contracts (design.md section 2); QoS may be in contract
+    form or explicit. Missing lists or keys are tolerated: a key absent on either side of an
+    interface (e.g. no ``type_hash`` in a hand-written contract) is not compared.
+    Items come most severe first, then by node, kind, name and change.
+    """
+    ignored_qos = _ignored_qos_fields(options.ignore_qos)
+    expected = _index(expected_nodes)
+    actual = _index(actual_nodes)
+    _drop_one_sided_keys(expected, actual)
+
+    diff = DeepDiff(
+        _comparable(expected),
+        _comparable(actual),
+        view="tree",
+        # compare every level however different: the default reports a whole mapping as
+        # changed when few keys are shared, which would hide the per-interface changes
+        threshold_to_diff_deeper=0,
+    )
+    items = _translate(diff, expected, actual)
+
+    def wanted(item: DriftItem) -> bool:
+        if options.allow_extra and item.change == "added":
+            return False
+        if options.ignore_type_hash and item.change == "type_hash":
+            return False
+        if item.change.startswith("qos.") and item.change[4:] in ignored_qos:
+            return False
+        return True
+
+    return sorted(filter(wanted, items), key=_sort_key)
+
+
+def _ignored_qos_fields(ignore_qos: bool | Iterable[str]) -> frozenset[str]:
+    if ignore_qos is True:
+        return frozenset(qos.FIELDS)
+    if ignore_qos is False or ignore_qos is None:
+        return frozenset()
+    fields = frozenset(ignore_qos)
+    unknown = sorted(fields - set(qos.FIELDS))
+    if unknown:
+        raise ValueError(
+            f"ignore_qos: unknown QoS field(s) {', '.join(unknown)}; "
+            f"expected some of {', '.join(qos.FIELDS)}"
+        )
+    return fields
+
+
+@dataclass
+class _Interface:
+    original: Any  # the entry as given, for added/removed items
+    compared: dict[str, Any] = field(default_factory=dict)  # type, type_hash, qos (explicit)
+
+
+# node → kind → key → _Interface
+_Index = dict[str, dict[str, dict[str, _Interface]]]
+
+
+def _index(nodes: Mapping | None) -> _Index:
+    index: _Index = {}
+    for node_name, node in (nodes or {}).items():
+        node = node or {}
+        index[node_name] = {
+            kind: _keyed_interfaces(node_name, kind, node.get(kind) or []) for kind in KINDS
+        }
+    return index
+
+
+def _keyed_interfaces(node: str, kind: str, entries: Iterable[Mapping]) -> dict[str, _Interface]:
+    by_name: dict[str, list[_Interface]] = {}
+    for entry in entries:
+        name = entry.get("name")
+        by_name.setdefault(name, []).append(_Interface(entry, _compared(node, kind, entry)))
+    keyed: dict[str, _Interface] = {}
+    for name, interfaces in by_name.items():
+        # The same name twice in one list (e.g. two publishers on one topic) stays visible:
+        # "/chatter", "/chatter [2]", ... in a deterministic order.
+        interfaces.sort(key=lambda i: json.dumps(i.compared, sort_keys=True, default=str))
+        for number, interface in enumerate(interfaces, start=1):
+            keyed[name if number == 1 else f"{name} [{number}]"] = interface
+    return keyed
+
+
+def _compared(node: str, kind: str, entry: Mapping) -> dict[str, Any]:
+    compared: dict[str, Any] = {}
+    for key in ("type", "type_hash"):
+        if entry.get(key) is not None:
+            compared[key] = entry[key]
+    if kind in TOPIC_KINDS and entry.get("qos") is not None:
+        try:
+            compared["qos"] = qos.expand(entry["qos"])
+        except ValueError as error:
+            raise ValueError(f"{node} {KIND_LABELS[kind]} {entry.get('name')}: {error}") from None
+    return compared
+
+
+def _drop_one_sided_keys(expected: _Index, actual: _Index) -> None:
+    """What one side does not state is not compared (hand-written contracts, older distros)."""
+    for node, kinds in expected.items():
+        for kind, interfaces in kinds.items():
+            for key, interface in interfaces.items():
+                other = actual.get(node, {}).get(kind, {}).get(key)
+                if other is None:
+                    continue
+                for attribute in set(interface.compared) ^ set(other.compared):
+                    interface.compared.pop(attribute, None)
+                    other.compared.pop(attribute, None)
+
+
+def _comparable(index: _Index) -> dict:
+    return {
+        node: {kind: {key: i.compared for key, i in interfaces.items()} for kind, interfaces in kinds.items()}
+        for node, kinds in index.items()
+    }
+
+
+def _translate(diff: DeepDiff, expected: _Index, actual: _Index) -> list[DriftItem]:
+    """DeepDiff's report → DriftItems. Paths are [node, kind, key, attribute, detail...]."""
+    items: list[DriftItem] = []
+    changed: dict[tuple[str, str, str], set[str]] = {}  # interface → changed attributes
+    for report_type in diff:
+        for level in diff[report_type]:
+            path = level.path(output_format="list")
+            if len(path) == 1:
+                items += _node_presence_items(path[0], expected, actual)
+            elif len(path) == 3:
+                node, kind, key = path
+                if key in actual.get(node, {}).get(kind, {}):
+                    entry = actual[node][kind][key].original
+                    items.append(_presence_item(node, kind, key, "added", entry))
+                else:
+                    entry = expected[node][kind][key].original
+                    items.append(_presence_item(node, kind, key, "removed", entry))
+            elif len(path) >= 4:
+                node, kind, key, attribute = path[:4]
+                detail = f"qos.{path[4]}" if attribute == "qos" and len(path) > 4 else attribute
+                changed.setdefault((node, kind, key), set()).add(detail)
+
+    for (node, kind, key), attributes in changed.items():
+        old = expected[node][kind][key].compared
+        new = actual[node][kind][key].compared
+        # consequences of a bigger change are not separate drift
+        if "type" in attributes:
+            attributes.discard("type_hash")
+        if "qos.history" in attributes:
+            attributes.discard("qos.depth")
+        for attribute in attributes:
+            items.append(_change_item(node, kind, key, attribute, old, new))
+    return items
+
+
+def _node_presence_items(node: str, expected: _Index, actual: _Index) -> list[DriftItem]:
+    """A node added or removed, followed by each of its interfaces."""
+    change, side = ("added", actual) if node in actual else ("removed", expected)
+    node_entry = {kind: [i.original for i in side[node][kind].values()] for kind in KINDS}
+    items = [_presence_item(node, "node", node, change, node_entry)]
+    for kind in KINDS:
+        for key, interface in side[node][kind].items():
+            items.append(_presence_item(node, kind, key, change, interface.original))
+    return items
+
+
+_PRESENCE_MESSAGES: dict[str, str] = {
+    "NODE_REMOVED": "node removed: anything addressing {name} by name (parameters, remappings, "
+    "launch files) breaks",
+    "NODE_ADDED": "new node {name}",
+    "PUB_REMOVED": "publisher removed: subscriptions to {name} ({type}) no longer receive data",
+    "PUB_ADDED": "new publisher on {name} ({type}): nothing existing depends on it",
+    "SUB_REMOVED": "subscription removed: publishers still work, but the node no longer "
+    "reacts to {name}",
+    "SUB_ADDED": "new subscription to {name}: the node now needs a publisher of {type}",
+    "SERVICE_SERVER_REMOVED": "service server removed: clients of {name} ({type}) get no answer",
+    "SERVICE_SERVER_ADDED": "new service {name} ({type}): nothing existing depends on it",
+    "SERVICE_CLIENT_REMOVED": "service client removed: the server still works, but the node "
+    "no longer calls {name}",
+    "SERVICE_CLIENT_ADDED": "new service client of {name}: the node now needs a server of {type}",
+    "ACTION_SERVER_REMOVED": "action server removed: clients of {name} ({type}) get no answer",
+    "ACTION_SERVER_ADDED": "new action server {name} ({type}): nothing existing depends on it",
+    "ACTION_CLIENT_REMOVED": "action client removed: the server still works, but the node no "
+    "longer sends goals to {name}",
+    "ACTION_CLIENT_ADDED": "new action client of {name}: the node now needs an action server "
+    "of {type}",
+}
+
+
+def _presence_item(node: str, kind: str, key: str, change: str, entry: Any) -> DriftItem:
+    rule = RULES[_PRESENCE[(kind, change)]]
+    type_name = (entry.get("type") if kind != "node" else None) or "an unstated type"
+    message = _PRESENCE_MESSAGES[rule.id].format(name=key, type=type_name)
+    return DriftItem(
+        node=node,
+        kind=kind,
+        name=key,
+        change=change,
+        old=entry if change == "removed" else None,
+        new=entry if change == "added" else None,
+        rule=rule.id,
+        severity=rule.severity,
+        message=message,
+    )
+
+
+def _item(node, kind, name, change, old, new, rule_id, message) -> DriftItem:
+    rule = RULES[rule_id]
+    return DriftItem(node, kind, name, change, old, new, rule.id, rule.severity, message)
+
+
+def _change_item(node: str, kind: str, key: str, attribute: str, old: dict, new: dict) -> DriftItem:
+    if attribute == "type":
+        return _item(node, kind, key, "type", old["type"], new["type"], "TYPE_CHANGED",
+                     f"type changed from {old['type']} to {new['type']}: peers of the old "
+                     "type no longer match")
+    if attribute == "type_hash":
+        return _item(node, kind, key, "type_hash", old["type_hash"], new["type_hash"],
+                     "TYPE_HASH_CHANGED", _type_hash_message(new.get("type", old.get("type")),
+                                                             old["type_hash"], new["type_hash"]))
+    if attribute.startswith("qos."):
+        field_name = attribute[4:]
+        return _qos_item(node, kind, key, field_name, old["qos"][field_name],
+                         new["qos"][field_name])
+    raise AssertionError(f"unexpected drift path {attribute!r}")  # pragma: no cover
+
+
+def _type_hash_message(type_name: str | None, old: Any, new: Any) -> str:
+    type_name = type_name or "the interface type"
+    if isinstance(old, Mapping) and isinstance(new, Mapping):
+        parts = sorted(
+            (key for key in set(old) | set(new) if old.get(key) != new.get(key)),
+            key=lambda key: (list(ACTION_HASH_PARTS).index(key) if key in ACTION_HASH_PARTS
+                             else len(ACTION_HASH_PARTS), key),
+        )
+        described = ", ".join(
+            f"{ACTION_HASH_PARTS[p]} ({p})" if p in ACTION_HASH_PARTS else p for p in parts
+        )
+        return f"action definition of {type_name} changed: {described}"
+    return f"message definition of {type_name} changed"
+
+
+# --------------------------------------------------------------------------- QoS judgement
+
+_ENUM_RANKS: dict[str, dict[str, int]] = {
+    "reliability": {"BEST_EFFORT": 0, "RELIABLE": 1},
+    "durability": {"VOLATILE": 0, "TRANSIENT_LOCAL": 1},
+    "liveliness": {"AUTOMATIC": 0, "MANUAL_BY_TOPIC": 1},
+}
+_INF = float("inf")
+
+
+def _strength(field_name: str, value: Any, offering: bool) -> tuple[float, float]:
+    """How much a value offers (publisher) or demands (subscription), as an interval.
+
+    SYSTEM_DEFAULT / UNKNOWN may resolve to any value: the whole range. BEST_AVAILABLE adapts to
+    the peers at creation, so it is the strongest offer and the weakest demand. Durations:
+    shorter = stronger, unset = weakest.
+    """
+    if value == "BEST_AVAILABLE" or value == qos.DURATION_BEST_AVAILABLE:
+        return (_INF, _INF) if offering else (-_INF, -_INF)
+    if field_name in _ENUM_RANKS:
+        ranks = _ENUM_RANKS[field_name]
+        if value in ranks:
+            return ranks[value], ranks[value]
+        return min(ranks.values()), max(ranks.values())
+    if value in (qos.DURATION_UNSPECIFIED, qos.DURATION_INFINITE):
+        return -_INF, -_INF
+    return -value, -value
+
+
+def _qos_item(node: str, kind: str, key: str, field_name: str, old: Any, new: Any) -> DriftItem:
+    change = f"qos.{field_name}"
+    old_text, new_text = qos.format_value(field_name, old), qos.format_value(field_name, new)
+    offering = kind == "publishers"
+
+    def item(rule_id: str, message: str) -> DriftItem:
+        return _item(node, kind, key, change, old, new, rule_id, message)
+
+    if field_name in _MATCHING_POLICIES:
+        stem, word = _MATCHING_POLICIES[field_name]
+        old_low, old_high = _strength(field_name, old, offering)
+        new_low, new_high = _strength(field_name, new, offering)
+        transition = f"{word} {old_text} -> {new_text}"
+        if offering and new_low >= old_high:
+            return item(f"QOS_{stem}_STRENGTHENED", f"publisher offers stronger {transition}: "
+                        "every subscription that matched still matches")
+        if offering and new_high < old_low:
+            return item(f"QOS_{stem}_WEAKENED", f"publisher offers weaker {transition}: "
+                        "subscriptions requesting more no longer match")
+        if not offering and new_high <= old_low:
+            return item(f"QOS_{stem}_REQUEST_LOWERED", f"subscription requests less {transition}: "
+                        "every publisher that matched still matches")
+        if not offering and new_low > old_high:
+            return item(f"QOS_{stem}_REQUEST_RAISED", f"subscription requests more {transition}: "
+                        "publishers offering less no longer match")
+        return item(f"QOS_{stem}_UNCERTAIN", f"{transition}: depends on the middleware's system "
+                    "default; peers may match differently")
+
+    if field_name == "history":
+        return item("QOS_HISTORY_CHANGED", f"history {old_text} -> {new_text}: queueing "
+                    "behaviour changes (KEEP_ALL can block or grow without bound)")
+    if field_name == "depth":
+        if 0 in (old, new):
+            return item("QOS_DEPTH_UNCERTAIN", f"depth {old_text} -> {new_text}: 0 means the "
+                        "middleware's default depth")
+        if new < old:
+            return item("QOS_DEPTH_DECREASED", f"depth {old_text} -> {new_text}: fewer samples "
+                        "are queued (or replayed to late joiners); bursts may drop messages")
+        return item("QOS_DEPTH_INCREASED", f"depth {old_text} -> {new_text}: more samples are "
+                    "queued; matching is unaffected")
+    if field_name == "lifespan_ns":
+        if not offering:
+            return item("QOS_LIFESPAN_NO_EFFECT", f"lifespan {old_text} -> {new_text}: lifespan "
+                        "only acts on publishers")
+        if _strength(field_name, new, True)[0] > _strength(field_name, old, True)[0]:
+            return item("QOS_LIFESPAN_SHORTENED", f"lifespan {old_text} -> {new_text}: samples "
+                        "expire sooner, late joiners may get fewer")
+        return item("QOS_LIFESPAN_EXTENDED", f"lifespan {old_text} -> {new_text}: samples stay "
+                    "available longer")
+    if field_name == "avoid_ros_namespace_conventions":
+        return item("QOS_NAMESPACE_CONVENTIONS_CHANGED", "avoid_ros_namespace_conventions "
+                    f"{old_text} -> {new_text}: the name on the wire changes, existing peers no "
+                    "longer match")
+    raise AssertionError(f"unexpected QoS field {field_name!r}")  # pragma: no cover
+
+
+# --------------------------------------------------------------------------- ordering
+
+_KIND_ORDER = {kind: index for index, kind in enumerate(("node", *KINDS))}
+_CHANGE_ORDER = {
+    change: index
+    for index, change in enumerate(
+        ("added", "removed", "type", "type_hash", *(f"qos.{f}" for f in qos.FIELDS))
+    )
+}
+
+
+def _sort_key(item: DriftItem) -> tuple:
+    return (
+        -item.severity,
+        item.node,
+        _KIND_ORDER.get(item.kind, len(_KIND_ORDER)),
+        item.name,
+        _CHANGE_ORDER.get(item.change, len(_CHANGE_ORDER)),
+        item.change,
+    )

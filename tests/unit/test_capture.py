@@ -1,0 +1,378 @@
+"""Capture parsing, action grouping, infrastructure filtering and the contract view."""
+
+from __future__ import annotations
+
+import copy
+import json
+
+import pytest
+
+import pytest_rmw_introspect
+from pytest_rmw_introspect import capture as capture_module
+from pytest_rmw_introspect.capture import Capture, is_infrastructure
+from pytest_rmw_introspect.errors import CaptureFormatError
+
+HASH = "RIHS01_" + "ab" * 32
+STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+
+DEFAULT_QOS = {
+    "history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE",
+    "liveliness": "SYSTEM_DEFAULT", "deadline_ns": 0, "lifespan_ns": 0,
+    "liveliness_lease_duration_ns": 0, "avoid_ros_namespace_conventions": False,
+}
+ROSOUT_QOS = dict(DEFAULT_QOS, depth=1000, durability="TRANSIENT_LOCAL", lifespan_ns=10_000_000_000)
+PARAM_QOS = dict(DEFAULT_QOS, depth=1000)
+STATUS_QOS = dict(DEFAULT_QOS, depth=1, durability="TRANSIENT_LOCAL")
+SENSOR_QOS = dict(DEFAULT_QOS, depth=5, reliability="BEST_EFFORT")
+
+PARAM_SERVICES = {
+    "describe_parameters": "rcl_interfaces/srv/DescribeParameters",
+    "get_parameter_types": "rcl_interfaces/srv/GetParameterTypes",
+    "get_parameters": "rcl_interfaces/srv/GetParameters",
+    "list_parameters": "rcl_interfaces/srv/ListParameters",
+    "set_parameters": "rcl_interfaces/srv/SetParameters",
+    "set_parameters_atomically": "rcl_interfaces/srv/SetParametersAtomically",
+    "get_type_description": "type_description_interfaces/srv/GetTypeDescription",
+}
+
+
+class Builder:
+    """Writes capture documents the way the middleware does (design.md section 1)."""
+
+    def __init__(self, state: str = "settled") -> None:
+        self.seq = 0
+        self.doc = {
+            "format": "rmw_introspect_capture",
+            "format_version": 1,
+            "rmw_implementation": "rmw_introspect_cpp",
+            "pid": 4242,
+            "argv": ["/usr/bin/python3", "node.py"],
+            "state": state,
+            "settle_ms": 10,
+            "time_to_settle_ms": 31.7,
+            "elapsed_ms": 31.9,
+            "nodes": [],
+            "endpoints": [],
+        }
+
+    def _next(self) -> int:
+        self.seq += 1
+        return self.seq
+
+    def node(self, name: str, namespace: str = "/", *, infrastructure: bool = True, destroyed: bool = False) -> int:
+        node_id = len(self.doc["nodes"]) + 1
+        fqn = ("/" if namespace == "/" else namespace + "/") + name
+        self.doc["nodes"].append(
+            {"id": node_id, "seq": self._next(), "name": name, "namespace": namespace, "fqn": fqn,
+             "enclave": "/", "destroyed": destroyed}
+        )
+        if infrastructure:
+            self.ep(node_id, "publisher", "/rosout", "rcl_interfaces/msg/Log", ROSOUT_QOS)
+            self.ep(node_id, "publisher", "/parameter_events", "rcl_interfaces/msg/ParameterEvent", PARAM_QOS)
+            for srv, srv_type in PARAM_SERVICES.items():
+                self.ep(node_id, "service", f"{fqn}/{srv}", srv_type, PARAM_QOS)
+        return node_id
+
+    def ep(self, node_id: int, kind: str, name: str, type_: str, qos=None, *, type_hash=HASH, destroyed=False):
+        node = self.doc["nodes"][node_id - 1]
+        self.doc["endpoints"].append(
+            {"seq": self._next(), "kind": kind, "node_id": node_id, "node": node["fqn"], "name": name,
+             "type": type_, "type_hash": type_hash, "typesupport": "rosidl_typesupport_c",
+             "qos": dict(qos or DEFAULT_QOS), "destroyed": destroyed}
+        )
+
+    def action(self, node_id: int, name: str, action_type: str, *, server: bool = True):
+        srv, topic = ("service", "publisher") if server else ("client", "subscription")
+        self.ep(node_id, srv, f"{name}/_action/send_goal", f"{action_type}_SendGoal", type_hash="RIHS01_" + "01" * 32)
+        self.ep(node_id, srv, f"{name}/_action/cancel_goal", "action_msgs/srv/CancelGoal")
+        self.ep(node_id, srv, f"{name}/_action/get_result", f"{action_type}_GetResult", type_hash="RIHS01_" + "02" * 32)
+        self.ep(node_id, topic, f"{name}/_action/feedback", f"{action_type}_FeedbackMessage", type_hash="RIHS01_" + "03" * 32)
+        self.ep(node_id, topic, f"{name}/_action/status", "action_msgs/msg/GoalStatusArray", STATUS_QOS)
+
+    def capture(self, **kwargs) -> Capture:
+        return Capture.from_dict(copy.deepcopy(self.doc), **kwargs)
+
+
+@pytest.fixture
+def talker() -> Builder:
+    b = Builder()
+    t = b.node("talker")
+    b.ep(t, "publisher", "/chatter", "std_msgs/msg/String", type_hash=STRING_HASH)
+    return b
+
+
+# ---------------------------------------------------------------------------- parsing
+
+
+def test_talker_contract_view(talker):
+    cap = talker.capture()
+    assert cap.node_names == ["/talker"]
+    assert cap.state == "settled" and cap.settled
+    node = cap["/talker"]
+    assert [p.name for p in node.publishers] == ["/chatter"]
+    assert node.subscriptions == node.service_servers == node.action_servers == []
+    assert cap.to_contract_nodes() == {
+        "/talker": {
+            "publishers": [
+                {"name": "/chatter", "type": "std_msgs/msg/String", "type_hash": STRING_HASH,
+                 "qos": {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}}
+            ],
+            "subscriptions": [],
+            "service_servers": [],
+            "service_clients": [],
+            "action_servers": [],
+            "action_clients": [],
+        }
+    }
+
+
+def test_raw_endpoints_stay_available(talker):
+    cap = talker.capture()
+    names = [e.name for e in cap.endpoints()]
+    assert "/rosout" in names and "/talker/get_parameters" in names and "/chatter" in names
+    assert cap["/talker"].publishers[0].raw_qos["liveliness"] == "SYSTEM_DEFAULT"
+    assert cap.raw_nodes[0].fqn == "/talker"
+    assert cap.pid == 4242 and cap.time_to_settle_ms == 31.7
+
+
+def test_include_infrastructure_keeps_rosout_and_parameter_services(talker):
+    cap = talker.capture(include_infrastructure=True)
+    node = cap["/talker"]
+    assert node.names("publishers") == ["/chatter", "/parameter_events", "/rosout"]
+    assert "/talker/get_type_description" in node.names("service_servers")
+    assert len(node.service_servers) == 7
+    rosout = node.get("publishers", "/rosout")
+    assert rosout.qos == {"history": "KEEP_LAST", "depth": 1000, "reliability": "RELIABLE",
+                          "durability": "TRANSIENT_LOCAL", "lifespan_ns": 10_000_000_000}
+    # switching the filter on an existing capture
+    assert talker.capture().with_infrastructure(True).to_contract_nodes() == cap.to_contract_nodes()
+    assert cap.with_infrastructure(False)["/talker"].names("publishers") == ["/chatter"]
+
+
+def test_qos_is_in_contract_form_and_services_have_none():
+    b = Builder()
+    n = b.node("qos_node", "/robot")
+    b.ep(n, "publisher", "/robot/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS)
+    b.ep(n, "publisher", "/map", "nav_msgs/msg/OccupancyGrid", dict(DEFAULT_QOS, depth=1, durability="TRANSIENT_LOCAL",
+                                                                   deadline_ns=-1, lifespan_ns=0))
+    b.ep(n, "subscription", "/cmd", "std_msgs/msg/String", dict(DEFAULT_QOS, history="KEEP_ALL", depth=0,
+                                                               liveliness="MANUAL_BY_TOPIC", deadline_ns=100_000_000))
+    b.ep(n, "service", "/robot/reset", "std_srvs/srv/Empty")
+    b.ep(n, "client", "/other/trigger", "std_srvs/srv/Trigger")
+    nodes = b.capture().to_contract_nodes()
+    node = nodes["/robot/qos_node"]
+    assert node["publishers"] == [
+        {"name": "/map", "type": "nav_msgs/msg/OccupancyGrid", "type_hash": HASH,
+         "qos": {"history": "KEEP_LAST", "depth": 1, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}},
+        {"name": "/robot/scan", "type": "sensor_msgs/msg/LaserScan", "type_hash": HASH,
+         "qos": {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}},
+    ]
+    assert node["subscriptions"][0]["qos"] == {
+        "history": "KEEP_ALL", "reliability": "RELIABLE", "durability": "VOLATILE",
+        "liveliness": "MANUAL_BY_TOPIC", "deadline_ns": 100_000_000,
+    }
+    assert node["service_servers"] == [{"name": "/robot/reset", "type": "std_srvs/srv/Empty", "type_hash": HASH}]
+    assert node["service_clients"] == [{"name": "/other/trigger", "type": "std_srvs/srv/Trigger", "type_hash": HASH}]
+
+
+def test_actions_are_grouped_from_their_services_and_topics():
+    b = Builder()
+    s = b.node("fib_server")
+    b.action(s, "/fibonacci", "test_msgs/action/Fibonacci")
+    c = b.node("fib_client", "/ns")
+    b.action(c, "/ns/fibonacci", "test_msgs/action/Fibonacci", server=False)
+    cap = b.capture()
+    server = cap["/fib_server"]
+    assert server.service_servers == [] and server.publishers == []
+    [action] = server.action_servers
+    assert action.name == "/fibonacci"
+    assert action.type == "test_msgs/action/Fibonacci"
+    assert action.type_hash == {"send_goal": "RIHS01_" + "01" * 32, "get_result": "RIHS01_" + "02" * 32,
+                                "feedback": "RIHS01_" + "03" * 32}
+    assert len(action.endpoints) == 5
+    assert action.to_contract() == {"name": "/fibonacci", "type": "test_msgs/action/Fibonacci",
+                                    "type_hash": dict(action.type_hash)}
+    client = cap["/ns/fib_client"]
+    assert client.service_clients == [] and client.subscriptions == []
+    assert [a.name for a in client.action_clients] == ["/ns/fibonacci"]
+    assert client.action_servers == []
+
+
+def test_lone_action_topic_is_not_an_action():
+    b = Builder()
+    n = b.node("odd")
+    b.ep(n, "publisher", "/x/_action/status", "action_msgs/msg/GoalStatusArray", STATUS_QOS)
+    node = b.capture()["/odd"]
+    assert node.action_servers == []
+    assert node.names("publishers") == ["/x/_action/status"]
+
+
+def test_lifecycle_endpoints_are_infrastructure():
+    b = Builder()
+    n = b.node("lc", "/ns")
+    for srv in ("change_state", "get_state", "get_available_states", "get_available_transitions", "get_transition_graph"):
+        b.ep(n, "service", f"/ns/lc/{srv}", "lifecycle_msgs/srv/X")
+    b.ep(n, "publisher", "/ns/lc/transition_event", "lifecycle_msgs/msg/TransitionEvent")
+    b.ep(n, "publisher", "/ns/lc/status", "std_msgs/msg/String")
+    node = b.capture()["/ns/lc"]
+    assert node.names("publishers") == ["/ns/lc/status"]
+    assert node.service_servers == []
+    assert len(b.capture(include_infrastructure=True)["/ns/lc"].service_servers) == 5 + 7
+
+
+def test_parameter_service_of_another_node_is_not_infrastructure():
+    b = Builder()
+    n = b.node("caller")
+    b.ep(n, "client", "/talker/get_parameters", "rcl_interfaces/srv/GetParameters")
+    b.ep(n, "service", "/talker/get_parameters", "rcl_interfaces/srv/GetParameters")
+    b.ep(n, "subscription", "/rosout", "rcl_interfaces/msg/Log", ROSOUT_QOS)
+    node = b.capture()["/caller"]
+    assert node.names("service_clients") == ["/talker/get_parameters"]
+    assert node.names("service_servers") == ["/talker/get_parameters"]
+    assert node.names("subscriptions") == ["/rosout"]  # reading the log is a real interface
+
+
+def test_is_infrastructure_for_the_root_namespace():
+    ep = capture_module.Endpoint(seq=1, kind="service", node_id=1, node="/t", name="/t/set_parameters",
+                                 type="x", type_hash=None, qos={})
+    assert is_infrastructure(ep, "/t")
+    assert not is_infrastructure(ep, "/u")
+
+
+def test_hidden_names_are_kept():
+    b = Builder()
+    n = b.node("_hidden_node")
+    b.ep(n, "publisher", "/_private/data", "std_msgs/msg/String")
+    cap = b.capture()
+    assert cap["/_hidden_node"].names("publishers") == ["/_private/data"]
+
+
+def test_destroyed_endpoints_and_nodes_are_left_out_of_the_view_but_kept_raw():
+    b = Builder()
+    n = b.node("talker")
+    b.ep(n, "publisher", "/gone", "std_msgs/msg/String", destroyed=True)
+    b.ep(n, "publisher", "/kept", "std_msgs/msg/String")
+    d = b.node("temporary", destroyed=True)
+    b.ep(d, "publisher", "/temp", "std_msgs/msg/String")
+    cap = b.capture()
+    assert cap.node_names == ["/talker"]
+    assert cap["/talker"].names("publishers") == ["/kept"]
+    assert "/gone" not in [e.name for e in cap.endpoints()]
+    assert "/gone" in [e.name for e in cap.endpoints(include_destroyed=True)]
+    assert [n.fqn for n in cap.raw_nodes] == ["/talker", "/temporary"]
+
+
+def test_same_topic_twice_gives_one_entry_with_both_endpoints():
+    b = Builder()
+    n = b.node("twice")
+    b.ep(n, "publisher", "/a", "std_msgs/msg/String")
+    b.ep(n, "publisher", "/a", "std_msgs/msg/String")
+    b.ep(n, "subscription", "/a", "std_msgs/msg/String")
+    node = b.capture()["/twice"]
+    assert len(node.publishers) == 1 and len(node.publishers[0].endpoints) == 2
+    assert len(node.subscriptions) == 1
+
+
+def test_two_nodes_with_one_name_are_one_contract_node():
+    b = Builder()
+    a = b.node("dup")
+    b.ep(a, "publisher", "/x", "std_msgs/msg/String")
+    c = b.node("dup")
+    b.ep(c, "subscription", "/y", "std_msgs/msg/String")
+    cap = b.capture()
+    assert cap.node_names == ["/dup"]
+    assert cap["/dup"].names("publishers") == ["/x"]
+    assert cap["/dup"].names("subscriptions") == ["/y"]
+    assert len(cap["/dup"].raw) == 2
+
+
+def test_entries_and_nodes_are_sorted():
+    b = Builder()
+    z = b.node("z")
+    b.ep(z, "publisher", "/b", "std_msgs/msg/String")
+    b.ep(z, "publisher", "/a", "std_msgs/msg/String")
+    b.node("a", "/ns")
+    nodes = b.capture().to_contract_nodes()
+    assert list(nodes) == ["/ns/a", "/z"]
+    assert [e["name"] for e in nodes["/z"]["publishers"]] == ["/a", "/b"]
+
+
+def test_without_type_hash_and_qos():
+    b = Builder()
+    n = b.node("t")
+    b.ep(n, "publisher", "/a", "std_msgs/msg/String")
+    b.ep(n, "publisher", "/nohash", "std_msgs/msg/String", type_hash=None)
+    nodes = b.capture().to_contract_nodes(with_type_hash=False, with_qos=False)
+    assert nodes["/t"]["publishers"] == [{"name": "/a", "type": "std_msgs/msg/String"},
+                                         {"name": "/nohash", "type": "std_msgs/msg/String"}]
+    assert "type_hash" not in b.capture().to_contract_nodes()["/t"]["publishers"][1]
+
+
+def test_summary_lists_nodes_and_interfaces(talker):
+    text = talker.capture().summary()
+    assert "/talker" in text and "publishers: /chatter [std_msgs/msg/String]" in text
+
+
+def test_missing_node_lookup_names_the_nodes(talker):
+    with pytest.raises(KeyError, match=r"/listener.*\['/talker'\]"):
+        talker.capture()["/listener"]
+
+
+# ---------------------------------------------------------------------------- format errors
+
+
+def test_load_from_file(tmp_path, talker):
+    path = tmp_path / "c.json"
+    path.write_text(json.dumps(talker.doc))
+    cap = Capture.load(path)
+    assert cap.path == path and cap.node_names == ["/talker"]
+
+
+@pytest.mark.parametrize(
+    "mutate, message",
+    [
+        (lambda d: d.update(format="something_else"), "`format` is 'something_else'"),
+        (lambda d: d.update(format_version=2), "`format_version` 2 is not supported"),
+        (lambda d: d.pop("format_version"), "`format_version` None is not supported"),
+        (lambda d: d.update(nodes={}), "`nodes` is not a list"),
+        (lambda d: d["endpoints"][0].pop("name"), r"endpoints\[0\]: missing or malformed field 'name'"),
+        (lambda d: d["endpoints"][0].update(kind="topic"), r"endpoints\[0\]: unknown kind 'topic'"),
+        (lambda d: d["nodes"][0].pop("id"), r"nodes\[0\]: missing or malformed field 'id'"),
+    ],
+)
+def test_malformed_capture_documents(talker, mutate, message):
+    doc = copy.deepcopy(talker.doc)
+    mutate(doc)
+    with pytest.raises(CaptureFormatError, match=message):
+        Capture.from_dict(doc, path="/tmp/x.json")
+
+
+def test_unreadable_capture_files(tmp_path):
+    with pytest.raises(CaptureFormatError, match="does not exist"):
+        Capture.load(tmp_path / "missing.json")
+    empty = tmp_path / "empty.json"
+    empty.write_text("")
+    with pytest.raises(CaptureFormatError, match="empty"):
+        Capture.load(empty)
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"format": ')
+    with pytest.raises(CaptureFormatError, match=r"bad\.json: not valid JSON"):
+        Capture.load(bad)
+    with pytest.raises(CaptureFormatError, match="not a JSON object"):
+        Capture.from_dict([1, 2])
+
+
+def test_yaml_capture_is_read_too(tmp_path, talker):
+    import yaml
+
+    path = tmp_path / "c.yaml"
+    path.write_text(yaml.safe_dump(talker.doc, sort_keys=False))
+    assert Capture.load(path).node_names == ["/talker"]
+
+
+def test_module_is_callable_and_stays_a_module():
+    import importlib
+
+    assert callable(pytest_rmw_introspect.capture)
+    assert pytest_rmw_introspect.capture is importlib.import_module("pytest_rmw_introspect.capture")
+    assert pytest_rmw_introspect.capture.Capture is Capture

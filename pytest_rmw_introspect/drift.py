@@ -141,8 +141,13 @@ RULES: dict[str, Rule] = _rules(
             Rule(f"QOS_{stem}_STRENGTHENED", _S, f"publisher offers stronger {word}"),
             Rule(f"QOS_{stem}_REQUEST_RAISED", _B, f"subscription requests stronger {word}"),
             Rule(f"QOS_{stem}_REQUEST_LOWERED", _S, f"subscription requests weaker {word}"),
-            Rule(f"QOS_{stem}_UNCERTAIN", _R, f"{word} changed to or from a system default"),
         )
+    ),
+    # only enum policies have a SYSTEM_DEFAULT / UNKNOWN that can resolve either way
+    *(
+        Rule(f"QOS_{_MATCHING_POLICIES[f][0]}_UNCERTAIN", _R,
+             f"{_MATCHING_POLICIES[f][1]} changed to or from SYSTEM_DEFAULT / UNKNOWN")
+        for f in ("reliability", "durability", "liveliness")
     ),
     Rule("QOS_HISTORY_CHANGED", _R, "history kind changed"),
     Rule("QOS_DEPTH_DECREASED", _R, "queue depth decreased"),

@@ -1,0 +1,150 @@
+"""System checks across contracts: do the nodes of several contracts fit together?
+
+All nodes of all contracts form one system. Per topic, every publisher × subscription pair is
+checked (type, type hash, QoS with ``qos.check_compatible``); per service and action, every
+client × server pair (type, type hash). Requesting endpoints without any provider are reported.
+The rules and their severities are in docs/drift-rules.md ("System checks").
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from . import qos
+from .drift import KIND_LABELS, Severity
+
+# requesting kind → providing kind, and the rule for a requester without any provider
+_PAIRS: dict[str, tuple[str, str]] = {
+    "subscriptions": ("publishers", "SUBSCRIPTION_WITHOUT_PUBLISHER"),
+    "service_clients": ("service_servers", "CLIENT_WITHOUT_SERVER"),
+    "action_clients": ("action_servers", "ACTION_CLIENT_WITHOUT_SERVER"),
+}
+
+#: rule id → severity
+RULES: dict[str, Severity] = {
+    "TYPE_MISMATCH": Severity.BREAKING,
+    "TYPE_HASH_MISMATCH": Severity.BREAKING,
+    "QOS_INCOMPATIBLE": Severity.BREAKING,
+    "QOS_MAYBE_INCOMPATIBLE": Severity.RISKY,
+    "SUBSCRIPTION_WITHOUT_PUBLISHER": Severity.RISKY,
+    "CLIENT_WITHOUT_SERVER": Severity.RISKY,
+    "ACTION_CLIENT_WITHOUT_SERVER": Severity.RISKY,
+}
+
+
+@dataclass(frozen=True, order=True)
+class Endpoint:
+    label: str  # which contract (e.g. its file path)
+    node: str  # fully qualified node name
+    kind: str  # one of the six contract list names
+
+    def __str__(self) -> str:
+        return f"{KIND_LABELS[self.kind]} of {self.node} ({self.label})"
+
+
+@dataclass(frozen=True)
+class CompatItem:
+    rule: str
+    severity: Severity
+    name: str  # topic, service or action name
+    requester: Endpoint  # subscription / service client / action client
+    provider: Endpoint | None  # publisher / service server / action server; None if missing
+    message: str
+
+
+@dataclass(frozen=True)
+class _Found:
+    endpoint: Endpoint
+    entry: Mapping[str, Any]
+
+
+def check_system(
+    contracts: Mapping[str, Mapping], *, strict_system_default: bool = False
+) -> list[CompatItem]:
+    """Incompatibilities between the nodes of several contracts, most severe first.
+
+    ``contracts`` maps a label (e.g. the contract path) to that contract's ``nodes`` mapping.
+    A policy left at SYSTEM_DEFAULT on *both* ends resolves to the same middleware default and is
+    not reported (every rmw profile leaves liveliness there, so rmw would warn about nearly every
+    pair); ``strict_system_default=True`` reports exactly what rmw_dds_common answers.
+    """
+    endpoints: dict[str, dict[str, list[_Found]]] = {}  # kind → name → endpoints
+    for label, nodes in contracts.items():
+        for node_name, node in (nodes or {}).items():
+            for kind in (*_PAIRS, *(provider for provider, _ in _PAIRS.values())):
+                for entry in (node or {}).get(kind) or []:
+                    found = _Found(Endpoint(label, node_name, kind), entry)
+                    endpoints.setdefault(kind, {}).setdefault(entry.get("name"), []).append(found)
+
+    items: list[CompatItem] = []
+    for requesting_kind, (providing_kind, missing_rule) in _PAIRS.items():
+        providers_by_name = endpoints.get(providing_kind, {})
+        for name, requesters in endpoints.get(requesting_kind, {}).items():
+            providers = providers_by_name.get(name, [])
+            for requester in requesters:
+                if not providers:
+                    items.append(_missing_peer(missing_rule, name, requester))
+                for provider in providers:
+                    items += _check_pair(name, provider, requester, strict_system_default)
+    return sorted(items, key=_sort_key)
+
+
+def _item(rule: str, name: str, requester: _Found, provider: _Found | None, message: str):
+    return CompatItem(rule, RULES[rule], name, requester.endpoint,
+                      provider.endpoint if provider else None, message)
+
+
+def _missing_peer(rule: str, name: str, requester: _Found) -> CompatItem:
+    missing = {"SUBSCRIPTION_WITHOUT_PUBLISHER": "no publisher",
+               "CLIENT_WITHOUT_SERVER": "no service server",
+               "ACTION_CLIENT_WITHOUT_SERVER": "no action server"}[rule]
+    return _item(rule, name, requester, None, f"{missing} in these contracts")
+
+
+def _check_pair(name: str, provider: _Found, requester: _Found, strict: bool) -> list[CompatItem]:
+    offered, requested = provider.entry, requester.entry
+    if offered.get("type") and requested.get("type") and offered["type"] != requested["type"]:
+        # nothing else matters between endpoints of different types
+        return [_item("TYPE_MISMATCH", name, requester, provider,
+                      f"{offered['type']} offered, {requested['type']} requested")]
+    items = []
+    offered_hash, requested_hash = offered.get("type_hash"), requested.get("type_hash")
+    if offered_hash and requested_hash and offered_hash != requested_hash:
+        items.append(_item("TYPE_HASH_MISMATCH", name, requester, provider,
+                           "the two ends were built from different definitions of "
+                           f"{offered.get('type') or requested.get('type')}"))
+    if requester.endpoint.kind == "subscriptions" and "qos" in offered and "qos" in requested:
+        pub_qos, sub_qos = qos.expand(offered["qos"]), qos.expand(requested["qos"])
+        if not strict:
+            pub_qos, sub_qos = _settle_shared_system_defaults(pub_qos, sub_qos)
+        compatibility, reason = qos.check_compatible(pub_qos, sub_qos)
+        if compatibility is qos.Compatibility.ERROR:
+            items.append(_item("QOS_INCOMPATIBLE", name, requester, provider,
+                               _strip_levels(reason)))
+        elif compatibility is qos.Compatibility.WARNING:
+            items.append(_item("QOS_MAYBE_INCOMPATIBLE", name, requester, provider,
+                               _strip_levels(reason)))
+    return items
+
+
+# Identical weak values: neither an error nor a warning under any rule.
+_SETTLED = {"reliability": "BEST_EFFORT", "durability": "VOLATILE", "liveliness": "AUTOMATIC"}
+
+
+def _settle_shared_system_defaults(pub: dict, sub: dict) -> tuple[dict, dict]:
+    pub, sub = dict(pub), dict(sub)
+    for policy, settled in _SETTLED.items():
+        if pub[policy] == sub[policy] == "SYSTEM_DEFAULT":
+            pub[policy] = sub[policy] = settled
+    return pub, sub
+
+
+def _strip_levels(reason: str) -> str:
+    return "; ".join(part.split(": ", 1)[-1] for part in reason.split("; "))
+
+
+def _sort_key(item: CompatItem) -> tuple:
+    provider = item.provider or Endpoint("", "", "")
+    return (-item.severity, item.name, item.rule, item.requester, provider)

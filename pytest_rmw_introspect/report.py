@@ -1,0 +1,191 @@
+"""Drift and system-check results → a report for people (text) or machines (JSON-ready dicts)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
+
+from . import qos
+from .compat import CompatItem
+from .drift import KIND_LABELS, DriftItem, Severity
+
+#: fail_on spellings (contract options, CLI) → the lowest severity that fails
+THRESHOLDS: dict[str, Severity] = {
+    "any": Severity.SAFE,
+    "risky": Severity.RISKY,
+    "breaking": Severity.BREAKING,
+}
+_THRESHOLD_WORDS = {severity: word for word, severity in THRESHOLDS.items()}
+
+
+def parse_threshold(text: str) -> Severity:
+    """'any' | 'risky' | 'breaking' (any case) → Severity; ValueError otherwise."""
+    if isinstance(text, str) and text.strip().lower() in THRESHOLDS:
+        return THRESHOLDS[text.strip().lower()]
+    raise ValueError(
+        f"invalid fail threshold {text!r}: expected one of {', '.join(THRESHOLDS)}"
+    )
+
+
+def fails(items: Iterable[DriftItem | CompatItem], threshold: Severity) -> bool:
+    """True when any item is at least as severe as ``threshold``."""
+    return any(item.severity >= threshold for item in items)
+
+
+def _counts(items: Sequence) -> str:
+    parts = [
+        f"{sum(1 for i in items if i.severity is severity)} {severity.name.lower()}"
+        for severity in reversed(Severity)
+    ]
+    return ", ".join(parts)
+
+
+def _plural(count: int, word: str) -> str:
+    return f"{count} {word}" if count == 1 else f"{count} {word}s"
+
+
+def _section_header(severity: Severity, count: int, threshold: Severity) -> str:
+    header = f"{severity.name} ({count})"
+    if severity < threshold:
+        header += f" - below the fail threshold ({_THRESHOLD_WORDS[threshold]}), not failing"
+    return header
+
+
+def _verdict(items: Sequence, threshold: Severity) -> str:
+    word = _THRESHOLD_WORDS[threshold]
+    return f"Result: {'FAIL' if fails(items, threshold) else 'pass'} (fail on: {word})"
+
+
+# --------------------------------------------------------------------------- drift
+
+
+def _short_hash(value: Any) -> str:
+    if isinstance(value, str) and len(value) > 20:
+        return f"{value[:14]}...{value[-4:]}"
+    return str(value)
+
+
+def _entry_details(kind: str, entry: Any) -> str:
+    if kind == "node" or not isinstance(entry, Mapping):
+        return ""
+    details = []
+    if entry.get("qos") is not None:
+        try:
+            details.append(f"qos {qos.describe(entry['qos'])}")
+        except ValueError:
+            details.append(f"qos {entry['qos']!r}")
+    return f" ({', '.join(details)})" if details else ""
+
+
+def _drift_line(item: DriftItem) -> str:
+    line = f"[{item.rule}] {item.message}"
+    if item.change in ("added", "removed"):
+        line += _entry_details(item.kind, item.new if item.change == "added" else item.old)
+    elif item.change == "type_hash" and isinstance(item.old, str) and isinstance(item.new, str):
+        line += f" ({_short_hash(item.old)} -> {_short_hash(item.new)})"
+    return line
+
+
+def render_text(
+    items: Sequence[DriftItem],
+    *,
+    contract_path: str | None = None,
+    threshold: Severity = Severity.SAFE,
+    accept_command: str | None = None,
+    title: str | None = None,
+) -> str:
+    """The drift report for people: grouped by severity, then node, then interface."""
+    heading = title or "Interface drift"
+    where = f" against {contract_path}" if contract_path else ""
+    if not items:
+        return f"{heading}: no drift{where}.\n"
+
+    lines = [f"{heading}{where}: {_plural(len(items), 'change')} ({_counts(items)})",
+             _verdict(items, threshold)]
+    for severity in reversed(Severity):
+        group = [item for item in items if item.severity is severity]
+        if not group:
+            continue
+        lines += ["", _section_header(severity, len(group), threshold)]
+        current_node = current_interface = None
+        for item in group:  # already sorted by node, kind, name within a severity
+            if item.node != current_node:
+                current_node, current_interface = item.node, None
+                lines.append(f"  {item.node}")
+            interface = (item.kind, item.name)
+            if item.kind != "node" and interface != current_interface:
+                current_interface = interface
+                lines.append(f"    {KIND_LABELS.get(item.kind, item.kind)} {item.name}")
+            indent = "    " if item.kind == "node" else "      "
+            lines.append(f"{indent}{_drift_line(item)}")
+    if accept_command:
+        lines += ["", "To accept these changes as the new contract, run:", f"  {accept_command}"]
+    return "\n".join(lines) + "\n"
+
+
+def to_json(items: Iterable[DriftItem]) -> list[dict[str, Any]]:
+    """Plain dicts for machines; ``severity`` as its name ("BREAKING", "RISKY", "SAFE")."""
+    return [
+        {
+            "node": item.node,
+            "kind": item.kind,
+            "name": item.name,
+            "change": item.change,
+            "rule": item.rule,
+            "severity": item.severity.name,
+            "old": item.old,
+            "new": item.new,
+            "message": item.message,
+        }
+        for item in items
+    ]
+
+
+# --------------------------------------------------------------------------- system checks
+
+
+def render_compat_text(
+    items: Sequence[CompatItem],
+    *,
+    threshold: Severity = Severity.SAFE,
+    title: str | None = None,
+) -> str:
+    """The system-check report for people: grouped by severity, then topic/service name."""
+    heading = title or "System check"
+    if not items:
+        return f"{heading}: all contracts fit together.\n"
+    lines = [f"{heading}: {_plural(len(items), 'problem')} ({_counts(items)})",
+             _verdict(items, threshold)]
+    for severity in reversed(Severity):
+        group = [item for item in items if item.severity is severity]
+        if not group:
+            continue
+        lines += ["", _section_header(severity, len(group), threshold)]
+        current_name = None
+        for item in group:
+            if item.name != current_name:
+                current_name = item.name
+                lines.append(f"  {item.name}")
+            ends = f"{item.provider} -> {item.requester}" if item.provider else str(item.requester)
+            lines.append(f"    [{item.rule}] {ends}: {item.message}")
+    return "\n".join(lines) + "\n"
+
+
+def _endpoint_json(endpoint) -> dict[str, str] | None:
+    if endpoint is None:
+        return None
+    return {"label": endpoint.label, "node": endpoint.node, "kind": endpoint.kind}
+
+
+def compat_to_json(items: Iterable[CompatItem]) -> list[dict[str, Any]]:
+    return [
+        {
+            "name": item.name,
+            "rule": item.rule,
+            "severity": item.severity.name,
+            "requester": _endpoint_json(item.requester),
+            "provider": _endpoint_json(item.provider),
+            "message": item.message,
+        }
+        for item in items
+    ]

@@ -1,0 +1,484 @@
+"""Contract files: load (YAML + JSON Schema + semantic checks), deterministic dump, update.
+
+A contract (docs/design.md section 2) is YAML::
+
+    # comments, the target block and the options block above `nodes:` survive updates
+    contract_version: 1
+    target: {...}      # optional
+    options: {...}     # optional
+    nodes:
+      /talker:
+        publishers: [...]
+        ...
+
+Loading reports every problem a person can make with the file, the place inside it
+(``nodes./talker.publishers[0].qos.reliability``), the line when known, and the reason:
+YAML syntax errors, schema violations (``schema/contract.schema.json``), bad QoS values,
+duplicate YAML keys and duplicate interface names.
+
+Writing is deterministic: nodes sorted by name, entries sorted by ``name``, keys in the order
+``name, type, type_hash, qos``, the six lists always present, QoS on one line in field order.
+``dump(load(x))`` of a file this module wrote is byte-identical.
+
+Updating a file (``update_text``) keeps everything *above* the top-level ``nodes:`` key
+verbatim (comments, ``contract_version``, ``target``, ``options``) and everything after the
+``nodes`` block that starts a new top-level key, and rewrites only the ``nodes`` block. This
+is a deliberate decision: it needs no round-trip YAML library, and the part people annotate
+(the header) survives byte for byte. Comments *inside* the ``nodes`` block do not survive an
+update.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import json
+import math
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any, Iterator, Mapping
+
+import yaml
+
+from .capture import LISTS
+from .errors import ContractError
+
+CONTRACT_VERSION = 1
+TOPIC_LISTS = ("publishers", "subscriptions")
+SERVICE_LISTS = ("service_servers", "service_clients")
+ACTION_LISTS = ("action_servers", "action_clients")
+ENTRY_KEYS = ("name", "type", "type_hash", "qos")
+ACTION_HASH_KEYS = ("send_goal", "get_result", "feedback")
+OPTION_KEYS = ("ignore_type_hash", "ignore_qos", "allow_extra", "include_infrastructure", "fail_on")
+
+DEFAULT_HEADER = (
+    "# Interface contract checked by pytest-rmw-introspect.\n"
+    "# Regenerate with `pytest --update-golden`; comments and keys above `nodes:` are kept.\n"
+    f"contract_version: {CONTRACT_VERSION}\n"
+)
+
+_LIST_LABELS = {
+    "publishers": "publisher",
+    "subscriptions": "subscription",
+    "service_servers": "service server",
+    "service_clients": "service client",
+    "action_servers": "action server",
+    "action_clients": "action client",
+}
+
+
+@functools.lru_cache(maxsize=1)
+def schema() -> dict[str, Any]:
+    """The JSON Schema of contract files shipped with the package."""
+    text = resources.files("pytest_rmw_introspect").joinpath("schema", "contract.schema.json").read_text("utf-8")
+    return json.loads(text)
+
+
+@dataclass
+class Contract:
+    """A loaded contract. ``nodes`` is as written (QoS spellings kept), normalised so that
+    every node has the six lists; :meth:`expanded_nodes` gives QoS as explicit fields."""
+
+    path: Path | None
+    nodes: dict[str, dict[str, list[dict[str, Any]]]]
+    target: dict[str, Any] | None = None
+    options: dict[str, Any] = field(default_factory=dict)
+    contract_version: int = CONTRACT_VERSION
+    text: str = ""
+
+    def expanded_nodes(self) -> dict[str, dict[str, list[dict[str, Any]]]]:
+        """``nodes`` with every topic QoS expanded to all fields (``qos.expand``)."""
+        from . import qos as qos_module
+
+        out: dict[str, dict[str, list[dict[str, Any]]]] = {}
+        for fqn, node in self.nodes.items():
+            out[fqn] = {}
+            for list_name in LISTS:
+                entries = []
+                for entry in node[list_name]:
+                    entry = dict(entry)
+                    if "qos" in entry:
+                        entry["qos"] = qos_module.expand(entry["qos"])
+                    entries.append(entry)
+                out[fqn][list_name] = entries
+        return out
+
+    def dump(self) -> str:
+        """The file text with the ``nodes`` block regenerated (header kept)."""
+        return update_text(self.text, self.nodes) if self.text else render(self.nodes)
+
+
+# ---------------------------------------------------------------------------- locations
+
+
+def format_location(path: Iterator[Any] | list[Any] | tuple[Any, ...]) -> str:
+    """``["nodes", "/talker", "publishers", 0, "qos"]`` → ``nodes./talker.publishers[0].qos``."""
+    out = ""
+    for part in path:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += ("." if out else "") + str(part)
+    return out
+
+
+def _node_at(root: yaml.Node | None, path: list[Any]) -> yaml.Node | None:
+    """The YAML node at ``path`` (or the deepest ancestor found), for line numbers."""
+    node = root
+    for part in path:
+        if isinstance(node, yaml.MappingNode):
+            nxt = None
+            for k, v in node.value:
+                if isinstance(k, yaml.ScalarNode) and k.value == str(part):
+                    nxt = v
+            if nxt is None:
+                return node
+            node = nxt
+        elif isinstance(node, yaml.SequenceNode) and isinstance(part, int) and 0 <= part < len(node.value):
+            node = node.value[part]
+        else:
+            return node
+    return node
+
+
+def _line(root: yaml.Node | None, path: list[Any]) -> int | None:
+    node = _node_at(root, path)
+    return node.start_mark.line + 1 if node is not None else None
+
+
+# ---------------------------------------------------------------------------- loading
+
+
+def _compose(text: str, path: Path | None) -> tuple[yaml.Node | None, Any]:
+    loader = yaml.SafeLoader(text)
+    try:
+        root = loader.get_single_node()
+        if root is not None:
+            _check_duplicate_keys(root, [], path)
+        data = loader.construct_document(root) if root is not None else None
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        line = mark.line + 1 if mark is not None else None
+        column = f", column {mark.column + 1}" if mark is not None else ""
+        reason = " ".join(p for p in (exc.context, exc.problem) if p)
+        raise ContractError(path, None, f"YAML syntax error{column}: {reason}", line=line) from None
+    except yaml.YAMLError as exc:
+        raise ContractError(path, None, f"YAML error: {exc}") from None
+    finally:
+        loader.dispose()
+    return root, data
+
+
+def _check_duplicate_keys(node: yaml.Node, where: list[Any], path: Path | None) -> None:
+    if isinstance(node, yaml.MappingNode):
+        seen: dict[str, int] = {}
+        for k, v in node.value:
+            key = k.value if isinstance(k, yaml.ScalarNode) else None
+            if key is not None:
+                if key in seen:
+                    raise ContractError(
+                        path,
+                        format_location(where + [key]) or key,
+                        f"duplicate key {key!r} (first at line {seen[key]}); YAML would silently keep only the last one",
+                        line=k.start_mark.line + 1,
+                    )
+                seen[key] = k.start_mark.line + 1
+            _check_duplicate_keys(v, where + [key if key is not None else "?"], path)
+    elif isinstance(node, yaml.SequenceNode):
+        for i, item in enumerate(node.value):
+            _check_duplicate_keys(item, where + [i], path)
+
+
+def _schema_error(root: yaml.Node | None, data: Any, path: Path | None) -> ContractError | None:
+    import jsonschema
+
+    validator = jsonschema.Draft7Validator(schema())
+    errors = list(validator.iter_errors(data))
+    if not errors:
+        return None
+    best = jsonschema.exceptions.best_match(errors)
+    location = list(best.absolute_path)
+    if "propertyNames" in best.absolute_schema_path and isinstance(best.instance, str):
+        location.append(best.instance)  # point at the offending key itself
+    reason = _schema_reason(best)
+    more = len(errors) - 1
+    if more > 0:
+        reason += f" (and {more} more problem{'s' if more > 1 else ''} in the file)"
+    return ContractError(path, format_location(location) or None, reason, line=_line(root, location))
+
+
+def _schema_reason(error: Any) -> str:
+    validator = error.validator
+    instance = error.instance
+    if "propertyNames" in error.absolute_schema_path:
+        return f"node name {instance!r} is not a fully qualified node name (e.g. /talker or /ns/talker)"
+    if validator == "pattern" and error.absolute_path and error.absolute_path[-1] == "name":
+        return f"{instance!r} is not a fully resolved ROS name (it must start with '/')"
+    if validator == "pattern" and error.absolute_path and "type_hash" in error.absolute_path:
+        return f"{instance!r} is not a type hash (RIHS01_ followed by 64 lowercase hex digits)"
+    if validator == "pattern" and error.absolute_path and error.absolute_path[-1] == "type":
+        return f"{instance!r} is not an interface type like std_msgs/msg/String"
+    if validator == "enum":
+        allowed = ", ".join(str(v) for v in error.validator_value)
+        return f"{instance!r} is not one of: {allowed}"
+    if validator == "const" and list(error.absolute_path) == ["contract_version"]:
+        return f"contract_version {instance!r} is not supported; this plugin reads contract_version 1"
+    if validator == "required":
+        return error.message.replace("is a required property", "is required")
+    if validator == "additionalProperties":
+        allowed = sorted((error.schema.get("properties") or {}).keys())
+        extra = sorted(set(instance) - set(allowed)) if isinstance(instance, Mapping) else []
+        if allowed:
+            return (
+                f"unknown key{'s' if len(extra) > 1 else ''} {', '.join(map(repr, extra))}; "
+                f"allowed: {', '.join(allowed)}"
+            )
+    if validator == "type":
+        expected = error.validator_value
+        expected = " or ".join(expected) if isinstance(expected, list) else expected
+        return f"{instance!r} is not of type {expected}"
+    return error.message
+
+
+def load(path: str | Path) -> Contract:
+    """Read and validate a contract file (raises :class:`ContractError`)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ContractError(path, None, "the file does not exist") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ContractError(path, None, f"cannot read it: {exc}") from None
+    return loads(text, path=path)
+
+
+def loads(text: str, *, path: str | Path | None = None) -> Contract:
+    """Parse and validate contract text; ``path`` is used in messages."""
+    path = Path(path) if path is not None else None
+    root, data = _compose(text, path)
+    if data is None:
+        raise ContractError(path, None, "the file is empty; it needs at least `contract_version: 1` and `nodes:`")
+    if not isinstance(data, Mapping):
+        raise ContractError(path, None, f"the document is a {type(data).__name__}, not a mapping", line=1)
+    error = _schema_error(root, data, path)
+    if error is not None:
+        raise error
+    nodes = normalize_nodes(data.get("nodes") or {})
+    _check_semantics(root, nodes, path)
+    return Contract(
+        path=path,
+        nodes=nodes,
+        target=dict(data["target"]) if data.get("target") is not None else None,
+        options=dict(data.get("options") or {}),
+        contract_version=int(data["contract_version"]),
+        text=text,
+    )
+
+
+def normalize_nodes(nodes: Mapping[str, Any]) -> dict[str, dict[str, list[dict[str, Any]]]]:
+    """Every node with the six lists (a list left out or ``null`` is empty)."""
+    out: dict[str, dict[str, list[dict[str, Any]]]] = {}
+    for fqn, node in nodes.items():
+        node = node or {}
+        out[fqn] = {list_name: [dict(e) for e in (node.get(list_name) or [])] for list_name in LISTS}
+    return out
+
+
+def _check_semantics(root: yaml.Node | None, nodes: Mapping[str, Any], path: Path | None) -> None:
+    from . import qos as qos_module
+
+    for fqn, node in nodes.items():
+        for list_name in LISTS:
+            first_index: dict[str, int] = {}
+            for i, entry in enumerate(node[list_name]):
+                where = ["nodes", fqn, list_name, i]
+                name = entry["name"]
+                if name in first_index:
+                    raise ContractError(
+                        path,
+                        format_location(where + ["name"]),
+                        f"duplicate {_LIST_LABELS[list_name]} {name!r} in node {fqn} "
+                        f"(also at {list_name}[{first_index[name]}]); each name may appear once per list",
+                        line=_line(root, where + ["name"]),
+                    )
+                first_index[name] = i
+                if "qos" in entry:
+                    try:
+                        qos_module.expand(entry["qos"])
+                    except ValueError as exc:
+                        raise ContractError(
+                            path, format_location(where + ["qos"]), str(exc), line=_line(root, where + ["qos"])
+                        ) from None
+
+
+# ---------------------------------------------------------------------------- writing
+
+
+def _scalar(value: Any) -> str:
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isinf(value) or math.isnan(value):
+            return yaml.safe_dump(value).splitlines()[0]
+        return repr(value)
+    text = yaml.safe_dump(str(value), default_flow_style=True, width=math.inf, allow_unicode=True).rstrip("\n")
+    if text.endswith("\n..."):
+        text = text[: -len("\n...")]
+    if any(c in text for c in ",[]{}") and not text.startswith(("'", '"')):
+        text = "'" + str(value).replace("'", "''") + "'"
+    return text
+
+
+def _qos_text(value: Any) -> str:
+    from . import qos as qos_module
+
+    if isinstance(value, str):
+        return _scalar(value)
+    order = ("profile",) + tuple(qos_module.FIELDS)
+    keys = [k for k in order if k in value] + sorted(k for k in value if k not in order)
+    return "{" + ", ".join(f"{k}: {_scalar(value[k])}" for k in keys) + "}"
+
+
+def _entry_lines(entry: Mapping[str, Any], indent: str) -> list[str]:
+    keys = [k for k in ENTRY_KEYS if k in entry] + sorted(k for k in entry if k not in ENTRY_KEYS)
+    lines: list[str] = []
+    for n, key in enumerate(keys):
+        lead = indent + ("- " if n == 0 else "  ")
+        value = entry[key]
+        if key == "qos":
+            lines.append(f"{lead}qos: {_qos_text(value)}")
+        elif isinstance(value, Mapping):
+            lines.append(f"{lead}{key}:")
+            sub = [k for k in ACTION_HASH_KEYS if k in value] + sorted(k for k in value if k not in ACTION_HASH_KEYS)
+            for k in sub:
+                lines.append(f"{indent}    {k}: {_scalar(value[k])}")
+        else:
+            lines.append(f"{lead}{key}: {_scalar(value)}")
+    return lines
+
+
+def dump_nodes(nodes: Mapping[str, Any]) -> str:
+    """The ``nodes:`` block, deterministic (see the module docstring)."""
+    nodes = normalize_nodes(nodes)
+    if not nodes:
+        return "nodes: {}\n"
+    lines = ["nodes:"]
+    for fqn in sorted(nodes):
+        lines.append(f"  {_scalar(fqn)}:")
+        for list_name in LISTS:
+            entries = sorted(nodes[fqn][list_name], key=lambda e: str(e.get("name", "")))
+            if not entries:
+                lines.append(f"    {list_name}: []")
+                continue
+            lines.append(f"    {list_name}:")
+            for entry in entries:
+                lines.extend(_entry_lines(entry, "      "))
+    return "\n".join(lines) + "\n"
+
+
+def render(nodes: Mapping[str, Any], header: str = DEFAULT_HEADER) -> str:
+    """A complete new contract file."""
+    if header and not header.endswith("\n"):
+        header += "\n"
+    return header + dump_nodes(nodes)
+
+
+def split_text(text: str) -> tuple[str, str] | None:
+    """``(header, trailer)`` around the top-level ``nodes`` block of ``text``, or None when the
+    file has no block-style top-level ``nodes`` key."""
+    try:
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
+    except yaml.YAMLError:
+        return None
+    if not isinstance(root, yaml.MappingNode) or root.flow_style:
+        return None
+    lines = text.splitlines(keepends=True)
+    pairs = root.value
+    for idx, (k, _v) in enumerate(pairs):
+        if isinstance(k, yaml.ScalarNode) and k.value == "nodes":
+            if k.start_mark.column != 0:
+                return None
+            header = "".join(lines[: k.start_mark.line])
+            trailer = ""
+            if idx + 1 < len(pairs):
+                start = pairs[idx + 1][0].start_mark.line
+                # take the comment lines directly above the next key along with it
+                while start > k.start_mark.line + 1 and (
+                    lines[start - 1].startswith("#") or not lines[start - 1].strip()
+                ):
+                    start -= 1
+                trailer = "".join(lines[start:])
+            if header and not header.endswith("\n"):
+                header += "\n"
+            return header, trailer
+    return None
+
+
+def update_text(old_text: str, nodes: Mapping[str, Any]) -> str:
+    """``old_text`` with only its ``nodes`` block replaced (see the module docstring)."""
+    parts = split_text(old_text) if old_text.strip() else None
+    if parts is None:
+        if old_text.strip() and "contract_version" in old_text and split_text(old_text + "\nnodes: {}\n"):
+            # a file without `nodes:` (only a header): keep it all and append the block
+            base = old_text if old_text.endswith("\n") else old_text + "\n"
+            return base + dump_nodes(nodes)
+        return render(nodes)
+    header, trailer = parts
+    return header + dump_nodes(nodes) + trailer
+
+
+def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]) -> dict[str, Any]:
+    """Adopt the contract's own spelling where it means the same as the capture.
+
+    For an entry present in both: a QoS written as a profile name (or with fewer fields) that
+    expands to the captured QoS is kept as written; a ``type_hash`` or ``qos`` the contract
+    leaves out (not compared) stays left out. New entries are taken as captured.
+    """
+    from . import qos as qos_module
+
+    old_nodes = normalize_nodes(old_nodes)
+    out = normalize_nodes(new_nodes)
+    for fqn, node in out.items():
+        old_node = old_nodes.get(fqn)
+        if old_node is None:
+            continue
+        for list_name in LISTS:
+            old_by_name = {e.get("name"): e for e in old_node[list_name]}
+            for i, entry in enumerate(node[list_name]):
+                old = old_by_name.get(entry.get("name"))
+                if old is None:
+                    continue
+                entry = dict(entry)
+                if "type_hash" not in old:
+                    entry.pop("type_hash", None)
+                if "qos" in entry:
+                    if "qos" not in old:
+                        entry.pop("qos")
+                    else:
+                        try:
+                            if qos_module.expand(old["qos"]) == qos_module.expand(entry["qos"]):
+                                entry["qos"] = old["qos"]
+                        except ValueError:
+                            pass
+                node[list_name][i] = entry
+    return out
+
+
+def write(path: str | Path, nodes: Mapping[str, Any]) -> bool:
+    """Write ``nodes`` to the contract at ``path`` (creating it, or updating only its ``nodes``
+    block). Returns True when the file's bytes changed."""
+    path = Path(path)
+    old = path.read_text(encoding="utf-8") if path.exists() else None
+    new = update_text(old, nodes) if old else render(nodes)
+    if old == new:
+        return False
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(new, encoding="utf-8")
+    tmp.replace(path)
+    return True

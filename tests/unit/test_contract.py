@@ -1,0 +1,329 @@
+"""Contract files: load, schema errors with locations and lines, deterministic dump, updates."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+
+import jsonschema
+import pytest
+
+from pytest_rmw_introspect import contract
+from pytest_rmw_introspect.contract import Contract, dump_nodes, load, loads, render, update_text
+from pytest_rmw_introspect.errors import ContractError
+
+HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+H1, H2, H3 = ("RIHS01_" + c * 64 for c in "123")
+
+NODES = {
+    "/talker": {
+        "publishers": [
+            {"name": "/chatter", "type": "std_msgs/msg/String", "type_hash": HASH,
+             "qos": {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}},
+            {"name": "/a_first", "type": "std_msgs/msg/Int32",
+             "qos": {"history": "KEEP_ALL", "reliability": "BEST_EFFORT", "durability": "VOLATILE",
+                     "deadline_ns": 100000000}},
+        ],
+        "subscriptions": [],
+        "service_servers": [{"name": "/talker/reset", "type": "std_srvs/srv/Empty", "type_hash": HASH}],
+        "service_clients": [],
+        "action_servers": [{"name": "/fibonacci", "type": "test_msgs/action/Fibonacci",
+                            "type_hash": {"feedback": H3, "send_goal": H1, "get_result": H2}}],
+        "action_clients": [],
+    },
+    "/ns/listener": {"subscriptions": [{"name": "/chatter", "type": "std_msgs/msg/String", "qos": "sensor_data"}]},
+}
+
+EXPECTED_DUMP = f"""\
+nodes:
+  /ns/listener:
+    publishers: []
+    subscriptions:
+      - name: /chatter
+        type: std_msgs/msg/String
+        qos: sensor_data
+    service_servers: []
+    service_clients: []
+    action_servers: []
+    action_clients: []
+  /talker:
+    publishers:
+      - name: /a_first
+        type: std_msgs/msg/Int32
+        qos: {{history: KEEP_ALL, reliability: BEST_EFFORT, durability: VOLATILE, deadline_ns: 100000000}}
+      - name: /chatter
+        type: std_msgs/msg/String
+        type_hash: {HASH}
+        qos: {{history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}}
+    subscriptions: []
+    service_servers:
+      - name: /talker/reset
+        type: std_srvs/srv/Empty
+        type_hash: {HASH}
+    service_clients: []
+    action_servers:
+      - name: /fibonacci
+        type: test_msgs/action/Fibonacci
+        type_hash:
+          send_goal: {H1}
+          get_result: {H2}
+          feedback: {H3}
+    action_clients: []
+"""
+
+
+def test_dump_is_sorted_and_stably_formatted():
+    assert dump_nodes(NODES) == EXPECTED_DUMP
+
+
+def test_dump_of_load_is_byte_identical():
+    text = render(NODES)
+    again = loads(text).dump()
+    assert again == text
+    assert render(loads(text).nodes) == text
+
+
+def test_dump_empty_nodes():
+    assert dump_nodes({}) == "nodes: {}\n"
+    assert loads(render({})).nodes == {}
+
+
+def test_rendered_contract_is_valid_against_the_schema():
+    import yaml
+
+    jsonschema.Draft7Validator(contract.schema()).validate(yaml.safe_load(render(NODES)))
+
+
+def test_schema_is_a_valid_draft7_schema_shipped_in_the_package():
+    jsonschema.Draft7Validator.check_schema(contract.schema())
+    assert contract.schema()["properties"]["contract_version"] == {"description": "Version of this file format.", "const": 1}
+
+
+def test_load_normalises_missing_lists_and_expands_qos(tmp_path):
+    path = tmp_path / "c.yaml"
+    path.write_text(render(NODES))
+    c = load(path)
+    assert isinstance(c, Contract) and c.path == path and c.contract_version == 1
+    assert c.nodes["/ns/listener"]["publishers"] == []
+    assert c.nodes["/ns/listener"]["subscriptions"][0]["qos"] == "sensor_data"
+    expanded = c.expanded_nodes()
+    sub_qos = expanded["/ns/listener"]["subscriptions"][0]["qos"]
+    assert sub_qos["reliability"] == "BEST_EFFORT" and sub_qos["depth"] == 5
+    assert sub_qos["liveliness"] == "SYSTEM_DEFAULT"
+    assert "qos" not in expanded["/talker"]["service_servers"][0]
+
+
+def test_null_node_and_null_lists_are_empty():
+    c = loads("contract_version: 1\nnodes:\n  /a:\n  /b:\n    publishers:\n")
+    assert c.nodes["/a"]["publishers"] == [] and c.nodes["/b"]["publishers"] == []
+
+
+def test_target_and_options_blocks_are_read():
+    c = loads(textwrap.dedent("""\
+        contract_version: 1
+        target:
+          package: demo
+          executable: talker
+          parameters: {rate: 2.0}
+        options:
+          ignore_qos: [depth]
+          fail_on: breaking
+        nodes: {}
+        """))
+    assert c.target == {"package": "demo", "executable": "talker", "parameters": {"rate": 2.0}}
+    assert c.options == {"ignore_qos": ["depth"], "fail_on": "breaking"}
+
+
+# ---------------------------------------------------------------------------- errors
+
+BAD = [
+    # (text, location, line, reason fragment)
+    (
+        "contract_version: 1\nnodes:\n  /talker:\n    publishers:\n      - name: /chatter\n"
+        "        type: std_msgs/msg/String\n        qos: {history: KEEP_LAST, reliability: RELIABEL}\n",
+        "nodes./talker.publishers[0].qos.reliability", 7, "'RELIABEL' is not one of: RELIABLE, BEST_EFFORT",
+    ),
+    (
+        "contract_version: 1\nnodes:\n  /talker:\n    publishers:\n      - name: chatter\n        type: std_msgs/msg/String\n",
+        "nodes./talker.publishers[0].name", 5, "not a fully resolved ROS name",
+    ),
+    ("contract_version: 1\nnodes:\n  /ok: {}\n  talker: {}\n", "nodes.talker", 4, "not a fully qualified node name"),
+    ("contract_version: 2\nnodes: {}\n", "contract_version", 1, "contract_version 2 is not supported"),
+    ("nodes: {}\n", None, 1, "'contract_version' is required"),
+    ("contract_version: 1\nfoo: 1\nnodes: {}\n", None, 1, "unknown key 'foo'; allowed: contract_version, nodes, options, target"),
+    (
+        "contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String}\n"
+        "      - {name: /a, type: std_msgs/msg/String}\n",
+        "nodes./t.publishers[1].name", 6, "duplicate publisher '/a' in node /t (also at publishers[0])",
+    ),
+    ("contract_version: 1\nnodes:\n  /t: {}\n  /t: {}\n", "nodes./t", 4, "duplicate key '/t' (first at line 3)"),
+    (
+        "contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String, qos: fast}\n",
+        "nodes./t.publishers[0].qos", 5, "'fast' is not one of: default, system_default, sensor_data",
+    ),
+    (
+        "contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String, qos: {depth: -3}}\n",
+        "nodes./t.publishers[0].qos.depth", 5, "-3 is less than the minimum of 0",
+    ),
+    (
+        "contract_version: 1\nnodes:\n  /t:\n    subscriptions:\n      - {name: /a, type: std_msgs/msg/String, qos: {deadline_ns: 1.5}}\n",
+        "nodes./t.subscriptions[0].qos.deadline_ns", 5, "1.5 is not of type integer",
+    ),
+    (
+        "contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String, type_hash: abc}\n",
+        "nodes./t.publishers[0].type_hash", 5, "'abc' is not a type hash",
+    ),
+    ("contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a}\n", "nodes./t.publishers[0]", 5, "'type' is required"),
+    ("contract_version: 1\nnodes:\n  /t:\n    servers: []\n", "nodes./t", 4, "unknown key 'servers'"),
+    (
+        "contract_version: 1\nnodes:\n  /t:\n    service_servers:\n      - {name: /a, type: std_srvs/srv/Empty, qos: default}\n",
+        "nodes./t.service_servers[0]", 5, "unknown key 'qos'; allowed: name, type, type_hash",
+    ),
+    ("contract_version: 1\noptions: {fail_on: sometimes}\nnodes: {}\n", "options.fail_on", 2, "'sometimes' is not one of: any, risky, breaking"),
+    ("contract_version: 1\noptions: {ignore_qos: [depth, color]}\nnodes: {}\n", "options.ignore_qos[1]", 2, "'color' is not one of"),
+    ("contract_version: 1\ntarget: {timeout: soon}\nnodes: {}\n", "target.timeout", 2, "'soon' is not of type number"),
+    ("contract_version: 1\ntarget: {pakage: x}\nnodes: {}\n", "target", 2, "unknown key 'pakage'"),
+]
+
+
+@pytest.mark.parametrize("text, location, line, reason", BAD)
+def test_malformed_contracts_name_file_location_line_and_reason(tmp_path, text, location, line, reason):
+    path = tmp_path / "contracts" / "talker.yaml"
+    path.parent.mkdir()
+    path.write_text(text)
+    with pytest.raises(ContractError) as info:
+        load(path)
+    err = info.value
+    assert err.path == path
+    assert err.location == location
+    assert err.line == line
+    assert reason in err.reason
+    expected_where = f"{path}:{line}" + (f": at {location}" if location else "")
+    assert str(err).startswith(f"invalid contract {expected_where}: ")
+
+
+def test_yaml_syntax_error_has_line_and_column(tmp_path):
+    path = tmp_path / "c.yaml"
+    path.write_text("contract_version: 1\nnodes:\n  /t:\n    publishers: [\n      {name: /a\n")
+    with pytest.raises(ContractError) as info:
+        load(path)
+    assert "YAML syntax error" in info.value.reason and "column" in info.value.reason
+    assert info.value.line is not None and info.value.location is None
+
+
+def test_several_problems_are_counted():
+    with pytest.raises(ContractError, match=r"and 1 more problem in the file"):
+        loads("contract_version: 2\nfoo: 1\nnodes: {}\n")
+
+
+@pytest.mark.parametrize("text, reason", [("", "the file is empty"), ("# only a comment\n", "the file is empty"),
+                                          ("- a\n- b\n", "not a mapping")])
+def test_empty_or_non_mapping(text, reason):
+    with pytest.raises(ContractError, match=reason):
+        loads(text, path="x.yaml")
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(ContractError, match="does not exist"):
+        load(tmp_path / "nope.yaml")
+
+
+def test_lowercase_qos_enum_is_a_schema_error():
+    with pytest.raises(ContractError, match="'reliable' is not one of"):
+        loads("contract_version: 1\nnodes:\n  /t:\n    publishers:\n"
+              "      - {name: /a, type: std_msgs/msg/String, qos: {reliability: reliable}}\n")
+
+
+# ---------------------------------------------------------------------------- updates keep the header
+
+HEADER = """\
+# Interface contract of the talker.
+# Owner: team-nav. Do not loosen reliability without asking.
+
+contract_version: 1   # the format
+
+# run the demo talker
+target:
+  package: demo
+  executable: talker   # the C++ one
+  parameters:
+    rate: 2.0
+options:
+  ignore_type_hash: true   # hashes differ between our distros
+"""
+
+
+def test_update_keeps_comments_target_and_options_verbatim():
+    old = HEADER + "nodes:\n  /talker:\n    publishers: []  # a comment inside nodes is not kept\n"
+    new = update_text(old, NODES)
+    assert new.startswith(HEADER)
+    assert new == HEADER + EXPECTED_DUMP
+    # updating again with the same nodes changes nothing
+    assert update_text(new, NODES) == new
+    assert loads(new).target["executable"] == "talker"
+
+
+def test_update_keeps_top_level_keys_after_the_nodes_block():
+    trailer = "\n# comparison options\noptions:\n  allow_extra: true\n"
+    old = "contract_version: 1\nnodes:\n  /x: {}\n" + trailer
+    new = update_text(old, NODES)
+    assert new == "contract_version: 1\n" + EXPECTED_DUMP + trailer
+    assert loads(new).options == {"allow_extra": True}
+
+
+def test_update_of_a_header_only_file_appends_nodes():
+    assert update_text("# hi\ncontract_version: 1\n", {}) == "# hi\ncontract_version: 1\nnodes: {}\n"
+
+
+def test_update_of_a_flow_style_file_rewrites_it():
+    new = update_text("{contract_version: 1, nodes: {}}\n", NODES)
+    assert new == render(NODES)
+
+
+def test_write_creates_updates_and_reports_changes(tmp_path):
+    path = tmp_path / "sub" / "c.yaml"
+    assert contract.write(path, NODES) is True
+    assert path.read_text() == render(NODES)
+    assert contract.write(path, NODES) is False
+    path.write_text(HEADER + path.read_text().split("contract_version: 1\n", 1)[1])
+    before = path.read_text()
+    assert contract.write(path, NODES) is False
+    assert path.read_text() == before
+    changed = json.loads(json.dumps(NODES))
+    changed["/talker"]["publishers"].pop()
+    assert contract.write(path, changed) is True
+    assert path.read_text().startswith(HEADER)
+    assert not list(path.parent.glob(".*tmp"))
+
+
+def test_preserve_spelling_keeps_equivalent_qos_and_omitted_fields():
+    old = {"/n": {"publishers": [
+        {"name": "/scan", "type": "sensor_msgs/msg/LaserScan", "qos": "sensor_data"},
+        {"name": "/loose", "type": "std_msgs/msg/String"},
+        {"name": "/changed", "type": "std_msgs/msg/String", "qos": "sensor_data"},
+    ]}}
+    new = {"/n": {"publishers": [
+        {"name": "/scan", "type": "sensor_msgs/msg/LaserScan", "type_hash": HASH,
+         "qos": {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}},
+        {"name": "/loose", "type": "std_msgs/msg/String", "type_hash": HASH,
+         "qos": {"history": "KEEP_LAST", "depth": 1, "reliability": "RELIABLE", "durability": "VOLATILE"}},
+        {"name": "/changed", "type": "std_msgs/msg/String",
+         "qos": {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}},
+        {"name": "/new", "type": "std_msgs/msg/String", "type_hash": HASH, "qos": "default"},
+    ]}, "/m": {}}
+    out = contract.preserve_spelling(old, new)
+    pubs = {e["name"]: e for e in out["/n"]["publishers"]}
+    assert pubs["/scan"] == {"name": "/scan", "type": "sensor_msgs/msg/LaserScan", "qos": "sensor_data"}
+    assert pubs["/loose"] == {"name": "/loose", "type": "std_msgs/msg/String"}
+    assert pubs["/changed"]["qos"]["depth"] == 10
+    assert pubs["/new"]["type_hash"] == HASH
+    assert out["/m"]["publishers"] == []
+
+
+def test_scalar_quoting():
+    assert contract._scalar("/chatter") == "/chatter"
+    assert contract._scalar("true") == "'true'"
+    assert contract._scalar("a: b") == "'a: b'"
+    assert contract._scalar("x,y") == "'x,y'"
+    assert contract._scalar(True) == "true"
+    assert contract._scalar(10) == "10"

@@ -213,3 +213,14 @@ def test_compat_to_json():
 def test_fails_works_for_compat_items():
     assert report.fails(sample_items(), Severity.BREAKING)
     assert not report.fails(sample_items()[1:], Severity.BREAKING)
+
+
+def test_docs_list_every_system_rule_with_its_severity():
+    import pathlib
+    import re
+
+    text = (pathlib.Path(__file__).parents[2] / "docs" / "drift-rules.md").read_text()
+    documented = dict(re.findall(r"^\| `([A-Z_]+)` \|[^|]*\| (BREAKING|RISKY|SAFE) \|", text,
+                                 flags=re.MULTILINE))
+    for rule, severity in compat.RULES.items():
+        assert documented.get(rule) == severity.name, rule

@@ -404,3 +404,14 @@ def test_drift_item_fields_follow_design():
     assert item == DriftItem(node="/talker", kind="publishers", name="/chatter", change="removed",
                              old=entry(), new=None, rule="PUB_REMOVED", severity=BREAKING,
                              message=item.message)
+
+
+def test_docs_list_every_rule_with_its_severity():
+    import pathlib
+    import re
+
+    text = (pathlib.Path(__file__).parents[2] / "docs" / "drift-rules.md").read_text()
+    documented = dict(re.findall(r"^\| `([A-Z_]+)` \|[^|]*\| (BREAKING|RISKY|SAFE) \|", text,
+                                 flags=re.MULTILINE))
+    for rule in drift.RULES.values():
+        assert documented.get(rule.id) == rule.severity.name, rule.id

@@ -280,7 +280,10 @@ def _drop_one_sided_keys(expected: _Index, actual: _Index) -> None:
 
 def _comparable(index: _Index) -> dict:
     return {
-        node: {kind: {key: i.compared for key, i in interfaces.items()} for kind, interfaces in kinds.items()}
+        node: {
+            kind: {key: interface.compared for key, interface in interfaces.items()}
+            for kind, interfaces in kinds.items()
+        }
         for node, kinds in index.items()
     }
 

@@ -172,13 +172,23 @@ class TargetExited(_WithPartialCapture):
 class NoNodeCreated(_WithPartialCapture):
     """The target ran (and settled or exited) but never created a ROS node."""
 
-    def __init__(self, target: str, stderr_tail: str = "", partial: Any = None, argv: Sequence[str] = ()) -> None:
+    def __init__(
+        self,
+        target: str,
+        stderr_tail: str = "",
+        partial: Any = None,
+        argv: Sequence[str] = (),
+        detail: str | None = None,
+    ) -> None:
         self.stderr_tail = _tail(stderr_tail)
         self.partial = partial
         self.argv = list(argv)
+        self.detail = detail
         parts = [
-            f"The target {target} created no ROS node: is it the right executable, and does it "
-            "call rclpy.init() / create a Node before it exits?"
+            f"The target {target} created no ROS node"
+            + (f" ({detail})" if detail else "")
+            + ": is it the right executable, and does it call rclpy.init() / create a Node "
+            "and spin before it exits?"
         ]
         if self.argv:
             parts.append("Command: " + " ".join(self.argv))

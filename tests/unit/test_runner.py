@@ -1,0 +1,255 @@
+"""The runner's process handling, without ROS: fake targets write the capture file themselves.
+
+Each fake target is a small Python script that behaves like a process on the recording
+middleware (writes ``RMW_INTROSPECT_OUTPUT``), crashes, hangs or writes nothing.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+
+from pytest_rmw_introspect import runner
+from pytest_rmw_introspect.errors import (
+    ExecutableNotFound,
+    NoNodeCreated,
+    TargetConfigError,
+    TargetExited,
+    TargetTimeout,
+)
+from pytest_rmw_introspect.ros_env import RosEnvironment
+from pytest_rmw_introspect.target import TargetSpec
+
+CAPTURE = {
+    "format": "rmw_introspect_capture",
+    "format_version": 1,
+    "rmw_implementation": "rmw_introspect_cpp",
+    "pid": 1,
+    "argv": [],
+    "state": "settled",
+    "settle_ms": 10,
+    "time_to_settle_ms": 1.0,
+    "elapsed_ms": 1.0,
+    "nodes": [{"id": 1, "seq": 1, "name": "fake", "namespace": "/", "fqn": "/fake", "enclave": "/", "destroyed": False}],
+    "endpoints": [
+        {"seq": 2, "kind": "subscription", "node_id": 1, "node": "/fake", "name": "/cmd", "type": "std_msgs/msg/String",
+         "type_hash": None, "typesupport": "rosidl_typesupport_c",
+         "qos": {"history": "KEEP_LAST", "depth": 7, "reliability": "RELIABLE", "durability": "VOLATILE",
+                 "liveliness": "SYSTEM_DEFAULT", "deadline_ns": 0, "lifespan_ns": 0,
+                 "liveliness_lease_duration_ns": 0, "avoid_ros_namespace_conventions": False},
+         "destroyed": False}
+    ],
+}
+
+
+@pytest.fixture
+def ros(tmp_path) -> RosEnvironment:
+    prefix = tmp_path / "ros"
+    (prefix / "lib").mkdir(parents=True)
+    return RosEnvironment(kind="system", prefix=prefix, distro="jazzy", ament_prefixes=(prefix,), library_dirs=())
+
+
+@pytest.fixture
+def library(tmp_path) -> Path:
+    lib = tmp_path / "mw" / "lib" / "librmw_introspect_cpp.so"
+    lib.parent.mkdir(parents=True)
+    lib.write_bytes(b"")
+    return lib
+
+
+def fake(tmp_path: Path, body: str, name: str = "fake_node.py") -> Path:
+    script = tmp_path / name
+    script.write_text(
+        "import json, os, sys, time\n"
+        f"CAPTURE = {json.dumps(CAPTURE)!r}\n"
+        "def write(state='settled', nodes=True):\n"
+        "    doc = json.loads(CAPTURE)\n"
+        "    doc['state'] = state\n"
+        "    doc['pid'] = os.getpid()\n"
+        "    doc['argv'] = sys.argv\n"
+        "    if not nodes:\n"
+        "        doc['nodes'] = []; doc['endpoints'] = []\n"
+        "    out = os.environ['RMW_INTROSPECT_OUTPUT']\n"
+        "    tmp = out + '.tmp.' + str(os.getpid())\n"
+        "    open(tmp, 'w').write(json.dumps(doc))\n"
+        "    os.rename(tmp, out)\n"
+        + textwrap.dedent(body)
+    )
+    return script
+
+
+def run(tmp_path, ros, library, body, **options):
+    spec = TargetSpec.from_mapping({"script": str(fake(tmp_path, body)), **options})
+    return runner.run(spec, library=library, ros=ros)
+
+
+def test_settled_capture_is_read_and_the_files_are_removed(tmp_path, ros, library):
+    body = """
+    assert os.environ['RMW_INTROSPECT_EXIT'] == '1'
+    assert os.environ['RMW_INTROSPECT_SETTLE_MS'] == '250'
+    assert os.environ['RMW_IMPLEMENTATION'] == 'rmw_introspect_cpp'
+    assert os.environ['MY_VAR'] == 'x'
+    write()
+    """
+    cap = run(tmp_path, ros, library, body, settle=0.25, env={"MY_VAR": "x"}, arguments=["--flag"])
+    assert cap.node_names == ["/fake"]
+    assert cap["/fake"].subscriptions[0].qos["depth"] == 7
+    assert cap.returncode == 0 and cap.wall_time is not None
+    assert cap.command[-1] == "--flag" and cap.argv[-1] == "--flag"
+    assert cap.path is None  # temporary files removed
+
+
+def test_each_capture_gets_its_own_output_file(tmp_path, ros, library):
+    body = """
+    print(os.environ['RMW_INTROSPECT_OUTPUT'], file=sys.stderr)
+    write()
+    """
+    spec = TargetSpec.from_mapping({"script": str(fake(tmp_path, body))})
+    a = runner.run(spec, library=library, ros=ros)
+    b = runner.run(spec, library=library, ros=ros)
+    assert a.stderr.strip() != b.stderr.strip()
+    assert Path(a.stderr.strip()).name == "capture.json"
+
+
+def test_keep_files_keeps_the_capture(tmp_path, ros, library):
+    spec = TargetSpec.from_mapping({"script": str(fake(tmp_path, "write()\n"))})
+    cap = runner.run(spec, library=library, ros=ros, keep_files=True)
+    assert cap.path is not None and cap.path.exists()
+
+
+def test_nonzero_exit_reports_status_stderr_and_partial_capture(tmp_path, ros, library):
+    body = """
+    write(state='running')
+    print('starting up', file=sys.stderr)
+    raise RuntimeError('boom: the sensor is unplugged')
+    """
+    with pytest.raises(TargetExited) as info:
+        run(tmp_path, ros, library, body)
+    err = info.value
+    assert err.status == 1
+    assert "boom: the sensor is unplugged" in err.stderr_tail
+    assert err.partial is not None and err.partial.node_names == ["/fake"]
+    msg = str(err)
+    assert "exited with status 1 before its interfaces settled" in msg
+    assert "RuntimeError: boom" in msg
+    assert "Captured so far:" in msg and "/fake" in msg and "subscriptions: /cmd" in msg
+
+
+def test_killed_by_signal(tmp_path, ros, library):
+    with pytest.raises(TargetExited, match="was killed by signal 9"):
+        run(tmp_path, ros, library, "os.kill(os.getpid(), 9)\n")
+
+
+def test_exit_without_capture_is_no_node_created(tmp_path, ros, library):
+    with pytest.raises(NoNodeCreated) as info:
+        run(tmp_path, ros, library, "print('no ros here', file=sys.stderr)\n")
+    msg = str(info.value)
+    assert "created no ROS node" in msg and "wrote no capture" in msg and "no ros here" in msg
+
+
+def test_capture_without_nodes_is_no_node_created(tmp_path, ros, library):
+    with pytest.raises(NoNodeCreated) as info:
+        run(tmp_path, ros, library, "write(nodes=False)\n")
+    assert info.value.partial is not None and info.value.partial.nodes == {}
+
+
+def test_timeout_stops_the_process_and_shows_the_partial_capture(tmp_path, ros, library):
+    body = """
+    write(state='running')
+    while True:
+        time.sleep(0.05)
+    """
+    started = time.monotonic()
+    with pytest.raises(TargetTimeout) as info:
+        run(tmp_path, ros, library, body, timeout=0.5)
+    assert time.monotonic() - started < 3.0  # SIGINT ended it: no long grace period used
+    err = info.value
+    assert err.partial is not None and err.partial.state == "running"
+    msg = str(err)
+    assert "did not settle within 0.5 s" in msg and "Captured so far:" in msg and "/fake" in msg
+
+
+def test_timeout_escalates_to_sigkill_when_signals_are_ignored(tmp_path, ros, library, monkeypatch):
+    monkeypatch.setattr(runner, "SIGINT_GRACE", 0.2)
+    monkeypatch.setattr(runner, "SIGTERM_GRACE", 0.2)
+    body = """
+    import signal
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    while True:
+        time.sleep(0.05)
+    """
+    spec = TargetSpec.from_mapping({"script": str(fake(tmp_path, body)), "timeout": 0.3})
+    started = time.monotonic()
+    with pytest.raises(TargetTimeout) as info:
+        runner.run(spec, library=library, ros=ros)
+    assert time.monotonic() - started < 5.0
+    assert info.value.partial is None
+    assert "Nothing was captured" in str(info.value)
+
+
+def test_stop_uses_the_default_grace_periods(monkeypatch):
+    import subprocess
+
+    proc = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"], start_new_session=True)
+    assert runner.stop(proc) == -2  # SIGINT → KeyboardInterrupt → killed by SIGINT
+
+
+def test_missing_script_and_missing_command(tmp_path, ros, library):
+    with pytest.raises(ExecutableNotFound, match="does not exist"):
+        runner.run(TargetSpec.from_mapping({"script": str(tmp_path / "nope.py")}), library=library, ros=ros)
+    with pytest.raises(ExecutableNotFound, match="not found on PATH"):
+        runner.run(TargetSpec.from_mapping({"command": ["no-such-program-xyz"]}), library=library, ros=ros)
+    with pytest.raises(TargetConfigError, match="No target"):
+        runner.run(TargetSpec(), library=library, ros=ros)
+
+
+def test_package_executable_from_the_ament_index(tmp_path, ros, library):
+    index = ros.prefix / "share" / "ament_index" / "resource_index" / "packages"
+    index.mkdir(parents=True)
+    (index / "demo").write_text("")
+    exe = ros.prefix / "lib" / "demo" / "fake"
+    exe.parent.mkdir(parents=True)
+    script = fake(tmp_path, "write()\n")
+    exe.write_text(f"#!{sys.executable}\n" + script.read_text())
+    exe.chmod(0o755)
+    cap = runner.run(TargetSpec.from_mapping({"package": "demo", "executable": "fake", "namespace": "/r"}),
+                     library=library, ros=ros)
+    assert cap.command == [str(exe), "--ros-args", "-r", "__ns:=/r"]
+    with pytest.raises(ExecutableNotFound, match="The package has these executables: fake"):
+        runner.run(TargetSpec.from_mapping({"package": "demo", "executable": "talker"}), library=library, ros=ros)
+
+
+def test_capture_function_takes_keywords_relative_to_base_dir(tmp_path, ros, library):
+    fake(tmp_path, "write()\n", name="n.py")
+    cap = runner.capture(script="n.py", base_dir=tmp_path, library=library, ros=ros)
+    assert cap.node_names == ["/fake"]
+    cap = runner.capture({"script": "n.py", "timeout": 5}, base_dir=tmp_path, library=library, ros=ros,
+                         include_infrastructure=True)
+    assert cap.include_infrastructure
+
+
+def test_cwd_option(tmp_path, ros, library):
+    (tmp_path / "work").mkdir()
+    body = "assert os.getcwd().endswith('work'), os.getcwd()\nwrite()\n"
+    run(tmp_path, ros, library, body, cwd=str(tmp_path / "work"))
+    with pytest.raises(ExecutableNotFound, match="Working directory"):
+        run(tmp_path, ros, library, "write()\n", cwd=str(tmp_path / "nowhere"))
+
+
+def test_activation_environment_for_wheels(tmp_path, library):
+    ros = RosEnvironment(kind="wheels", prefix=tmp_path, distro="jazzy", ament_prefixes=(tmp_path,),
+                         library_dirs=(tmp_path / "lib",))
+    spec = TargetSpec.from_mapping({"module": "m", "settle": 0.05, "env": {"RMW_INTROSPECT_VERBOSE": "1"}})
+    env = runner.environment(spec, library, ros, tmp_path / "c.json", base={"PATH": os.environ["PATH"]})
+    assert env["LD_PRELOAD"].split()[0] == str(library.resolve())
+    assert env["RMW_INTROSPECT_OUTPUT"] == str(tmp_path / "c.json")
+    assert env["RMW_INTROSPECT_SETTLE_MS"] == "50"
+    assert env["RMW_INTROSPECT_EXIT"] == "1"
+    assert env["RMW_INTROSPECT_VERBOSE"] == "1"

@@ -1,0 +1,368 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+#include "detail/capture_writer.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "detail/qos.hpp"
+
+namespace rmw_introspect
+{
+
+namespace
+{
+
+// A minimal ordered document tree, emitted as JSON or YAML.
+struct Value
+{
+  enum class Kind { Null, Bool, Int, Double, String, Array, Object };
+  Kind kind = Kind::Null;
+  bool b = false;
+  int64_t i = 0;
+  double d = 0.0;
+  std::string s;
+  std::vector<Value> items;                           // Array
+  std::vector<std::pair<std::string, Value>> fields;  // Object
+
+  static Value null() {return Value();}
+  static Value boolean(bool v) {Value x; x.kind = Kind::Bool; x.b = v; return x;}
+  static Value integer(int64_t v) {Value x; x.kind = Kind::Int; x.i = v; return x;}
+  static Value number(double v) {Value x; x.kind = Kind::Double; x.d = v; return x;}
+  static Value string(std::string v) {Value x; x.kind = Kind::String; x.s = std::move(v); return x;}
+  static Value array() {Value x; x.kind = Kind::Array; return x;}
+  static Value object() {Value x; x.kind = Kind::Object; return x;}
+  Value & add(std::string key, Value v)
+  {
+    fields.emplace_back(std::move(key), std::move(v));
+    return *this;
+  }
+  Value & push(Value v)
+  {
+    items.push_back(std::move(v));
+    return *this;
+  }
+};
+
+// Quote a string for JSON (also a valid YAML double-quoted scalar). Invalid UTF-8 bytes
+// become U+FFFD so that the document always decodes.
+std::string quote(const std::string & in)
+{
+  std::string out;
+  out.reserve(in.size() + 2);
+  out.push_back('"');
+  const auto * p = reinterpret_cast<const unsigned char *>(in.data());
+  const size_t n = in.size();
+  for (size_t k = 0; k < n; ) {
+    const unsigned char c = p[k];
+    if (c == '"') {
+      out += "\\\"";
+      ++k;
+    } else if (c == '\\') {
+      out += "\\\\";
+      ++k;
+    } else if (c == '\n') {
+      out += "\\n";
+      ++k;
+    } else if (c == '\t') {
+      out += "\\t";
+      ++k;
+    } else if (c == '\r') {
+      out += "\\r";
+      ++k;
+    } else if (c < 0x20 || c == 0x7f) {
+      char buf[8];
+      snprintf(buf, sizeof(buf), "\\u%04x", c);
+      out += buf;
+      ++k;
+    } else if (c < 0x80) {
+      out.push_back(static_cast<char>(c));
+      ++k;
+    } else {
+      size_t len = 0;
+      if ((c & 0xE0) == 0xC0 && c >= 0xC2) {
+        len = 2;
+      } else if ((c & 0xF0) == 0xE0) {
+        len = 3;
+      } else if ((c & 0xF8) == 0xF0 && c <= 0xF4) {
+        len = 4;
+      }
+      bool ok = len != 0 && k + len <= n;
+      for (size_t j = 1; ok && j < len; ++j) {
+        ok = (p[k + j] & 0xC0) == 0x80;
+      }
+      if (ok) {
+        out.append(reinterpret_cast<const char *>(p + k), len);
+        k += len;
+      } else {
+        out += "\\ufffd";
+        ++k;
+      }
+    }
+  }
+  out.push_back('"');
+  return out;
+}
+
+std::string scalar(const Value & v)
+{
+  char buf[64];
+  switch (v.kind) {
+    case Value::Kind::Null: return "null";
+    case Value::Kind::Bool: return v.b ? "true" : "false";
+    case Value::Kind::Int:
+      snprintf(buf, sizeof(buf), "%" PRId64, v.i);
+      return buf;
+    case Value::Kind::Double:
+      snprintf(buf, sizeof(buf), "%.3f", v.d);
+      return buf;
+    case Value::Kind::String: return quote(v.s);
+    default: return "";
+  }
+}
+
+bool is_container(const Value & v)
+{
+  return v.kind == Value::Kind::Array || v.kind == Value::Kind::Object;
+}
+
+void emit_json(const Value & v, int indent, std::string & out)
+{
+  const std::string pad(static_cast<size_t>(indent + 2), ' ');
+  const std::string end_pad(static_cast<size_t>(indent), ' ');
+  if (v.kind == Value::Kind::Array) {
+    if (v.items.empty()) {
+      out += "[]";
+      return;
+    }
+    // Arrays of scalars stay on one line (argv).
+    bool flat = true;
+    for (const auto & item : v.items) {
+      flat = flat && !is_container(item);
+    }
+    out += flat ? "[" : "[\n";
+    for (size_t k = 0; k < v.items.size(); ++k) {
+      if (!flat) {out += pad;}
+      emit_json(v.items[k], indent + 2, out);
+      if (k + 1 < v.items.size()) {out += flat ? ", " : ",\n";}
+    }
+    out += flat ? "]" : "\n" + end_pad + "]";
+  } else if (v.kind == Value::Kind::Object) {
+    if (v.fields.empty()) {
+      out += "{}";
+      return;
+    }
+    out += "{\n";
+    for (size_t k = 0; k < v.fields.size(); ++k) {
+      out += pad + quote(v.fields[k].first) + ": ";
+      emit_json(v.fields[k].second, indent + 2, out);
+      if (k + 1 < v.fields.size()) {out += ",";}
+      out += "\n";
+    }
+    out += end_pad + "}";
+  } else {
+    out += scalar(v);
+  }
+}
+
+void emit_yaml_object(const Value & v, int indent, std::string & out);
+
+void emit_yaml_value_after_key(const Value & v, int indent, std::string & out)
+{
+  if (v.kind == Value::Kind::Array) {
+    if (v.items.empty()) {
+      out += " []\n";
+      return;
+    }
+    out += "\n";
+    const std::string pad(static_cast<size_t>(indent), ' ');
+    for (const auto & item : v.items) {
+      if (item.kind == Value::Kind::Object && !item.fields.empty()) {
+        out += pad + "- ";
+        // first field on the dash line, others indented under it
+        std::string nested;
+        emit_yaml_object(item, indent + 2, nested);
+        out += nested.substr(static_cast<size_t>(indent + 2));
+      } else if (is_container(item)) {
+        out += pad + "- " + (item.kind == Value::Kind::Array ? "[]" : "{}") + "\n";
+      } else {
+        out += pad + "- " + scalar(item) + "\n";
+      }
+    }
+  } else if (v.kind == Value::Kind::Object) {
+    if (v.fields.empty()) {
+      out += " {}\n";
+      return;
+    }
+    out += "\n";
+    emit_yaml_object(v, indent + 2, out);
+  } else {
+    out += " " + scalar(v) + "\n";
+  }
+}
+
+void emit_yaml_object(const Value & v, int indent, std::string & out)
+{
+  const std::string pad(static_cast<size_t>(indent), ' ');
+  for (const auto & field : v.fields) {
+    out += pad + field.first + ":";
+    emit_yaml_value_after_key(field.second, indent, out);
+  }
+}
+
+Value qos_value(const rmw_qos_profile_t & qos)
+{
+  Value v = Value::object();
+  v.add("history", Value::string(history_to_string(qos.history)));
+  v.add("depth", Value::integer(static_cast<int64_t>(qos.depth)));
+  v.add("reliability", Value::string(reliability_to_string(qos.reliability)));
+  v.add("durability", Value::string(durability_to_string(qos.durability)));
+  v.add("liveliness", Value::string(liveliness_to_string(qos.liveliness)));
+  v.add("deadline_ns", Value::integer(duration_to_ns(qos.deadline)));
+  v.add("lifespan_ns", Value::integer(duration_to_ns(qos.lifespan)));
+  v.add(
+    "liveliness_lease_duration_ns", Value::integer(duration_to_ns(qos.liveliness_lease_duration)));
+  v.add("avoid_ros_namespace_conventions", Value::boolean(qos.avoid_ros_namespace_conventions));
+  return v;
+}
+
+Value build_document(const CaptureHeader & header, const RecorderSnapshot & snapshot)
+{
+  Value doc = Value::object();
+  doc.add("format", Value::string("rmw_introspect_capture"));
+  doc.add("format_version", Value::integer(1));
+  doc.add("rmw_implementation", Value::string("rmw_introspect_cpp"));
+  doc.add("pid", Value::integer(header.pid));
+  Value argv = Value::array();
+  for (const auto & arg : header.argv) {
+    argv.push(Value::string(arg));
+  }
+  doc.add("argv", std::move(argv));
+  doc.add("state", Value::string(header.state));
+  doc.add("settle_ms", Value::integer(header.settle_ms));
+  doc.add(
+    "time_to_settle_ms",
+    header.has_time_to_settle ? Value::number(header.time_to_settle_ms) : Value::null());
+  doc.add("elapsed_ms", Value::number(header.elapsed_ms));
+  Value nodes = Value::array();
+  for (const auto & n : snapshot.nodes) {
+    Value node = Value::object();
+    node.add("id", Value::integer(static_cast<int64_t>(n.id)));
+    node.add("seq", Value::integer(static_cast<int64_t>(n.seq)));
+    node.add("name", Value::string(n.name));
+    node.add("namespace", Value::string(n.namespace_));
+    node.add("fqn", Value::string(n.fqn));
+    node.add("enclave", Value::string(n.enclave));
+    node.add("destroyed", Value::boolean(n.destroyed));
+    nodes.push(std::move(node));
+  }
+  doc.add("nodes", std::move(nodes));
+  Value endpoints = Value::array();
+  for (const auto & e : snapshot.endpoints) {
+    Value ep = Value::object();
+    ep.add("seq", Value::integer(static_cast<int64_t>(e.seq)));
+    ep.add("kind", Value::string(endpoint_kind_to_string(e.kind)));
+    ep.add("node_id", Value::integer(static_cast<int64_t>(e.node_id)));
+    ep.add("node", Value::string(e.node_fqn));
+    ep.add("name", Value::string(e.name));
+    ep.add("type", Value::string(e.type));
+    ep.add("type_hash", e.type_hash.empty() ? Value::null() : Value::string(e.type_hash));
+    ep.add("typesupport", Value::string(e.typesupport));
+    ep.add("qos", qos_value(e.qos));
+    ep.add("destroyed", Value::boolean(e.destroyed));
+    endpoints.push(std::move(ep));
+  }
+  doc.add("endpoints", std::move(endpoints));
+  return doc;
+}
+
+}  // namespace
+
+std::string render_capture_json(const CaptureHeader & header, const RecorderSnapshot & snapshot)
+{
+  std::string out;
+  emit_json(build_document(header, snapshot), 0, out);
+  out += "\n";
+  return out;
+}
+
+std::string render_capture_yaml(const CaptureHeader & header, const RecorderSnapshot & snapshot)
+{
+  std::string out = "# rmw_introspect capture (format_version 1)\n";
+  emit_yaml_object(build_document(header, snapshot), 0, out);
+  return out;
+}
+
+std::string render_capture(
+  CaptureFormat format, const CaptureHeader & header, const RecorderSnapshot & snapshot)
+{
+  return format == CaptureFormat::Yaml ?
+         render_capture_yaml(header, snapshot) : render_capture_json(header, snapshot);
+}
+
+bool write_file_atomically(const std::string & path, const std::string & content, std::string * error)
+{
+  const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(getpid()));
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    if (error) {*error = "cannot open " + tmp + ": " + std::strerror(errno);}
+    return false;
+  }
+  size_t written = 0;
+  while (written < content.size()) {
+    const ssize_t n = ::write(fd, content.data() + written, content.size() - written);
+    if (n < 0) {
+      if (errno == EINTR) {
+        continue;
+      }
+      if (error) {*error = "cannot write " + tmp + ": " + std::strerror(errno);}
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      return false;
+    }
+    written += static_cast<size_t>(n);
+  }
+  if (::close(fd) != 0) {
+    if (error) {*error = "cannot close " + tmp + ": " + std::strerror(errno);}
+    ::unlink(tmp.c_str());
+    return false;
+  }
+  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    if (error) {*error = "cannot rename " + tmp + " to " + path + ": " + std::strerror(errno);}
+    ::unlink(tmp.c_str());
+    return false;
+  }
+  return true;
+}
+
+std::vector<std::string> read_process_argv()
+{
+  std::vector<std::string> argv;
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  if (!in) {
+    return argv;
+  }
+  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  size_t start = 0;
+  while (start < data.size()) {
+    size_t end = data.find('\0', start);
+    if (end == std::string::npos) {
+      end = data.size();
+    }
+    argv.push_back(data.substr(start, end - start));
+    start = end + 1;
+  }
+  return argv;
+}
+
+}  // namespace rmw_introspect

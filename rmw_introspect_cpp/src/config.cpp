@@ -1,0 +1,80 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+#include "detail/config.hpp"
+
+#include <unistd.h>
+
+#include <cctype>
+#include <cstdlib>
+#include <string>
+
+namespace rmw_introspect
+{
+
+bool parse_flag(const char * value, bool fallback)
+{
+  if (value == nullptr) {
+    return fallback;
+  }
+  std::string v;
+  for (const char * p = value; *p; ++p) {
+    v.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(*p))));
+  }
+  if (v == "1" || v == "true" || v == "yes" || v == "on") {
+    return true;
+  }
+  if (v == "0" || v == "false" || v == "no" || v == "off" || v.empty()) {
+    return false;
+  }
+  return fallback;
+}
+
+Config Config::from_environment(long pid)
+{
+  Config config;
+  const char * format = std::getenv("RMW_INTROSPECT_FORMAT");
+  if (format != nullptr) {
+    std::string f(format);
+    for (auto & c : f) {
+      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    }
+    if (f == "yaml" || f == "yml") {
+      config.format = CaptureFormat::Yaml;
+    }
+  }
+  const std::string pid_string = std::to_string(pid);
+  const char * output = std::getenv("RMW_INTROSPECT_OUTPUT");
+  if (output != nullptr && output[0] != '\0') {
+    config.output_path = output;
+    const std::string placeholder = "<pid>";
+    for (size_t pos = config.output_path.find(placeholder); pos != std::string::npos;
+      pos = config.output_path.find(placeholder, pos + pid_string.size()))
+    {
+      config.output_path.replace(pos, placeholder.size(), pid_string);
+    }
+  } else {
+    config.output_path = "/tmp/rmw_introspect_" + pid_string +
+      (config.format == CaptureFormat::Yaml ? ".yaml" : ".json");
+  }
+  const char * settle = std::getenv("RMW_INTROSPECT_SETTLE_MS");
+  if (settle != nullptr && settle[0] != '\0') {
+    char * end = nullptr;
+    long value = std::strtol(settle, &end, 10);
+    if (end != settle && value >= 0 && value <= 24L * 3600L * 1000L) {
+      config.settle_ms = static_cast<int>(value);
+    }
+  }
+  config.exit_on_settle = parse_flag(std::getenv("RMW_INTROSPECT_EXIT"), false);
+  config.auto_export = parse_flag(std::getenv("RMW_INTROSPECT_AUTO_EXPORT"), true);
+  config.verbose = parse_flag(std::getenv("RMW_INTROSPECT_VERBOSE"), false);
+  config.server_available = parse_flag(std::getenv("RMW_INTROSPECT_SERVER_AVAILABLE"), true);
+  return config;
+}
+
+const Config & Config::get()
+{
+  // Leaked on purpose: usable from atexit handlers and the monitor thread at any time.
+  static const Config * config = new Config(from_environment(static_cast<long>(getpid())));
+  return *config;
+}
+
+}  // namespace rmw_introspect

@@ -1,0 +1,78 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+#ifndef DETAIL__ENDPOINT_COMMON_HPP_
+#define DETAIL__ENDPOINT_COMMON_HPP_
+
+#include <cstring>
+#include <string>
+
+#include "rmw/error_handling.h"
+#include "rmw/types.h"
+#include "rmw/validate_full_topic_name.h"
+
+#include "detail/handles.hpp"
+#include "detail/qos.hpp"
+#include "detail/recorder.hpp"
+
+namespace rmw_introspect
+{
+
+/// The checks every rmw_create_{publisher,subscription,service,client} makes on the name
+/// and QoS (after the NULL checks). `what` is "topic" or "service".
+inline bool check_name_and_qos(const char * name, const rmw_qos_profile_t * qos, const char * what)
+{
+  if (std::strlen(name) == 0) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("%s_name argument is an empty string", what);
+    return false;
+  }
+  if (!qos->avoid_ros_namespace_conventions) {
+    int validation_result = RMW_TOPIC_VALID;
+    const rmw_ret_t ret = rmw_validate_full_topic_name(name, &validation_result, nullptr);
+    if (ret != RMW_RET_OK) {
+      return false;
+    }
+    if (validation_result != RMW_TOPIC_VALID) {
+      RMW_SET_ERROR_MSG_WITH_FORMAT_STRING(
+        "invalid %s name: %s", what, rmw_full_topic_name_validation_result_string(validation_result));
+      return false;
+    }
+  }
+  if (!qos_is_valid(*qos)) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("create_%s() called with an unknown QoS policy", what);
+    return false;
+  }
+  return true;
+}
+
+/// Record an endpoint of `node` and return its record id (0 when the node is unknown).
+inline uint64_t record_endpoint(
+  EndpointKind kind, const NodeImpl * node, const std::string & name, const ResolvedType & type,
+  const rmw_qos_profile_t & qos, const Gid & gid)
+{
+  EndpointRecord record;
+  record.kind = kind;
+  record.node_id = node->record_id;
+  record.name = name;
+  record.type = type.name;
+  record.type_hash = type.type_hash;
+  record.typesupport = type.typesupport;
+  record.qos = qos;
+  record.gid = gid;
+  const uint64_t id = Recorder::instance().add_endpoint(std::move(record));
+  verbose_log(
+    "%s %s [%s] (node %s/%s, %s)", endpoint_kind_to_string(kind), name.c_str(),
+    type.name.c_str(), node->namespace_ == "/" ? "" : node->namespace_.c_str(),
+    node->name.c_str(), type.typesupport.c_str());
+  notify_graph_change();
+  return id;
+}
+
+inline void forget_endpoint(uint64_t record_id, EndpointKind kind, const std::string & name)
+{
+  Recorder::instance().destroy_endpoint(record_id);
+  verbose_log("destroyed %s %s", endpoint_kind_to_string(kind), name.c_str());
+  notify_graph_change();
+}
+
+}  // namespace rmw_introspect
+
+#endif  // DETAIL__ENDPOINT_COMMON_HPP_

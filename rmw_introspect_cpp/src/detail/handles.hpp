@@ -1,0 +1,133 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+#ifndef DETAIL__HANDLES_HPP_
+#define DETAIL__HANDLES_HPP_
+
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+#include "rmw/event.h"
+#include "rmw/event_callback_type.h"
+#include "rmw/init.h"
+#include "rmw/subscription_content_filter_options.h"
+#include "rmw/types.h"
+
+#include "detail/recorder.hpp"
+#include "detail/typesupport.hpp"
+#include "detail/wait.hpp"
+
+namespace rmw_introspect
+{
+
+/// rmw_context_t::impl
+struct ContextImpl
+{
+  std::atomic<bool> is_shutdown{false};
+  std::atomic<size_t> node_count{0};
+};
+
+/// A stored "on new data" / event callback. Never called: nothing ever arrives.
+struct Callback
+{
+  std::mutex mutex;
+  rmw_event_callback_t callback = nullptr;
+  const void * user_data = nullptr;
+  void set(rmw_event_callback_t cb, const void * data)
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    callback = cb;
+    user_data = data;
+  }
+};
+
+/// Publishers and subscriptions are the targets of rmw_event_t::data.
+struct EventSource
+{
+  bool is_publisher = false;
+  Callback event_callbacks[RMW_EVENT_INVALID];
+};
+
+struct GuardConditionImpl
+{
+  rmw_guard_condition_t handle{};
+  GuardCondition gc;
+};
+
+struct NodeImpl
+{
+  rmw_node_t handle{};
+  std::string name;
+  std::string namespace_;
+  uint64_t record_id = 0;
+  ContextImpl * context_impl = nullptr;
+  GuardConditionImpl graph_guard;
+};
+
+struct PublisherImpl : EventSource
+{
+  rmw_publisher_t handle{};
+  std::string topic;
+  uint64_t record_id = 0;
+  const NodeImpl * node = nullptr;
+  ResolvedType type;
+  rmw_qos_profile_t qos{};
+  Gid gid{};
+};
+
+struct SubscriptionImpl : EventSource
+{
+  rmw_subscription_t handle{};
+  std::string topic;
+  uint64_t record_id = 0;
+  const NodeImpl * node = nullptr;
+  ResolvedType type;
+  rmw_qos_profile_t qos{};
+  Gid gid{};
+  Callback on_new_message;
+  std::mutex filter_mutex;
+  bool has_filter = false;
+  rmw_subscription_content_filter_options_t filter{};
+};
+
+struct ServiceImpl
+{
+  rmw_service_t handle{};
+  std::string name;
+  uint64_t record_id = 0;
+  const NodeImpl * node = nullptr;
+  ResolvedType type;
+  rmw_qos_profile_t qos{};
+  Gid gid{};
+  Callback on_new_request;
+};
+
+struct ClientImpl
+{
+  rmw_client_t handle{};
+  std::string name;
+  uint64_t record_id = 0;
+  const NodeImpl * node = nullptr;
+  ResolvedType type;
+  rmw_qos_profile_t qos{};
+  Gid gid{};
+  std::atomic<int64_t> next_sequence{1};
+  Callback on_new_response;
+};
+
+struct WaitSetImpl
+{
+  rmw_wait_set_t handle{};
+};
+
+/// Trigger the graph guard condition of every live node (a local graph change).
+void notify_graph_change();
+void register_graph_guard(GuardConditionImpl * gc);
+void unregister_graph_guard(GuardConditionImpl * gc);
+
+/// Verbose log line on stderr when RMW_INTROSPECT_VERBOSE=1.
+void verbose_log(const char * format, ...) __attribute__((format(printf, 1, 2)));
+
+}  // namespace rmw_introspect
+
+#endif  // DETAIL__HANDLES_HPP_

@@ -1,0 +1,112 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+#ifndef DETAIL__RECORDER_HPP_
+#define DETAIL__RECORDER_HPP_
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "rmw/types.h"
+
+namespace rmw_introspect
+{
+
+using Gid = std::array<uint8_t, RMW_GID_STORAGE_SIZE>;
+
+enum class EndpointKind { Publisher, Subscription, Service, Client };
+
+const char * endpoint_kind_to_string(EndpointKind kind);
+
+struct NodeRecord
+{
+  uint64_t id = 0;
+  uint64_t seq = 0;
+  std::string name;
+  std::string namespace_;
+  std::string fqn;
+  std::string enclave;
+  bool destroyed = false;
+};
+
+struct EndpointRecord
+{
+  uint64_t id = 0;
+  uint64_t seq = 0;
+  EndpointKind kind = EndpointKind::Publisher;
+  uint64_t node_id = 0;
+  std::string node_name;
+  std::string node_namespace;
+  std::string node_fqn;
+  std::string name;
+  std::string type;
+  std::string type_hash;
+  std::string typesupport;
+  rmw_qos_profile_t qos{};
+  Gid gid{};
+  bool destroyed = false;
+};
+
+/// A consistent copy of everything recorded, for writers and graph queries.
+struct RecorderSnapshot
+{
+  uint64_t generation = 0;
+  std::vector<NodeRecord> nodes;
+  std::vector<EndpointRecord> endpoints;
+};
+
+/// "/" + name, or namespace + "/" + name.
+std::string make_fqn(const std::string & namespace_, const std::string & name);
+
+/// Thread-safe model of the nodes and endpoints of this process, in creation order.
+/// Every string is copied: callers may free theirs right after the call.
+class Recorder
+{
+public:
+  Recorder();
+  Recorder(const Recorder &) = delete;
+  Recorder & operator=(const Recorder &) = delete;
+
+  /// The process-wide recorder (never destroyed: usable from atexit handlers).
+  static Recorder & instance();
+
+  /// Called (without the recorder lock held) after every change.
+  void set_change_listener(std::function<void()> listener);
+
+  uint64_t add_node(const char * name, const char * namespace_, const char * enclave);
+  bool destroy_node(uint64_t node_id);
+
+  /// Adds an endpoint of a live node; fills id, seq, gid and the node fields.
+  /// Returns 0 when the node is unknown.
+  uint64_t add_endpoint(EndpointRecord record);
+  bool destroy_endpoint(uint64_t endpoint_id);
+
+  RecorderSnapshot snapshot() const;
+  uint64_t generation() const;
+
+  /// Run `fn(nodes, endpoints)` under the lock (for graph queries that only read).
+  void visit(
+    const std::function<void(
+      const std::vector<NodeRecord> &, const std::vector<EndpointRecord> &)> & fn) const;
+
+  Gid new_gid();
+
+private:
+  void notify();
+
+  mutable std::mutex mutex_;
+  std::vector<NodeRecord> nodes_;
+  std::vector<EndpointRecord> endpoints_;
+  uint64_t seq_ = 0;
+  uint64_t generation_ = 0;
+  uint64_t gid_counter_ = 0;
+  std::array<uint8_t, 8> gid_prefix_{};
+  std::mutex listener_mutex_;
+  std::function<void()> listener_;
+};
+
+}  // namespace rmw_introspect
+
+#endif  // DETAIL__RECORDER_HPP_

@@ -1,0 +1,265 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+// Publishers: recorded on creation; publishing accepts and drops.
+
+#include <cstring>
+#include <memory>
+#include <vector>
+#include <new>
+#include <string>
+
+#include "rmw/get_network_flow_endpoints.h"
+#include "rmw/rmw.h"
+
+#include "detail/common.hpp"
+#include "detail/endpoint_common.hpp"
+#include "detail/handles.hpp"
+#include "detail/recorder.hpp"
+
+using rmw_introspect::kIdentifier;
+using rmw_introspect::PublisherImpl;
+
+namespace
+{
+size_t count_local(const std::string & topic, rmw_introspect::EndpointKind kind)
+{
+  size_t count = 0;
+  rmw_introspect::Recorder::instance().visit(
+    [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
+      for (const auto & e : endpoints) {
+        if (!e.destroyed && e.kind == kind && e.name == topic) {
+          ++count;
+        }
+      }
+    });
+  return count;
+}
+}  // namespace
+
+extern "C"
+{
+
+rmw_publisher_t * rmw_create_publisher(
+  const rmw_node_t * node, const rosidl_message_type_support_t * type_supports,
+  const char * topic_name, const rmw_qos_profile_t * qos_profile,
+  const rmw_publisher_options_t * publisher_options)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(node, nullptr);
+  RMWI_CHECK_IDENTIFIER(node, node->implementation_identifier, return nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(type_supports, nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(topic_name, nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(qos_profile, nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher_options, nullptr);
+  if (!rmw_introspect::check_name_and_qos(topic_name, qos_profile, "topic")) {
+    return nullptr;
+  }
+  if (publisher_options->require_unique_network_flow_endpoints ==
+    RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED)
+  {
+    RMW_SET_ERROR_MSG(
+      "Strict requirement on unique network flow endpoints for publishers not supported");
+    return nullptr;
+  }
+  auto * node_impl = static_cast<const rmw_introspect::NodeImpl *>(node->data);
+  RMW_CHECK_FOR_NULL_WITH_MSG(node_impl, "node impl is null", return nullptr);
+  rmw_introspect::ResolvedType type;
+  std::string error;
+  if (!rmw_introspect::resolve_message_type(type_supports, &type, &error)) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("%s", error.c_str());
+    return nullptr;
+  }
+  std::unique_ptr<PublisherImpl> impl(new (std::nothrow) PublisherImpl());
+  if (!impl) {
+    RMW_SET_ERROR_MSG("failed to allocate publisher");
+    return nullptr;
+  }
+  impl->is_publisher = true;
+  impl->topic = topic_name;  // copied: rcl frees its string right after this call
+  impl->node = node_impl;
+  impl->type = std::move(type);
+  impl->qos = *qos_profile;
+  impl->gid = rmw_introspect::Recorder::instance().new_gid();
+  impl->handle.implementation_identifier = kIdentifier;
+  impl->handle.data = impl.get();
+  impl->handle.topic_name = impl->topic.c_str();
+  impl->handle.options = *publisher_options;
+  impl->handle.can_loan_messages = false;
+  impl->record_id = rmw_introspect::record_endpoint(
+    rmw_introspect::EndpointKind::Publisher, node_impl, impl->topic, impl->type, impl->qos,
+    impl->gid);
+  return &impl.release()->handle;
+}
+
+rmw_ret_t rmw_destroy_publisher(rmw_node_t * node, rmw_publisher_t * publisher)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(node, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  std::unique_ptr<PublisherImpl> impl(static_cast<PublisherImpl *>(publisher->data));
+  rmw_introspect::forget_endpoint(
+    impl->record_id, rmw_introspect::EndpointKind::Publisher, impl->topic);
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_publish(
+  const rmw_publisher_t * publisher, const void * ros_message,
+  rmw_publisher_allocation_t * allocation)
+{
+  (void)allocation;
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
+  return RMW_RET_OK;  // accepted and dropped: nothing leaves the process
+}
+
+rmw_ret_t rmw_publish_serialized_message(
+  const rmw_publisher_t * publisher, const rmw_serialized_message_t * serialized_message,
+  rmw_publisher_allocation_t * allocation)
+{
+  (void)allocation;
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_borrow_loaned_message(
+  const rmw_publisher_t * publisher, const rosidl_message_type_support_t * type_support,
+  void ** ros_message)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(type_support, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
+  if (*ros_message != nullptr) {
+    RMW_SET_ERROR_MSG("ros_message argument must point to a null pointer");
+    return RMW_RET_INVALID_ARGUMENT;
+  }
+  RMW_SET_ERROR_MSG("Loaning is not supported");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_publish_loaned_message(
+  const rmw_publisher_t * publisher, void * ros_message, rmw_publisher_allocation_t * allocation)
+{
+  (void)allocation;
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("Loaning is not supported");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_return_loaned_message_from_publisher(
+  const rmw_publisher_t * publisher, void * loaned_message)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("Loaning is not supported");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_publisher_count_matched_subscriptions(
+  const rmw_publisher_t * publisher, size_t * subscription_count)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(subscription_count, RMW_RET_INVALID_ARGUMENT);
+  auto * impl = static_cast<const PublisherImpl *>(publisher->data);
+  *subscription_count = count_local(impl->topic, rmw_introspect::EndpointKind::Subscription);
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_publisher_get_actual_qos(const rmw_publisher_t * publisher, rmw_qos_profile_t * qos)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
+  *qos = static_cast<const PublisherImpl *>(publisher->data)->qos;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_publisher_assert_liveliness(const rmw_publisher_t * publisher)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_publisher_wait_for_all_acked(const rmw_publisher_t * publisher, rmw_time_t wait_timeout)
+{
+  (void)wait_timeout;
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  return RMW_RET_OK;  // nothing was sent, so everything is acknowledged
+}
+
+rmw_ret_t rmw_publisher_get_network_flow_endpoints(
+  const rmw_publisher_t * publisher, rcutils_allocator_t * allocator,
+  rmw_network_flow_endpoint_array_t * network_flow_endpoint_array)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(allocator, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(network_flow_endpoint_array, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("network flow endpoints are not supported: nothing goes on a network");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_get_gid_for_publisher(const rmw_publisher_t * publisher, rmw_gid_t * gid)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    publisher, publisher->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(gid, RMW_RET_INVALID_ARGUMENT);
+  const auto * impl = static_cast<const PublisherImpl *>(publisher->data);
+  gid->implementation_identifier = kIdentifier;
+  std::memcpy(gid->data, impl->gid.data(), RMW_GID_STORAGE_SIZE);
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_init_publisher_allocation(
+  const rosidl_message_type_support_t * type_support,
+  const rosidl_runtime_c__Sequence__bound * message_bounds,
+  rmw_publisher_allocation_t * allocation)
+{
+  (void)message_bounds;  // NULL = unbounded
+  RMW_CHECK_ARGUMENT_FOR_NULL(type_support, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(allocation, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("publisher allocations are not supported");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_fini_publisher_allocation(rmw_publisher_allocation_t * allocation)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(allocation, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("publisher allocations are not supported");
+  return RMW_RET_UNSUPPORTED;
+}
+
+}  // extern "C"

@@ -1,0 +1,127 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+// Service servers: recorded on creation; no request ever arrives.
+
+#include <memory>
+#include <new>
+#include <string>
+
+#include "rmw/rmw.h"
+
+#include "detail/common.hpp"
+#include "detail/config.hpp"
+#include "detail/endpoint_common.hpp"
+#include "detail/handles.hpp"
+#include "detail/recorder.hpp"
+
+using rmw_introspect::kIdentifier;
+using rmw_introspect::ServiceImpl;
+
+#define RMWI_CHECK_SERVICE(service) \
+  RMW_CHECK_ARGUMENT_FOR_NULL(service, RMW_RET_INVALID_ARGUMENT); \
+  RMWI_CHECK_IDENTIFIER( \
+    service, service->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION)
+
+extern "C"
+{
+
+rmw_service_t * rmw_create_service(
+  const rmw_node_t * node, const rosidl_service_type_support_t * type_supports,
+  const char * service_name, const rmw_qos_profile_t * qos_profile)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(node, nullptr);
+  RMWI_CHECK_IDENTIFIER(node, node->implementation_identifier, return nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(type_supports, nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(service_name, nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(qos_profile, nullptr);
+  if (!rmw_introspect::check_name_and_qos(service_name, qos_profile, "service")) {
+    return nullptr;
+  }
+  auto * node_impl = static_cast<const rmw_introspect::NodeImpl *>(node->data);
+  RMW_CHECK_FOR_NULL_WITH_MSG(node_impl, "node impl is null", return nullptr);
+  rmw_introspect::ResolvedType type;
+  std::string error;
+  if (!rmw_introspect::resolve_service_type(type_supports, &type, &error)) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("%s", error.c_str());
+    return nullptr;
+  }
+  std::unique_ptr<ServiceImpl> impl(new (std::nothrow) ServiceImpl());
+  if (!impl) {
+    RMW_SET_ERROR_MSG("failed to allocate service");
+    return nullptr;
+  }
+  impl->name = service_name;
+  impl->node = node_impl;
+  impl->type = std::move(type);
+  impl->qos = *qos_profile;
+  impl->gid = rmw_introspect::Recorder::instance().new_gid();
+  impl->handle.implementation_identifier = kIdentifier;
+  impl->handle.data = impl.get();
+  impl->handle.service_name = impl->name.c_str();
+  impl->record_id = rmw_introspect::record_endpoint(
+    rmw_introspect::EndpointKind::Service, node_impl, impl->name, impl->type, impl->qos,
+    impl->gid);
+  return &impl.release()->handle;
+}
+
+rmw_ret_t rmw_destroy_service(rmw_node_t * node, rmw_service_t * service)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(node, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(service, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_IDENTIFIER(
+    service, service->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  std::unique_ptr<ServiceImpl> impl(static_cast<ServiceImpl *>(service->data));
+  rmw_introspect::forget_endpoint(
+    impl->record_id, rmw_introspect::EndpointKind::Service, impl->name);
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_take_request(
+  const rmw_service_t * service, rmw_service_info_t * request_header, void * ros_request,
+  bool * taken)
+{
+  RMWI_CHECK_SERVICE(service);
+  RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(ros_request, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
+  *taken = false;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_send_response(
+  const rmw_service_t * service, rmw_request_id_t * request_header, void * ros_response)
+{
+  RMWI_CHECK_SERVICE(service);
+  RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(ros_response, RMW_RET_INVALID_ARGUMENT);
+  return RMW_RET_OK;  // dropped
+}
+
+rmw_ret_t rmw_service_request_subscription_get_actual_qos(
+  const rmw_service_t * service, rmw_qos_profile_t * qos)
+{
+  RMWI_CHECK_SERVICE(service);
+  RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
+  *qos = static_cast<const ServiceImpl *>(service->data)->qos;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_service_response_publisher_get_actual_qos(
+  const rmw_service_t * service, rmw_qos_profile_t * qos)
+{
+  RMWI_CHECK_SERVICE(service);
+  RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
+  *qos = static_cast<const ServiceImpl *>(service->data)->qos;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_service_set_on_new_request_callback(
+  rmw_service_t * service, rmw_event_callback_t callback, const void * user_data)
+{
+  RMWI_CHECK_SERVICE(service);
+  static_cast<ServiceImpl *>(service->data)->on_new_request.set(callback, user_data);
+  return RMW_RET_OK;
+}
+
+}  // extern "C"

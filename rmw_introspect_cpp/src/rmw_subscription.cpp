@@ -1,0 +1,366 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+// Subscriptions: recorded on creation; nothing is ever received.
+
+#include <cstring>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "rmw/get_network_flow_endpoints.h"
+#include "rmw/rmw.h"
+#include "rmw/subscription_content_filter_options.h"
+
+#include "detail/common.hpp"
+#include "detail/endpoint_common.hpp"
+#include "detail/handles.hpp"
+#include "detail/recorder.hpp"
+
+using rmw_introspect::kIdentifier;
+using rmw_introspect::SubscriptionImpl;
+
+#define RMWI_CHECK_SUBSCRIPTION(subscription) \
+  RMW_CHECK_ARGUMENT_FOR_NULL(subscription, RMW_RET_INVALID_ARGUMENT); \
+  RMWI_CHECK_IDENTIFIER( \
+    subscription, subscription->implementation_identifier, \
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION)
+
+extern "C"
+{
+
+rmw_subscription_t * rmw_create_subscription(
+  const rmw_node_t * node, const rosidl_message_type_support_t * type_supports,
+  const char * topic_name, const rmw_qos_profile_t * qos_policies,
+  const rmw_subscription_options_t * subscription_options)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(node, nullptr);
+  RMWI_CHECK_IDENTIFIER(node, node->implementation_identifier, return nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(type_supports, nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(topic_name, nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(qos_policies, nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(subscription_options, nullptr);
+  if (!rmw_introspect::check_name_and_qos(topic_name, qos_policies, "topic")) {
+    return nullptr;
+  }
+  if (subscription_options->require_unique_network_flow_endpoints ==
+    RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED)
+  {
+    RMW_SET_ERROR_MSG(
+      "Strict requirement on unique network flow endpoints for subscriptions not supported");
+    return nullptr;
+  }
+  auto * node_impl = static_cast<const rmw_introspect::NodeImpl *>(node->data);
+  RMW_CHECK_FOR_NULL_WITH_MSG(node_impl, "node impl is null", return nullptr);
+  rmw_introspect::ResolvedType type;
+  std::string error;
+  if (!rmw_introspect::resolve_message_type(type_supports, &type, &error)) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("%s", error.c_str());
+    return nullptr;
+  }
+  std::unique_ptr<SubscriptionImpl> impl(new (std::nothrow) SubscriptionImpl());
+  if (!impl) {
+    RMW_SET_ERROR_MSG("failed to allocate subscription");
+    return nullptr;
+  }
+  impl->is_publisher = false;
+  impl->topic = topic_name;
+  impl->node = node_impl;
+  impl->type = std::move(type);
+  impl->qos = *qos_policies;
+  impl->gid = rmw_introspect::Recorder::instance().new_gid();
+  impl->handle.implementation_identifier = kIdentifier;
+  impl->handle.data = impl.get();
+  impl->handle.topic_name = impl->topic.c_str();
+  impl->handle.options = *subscription_options;
+  impl->handle.options.content_filter_options = nullptr;  // not owned by us
+  impl->handle.can_loan_messages = false;
+  impl->handle.is_cft_enabled = false;
+  if (subscription_options->content_filter_options != nullptr &&
+    subscription_options->content_filter_options->filter_expression != nullptr)
+  {
+    const rmw_ret_t ret = rmw_subscription_set_content_filter(
+      &impl->handle, subscription_options->content_filter_options);
+    if (ret != RMW_RET_OK) {
+      return nullptr;
+    }
+  }
+  impl->record_id = rmw_introspect::record_endpoint(
+    rmw_introspect::EndpointKind::Subscription, node_impl, impl->topic, impl->type, impl->qos,
+    impl->gid);
+  return &impl.release()->handle;
+}
+
+rmw_ret_t rmw_destroy_subscription(rmw_node_t * node, rmw_subscription_t * subscription)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(node, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(subscription, RMW_RET_INVALID_ARGUMENT);
+  RMWI_CHECK_IDENTIFIER(
+    node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_IDENTIFIER(
+    subscription, subscription->implementation_identifier,
+    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  std::unique_ptr<SubscriptionImpl> impl(static_cast<SubscriptionImpl *>(subscription->data));
+  if (impl->has_filter) {
+    rcutils_allocator_t allocator = rcutils_get_default_allocator();
+    rmw_introspect::ignore_result(
+      rmw_subscription_content_filter_options_fini(&impl->filter, &allocator));
+  }
+  rmw_introspect::forget_endpoint(
+    impl->record_id, rmw_introspect::EndpointKind::Subscription, impl->topic);
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_subscription_count_matched_publishers(
+  const rmw_subscription_t * subscription, size_t * publisher_count)
+{
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher_count, RMW_RET_INVALID_ARGUMENT);
+  const auto * impl = static_cast<const SubscriptionImpl *>(subscription->data);
+  size_t count = 0;
+  rmw_introspect::Recorder::instance().visit(
+    [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
+      for (const auto & e : endpoints) {
+        if (!e.destroyed && e.kind == rmw_introspect::EndpointKind::Publisher &&
+        e.name == impl->topic)
+        {
+          ++count;
+        }
+      }
+    });
+  *publisher_count = count;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_subscription_get_actual_qos(
+  const rmw_subscription_t * subscription, rmw_qos_profile_t * qos)
+{
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
+  *qos = static_cast<const SubscriptionImpl *>(subscription->data)->qos;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_subscription_set_content_filter(
+  rmw_subscription_t * subscription, const rmw_subscription_content_filter_options_t * options)
+{
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(options, RMW_RET_INVALID_ARGUMENT);
+  auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
+  std::lock_guard<std::mutex> lock(impl->filter_mutex);
+  rcutils_allocator_t allocator = rcutils_get_default_allocator();
+  if (impl->has_filter) {
+    rmw_introspect::ignore_result(
+      rmw_subscription_content_filter_options_fini(&impl->filter, &allocator));
+    impl->has_filter = false;
+    subscription->is_cft_enabled = false;
+  }
+  if (options->filter_expression == nullptr || options->filter_expression[0] == '\0') {
+    return RMW_RET_OK;  // an empty expression resets the filter
+  }
+  impl->filter = rmw_get_zero_initialized_content_filter_options();
+  const rmw_ret_t ret = rmw_subscription_content_filter_options_copy(
+    options, &allocator, &impl->filter);
+  if (ret != RMW_RET_OK) {
+    return ret;
+  }
+  impl->has_filter = true;
+  subscription->is_cft_enabled = true;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_subscription_get_content_filter(
+  const rmw_subscription_t * subscription, rcutils_allocator_t * allocator,
+  rmw_subscription_content_filter_options_t * options)
+{
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(allocator, RMW_RET_INVALID_ARGUMENT);
+  RCUTILS_CHECK_ALLOCATOR_WITH_MSG(
+    allocator, "allocator argument is invalid", return RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(options, RMW_RET_INVALID_ARGUMENT);
+  auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
+  std::lock_guard<std::mutex> lock(impl->filter_mutex);
+  if (!impl->has_filter) {
+    RMW_SET_ERROR_MSG("this subscription has no content filter");
+    return RMW_RET_ERROR;
+  }
+  return rmw_subscription_content_filter_options_copy(&impl->filter, allocator, options);
+}
+
+rmw_ret_t rmw_subscription_get_network_flow_endpoints(
+  const rmw_subscription_t * subscription, rcutils_allocator_t * allocator,
+  rmw_network_flow_endpoint_array_t * network_flow_endpoint_array)
+{
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(allocator, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(network_flow_endpoint_array, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("network flow endpoints are not supported: nothing goes on a network");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_subscription_set_on_new_message_callback(
+  rmw_subscription_t * subscription, rmw_event_callback_t callback, const void * user_data)
+{
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  static_cast<SubscriptionImpl *>(subscription->data)->on_new_message.set(callback, user_data);
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_init_subscription_allocation(
+  const rosidl_message_type_support_t * type_support,
+  const rosidl_runtime_c__Sequence__bound * message_bounds,
+  rmw_subscription_allocation_t * allocation)
+{
+  (void)message_bounds;
+  RMW_CHECK_ARGUMENT_FOR_NULL(type_support, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(allocation, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("subscription allocations are not supported");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_fini_subscription_allocation(rmw_subscription_allocation_t * allocation)
+{
+  RMW_CHECK_ARGUMENT_FOR_NULL(allocation, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("subscription allocations are not supported");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_take(
+  const rmw_subscription_t * subscription, void * ros_message, bool * taken,
+  rmw_subscription_allocation_t * allocation)
+{
+  (void)allocation;
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
+  *taken = false;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_take_with_info(
+  const rmw_subscription_t * subscription, void * ros_message, bool * taken,
+  rmw_message_info_t * message_info, rmw_subscription_allocation_t * allocation)
+{
+  (void)allocation;
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
+  *taken = false;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_take_sequence(
+  const rmw_subscription_t * subscription, size_t count, rmw_message_sequence_t * message_sequence,
+  rmw_message_info_sequence_t * message_info_sequence, size_t * taken,
+  rmw_subscription_allocation_t * allocation)
+{
+  (void)allocation;
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(message_sequence, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(message_info_sequence, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
+  if (count == 0u) {
+    RMW_SET_ERROR_MSG("count cannot be 0");
+    return RMW_RET_INVALID_ARGUMENT;
+  }
+  if (count > message_sequence->capacity) {
+    RMW_SET_ERROR_MSG("Insufficient capacity in message_sequence");
+    return RMW_RET_INVALID_ARGUMENT;
+  }
+  if (count > message_info_sequence->capacity) {
+    RMW_SET_ERROR_MSG("Insufficient capacity in message_info_sequence");
+    return RMW_RET_INVALID_ARGUMENT;
+  }
+  *taken = 0u;
+  message_sequence->size = 0u;
+  message_info_sequence->size = 0u;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_take_serialized_message(
+  const rmw_subscription_t * subscription, rmw_serialized_message_t * serialized_message,
+  bool * taken, rmw_subscription_allocation_t * allocation)
+{
+  (void)allocation;
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
+  *taken = false;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_take_serialized_message_with_info(
+  const rmw_subscription_t * subscription, rmw_serialized_message_t * serialized_message,
+  bool * taken, rmw_message_info_t * message_info, rmw_subscription_allocation_t * allocation)
+{
+  (void)allocation;
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
+  *taken = false;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_take_loaned_message(
+  const rmw_subscription_t * subscription, void ** loaned_message, bool * taken,
+  rmw_subscription_allocation_t * allocation)
+{
+  (void)allocation;
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("Loaning is not supported");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_take_loaned_message_with_info(
+  const rmw_subscription_t * subscription, void ** loaned_message, bool * taken,
+  rmw_message_info_t * message_info, rmw_subscription_allocation_t * allocation)
+{
+  (void)allocation;
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("Loaning is not supported");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_return_loaned_message_from_subscription(
+  const rmw_subscription_t * subscription, void * loaned_message)
+{
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_SET_ERROR_MSG("Loaning is not supported");
+  return RMW_RET_UNSUPPORTED;
+}
+
+rmw_ret_t rmw_take_dynamic_message(
+  const rmw_subscription_t * subscription,
+  rosidl_dynamic_typesupport_dynamic_data_t * dynamic_message, bool * taken,
+  rmw_subscription_allocation_t * allocation)
+{
+  (void)allocation;
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(dynamic_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
+  *taken = false;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t rmw_take_dynamic_message_with_info(
+  const rmw_subscription_t * subscription,
+  rosidl_dynamic_typesupport_dynamic_data_t * dynamic_message, bool * taken,
+  rmw_message_info_t * message_info, rmw_subscription_allocation_t * allocation)
+{
+  (void)allocation;
+  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMW_CHECK_ARGUMENT_FOR_NULL(dynamic_message, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
+  RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
+  *taken = false;
+  return RMW_RET_OK;
+}
+
+}  // extern "C"

@@ -1,0 +1,175 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+#include "detail/typesupport.hpp"
+
+#include <cstring>
+#include <string>
+
+#include "rcutils/error_handling.h"
+#include "rosidl_typesupport_introspection_c/message_introspection.h"
+#include "rosidl_typesupport_introspection_c/service_introspection.h"
+#include "rosidl_typesupport_introspection_cpp/message_introspection.hpp"
+#include "rosidl_typesupport_introspection_cpp/service_introspection.hpp"
+
+namespace rmw_introspect
+{
+
+const char * const kIntrospectionC = "rosidl_typesupport_introspection_c";
+const char * const kIntrospectionCpp = "rosidl_typesupport_introspection_cpp";
+
+std::string type_name_from_namespace(const char * type_namespace, const char * type_name)
+{
+  std::string result;
+  if (type_namespace != nullptr) {
+    const std::string ns(type_namespace);
+    for (size_t i = 0; i < ns.size(); ) {
+      if (ns.compare(i, 2, "__") == 0 || ns.compare(i, 2, "::") == 0) {
+        result.push_back('/');
+        i += 2;
+      } else {
+        result.push_back(ns[i]);
+        ++i;
+      }
+    }
+  }
+  if (!result.empty() && result.back() != '/') {
+    result.push_back('/');
+  }
+  if (type_name != nullptr) {
+    result += type_name;
+  }
+  return result;
+}
+
+std::string format_type_hash(const rosidl_type_hash_t * hash)
+{
+  if (hash == nullptr || hash->version != 1) {
+    return std::string();
+  }
+  static const char digits[] = "0123456789abcdef";
+  std::string out = "RIHS01_";
+  out.reserve(7 + 2 * ROSIDL_TYPE_HASH_SIZE);
+  for (size_t i = 0; i < ROSIDL_TYPE_HASH_SIZE; ++i) {
+    out.push_back(digits[hash->value[i] >> 4]);
+    out.push_back(digits[hash->value[i] & 0x0f]);
+  }
+  return out;
+}
+
+namespace
+{
+
+// Ask a handle for another type support through its own dispatch function; a miss in a
+// dispatching handle (rosidl_typesupport_c/_cpp) sets an rcutils error: clear it, keeping
+// any error that was already set before the lookup.
+template<typename HandleT>
+const HandleT * lookup(const HandleT * handle, const char * identifier)
+{
+  if (handle->typesupport_identifier != nullptr &&
+    std::strcmp(handle->typesupport_identifier, identifier) == 0)
+  {
+    return handle;
+  }
+  if (handle->func == nullptr) {
+    return nullptr;
+  }
+  const bool error_before = rcutils_error_is_set();
+  const HandleT * found = handle->func(handle, identifier);
+  if (found == nullptr && !error_before) {
+    rcutils_reset_error();
+  }
+  return found;
+}
+
+}  // namespace
+
+bool resolve_message_type(
+  const rosidl_message_type_support_t * type_support, ResolvedType * out, std::string * error)
+{
+  if (type_support == nullptr || out == nullptr) {
+    if (error) {*error = "type support is null";}
+    return false;
+  }
+  ResolvedType resolved;
+  resolved.typesupport =
+    type_support->typesupport_identifier ? type_support->typesupport_identifier : "";
+  if (const auto * c = lookup(type_support, kIntrospectionC)) {
+    const auto * members =
+      static_cast<const rosidl_typesupport_introspection_c__MessageMembers *>(c->data);
+    if (members == nullptr) {
+      if (error) {*error = "introspection type support has no members";}
+      return false;
+    }
+    resolved.name = type_name_from_namespace(members->message_namespace_, members->message_name_);
+    resolved.members = members;
+    resolved.is_cpp = false;
+    resolved.introspection_message = c;
+  } else if (const auto * cpp = lookup(type_support, kIntrospectionCpp)) {
+    const auto * members =
+      static_cast<const rosidl_typesupport_introspection_cpp::MessageMembers *>(cpp->data);
+    if (members == nullptr) {
+      if (error) {*error = "introspection type support has no members";}
+      return false;
+    }
+    resolved.name = type_name_from_namespace(members->message_namespace_, members->message_name_);
+    resolved.members = members;
+    resolved.is_cpp = true;
+    resolved.introspection_message = cpp;
+  } else {
+    if (error) {*error = "type support not from this implementation";}
+    return false;
+  }
+  if (type_support->get_type_hash_func != nullptr) {
+    resolved.type_hash = format_type_hash(type_support->get_type_hash_func(type_support));
+  } else if (resolved.introspection_message->get_type_hash_func != nullptr) {
+    resolved.type_hash = format_type_hash(
+      resolved.introspection_message->get_type_hash_func(resolved.introspection_message));
+  }
+  *out = std::move(resolved);
+  return true;
+}
+
+bool resolve_service_type(
+  const rosidl_service_type_support_t * type_support, ResolvedType * out, std::string * error)
+{
+  if (type_support == nullptr || out == nullptr) {
+    if (error) {*error = "type support is null";}
+    return false;
+  }
+  ResolvedType resolved;
+  resolved.typesupport =
+    type_support->typesupport_identifier ? type_support->typesupport_identifier : "";
+  const rosidl_service_type_support_t * found = nullptr;
+  if ((found = lookup(type_support, kIntrospectionC)) != nullptr) {
+    const auto * members =
+      static_cast<const rosidl_typesupport_introspection_c__ServiceMembers *>(found->data);
+    if (members == nullptr) {
+      if (error) {*error = "introspection type support has no members";}
+      return false;
+    }
+    resolved.name = type_name_from_namespace(members->service_namespace_, members->service_name_);
+    resolved.members = members;
+    resolved.is_cpp = false;
+  } else if ((found = lookup(type_support, kIntrospectionCpp)) != nullptr) {
+    const auto * members =
+      static_cast<const rosidl_typesupport_introspection_cpp::ServiceMembers *>(found->data);
+    if (members == nullptr) {
+      if (error) {*error = "introspection type support has no members";}
+      return false;
+    }
+    resolved.name = type_name_from_namespace(members->service_namespace_, members->service_name_);
+    resolved.members = members;
+    resolved.is_cpp = true;
+  } else {
+    if (error) {*error = "type support not from this implementation";}
+    return false;
+  }
+  if (type_support->get_type_hash_func != nullptr) {
+    resolved.type_hash = format_type_hash(type_support->get_type_hash_func(type_support));
+  } else if (found->get_type_hash_func != nullptr) {
+    resolved.type_hash = format_type_hash(found->get_type_hash_func(found));
+  }
+  *out = std::move(resolved);
+  return true;
+}
+
+}  // namespace rmw_introspect

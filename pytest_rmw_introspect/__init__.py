@@ -1,3 +1,60 @@
-"""pytest-rmw-introspect: interface contract tests for ROS 2 nodes."""
+"""pytest-rmw-introspect: interface contract tests for ROS 2 nodes.
+
+A node's process runs on a recording middleware (``rmw_introspect_cpp``) that writes down
+every node, publisher, subscription, service and client it creates. The pytest plugin
+compares that capture with a golden YAML contract; ``pytest --update-golden`` rewrites it.
+
+Outside pytest::
+
+    import pytest_rmw_introspect
+
+    cap = pytest_rmw_introspect.capture(script="talker.py", namespace="/robot1")
+    for node in cap:
+        print(node.fqn, [p.name for p in node.publishers])
+    cap.to_contract_nodes()        # the `nodes` mapping of a contract
+
+``pytest_rmw_introspect.capture`` is the :mod:`pytest_rmw_introspect.capture` module, made
+callable (calling it runs :func:`pytest_rmw_introspect.runner.capture`).
+"""
+
+from . import capture  # noqa: F401  (the callable module)
+from .capture import Capture, Endpoint, Interface, Node, RawNode
+from .contract import Contract
+from .contract import load as load_contract
+from .errors import (
+    CaptureFormatError,
+    ContractError,
+    ExecutableNotFound,
+    NoNodeCreated,
+    RmwIntrospectError,
+    SetupError,
+    TargetConfigError,
+    TargetError,
+    TargetExited,
+    TargetTimeout,
+)
+from .target import TargetSpec
 
 __version__ = "0.1.0"
+
+__all__ = [
+    "capture",
+    "Capture",
+    "Node",
+    "Interface",
+    "Endpoint",
+    "RawNode",
+    "Contract",
+    "load_contract",
+    "TargetSpec",
+    "RmwIntrospectError",
+    "SetupError",
+    "ContractError",
+    "CaptureFormatError",
+    "TargetError",
+    "TargetConfigError",
+    "ExecutableNotFound",
+    "TargetExited",
+    "NoNodeCreated",
+    "TargetTimeout",
+]

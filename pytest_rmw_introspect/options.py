@@ -1,0 +1,127 @@
+"""Comparison options and where they come from.
+
+=========================  ===============================  ===================================
+option                     meaning                          default
+=========================  ===============================  ===================================
+``ignore_type_hash``       do not compare type hashes       ``false``
+``ignore_qos``             ``true`` (all QoS fields) or a   ``[]``
+                           list of QoS field names not to
+                           compare
+``allow_extra``            interfaces (and nodes) the       ``false``
+                           contract does not list are fine
+``include_infrastructure`` compare /rosout,                 ``false``
+                           /parameter_events, parameter
+                           and lifecycle services too
+``fail_on``                ``any``, ``risky`` or            ``any``
+                           ``breaking``: the least severe
+                           drift that fails the test
+=========================  ===============================  ===================================
+
+Each can be set, from strongest to weakest: as a keyword argument of the
+``interfaces`` marker, in the contract's ``options:`` block, on the command line
+(``--rmw-introspect-<option>``), in the ini file (``rmw_introspect_<option>``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+from .errors import RmwIntrospectError
+
+OPTION_KEYS = ("ignore_type_hash", "ignore_qos", "allow_extra", "include_infrastructure", "fail_on")
+FAIL_ON = ("any", "risky", "breaking")
+_TRUE = ("1", "true", "yes", "on", "all")
+_FALSE = ("0", "false", "no", "off", "")
+
+
+class OptionError(RmwIntrospectError):
+    """A comparison option with a value that makes no sense (names where it was set)."""
+
+
+@dataclass(frozen=True)
+class ComparisonOptions:
+    ignore_type_hash: bool = False
+    ignore_qos: frozenset[str] | bool = frozenset()
+    allow_extra: bool = False
+    include_infrastructure: bool = False
+    fail_on: str = "any"
+
+    def compare_options(self) -> Any:
+        """The ``drift.CompareOptions`` for these options."""
+        from .drift import CompareOptions
+
+        return CompareOptions(
+            ignore_type_hash=self.ignore_type_hash, ignore_qos=self.ignore_qos, allow_extra=self.allow_extra
+        )
+
+    def threshold(self) -> Any:
+        from .report import parse_threshold
+
+        return parse_threshold(self.fail_on)
+
+    @property
+    def ignores_all_qos(self) -> bool:
+        return self.ignore_qos is True
+
+
+def _bool(value: Any, key: str, source: str) -> bool:
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, str) and value.strip().lower() in _TRUE + _FALSE:
+        return value.strip().lower() in _TRUE
+    raise OptionError(f"{source}: `{key}` must be true or false, got {value!r}")
+
+
+def _ignore_qos(value: Any, source: str) -> frozenset[str] | bool:
+    from .qos import FIELDS
+
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, str):
+        text = value.strip().lower()
+        if text in _TRUE:
+            return True
+        if text in _FALSE or text == "none":
+            return frozenset()
+        value = [v.strip() for v in value.replace(" ", ",").split(",") if v.strip()]
+    if isinstance(value, (list, tuple, set, frozenset)):
+        fields = frozenset(str(v) for v in value)
+        unknown = sorted(fields - set(FIELDS))
+        if unknown:
+            raise OptionError(
+                f"{source}: `ignore_qos` names unknown QoS field(s) {', '.join(unknown)}; "
+                f"known: {', '.join(FIELDS)} (or true for all)"
+            )
+        return fields
+    raise OptionError(f"{source}: `ignore_qos` must be true/false or a list of QoS fields, got {value!r}")
+
+
+def _fail_on(value: Any, source: str) -> str:
+    if isinstance(value, str) and value.strip().lower() in FAIL_ON:
+        return value.strip().lower()
+    raise OptionError(f"{source}: `fail_on` must be one of {', '.join(FAIL_ON)}, got {value!r}")
+
+
+def parse_one(key: str, value: Any, source: str) -> Any:
+    """Validate one option value (from any source)."""
+    if key == "ignore_qos":
+        return _ignore_qos(value, source)
+    if key == "fail_on":
+        return _fail_on(value, source)
+    if key in OPTION_KEYS:
+        return _bool(value, key, source)
+    raise OptionError(f"{source}: unknown option {key!r}; known: {', '.join(OPTION_KEYS)}")
+
+
+def parse_layer(values: Mapping[str, Any] | None, source: str) -> dict[str, Any]:
+    """Validate a set of options; ``None`` values mean "not set here"."""
+    return {k: parse_one(k, v, source) for k, v in (values or {}).items() if v is not None}
+
+
+def resolve(*layers: tuple[Mapping[str, Any] | None, str]) -> ComparisonOptions:
+    """Combine ``(values, source)`` layers, weakest first (ini, command line, contract, marker)."""
+    merged: dict[str, Any] = {}
+    for values, source in layers:
+        merged.update(parse_layer(values, source))
+    return ComparisonOptions(**merged)

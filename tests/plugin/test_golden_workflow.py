@@ -1,0 +1,167 @@
+"""Missing golden → --update-golden creates it → the test passes → regenerating changes no byte."""
+
+from __future__ import annotations
+
+STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+
+TALKER_TEST = """
+@pytest.mark.interfaces("contracts/talker.yaml", script=NODES + "/talker.py")
+def test_talker(interfaces):
+    assert interfaces["/talker"].publishers[0].name == "/chatter"
+"""
+
+EXPECTED_TALKER_CONTRACT = f"""\
+# Interface contract checked by pytest-rmw-introspect.
+# Regenerate with `pytest --update-golden`; comments and keys above `nodes:` are kept.
+contract_version: 1
+nodes:
+  /talker:
+    publishers:
+      - name: /chatter
+        type: std_msgs/msg/String
+        type_hash: {STRING_HASH}
+        qos: {{history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}}
+    subscriptions: []
+    service_servers: []
+    service_clients: []
+    action_servers: []
+    action_clients: []
+"""
+
+
+def test_missing_golden_fails_with_the_command_that_creates_it(project):
+    project.test(TALKER_TEST)
+    result = project.run()
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines([
+        "*The golden contract contracts/talker.yaml does not exist.*",
+        "*pytest --update-golden test_nodes.py::test_talker",
+        "*Captured:*",
+        "*/talker*",
+        "*publishers: /chatter [[]std_msgs/msg/String[]]*",
+    ])
+    assert not (project.path / "contracts" / "talker.yaml").exists()
+    assert "Traceback" not in result.stdout.str()
+
+
+def test_update_golden_creates_the_contract_and_then_it_passes(project):
+    project.test(TALKER_TEST)
+    result = project.run("--update-golden")
+    result.assert_outcomes(passed=1)
+    result.stdout.fnmatch_lines([
+        "*rmw-introspect: --update-golden*",
+        "*rmw-introspect: golden contracts*",
+        "created  contracts/talker.yaml",
+        "1 golden contract(s) written",
+    ])
+    assert project.read("contracts/talker.yaml") == EXPECTED_TALKER_CONTRACT
+
+    project.run().assert_outcomes(passed=1)
+
+    again = project.run("--update-golden")
+    again.assert_outcomes(passed=1)
+    again.stdout.fnmatch_lines(["*no golden contract needed changes*"])
+    assert project.read("contracts/talker.yaml") == EXPECTED_TALKER_CONTRACT
+
+
+def test_update_rewrites_a_drifted_golden_keeping_header_target_and_options(project):
+    header = (
+        "# The talker's interface. Owner: team-demo.\n"
+        "contract_version: 1\n"
+        "\n"
+        "# run the demo talker with its defaults\n"
+        "target:\n"
+        f"  script: {project.node('talker.py')}\n"
+        "options:\n"
+        "  fail_on: any   # everything counts\n"
+    )
+    project.write("contracts/talker.yaml", header + (
+        "nodes:\n"
+        "  /talker:\n"
+        "    publishers:\n"
+        "      - {name: /old_topic, type: std_msgs/msg/String, qos: default}\n"
+    ))
+    project.test("""
+        @pytest.mark.interfaces("contracts/talker.yaml")
+        def test_talker(interfaces):
+            pass
+    """)
+    project.run().assert_outcomes(failed=1)
+    result = project.run("--update-golden")
+    result.assert_outcomes(passed=1)
+    result.stdout.fnmatch_lines(["updated  contracts/talker.yaml"])
+    text = project.read("contracts/talker.yaml")
+    assert text.startswith(header)
+    assert text == header + EXPECTED_TALKER_CONTRACT.split("contract_version: 1\n", 1)[1]
+    project.run().assert_outcomes(passed=1)
+
+
+def test_update_keeps_equivalent_spellings_of_undrifted_entries(project):
+    project.write("contracts/svc.yaml", (
+        "contract_version: 1\n"
+        "nodes:\n"
+        "  /talker:\n"
+        "    publishers:\n"
+        "      - name: /chatter\n"
+        "        type: std_msgs/msg/String\n"
+        "        qos: default\n"
+    ))
+    project.test("""
+        @pytest.mark.interfaces("contracts/svc.yaml", script=NODES + "/talker.py", parameters={"listen": "/in"})
+        def test_talker():
+            pass
+    """)
+    project.run("--update-golden").assert_outcomes(passed=1)
+    text = project.read("contracts/svc.yaml")
+    # the untouched entry keeps its profile name and its (absent) type hash; the new one is complete
+    assert "      - name: /chatter\n        type: std_msgs/msg/String\n        qos: default\n" in text
+    assert "      - name: /in\n        type: std_msgs/msg/String\n        type_hash: RIHS01_" in text
+
+
+def test_ci_refuses_update_golden(project):
+    project.test(TALKER_TEST)
+    project.pytester._monkeypatch.setenv("CI", "true")
+    result = project.run("--update-golden")
+    assert result.ret == 4  # pytest.ExitCode.USAGE_ERROR
+    result.stderr.fnmatch_lines(["*--update-golden refuses to write golden contracts in CI*'true'*"])
+    assert not (project.path / "contracts").exists()
+
+
+def test_ci_set_to_false_does_not_refuse(project):
+    project.test(TALKER_TEST)
+    project.pytester._monkeypatch.setenv("CI", "false")
+    project.run("--update-golden").assert_outcomes(passed=1)
+    assert (project.path / "contracts" / "talker.yaml").exists()
+
+
+def test_ci_without_update_golden_is_fine(project):
+    project.test(TALKER_TEST)
+    project.pytester._monkeypatch.setenv("CI", "1")
+    project.run().assert_outcomes(failed=1)  # the golden is missing: a failure, not a usage error
+
+
+def test_only_selected_tests_update_their_goldens(project):
+    project.test("""
+        @pytest.mark.interfaces("a.yaml", script=NODES + "/talker.py")
+        def test_a():
+            pass
+
+        @pytest.mark.interfaces("b.yaml", script=NODES + "/talker.py")
+        def test_b():
+            pass
+    """)
+    project.run("--update-golden", "test_nodes.py::test_a").assert_outcomes(passed=1)
+    assert (project.path / "a.yaml").exists()
+    assert not (project.path / "b.yaml").exists()
+
+
+def test_test_body_failure_is_reported_and_nothing_is_written(project):
+    project.test("""
+        @pytest.mark.interfaces("c.yaml", script=NODES + "/talker.py")
+        def test_talker(interfaces):
+            assert "/listener" in interfaces, "expected a listener"
+    """)
+    result = project.run("--update-golden")
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*AssertionError: expected a listener*"])
+    assert not (project.path / "c.yaml").exists()

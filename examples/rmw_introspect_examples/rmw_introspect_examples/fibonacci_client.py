@@ -2,11 +2,14 @@
 
 Interface: action client ``fibonacci`` (test_msgs/action/Fibonacci): the mirror image of the
 server's set (clients of the three ``fibonacci/_action/*`` services, subscriptions to its
-feedback and status topics).
+feedback and status topics), all created by the ``ActionClient`` constructor.
 
-As with ``motor_enable_client``, the recording middleware answers "available" to
-``wait_for_server()``; the goal then waits forever for an acceptance, and the process settles
-while waiting.
+Unlike ``motor_enable_client``, which blocks in ``wait_for_service()``, this client waits
+without blocking: a timer checks ``server_is_ready()`` while the node spins, and sends the
+goal once the server is there. The node therefore always waits inside the executor, which is
+where the recording middleware sees it settle, whatever the middleware answers about the
+server (an action server counts as ready only when its three services are available *and*
+its feedback and status topics have publishers).
 
 Parameter: ``order`` (int, ``10``).
 """
@@ -24,27 +27,30 @@ class FibonacciClient(Node):
     def __init__(self, **kwargs):
         super().__init__('fibonacci_client', **kwargs)
         self.order = self.declare_parameter('order', 10).value
+        #: done with the result sequence, or with None when the goal was rejected
+        self.result = Future()
         self._action_client = ActionClient(self, Fibonacci, 'fibonacci')
+        self._wait_timer = self.create_timer(0.5, self._send_goal_when_ready)
 
-    def send_goal(self):
-        """Wait for the server, send the goal; returns a future of the result (or None)."""
-        while not self._action_client.wait_for_server(timeout_sec=1.0):
-            self.get_logger().info('fibonacci action server not available, waiting...')
+    def _send_goal_when_ready(self):
+        if not self._action_client.server_is_ready():
+            self.get_logger().info(
+                'waiting for the fibonacci action server...', throttle_duration_sec=5.0)
+            return
+        self._wait_timer.cancel()
         self.get_logger().info(f'Sending goal: order {self.order}')
-        result = Future()
-        goal_future = self._action_client.send_goal_async(
-            Fibonacci.Goal(order=self.order), feedback_callback=self._on_feedback)
-        goal_future.add_done_callback(lambda future: self._on_goal_response(future, result))
-        return result
+        self._action_client.send_goal_async(
+            Fibonacci.Goal(order=self.order), feedback_callback=self._on_feedback,
+        ).add_done_callback(self._on_goal_response)
 
-    def _on_goal_response(self, goal_future, result):
+    def _on_goal_response(self, goal_future):
         goal_handle = goal_future.result()
         if not goal_handle.accepted:
             self.get_logger().warn('Goal rejected')
-            result.set_result(None)
+            self.result.set_result(None)
             return
         goal_handle.get_result_async().add_done_callback(
-            lambda future: result.set_result(future.result().result))
+            lambda future: self.result.set_result(list(future.result().result.sequence)))
 
     def _on_feedback(self, feedback_msg):
         self.get_logger().info(f'Feedback: {list(feedback_msg.feedback.sequence)}')
@@ -54,10 +60,9 @@ def main(args=None):
     rclpy.init(args=args)
     node = FibonacciClient()
     try:
-        result = node.send_goal()
-        rclpy.spin_until_future_complete(node, result)
-        if result.result() is not None:
-            node.get_logger().info(f'Result: {list(result.result().sequence)}')
+        rclpy.spin_until_future_complete(node, node.result)
+        if node.result.result() is not None:
+            node.get_logger().info(f'Result: {node.result.result()}')
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:

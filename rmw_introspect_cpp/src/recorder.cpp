@@ -100,12 +100,16 @@ uint64_t Recorder::add_node(const char * name, const char * namespace_, const ch
   return id;
 }
 
-bool Recorder::destroy_node(uint64_t node_id)
+bool Recorder::destroy_node(uint64_t node_id, bool teardown)
 {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (node_id == 0 || node_id > nodes_.size() || nodes_[node_id - 1].destroyed) {
+    if (node_id == 0 || node_id > nodes_.size() || !nodes_[node_id - 1].alive) {
       return false;
+    }
+    nodes_[node_id - 1].alive = false;
+    if (teardown) {
+      return true;  // nothing reported changes
     }
     nodes_[node_id - 1].destroyed = true;
     ++generation_;
@@ -122,6 +126,8 @@ uint64_t Recorder::add_endpoint(EndpointRecord record)
     if (record.node_id == 0 || record.node_id > nodes_.size()) {
       return 0;
     }
+    record.destroyed = false;
+    record.alive = true;
     const NodeRecord & node = nodes_[record.node_id - 1];
     record.node_name = node.name;
     record.node_namespace = node.namespace_;
@@ -136,14 +142,18 @@ uint64_t Recorder::add_endpoint(EndpointRecord record)
   return id;
 }
 
-bool Recorder::destroy_endpoint(uint64_t endpoint_id)
+bool Recorder::destroy_endpoint(uint64_t endpoint_id, bool teardown)
 {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (endpoint_id == 0 || endpoint_id > endpoints_.size() ||
-      endpoints_[endpoint_id - 1].destroyed)
+      !endpoints_[endpoint_id - 1].alive)
     {
       return false;
+    }
+    endpoints_[endpoint_id - 1].alive = false;
+    if (teardown) {
+      return true;
     }
     endpoints_[endpoint_id - 1].destroyed = true;
     ++generation_;

@@ -74,7 +74,7 @@ rmw_ret_t rmw_destroy_client(rmw_node_t * node, rmw_client_t * client)
     client, client->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   std::unique_ptr<ClientImpl> impl(static_cast<ClientImpl *>(client->data));
   rmw_introspect::forget_endpoint(
-    impl->record_id, rmw_introspect::EndpointKind::Client, impl->name);
+    impl->record_id, rmw_introspect::EndpointKind::Client, impl->name, impl->node);
   return RMW_RET_OK;
 }
 

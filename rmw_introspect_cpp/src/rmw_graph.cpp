@@ -167,13 +167,13 @@ rmw_ret_t names_and_types_by_node(
     [&](const std::vector<NodeRecord> & nodes, const std::vector<EndpointRecord> & endpoints) {
       std::set<uint64_t> ids;
       for (const auto & n : nodes) {
-        if (!n.destroyed && n.name == node_name && n.namespace_ == node_namespace) {
+        if (n.alive && n.name == node_name && n.namespace_ == node_namespace) {
           ids.insert(n.id);
         }
       }
       found = !ids.empty();
       for (const auto & e : endpoints) {
-        if (!e.destroyed && e.kind == kind && ids.count(e.node_id) != 0) {
+        if (e.alive && e.kind == kind && ids.count(e.node_id) != 0) {
           entries[e.name].insert(e.type);
         }
       }
@@ -202,7 +202,7 @@ rmw_ret_t count_endpoints(
   Recorder::instance().visit(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
-        if (!e.destroyed && e.kind == kind && e.name == name) {
+        if (e.alive && e.kind == kind && e.name == name) {
           ++n;
         }
       }
@@ -232,7 +232,7 @@ rmw_ret_t info_by_topic(
   Recorder::instance().visit(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
-        if (!e.destroyed && e.kind == kind && e.name == topic_name) {
+        if (e.alive && e.kind == kind && e.name == topic_name) {
           matches.push_back(e);
         }
       }
@@ -284,7 +284,7 @@ rmw_ret_t node_names_impl(
   Recorder::instance().visit(
     [&](const std::vector<NodeRecord> & nodes, const std::vector<EndpointRecord> &) {
       for (const auto & n : nodes) {
-        if (!n.destroyed) {
+        if (n.alive) {
           live.push_back(n);
         }
       }
@@ -381,7 +381,7 @@ rmw_ret_t rmw_get_topic_names_and_types(
   Recorder::instance().visit(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
-        if (!e.destroyed && is_topic_kind(e.kind)) {
+        if (e.alive && is_topic_kind(e.kind)) {
           entries[e.name].insert(e.type);
         }
       }
@@ -401,7 +401,7 @@ rmw_ret_t rmw_get_service_names_and_types(
   Recorder::instance().visit(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
-        if (!e.destroyed && !is_topic_kind(e.kind)) {
+        if (e.alive && !is_topic_kind(e.kind)) {
           entries[e.name].insert(e.type);
         }
       }

@@ -85,6 +85,8 @@ rmw_node_t * rmw_create_node(rmw_context_t * context, const char * name, const c
     RMW_SET_ERROR_MSG("context has been shutdown");
     return nullptr;
   }
+  RMW_CHECK_ARGUMENT_FOR_NULL(name, nullptr);
+  RMW_CHECK_ARGUMENT_FOR_NULL(namespace_, nullptr);
   int validation_result = RMW_NODE_NAME_VALID;
   rmw_ret_t ret = rmw_validate_node_name(name, &validation_result, nullptr);
   if (ret != RMW_RET_OK) {
@@ -138,8 +140,10 @@ rmw_ret_t rmw_destroy_node(rmw_node_t * node)
     node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   std::unique_ptr<NodeImpl> impl(static_cast<NodeImpl *>(node->data));
   rmw_introspect::unregister_graph_guard(&impl->graph_guard);
-  rmw_introspect::Recorder::instance().destroy_node(impl->record_id);
-  rmw_introspect::verbose_log("destroyed node %s", impl->name.c_str());
+  const bool teardown = rmw_introspect::in_teardown(impl->context_impl);
+  rmw_introspect::Recorder::instance().destroy_node(impl->record_id, teardown);
+  rmw_introspect::verbose_log(
+    "destroyed node %s%s", impl->name.c_str(), teardown ? " (teardown)" : "");
   rmw_introspect::notify_graph_change();
   if (impl->context_impl != nullptr) {
     impl->context_impl->node_count.fetch_sub(1);

@@ -26,7 +26,7 @@ size_t count_local(const std::string & topic, rmw_introspect::EndpointKind kind)
   rmw_introspect::Recorder::instance().visit(
     [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
-        if (!e.destroyed && e.kind == kind && e.name == topic) {
+        if (e.alive && e.kind == kind && e.name == topic) {
           ++count;
         }
       }
@@ -100,7 +100,7 @@ rmw_ret_t rmw_destroy_publisher(rmw_node_t * node, rmw_publisher_t * publisher)
     return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   std::unique_ptr<PublisherImpl> impl(static_cast<PublisherImpl *>(publisher->data));
   rmw_introspect::forget_endpoint(
-    impl->record_id, rmw_introspect::EndpointKind::Publisher, impl->topic);
+    impl->record_id, rmw_introspect::EndpointKind::Publisher, impl->topic, impl->node);
   return RMW_RET_OK;
 }
 

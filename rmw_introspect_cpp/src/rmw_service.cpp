@@ -73,7 +73,7 @@ rmw_ret_t rmw_destroy_service(rmw_node_t * node, rmw_service_t * service)
     service, service->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   std::unique_ptr<ServiceImpl> impl(static_cast<ServiceImpl *>(service->data));
   rmw_introspect::forget_endpoint(
-    impl->record_id, rmw_introspect::EndpointKind::Service, impl->name);
+    impl->record_id, rmw_introspect::EndpointKind::Service, impl->name, impl->node);
   return RMW_RET_OK;
 }
 

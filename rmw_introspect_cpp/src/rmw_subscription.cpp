@@ -106,7 +106,7 @@ rmw_ret_t rmw_destroy_subscription(rmw_node_t * node, rmw_subscription_t * subsc
       rmw_subscription_content_filter_options_fini(&impl->filter, &allocator));
   }
   rmw_introspect::forget_endpoint(
-    impl->record_id, rmw_introspect::EndpointKind::Subscription, impl->topic);
+    impl->record_id, rmw_introspect::EndpointKind::Subscription, impl->topic, impl->node);
   return RMW_RET_OK;
 }
 
@@ -120,7 +120,7 @@ rmw_ret_t rmw_subscription_count_matched_publishers(
   rmw_introspect::Recorder::instance().visit(
     [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
-        if (!e.destroyed && e.kind == rmw_introspect::EndpointKind::Publisher &&
+        if (e.alive && e.kind == rmw_introspect::EndpointKind::Publisher &&
         e.name == impl->topic)
         {
           ++count;

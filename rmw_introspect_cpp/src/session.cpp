@@ -2,6 +2,7 @@
 #include "detail/session.hpp"
 
 #include <dlfcn.h>
+#include <pthread.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include <thread>
 
 #include "detail/capture_writer.hpp"
+#include "detail/handles.hpp"
 #include "detail/recorder.hpp"
 
 namespace rmw_introspect
@@ -34,6 +36,8 @@ FnT lookup_symbol(const char * name)
   return fn;
 }
 
+bool python_is_finalizing();
+
 // If this is a Python process, flush sys.stdout/sys.stderr (text written with print()
 // sits in Python's buffers, which _exit would drop). Never blocks the exit for long: a
 // watchdog ends the process if the interpreter lock cannot be had.
@@ -47,8 +51,7 @@ void flush_python_streams()
   if (is_initialized == nullptr || is_initialized() == 0) {
     return;
   }
-  auto is_finalizing = lookup_symbol<IntFn>("_Py_IsFinalizing");
-  if (is_finalizing != nullptr && is_finalizing() != 0) {
+  if (python_is_finalizing()) {
     return;
   }
   auto ensure = lookup_symbol<EnsureFn>("PyGILState_Ensure");
@@ -79,7 +82,25 @@ double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_c
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
+bool python_is_finalizing()
+{
+  using IntFn = int (*)();
+  static IntFn fn = []() {
+      IntFn f = lookup_symbol<IntFn>("Py_IsFinalizing");  // Python >= 3.13
+      return f != nullptr ? f : lookup_symbol<IntFn>("_Py_IsFinalizing");
+    }();
+  return fn != nullptr && fn() != 0;
+}
+
 }  // namespace
+
+bool in_teardown(const ContextImpl * context)
+{
+  if (context != nullptr && context->is_shutdown.load()) {
+    return true;
+  }
+  return Session::instance().exiting() || python_is_finalizing();
+}
 
 Session & Session::instance()
 {
@@ -144,6 +165,7 @@ void Session::leave_wait(uint64_t token)
 
 void Session::monitor_loop()
 {
+  pthread_setname_np(pthread_self(), "rmwi_monitor");
   std::unique_lock<std::mutex> lock(mutex_);
   const auto settle = std::chrono::milliseconds(config_.settle_ms);
   while (!exiting_) {
@@ -207,6 +229,12 @@ void Session::settle_locked(std::unique_lock<std::mutex> & lock)
 void Session::on_shutdown()
 {
   write_capture("shutdown");
+}
+
+bool Session::exiting()
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  return exiting_;
 }
 
 void Session::on_process_exit()

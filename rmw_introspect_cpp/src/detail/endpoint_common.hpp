@@ -66,10 +66,14 @@ inline uint64_t record_endpoint(
   return id;
 }
 
-inline void forget_endpoint(uint64_t record_id, EndpointKind kind, const std::string & name)
+inline void forget_endpoint(
+  uint64_t record_id, EndpointKind kind, const std::string & name, const NodeImpl * node)
 {
-  Recorder::instance().destroy_endpoint(record_id);
-  verbose_log("destroyed %s %s", endpoint_kind_to_string(kind), name.c_str());
+  const bool teardown = in_teardown(node != nullptr ? node->context_impl : nullptr);
+  Recorder::instance().destroy_endpoint(record_id, teardown);
+  verbose_log(
+    "destroyed %s %s%s", endpoint_kind_to_string(kind), name.c_str(),
+    teardown ? " (teardown)" : "");
   notify_graph_change();
 }
 

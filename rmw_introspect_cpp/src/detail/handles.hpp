@@ -125,6 +125,10 @@ void notify_graph_change();
 void register_graph_guard(GuardConditionImpl * gc);
 void unregister_graph_guard(GuardConditionImpl * gc);
 
+/// True when destroying an entity now is teardown rather than behaviour: its context was
+/// shut down, the process is exiting (atexit ran), or the Python interpreter is finalizing.
+bool in_teardown(const ContextImpl * context);
+
 /// Verbose log line on stderr when RMW_INTROSPECT_VERBOSE=1.
 void verbose_log(const char * format, ...) __attribute__((format(printf, 1, 2)));
 

@@ -28,7 +28,8 @@ struct NodeRecord
   std::string namespace_;
   std::string fqn;
   std::string enclave;
-  bool destroyed = false;
+  bool destroyed = false;  // destroyed while the process was running (reported)
+  bool alive = true;       // not destroyed at all, teardown included (graph queries)
 };
 
 struct EndpointRecord
@@ -46,7 +47,8 @@ struct EndpointRecord
   std::string typesupport;
   rmw_qos_profile_t qos{};
   Gid gid{};
-  bool destroyed = false;
+  bool destroyed = false;  // destroyed while the process was running (reported)
+  bool alive = true;       // not destroyed at all, teardown included (graph queries)
 };
 
 /// A consistent copy of everything recorded, for writers and graph queries.
@@ -76,12 +78,15 @@ public:
   void set_change_listener(std::function<void()> listener);
 
   uint64_t add_node(const char * name, const char * namespace_, const char * enclave);
-  bool destroy_node(uint64_t node_id);
+  /// Mark a node destroyed. A `teardown` destruction (after rmw_shutdown of its context, or
+  /// while the process/interpreter exits) only removes it from the graph: the capture keeps
+  /// `destroyed: false`, since it says nothing about the node's interface.
+  bool destroy_node(uint64_t node_id, bool teardown = false);
 
   /// Adds an endpoint of a live node; fills id, seq, gid and the node fields.
   /// Returns 0 when the node is unknown.
   uint64_t add_endpoint(EndpointRecord record);
-  bool destroy_endpoint(uint64_t endpoint_id);
+  bool destroy_endpoint(uint64_t endpoint_id, bool teardown = false);
 
   RecorderSnapshot snapshot() const;
   uint64_t generation() const;

@@ -36,6 +36,9 @@ public:
   /// Normal process exit (atexit): write a capture with state "exit".
   void on_process_exit();
 
+  /// True once the process-exit capture is being written.
+  bool exiting();
+
   /// Write the capture now with `state` (no-op with AUTO_EXPORT=0 or before rmw_init).
   void write_capture(const char * state);
 

@@ -1,0 +1,225 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+// Capture rendering (JSON / YAML, exact text for a known model) and atomic writing.
+
+#include <gtest/gtest.h>
+#include <dirent.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "rmw/qos_profiles.h"
+
+#include "detail/capture_writer.hpp"
+#include "detail/recorder.hpp"
+
+using rmw_introspect::CaptureHeader;
+using rmw_introspect::RecorderSnapshot;
+
+namespace
+{
+RecorderSnapshot sample()
+{
+  rmw_introspect::Recorder recorder;
+  const uint64_t n = recorder.add_node("talker", "/", "/");
+  rmw_introspect::EndpointRecord e;
+  e.kind = rmw_introspect::EndpointKind::Publisher;
+  e.node_id = n;
+  e.name = "/chatter";
+  e.type = "std_msgs/msg/String";
+  e.type_hash = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18";
+  e.typesupport = "rosidl_typesupport_c";
+  e.qos = rmw_qos_profile_default;
+  recorder.add_endpoint(e);
+  e.kind = rmw_introspect::EndpointKind::Subscription;
+  e.name = "/odd \"name\"\\\n";
+  e.type_hash.clear();
+  e.qos = rmw_qos_profile_sensor_data;
+  e.qos.lifespan = RMW_DURATION_INFINITE;
+  e.qos.deadline = {1, 5};
+  const uint64_t id = recorder.add_endpoint(e);
+  recorder.destroy_endpoint(id);
+  return recorder.snapshot();
+}
+
+CaptureHeader header()
+{
+  CaptureHeader h;
+  h.pid = 4242;
+  h.argv = {"/usr/bin/python3", "talker.py"};
+  h.state = "settled";
+  h.settle_ms = 10;
+  h.has_time_to_settle = true;
+  h.time_to_settle_ms = 31.75;
+  h.elapsed_ms = 31.9;
+  return h;
+}
+
+std::string read_file(const std::string & path)
+{
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::string temp_dir()
+{
+  char tmpl[] = "/tmp/rmwi_capture_test_XXXXXX";
+  const char * dir = mkdtemp(tmpl);
+  return dir ? dir : "/tmp";
+}
+
+int count_entries(const std::string & dir)
+{
+  int n = 0;
+  DIR * d = opendir(dir.c_str());
+  if (!d) {return -1;}
+  while (dirent * e = readdir(d)) {
+    if (std::string(e->d_name) != "." && std::string(e->d_name) != "..") {
+      ++n;
+    }
+  }
+  closedir(d);
+  return n;
+}
+}  // namespace
+
+TEST(CaptureWriter, json_exact)
+{
+  const std::string expected = R"({
+  "format": "rmw_introspect_capture",
+  "format_version": 1,
+  "rmw_implementation": "rmw_introspect_cpp",
+  "pid": 4242,
+  "argv": ["/usr/bin/python3", "talker.py"],
+  "state": "settled",
+  "settle_ms": 10,
+  "time_to_settle_ms": 31.750,
+  "elapsed_ms": 31.900,
+  "nodes": [
+    {
+      "id": 1,
+      "seq": 1,
+      "name": "talker",
+      "namespace": "/",
+      "fqn": "/talker",
+      "enclave": "/",
+      "destroyed": false
+    }
+  ],
+  "endpoints": [
+    {
+      "seq": 2,
+      "kind": "publisher",
+      "node_id": 1,
+      "node": "/talker",
+      "name": "/chatter",
+      "type": "std_msgs/msg/String",
+      "type_hash": "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18",
+      "typesupport": "rosidl_typesupport_c",
+      "qos": {
+        "history": "KEEP_LAST",
+        "depth": 10,
+        "reliability": "RELIABLE",
+        "durability": "VOLATILE",
+        "liveliness": "SYSTEM_DEFAULT",
+        "deadline_ns": 0,
+        "lifespan_ns": 0,
+        "liveliness_lease_duration_ns": 0,
+        "avoid_ros_namespace_conventions": false
+      },
+      "destroyed": false
+    },
+    {
+      "seq": 3,
+      "kind": "subscription",
+      "node_id": 1,
+      "node": "/talker",
+      "name": "/odd \"name\"\\\n",
+      "type": "std_msgs/msg/String",
+      "type_hash": null,
+      "typesupport": "rosidl_typesupport_c",
+      "qos": {
+        "history": "KEEP_LAST",
+        "depth": 5,
+        "reliability": "BEST_EFFORT",
+        "durability": "VOLATILE",
+        "liveliness": "SYSTEM_DEFAULT",
+        "deadline_ns": 1000000005,
+        "lifespan_ns": -1,
+        "liveliness_lease_duration_ns": 0,
+        "avoid_ros_namespace_conventions": false
+      },
+      "destroyed": true
+    }
+  ]
+}
+)";
+  EXPECT_EQ(expected, rmw_introspect::render_capture_json(header(), sample()));
+}
+
+TEST(CaptureWriter, json_null_time_to_settle_and_empty_lists)
+{
+  CaptureHeader h = header();
+  h.state = "running";
+  h.has_time_to_settle = false;
+  const std::string text = rmw_introspect::render_capture_json(h, RecorderSnapshot{});
+  EXPECT_NE(std::string::npos, text.find("\"time_to_settle_ms\": null,"));
+  EXPECT_NE(std::string::npos, text.find("\"nodes\": [],"));
+  EXPECT_NE(std::string::npos, text.find("\"endpoints\": []\n"));
+}
+
+TEST(CaptureWriter, invalid_utf8_is_replaced)
+{
+  CaptureHeader h = header();
+  h.argv = {std::string("bad\xff\xfe", 5), "ok\xc3\xa9"};
+  const std::string text = rmw_introspect::render_capture_json(h, RecorderSnapshot{});
+  EXPECT_NE(std::string::npos, text.find("\"bad\\ufffd\\ufffd\""));
+  EXPECT_NE(std::string::npos, text.find("\"ok\xc3\xa9\""));
+}
+
+TEST(CaptureWriter, yaml_layout)
+{
+  const std::string text = rmw_introspect::render_capture_yaml(header(), sample());
+  EXPECT_EQ(0u, text.find("# rmw_introspect capture"));
+  EXPECT_NE(std::string::npos, text.find("\nformat: \"rmw_introspect_capture\"\n"));
+  EXPECT_NE(std::string::npos, text.find("\nargv:\n- \"/usr/bin/python3\"\n- \"talker.py\"\n"));
+  EXPECT_NE(std::string::npos, text.find("\nnodes:\n- id: 1\n  seq: 1\n  name: \"talker\"\n"));
+  EXPECT_NE(
+    std::string::npos,
+    text.find("  qos:\n    history: \"KEEP_LAST\"\n    depth: 10\n"));
+  EXPECT_NE(std::string::npos, text.find("  type_hash: null\n"));
+  EXPECT_NE(std::string::npos, text.find("time_to_settle_ms: 31.750\n"));
+}
+
+TEST(CaptureWriter, atomic_write_replaces_and_leaves_no_temp_file)
+{
+  const std::string dir = temp_dir();
+  const std::string path = dir + "/capture.json";
+  std::string error;
+  ASSERT_TRUE(rmw_introspect::write_file_atomically(path, "first\n", &error)) << error;
+  EXPECT_EQ("first\n", read_file(path));
+  ASSERT_TRUE(rmw_introspect::write_file_atomically(path, "second\n", &error)) << error;
+  EXPECT_EQ("second\n", read_file(path));
+  EXPECT_EQ(1, count_entries(dir));  // no <path>.tmp.<pid> left behind
+  // A failing write (the target is a directory) leaves nothing half-written.
+  const std::string sub = dir + "/sub";
+  ASSERT_EQ(0, mkdir(sub.c_str(), 0755));
+  EXPECT_FALSE(rmw_introspect::write_file_atomically(sub, "x", &error));
+  EXPECT_FALSE(error.empty());
+  EXPECT_EQ(2, count_entries(dir));
+  EXPECT_FALSE(
+    rmw_introspect::write_file_atomically(dir + "/missing/capture.json", "x", &error));
+  rmdir(sub.c_str());
+  unlink(path.c_str());
+  rmdir(dir.c_str());
+}
+
+TEST(CaptureWriter, argv_of_this_process)
+{
+  const auto argv = rmw_introspect::read_process_argv();
+  ASSERT_FALSE(argv.empty());
+  EXPECT_NE(std::string::npos, argv[0].find("test_capture_writer"));
+}

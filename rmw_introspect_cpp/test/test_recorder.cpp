@@ -1,0 +1,151 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+// The recorder model: creation order, destroyed flags (teardown excluded), copied names,
+// unique GIDs, change notifications, thread safety.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "detail/recorder.hpp"
+
+using rmw_introspect::EndpointKind;
+using rmw_introspect::EndpointRecord;
+using rmw_introspect::Recorder;
+
+namespace
+{
+EndpointRecord endpoint(EndpointKind kind, uint64_t node_id, const char * name)
+{
+  EndpointRecord r;
+  r.kind = kind;
+  r.node_id = node_id;
+  r.name = name;
+  r.type = "std_msgs/msg/String";
+  return r;
+}
+}  // namespace
+
+TEST(Recorder, fqn)
+{
+  EXPECT_EQ("/talker", rmw_introspect::make_fqn("/", "talker"));
+  EXPECT_EQ("/robot/talker", rmw_introspect::make_fqn("/robot", "talker"));
+  EXPECT_EQ("/talker", rmw_introspect::make_fqn("", "talker"));
+}
+
+TEST(Recorder, creation_order_and_ids)
+{
+  Recorder recorder;
+  const uint64_t n1 = recorder.add_node("a", "/", "/");
+  const uint64_t e1 = recorder.add_endpoint(endpoint(EndpointKind::Publisher, n1, "/x"));
+  const uint64_t n2 = recorder.add_node("b", "/ns", "/enclave");
+  const uint64_t e2 = recorder.add_endpoint(endpoint(EndpointKind::Service, n2, "/ns/b/srv"));
+  const uint64_t e3 = recorder.add_endpoint(endpoint(EndpointKind::Client, n1, "/ns/b/srv"));
+  EXPECT_EQ(0u, recorder.add_endpoint(endpoint(EndpointKind::Publisher, 99, "/nope")));
+  auto snap = recorder.snapshot();
+  ASSERT_EQ(2u, snap.nodes.size());
+  ASSERT_EQ(3u, snap.endpoints.size());
+  EXPECT_EQ(1u, snap.nodes[0].seq);
+  EXPECT_EQ(2u, snap.endpoints[0].seq);
+  EXPECT_EQ(3u, snap.nodes[1].seq);
+  EXPECT_EQ(4u, snap.endpoints[1].seq);
+  EXPECT_EQ(5u, snap.endpoints[2].seq);
+  EXPECT_EQ("/ns/b", snap.nodes[1].fqn);
+  EXPECT_EQ("/enclave", snap.nodes[1].enclave);
+  EXPECT_EQ("/ns/b", snap.endpoints[1].node_fqn);
+  EXPECT_EQ("b", snap.endpoints[1].node_name);
+  EXPECT_EQ("/ns", snap.endpoints[1].node_namespace);
+  EXPECT_EQ(n1, snap.endpoints[2].node_id);
+  EXPECT_NE(e1, e2);
+  EXPECT_NE(e2, e3);
+}
+
+TEST(Recorder, names_are_copied)
+{
+  Recorder recorder;
+  char name[] = "talker";
+  char ns[] = "/robot";
+  const uint64_t n = recorder.add_node(name, ns, "/");
+  std::memset(name, 'x', sizeof(name) - 1);
+  std::memset(ns + 1, 'x', sizeof(ns) - 2);
+  auto snap = recorder.snapshot();
+  EXPECT_EQ("talker", snap.nodes[0].name);
+  EXPECT_EQ("/robot", snap.nodes[0].namespace_);
+  EXPECT_EQ("/robot/talker", snap.nodes[0].fqn);
+  (void)n;
+}
+
+TEST(Recorder, destroyed_flags_and_teardown)
+{
+  Recorder recorder;
+  const uint64_t n = recorder.add_node("a", "/", "/");
+  const uint64_t p = recorder.add_endpoint(endpoint(EndpointKind::Publisher, n, "/p"));
+  const uint64_t s = recorder.add_endpoint(endpoint(EndpointKind::Subscription, n, "/s"));
+  const uint64_t gen = recorder.generation();
+  EXPECT_TRUE(recorder.destroy_endpoint(p));
+  EXPECT_FALSE(recorder.destroy_endpoint(p));  // twice
+  EXPECT_GT(recorder.generation(), gen);
+  const uint64_t gen2 = recorder.generation();
+  EXPECT_TRUE(recorder.destroy_endpoint(s, true));  // teardown: not reported
+  EXPECT_TRUE(recorder.destroy_node(n, true));
+  EXPECT_EQ(gen2, recorder.generation());
+  auto snap = recorder.snapshot();
+  EXPECT_TRUE(snap.endpoints[0].destroyed);
+  EXPECT_FALSE(snap.endpoints[0].alive);
+  EXPECT_FALSE(snap.endpoints[1].destroyed);
+  EXPECT_FALSE(snap.endpoints[1].alive);
+  EXPECT_FALSE(snap.nodes[0].destroyed);
+  EXPECT_FALSE(snap.nodes[0].alive);
+  EXPECT_FALSE(recorder.destroy_node(12345));
+}
+
+TEST(Recorder, gids_are_unique)
+{
+  Recorder a;
+  Recorder b;
+  std::set<rmw_introspect::Gid> seen;
+  for (int i = 0; i < 100; ++i) {
+    EXPECT_TRUE(seen.insert(a.new_gid()).second);
+    EXPECT_TRUE(seen.insert(b.new_gid()).second);
+  }
+}
+
+TEST(Recorder, listener_is_told_of_every_change)
+{
+  Recorder recorder;
+  std::atomic<int> calls{0};
+  recorder.set_change_listener([&]() {++calls;});
+  const uint64_t n = recorder.add_node("a", "/", "/");
+  const uint64_t p = recorder.add_endpoint(endpoint(EndpointKind::Publisher, n, "/p"));
+  recorder.destroy_endpoint(p);
+  recorder.destroy_node(n);
+  EXPECT_EQ(4, calls.load());
+}
+
+TEST(Recorder, concurrent_creation_keeps_a_total_order)
+{
+  Recorder recorder;
+  const uint64_t n = recorder.add_node("a", "/", "/");
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&recorder, n, t]() {
+        for (int i = 0; i < 250; ++i) {
+          const std::string name = "/t" + std::to_string(t) + "_" + std::to_string(i);
+          recorder.add_endpoint(endpoint(EndpointKind::Publisher, n, name.c_str()));
+        }
+      });
+  }
+  for (auto & th : threads) {
+    th.join();
+  }
+  auto snap = recorder.snapshot();
+  ASSERT_EQ(1000u, snap.endpoints.size());
+  for (size_t i = 0; i < snap.endpoints.size(); ++i) {
+    EXPECT_EQ(i + 2, snap.endpoints[i].seq);  // seq 1 is the node
+    EXPECT_EQ(i + 1, snap.endpoints[i].id);
+  }
+}

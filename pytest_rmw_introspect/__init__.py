@@ -17,7 +17,7 @@ Outside pytest::
 callable (calling it runs :func:`pytest_rmw_introspect.runner.capture`).
 """
 
-from . import capture  # noqa: F401  (the callable module)
+from . import capture
 from .capture import Capture, Endpoint, Interface, Node, RawNode
 from .contract import Contract
 from .contract import load as load_contract
@@ -38,23 +38,23 @@ from .target import TargetSpec
 __version__ = "0.1.0"
 
 __all__ = [
-    "capture",
     "Capture",
-    "Node",
-    "Interface",
-    "Endpoint",
-    "RawNode",
+    "CaptureFormatError",
     "Contract",
-    "load_contract",
-    "TargetSpec",
+    "ContractError",
+    "Endpoint",
+    "ExecutableNotFound",
+    "Interface",
+    "NoNodeCreated",
+    "Node",
+    "RawNode",
     "RmwIntrospectError",
     "SetupError",
-    "ContractError",
-    "CaptureFormatError",
-    "TargetError",
     "TargetConfigError",
-    "ExecutableNotFound",
+    "TargetError",
     "TargetExited",
-    "NoNodeCreated",
+    "TargetSpec",
     "TargetTimeout",
+    "capture",
+    "load_contract",
 ]

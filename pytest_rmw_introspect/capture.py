@@ -26,9 +26,10 @@ from __future__ import annotations
 import json
 import sys
 import types
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterator, Mapping
+from typing import Any
 
 from .errors import CaptureFormatError
 
@@ -220,12 +221,12 @@ class Capture:
         *,
         include_infrastructure: bool = False,
         path: str | Path | None = None,
-    ) -> "Capture":
+    ) -> Capture:
         """Parse a capture document (validates ``format``/``format_version`` and field types)."""
         return _parse(data, include_infrastructure=include_infrastructure, path=Path(path) if path else None)
 
     @classmethod
-    def load(cls, path: str | Path, *, include_infrastructure: bool = False) -> "Capture":
+    def load(cls, path: str | Path, *, include_infrastructure: bool = False) -> Capture:
         """Read a capture file written by the middleware."""
         path = Path(path)
         try:
@@ -250,7 +251,7 @@ class Capture:
                 raise CaptureFormatError(path, f"not valid JSON: {exc}") from None
         return cls.from_dict(data, include_infrastructure=include_infrastructure, path=path)
 
-    def with_infrastructure(self, include: bool) -> "Capture":
+    def with_infrastructure(self, include: bool) -> Capture:
         """The same capture with the infrastructure filter set to ``include``."""
         if include == self.include_infrastructure:
             return self
@@ -422,9 +423,7 @@ def is_infrastructure(endpoint: Endpoint, node_fqn: str) -> bool:
     leaf = name[len(prefix):]
     if kind == "service" and (leaf in PARAMETER_SERVICES or leaf in LIFECYCLE_SERVICES):
         return True
-    if kind == "publisher" and leaf in LIFECYCLE_TOPICS:
-        return True
-    return False
+    return kind == "publisher" and leaf in LIFECYCLE_TOPICS
 
 
 def _action_part(name: str) -> tuple[str, str] | None:

@@ -31,13 +31,14 @@ update.
 from __future__ import annotations
 
 import functools
-import os
 import json
 import math
+import os
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any, Iterator, Mapping
+from typing import Any
 
 import yaml
 
@@ -327,8 +328,7 @@ def _scalar(value: Any) -> str:
             return yaml.safe_dump(value).splitlines()[0]
         return repr(value)
     text = yaml.safe_dump(str(value), default_flow_style=True, width=math.inf, allow_unicode=True).rstrip("\n")
-    if text.endswith("\n..."):
-        text = text[: -len("\n...")]
+    text = text.removesuffix("\n...")
     if any(c in text for c in ",[]{}") and not text.startswith(("'", '"')):
         text = "'" + str(value).replace("'", "''") + "'"
     return text

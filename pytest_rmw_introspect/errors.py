@@ -20,19 +20,20 @@ Hierarchy::
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 __all__ = [
+    "CaptureFormatError",
+    "ContractError",
+    "ExecutableNotFound",
+    "NoNodeCreated",
     "RmwIntrospectError",
     "SetupError",
-    "ContractError",
-    "CaptureFormatError",
-    "TargetError",
     "TargetConfigError",
-    "ExecutableNotFound",
+    "TargetError",
     "TargetExited",
-    "NoNodeCreated",
     "TargetTimeout",
 ]
 
@@ -135,7 +136,7 @@ class _WithPartialCapture(TargetError):
             return "Nothing was captured (no capture file was written)."
         try:
             return "Captured so far:\n" + _indent(self.partial.summary())
-        except Exception:  # pragma: no cover - summary must never hide the real error
+        except Exception:  # noqa: BLE001  # pragma: no cover - never hide the real error
             return "Captured so far: (unprintable capture)"
 
 
@@ -213,9 +214,11 @@ class TargetTimeout(_WithPartialCapture):
         self.stderr_tail = _tail(stderr_tail)
         self.argv = list(argv)
         parts = [
-            f"The target {target} did not settle within {timeout:g} s and was stopped. "
-            "A node settles once it waits for work (spins) and creates nothing new for the "
-            "settle time; a node that never spins never settles. Raise `timeout` if it is just slow."
+            (
+                f"The target {target} did not settle within {timeout:g} s and was stopped. "
+                "A node settles once it waits for work (spins) and creates nothing new for the "
+                "settle time; a node that never spins never settles. Raise `timeout` if it is just slow."
+            )
         ]
         if self.argv:
             parts.append("Command: " + " ".join(self.argv))

@@ -24,8 +24,9 @@ Each can be set, from strongest to weakest: as a keyword argument of the
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any
 
 from .errors import RmwIntrospectError
 

@@ -27,9 +27,10 @@ from __future__ import annotations
 import os
 import shlex
 import textwrap
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import pytest
 

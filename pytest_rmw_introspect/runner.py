@@ -22,8 +22,9 @@ import signal
 import subprocess
 import tempfile
 import time
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from .capture import Capture
 from .errors import (
@@ -112,7 +113,7 @@ def environment(
     env["RMW_INTROSPECT_FORMAT"] = "json"
     env["RMW_INTROSPECT_EXIT"] = "1"
     env["RMW_INTROSPECT_AUTO_EXPORT"] = "1"
-    env["RMW_INTROSPECT_SETTLE_MS"] = str(max(0, int(round(spec.effective_settle() * 1000))))
+    env["RMW_INTROSPECT_SETTLE_MS"] = str(max(0, round(spec.effective_settle() * 1000)))
     env.setdefault("PYTHONUNBUFFERED", "1")
     return env
 

@@ -35,9 +35,10 @@ import math
 import os
 import shlex
 import sys
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any
 
 import yaml
 
@@ -96,7 +97,7 @@ class TargetSpec:
         *,
         base_dir: str | Path | None = None,
         source: str = "target options",
-    ) -> "TargetSpec":
+    ) -> TargetSpec:
         """Validate ``options`` (the documented keys) and build a spec.
 
         ``source`` names where the options come from in error messages (a contract file,
@@ -104,7 +105,7 @@ class TargetSpec:
         """
         return cls()._with(options or {}, base_dir=base_dir, source=source)
 
-    def _with(self, options: Mapping[str, Any], *, base_dir: str | Path | None, source: str) -> "TargetSpec":
+    def _with(self, options: Mapping[str, Any], *, base_dir: str | Path | None, source: str) -> TargetSpec:
         unknown = sorted(set(options) - set(TARGET_KEYS))
         if unknown:
             raise TargetConfigError(
@@ -122,7 +123,7 @@ class TargetSpec:
         spec = replace(self, **values)
         return spec
 
-    def merged(self, options: Mapping[str, Any] | None, *, base_dir: str | Path | None = None, source: str = "target options") -> "TargetSpec":
+    def merged(self, options: Mapping[str, Any] | None, *, base_dir: str | Path | None = None, source: str = "target options") -> TargetSpec:
         """This spec with ``options`` layered on top (``options`` win)."""
         return self._with(options or {}, base_dir=base_dir, source=source)
 

@@ -4,7 +4,6 @@ real recording middleware."""
 
 from __future__ import annotations
 
-import os
 import textwrap
 from pathlib import Path
 

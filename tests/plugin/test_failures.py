@@ -4,6 +4,8 @@ into the plugin."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 CONTRACT = """\
@@ -54,7 +56,7 @@ def test_ament_package_executable_is_run_like_ros2_run(project):
     exe.parent.mkdir(parents=True)
     import sys
 
-    exe.write_text(f"#!{sys.executable}\n" + open(project.node("talker.py")).read())
+    exe.write_text(f"#!{sys.executable}\n" + Path(project.node("talker.py")).read_text())
     exe.chmod(0o755)
     project.pytester._monkeypatch.setenv("AMENT_PREFIX_PATH", str(prefix))
     project.test("""
@@ -131,15 +133,17 @@ def test_malformed_contract_names_file_line_path_and_reason(project):
     result = project.run()
     assert_clean_failure(result)
     result.stdout.fnmatch_lines([
-        "invalid contract */contracts/talker.yaml:7: at nodes./talker.publishers[[]0[]].qos.reliability: "
-        "'RELIABEL' is not one of: RELIABLE, BEST_EFFORT*"
+        (
+            "invalid contract */contracts/talker.yaml:7: at nodes./talker.publishers[[]0[]].qos.reliability: "
+            "'RELIABEL' is not one of: RELIABLE, BEST_EFFORT*"
+        )
     ])
 
 
 @pytest.mark.parametrize("text, expected", [
     ("contract_version: 1\nnodes:\n  /talker: [\n", "*talker.yaml:4: YAML syntax error*"),
-    ("contract_version: 1\nnodes:\n  /talker:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String}\n"
-     "      - {name: /a, type: std_msgs/msg/String}\n",
+    (("contract_version: 1\nnodes:\n  /talker:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String}\n"
+      "      - {name: /a, type: std_msgs/msg/String}\n"),
      "*talker.yaml:6: at nodes./talker.publishers[[]1[]].name: duplicate publisher '/a' in node /talker*"),
     ("contract_version: 1\nnodes: {}\noptions: {fail_on: often}\n", "*at options.fail_on: 'often' is not one of*"),
 ])

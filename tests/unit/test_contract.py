@@ -9,7 +9,14 @@ import jsonschema
 import pytest
 
 from pytest_rmw_introspect import contract
-from pytest_rmw_introspect.contract import Contract, dump_nodes, load, loads, render, update_text
+from pytest_rmw_introspect.contract import (
+    Contract,
+    dump_nodes,
+    load,
+    loads,
+    render,
+    update_text,
+)
 from pytest_rmw_introspect.errors import ContractError
 
 HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
@@ -139,8 +146,10 @@ def test_target_and_options_blocks_are_read():
 BAD = [
     # (text, location, line, reason fragment)
     (
-        "contract_version: 1\nnodes:\n  /talker:\n    publishers:\n      - name: /chatter\n"
-        "        type: std_msgs/msg/String\n        qos: {history: KEEP_LAST, reliability: RELIABEL}\n",
+        (
+            "contract_version: 1\nnodes:\n  /talker:\n    publishers:\n      - name: /chatter\n"
+            "        type: std_msgs/msg/String\n        qos: {history: KEEP_LAST, reliability: RELIABEL}\n"
+        ),
         "nodes./talker.publishers[0].qos.reliability", 7, "'RELIABEL' is not one of: RELIABLE, BEST_EFFORT",
     ),
     (
@@ -152,8 +161,10 @@ BAD = [
     ("nodes: {}\n", None, 1, "'contract_version' is required"),
     ("contract_version: 1\nfoo: 1\nnodes: {}\n", None, 1, "unknown key 'foo'; allowed: contract_version, nodes, options, target"),
     (
-        "contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String}\n"
-        "      - {name: /a, type: std_msgs/msg/String}\n",
+        (
+            "contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String}\n"
+            "      - {name: /a, type: std_msgs/msg/String}\n"
+        ),
         "nodes./t.publishers[1].name", 6, "duplicate publisher '/a' in node /t (also at publishers[0])",
     ),
     ("contract_version: 1\nnodes:\n  /t: {}\n  /t: {}\n", "nodes./t", 4, "duplicate key '/t' (first at line 3)"),

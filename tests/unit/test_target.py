@@ -9,8 +9,18 @@ from pathlib import Path
 import pytest
 
 from pytest_rmw_introspect import target
-from pytest_rmw_introspect.errors import ExecutableNotFound, TargetConfigError, TargetError
-from pytest_rmw_introspect.target import TargetSpec, build_argv, merge, ros_arguments, yaml_value
+from pytest_rmw_introspect.errors import (
+    ExecutableNotFound,
+    TargetConfigError,
+    TargetError,
+)
+from pytest_rmw_introspect.target import (
+    TargetSpec,
+    build_argv,
+    merge,
+    ros_arguments,
+    yaml_value,
+)
 
 
 def make_prefix(root: Path, package: str, executables: dict[str, bool] | None = None) -> Path:

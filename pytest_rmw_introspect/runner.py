@@ -139,7 +139,8 @@ def run(
     ros = ros or ros_env.detect()
     if library is None:
         library = middleware.ensure_library(ros)
-    prefixes = list(getattr(ros, "ament_prefixes", ())) or ros_env.ament_prefixes()
+    # like `ros2 run`: AMENT_PREFIX_PATH as it is now, then the prefixes of the detected install
+    prefixes = ros_env.ament_prefixes(tuple(getattr(ros, "ament_prefixes", ())))
     argv = build_argv(spec, prefixes, python=python)
     if keep_files is None:
         keep_files = os.environ.get("RMW_INTROSPECT_KEEP_FILES", "") not in ("", "0", "false")

@@ -78,7 +78,7 @@ def _ignore_qos(value: Any, source: str) -> frozenset[str] | bool:
     from .qos import FIELDS
 
     if isinstance(value, bool):
-        return value
+        return True if value else frozenset()
     if isinstance(value, str):
         text = value.strip().lower()
         if text in _TRUE:

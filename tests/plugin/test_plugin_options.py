@@ -4,7 +4,12 @@ from __future__ import annotations
 
 import pytest
 
-from pytest_rmw_introspect.options import ComparisonOptions, OptionError, parse_layer, resolve
+from pytest_rmw_introspect.options import (
+    ComparisonOptions,
+    OptionError,
+    parse_layer,
+    resolve,
+)
 from pytest_rmw_introspect.report import Severity
 
 

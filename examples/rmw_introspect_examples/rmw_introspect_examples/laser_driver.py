@@ -30,6 +30,7 @@ class LaserDriver(Node):
         self._publisher = self.create_publisher(LaserScan, 'scan', qos_profile_system_default)
         self._timer = self.create_timer(self._period, self._on_timer)
         self._phase = 0.0
+        self.get_logger().info(f'Publishing simulated scans in frame {self._frame_id!r} at {rate} Hz')
 
     def _on_timer(self):
         scan = LaserScan()

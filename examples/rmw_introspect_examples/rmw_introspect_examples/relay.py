@@ -31,7 +31,7 @@ class RelaySubscriber(Node):
         self._subscription = self.create_subscription(String, 'chatter', self._on_message, 10)
 
     def _on_message(self, msg):
-        self.get_logger().debug(f'relaying "{msg.data}"')
+        self.get_logger().info('relaying chatter to chatter_relayed', once=True)
         self._forward(msg)
 
 

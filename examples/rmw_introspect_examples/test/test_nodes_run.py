@@ -1,0 +1,126 @@
+"""Smoke test of the installed executables on the ordinary middleware (no recording).
+
+Every executable must start, do its job with its counterpart and stop cleanly on SIGINT.
+This catches what a contract test cannot tell apart from an interface change: a wrong
+shebang, a missing dependency, a C node that does not link, a node that crashes on shutdown.
+All processes run at once, on a ROS domain of their own, talking to each other.
+
+Run it after installing the package (``scripts/install-examples.sh``, or ``colcon build``
+then ``colcon test``): executables are found through ``AMENT_PREFIX_PATH`` like ``ros2 run``
+does, falling back to the prefix of the running Python (the venv that has the ROS 2 wheels).
+"""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+PACKAGE = 'rmw_introspect_examples'
+
+#: executable -> (extra arguments, text its output must contain)
+NODES = {
+    'talker': ([], 'Publishing: "Hello World'),
+    'listener': ([], 'I heard: "Hello'),
+    'c_talker': ([], 'Publishing: "Hello from C'),
+    'laser_driver': ([], 'Publishing simulated scans'),
+    'scan_consumer': ([], 'closest obstacle'),
+    'map_server': ([], 'Published a 100x100 map'),
+    'motor_enable_server': ([], 'motors enabled'),
+    'fibonacci_server': ([], 'Computing 10 Fibonacci numbers'),
+    'lifecycle_talker': (['--ros-args', '-p', 'autostart:=true'], 'activated'),
+    'relay': ([], 'relaying chatter'),
+}
+#: clients: they exit by themselves (status 0) once their server has answered
+CLIENTS = {
+    'motor_enable_client': ([], 'success=True: motors enabled'),
+    'fibonacci_client': ([], 'Result: [0, 1, 1, 2, 3, 5, 8, 13, 21, 34, 55]'),
+}
+#: how long all of them get to start, discover each other and print their line
+DEADLINE = 60.0
+
+
+def package_prefix():
+    prefixes = [p for p in os.environ.get('AMENT_PREFIX_PATH', '').split(os.pathsep) if p]
+    for prefix in [*prefixes, sys.prefix]:
+        if (Path(prefix) / 'share/ament_index/resource_index/packages' / PACKAGE).exists():
+            return Path(prefix)
+    pytest.fail(f'{PACKAGE} is not installed in AMENT_PREFIX_PATH={prefixes} nor in '
+                f'{sys.prefix}: install it first (scripts/install-examples.sh)')
+
+
+@pytest.fixture(scope='module')
+def processes(tmp_path_factory):
+    lib = package_prefix() / 'lib' / PACKAGE
+    logs = tmp_path_factory.mktemp('logs')
+    env = dict(os.environ)
+    env.update(
+        ROS_DOMAIN_ID=str(100 + os.getpid() % 100),
+        ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST',
+        ROS_HOME=str(logs),  # log files of rcl go here, not to ~/.ros
+        PYTHONUNBUFFERED='1',
+        RCUTILS_LOGGING_BUFFERED_STREAM='0',
+    )
+    env.pop('LD_PRELOAD', None)
+    started = {}
+    for name, (args, _) in {**NODES, **CLIENTS}.items():
+        executable = lib / name
+        assert os.access(executable, os.X_OK), f'{executable} is missing or not executable'
+        log = logs / f'{name}.log'
+        started[name] = (subprocess.Popen(
+            [str(executable), *args], env=env, stdout=log.open('w'),
+            stderr=subprocess.STDOUT), log)
+    # Starting a dozen Python processes at once takes seconds on a small machine: wait until
+    # every node printed its line and every client exited (or the deadline), stopping none
+    # before, since they depend on each other.
+    expected = {**NODES, **CLIENTS}
+    deadline = time.monotonic() + DEADLINE
+    while time.monotonic() < deadline:
+        if all(expected[name][1] in log.read_text() for name, (_, log) in started.items()) and \
+                all(started[name][0].poll() is not None for name in CLIENTS):
+            break
+        time.sleep(0.2)
+    yield started
+    for process, _ in started.values():
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+
+
+def stop(process):
+    """SIGINT, like Ctrl-C; return the exit status."""
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
+    try:
+        return process.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait()
+        pytest.fail('did not stop within 10 s of SIGINT')
+
+
+@pytest.mark.parametrize('name', sorted(NODES))
+def test_node_runs_and_stops_cleanly(processes, name):
+    process, log = processes[name]
+    alive = process.poll() is None
+    status = stop(process)
+    output = log.read_text()
+    assert alive, f'{name} exited early with status {process.returncode}:\n{output}'
+    assert status == 0, f'{name} exited with status {status} on SIGINT:\n{output}'
+    assert 'Traceback' not in output, output
+    assert NODES[name][1] in output, f'{name} did not print {NODES[name][1]!r}:\n{output}'
+
+
+@pytest.mark.parametrize('name', sorted(CLIENTS))
+def test_client_gets_its_answer_and_exits(processes, name):
+    process, log = processes[name]
+    if process.poll() is None:
+        stop(process)
+        pytest.fail(f'{name} had no answer within {DEADLINE} s:\n{log.read_text()}')
+    status = process.returncode
+    output = log.read_text()
+    assert status == 0, f'{name} exited with status {status}:\n{output}'
+    assert CLIENTS[name][1] in output, f'{name} did not print {CLIENTS[name][1]!r}:\n{output}'

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# `make example`: run the example package's tests (examples/rmw_introspect_examples/test/)
+# against the package as installed into the venv by scripts/install-examples.sh.
+# Extra arguments go to pytest.
+set -euo pipefail
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+venv="${VENV:-$root/.venv}"
+tests="$root/examples/rmw_introspect_examples/test"
+
+[ -x "$venv/bin/pytest" ] ||
+  { echo "check-examples: no pytest in $venv: run scripts/bootstrap.sh (or make bootstrap) first" >&2; exit 1; }
+# (re)install the package if its sources changed since the last install; a no-op otherwise
+VENV="$venv" "$root/scripts/install-examples.sh"
+
+cd "$root/examples/rmw_introspect_examples"
+exec "$venv/bin/pytest" -p no:cacheprovider "$tests" "$@"

@@ -197,8 +197,16 @@ def test_timeout_escalates_to_sigkill_when_signals_are_ignored(tmp_path, ros, li
 def test_stop_uses_the_default_grace_periods(monkeypatch):
     import subprocess
 
-    proc = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"], start_new_session=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-c", "import time; print('ready', flush=True); time.sleep(30)"],
+        start_new_session=True,
+        stdout=subprocess.PIPE,
+    )
+    # wait until the interpreter runs the script: a SIGINT during start-up (the wheels'
+    # bootstrapper re-execs the interpreter) would end it differently
+    assert proc.stdout.readline() == b"ready\n"
     assert runner.stop(proc) == -2  # SIGINT → KeyboardInterrupt → killed by SIGINT
+    proc.stdout.close()
 
 
 def test_missing_script_and_missing_command(tmp_path, ros, library):

@@ -12,12 +12,22 @@
 #include "rmw/subscription_content_filter_options.h"
 
 #include "detail/common.hpp"
+#include "detail/config.hpp"
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/recorder.hpp"
 
 using rmw_introspect::kIdentifier;
 using rmw_introspect::SubscriptionImpl;
+
+namespace
+{
+bool ends_with(const std::string & s, const char * suffix)
+{
+  const size_t n = std::strlen(suffix);
+  return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
+}
+}  // namespace
 
 #define RMWI_CHECK_SUBSCRIPTION(subscription) \
   RMW_CHECK_ARGUMENT_FOR_NULL(subscription, RMW_RET_INVALID_ARGUMENT); \
@@ -127,6 +137,14 @@ rmw_ret_t rmw_subscription_count_matched_publishers(
         }
       }
     });
+  // With RMW_INTROSPECT_SERVER_AVAILABLE=1 every server a client waits for is "there". An
+  // action server is there for rcl_action_server_is_available() only when its feedback and
+  // status publishers are matched too, so those two topics count the simulated server.
+  if (rmw_introspect::Config::get().server_available && count == 0 &&
+    (ends_with(impl->topic, "/_action/feedback") || ends_with(impl->topic, "/_action/status")))
+  {
+    count = 1;
+  }
   *publisher_count = count;
   return RMW_RET_OK;
 }

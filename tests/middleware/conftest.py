@@ -1,0 +1,107 @@
+"""Fixtures for the middleware's own tests: build the library (and its gtests) once, run
+real ROS 2 nodes on it and read their captures."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import rmwi_helpers as h
+
+REPO = Path(__file__).resolve().parents[2]
+SOURCES = REPO / "rmw_introspect_cpp"
+
+
+def _tree_hash(root: Path) -> str:
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*")):
+        if path.is_file() and "__pycache__" not in path.parts:
+            digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def _cache_root() -> Path:
+    explicit = os.environ.get("RMW_INTROSPECT_CACHE")
+    base = Path(explicit) if explicit else Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "pytest-rmw-introspect"
+    return base
+
+
+def _cmake_build(src: Path, build_dir: Path, *extra: str) -> None:
+    """Configure and build with CMake against the ROS prefix(es) of this environment."""
+    env = h.ros_environment()
+    log = build_dir.parent / (build_dir.name + ".log")
+    build_dir.parent.mkdir(parents=True, exist_ok=True)
+    with log.open("w") as out:
+        for cmd in (
+            ["cmake", "-S", str(src), "-B", str(build_dir), f"-DCMAKE_PREFIX_PATH={h.ament_prefix_path()}", *extra],
+            ["cmake", "--build", str(build_dir), "-j", str(os.cpu_count() or 2)],
+        ):
+            out.write("$ " + " ".join(cmd) + "\n")
+            out.flush()
+            if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT, env=env).returncode != 0:
+                tail = "\n".join(log.read_text(errors="replace").splitlines()[-40:])
+                pytest.fail(f"build of {src} failed (log {log}):\n{tail}", pytrace=False)
+
+
+@pytest.fixture(scope="session")
+def gtest_build_dir() -> Path:
+    """The package built with BUILD_TESTING=ON (cached by a hash of its sources)."""
+    dest = _cache_root() / f"gtest-{_tree_hash(SOURCES)}"
+    stamp = dest / "complete"
+    if not stamp.exists():
+        shutil.rmtree(dest, ignore_errors=True)
+        _cmake_build(SOURCES, dest / "build", "-DCMAKE_BUILD_TYPE=RelWithDebInfo", "-DBUILD_TESTING=ON")
+        stamp.write_text("ok\n")
+    return dest / "build"
+
+
+@pytest.fixture(scope="session")
+def library(gtest_build_dir: Path) -> Path:
+    """librmw_introspect_cpp.so to preload: the Python package's cached builder when it is
+    available and works, otherwise the library of our own build."""
+    if os.environ.get("RMW_INTROSPECT_LIBRARY"):
+        return Path(os.environ["RMW_INTROSPECT_LIBRARY"])
+    try:
+        from pytest_rmw_introspect.middleware import ensure_library
+    except Exception:  # not there (yet): our own build serves
+        ensure_library = None
+    if ensure_library is not None:
+        try:
+            return Path(ensure_library())
+        except Exception as exc:  # report, then fall back
+            print(f"ensure_library() failed, using the test build: {exc}", file=sys.stderr)
+    return gtest_build_dir / "librmw_introspect_cpp.so"
+
+
+@pytest.fixture(scope="session")
+def c_node(tmp_path_factory) -> Path:
+    """The compiled rcl C node (no Python interpreter in the process)."""
+    src = Path(__file__).parent / "c_node"
+    dest = _cache_root() / f"c_node-{_tree_hash(src)}"
+    exe = dest / "build" / "rmwi_c_node"
+    if not exe.exists():
+        shutil.rmtree(dest, ignore_errors=True)
+        import sysconfig
+
+        _cmake_build(
+            src, dest / "build", "-DCMAKE_BUILD_TYPE=Release",
+            f"-DPYTHON_LIBDIR={sysconfig.get_config_var('LIBDIR')}",
+            f"-DPYTHON_LIBRARY_NAME=python{sysconfig.get_config_var('LDVERSION')}",
+        )
+    return exe
+
+
+@pytest.fixture
+def run(library, tmp_path):
+    """run(argv, **options) -> h.Run: spawn a process on the recording middleware."""
+
+    def _run(argv, **kwargs):
+        return h.run_on_middleware(library, argv, tmp_path, **kwargs)
+
+    return _run

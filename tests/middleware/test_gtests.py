@@ -1,0 +1,17 @@
+"""The C++ unit tests (gtest, registered with ctest) as one pytest test."""
+
+import subprocess
+
+import rmwi_helpers as h
+
+
+def test_ctest_passes(gtest_build_dir):
+    result = subprocess.run(
+        ["ctest", "--output-on-failure", "--timeout", "120"],
+        cwd=gtest_build_dir, env=h.ros_environment(), capture_output=True, text=True,
+    )
+    print(result.stdout[-4000:])
+    assert result.returncode == 0, result.stdout[-6000:] + result.stderr[-2000:]
+    assert "100% tests passed" in result.stdout
+    # Every gtest binary ran (none silently skipped).
+    assert "out of 8" in result.stdout

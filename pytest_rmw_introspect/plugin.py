@@ -24,6 +24,7 @@ Precedence of target options: marker > contract ``target:`` > command line > ini
 
 from __future__ import annotations
 
+import json
 import os
 import shlex
 import textwrap
@@ -36,10 +37,12 @@ import pytest
 
 from . import golden as golden_module
 from .errors import RmwIntrospectError, SetupError, TargetConfigError
-from .options import OPTION_KEYS, ComparisonOptions, OptionError, parse_layer, resolve
+from .options import OPTION_KEYS, ComparisonOptions, OptionError, parse_layer
 from .target import TARGET_KEYS, TargetSpec
 
 MARKER = "interfaces"
+#: user property with the drift items as JSON (report.to_json + contract), for JUnit XML
+DRIFT_PROPERTY = "rmw_introspect_drift"
 
 _MARKER_DOC = (
     f"{MARKER}(contract, **options): capture the test's target on the recording middleware and "
@@ -98,6 +101,7 @@ class _ItemState:
     spec: TargetSpec | None = None
     capture: Any = None
     error: RmwIntrospectError | None = None
+    prepared: Any = None  # checking.Prepared
 
 
 _ITEM = pytest.StashKey[_ItemState]()
@@ -376,46 +380,51 @@ def _parse_marker(item: pytest.Item) -> tuple[Path, dict[str, Any], dict[str, An
     return path, target, options
 
 
+def _target_layers(state: _SessionState, rootdir: Path) -> list[tuple[dict[str, Any], Path, str]]:
+    """The target layers below a contract's ``target:`` block (ini file, then command line)."""
+    return [(state.ini_target, rootdir, "ini file"), (state.cli_target, rootdir, "command line")]
+
+
+def _option_layers(state: _SessionState) -> list[tuple[dict[str, Any], str]]:
+    """The comparison option layers below a contract's ``options:`` block."""
+    return [(state.ini_options, "ini file"), (state.cli_options, "command line")]
+
+
 def _prepare(item: pytest.Item, state: _SessionState) -> _ItemState:
-    from . import contract as contract_module
-    from . import runner
+    from . import checking
 
     st = _ItemState()
     try:
         path, target_kw, option_kw = _parse_marker(item)
         st.contract_path = path
         shown = _display(path, item.config)
-        if path.exists():
-            st.contract = contract_module.load(path)
-        st.options = resolve(
-            (state.ini_options, "ini file"),
-            (state.cli_options, "command line"),
-            (st.contract.options if st.contract else None, f"{shown}: options"),
-            (option_kw, _marker_source(item)),
-        )
-        spec = _base_spec(state, item.config.rootpath)
-        if st.contract is not None and st.contract.target:
-            spec = spec.merged(st.contract.target, base_dir=path.parent, source=f"{shown}: target")
-        spec = spec.merged(target_kw, base_dir=Path(item.path).parent, source=_marker_source(item))
-        if spec.kind is None:
-            if st.contract is None:
-                raise TargetConfigError(
+
+        def no_target(contract: Any, shown: str) -> str:
+            if contract is None:
+                return (
                     f"The golden contract {shown} does not exist and the @pytest.mark.{MARKER} marker "
                     "names no target, so there is nothing to capture. Name the target in the marker, "
                     f"e.g. @pytest.mark.{MARKER}(\"{path.name}\", package=\"my_pkg\", executable=\"my_node\"), "
                     f"then create the contract with:\n  {_accept_command(item)}"
                 )
-            raise TargetConfigError(
+            return (
                 f"No target to run: neither the {MARKER} marker of {item.nodeid} nor the `target:` block "
                 f"of {shown} names one (package+executable, command, script or module)."
             )
-        st.spec = spec
-        st.capture = runner.run(
-            spec,
-            library=state.library(),
-            ros=state.ros(),
-            include_infrastructure=st.options.include_infrastructure,
+
+        prepared = checking.prepare(
+            path,
+            weak_target=_target_layers(state, item.config.rootpath),
+            strong_target=[(target_kw, Path(item.path).parent, _marker_source(item))],
+            weak_options=_option_layers(state),
+            strong_options=[(option_kw, _marker_source(item))],
+            shown=shown,
+            allow_missing=True,
+            no_target=no_target,
         )
+        st.prepared = prepared
+        st.contract, st.options, st.spec = prepared.contract, prepared.options, prepared.spec
+        st.capture = checking.run_capture(prepared, library=state.library(), ros=state.ros())
     except RmwIntrospectError as exc:
         st.error = exc
     return st
@@ -439,66 +448,53 @@ def _accept_command(item: pytest.Item) -> str:
     return f"pytest --update-golden {shlex.quote(node)}"
 
 
-def _expanded(nodes: dict[str, Any]) -> dict[str, Any]:
-    from . import qos
-
-    out: dict[str, Any] = {}
-    for fqn, node in nodes.items():
-        out[fqn] = {
-            list_name: [dict(e, qos=qos.expand(e["qos"])) if "qos" in e else dict(e) for e in entries]
-            for list_name, entries in node.items()
-        }
-    return out
-
-
 def _record(item: pytest.Item, action: str | None, path: Path) -> None:
     if action is not None:
         item.user_properties.append((golden_module.USER_PROPERTY, golden_module.property_value(action, path)))
 
 
-def _check(item: pytest.Item, st: _ItemState, state: _SessionState) -> None:
-    from . import drift, report
+def _record_drift(item: pytest.Item, result: Any) -> None:
+    """Attach the machine-readable drift to the report (JUnit writes it as a <property>)."""
+    if result.items:
+        item.user_properties.append((DRIFT_PROPERTY, json.dumps(result.to_json(), sort_keys=True, default=str)))
 
-    cap, opts, path = st.capture, st.options, st.contract_path
-    assert path is not None and st.spec is not None
-    shown = _display(path, item.config)
 
-    def golden_nodes() -> dict[str, Any]:
-        return cap.to_contract_nodes(with_type_hash=not opts.ignore_type_hash, with_qos=not opts.ignores_all_qos)
-
-    if st.contract is None:
+def _verdict(item: pytest.Item, result: Any, state: _SessionState, accept_command: str) -> None:
+    """Turn a compared :class:`checking.CheckResult` into the test outcome: pass, write the
+    golden (``--update-golden``), fail with the drift report, or warn below the threshold.
+    Shared by marker tests and contract items."""
+    assert result.spec is not None
+    _record_drift(item, result)
+    if result.contract is None:
         if state.update:
-            _record(item, golden_module.update(path, golden_nodes()), path)
+            _record(item, result.update(), result.path)
             return
         pytest.fail(
-            f"The golden contract {shown} does not exist. Create it from the current capture of "
-            f"{st.spec.describe()} with:\n  {_accept_command(item)}\n\nCaptured:\n"
-            + textwrap.indent(cap.summary(), "  "),
+            f"The golden contract {result.shown} does not exist. Create it from the current capture of "
+            f"{result.spec.describe()} with:\n  {accept_command}\n\nCaptured:\n"
+            + textwrap.indent(result.capture.summary(), "  "),
             pytrace=False,
         )
-
-    items = drift.compare(st.contract.expanded_nodes(), _expanded(cap.to_contract_nodes()), opts.compare_options())
-    if not items:
+    if not result.items:
         return
     if state.update:
-        _record(item, golden_module.update(path, golden_nodes()), path)
+        _record(item, result.update(), result.path)
         return
-    threshold = opts.threshold()
-    if report.fails(items, threshold):
-        text = report.render_text(
-            items,
-            contract_path=shown,
-            threshold=threshold,
-            accept_command=_accept_command(item),
-            title=f"Interface drift of {st.spec.describe()}",
-        )
-        pytest.fail(text, pytrace=False)
+    if result.failed:
+        pytest.fail(result.render_text(accept_command=accept_command), pytrace=False)
     item.warn(
         pytest.PytestWarning(
-            f"{len(items)} interface change(s) against {shown} below the fail threshold "
-            f"({opts.fail_on}); accept them with {_accept_command(item)}"
+            f"{len(result.items)} interface change(s) against {result.shown} below the fail threshold "
+            f"({result.options.fail_on}); accept them with {accept_command}"
         )
     )
+
+
+def _check(item: pytest.Item, st: _ItemState, state: _SessionState) -> None:
+    from . import checking
+
+    assert st.prepared is not None
+    _verdict(item, checking.compare(st.prepared, st.capture), state, _accept_command(item))
 
 
 @pytest.hookimpl(wrapper=True)

@@ -1,5 +1,5 @@
 # The two commands of the README. Both set up .venv/ first (idempotent; see scripts/bootstrap.sh).
-VENV ?= .venv
+VENV ?= $(CURDIR)/.venv
 export VENV
 
 .PHONY: example test lint bootstrap bench clean

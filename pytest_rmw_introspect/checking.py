@@ -112,7 +112,7 @@ def prepare(
     for values, base, source in weak_target:
         spec = spec.merged(values, base_dir=base, source=source)
     if contract is not None and contract.target:
-        spec = spec.merged(contract.target, base_dir=path.parent, source=f"{shown}: target")
+        spec = spec.merged(contract.target, base_dir=path.absolute().parent, source=f"{shown}: target")
     for values, base, source in strong_target:
         spec = spec.merged(values, base_dir=base, source=source)
     if spec.kind is None:

@@ -1,0 +1,574 @@
+"""The ``rmw-introspect`` command line: capture, check, diff, compat.
+
+Everything it does goes through the same code as the pytest plugin (``checking.py``), so a
+contract checks the same way from both, and the reports are the same text.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shlex
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from .errors import RmwIntrospectError
+
+EXIT_OK, EXIT_DRIFT, EXIT_ERROR = 0, 1, 2
+
+_DESCRIPTION = """\
+Interface contracts of ROS 2 nodes: run a node on the recording middleware (rmw_introspect_cpp)
+and write down, check or compare the publishers, subscriptions, services and actions it creates.
+
+commands:
+  capture   run a target and print its interfaces (a contract, JSON, NoDL, or the raw capture)
+  check     run the target of each contract and compare it with the contract (drift report)
+  diff      compare two contract files without running anything
+  compat    check that the nodes of several contracts fit together (types, hashes, QoS, peers)
+
+Run `rmw-introspect COMMAND --help` for the options of a command.
+
+exit status: 0 everything matches (or only drift below the fail threshold), 1 drift /
+incompatibility at or above the fail threshold, 2 an error (a missing or malformed contract,
+no target, a target that fails, hangs or creates no node, ROS 2 or the middleware missing,
+a bad option). Errors are one message on stderr, never a traceback.
+"""
+
+_TARGET_HELP = """\
+target (exactly one of):
+  --package P --executable E   an executable of an ament package, found like `ros2 run`
+  --script FILE                a Python file, run with this interpreter
+  --module M                   a Python module, run as `python -m M`
+  -- COMMAND ARGS...           any command (everything after `--`)
+The other target options (--namespace, --remap, --param, ...) are added as `--ros-args`.
+"""
+
+_CHECK_EPILOG = """\
+Each contract's target comes from its `target:` block (paths relative to the contract); target
+options given here override it (paths relative to the current directory), and a target named
+here (--package/--executable, --script, --module, -- COMMAND) replaces the contract's.
+
+Comparison options given here override the contract's `options:` block, which overrides the
+defaults (fail_on: any, nothing ignored). Drift rules and severities: docs/drift-rules.md.
+
+--update rewrites the `nodes:` block of every drifted contract from the capture (keeping the
+comments, target and options above it) and creates missing ones (with a `target:` block from
+the target options given here); it is refused when the CI environment variable is set.
+
+--format json prints one JSON array with an object per drift item: contract, node, kind
+(publishers, subscriptions, service_servers, service_clients, action_servers, action_clients
+or node), name, change, rule, severity (SAFE, RISKY, BREAKING), old, new, message.
+
+exit status: 0 all contracts match (or drift below --fail-on), 1 drift at or above --fail-on,
+2 errors (missing/malformed contract, no target, target failure, ROS 2/middleware missing).
+"""
+
+_CAPTURE_EPILOG = """\
+formats:
+  yaml  (default) a complete contract: contract_version, a `target:` block saying how the
+        target was run (paths relative to the -o file, or to the current directory), and the
+        `nodes:` block. Save it with -o NAME.interfaces.yaml and check it with
+        `rmw-introspect check` or by running pytest next to it.
+  json  the contract's `nodes` mapping as JSON.
+  nodl  one NoDL v2 document per node (nodl_version: 2; publishers, subscriptions,
+        service_servers, service_clients, action_servers, action_clients with name, type
+        and qos for topics), as a YAML stream; a `# node: /fqn` comment names the node of
+        each document (NoDL documents do not name their node).
+
+endpoints:
+  default               infrastructure endpoints (/rosout, /parameter_events, parameter,
+                        type description and lifecycle services) are left out; the
+                        services and topics of an action are grouped into one action entry.
+  --include-ros-infra   keeps the infrastructure endpoints (the yaml contract then gets
+                        `options: {include_infrastructure: true}`); actions stay grouped.
+  --raw                 every endpoint exactly as the middleware recorded it, destroyed ones
+                        included: with yaml/json the capture document itself (nodes and
+                        endpoints with raw rmw QoS), with nodl the endpoints per node,
+                        ungrouped and unfiltered.
+
+exit status: 0 captured, 2 error (no target, target failed/hung/created no node, setup).
+"""
+
+_DIFF_EPILOG = """\
+OLD plays the contract and NEW the capture, so the drift rules and severities are exactly those
+of `check`: NEW losing a publisher of OLD is BREAKING, NEW adding one is SAFE. OLD's `options:`
+block applies, overridden by the comparison options given here.
+
+exit status: 0 no drift (or below --fail-on), 1 drift at or above --fail-on, 2 errors.
+"""
+
+_COMPAT_EPILOG = """\
+All nodes of all contracts form one system. Every subscription, service client and action
+client is matched with the publishers/servers of the same name: type, type hash and QoS
+compatibility (incompatible QoS is BREAKING, possibly incompatible RISKY); a requester without
+any provider is RISKY. A policy left at SYSTEM_DEFAULT on both ends is not reported unless
+--strict-system-default. Rules: docs/drift-rules.md ("System checks").
+
+--fail-on defaults to `breaking` here (a partial system lacking some publisher is common).
+exit status: 0 compatible (or problems below --fail-on), 1 problems at or above --fail-on,
+2 errors (missing or malformed contract).
+"""
+
+
+class UsageError(Exception):
+    """A bad command line: reported as a message, exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> Any:  # argparse's own errors: message + usage hint, status 2
+        self.exit(EXIT_ERROR, f"{self.prog}: error: {message}\n(see `{self.prog} --help`)\n")
+
+
+# ---------------------------------------------------------------------------- parser
+
+
+def _add_target(parser: argparse.ArgumentParser) -> None:
+    g = parser.add_argument_group("target", _TARGET_HELP)
+    g.add_argument("--package", metavar="P", help="ament package of the executable (with --executable)")
+    g.add_argument("--executable", metavar="E", help="executable inside <prefix>/lib/<package>/")
+    g.add_argument("--script", metavar="FILE", help="Python file to run with this interpreter")
+    g.add_argument("--module", metavar="M", help="Python module to run as `python -m M`")
+    g.add_argument("--arg", dest="arguments", action="append", metavar="ARG",
+                   help="extra command-line argument before --ros-args (repeatable)")
+    g.add_argument("--namespace", metavar="NS", help="node namespace (-r __ns:=NS)")
+    g.add_argument("--node-name", metavar="NAME", help="node name (-r __node:=NAME)")
+    g.add_argument("--remap", action="append", metavar="FROM:=TO", help="name remapping (repeatable)")
+    g.add_argument("--param", action="append", metavar="NAME:=VALUE",
+                   help="parameter; VALUE is YAML (5, 2.0, true, [1, 2], 'text') (repeatable)")
+    g.add_argument("--params-file", metavar="FILE", help="ROS parameters YAML file")
+    g.add_argument("--env", action="append", metavar="K=V", help="environment variable of the target (repeatable)")
+    g.add_argument("--cwd", metavar="DIR", help="working directory of the target")
+    g.add_argument("--settle", type=float, metavar="SECONDS",
+                   help="quiet time (while the node waits) after which the capture is final (default 0.1)")
+    g.add_argument("--timeout", type=float, metavar="SECONDS",
+                   help="time the target gets to settle before it is stopped (default 20)")
+
+
+def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True) -> None:
+    g = parser.add_argument_group("comparison options (override the contract's options: block)")
+    g.add_argument("--fail-on", choices=("any", "risky", "breaking"),
+                   help="least severe drift that fails (exit 1); default: the contract's, else any")
+    g.add_argument("--ignore-type-hash", action="store_true", default=None, help="do not compare type hashes")
+    g.add_argument("--ignore-qos", metavar="FIELDS",
+                   help="QoS fields not to compare: comma-separated (depth,history) or 'all'")
+    g.add_argument("--allow-extra", action="store_true", default=None,
+                   help="interfaces and nodes the contract does not list are not drift")
+    if infra:
+        g.add_argument("--include-ros-infra", dest="include_infrastructure", action="store_true", default=None,
+                       help="also capture and compare /rosout, /parameter_events, parameter and lifecycle services")
+
+
+def _add_format(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--format", choices=("text", "json"), default="text",
+                        help="text: the report for people (default); json: machine-readable items")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="rmw-introspect", description=_DESCRIPTION,
+                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    from . import __version__
+
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+
+    cap = sub.add_parser("capture", help="run a target and print its interfaces",
+                         description="Run a target on the recording middleware and print its interfaces.",
+                         epilog=_CAPTURE_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
+                         usage="%(prog)s [options] (--package P --executable E | --script F | --module M | -- COMMAND ...)")
+    _add_target(cap)
+    out = cap.add_argument_group("output")
+    out.add_argument("--format", choices=("yaml", "json", "nodl"), default="yaml",
+                     help="yaml: a complete contract (default); json: the nodes as JSON; nodl: NoDL v2 per node")
+    out.add_argument("--raw", action="store_true", help="every endpoint as created: no infrastructure filter, no action grouping")
+    out.add_argument("--include-ros-infra", dest="include_infrastructure", action="store_true",
+                     help="keep infrastructure endpoints (actions stay grouped)")
+    out.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+
+    chk = sub.add_parser("check", help="capture each contract's target and compare",
+                         description="Capture the target of each contract and compare it with the contract.",
+                         epilog=_CHECK_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
+                         usage="%(prog)s [options] CONTRACT... [-- COMMAND ...]")
+    chk.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML)")
+    _add_target(chk)
+    _add_compare(chk)
+    _add_format(chk)
+    chk.add_argument("--update", action="store_true",
+                     help="rewrite drifted contracts and create missing ones (refused when CI is set)")
+
+    dif = sub.add_parser("diff", help="compare two contract files (no target is run)",
+                         description="Compare two contract files without running anything.",
+                         epilog=_DIFF_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    dif.add_argument("old", metavar="OLD", help="the contract as it was")
+    dif.add_argument("new", metavar="NEW", help="the contract as it is now")
+    _add_compare(dif, infra=False)
+    _add_format(dif)
+
+    com = sub.add_parser("compat", help="check that the nodes of several contracts fit together",
+                         description="System check: do the nodes of these contracts fit together?",
+                         epilog=_COMPAT_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    com.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML)")
+    com.add_argument("--fail-on", choices=("any", "risky", "breaking"), default="breaking",
+                     help="least severe problem that fails (exit 1); default breaking")
+    com.add_argument("--strict-system-default", action="store_true",
+                     help="also report policies left at SYSTEM_DEFAULT on both ends (what rmw would warn about)")
+    _add_format(com)
+    return parser
+
+
+# ---------------------------------------------------------------------------- helpers
+
+
+def _pairs(values: Sequence[str] | None, sep: str, what: str, example: str) -> list[tuple[str, str]]:
+    out = []
+    for value in values or ():
+        key, found, rest = value.partition(sep)
+        if not found or not key:
+            raise UsageError(f"{what} {value!r} is not of the form {example}")
+        out.append((key, rest))
+    return out
+
+
+def _target_from_args(args: argparse.Namespace, command: list[str] | None) -> dict[str, Any]:
+    """The target options given on the command line (a TargetSpec mapping)."""
+    target: dict[str, Any] = {}
+    for key in ("package", "executable", "script", "module", "namespace", "node_name", "params_file", "cwd",
+                "settle", "timeout"):
+        value = getattr(args, key, None)
+        if value is not None:
+            target[key] = value
+    if args.arguments:
+        target["arguments"] = list(args.arguments)
+    if command:
+        target["command"] = list(command)
+    remaps = _pairs(args.remap, ":=", "--remap", "FROM:=TO")
+    if remaps:
+        target["remappings"] = dict(remaps)
+    params = {}
+    for name, text in _pairs(args.param, ":=", "--param", "NAME:=VALUE"):
+        try:
+            params[name] = yaml.safe_load(text) if text.strip() else ""
+        except yaml.YAMLError as exc:
+            raise UsageError(f"--param {name}:={text}: the value is not valid YAML ({exc})") from None
+    if params:
+        target["parameters"] = params
+    env = _pairs(args.env, "=", "--env", "K=V")
+    if env:
+        target["env"] = dict(env)
+    kinds = [k for k in ("package", "executable", "script", "module", "command") if k in target]
+    if "package" in kinds and "executable" in kinds:
+        kinds.remove("executable")
+    if len([k for k in kinds if k != "executable"]) > 1 or ("executable" in kinds and len(kinds) > 1):
+        shown = ["-- COMMAND" if k == "command" else f"--{k}" for k in kinds]
+        raise UsageError(f"give one target, not {' and '.join(shown)}")
+    return target
+
+
+def _compare_from_args(args: argparse.Namespace) -> dict[str, Any]:
+    return {
+        "fail_on": args.fail_on,
+        "ignore_type_hash": args.ignore_type_hash,
+        "ignore_qos": args.ignore_qos,
+        "allow_extra": args.allow_extra,
+        "include_infrastructure": getattr(args, "include_infrastructure", None),
+    }
+
+
+class _Setup:
+    """ROS environment and middleware library, found on first use (only when a target runs)."""
+
+    def __init__(self) -> None:
+        self._ros: Any = None
+        self._library: Any = None
+
+    def ros(self) -> Any:
+        if self._ros is None:
+            from . import ros_env
+
+            self._ros = ros_env.detect()
+        return self._ros
+
+    def library(self) -> Any:
+        if self._library is None:
+            from . import middleware
+
+            self._library = middleware.ensure_library(self.ros())
+        return self._library
+
+
+def _relative_to(path: Path, base: Path) -> str:
+    """``path`` relative to ``base``, or absolute when that would climb more than two levels."""
+    try:
+        rel = os.path.relpath(path, base)
+    except ValueError:
+        return str(path)
+    return str(path.absolute()) if rel == "../.." or rel.startswith("../../") else rel
+
+
+def target_block(spec: Any, base: Path) -> dict[str, Any]:
+    """A contract ``target:`` block for ``spec`` with paths relative to ``base``."""
+    block = spec.to_mapping()
+    for key in ("script", "params_file", "cwd"):
+        if key in block:
+            block[key] = _relative_to(Path(block[key]), base)
+    if "command" in block and "/" in block["command"][0]:
+        first = _relative_to(Path(block["command"][0]).absolute(), base)
+        block["command"][0] = first if "/" in first else "./" + first
+    return block
+
+
+def contract_text(nodes: Any, *, spec: Any, base: Path, include_infrastructure: bool = False,
+                  how: str = "rmw-introspect capture") -> str:
+    """A complete contract: header with a ``target:`` block (and options), then ``nodes``."""
+    from . import contract as contract_module
+
+    header = (
+        f"# Interface contract written by `{how}`.\n"
+        "# Check it with `rmw-introspect check` or pytest (pytest-rmw-introspect); comments and keys\n"
+        "# above `nodes:` are kept when it is updated.\n"
+        f"contract_version: {contract_module.CONTRACT_VERSION}\n"
+    )
+    block = target_block(spec, base)
+    header += yaml.safe_dump({"target": block}, sort_keys=False, default_flow_style=False, allow_unicode=True)
+    if include_infrastructure:
+        header += "options:\n  include_infrastructure: true\n"
+    return contract_module.render(nodes, header=header)
+
+
+def _nodl_qos(q: Any) -> dict[str, Any]:
+    allowed = ("history", "depth", "reliability", "durability", "deadline_ns", "lifespan_ns", "liveliness",
+               "liveliness_lease_duration_ns")
+    return {k: q[k] for k in allowed if k in q}
+
+
+def nodl_documents(cap: Any, *, raw: bool) -> str:
+    """One NoDL v2 document per node (a YAML stream)."""
+    from . import qos as qos_module
+    from .capture import KIND_TO_LIST, LISTS
+
+    docs = []
+    if raw:
+        per_node: dict[str, dict[str, list[dict[str, Any]]]] = {}
+        live = {n.id: n for n in cap.raw_nodes if not n.destroyed}
+        for n in sorted(live.values(), key=lambda n: n.seq):
+            per_node.setdefault(n.fqn, {name: [] for name in LISTS})
+        for e in sorted(cap.raw_endpoints, key=lambda e: e.seq):
+            owner = live.get(e.node_id)
+            if owner is None or e.destroyed:
+                continue
+            entry: dict[str, Any] = {"name": e.name, "type": e.type}
+            if e.kind in ("publisher", "subscription"):
+                entry["qos"] = _nodl_qos(qos_module.from_capture(e.qos))
+            per_node[owner.fqn][KIND_TO_LIST[e.kind]].append(entry)
+        items = sorted(per_node.items())
+    else:
+        items = []
+        for node in cap:
+            lists: dict[str, list[dict[str, Any]]] = {}
+            for list_name in LISTS:
+                lists[list_name] = []
+                for i in getattr(node, list_name):
+                    entry = {"name": i.name, "type": i.type}
+                    if i.qos is not None:
+                        entry["qos"] = _nodl_qos(i.qos)
+                    lists[list_name].append(entry)
+            items.append((node.fqn, lists))
+    for fqn, lists in items:
+        doc = {"nodl_version": 2}
+        doc.update({k: v for k, v in lists.items() if v})
+        docs.append(f"# node: {fqn}\n" + yaml.safe_dump(doc, sort_keys=False, default_flow_style=False))
+    return "---\n" + "---\n".join(docs)
+
+
+def _emit(text: str, output: str | None) -> None:
+    if not text.endswith("\n"):
+        text += "\n"
+    if output is None:
+        sys.stdout.write(text)
+        return
+    path = Path(output)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise UsageError(f"cannot write {output}: {exc.strerror or exc}") from None
+    print(f"wrote {output}", file=sys.stderr)
+
+
+# ---------------------------------------------------------------------------- commands
+
+
+def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
+    from . import runner
+    from .target import TargetSpec
+
+    cwd = Path.cwd()
+    target = _target_from_args(args, command)
+    spec = TargetSpec.from_mapping(target, base_dir=cwd, source="command line")
+    if spec.kind is None:
+        raise UsageError("no target: give --package P --executable E, --script FILE, --module M or -- COMMAND ARGS...")
+    setup = _Setup()
+    include = bool(args.include_infrastructure or args.raw)
+    cap = runner.run(spec, library=setup.library(), ros=setup.ros(), include_infrastructure=include)
+    if args.format == "nodl":
+        text = nodl_documents(cap, raw=args.raw)
+    elif args.raw:
+        raw = dict(cap.raw)
+        text = (json.dumps(raw, indent=2) if args.format == "json"
+                else yaml.safe_dump(raw, sort_keys=False, default_flow_style=False))
+    elif args.format == "json":
+        text = json.dumps(cap.to_contract_nodes(), indent=2)
+    else:
+        base = Path(args.output).absolute().parent if args.output else cwd
+        text = contract_text(cap.to_contract_nodes(), spec=spec, base=base,
+                             include_infrastructure=bool(args.include_infrastructure))
+    _emit(text, args.output)
+    return EXIT_OK
+
+
+def _accept_command(args: argparse.Namespace, contract: str, command: list[str] | None) -> str:
+    """`rmw-introspect check --update [the target and comparison flags given] CONTRACT`."""
+    words = ["rmw-introspect", "check", "--update"]
+    for key in ("package", "executable", "script", "module", "namespace", "node_name", "params_file", "cwd",
+                "settle", "timeout", "fail_on", "ignore_qos"):
+        value = getattr(args, key, None)
+        if value is not None:
+            words += [f"--{key.replace('_', '-')}", str(value)]
+    for key, flag in (("arguments", "--arg"), ("remap", "--remap"), ("param", "--param"), ("env", "--env")):
+        for value in getattr(args, key, None) or ():
+            words += [flag, value]
+    for key, flag in (("ignore_type_hash", "--ignore-type-hash"), ("allow_extra", "--allow-extra"),
+                      ("include_infrastructure", "--include-ros-infra")):
+        if getattr(args, key, None):
+            words.append(flag)
+    words.append(contract)
+    if command:
+        words += ["--", *command]
+    return shlex.join(words)
+
+
+def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
+    from . import checking, golden
+
+    if args.update:
+        refusal = golden.ci_refusal()
+        if refusal:
+            raise UsageError(refusal.replace("--update-golden", "--update").replace(
+                "run `pytest --update` on", "run `rmw-introspect check --update` on"))
+    cwd = Path.cwd()
+    target = _target_from_args(args, command)
+    strong_target = [(target, cwd, "command line")] if target else []
+    strong_options = [(_compare_from_args(args), "command line")]
+    setup = _Setup()
+
+    def no_target(contract: Any, shown: str) -> str:
+        if contract is None:
+            return (f"{shown} does not exist; to create it, name the target, e.g. "
+                    f"rmw-introspect check --update --script node.py {shlex.quote(shown)}")
+        return (f"{shown} has no `target:` block naming what to run; add one (package+executable, "
+                "command, script or module) or name the target on the command line "
+                "(--package P --executable E, --script FILE, --module M or -- COMMAND)")
+
+    status = EXIT_OK
+    all_items: list[dict[str, Any]] = []
+    for raw_path in args.contracts:
+        path = Path(raw_path)
+        shown = raw_path
+        result = checking.check(path, library=setup.library, ros=setup.ros, shown=shown,
+                                strong_target=strong_target, strong_options=strong_options,
+                                allow_missing=args.update, no_target=no_target)
+        if result.error is not None:
+            print(f"rmw-introspect: {result.error}", file=sys.stderr)
+            status = EXIT_ERROR
+            continue
+        accept = _accept_command(args, shown, command)
+        all_items += result.to_json()
+        if result.missing:  # only with --update
+            text = contract_text(result.golden_nodes(), spec=result.spec, base=path.absolute().parent,
+                                 include_infrastructure=result.options.include_infrastructure,
+                                 how="rmw-introspect check --update")
+            _emit(text, str(path))
+            print(f"created {shown}", file=sys.stderr)
+            continue
+        if args.update and result.drifted:
+            action = result.update()
+            if args.format == "text":
+                sys.stdout.write(result.render_text())
+            print(f"{action or 'unchanged'} {shown}", file=sys.stderr)
+            continue
+        if args.format == "text":
+            if result.drifted:
+                sys.stdout.write(result.render_text(accept_command=accept))
+                sys.stdout.write("\n")
+            else:
+                nodes = ", ".join(sorted(result.contract.nodes)) or "no nodes"
+                print(f"{shown}: matches ({nodes})")
+        if result.failed and status == EXIT_OK:
+            status = EXIT_DRIFT
+    if args.format == "json":
+        print(json.dumps(all_items, indent=2, default=str))
+    return status
+
+
+def cmd_diff(args: argparse.Namespace) -> int:
+    from . import checking
+
+    result = checking.diff_contracts(args.old, args.new, [(_compare_from_args(args), "command line")])
+    if args.format == "json":
+        print(json.dumps(result.to_json(), indent=2, default=str))
+    else:
+        sys.stdout.write(result.render_text())
+    return EXIT_DRIFT if result.failed else EXIT_OK
+
+
+def cmd_compat(args: argparse.Namespace) -> int:
+    from . import checking
+
+    result = checking.check_system(args.contracts, fail_on=args.fail_on,
+                                   strict_system_default=args.strict_system_default)
+    if args.format == "json":
+        print(json.dumps(result.to_json(), indent=2, default=str))
+    else:
+        sys.stdout.write(result.render_text())
+    return EXIT_DRIFT if result.failed else EXIT_OK
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``rmw-introspect`` console script; returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command: list[str] | None = None
+    if "--" in argv:
+        i = argv.index("--")
+        argv, command = argv[:i], argv[i + 1:]
+        if not command:
+            print("rmw-introspect: error: `--` must be followed by the command to run", file=sys.stderr)
+            return EXIT_ERROR
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if command is not None and args.command not in ("capture", "check"):
+        print(f"rmw-introspect: error: `-- COMMAND` is only for capture and check, not {args.command}",
+              file=sys.stderr)
+        return EXIT_ERROR
+    try:
+        if args.command == "capture":
+            return cmd_capture(args, command)
+        if args.command == "check":
+            return cmd_check(args, command)
+        if args.command == "diff":
+            return cmd_diff(args)
+        return cmd_compat(args)
+    except (RmwIntrospectError, UsageError, ValueError) as exc:
+        print(f"rmw-introspect: {exc}", file=sys.stderr)
+        return EXIT_ERROR
+    except KeyboardInterrupt:
+        print("rmw-introspect: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -13,12 +13,17 @@ Outside pytest::
         print(node.fqn, [p.name for p in node.publishers])
     cap.to_contract_nodes()        # the `nodes` mapping of a contract
 
+In a test, ``pytest_rmw_introspect.check_compatible("a.interfaces.yaml", "b.interfaces.yaml")``
+fails the test unless the nodes of the contracts fit together (a system check), and
+``diff_contracts(old, new)`` compares two contract files without running anything.
+
 ``pytest_rmw_introspect.capture`` is the :mod:`pytest_rmw_introspect.capture` module, made
 callable (calling it runs :func:`pytest_rmw_introspect.runner.capture`).
 """
 
 from . import capture
 from .capture import Capture, Endpoint, Interface, Node, RawNode
+from .checking import check_compatible, diff_contracts
 from .contract import Contract
 from .contract import load as load_contract
 from .errors import (
@@ -56,5 +61,7 @@ __all__ = [
     "TargetSpec",
     "TargetTimeout",
     "capture",
+    "check_compatible",
+    "diff_contracts",
     "load_contract",
 ]

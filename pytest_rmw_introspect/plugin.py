@@ -158,6 +158,15 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     group.addoption("--rmw-introspect-settle", type=float, default=None, metavar="SECONDS",
                     help="default settle time of targets (default 0.1)")
 
+    group.addoption(
+        "--rmw-introspect-contracts",
+        default=None,
+        metavar="GLOBS",
+        help="contract files collected as test items: glob patterns, comma-separated "
+        "(default: ini rmw_introspect_contracts, *.interfaces.yaml; 'none' turns it off)",
+    )
+    parser.addini("rmw_introspect_contracts", "glob patterns of contract files collected as test items "
+                  "('none' turns it off)", type="args", default=["*.interfaces.yaml"])
     parser.addini("rmw_introspect_ignore_type_hash", "do not compare type hashes", type="bool", default=False)
     parser.addini("rmw_introspect_ignore_qos", "QoS fields not to compare (list, or 'all')", type="args", default=[])
     parser.addini("rmw_introspect_allow_extra", "interfaces the contract does not list are not drift",
@@ -510,6 +519,18 @@ def pytest_runtest_call(item: pytest.Item) -> Any:
     if st is not None and st.capture is not None:
         _check(item, st, _state(item.config))
     return result
+
+
+# ---------------------------------------------------------------------------- contract files
+
+
+def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> Any:
+    """Contract files (``rmw_introspect_contracts``) are test items of their own (collect.py)."""
+    from . import collect
+
+    if collect.matches(file_path, parent.config, collect.patterns(parent.config)):
+        return collect.ContractFile.from_parent(parent, path=file_path)
+    return None
 
 
 # ---------------------------------------------------------------------------- reporting

@@ -1,0 +1,122 @@
+"""Contract files as pytest items: no Python test file needed.
+
+pytest collects every file whose name matches the ini option ``rmw_introspect_contracts``
+(default ``*.interfaces.yaml``; several patterns separated by spaces; a pattern with a ``/``
+is matched against the path relative to the rootdir; ``none`` turns collection off) or the
+command-line option ``--rmw-introspect-contracts``. Each contract file is **one** test item,
+named after its node(s)::
+
+    contracts/talker.interfaces.yaml::/talker
+    contracts/pipeline.interfaces.yaml::/camera,/detector     # several nodes: one item, one capture
+
+One item per contract (not per node) because one contract names one target, which is run
+once; the drift report of the item covers all its nodes. A contract without nodes (only a
+header with a ``target:`` block, to be filled by ``pytest --update-golden``) is named
+``::no-nodes``; a contract that cannot be loaded is named ``::invalid`` and fails with the
+loader's message.
+
+The item runs the contract's ``target:`` (plus ``--rmw-introspect-timeout/-settle`` and the ini
+defaults below it) and compares with the comparison options (contract ``options:`` > command
+line > ini), exactly like an ``interfaces`` marker test without keyword arguments: drift is a
+failure whose message is the drift report ending with the ``pytest --update-golden`` command
+for this item, ``--update-golden`` rewrites the ``nodes:`` block and lists the file in the
+terminal summary, and the drift is attached as the ``rmw_introspect_drift`` user property
+(JUnit XML ``<property>``).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from .errors import RmwIntrospectError
+
+DEFAULT_PATTERNS = ("*.interfaces.yaml",)
+
+
+def patterns(config: pytest.Config) -> list[str]:
+    """The glob patterns of contract files for this session (empty: collection is off)."""
+    cli = config.getoption("rmw_introspect_contracts", None)
+    if cli is not None:
+        raw = [p for p in cli.replace(",", " ").split() if p]
+    else:
+        raw = list(config.getini("rmw_introspect_contracts"))
+    if any(p.lower() in ("none", "off") for p in raw):
+        return []
+    return raw
+
+
+def matches(file_path: Path, config: pytest.Config, globs: list[str]) -> bool:
+    if not globs:
+        return False
+    name = file_path.name
+    try:
+        rel = file_path.relative_to(config.rootpath).as_posix()
+    except ValueError:
+        rel = file_path.as_posix()
+    return any(fnmatch.fnmatchcase(rel if "/" in g else name, g) for g in globs)
+
+
+class ContractFile(pytest.File):
+    """A contract file: yields one :class:`ContractItem`."""
+
+    def collect(self) -> Iterator[pytest.Item]:
+        from . import contract as contract_module
+
+        try:
+            loaded = contract_module.load(self.path)
+        except RmwIntrospectError as exc:
+            yield ContractItem.from_parent(self, name="invalid", load_error=exc)
+            return
+        name = ",".join(sorted(loaded.nodes)) or "no-nodes"
+        yield ContractItem.from_parent(self, name=name, node_names=sorted(loaded.nodes))
+
+
+class ContractItem(pytest.Item):
+    """Captures the contract's target and compares it with the contract."""
+
+    def __init__(self, *, load_error: RmwIntrospectError | None = None, node_names: list[str] | None = None,
+                 **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.load_error = load_error
+        self.node_names = node_names or []
+
+    def runtest(self) -> None:
+        from . import checking, plugin
+
+        if self.load_error is not None:
+            pytest.fail(str(self.load_error), pytrace=False)
+        state = plugin._state(self.config)
+        shown = plugin._display(self.path, self.config)
+
+        def no_target(contract: Any, shown: str) -> str:
+            return (
+                f"The contract {shown} has no `target:` block, so there is nothing to run. Contract files "
+                "collected as tests name their target themselves, e.g.\n"
+                "  target:\n    package: my_pkg\n    executable: my_node\n"
+                "(or command:, script:, module:), or check the contract from a test with "
+                "@pytest.mark.interfaces(..., package=..., executable=...)."
+            )
+
+        error: RmwIntrospectError | None = None
+        try:
+            prepared = checking.prepare(
+                self.path,
+                weak_target=plugin._target_layers(state, self.config.rootpath),
+                weak_options=plugin._option_layers(state),
+                shown=shown,
+                no_target=no_target,
+            )
+            capture = checking.run_capture(prepared, library=state.library(), ros=state.ros())
+        except RmwIntrospectError as exc:
+            error = exc
+        if error is not None:  # failed outside the except block: no chained exception in the report
+            pytest.fail(str(error), pytrace=False)
+        plugin._verdict(self, checking.compare(prepared, capture), state, plugin._accept_command(self))
+
+    def reportinfo(self) -> tuple[Path, int | None, str]:
+        return self.path, None, f"interface contract {self.path.name}::{self.name}"

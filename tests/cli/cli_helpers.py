@@ -1,0 +1,30 @@
+"""Helpers shared by the command-line tests (imported by name: tests/cli is on sys.path)."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+NODES = Path(__file__).parent.parent / "plugin" / "nodes"
+STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+
+
+def talker_contract(*, target: str | None = None, depth: int = 10, reliability: str = "RELIABLE",
+                    header: str = "") -> str:
+    """A contract of tests/plugin/nodes/talker.py as it runs with its defaults (changeable)."""
+    block = f"target:\n{textwrap.indent(target, '  ')}\n" if target else ""
+    return (
+        f"{header}contract_version: 1\n{block}"
+        "nodes:\n"
+        "  /talker:\n"
+        "    publishers:\n"
+        "      - name: /chatter\n"
+        "        type: std_msgs/msg/String\n"
+        f"        type_hash: {STRING_HASH}\n"
+        f"        qos: {{history: KEEP_LAST, depth: {depth}, reliability: {reliability}, durability: VOLATILE}}\n"
+        "    subscriptions: []\n"
+        "    service_servers: []\n"
+        "    service_clients: []\n"
+        "    action_servers: []\n"
+        "    action_clients: []\n"
+    )

@@ -1,0 +1,197 @@
+"""`rmw-introspect capture` on real rclpy nodes: formats, raw vs. filtered endpoints, -o, errors."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import sys
+
+import yaml
+from cli_helpers import NODES, STRING_HASH
+
+from pytest_rmw_introspect import contract as contract_module
+
+TALKER_NODES_YAML = f"""\
+nodes:
+  /talker:
+    publishers:
+      - name: /chatter
+        type: std_msgs/msg/String
+        type_hash: {STRING_HASH}
+        qos: {{history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}}
+    subscriptions: []
+    service_servers: []
+    service_clients: []
+    action_servers: []
+    action_clients: []
+"""
+
+
+def test_capture_yaml_to_a_file_is_a_contract_with_a_relative_target_that_checks(cli):
+    shutil.copy(NODES / "talker.py", cli.path / "talker.py")
+    result = cli("capture", "--script", "talker.py", "-o", "contracts/talker.interfaces.yaml")
+    assert result.returncode == 0, result
+    assert result.stdout == ""
+    assert "wrote contracts/talker.interfaces.yaml" in result.stderr
+    text = cli.read("contracts/talker.interfaces.yaml")
+    # the target block names the script relative to the contract file
+    assert "target:\n  script: ../talker.py\nnodes:\n" in text
+    assert text.endswith(TALKER_NODES_YAML)
+    loaded = contract_module.loads(text)
+    assert loaded.target == {"script": "../talker.py"}
+    assert loaded.options == {}
+
+    # checked from another directory, the script is found relative to the contract
+    (cli.path / "elsewhere").mkdir()
+    check = cli("check", "../contracts/talker.interfaces.yaml", cwd=cli.path / "elsewhere")
+    assert check.returncode == 0, check
+    assert "../contracts/talker.interfaces.yaml: matches (/talker)" in check.stdout
+
+
+def test_capture_prints_yaml_with_the_target_options_used(cli):
+    result = cli("capture", "--script", NODES / "talker.py", "--namespace", "robot", "--remap", "chatter:=speech",
+                 "--param", "depth:=5", "--param", "reliability:=best_effort", "--env", "RMWI_TEST=1",
+                 "--settle", "0.05")
+    assert result.returncode == 0, result
+    doc = yaml.safe_load(result.stdout)
+    assert doc["target"] == {
+        "script": str(NODES / "talker.py"),  # far away from the current directory: absolute
+        "namespace": "/robot",
+        "remappings": {"chatter": "speech"},
+        "parameters": {"depth": 5, "reliability": "best_effort"},
+        "env": {"RMWI_TEST": "1"},
+        "settle": 0.05,
+    }
+    assert list(doc["nodes"]) == ["/robot/talker"]
+    [pub] = doc["nodes"]["/robot/talker"]["publishers"]
+    assert pub["name"] == "/robot/speech"
+    assert pub["qos"] == {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
+    contract_module.loads(result.stdout)  # a valid contract
+
+
+def test_capture_json_is_the_contract_nodes(cli):
+    result = cli("capture", "--format", "json", "--script", NODES / "talker.py")
+    assert result.returncode == 0, result
+    assert json.loads(result.stdout) == yaml.safe_load(TALKER_NODES_YAML)["nodes"]
+
+
+def test_capture_of_a_command_after_double_dash(cli):
+    result = cli("capture", "--format", "json", "--", sys.executable, NODES / "talker.py")
+    assert result.returncode == 0, result
+    assert list(json.loads(result.stdout)) == ["/talker"]
+
+
+def test_capture_nodl_documents(cli):
+    result = cli("capture", "--format", "nodl", "--script", NODES / "qos_node.py")
+    assert result.returncode == 0, result
+    assert "# node: /sensors/qos_node\n" in result.stdout
+    [doc] = [d for d in yaml.safe_load_all(result.stdout) if d is not None]
+    assert doc["nodl_version"] == 2
+    assert set(doc) == {"nodl_version", "publishers", "subscriptions"}  # empty lists are left out
+    pubs = {p["name"]: p for p in doc["publishers"]}
+    assert pubs["/map"] == {"name": "/map", "type": "std_msgs/msg/String",
+                            "qos": {"history": "KEEP_LAST", "depth": 1, "reliability": "RELIABLE",
+                                    "durability": "TRANSIENT_LOCAL"}}
+    assert pubs["/sensors/scan"]["qos"]["reliability"] == "BEST_EFFORT"
+    subs = {s["name"]: s for s in doc["subscriptions"]}
+    assert subs["/sensors/commands"]["qos"]["history"] == "KEEP_ALL"
+    assert "depth" not in subs["/sensors/commands"]["qos"]
+    assert subs["/sensors/commands"]["qos"]["deadline_ns"] == 100_000_000
+    for entry in doc["publishers"] + doc["subscriptions"]:  # NoDL v2 topic endpoints: no other keys
+        assert set(entry) == {"name", "type", "qos"}
+        assert {"history", "reliability"} <= set(entry["qos"])
+
+
+def test_capture_nodl_groups_actions_and_raw_nodl_does_not(cli):
+    grouped = cli("capture", "--format", "nodl", "--script", NODES / "action_node.py")
+    assert grouped.returncode == 0, grouped
+    [doc] = [d for d in yaml.safe_load_all(grouped.stdout) if d]
+    assert doc["action_servers"] == [{"name": "/fibonacci", "type": "test_msgs/action/Fibonacci"}]
+    assert doc["action_clients"] == [{"name": "/count", "type": "test_msgs/action/Fibonacci"}]
+    assert "service_servers" not in doc and "publishers" not in doc
+
+    raw = cli("capture", "--format", "nodl", "--raw", "--script", NODES / "action_node.py")
+    assert raw.returncode == 0, raw
+    [doc] = [d for d in yaml.safe_load_all(raw.stdout) if d]
+    assert "action_servers" not in doc
+    servers = {s["name"]: s["type"] for s in doc["service_servers"]}
+    assert servers["/fibonacci/_action/send_goal"] == "test_msgs/action/Fibonacci_SendGoal"
+    assert "/fibonacci_server/get_parameters" in servers
+    assert "/rosout" in {p["name"] for p in doc["publishers"]}
+
+
+def test_default_vs_include_ros_infra_vs_raw(cli):
+    target = ("--script", NODES / "action_node.py")
+    default = cli("capture", "--format", "json", *target)
+    infra = cli("capture", "--format", "json", "--include-ros-infra", *target)
+    raw = cli("capture", "--format", "json", "--raw", *target)
+    for r in (default, infra, raw):
+        assert r.returncode == 0, r
+
+    node = json.loads(default.stdout)["/fibonacci_server"]
+    assert [a["name"] for a in node["action_servers"]] == ["/fibonacci"]
+    assert node["publishers"] == [] and node["service_servers"] == []
+
+    node = json.loads(infra.stdout)["/fibonacci_server"]
+    assert [a["name"] for a in node["action_servers"]] == ["/fibonacci"]  # still grouped
+    assert {p["name"] for p in node["publishers"]} == {"/rosout", "/parameter_events"}
+    services = {s["name"] for s in node["service_servers"]}
+    assert "/fibonacci_server/get_parameters" in services
+    assert not any("/_action/" in s for s in services)
+
+    doc = json.loads(raw.stdout)
+    assert doc["format"] == "rmw_introspect_capture"
+    assert [n["fqn"] for n in doc["nodes"]] == ["/fibonacci_server"]
+    kinds = {(e["kind"], e["name"]) for e in doc["endpoints"]}
+    assert ("service", "/fibonacci/_action/send_goal") in kinds
+    assert ("publisher", "/fibonacci/_action/feedback") in kinds
+    assert ("client", "/count/_action/get_result") in kinds
+    assert ("publisher", "/rosout") in kinds
+    assert ("service", "/fibonacci_server/get_parameters") in kinds
+    assert all(e["qos"]["history"] in ("KEEP_LAST", "KEEP_ALL") for e in doc["endpoints"])  # raw rmw QoS
+
+    infra_yaml = cli("capture", "--include-ros-infra", *target)
+    assert "options:\n  include_infrastructure: true\n" in infra_yaml.stdout
+
+
+def test_python_dash_m_dispatches_to_the_cli(cli):
+    result = cli("--version", module=True)
+    assert result.returncode == 0
+    assert result.stdout.startswith("rmw-introspect ")
+
+
+def test_capture_errors_are_messages_with_exit_status_2(cli):
+    cases = {
+        ("capture",): "no target: give --package P --executable E, --script FILE, --module M or -- COMMAND",
+        ("capture", "--script", "a.py", "--module", "m"): "give one target, not --script and --module",
+        ("capture", "--script", "a.py", "--param", "depth"): "--param 'depth' is not of the form NAME:=VALUE",
+        ("capture", "--script", "a.py", "--env", "X"): "--env 'X' is not of the form K=V",
+        ("capture", "--script", "missing.py"): "missing.py does not exist",
+        ("capture", "--script", "a.py", "--bogus"): "unrecognized arguments: --bogus",
+        ("capture", "--format", "xml", "--script", "a.py"): "invalid choice: 'xml'",
+        ("capture", "--package", "no_such_pkg", "--executable", "x"): "Package 'no_such_pkg' was not found",
+        ("capture", "--script", "a.py", "--"): "`--` must be followed by the command to run",
+    }
+    for args, message in cases.items():
+        result = cli(*args)
+        assert result.returncode == 2, (args, str(result))
+        assert message in result.stderr, (args, str(result))
+        assert "Traceback" not in result.stderr, (args, str(result))
+        assert result.stdout == "", (args, str(result))
+
+
+def test_capture_of_a_crashing_target_fails_with_its_stderr(cli):
+    result = cli("capture", "--script", NODES / "crashing_node.py")
+    assert result.returncode == 2, result
+    assert "exited with status 1 before its interfaces settled" in result.stderr
+    assert "sensor driver failed to open /dev/ttyUSB0" in result.stderr  # the target's own traceback tail
+    assert result.stderr.startswith("rmw-introspect: The target script")
+    assert result.stdout == ""
+
+
+def test_capture_to_an_unwritable_output_is_an_error(cli):
+    (cli.path / "afile").write_text("x")
+    result = cli("capture", "--script", NODES / "talker.py", "-o", "afile/sub/out.yaml")
+    assert result.returncode == 2, result
+    assert "cannot write afile/sub/out.yaml" in result.stderr
+    assert "Traceback" not in result.stderr

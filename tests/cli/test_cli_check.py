@@ -1,0 +1,130 @@
+"""`rmw-introspect check` on real rclpy nodes: pass, drift, errors, json, target overrides, --update."""
+
+from __future__ import annotations
+
+import json
+
+from cli_helpers import NODES, talker_contract
+
+TALKER = f"script: {NODES / 'talker.py'}"
+
+
+def test_check_passes_when_the_capture_matches(cli):
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER))
+    result = cli("check", "talker.interfaces.yaml")
+    assert result.returncode == 0, result
+    assert result.stdout == "talker.interfaces.yaml: matches (/talker)\n"
+
+
+def test_check_reports_drift_with_exit_1_and_the_accept_command(cli):
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, depth=3))
+    result = cli("check", "talker.interfaces.yaml", "--param", "reliability:=best_effort")
+    assert result.returncode == 1, result
+    out = result.stdout
+    assert out.startswith(f"Interface drift of script {NODES / 'talker.py'} against talker.interfaces.yaml: "
+                          "2 changes (1 breaking, 0 risky, 1 safe)\nResult: FAIL (fail on: any)\n")
+    assert "[QOS_RELIABILITY_WEAKENED] publisher offers weaker reliability RELIABLE -> BEST_EFFORT" in out
+    assert "[QOS_DEPTH_INCREASED] depth 3 -> 10" in out
+    assert ("To accept these changes as the new contract, run:\n"
+            "  rmw-introspect check --update --param reliability:=best_effort talker.interfaces.yaml\n") in out
+
+    # below the threshold: reported, not failing
+    safe_only = cli("check", "talker.interfaces.yaml", "--fail-on", "breaking")
+    assert safe_only.returncode == 0, safe_only
+    assert "Result: pass (fail on: breaking)" in safe_only.stdout
+    assert "SAFE (1) - below the fail threshold (breaking), not failing" in safe_only.stdout
+
+
+def test_check_json_has_one_object_per_drift_item(cli):
+    cli.write("a.interfaces.yaml", talker_contract(target=TALKER, depth=3))
+    cli.write("b.interfaces.yaml", talker_contract(target=TALKER))
+    result = cli("check", "--format", "json", "a.interfaces.yaml", "b.interfaces.yaml")
+    assert result.returncode == 1, result
+    assert json.loads(result.stdout) == [{
+        "contract": "a.interfaces.yaml",
+        "node": "/talker",
+        "kind": "publishers",
+        "name": "/chatter",
+        "change": "qos.depth",
+        "rule": "QOS_DEPTH_INCREASED",
+        "severity": "SAFE",
+        "old": 3,
+        "new": 10,
+        "message": "depth 3 -> 10: more samples are queued; matching is unaffected",
+    }]
+
+
+def test_command_line_target_options_override_the_contract_target(cli):
+    # the contract describes the talker run with depth 5 on /speech; its target block does not say so
+    contract = talker_contract(target=TALKER, depth=5).replace("/chatter", "/speech")
+    cli.write("talker.interfaces.yaml", contract)
+    assert cli("check", "talker.interfaces.yaml").returncode == 1
+    result = cli("check", "talker.interfaces.yaml", "--param", "depth:=5", "--remap", "chatter:=speech")
+    assert result.returncode == 0, result
+
+
+def test_comparison_flags(cli):
+    # the contract lists neither the subscription nor the real hash, and the wrong depth
+    contract = talker_contract(target=TALKER + "\nparameters: {listen: /orders}", depth=3)
+    contract = contract.replace("RIHS01_df66", "RIHS01_0000")
+    cli.write("talker.interfaces.yaml", contract)
+    drift = cli("check", "--format", "json", "talker.interfaces.yaml")
+    assert drift.returncode == 1, drift
+    assert {item["rule"] for item in json.loads(drift.stdout)} == {
+        "SUB_ADDED", "TYPE_HASH_CHANGED", "QOS_DEPTH_INCREASED"}, drift.stdout
+    quiet = cli("check", "talker.interfaces.yaml", "--allow-extra", "--ignore-type-hash", "--ignore-qos", "depth")
+    assert quiet.returncode == 0, quiet
+
+
+def test_check_update_rewrites_the_drifted_contract_and_keeps_its_header(cli):
+    header = "# Owned by team demo.\n"
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, depth=3, header=header))
+    refused = cli("check", "--update", "talker.interfaces.yaml", env={"CI": "true"})
+    assert refused.returncode == 2, refused
+    assert "--update refuses to write golden contracts in CI" in refused.stderr
+    assert cli.read("talker.interfaces.yaml") == talker_contract(target=TALKER, depth=3, header=header)
+
+    updated = cli("check", "--update", "talker.interfaces.yaml")
+    assert updated.returncode == 0, updated
+    assert "updated talker.interfaces.yaml" in updated.stderr
+    assert cli.read("talker.interfaces.yaml") == talker_contract(target=TALKER, depth=10, header=header)
+    assert cli("check", "talker.interfaces.yaml").returncode == 0
+
+
+def test_check_update_creates_a_missing_contract_with_a_target_block(cli):
+    result = cli("check", "--update", "--script", NODES / "talker.py", "new.interfaces.yaml")
+    assert result.returncode == 0, result
+    assert "created new.interfaces.yaml" in result.stderr
+    text = cli.read("new.interfaces.yaml")
+    assert f"target:\n  script: {NODES / 'talker.py'}\n" in text
+    again = cli("check", "new.interfaces.yaml")
+    assert again.returncode == 0, again
+
+
+def test_check_errors_exit_2_with_a_message(cli):
+    cli.write("bad.interfaces.yaml", "contract_version: 1\nnodes: [\n")
+    cli.write("notarget.interfaces.yaml", talker_contract())
+    cli.write("crash.interfaces.yaml", talker_contract(target=f"script: {NODES / 'crashing_node.py'}"))
+    cli.write("badkey.interfaces.yaml", talker_contract(target="scrpt: x.py"))
+    cases = {
+        "missing.interfaces.yaml": "invalid contract missing.interfaces.yaml: the file does not exist",
+        "bad.interfaces.yaml": "invalid contract bad.interfaces.yaml:3: YAML syntax error",
+        "notarget.interfaces.yaml": "notarget.interfaces.yaml has no `target:` block naming what to run",
+        "crash.interfaces.yaml": "exited with status 1 before its interfaces settled",
+        "badkey.interfaces.yaml": "invalid contract badkey.interfaces.yaml",
+    }
+    for name, message in cases.items():
+        result = cli("check", name)
+        assert result.returncode == 2, (name, str(result))
+        assert message in result.stderr, (name, str(result))
+        assert "Traceback (most recent call last):\n  File \"/work" not in result.stderr.split("Last lines")[0]
+        assert result.stdout == "", (name, str(result))
+    assert cli("check", "--fail-on", "sometimes", "x.yaml").returncode == 2
+
+
+def test_an_error_in_one_contract_wins_over_drift_in_another(cli):
+    cli.write("drift.interfaces.yaml", talker_contract(target=TALKER, depth=3))
+    result = cli("check", "missing.interfaces.yaml", "drift.interfaces.yaml")
+    assert result.returncode == 2, result
+    assert "missing.interfaces.yaml: the file does not exist" in result.stderr
+    assert "[QOS_DEPTH_INCREASED]" in result.stdout  # the other contract was still checked

@@ -40,7 +40,7 @@ a bad option). Errors are one message on stderr, never a traceback.
 """
 
 _TARGET_HELP = """\
-target (exactly one of):
+what to run (exactly one of):
   --package P --executable E   an executable of an ament package, found like `ros2 run`
   --script FILE                a Python file, run with this interpreter
   --module M                   a Python module, run as `python -m M`
@@ -128,7 +128,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _add_target(parser: argparse.ArgumentParser) -> None:
-    g = parser.add_argument_group("target", _TARGET_HELP)
+    g = parser.add_argument_group("target options", _TARGET_HELP)
     g.add_argument("--package", metavar="P", help="ament package of the executable (with --executable)")
     g.add_argument("--executable", metavar="E", help="executable inside <prefix>/lib/<package>/")
     g.add_argument("--script", metavar="FILE", help="Python file to run with this interpreter")

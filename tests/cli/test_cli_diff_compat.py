@@ -1,0 +1,149 @@
+"""`rmw-introspect diff` and `compat` on hand-written contracts (nothing is run), and --help."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from cli_helpers import talker_contract
+
+LISTENER = """\
+contract_version: 1
+nodes:
+  /listener:
+    subscriptions:
+      - name: /chatter
+        type: std_msgs/msg/String
+        qos: {history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}
+      - name: /orders
+        type: std_msgs/msg/String
+        qos: default
+"""
+
+
+def test_diff_of_equal_contracts(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("old.yaml", talker_contract())
+    cli.write("new.yaml", talker_contract(header="# same nodes, another header\n"))
+    result = cli("diff", "old.yaml", "new.yaml")
+    assert result.returncode == 0, result
+    assert result.stdout == "Interface drift of new.yaml: no drift against old.yaml.\n"
+
+
+def test_diff_reports_drift_with_the_check_rules(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("old.yaml", talker_contract())
+    cli.write("new.yaml", talker_contract(reliability="BEST_EFFORT").replace("/chatter", "/speech"))
+    result = cli("diff", "old.yaml", "new.yaml")
+    assert result.returncode == 1, result
+    assert "Interface drift of new.yaml against old.yaml: 2 changes (1 breaking, 0 risky, 1 safe)" in result.stdout
+    assert "[PUB_REMOVED]" in result.stdout and "[PUB_ADDED]" in result.stdout
+    assert "To accept" not in result.stdout
+
+    as_json = cli("diff", "--format", "json", "old.yaml", "new.yaml")
+    assert as_json.returncode == 1
+    items = json.loads(as_json.stdout)
+    assert [(i["rule"], i["severity"], i["name"], i["contract"]) for i in items] == [
+        ("PUB_REMOVED", "BREAKING", "/chatter", "old.yaml"),
+        ("PUB_ADDED", "SAFE", "/speech", "old.yaml"),
+    ]
+
+
+def test_diff_options(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("old.yaml", talker_contract())
+    cli.write("new.yaml", talker_contract(depth=20))
+    assert cli("diff", "old.yaml", "new.yaml").returncode == 1
+    assert cli("diff", "old.yaml", "new.yaml", "--fail-on", "risky").returncode == 0
+    ignored = cli("diff", "old.yaml", "new.yaml", "--ignore-qos", "all")
+    assert ignored.returncode == 0
+    assert "no drift" in ignored.stdout
+    # the old contract's options block applies
+    cli.write("old2.yaml", talker_contract().replace("nodes:", "options: {fail_on: breaking}\nnodes:"))
+    assert cli("diff", "old2.yaml", "new.yaml").returncode == 0
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (("diff", "old.yaml", "missing.yaml"), "invalid contract missing.yaml: the file does not exist"),
+        (("diff", "old.yaml", "bad.yaml"), "invalid contract bad.yaml:2"),
+        (("diff", "old.yaml"), "the following arguments are required: NEW"),
+        (("diff", "old.yaml", "old.yaml", "--ignore-qos", "colour"), "names unknown QoS field(s) colour"),
+        (("compat", "old.yaml", "missing.yaml"), "invalid contract missing.yaml: the file does not exist"),
+        (("compat",), "the following arguments are required: CONTRACT"),
+        (("diff", "old.yaml", "old.yaml", "--", "ls"), "`-- COMMAND` is only for capture and check, not diff"),
+        (("frobnicate",), "invalid choice: 'frobnicate'"),
+        ((), "the following arguments are required: COMMAND"),
+    ],
+)
+def test_bad_input_exits_2_with_a_message(cli_nodes_only, args, message):
+    cli = cli_nodes_only
+    cli.write("old.yaml", talker_contract())
+    cli.write("bad.yaml", "contract_version: 1\nnodes: {/x: [}\n")
+    result = cli(*args)
+    assert result.returncode == 2, result
+    assert message in result.stderr, result
+    assert "Traceback" not in result.stderr
+    assert result.stdout == ""
+
+
+def test_compat_finds_incompatible_qos_and_a_missing_publisher(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("talker.yaml", talker_contract(reliability="BEST_EFFORT"))
+    cli.write("listener.yaml", LISTENER)
+    result = cli("compat", "talker.yaml", "listener.yaml")
+    assert result.returncode == 1, result
+    out = result.stdout
+    assert "System check of 2 contract(s): 2 problems (1 breaking, 1 risky, 0 safe)" in out
+    assert ("[QOS_INCOMPATIBLE] publisher of /talker (talker.yaml) -> subscription of /listener (listener.yaml): "
+            in out)
+    assert "[SUBSCRIPTION_WITHOUT_PUBLISHER] subscription of /listener (listener.yaml): no publisher" in out
+
+    as_json = cli("compat", "--format", "json", "talker.yaml", "listener.yaml")
+    assert as_json.returncode == 1
+    items = json.loads(as_json.stdout)
+    assert [(i["rule"], i["severity"], i["name"]) for i in items] == [
+        ("QOS_INCOMPATIBLE", "BREAKING", "/chatter"),
+        ("SUBSCRIPTION_WITHOUT_PUBLISHER", "RISKY", "/orders"),
+    ]
+    assert items[0]["provider"] == {"label": "talker.yaml", "node": "/talker", "kind": "publishers"}
+    assert items[1]["provider"] is None
+
+
+def test_compat_threshold(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("talker.yaml", talker_contract())  # reliable: compatible with the listener
+    cli.write("listener.yaml", LISTENER)
+    default = cli("compat", "talker.yaml", "listener.yaml")
+    assert default.returncode == 0, default  # only the RISKY missing publisher, default fail-on breaking
+    assert "Result: pass (fail on: breaking)" in default.stdout
+    assert "[SUBSCRIPTION_WITHOUT_PUBLISHER]" in default.stdout
+    assert cli("compat", "--fail-on", "risky", "talker.yaml", "listener.yaml").returncode == 1
+    alone = cli("compat", "talker.yaml")
+    assert alone.returncode == 0
+    assert alone.stdout == "System check of 1 contract(s): all contracts fit together.\n"
+
+
+@pytest.mark.parametrize(
+    ("command", "expected"),
+    [
+        (("--help",), ["capture", "check", "diff", "compat", "exit status: 0"]),
+        (("capture", "--help"), ["--package P", "--executable E", "--script FILE", "--module M",
+                                 "-- COMMAND ARGS", "--namespace", "--node-name", "--remap FROM:=TO",
+                                 "--param NAME:=VALUE", "--params-file", "--env K=V", "--settle SECONDS",
+                                 "--timeout SECONDS", "{yaml,json,nodl}", "--raw", "--include-ros-infra",
+                                 "-o FILE", "NoDL v2"]),
+        (("check", "--help"), ["CONTRACT", "--update", "--fail-on {any,risky,breaking}", "--ignore-type-hash",
+                               "--ignore-qos FIELDS", "--allow-extra", "--include-ros-infra", "--format {text,json}",
+                               "refused when the CI environment variable is set", "2 errors"]),
+        (("diff", "--help"), ["OLD", "NEW", "--fail-on", "--format"]),
+        (("compat", "--help"), ["CONTRACT", "--fail-on", "--strict-system-default", "--format"]),
+    ],
+)
+def test_help_documents_every_option(cli_nodes_only, command, expected):
+    result = cli_nodes_only(*command)
+    assert result.returncode == 0, result
+    text = " ".join(result.stdout.split())  # argparse wraps lines
+    for word in expected:
+        assert " ".join(word.split()) in text, word

@@ -1,0 +1,164 @@
+"""Contract files as pytest items (no Python test file): collection, names, pass/drift/errors,
+--update-golden, comparison options, the glob option."""
+
+from __future__ import annotations
+
+STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+
+
+def talker(project, *, depth: int = 10, header: str = "", target: str | None = None) -> str:
+    target = target if target is not None else f"target:\n  script: {project.node('talker.py')}\n"
+    return (
+        f"{header}contract_version: 1\n{target}"
+        "nodes:\n"
+        "  /talker:\n"
+        "    publishers:\n"
+        "      - name: /chatter\n"
+        "        type: std_msgs/msg/String\n"
+        f"        type_hash: {STRING_HASH}\n"
+        f"        qos: {{history: KEEP_LAST, depth: {depth}, reliability: RELIABLE, durability: VOLATILE}}\n"
+        "    subscriptions: []\n"
+        "    service_servers: []\n"
+        "    service_clients: []\n"
+        "    action_servers: []\n"
+        "    action_clients: []\n"
+    )
+
+
+TWO_NODES = """\
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from std_msgs.msg import String
+
+rclpy.init()
+a, b = Node("camera"), Node("detector")
+a.create_publisher(String, "image", 10)
+b.create_subscription(String, "image", lambda m: None, 10)
+ex = SingleThreadedExecutor()
+ex.add_node(a)
+ex.add_node(b)
+try:
+    ex.spin()
+except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+    pass
+"""
+
+
+def test_contract_files_are_collected_as_one_item_each_named_after_their_nodes(project):
+    project.write("contracts/talker.interfaces.yaml", talker(project))
+    project.write("contracts/pipeline.interfaces.yaml", "contract_version: 1\nnodes:\n  /camera: {}\n  /detector: {}\n")
+    project.write("contracts/empty.interfaces.yaml", "contract_version: 1\nnodes: {}\n")
+    project.write("contracts/broken.interfaces.yaml", "contract_version: 1\nnodes: [\n")
+    project.write("contracts/other.yaml", talker(project))  # does not match the default glob
+    result = project.run("--collect-only", "-q")
+    result.stdout.fnmatch_lines([
+        "contracts/broken.interfaces.yaml::invalid",
+        "contracts/empty.interfaces.yaml::no-nodes",
+        "contracts/pipeline.interfaces.yaml::/camera,/detector",
+        "contracts/talker.interfaces.yaml::/talker",
+        "4 tests collected*",
+    ])
+    assert "other.yaml" not in result.stdout.str()
+
+
+def test_a_matching_contract_passes_and_drift_fails_with_the_report(project):
+    project.write("contracts/talker.interfaces.yaml", talker(project))
+    project.write("contracts/old.interfaces.yaml", talker(project, depth=3))
+    result = project.run("-rA")
+    result.assert_outcomes(passed=1, failed=1)
+    result.stdout.fnmatch_lines([
+        "*_ interface contract old.interfaces.yaml::/talker _*",
+        "Interface drift of script */talker.py against contracts/old.interfaces.yaml: 1 change (0 breaking, 0 risky, 1 safe)",
+        "Result: FAIL (fail on: any)",
+        "*[[]QOS_DEPTH_INCREASED[]] depth 3 -> 10*",
+        "To accept these changes as the new contract, run:",
+        "  pytest --update-golden contracts/old.interfaces.yaml::/talker",
+        "PASSED contracts/talker.interfaces.yaml::/talker",
+    ])
+    assert "Traceback" not in result.stdout.str()
+
+
+def test_a_contract_of_several_nodes_is_one_item_with_one_capture(project):
+    project.write("nodes/pipeline.py", TWO_NODES)
+    project.write("pipeline.interfaces.yaml", (
+        "contract_version: 1\ntarget:\n  script: nodes/pipeline.py\nnodes:\n"
+        "  /camera:\n    publishers:\n      - {name: /image, type: std_msgs/msg/String}\n"
+        "  /detector:\n    subscriptions:\n      - {name: /image, type: std_msgs/msg/String}\n"
+        "      - {name: /gone, type: std_msgs/msg/String}\n"
+    ))
+    result = project.run("-v")
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines([
+        "pipeline.interfaces.yaml::/camera,/detector FAILED*",
+        "*[[]SUB_REMOVED[]]*",
+    ])
+
+
+def test_update_golden_rewrites_a_drifted_contract_file_and_lists_it(project):
+    header = "# Reviewed by the demo team.\n"
+    project.write("contracts/talker.interfaces.yaml", talker(project, depth=3, header=header))
+    result = project.run("--update-golden")
+    result.assert_outcomes(passed=1)
+    result.stdout.fnmatch_lines([
+        "*rmw-introspect: golden contracts*",
+        "updated  contracts/talker.interfaces.yaml",
+        "1 golden contract(s) written",
+    ])
+    assert project.read("contracts/talker.interfaces.yaml") == talker(project, header=header)
+    project.run().assert_outcomes(passed=1)
+
+
+def test_update_golden_fills_a_contract_that_has_only_a_target(project):
+    target = f"target:\n  script: {project.node('talker.py')}\n"
+    project.write("talker.interfaces.yaml", f"contract_version: 1\n{target}nodes: {{}}\n")
+    result = project.run("--update-golden", "-v")
+    result.assert_outcomes(passed=1)
+    result.stdout.fnmatch_lines(["talker.interfaces.yaml::no-nodes PASSED*", "updated  talker.interfaces.yaml"])
+    assert project.read("talker.interfaces.yaml") == talker(project)
+
+
+def test_a_contract_without_target_or_loadable_yaml_fails_with_a_clear_message(project):
+    project.write("notarget.interfaces.yaml", talker(project, target=""))
+    project.write("broken.interfaces.yaml", "contract_version: 1\nnodes: [\n")
+    result = project.run()
+    result.assert_outcomes(failed=2)
+    result.stdout.fnmatch_lines([
+        "*_ interface contract broken.interfaces.yaml::invalid _*",
+        "invalid contract */broken.interfaces.yaml:3: YAML syntax error*",
+        "*_ interface contract notarget.interfaces.yaml::/talker _*",
+        "The contract notarget.interfaces.yaml has no `target:` block, so there is nothing to run.*",
+    ])
+    out = result.stdout.str()
+    assert "Traceback" not in out
+    assert "During handling" not in out
+
+
+def test_comparison_options_of_the_command_line_ini_and_contract_apply(project):
+    project.write("contracts/talker.interfaces.yaml", talker(project, depth=3))
+    project.run().assert_outcomes(failed=1)
+    below = project.run("--rmw-introspect-fail-on", "breaking")
+    below.assert_outcomes(passed=1, warnings=1)
+    below.stdout.fnmatch_lines([("*1 interface change(s) against contracts/talker.interfaces.yaml below the fail "
+                                "threshold (breaking)*")])
+    project.run("--rmw-introspect-ignore-qos", "depth").assert_outcomes(passed=1)
+    project.pytester.makeini("[pytest]\nrmw_introspect_ignore_qos = depth\n")
+    project.run().assert_outcomes(passed=1)
+    # the contract's own options beat the ini file
+    project.write("contracts/talker.interfaces.yaml",
+                  talker(project, depth=3).replace("nodes:", "options:\n  ignore_qos: []\nnodes:", 1))
+    project.run().assert_outcomes(failed=1)
+
+
+def test_the_contract_glob_is_configurable(project):
+    project.write("talker.contract.yaml", talker(project))
+    project.write("other.interfaces.yaml", talker(project, depth=3))
+    project.pytester.makeini("[pytest]\nrmw_introspect_contracts = *.contract.yaml\n")
+    result = project.run("-v")
+    result.assert_outcomes(passed=1)
+    result.stdout.fnmatch_lines(["talker.contract.yaml::/talker PASSED*"])
+    cli = project.run("-v", "--rmw-introspect-contracts", "other.*.yaml")
+    cli.assert_outcomes(failed=1)
+    cli.stdout.fnmatch_lines(["other.interfaces.yaml::/talker FAILED*"])
+    off = project.run("--rmw-introspect-contracts", "none")
+    assert off.ret == 5  # no tests collected

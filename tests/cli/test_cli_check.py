@@ -128,3 +128,18 @@ def test_an_error_in_one_contract_wins_over_drift_in_another(cli):
     assert result.returncode == 2, result
     assert "missing.interfaces.yaml: the file does not exist" in result.stderr
     assert "[QOS_DEPTH_INCREASED]" in result.stdout  # the other contract was still checked
+
+
+def test_include_ros_infra_round_trip(cli):
+    captured = cli("capture", "--include-ros-infra", "--script", NODES / "talker.py", "-o", "infra.interfaces.yaml")
+    assert captured.returncode == 0, captured
+    assert "/rosout" in cli.read("infra.interfaces.yaml")
+    # the contract says include_infrastructure: true, so the check captures the infrastructure too
+    assert cli("check", "infra.interfaces.yaml").returncode == 0
+
+    cli.write("plain.interfaces.yaml", talker_contract(target=TALKER))
+    result = cli("check", "--format", "json", "--include-ros-infra", "plain.interfaces.yaml")
+    assert result.returncode == 1, result
+    added = {(i["kind"], i["name"]) for i in json.loads(result.stdout) if i["change"] == "added"}
+    assert ("publishers", "/rosout") in added
+    assert ("service_servers", "/talker/get_parameters") in added

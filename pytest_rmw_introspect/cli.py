@@ -492,7 +492,13 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             text = contract_text(result.golden_nodes(), spec=result.spec, base=path.absolute().parent,
                                  include_infrastructure=result.options.include_infrastructure,
                                  how="rmw-introspect check --update")
-            _emit(text, str(path))
+            try:
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_text(text, encoding="utf-8")
+            except OSError as exc:
+                print(f"rmw-introspect: cannot write {shown}: {exc.strerror or exc}", file=sys.stderr)
+                status = EXIT_ERROR
+                continue
             print(f"created {shown}", file=sys.stderr)
             continue
         if args.update and result.drifted:

@@ -143,3 +143,13 @@ def test_include_ros_infra_round_trip(cli):
     added = {(i["kind"], i["name"]) for i in json.loads(result.stdout) if i["change"] == "added"}
     assert ("publishers", "/rosout") in added
     assert ("service_servers", "/talker/get_parameters") in added
+
+
+def test_a_setup_error_is_exit_2_with_its_message(cli):
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER))
+    broken = {"RMW_INTROSPECT_LIBRARY": str(cli.path / "missing" / "librmw_introspect_cpp.so")}
+    for args in (("check", "talker.interfaces.yaml"), ("capture", "--script", NODES / "talker.py")):
+        result = cli(*args, env=broken)
+        assert result.returncode == 2, result
+        assert "RMW_INTROSPECT_LIBRARY points at" in result.stderr, result
+        assert "Traceback" not in result.stderr

@@ -33,6 +33,14 @@ commands:
 
 Run `rmw-introspect COMMAND --help` for the options of a command.
 
+examples:
+  rmw-introspect capture --package demo_nodes_py --executable talker -o talker.interfaces.yaml
+  rmw-introspect capture --format nodl --script my_node.py --param rate:=10.0
+  rmw-introspect check contracts/*.interfaces.yaml --fail-on risky
+  rmw-introspect check --update contracts/talker.interfaces.yaml
+  rmw-introspect diff old/talker.interfaces.yaml talker.interfaces.yaml --format json
+  rmw-introspect compat contracts/*.interfaces.yaml
+
 exit status: 0 everything matches (or only drift below the fail threshold), 1 drift /
 incompatibility at or above the fail threshold, 2 an error (a missing or malformed contract,
 no target, a target that fails, hangs or creates no node, ROS 2 or the middleware missing,

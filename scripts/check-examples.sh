@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# `make example`: run the example package's tests (examples/rmw_introspect_examples/test/)
-# against the package as installed into the venv by scripts/install-examples.sh.
+# `make example`: check the example package against the package as installed into the venv by
+# scripts/install-examples.sh: its tests (test/: marker tests and a smoke test of every
+# executable) and its contract files as bare pytest items (contracts/*.interfaces.yaml).
 # Extra arguments go to pytest.
 set -euo pipefail
 
@@ -14,4 +15,4 @@ tests="$root/examples/rmw_introspect_examples/test"
 VENV="$venv" "$root/scripts/install-examples.sh"
 
 cd "$root/examples/rmw_introspect_examples"
-exec "$venv/bin/pytest" -p no:cacheprovider "$tests" "$@"
+exec "$venv/bin/pytest" -p no:cacheprovider "$tests" contracts "$@"

@@ -1,6 +1,7 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 // Identity, init options, init / shutdown / context_fini.
 
+#include <mutex>
 #include <new>
 
 #include "rcutils/allocator.h"
@@ -162,7 +163,12 @@ rmw_ret_t rmw_shutdown(rmw_context_t * context)
   RMWI_CHECK_IDENTIFIER(
     context, context->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   auto * impl = reinterpret_cast<rmw_introspect::ContextImpl *>(context->impl);
-  impl->is_shutdown.store(true);
+  {
+    auto & hub = rmw_introspect::WaitHub::instance();
+    std::lock_guard<std::mutex> lock(hub.mutex);
+    impl->is_shutdown.store(true);
+  }
+  rmw_introspect::WaitHub::instance().cv.notify_all();
   rmw_introspect::Session::instance().on_shutdown();
   return RMW_RET_OK;
 }

@@ -79,6 +79,7 @@ rmw_wait_set_t * rmw_create_wait_set(rmw_context_t * context, size_t max_conditi
   impl->handle.implementation_identifier = kIdentifier;
   impl->handle.data = impl.get();
   impl->handle.guard_conditions = nullptr;
+  impl->context = reinterpret_cast<const rmw_introspect::ContextImpl *>(context->impl);
   return &impl.release()->handle;
 }
 
@@ -101,14 +102,21 @@ rmw_ret_t rmw_wait(
     wait set, wait_set->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
 
   auto & hub = rmw_introspect::WaitHub::instance();
+  const auto * ws = static_cast<const WaitSetImpl *>(wait_set->data);
+  // Once the context is shut down (rmw_shutdown wakes every waiter), waits return at once:
+  // an executor woken by its SIGINT guard condition just before the shutdown must not go
+  // back to sleep forever.
+  auto shut_down = [ws]() {
+      return ws != nullptr && ws->context != nullptr && ws->context->is_shutdown.load();
+    };
   {
     std::unique_lock<std::mutex> lock(hub.mutex);
-    if (!any_triggered(guard_conditions)) {
+    if (!any_triggered(guard_conditions) && !shut_down()) {
       const bool poll = wait_timeout != nullptr && wait_timeout->sec == 0 &&
         wait_timeout->nsec == 0;
       if (!poll) {
         WaitRegistration registration;
-        auto ready = [&]() {return any_triggered(guard_conditions);};
+        auto ready = [&]() {return any_triggered(guard_conditions) || shut_down();};
         if (wait_timeout == nullptr) {
           hub.cv.wait(lock, ready);
         } else {

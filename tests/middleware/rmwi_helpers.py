@@ -219,3 +219,44 @@ def assert_settled_process(result: Run) -> None:
 def cpu_ticks(pid: int) -> int:
     fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     return int(fields[11]) + int(fields[12])  # utime + stime (fields 14, 15)
+
+
+# ----------------------------------------------------------------------------- long-running
+def spawn(library: Path | None, argv, capture: Path, env: dict | None = None) -> subprocess.Popen:
+    """Start a process (on the middleware when `library` is given) and return at once."""
+    extra = {"RMW_INTROSPECT_OUTPUT": str(capture)}
+    if library is not None:
+        extra["LD_PRELOAD"] = str(library)
+    extra.update(env or {})
+    return subprocess.Popen([str(a) for a in argv], env=ros_environment(extra),
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def wait_for(predicate, timeout: float = 20.0, interval: float = 0.02):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(interval)
+    raise AssertionError(f"condition not met within {timeout}s")
+
+
+def read_capture_if(path: Path, fmt: str = "json", state: str | None = None):
+    try:
+        data = load_capture(path, fmt)
+    except (ValueError, FileNotFoundError):
+        return None
+    if data is None or (state is not None and data["state"] != state):
+        return None
+    return data
+
+
+def stop(proc: subprocess.Popen, sig=signal.SIGKILL) -> tuple[str, str]:
+    if proc.poll() is None:
+        proc.send_signal(sig)
+    try:
+        return proc.communicate(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        return proc.communicate()

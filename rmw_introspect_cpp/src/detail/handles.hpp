@@ -118,6 +118,7 @@ struct ClientImpl
 struct WaitSetImpl
 {
   rmw_wait_set_t handle{};
+  const ContextImpl * context = nullptr;  // a wait on a shut down context does not block
 };
 
 /// Trigger the graph guard condition of every live node (a local graph change).

@@ -1,0 +1,129 @@
+"""Behaviour of the middleware in real processes: blocking waits, guard-condition wake-up,
+progress snapshots, the environment variables."""
+
+import signal
+import time
+
+import rmwi_helpers as h
+from rmwi_helpers import ep, node, rclpy_node_infrastructure as infra
+
+TALKER = [ep("publisher", "/talker", "/chatter", "std_msgs/msg/String")]
+
+
+def test_idle_spinning_node_uses_no_cpu(library, tmp_path):
+    path = tmp_path / "idle.json"
+    proc = h.spawn(library, h.python_node("idle_spinner.py"), path, {"RMW_INTROSPECT_EXIT": "0"})
+    try:
+        h.wait_for(lambda: h.read_capture_if(path, state="settled"))
+        before = h.cpu_ticks(proc.pid)
+        time.sleep(1.0)
+        after = h.cpu_ticks(proc.pid)
+    finally:
+        h.stop(proc, signal.SIGINT)
+    used = after - before
+    print(f"idle spinning rclpy node: {used} clock ticks of CPU in 1.0 s")
+    # A wait that returned at once would burn ~100 ticks (a full core) here.
+    assert used <= 5
+
+
+def test_guard_condition_trigger_wakes_the_wait(run):
+    # Nothing but a guard condition triggered from another thread after 0.3 s can wake
+    # this executor; its callback creates /woken. Settling takes 1 s of quiet.
+    result = run(h.python_node("guard_wake.py"), settle_ms=1000)
+    h.assert_settled_process(result)
+    n = "/guard_wake"
+    h.assert_capture(result.capture, [node("guard_wake")],
+                     infra(n) + [ep("publisher", n, "/woken", "std_msgs/msg/String")])
+
+
+def test_sigkill_after_first_write_loses_nothing(library, tmp_path):
+    # A settle time the test never reaches: only progress snapshots are written.
+    path = tmp_path / "killed.json"
+    proc = h.spawn(library, h.python_node("talker.py"), path,
+                   {"RMW_INTROSPECT_EXIT": "1", "RMW_INTROSPECT_SETTLE_MS": "600000"})
+    try:
+        h.wait_for(lambda: (c := h.read_capture_if(path)) and len(c["endpoints"]) == 10)
+    finally:
+        out, err = h.stop(proc, signal.SIGKILL)
+    assert proc.returncode == -signal.SIGKILL
+    capture = h.load_capture(path)
+    h.assert_capture(capture, [node("talker")], infra("/talker") + TALKER, state="running")
+    assert capture["time_to_settle_ms"] is None
+
+
+def test_exit_0_keeps_running_and_rewrites_on_change(library, tmp_path):
+    path = tmp_path / "later.json"
+    proc = h.spawn(library, h.python_node("changes_later.py"), path, {"RMW_INTROSPECT_EXIT": "0"})
+    n = "/changer"
+    first = [ep("publisher", n, "/first", "std_msgs/msg/String")]
+    second = [ep("publisher", n, "/second", "std_msgs/msg/String")]
+    try:
+        early = h.wait_for(lambda: h.read_capture_if(path, state="settled"))
+        h.assert_capture(early, [node("changer")], infra(n) + first)
+        assert proc.poll() is None, "RMW_INTROSPECT_EXIT=0 must not end the process"
+        late = h.wait_for(
+            lambda: (c := h.read_capture_if(path, state="settled")) and len(c["endpoints"]) == 11 and c)
+        h.assert_capture(late, [node("changer")], infra(n) + first + second)
+        assert late["time_to_settle_ms"] > early["time_to_settle_ms"]
+        assert proc.poll() is None
+    finally:
+        h.stop(proc, signal.SIGINT)
+    # SIGINT: rclpy shuts the context down (state "shutdown"), then the process exits
+    # normally ("exit"); teardown destroys nothing in the record.
+    final = h.load_capture(path)
+    h.assert_capture(final, [node("changer")], infra(n) + first + second, state="exit")
+
+
+def test_yaml_format(run):
+    result = run(h.python_node("talker.py"), fmt="yaml")
+    h.assert_settled_process(result)
+    assert result.raw.startswith("# rmw_introspect capture")
+    assert "\nendpoints:\n- seq: 2\n" in result.raw
+    h.assert_capture(result.capture, [node("talker")], infra("/talker") + TALKER)
+
+
+def test_auto_export_0_writes_nothing(run):
+    result = run(h.python_node("talker.py"), env={"RMW_INTROSPECT_AUTO_EXPORT": "0"})
+    assert result.returncode == 0, str(result)  # still settles and exits
+    assert result.capture is None and not result.path.exists()
+
+
+def test_server_available_0_keeps_the_client_waiting(run):
+    result = run(h.python_node("service_client.py"),
+                 env={"RMW_INTROSPECT_SERVER_AVAILABLE": "0"}, timeout=3.0)
+    assert result.returncode == -signal.SIGKILL, str(result)  # never settled: killed
+    assert "waiting for set_flag" in result.stderr
+    n = "/flag_client"
+    # The subscription created after wait_for_service() is missing: a progress snapshot.
+    h.assert_capture(result.capture, [node("flag_client")],
+                     infra(n) + [ep("client", n, "/set_flag", "std_srvs/srv/SetBool")],
+                     state="running")
+
+
+def test_verbose_logs_each_entity(run):
+    result = run(h.python_node("talker.py"), env={"RMW_INTROSPECT_VERBOSE": "1"})
+    h.assert_settled_process(result)
+    assert "[rmw_introspect] node talker" in result.stderr
+    assert "[rmw_introspect] publisher /chatter [std_msgs/msg/String]" in result.stderr
+    assert "[rmw_introspect] wrote settled capture" in result.stderr
+
+
+def test_default_output_path(library, tmp_path):
+    proc = h.spawn(library, h.python_node("talker.py"), tmp_path / "unused",
+                   {"RMW_INTROSPECT_EXIT": "1", "RMW_INTROSPECT_OUTPUT": ""})
+    out, err = proc.communicate(timeout=30)
+    assert proc.returncode == 0, err
+    default = h.Path(f"/tmp/rmw_introspect_{proc.pid}.json")
+    try:
+        h.assert_capture(h.load_capture(default), [node("talker")], infra("/talker") + TALKER)
+    finally:
+        default.unlink(missing_ok=True)
+
+
+def test_pid_placeholder_in_output(library, tmp_path):
+    proc = h.spawn(library, h.python_node("talker.py"), tmp_path / "cap_<pid>.json",
+                   {"RMW_INTROSPECT_EXIT": "1"})
+    out, err = proc.communicate(timeout=30)
+    assert proc.returncode == 0, err
+    capture = h.load_capture(tmp_path / f"cap_{proc.pid}.json")
+    assert capture["pid"] == proc.pid

@@ -1,0 +1,56 @@
+"""While preloaded, no call reaches Fast DDS: no Fast DDS threads, no sockets, no new shared
+memory segments. The same node on Fast DDS shows all three, so the checks can fail."""
+
+import os
+import signal
+import time
+from pathlib import Path
+
+import rmwi_helpers as h
+
+SHM = Path("/dev/shm")
+
+
+def _segments():
+    return {p.name for p in SHM.glob("fastrtps_*")} if SHM.is_dir() else set()
+
+
+def _observe(proc):
+    threads = sorted((Path(f"/proc/{proc.pid}/task") / t / "comm").read_text().strip()
+                     for t in os.listdir(f"/proc/{proc.pid}/task"))
+    sockets = [fd for fd in os.listdir(f"/proc/{proc.pid}/fd")
+               if os.readlink(f"/proc/{proc.pid}/fd/{fd}").startswith("socket:")]
+    return threads, sockets
+
+
+def _run_and_observe(library, tmp_path, name):
+    path = tmp_path / f"{name}.json"
+    before = _segments()
+    proc = h.spawn(library, h.python_node("talker.py"), path, {"RMW_INTROSPECT_EXIT": "0"})
+    try:
+        if library is not None:
+            h.wait_for(lambda: h.read_capture_if(path, state="settled"))
+        else:
+            time.sleep(2.0)  # Fast DDS: let discovery start
+        assert proc.poll() is None
+        threads, sockets = _observe(proc)
+        segments = _segments() - before  # while running: Fast DDS removes them at exit
+    finally:
+        h.stop(proc, signal.SIGINT)
+    return threads, sockets, segments
+
+
+def test_no_fast_dds_activity_when_preloaded(library, tmp_path):
+    threads, sockets, segments = _run_and_observe(library, tmp_path, "preloaded")
+    print("preloaded:", threads, sockets, segments)
+    assert not [t for t in threads if t.startswith("dds.")], threads
+    assert sockets == []
+    assert segments == set()
+    assert "rmwi_monitor" in threads
+
+    # Control: the same node on Fast DDS (no preload) trips every check.
+    threads, sockets, segments = _run_and_observe(None, tmp_path, "fastdds")
+    print("fast dds:", threads, sockets, segments)
+    assert [t for t in threads if t.startswith("dds.")], threads
+    assert sockets
+    assert segments or not SHM.is_dir()

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `make example`: check the example package against the package as installed into the venv by
 # scripts/install-examples.sh: its tests (test/: marker tests and a smoke test of every
-# executable) and its contract files as bare pytest items (contracts/*.interfaces.yaml).
+# executable) and its contract files as bare pytest items (contracts/*.interfaces.yaml), then
+# the system check across all its contracts (types, hashes, QoS, missing peers).
 # Extra arguments go to pytest.
 set -euo pipefail
 
@@ -15,4 +16,6 @@ tests="$root/examples/rmw_introspect_examples/test"
 VENV="$venv" "$root/scripts/install-examples.sh"
 
 cd "$root/examples/rmw_introspect_examples"
-exec "$venv/bin/pytest" -p no:cacheprovider "$tests" contracts "$@"
+"$venv/bin/pytest" -p no:cacheprovider "$tests" contracts "$@"
+echo
+exec "$venv/bin/rmw-introspect" compat contracts/*.interfaces.yaml

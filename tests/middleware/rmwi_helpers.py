@@ -192,7 +192,7 @@ def assert_capture(capture: dict, nodes: list[dict], endpoints: list[dict], stat
     assert capture["format"] == "rmw_introspect_capture" and capture["format_version"] == 1
     assert capture["rmw_implementation"] == "rmw_introspect_cpp"
     if state is not None:
-        assert capture["state"] == state
+        assert capture["state"] == state, (capture["state"], state)
     got_nodes = [{k: n[k] for k in NODE_KEYS} for n in capture["nodes"]]
     assert got_nodes == nodes
     got = [{k: e[k] for k in ENDPOINT_KEYS} for e in capture["endpoints"]]

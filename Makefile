@@ -17,7 +17,7 @@ test: bootstrap
 
 lint: bootstrap
 	$(VENV)/bin/python -m pip install --quiet ruff
-	$(VENV)/bin/ruff check pytest_rmw_introspect tests bench
+	$(VENV)/bin/ruff check pytest_rmw_introspect tests bench examples
 
 bench: bootstrap
 	$(VENV)/bin/python bench/bench_time_to_capture.py

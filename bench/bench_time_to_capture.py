@@ -9,7 +9,6 @@ Prints a table of medians (ms) and ratios.
 from __future__ import annotations
 
 import argparse
-import os
 import statistics
 import subprocess
 import sys

@@ -368,7 +368,8 @@ def _parse_marker(item: pytest.Item) -> tuple[Path, dict[str, Any], dict[str, An
     source = _marker_source(item)
     if args:
         if len(args) > 1 or contract is not None:
-            raise OptionError(f"{source}: give one contract path (positional or contract=...), got {args + ([contract] if contract else [])}")
+            given = args + ([contract] if contract else [])
+            raise OptionError(f"{source}: give one contract path (positional or contract=...), got {given}")
         contract = args[0]
     if not contract or not isinstance(contract, (str, os.PathLike)):
         raise OptionError(

@@ -123,7 +123,9 @@ class TargetSpec:
         spec = replace(self, **values)
         return spec
 
-    def merged(self, options: Mapping[str, Any] | None, *, base_dir: str | Path | None = None, source: str = "target options") -> TargetSpec:
+    def merged(
+        self, options: Mapping[str, Any] | None, *, base_dir: str | Path | None = None, source: str = "target options"
+    ) -> TargetSpec:
         """This spec with ``options`` layered on top (``options`` win)."""
         return self._with(options or {}, base_dir=base_dir, source=source)
 

@@ -7,12 +7,12 @@ import hashlib
 import os
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
-
 import rmwi_helpers as h
+
+from pytest_rmw_introspect import middleware
 
 REPO = Path(__file__).resolve().parents[2]
 SOURCES = REPO / "rmw_introspect_cpp"
@@ -24,12 +24,6 @@ def _tree_hash(root: Path) -> str:
         if path.is_file() and "__pycache__" not in path.parts:
             digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
     return digest.hexdigest()[:16]
-
-
-def _cache_root() -> Path:
-    explicit = os.environ.get("RMW_INTROSPECT_CACHE")
-    base = Path(explicit) if explicit else Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "pytest-rmw-introspect"
-    return base
 
 
 def _cmake_build(src: Path, build_dir: Path, *extra: str) -> None:
@@ -52,7 +46,7 @@ def _cmake_build(src: Path, build_dir: Path, *extra: str) -> None:
 @pytest.fixture(scope="session")
 def gtest_build_dir() -> Path:
     """The package built with BUILD_TESTING=ON (cached by a hash of its sources)."""
-    dest = _cache_root() / f"gtest-{_tree_hash(SOURCES)}"
+    dest = middleware.cache_root() / f"gtest-{_tree_hash(SOURCES)}"
     stamp = dest / "complete"
     if not stamp.exists():
         shutil.rmtree(dest, ignore_errors=True)
@@ -62,28 +56,17 @@ def gtest_build_dir() -> Path:
 
 
 @pytest.fixture(scope="session")
-def library(gtest_build_dir: Path) -> Path:
-    """librmw_introspect_cpp.so to preload: the Python package's cached builder when it is
-    available and works, otherwise the library of our own build."""
-    if os.environ.get("RMW_INTROSPECT_LIBRARY"):
-        return Path(os.environ["RMW_INTROSPECT_LIBRARY"])
-    try:
-        from pytest_rmw_introspect.middleware import ensure_library
-    except Exception:  # not there (yet): our own build serves
-        ensure_library = None
-    if ensure_library is not None:
-        try:
-            return Path(ensure_library())
-        except Exception as exc:  # report, then fall back
-            print(f"ensure_library() failed, using the test build: {exc}", file=sys.stderr)
-    return gtest_build_dir / "librmw_introspect_cpp.so"
+def library() -> Path:
+    """librmw_introspect_cpp.so to preload, as the plugin gets it (RMW_INTROSPECT_LIBRARY, an
+    installed package, or the cached build of the bundled sources)."""
+    return middleware.ensure_library()
 
 
 @pytest.fixture(scope="session")
 def c_node(tmp_path_factory) -> Path:
     """The compiled rcl C node (no Python interpreter in the process)."""
     src = Path(__file__).parent / "c_node"
-    dest = _cache_root() / f"c_node-{_tree_hash(src)}"
+    dest = middleware.cache_root() / f"c_node-{_tree_hash(src)}"
     exe = dest / "build" / "rmwi_c_node"
     if not exe.exists():
         shutil.rmtree(dest, ignore_errors=True)

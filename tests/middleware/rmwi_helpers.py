@@ -8,12 +8,14 @@ import signal
 import subprocess
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
 import jsonschema
 import yaml
+
+from pytest_rmw_introspect import ros_env
 
 REPO = Path(__file__).resolve().parents[2]
 NODES = Path(__file__).resolve().parent / "nodes"
@@ -22,12 +24,9 @@ PYTHON = sys.executable
 
 
 # ----------------------------------------------------------------------------- environment
+# The ROS install comes from the package's own detection, so these tests run where users do.
 def ament_prefixes() -> list[Path]:
-    prefixes = [Path(p) for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
-    venv = Path(sys.prefix)
-    if (venv / "share" / "ament_index").is_dir() and venv not in prefixes:
-        prefixes.append(venv)
-    return prefixes
+    return list(ros_env.detect().ament_prefixes)
 
 
 def ament_prefix_path() -> str:
@@ -35,11 +34,7 @@ def ament_prefix_path() -> str:
 
 
 def library_dirs() -> list[str]:
-    dirs = []
-    for prefix in ament_prefixes():
-        dirs.append(str(prefix / "lib"))
-        dirs.extend(str(p) for p in sorted((prefix / "lib").glob("python3*/site-packages/ros_*.libs")))
-    return dirs
+    return [str(d) for d in ros_env.detect().library_dirs]
 
 
 def ros_environment(extra: dict | None = None) -> dict:
@@ -196,7 +191,7 @@ def assert_capture(capture: dict, nodes: list[dict], endpoints: list[dict], stat
     got_nodes = [{k: n[k] for k in NODE_KEYS} for n in capture["nodes"]]
     assert got_nodes == nodes
     got = [{k: e[k] for k in ENDPOINT_KEYS} for e in capture["endpoints"]]
-    for i, (g, x) in enumerate(zip(got, endpoints)):
+    for i, (g, x) in enumerate(zip(got, endpoints, strict=False)):
         assert g == x, f"endpoint #{i} differs"
     assert len(got) == len(endpoints), [(e["kind"], e["name"]) for e in got]
     # One counter over nodes and endpoints, in creation order; node ids match node names.

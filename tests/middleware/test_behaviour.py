@@ -5,7 +5,8 @@ import signal
 import time
 
 import rmwi_helpers as h
-from rmwi_helpers import ep, node, rclpy_node_infrastructure as infra
+from rmwi_helpers import ep, node
+from rmwi_helpers import rclpy_node_infrastructure as infra
 
 TALKER = [ep("publisher", "/talker", "/chatter", "std_msgs/msg/String")]
 

@@ -1,9 +1,9 @@
 """Real rclpy nodes run on the recording middleware: the exact capture of each."""
 
-import pytest
 
 import rmwi_helpers as h
-from rmwi_helpers import ep, node, qos, rclpy_node_infrastructure as infra
+from rmwi_helpers import ep, node, qos
+from rmwi_helpers import rclpy_node_infrastructure as infra
 
 
 def test_talker(run):

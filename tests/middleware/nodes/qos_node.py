@@ -1,12 +1,16 @@
 """Endpoints with non-default QoS: sensor data, a latched map, keep-all, deadline/lifespan/liveliness."""
-from rclpy.duration import Duration
 import rclpy
+from nav_msgs.msg import OccupancyGrid
+from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import (
-    DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSProfile, ReliabilityPolicy,
+    DurabilityPolicy,
+    HistoryPolicy,
+    LivelinessPolicy,
+    QoSProfile,
+    ReliabilityPolicy,
     qos_profile_sensor_data,
 )
-from nav_msgs.msg import OccupancyGrid
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Header, String
 

@@ -2,7 +2,7 @@
 VENV ?= $(CURDIR)/.venv
 export VENV
 
-.PHONY: example test lint bootstrap bench clean
+.PHONY: example test lint bootstrap bench asan clean
 
 bootstrap:
 	scripts/bootstrap.sh
@@ -21,6 +21,10 @@ lint: bootstrap
 
 bench: bootstrap
 	$(VENV)/bin/python bench/bench_time_to_capture.py
+
+## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
+asan: bootstrap
+	scripts/asan-e2e.sh
 
 clean:
 	rm -rf $(VENV) build .pytest_cache

@@ -74,9 +74,13 @@ run() {
 # find_package() of message packages reads the ament index from the environment; only the
 # venv's prefix, so that a sourced /opt/ros cannot mix in.
 export AMENT_PREFIX_PATH="$venv"
+# Some wheels (foonathan_memory) install CMake configs under lib64/. python -m venv makes lib64 a
+# link to lib, but virtualenv (tox) makes it a directory CMake does not search: add it as a prefix.
+prefix_path="$venv"
+[ -d "$venv/lib64" ] && [ ! -L "$venv/lib64" ] && prefix_path="$venv;$venv/lib64"
 run cmake -S "$src" -B "$build" \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_PREFIX_PATH="$venv" \
+  -DCMAKE_PREFIX_PATH="$prefix_path" \
   -DCMAKE_INSTALL_PREFIX="$venv" \
   -DPython3_EXECUTABLE="$venv/bin/python" \
   -DBUILD_TESTING=OFF

@@ -80,10 +80,28 @@ const HandleT * lookup(const HandleT * handle, const char * identifier)
   return found;
 }
 
-}  // namespace
+// The type name of each of the four introspection member structs.
+std::string name_of(const rosidl_typesupport_introspection_c__MessageMembers * m)
+{
+  return type_name_from_namespace(m->message_namespace_, m->message_name_);
+}
+std::string name_of(const rosidl_typesupport_introspection_cpp::MessageMembers * m)
+{
+  return type_name_from_namespace(m->message_namespace_, m->message_name_);
+}
+std::string name_of(const rosidl_typesupport_introspection_c__ServiceMembers * m)
+{
+  return type_name_from_namespace(m->service_namespace_, m->service_name_);
+}
+std::string name_of(const rosidl_typesupport_introspection_cpp::ServiceMembers * m)
+{
+  return type_name_from_namespace(m->service_namespace_, m->service_name_);
+}
 
-bool resolve_message_type(
-  const rosidl_message_type_support_t * type_support, ResolvedType * out, std::string * error)
+// Messages and services resolve alike: the C introspection type support first (what rclpy and
+// rcl hand over), then the C++ one; the hash from the handle given, else from the one found.
+template<typename MembersC, typename MembersCpp, typename HandleT>
+bool resolve(const HandleT * type_support, ResolvedType * out, std::string * error, const HandleT ** found)
 {
   if (type_support == nullptr || out == nullptr) {
     if (error) {*error = "type support is null";}
@@ -92,84 +110,55 @@ bool resolve_message_type(
   ResolvedType resolved;
   resolved.typesupport =
     type_support->typesupport_identifier ? type_support->typesupport_identifier : "";
-  if (const auto * c = lookup(type_support, kIntrospectionC)) {
-    const auto * members =
-      static_cast<const rosidl_typesupport_introspection_c__MessageMembers *>(c->data);
-    if (members == nullptr) {
-      if (error) {*error = "introspection type support has no members";}
-      return false;
-    }
-    resolved.name = type_name_from_namespace(members->message_namespace_, members->message_name_);
-    resolved.members = members;
-    resolved.is_cpp = false;
-    resolved.introspection_message = c;
-  } else if (const auto * cpp = lookup(type_support, kIntrospectionCpp)) {
-    const auto * members =
-      static_cast<const rosidl_typesupport_introspection_cpp::MessageMembers *>(cpp->data);
-    if (members == nullptr) {
-      if (error) {*error = "introspection type support has no members";}
-      return false;
-    }
-    resolved.name = type_name_from_namespace(members->message_namespace_, members->message_name_);
-    resolved.members = members;
+  const void * members = nullptr;
+  if ((*found = lookup(type_support, kIntrospectionC)) != nullptr) {
+    const auto * m = static_cast<const MembersC *>((*found)->data);
+    members = m;
+    if (m != nullptr) {resolved.name = name_of(m);}
+  } else if ((*found = lookup(type_support, kIntrospectionCpp)) != nullptr) {
+    const auto * m = static_cast<const MembersCpp *>((*found)->data);
+    members = m;
     resolved.is_cpp = true;
-    resolved.introspection_message = cpp;
+    if (m != nullptr) {resolved.name = name_of(m);}
   } else {
     if (error) {*error = "type support not from this implementation";}
     return false;
   }
+  if (members == nullptr) {
+    if (error) {*error = "introspection type support has no members";}
+    return false;
+  }
+  resolved.members = members;
   if (type_support->get_type_hash_func != nullptr) {
     resolved.type_hash = format_type_hash(type_support->get_type_hash_func(type_support));
-  } else if (resolved.introspection_message->get_type_hash_func != nullptr) {
-    resolved.type_hash = format_type_hash(
-      resolved.introspection_message->get_type_hash_func(resolved.introspection_message));
+  } else if ((*found)->get_type_hash_func != nullptr) {
+    resolved.type_hash = format_type_hash((*found)->get_type_hash_func(*found));
   }
   *out = std::move(resolved);
+  return true;
+}
+
+}  // namespace
+
+bool resolve_message_type(
+  const rosidl_message_type_support_t * type_support, ResolvedType * out, std::string * error)
+{
+  const rosidl_message_type_support_t * found = nullptr;
+  if (!resolve<rosidl_typesupport_introspection_c__MessageMembers,
+    rosidl_typesupport_introspection_cpp::MessageMembers>(type_support, out, error, &found))
+  {
+    return false;
+  }
+  out->introspection_message = found;
   return true;
 }
 
 bool resolve_service_type(
   const rosidl_service_type_support_t * type_support, ResolvedType * out, std::string * error)
 {
-  if (type_support == nullptr || out == nullptr) {
-    if (error) {*error = "type support is null";}
-    return false;
-  }
-  ResolvedType resolved;
-  resolved.typesupport =
-    type_support->typesupport_identifier ? type_support->typesupport_identifier : "";
   const rosidl_service_type_support_t * found = nullptr;
-  if ((found = lookup(type_support, kIntrospectionC)) != nullptr) {
-    const auto * members =
-      static_cast<const rosidl_typesupport_introspection_c__ServiceMembers *>(found->data);
-    if (members == nullptr) {
-      if (error) {*error = "introspection type support has no members";}
-      return false;
-    }
-    resolved.name = type_name_from_namespace(members->service_namespace_, members->service_name_);
-    resolved.members = members;
-    resolved.is_cpp = false;
-  } else if ((found = lookup(type_support, kIntrospectionCpp)) != nullptr) {
-    const auto * members =
-      static_cast<const rosidl_typesupport_introspection_cpp::ServiceMembers *>(found->data);
-    if (members == nullptr) {
-      if (error) {*error = "introspection type support has no members";}
-      return false;
-    }
-    resolved.name = type_name_from_namespace(members->service_namespace_, members->service_name_);
-    resolved.members = members;
-    resolved.is_cpp = true;
-  } else {
-    if (error) {*error = "type support not from this implementation";}
-    return false;
-  }
-  if (type_support->get_type_hash_func != nullptr) {
-    resolved.type_hash = format_type_hash(type_support->get_type_hash_func(type_support));
-  } else if (found->get_type_hash_func != nullptr) {
-    resolved.type_hash = format_type_hash(found->get_type_hash_func(found));
-  }
-  *out = std::move(resolved);
-  return true;
+  return resolve<rosidl_typesupport_introspection_c__ServiceMembers,
+           rosidl_typesupport_introspection_cpp::ServiceMembers>(type_support, out, error, &found);
 }
 
 }  // namespace rmw_introspect

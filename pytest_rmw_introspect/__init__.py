@@ -17,12 +17,11 @@ In a test, ``pytest_rmw_introspect.check_compatible("a.interfaces.yaml", "b.inte
 fails the test unless the nodes of the contracts fit together (a system check), and
 ``diff_contracts(old, new)`` compares two contract files without running anything.
 
-``pytest_rmw_introspect.capture`` is the :mod:`pytest_rmw_introspect.capture` module, made
-callable (calling it runs :func:`pytest_rmw_introspect.runner.capture`).
+``pytest_rmw_introspect.capture`` is :func:`pytest_rmw_introspect.runner.capture`; the model it
+returns lives in :mod:`pytest_rmw_introspect.capture_model`.
 """
 
-from . import capture
-from .capture import Capture, Endpoint, Interface, Node, RawNode
+from .capture_model import Capture, Endpoint, Interface, Node, RawNode
 from .checking import check_compatible, diff_contracts
 from .contract import Contract
 from .contract import load as load_contract
@@ -38,6 +37,7 @@ from .errors import (
     TargetExited,
     TargetTimeout,
 )
+from .runner import capture
 from .target import TargetSpec
 
 __version__ = "0.1.0"

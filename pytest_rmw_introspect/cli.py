@@ -357,7 +357,7 @@ def _nodl_qos(q: Any) -> dict[str, Any]:
 def nodl_documents(cap: Any, *, raw: bool) -> str:
     """One NoDL v2 document per node (a YAML stream)."""
     from . import qos as qos_module
-    from .capture import KIND_TO_LIST, LISTS
+    from .capture_model import KIND_TO_LIST, LISTS
 
     docs = []
     if raw:

@@ -42,7 +42,7 @@ from typing import Any
 
 import yaml
 
-from .capture import LISTS
+from .capture_model import LISTS
 from .errors import ContractError
 
 CONTRACT_VERSION = 1

@@ -281,7 +281,7 @@ def rmw_capture(request: pytest.FixtureRequest) -> Callable[..., Any]:
 
     Takes the target options as keyword arguments (or a mapping first), relative paths
     being relative to the test file, plus ``include_infrastructure``. Returns a
-    :class:`~pytest_rmw_introspect.capture.Capture`; raises a ``TargetError`` (which fails
+    :class:`~pytest_rmw_introspect.capture_model.Capture`; raises a ``TargetError`` (which fails
     the test with its message unless the test catches it).
     """
     state = _state(request.config)
@@ -326,7 +326,7 @@ class _UnavailableCapture:
 
 @pytest.fixture
 def interfaces(request: pytest.FixtureRequest) -> Any:
-    """The :class:`~pytest_rmw_introspect.capture.Capture` of the test's target, as named by
+    """The :class:`~pytest_rmw_introspect.capture_model.Capture` of the test's target, as named by
     its ``@pytest.mark.interfaces(contract, **options)`` marker. After the test body, the
     capture is compared with the contract (drift fails the test)."""
     item = request.node

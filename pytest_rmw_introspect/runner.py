@@ -26,7 +26,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from .capture import Capture
+from .capture_model import Capture
 from .errors import (
     CaptureFormatError,
     ExecutableNotFound,

@@ -8,8 +8,8 @@ import json
 import pytest
 
 import pytest_rmw_introspect
-from pytest_rmw_introspect import capture as capture_module
-from pytest_rmw_introspect.capture import Capture, is_infrastructure
+from pytest_rmw_introspect import capture_model as capture_module
+from pytest_rmw_introspect.capture_model import Capture, is_infrastructure
 from pytest_rmw_introspect.errors import CaptureFormatError
 
 HASH = "RIHS01_" + "ab" * 32
@@ -370,9 +370,11 @@ def test_yaml_capture_is_read_too(tmp_path, talker):
     assert Capture.load(path).node_names == ["/talker"]
 
 
-def test_module_is_callable_and_stays_a_module():
+def test_package_capture_is_the_library_function_even_after_importing_the_model():
     import importlib
 
-    assert callable(pytest_rmw_introspect.capture)
-    assert pytest_rmw_introspect.capture is importlib.import_module("pytest_rmw_introspect.capture")
-    assert pytest_rmw_introspect.capture.Capture is Capture
+    from pytest_rmw_introspect import runner
+
+    importlib.import_module("pytest_rmw_introspect.capture_model")
+    assert pytest_rmw_introspect.capture is runner.capture
+    assert pytest_rmw_introspect.Capture is Capture

@@ -24,8 +24,6 @@ target on the recording middleware and returns its :class:`Capture` (see
 from __future__ import annotations
 
 import json
-import sys
-import types
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -545,18 +543,3 @@ def build_view(
         for list_name in LISTS:
             getattr(node, list_name).sort(key=lambda i: i.name)
     return nodes
-
-
-# ---------------------------------------------------------------------- callable module
-
-
-class _CallableModule(types.ModuleType):
-    """Makes ``pytest_rmw_introspect.capture(...)`` run a capture while staying this module."""
-
-    def __call__(self, *args: Any, **kwargs: Any) -> Capture:
-        from .runner import capture as run_capture
-
-        return run_capture(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _CallableModule

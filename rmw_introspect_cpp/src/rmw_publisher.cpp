@@ -59,33 +59,16 @@ rmw_publisher_t * rmw_create_publisher(
       "Strict requirement on unique network flow endpoints for publishers not supported");
     return nullptr;
   }
-  auto * node_impl = static_cast<const rmw_introspect::NodeImpl *>(node->data);
-  RMW_CHECK_FOR_NULL_WITH_MSG(node_impl, "node impl is null", return nullptr);
-  rmw_introspect::ResolvedType type;
-  std::string error;
-  if (!rmw_introspect::resolve_message_type(type_supports, &type, &error)) {
-    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("%s", error.c_str());
-    return nullptr;
-  }
-  std::unique_ptr<PublisherImpl> impl(new (std::nothrow) PublisherImpl());
+  auto impl = rmw_introspect::new_endpoint<PublisherImpl>(
+    node, type_supports, rmw_introspect::resolve_message_type, topic_name, qos_profile, "publisher");
   if (!impl) {
-    RMW_SET_ERROR_MSG("failed to allocate publisher");
     return nullptr;
   }
   impl->is_publisher = true;
-  impl->topic = topic_name;  // copied: rcl frees its string right after this call
-  impl->node = node_impl;
-  impl->type = std::move(type);
-  impl->qos = *qos_profile;
-  impl->gid = rmw_introspect::Recorder::instance().new_gid();
-  impl->handle.implementation_identifier = kIdentifier;
-  impl->handle.data = impl.get();
-  impl->handle.topic_name = impl->topic.c_str();
+  impl->handle.topic_name = impl->name.c_str();
   impl->handle.options = *publisher_options;
   impl->handle.can_loan_messages = false;
-  impl->record_id = rmw_introspect::record_endpoint(
-    rmw_introspect::EndpointKind::Publisher, node_impl, impl->topic, impl->type, impl->qos,
-    impl->gid);
+  rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Publisher);
   return &impl.release()->handle;
 }
 
@@ -100,7 +83,7 @@ rmw_ret_t rmw_destroy_publisher(rmw_node_t * node, rmw_publisher_t * publisher)
     return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   std::unique_ptr<PublisherImpl> impl(static_cast<PublisherImpl *>(publisher->data));
   rmw_introspect::forget_endpoint(
-    impl->record_id, rmw_introspect::EndpointKind::Publisher, impl->topic, impl->node);
+    impl->record_id, rmw_introspect::EndpointKind::Publisher, impl->name, impl->node);
   return RMW_RET_OK;
 }
 
@@ -182,7 +165,7 @@ rmw_ret_t rmw_publisher_count_matched_subscriptions(
     return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   RMW_CHECK_ARGUMENT_FOR_NULL(subscription_count, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<const PublisherImpl *>(publisher->data);
-  *subscription_count = count_local(impl->topic, rmw_introspect::EndpointKind::Subscription);
+  *subscription_count = count_local(impl->name, rmw_introspect::EndpointKind::Subscription);
   return RMW_RET_OK;
 }
 

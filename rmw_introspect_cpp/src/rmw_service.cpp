@@ -36,30 +36,13 @@ rmw_service_t * rmw_create_service(
   if (!rmw_introspect::check_name_and_qos(service_name, qos_profile, "service")) {
     return nullptr;
   }
-  auto * node_impl = static_cast<const rmw_introspect::NodeImpl *>(node->data);
-  RMW_CHECK_FOR_NULL_WITH_MSG(node_impl, "node impl is null", return nullptr);
-  rmw_introspect::ResolvedType type;
-  std::string error;
-  if (!rmw_introspect::resolve_service_type(type_supports, &type, &error)) {
-    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("%s", error.c_str());
-    return nullptr;
-  }
-  std::unique_ptr<ServiceImpl> impl(new (std::nothrow) ServiceImpl());
+  auto impl = rmw_introspect::new_endpoint<ServiceImpl>(
+    node, type_supports, rmw_introspect::resolve_service_type, service_name, qos_profile, "service");
   if (!impl) {
-    RMW_SET_ERROR_MSG("failed to allocate service");
     return nullptr;
   }
-  impl->name = service_name;
-  impl->node = node_impl;
-  impl->type = std::move(type);
-  impl->qos = *qos_profile;
-  impl->gid = rmw_introspect::Recorder::instance().new_gid();
-  impl->handle.implementation_identifier = kIdentifier;
-  impl->handle.data = impl.get();
   impl->handle.service_name = impl->name.c_str();
-  impl->record_id = rmw_introspect::record_endpoint(
-    rmw_introspect::EndpointKind::Service, node_impl, impl->name, impl->type, impl->qos,
-    impl->gid);
+  rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Service);
   return &impl.release()->handle;
 }
 

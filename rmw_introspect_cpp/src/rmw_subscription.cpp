@@ -59,28 +59,14 @@ rmw_subscription_t * rmw_create_subscription(
       "Strict requirement on unique network flow endpoints for subscriptions not supported");
     return nullptr;
   }
-  auto * node_impl = static_cast<const rmw_introspect::NodeImpl *>(node->data);
-  RMW_CHECK_FOR_NULL_WITH_MSG(node_impl, "node impl is null", return nullptr);
-  rmw_introspect::ResolvedType type;
-  std::string error;
-  if (!rmw_introspect::resolve_message_type(type_supports, &type, &error)) {
-    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("%s", error.c_str());
-    return nullptr;
-  }
-  std::unique_ptr<SubscriptionImpl> impl(new (std::nothrow) SubscriptionImpl());
+  auto impl = rmw_introspect::new_endpoint<SubscriptionImpl>(
+    node, type_supports, rmw_introspect::resolve_message_type, topic_name, qos_policies,
+    "subscription");
   if (!impl) {
-    RMW_SET_ERROR_MSG("failed to allocate subscription");
     return nullptr;
   }
   impl->is_publisher = false;
-  impl->topic = topic_name;
-  impl->node = node_impl;
-  impl->type = std::move(type);
-  impl->qos = *qos_policies;
-  impl->gid = rmw_introspect::Recorder::instance().new_gid();
-  impl->handle.implementation_identifier = kIdentifier;
-  impl->handle.data = impl.get();
-  impl->handle.topic_name = impl->topic.c_str();
+  impl->handle.topic_name = impl->name.c_str();
   impl->handle.options = *subscription_options;
   impl->handle.options.content_filter_options = nullptr;  // not owned by us
   impl->handle.can_loan_messages = false;
@@ -94,9 +80,7 @@ rmw_subscription_t * rmw_create_subscription(
       return nullptr;
     }
   }
-  impl->record_id = rmw_introspect::record_endpoint(
-    rmw_introspect::EndpointKind::Subscription, node_impl, impl->topic, impl->type, impl->qos,
-    impl->gid);
+  rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Subscription);
   return &impl.release()->handle;
 }
 
@@ -116,7 +100,7 @@ rmw_ret_t rmw_destroy_subscription(rmw_node_t * node, rmw_subscription_t * subsc
       rmw_subscription_content_filter_options_fini(&impl->filter, &allocator));
   }
   rmw_introspect::forget_endpoint(
-    impl->record_id, rmw_introspect::EndpointKind::Subscription, impl->topic, impl->node);
+    impl->record_id, rmw_introspect::EndpointKind::Subscription, impl->name, impl->node);
   return RMW_RET_OK;
 }
 
@@ -131,7 +115,7 @@ rmw_ret_t rmw_subscription_count_matched_publishers(
     [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && e.kind == rmw_introspect::EndpointKind::Publisher &&
-        e.name == impl->topic)
+        e.name == impl->name)
         {
           ++count;
         }
@@ -141,7 +125,7 @@ rmw_ret_t rmw_subscription_count_matched_publishers(
   // action server is there for rcl_action_server_is_available() only when its feedback and
   // status publishers are matched too, so those two topics count the simulated server.
   if (rmw_introspect::Config::get().server_available && count == 0 &&
-    (ends_with(impl->topic, "/_action/feedback") || ends_with(impl->topic, "/_action/status")))
+    (ends_with(impl->name, "/_action/feedback") || ends_with(impl->name, "/_action/status")))
   {
     count = 1;
   }

@@ -3,6 +3,8 @@
 #define DETAIL__ENDPOINT_COMMON_HPP_
 
 #include <cstring>
+#include <memory>
+#include <new>
 #include <string>
 
 #include "rmw/error_handling.h"
@@ -10,6 +12,7 @@
 #include "rmw/validate_full_topic_name.h"
 
 #include "detail/handles.hpp"
+#include "detail/identifier.hpp"
 #include "detail/qos.hpp"
 #include "detail/recorder.hpp"
 
@@ -43,6 +46,37 @@ inline bool check_name_and_qos(const char * name, const rmw_qos_profile_t * qos,
   return true;
 }
 
+/// The part of rmw_create_{publisher,subscription,service,client} after the argument checks:
+/// resolve the type through `resolve` and make the Impl with its name copied, type, QoS, GID
+/// and handle identity. The caller fills the kind's own handle fields, then `record`s it.
+template<typename Impl, typename TypeSupportT, typename ResolveFn>
+std::unique_ptr<Impl> new_endpoint(
+  const rmw_node_t * node, const TypeSupportT * type_support, ResolveFn resolve,
+  const char * name, const rmw_qos_profile_t * qos, const char * what)
+{
+  const auto * node_impl = static_cast<const NodeImpl *>(node->data);
+  RMW_CHECK_FOR_NULL_WITH_MSG(node_impl, "node impl is null", return nullptr);
+  ResolvedType type;
+  std::string error;
+  if (!resolve(type_support, &type, &error)) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("%s", error.c_str());
+    return nullptr;
+  }
+  std::unique_ptr<Impl> impl(new (std::nothrow) Impl());
+  if (!impl) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("failed to allocate %s", what);
+    return nullptr;
+  }
+  impl->name = name;
+  impl->node = node_impl;
+  impl->type = std::move(type);
+  impl->qos = *qos;
+  impl->gid = Recorder::instance().new_gid();
+  impl->handle.implementation_identifier = kIdentifier;
+  impl->handle.data = impl.get();
+  return impl;
+}
+
 /// Record an endpoint of `node` and return its record id (0 when the node is unknown).
 inline uint64_t record_endpoint(
   EndpointKind kind, const NodeImpl * node, const std::string & name, const ResolvedType & type,
@@ -64,6 +98,13 @@ inline uint64_t record_endpoint(
     node->name.c_str(), type.typesupport.c_str());
   notify_graph_change();
   return id;
+}
+
+/// Record a fully made endpoint (see new_endpoint).
+template<typename Impl>
+void record(Impl & impl, EndpointKind kind)
+{
+  impl.record_id = record_endpoint(kind, impl.node, impl.name, impl.type, impl.qos, impl.gid);
 }
 
 inline void forget_endpoint(

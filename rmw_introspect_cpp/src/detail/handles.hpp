@@ -64,10 +64,13 @@ struct NodeImpl
   GuardConditionImpl graph_guard;
 };
 
-struct PublisherImpl : EventSource
+/// What every publisher, subscription, service and client keeps; `HandleT` is the handle
+/// rcl holds (its `data` points back at the Impl).
+template<typename HandleT>
+struct EndpointImpl
 {
-  rmw_publisher_t handle{};
-  std::string topic;
+  HandleT handle{};
+  std::string name;  // a copy: rcl frees the name it passes right after the create call
   uint64_t record_id = 0;
   const NodeImpl * node = nullptr;
   ResolvedType type;
@@ -75,42 +78,25 @@ struct PublisherImpl : EventSource
   Gid gid{};
 };
 
-struct SubscriptionImpl : EventSource
+struct PublisherImpl : EventSource, EndpointImpl<rmw_publisher_t>
 {
-  rmw_subscription_t handle{};
-  std::string topic;
-  uint64_t record_id = 0;
-  const NodeImpl * node = nullptr;
-  ResolvedType type;
-  rmw_qos_profile_t qos{};
-  Gid gid{};
+};
+
+struct SubscriptionImpl : EventSource, EndpointImpl<rmw_subscription_t>
+{
   Callback on_new_message;
   std::mutex filter_mutex;
   bool has_filter = false;
   rmw_subscription_content_filter_options_t filter{};
 };
 
-struct ServiceImpl
+struct ServiceImpl : EndpointImpl<rmw_service_t>
 {
-  rmw_service_t handle{};
-  std::string name;
-  uint64_t record_id = 0;
-  const NodeImpl * node = nullptr;
-  ResolvedType type;
-  rmw_qos_profile_t qos{};
-  Gid gid{};
   Callback on_new_request;
 };
 
-struct ClientImpl
+struct ClientImpl : EndpointImpl<rmw_client_t>
 {
-  rmw_client_t handle{};
-  std::string name;
-  uint64_t record_id = 0;
-  const NodeImpl * node = nullptr;
-  ResolvedType type;
-  rmw_qos_profile_t qos{};
-  Gid gid{};
   std::atomic<int64_t> next_sequence{1};
   Callback on_new_response;
 };

@@ -35,6 +35,12 @@ size_t count_local(const std::string & topic, rmw_introspect::EndpointKind kind)
 }
 }  // namespace
 
+// The first checks of every call on a publisher: not NULL, and one of ours.
+#define RMWI_CHECK_PUBLISHER(publisher) \
+  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT); \
+  RMWI_CHECK_IDENTIFIER( \
+    publisher, publisher->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION)
+
 extern "C"
 {
 
@@ -92,10 +98,7 @@ rmw_ret_t rmw_publish(
   rmw_publisher_allocation_t * allocation)
 {
   (void)allocation;
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   return RMW_RET_OK;  // accepted and dropped: nothing leaves the process
 }
@@ -105,10 +108,7 @@ rmw_ret_t rmw_publish_serialized_message(
   rmw_publisher_allocation_t * allocation)
 {
   (void)allocation;
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   return RMW_RET_OK;
 }
@@ -117,10 +117,7 @@ rmw_ret_t rmw_borrow_loaned_message(
   const rmw_publisher_t * publisher, const rosidl_message_type_support_t * type_support,
   void ** ros_message)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(type_support, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   if (*ros_message != nullptr) {
@@ -135,10 +132,7 @@ rmw_ret_t rmw_publish_loaned_message(
   const rmw_publisher_t * publisher, void * ros_message, rmw_publisher_allocation_t * allocation)
 {
   (void)allocation;
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_SET_ERROR_MSG("Loaning is not supported");
   return RMW_RET_UNSUPPORTED;
@@ -147,10 +141,7 @@ rmw_ret_t rmw_publish_loaned_message(
 rmw_ret_t rmw_return_loaned_message_from_publisher(
   const rmw_publisher_t * publisher, void * loaned_message)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_SET_ERROR_MSG("Loaning is not supported");
   return RMW_RET_UNSUPPORTED;
@@ -159,10 +150,7 @@ rmw_ret_t rmw_return_loaned_message_from_publisher(
 rmw_ret_t rmw_publisher_count_matched_subscriptions(
   const rmw_publisher_t * publisher, size_t * subscription_count)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(subscription_count, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<const PublisherImpl *>(publisher->data);
   *subscription_count = count_local(impl->name, rmw_introspect::EndpointKind::Subscription);
@@ -171,10 +159,7 @@ rmw_ret_t rmw_publisher_count_matched_subscriptions(
 
 rmw_ret_t rmw_publisher_get_actual_qos(const rmw_publisher_t * publisher, rmw_qos_profile_t * qos)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
   *qos = static_cast<const PublisherImpl *>(publisher->data)->qos;
   return RMW_RET_OK;
@@ -182,20 +167,14 @@ rmw_ret_t rmw_publisher_get_actual_qos(const rmw_publisher_t * publisher, rmw_qo
 
 rmw_ret_t rmw_publisher_assert_liveliness(const rmw_publisher_t * publisher)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_publisher_wait_for_all_acked(const rmw_publisher_t * publisher, rmw_time_t wait_timeout)
 {
   (void)wait_timeout;
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   return RMW_RET_OK;  // nothing was sent, so everything is acknowledged
 }
 
@@ -203,10 +182,7 @@ rmw_ret_t rmw_publisher_get_network_flow_endpoints(
   const rmw_publisher_t * publisher, rcutils_allocator_t * allocator,
   rmw_network_flow_endpoint_array_t * network_flow_endpoint_array)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(allocator, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(network_flow_endpoint_array, RMW_RET_INVALID_ARGUMENT);
   RMW_SET_ERROR_MSG("network flow endpoints are not supported: nothing goes on a network");
@@ -215,10 +191,7 @@ rmw_ret_t rmw_publisher_get_network_flow_endpoints(
 
 rmw_ret_t rmw_get_gid_for_publisher(const rmw_publisher_t * publisher, rmw_gid_t * gid)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_PUBLISHER(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(gid, RMW_RET_INVALID_ARGUMENT);
   const auto * impl = static_cast<const PublisherImpl *>(publisher->data);
   gid->implementation_identifier = kIdentifier;

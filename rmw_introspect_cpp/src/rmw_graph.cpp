@@ -323,6 +323,13 @@ rmw_ret_t node_names_impl(
 
 }  // namespace
 
+// An output string array must be given and empty (zero-initialized), as rmw requires.
+#define RMWI_CHECK_ZERO_STRING_ARRAY(array) \
+  RMW_CHECK_ARGUMENT_FOR_NULL(array, RMW_RET_INVALID_ARGUMENT); \
+  if (rmw_check_zero_rmw_string_array(array) != RMW_RET_OK) { \
+    return RMW_RET_INVALID_ARGUMENT; \
+  }
+
 extern "C"
 {
 
@@ -334,14 +341,8 @@ rmw_ret_t rmw_get_node_names(
   if (ret != RMW_RET_OK) {
     return ret;
   }
-  RMW_CHECK_ARGUMENT_FOR_NULL(node_names, RMW_RET_INVALID_ARGUMENT);
-  if (rmw_check_zero_rmw_string_array(node_names) != RMW_RET_OK) {
-    return RMW_RET_INVALID_ARGUMENT;
-  }
-  RMW_CHECK_ARGUMENT_FOR_NULL(node_namespaces, RMW_RET_INVALID_ARGUMENT);
-  if (rmw_check_zero_rmw_string_array(node_namespaces) != RMW_RET_OK) {
-    return RMW_RET_INVALID_ARGUMENT;
-  }
+  RMWI_CHECK_ZERO_STRING_ARRAY(node_names);
+  RMWI_CHECK_ZERO_STRING_ARRAY(node_namespaces);
   return node_names_impl(node, node_names, node_namespaces, nullptr);
 }
 
@@ -353,18 +354,9 @@ rmw_ret_t rmw_get_node_names_with_enclaves(
   if (ret != RMW_RET_OK) {
     return ret;
   }
-  RMW_CHECK_ARGUMENT_FOR_NULL(node_names, RMW_RET_INVALID_ARGUMENT);
-  if (rmw_check_zero_rmw_string_array(node_names) != RMW_RET_OK) {
-    return RMW_RET_INVALID_ARGUMENT;
-  }
-  RMW_CHECK_ARGUMENT_FOR_NULL(node_namespaces, RMW_RET_INVALID_ARGUMENT);
-  if (rmw_check_zero_rmw_string_array(node_namespaces) != RMW_RET_OK) {
-    return RMW_RET_INVALID_ARGUMENT;
-  }
-  RMW_CHECK_ARGUMENT_FOR_NULL(enclaves, RMW_RET_INVALID_ARGUMENT);
-  if (rmw_check_zero_rmw_string_array(enclaves) != RMW_RET_OK) {
-    return RMW_RET_INVALID_ARGUMENT;
-  }
+  RMWI_CHECK_ZERO_STRING_ARRAY(node_names);
+  RMWI_CHECK_ZERO_STRING_ARRAY(node_namespaces);
+  RMWI_CHECK_ZERO_STRING_ARRAY(enclaves);
   return node_names_impl(node, node_names, node_namespaces, enclaves);
 }
 

@@ -34,19 +34,6 @@ OptionLayer = tuple[Mapping[str, Any] | None, str]
 TargetLayer = tuple[Mapping[str, Any] | None, "str | Path | None", str]
 
 
-def expanded(nodes: Mapping[str, Any]) -> dict[str, Any]:
-    """A ``nodes`` mapping with every topic QoS expanded to its explicit fields."""
-    from . import qos
-
-    out: dict[str, Any] = {}
-    for fqn, node in nodes.items():
-        out[fqn] = {
-            list_name: [dict(e, qos=qos.expand(e["qos"])) if "qos" in e else dict(e) for e in entries]
-            for list_name, entries in node.items()
-        }
-    return out
-
-
 def display(path: str | Path, base: str | Path | None = None) -> str:
     """``path`` relative to ``base`` (default: the current directory) unless that climbs far."""
     try:
@@ -199,7 +186,7 @@ def compare(prepared: Prepared, capture: Any) -> CheckResult:
     result = CheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
                          spec=prepared.spec, options=prepared.options, capture=capture)
     if prepared.contract is not None:
-        result.items = drift.compare(prepared.contract.expanded_nodes(), expanded(capture.to_contract_nodes()),
+        result.items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(),
                                      prepared.options.compare_options())
         result.compared = True
     return result
@@ -305,7 +292,7 @@ def diff_contracts(
         else:
             layers = options or ()
         opts = resolve((old.options, f"{old_shown}: options"), *layers)
-    items = drift.compare(old.expanded_nodes(), new.expanded_nodes(), opts.compare_options())
+    items = drift.compare(old.nodes, new.nodes, opts.compare_options())  # compare expands QoS
     return DiffResult(old, new, old_shown, new_shown, opts, items)
 
 

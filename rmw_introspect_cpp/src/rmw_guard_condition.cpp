@@ -8,7 +8,7 @@
 
 #include "detail/common.hpp"
 #include "detail/handles.hpp"
-#include "detail/wait.hpp"
+#include "detail/wait_hub.hpp"
 
 using rmw_introspect::GuardConditionImpl;
 using rmw_introspect::kIdentifier;

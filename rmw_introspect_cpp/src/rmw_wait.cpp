@@ -12,7 +12,7 @@
 #include "detail/common.hpp"
 #include "detail/handles.hpp"
 #include "detail/session.hpp"
-#include "detail/wait.hpp"
+#include "detail/wait_hub.hpp"
 
 using rmw_introspect::GuardConditionImpl;
 using rmw_introspect::kIdentifier;

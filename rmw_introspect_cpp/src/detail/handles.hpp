@@ -15,7 +15,7 @@
 
 #include "detail/recorder.hpp"
 #include "detail/typesupport.hpp"
-#include "detail/wait.hpp"
+#include "detail/wait_hub.hpp"
 
 namespace rmw_introspect
 {

@@ -1,6 +1,6 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-#ifndef DETAIL__WAIT_HPP_
-#define DETAIL__WAIT_HPP_
+#ifndef DETAIL__WAIT_HUB_HPP_
+#define DETAIL__WAIT_HUB_HPP_
 
 #include <atomic>
 #include <chrono>
@@ -31,4 +31,4 @@ public:
 
 }  // namespace rmw_introspect
 
-#endif  // DETAIL__WAIT_HPP_
+#endif  // DETAIL__WAIT_HUB_HPP_

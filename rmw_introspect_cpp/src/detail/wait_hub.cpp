@@ -1,5 +1,5 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-#include "detail/wait.hpp"
+#include "detail/wait_hub.hpp"
 
 namespace rmw_introspect
 {

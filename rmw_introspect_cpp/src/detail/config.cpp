@@ -1,8 +1,6 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 #include "detail/config.hpp"
 
-#include <unistd.h>
-
 #include <cctype>
 #include <cstdlib>
 #include <string>
@@ -68,13 +66,6 @@ Config Config::from_environment(long pid)
   config.verbose = parse_flag(std::getenv("RMW_INTROSPECT_VERBOSE"), false);
   config.server_available = parse_flag(std::getenv("RMW_INTROSPECT_SERVER_AVAILABLE"), true);
   return config;
-}
-
-const Config & Config::get()
-{
-  // Leaked on purpose: usable from atexit handlers and the monitor thread at any time.
-  static const Config * config = new Config(from_environment(static_cast<long>(getpid())));
-  return *config;
 }
 
 }  // namespace rmw_introspect

@@ -22,8 +22,6 @@ struct Config
 
   /// Parse the environment of this process (pid used for the default output path).
   static Config from_environment(long pid);
-  /// The process-wide configuration, read once on first use.
-  static const Config & get();
 };
 
 /// Interpret an environment flag: "1", "true", "yes", "on" (any case) are true,

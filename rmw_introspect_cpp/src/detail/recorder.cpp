@@ -44,12 +44,6 @@ Recorder::Recorder()
   std::memcpy(gid_prefix_.data() + 4, &salt, 4);
 }
 
-Recorder & Recorder::instance()
-{
-  static Recorder * recorder = new Recorder();  // leaked: valid during exit
-  return *recorder;
-}
-
 void Recorder::set_change_listener(std::function<void()> listener)
 {
   std::lock_guard<std::mutex> lock(listener_mutex_);

@@ -71,9 +71,6 @@ public:
   Recorder(const Recorder &) = delete;
   Recorder & operator=(const Recorder &) = delete;
 
-  /// The process-wide recorder (never destroyed: usable from atexit handlers).
-  static Recorder & instance();
-
   /// Called (without the recorder lock held) after every change.
   void set_change_listener(std::function<void()> listener);
 

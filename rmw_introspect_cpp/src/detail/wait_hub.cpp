@@ -4,19 +4,22 @@
 namespace rmw_introspect
 {
 
-WaitHub & WaitHub::instance()
-{
-  static WaitHub * hub = new WaitHub();  // leaked: waits may still run during exit
-  return *hub;
-}
-
 void WaitHub::trigger(GuardCondition * gc)
 {
   {
-    std::lock_guard<std::mutex> lock(mutex);
+    std::lock_guard<std::mutex> lock(mutex_);
     gc->triggered.store(true);
   }
-  cv.notify_all();
+  cv_.notify_all();
+}
+
+void WaitHub::update_and_wake(const std::function<void()> & change)
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    change();
+  }
+  cv_.notify_all();
 }
 
 }  // namespace rmw_introspect

@@ -5,6 +5,8 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
+#include <functional>
 #include <mutex>
 
 namespace rmw_introspect
@@ -17,16 +19,39 @@ struct GuardCondition
 };
 
 /// The one mutex + condition variable every rmw_wait sleeps on. Triggering any guard
-/// condition wakes all waiters, which re-check their own sets.
+/// condition (or shutting a context down) wakes all waiters, which re-check their own sets.
 class WaitHub
 {
 public:
-  static WaitHub & instance();
-
   void trigger(GuardCondition * gc);
+  /// Run `change` under the hub's lock, then wake every waiter (a context shutdown).
+  void update_and_wake(const std::function<void()> & change);
 
-  std::mutex mutex;
-  std::condition_variable cv;
+  /// Block until `ready()` (evaluated under the hub's lock) holds or `timeout_ns` passes
+  /// (0: poll, negative: forever). `make_guard()` is called under the lock just before the
+  /// first sleep and its result destroyed, still under the lock, after the last one (the
+  /// settle bookkeeping of a blocked thread). Returns whether `ready()` holds.
+  template<typename ReadyFn, typename MakeGuardFn>
+  bool wait(ReadyFn ready, int64_t timeout_ns, MakeGuardFn make_guard)
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (ready()) {
+      return true;
+    }
+    if (timeout_ns == 0) {
+      return false;
+    }
+    auto guard = make_guard();
+    if (timeout_ns < 0) {
+      cv_.wait(lock, ready);
+      return true;
+    }
+    return cv_.wait_for(lock, std::chrono::nanoseconds(timeout_ns), ready);
+  }
+
+private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
 };
 
 }  // namespace rmw_introspect

@@ -58,6 +58,7 @@ rmw_ret_t rmw_send_request(const rmw_client_t * client, const void * ros_request
   RMW_CHECK_ARGUMENT_FOR_NULL(sequence_id, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<ClientImpl *>(client->data);
   *sequence_id = impl->next_sequence.fetch_add(1);
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;  // the request is dropped; no response will come
 }
 
@@ -70,6 +71,7 @@ rmw_ret_t rmw_take_response(
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_response, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -118,6 +120,7 @@ rmw_ret_t rmw_service_server_is_available(
   // Answer "available" so that clients go on to what they do after wait_for_service()
   // (and create the entities that follow); RMW_INTROSPECT_SERVER_AVAILABLE=0 says no.
   *is_available = rmw_introspect::Runtime::instance().config().server_available;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 

@@ -6,6 +6,7 @@
 
 #include "detail/common.hpp"
 #include "detail/handles.hpp"
+#include "detail/runtime.hpp"
 
 using rmw_introspect::EventSource;
 using rmw_introspect::kIdentifier;
@@ -94,6 +95,7 @@ rmw_ret_t rmw_take_event(const rmw_event_t * event_handle, void * event_info, bo
   RMW_CHECK_ARGUMENT_FOR_NULL(event_info, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 

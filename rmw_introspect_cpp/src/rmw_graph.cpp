@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rcutils/strdup.h"
@@ -73,6 +74,16 @@ rmw_ret_t fill_names_and_types(
     ++i;
   }
   return RMW_RET_OK;
+}
+
+// Every graph query reads the records through this; a query also counts as activity (a
+// process polling the graph in a loop settles like one that waits).
+template<typename Fn>
+void visit_graph(Fn && fn)
+{
+  auto & runtime = rmw_introspect::Runtime::instance();
+  runtime.on_activity();
+  runtime.recorder().visit(std::forward<Fn>(fn));
 }
 
 bool is_topic_kind(EndpointKind kind)
@@ -161,7 +172,7 @@ rmw_ret_t names_and_types_by_node(
   }
   bool found = false;
   NameTypes entries;
-  rmw_introspect::Runtime::instance().recorder().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> & nodes, const std::vector<EndpointRecord> & endpoints) {
       std::set<uint64_t> ids;
       for (const auto & n : nodes) {
@@ -197,7 +208,7 @@ rmw_ret_t count_endpoints(
   }
   RMW_CHECK_ARGUMENT_FOR_NULL(count, RMW_RET_INVALID_ARGUMENT);
   size_t n = 0;
-  rmw_introspect::Runtime::instance().recorder().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && e.kind == kind && e.name == name) {
@@ -227,7 +238,7 @@ rmw_ret_t info_by_topic(
     return ret;
   }
   std::vector<EndpointRecord> matches;
-  rmw_introspect::Runtime::instance().recorder().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && e.kind == kind && e.name == topic_name) {
@@ -279,7 +290,7 @@ rmw_ret_t node_names_impl(
   rcutils_string_array_t * node_namespaces, rcutils_string_array_t * enclaves)
 {
   std::vector<NodeRecord> live;
-  rmw_introspect::Runtime::instance().recorder().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> & nodes, const std::vector<EndpointRecord> &) {
       for (const auto & n : nodes) {
         if (n.alive) {
@@ -368,7 +379,7 @@ rmw_ret_t rmw_get_topic_names_and_types(
     return ret;
   }
   NameTypes entries;
-  rmw_introspect::Runtime::instance().recorder().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && is_topic_kind(e.kind)) {
@@ -388,7 +399,7 @@ rmw_ret_t rmw_get_service_names_and_types(
     return ret;
   }
   NameTypes entries;
-  rmw_introspect::Runtime::instance().recorder().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && !is_topic_kind(e.kind)) {

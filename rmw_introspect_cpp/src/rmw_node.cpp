@@ -67,7 +67,8 @@ rmw_node_t * rmw_create_node(rmw_context_t * context, const char * name, const c
   impl->graph_guard.handle.context = context;
   const char * enclave = context->options.enclave != nullptr ? context->options.enclave : "/";
   auto & runtime = rmw_introspect::Runtime::instance();
-  impl->record_id = runtime.recorder().add_node(name, namespace_, enclave);
+  impl->record_id =
+    runtime.recorder().add_node(name, namespace_, enclave, runtime.creation_time());
   rmw_introspect::verbose_log(
     "node %s (namespace %s, enclave %s)", impl->name.c_str(), impl->namespace_.c_str(), enclave);
   runtime.graph_guards().add(&impl->graph_guard.gc);

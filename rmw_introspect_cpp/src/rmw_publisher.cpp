@@ -89,6 +89,7 @@ rmw_ret_t rmw_publish(
   (void)allocation;
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;  // accepted and dropped: nothing leaves the process
 }
 
@@ -99,6 +100,7 @@ rmw_ret_t rmw_publish_serialized_message(
   (void)allocation;
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -143,6 +145,7 @@ rmw_ret_t rmw_publisher_count_matched_subscriptions(
   RMW_CHECK_ARGUMENT_FOR_NULL(subscription_count, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<const PublisherImpl *>(publisher->data);
   *subscription_count = count_local(impl->name, rmw_introspect::EndpointKind::Subscription);
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 

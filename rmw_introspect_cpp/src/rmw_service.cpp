@@ -10,6 +10,7 @@
 #include "detail/common.hpp"
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
+#include "detail/runtime.hpp"
 #include "detail/recorder.hpp"
 
 using rmw_introspect::kIdentifier;
@@ -58,6 +59,7 @@ rmw_ret_t rmw_take_request(
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_request, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -67,6 +69,7 @@ rmw_ret_t rmw_send_response(
   RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_response, RMW_RET_INVALID_ARGUMENT);
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;  // dropped
 }
 

@@ -118,6 +118,7 @@ rmw_ret_t rmw_subscription_count_matched_publishers(
     count = 1;
   }
   *publisher_count = count;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -223,6 +224,7 @@ rmw_ret_t rmw_take(
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -236,6 +238,7 @@ rmw_ret_t rmw_take_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -264,6 +267,7 @@ rmw_ret_t rmw_take_sequence(
   *taken = 0u;
   message_sequence->size = 0u;
   message_info_sequence->size = 0u;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -276,6 +280,7 @@ rmw_ret_t rmw_take_serialized_message(
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -289,6 +294,7 @@ rmw_ret_t rmw_take_serialized_message_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -336,6 +342,7 @@ rmw_ret_t rmw_take_dynamic_message(
   RMW_CHECK_ARGUMENT_FOR_NULL(dynamic_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -350,6 +357,7 @@ rmw_ret_t rmw_take_dynamic_message_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 

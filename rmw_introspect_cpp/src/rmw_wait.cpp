@@ -46,21 +46,6 @@ void clear_all(T ** entries, size_t count)
   }
 }
 
-// RAII registration of a thread blocked in rmw_wait (for settle detection).
-class WaitRegistration
-{
-public:
-  explicit WaitRegistration(rmw_introspect::Runtime & runtime)
-  : runtime_(runtime), token_(runtime.enter_wait()) {}
-  ~WaitRegistration() {runtime_.leave_wait(token_);}
-  WaitRegistration(const WaitRegistration &) = delete;
-  WaitRegistration & operator=(const WaitRegistration &) = delete;
-
-private:
-  rmw_introspect::Runtime & runtime_;
-  uint64_t token_;
-};
-
 // The timeout in ns: negative = forever (NULL, RMW_DURATION_INFINITE and other huge values
 // saturate), 0 = poll.
 int64_t timeout_ns(const rmw_time_t * timeout)
@@ -107,7 +92,6 @@ rmw_ret_t rmw_wait(
 {
   RMWI_CHECK_HANDLE(wait_set);
 
-  auto & runtime = rmw_introspect::Runtime::instance();
   const auto * ws = static_cast<const WaitSetImpl *>(wait_set->data);
   // Once the context is shut down (rmw_shutdown wakes every waiter), waits return at once:
   // an executor woken by its SIGINT guard condition just before the shutdown must not go
@@ -116,9 +100,8 @@ rmw_ret_t rmw_wait(
       return any_triggered(guard_conditions) ||
              (ws->context != nullptr && ws->context->is_shutdown.load());
     };
-  runtime.wait_hub().wait(
-    ready, timeout_ns(wait_timeout),
-    [&runtime]() -> WaitRegistration {return WaitRegistration(runtime);});
+  // Blocks, or in the warp jumps virtual time by the timeout and returns at once.
+  rmw_introspect::Runtime::instance().wait(ready, timeout_ns(wait_timeout));
 
   // Consume the triggers of the ready guard conditions; NULL out everything not ready.
   bool any_ready = false;

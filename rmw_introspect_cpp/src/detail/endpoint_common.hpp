@@ -93,6 +93,7 @@ inline uint64_t record_endpoint(
   record.qos = qos;
   record.gid = gid;
   Runtime & runtime = Runtime::instance();
+  record.created = runtime.creation_time();
   const uint64_t id = runtime.recorder().add_endpoint(std::move(record));
   verbose_log(
     "%s %s [%s] (node %s/%s, %s)", endpoint_kind_to_string(kind), name.c_str(),

@@ -24,10 +24,25 @@ Runtime & Runtime::instance()
   return *runtime;
 }
 
+namespace
+{
+Session::Settings session_settings(const Config & config)
+{
+  Session::Settings settings;
+  settings.settle_ms = config.settle_ms;
+  settings.horizon_ms = config.horizon_ms;
+  settings.warp_budget_ms = config.warp_budget_ms;
+  return settings;
+}
+}  // namespace
+
 Runtime::Runtime()
 : config_(Config::from_environment(static_cast<long>(getpid()))),
-  session_(clock_, config_.settle_ms)
+  session_(clock_, virtual_clock_, session_settings(config_))
 {
+  for (const auto & warning : config_.warnings) {
+    std::fprintf(stderr, "[rmw_introspect] warning: %s\n", warning.c_str());
+  }
   recorder_.set_change_listener([this]() {on_change();});
 }
 
@@ -75,21 +90,61 @@ void Runtime::leave_wait(uint64_t token)
   session_.leave_wait(token);
 }
 
+void Runtime::note_wait_entered()
+{
+  if (!ever_waited_.exchange(true)) {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    session_.on_wait_entered();
+  }
+}
+
+void Runtime::on_activity()
+{
+  bool wake = false;
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    wake = session_.on_activity();
+  }
+  if (wake) {
+    session_cv_.notify_all();
+  }
+}
+
+CreationTime Runtime::creation_time()
+{
+  std::lock_guard<std::mutex> lock(session_mutex_);
+  CreationTime created;
+  created.virtual_ms = session_.virtual_age_ms();
+  created.real_ms = session_.real_age_ms();
+  return created;
+}
+
 void Runtime::monitor_loop()
 {
   pthread_setname_np(pthread_self(), "rmwi_monitor");
   std::unique_lock<std::mutex> lock(session_mutex_);
   while (!session_.exiting()) {
     const Session::Step step = session_.poll();
+    warping_.store(session_.warping());
     if (step.action != Session::Action::kNone) {
       CaptureHeader header;
-      session_.fill_header(&header);
+      session_.fill_header("settled", &header);
+      const char * progress = session_.progress_state();
       lock.unlock();
-      if (step.action == Session::Action::kSettle) {
-        write_capture("settled");
-        exit_if_asked(header.time_to_settle_ms);
-      } else {
-        write_capture("running");
+      switch (step.action) {
+        case Session::Action::kSettle:
+          write_capture("settled");
+          exit_if_asked(header.time_to_settle_ms);
+          break;
+        case Session::Action::kStartWarp:
+          // A valid capture so far (the node may exit or crash during the warp), then wake
+          // every waiter: those blocked on a finite timeout come back to jump.
+          write_capture("warping");
+          wait_hub_.update_and_wake([this]() {warp_starts_.fetch_add(1);});
+          break;
+        default:
+          write_capture(progress);
+          break;
       }
       lock.lock();
       continue;
@@ -167,12 +222,14 @@ void Runtime::write_capture(const char * state)
     if (!session_.started() || (session_.exiting() && std::strcmp(state, "exit") != 0)) {
       return;
     }
-    session_.fill_header(&header);
+    session_.fill_header(state, &header);
   }
   header.pid = static_cast<long>(getpid());
   header.argv = argv_;
   header.state = state;
-  const std::string content = render_capture(config_.format, header, recorder_.snapshot());
+  // The captures written as the process ends mark its final run of destructions.
+  const std::string content =
+    render_capture(config_.format, header, recorder_.snapshot(header.has_ended));
   std::string error;
   if (!write_file_atomically(config_.output_path, content, &error)) {
     std::fprintf(stderr, "[rmw_introspect] cannot write capture: %s\n", error.c_str());

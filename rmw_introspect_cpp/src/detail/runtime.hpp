@@ -2,6 +2,7 @@
 #ifndef DETAIL__RUNTIME_HPP_
 #define DETAIL__RUNTIME_HPP_
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
@@ -42,6 +43,7 @@ public:
   Runtime & operator=(const Runtime &) = delete;
 
   const Config & config() const {return config_;}
+  const VirtualClock & virtual_clock() const {return virtual_clock_;}
   Recorder & recorder() {return recorder_;}
   WaitHub & wait_hub() {return wait_hub_;}
   GraphGuards & graph_guards() {return graph_guards_;}
@@ -51,9 +53,15 @@ public:
 
   /// First rmw_init of the process: start the session and its monitor, register atexit.
   void on_init();
-  /// A thread blocks in rmw_wait; returns the token for leave_wait.
-  uint64_t enter_wait();
-  void leave_wait(uint64_t token);
+  /// The blocking part of rmw_wait: until `ready()` (evaluated under the wait hub's lock)
+  /// holds or `timeout_ns` passes (0: poll, negative: forever). In the warp, a finite wait
+  /// with nothing ready jumps virtual time instead and returns at once.
+  template<typename ReadyFn>
+  void wait(ReadyFn ready, int64_t timeout_ns);
+  /// publish, take*, send_*, graph queries...: the process is in its loop (settle rule).
+  void on_activity();
+  /// The process's virtual and real age now (creation times).
+  CreationTime creation_time();
   /// rmw_shutdown: write a capture with state "shutdown".
   void on_shutdown();
   /// Normal process exit (atexit): write a capture with state "exit".
@@ -64,7 +72,28 @@ public:
   bool in_teardown(const ContextImpl * context);
 
 private:
+  /// RAII registration of a thread blocked in rmw_wait (settle rule).
+  class BlockedWait
+  {
+public:
+    explicit BlockedWait(Runtime & runtime)
+    : runtime_(runtime), token_(runtime.enter_wait()) {}
+    ~BlockedWait() {runtime_.leave_wait(token_);}
+    BlockedWait(const BlockedWait &) = delete;
+    BlockedWait & operator=(const BlockedWait &) = delete;
+
+private:
+    Runtime & runtime_;
+    uint64_t token_;
+  };
+
   Runtime();
+  uint64_t enter_wait();
+  void leave_wait(uint64_t token);
+  void note_wait_entered();
+  /// In the warp and with nothing ready: jump virtual time to `target_ns` (see Session).
+  template<typename ReadyFn>
+  bool try_jump(ReadyFn & ready, int64_t target_ns);
   void on_change();
   void monitor_loop();
   /// Write the capture with `state` (no-op with AUTO_EXPORT=0 or before rmw_init; once the
@@ -75,6 +104,7 @@ private:
 
   const Config config_;
   const SteadyClock clock_;
+  VirtualClock virtual_clock_;
   Recorder recorder_;
   WaitHub wait_hub_;
   GraphGuards graph_guards_;
@@ -84,7 +114,54 @@ private:
   std::mutex session_mutex_;
   std::condition_variable session_cv_;
   Session session_;
+  // Lock-free hints for rmw_wait (the Session under session_mutex_ decides).
+  std::atomic<bool> ever_waited_{false};
+  std::atomic<bool> warping_{false};
+  std::atomic<uint64_t> warp_starts_{0};  // bumped under the wait hub's lock
 };
+
+template<typename ReadyFn>
+bool Runtime::try_jump(ReadyFn & ready, int64_t target_ns)
+{
+  if (wait_hub_.poll(ready)) {
+    return false;  // ready: nothing to jump for
+  }
+  std::lock_guard<std::mutex> lock(session_mutex_);
+  const bool jumped = session_.try_jump(target_ns);
+  warping_.store(session_.warping());
+  return jumped;
+}
+
+template<typename ReadyFn>
+void Runtime::wait(ReadyFn ready, int64_t timeout_ns)
+{
+  note_wait_entered();
+  if (timeout_ns == 0) {
+    return;  // a poll: rmw_wait reads the guard conditions itself
+  }
+  const int64_t start_ns = clock_.now_ns();
+  const int64_t target_ns = start_ns + virtual_clock_.offset_ns() + timeout_ns;
+  for (int64_t remaining = timeout_ns; ; ) {
+    if (remaining > 0 && warping_.load() && try_jump(ready, target_ns)) {
+      return;
+    }
+    // The start of the warp wakes every waiter: a finite wait re-enters to jump, an infinite
+    // one re-registers as blocked after the warp began (the settle rule counts only those).
+    const uint64_t warp_starts = warp_starts_.load();
+    auto ready_or_warp = [&]() {return ready() || warp_starts_.load() != warp_starts;};
+    wait_hub_.wait(
+      ready_or_warp, remaining, [this]() -> BlockedWait {return BlockedWait(*this);});
+    if (warp_starts_.load() == warp_starts || ready()) {
+      return;
+    }
+    if (remaining > 0) {
+      remaining = timeout_ns - (clock_.now_ns() - start_ns);
+      if (remaining <= 0) {
+        return;
+      }
+    }
+  }
+}
 
 }  // namespace rmw_introspect
 

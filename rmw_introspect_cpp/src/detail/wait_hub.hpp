@@ -27,6 +27,14 @@ public:
   /// Run `change` under the hub's lock, then wake every waiter (a context shutdown).
   void update_and_wake(const std::function<void()> & change);
 
+  /// Evaluate `ready()` under the hub's lock.
+  template<typename ReadyFn>
+  bool poll(ReadyFn & ready)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return ready();
+  }
+
   /// Block until `ready()` (evaluated under the hub's lock) holds or `timeout_ns` passes
   /// (0: poll, negative: forever). `make_guard()` is called under the lock just before the
   /// first sleep and its result destroyed, still under the lock, after the last one (the
@@ -41,7 +49,7 @@ public:
     if (timeout_ns == 0) {
       return false;
     }
-    auto guard = make_guard();
+    [[maybe_unused]] auto guard = make_guard();
     if (timeout_ns < 0) {
       cv_.wait(lock, ready);
       return true;

@@ -2,11 +2,15 @@
 
 Interface: service client ``enable_motors`` (std_srvs/srv/SetBool).
 
-It sends one request and waits at most ``deadline`` seconds (ROS time) for the answer: with a
+It sends one request and waits at most ``deadline`` seconds of ROS time for the answer: with a
 ``motor_enable_server`` running it prints the answer and exits 0; without one it logs an error
 and exits 1. Under the recording middleware no answer ever comes and virtual time lets the
 deadline expire at once, so the program exits 1 within milliseconds: the capture keeps what it
 created (it had settled before) and reports the exit status as information, not as a failure.
+
+The deadline is measured on the node's ROS clock, not with ``time.monotonic()``: a deadline in
+Python's own time (``spin_until_future_complete(timeout_sec=...)`` measures with it) is real
+time, which virtual time cannot shorten.
 
 Parameter: ``deadline`` (double, ``5.0``).
 """
@@ -14,6 +18,7 @@ Parameter: ``deadline`` (double, ``5.0``).
 import sys
 
 import rclpy
+from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from std_srvs.srv import SetBool
@@ -34,7 +39,10 @@ def main(args=None):
     try:
         node.client.wait_for_service(timeout_sec=node.deadline)
         future = node.client.call_async(SetBool.Request(data=True))
-        rclpy.spin_until_future_complete(node, future, timeout_sec=node.deadline)
+        clock = node.get_clock()
+        give_up_at = clock.now() + Duration(seconds=node.deadline)
+        while rclpy.ok() and not future.done() and clock.now() < give_up_at:
+            rclpy.spin_once(node, timeout_sec=0.1)
         if future.done():
             response = future.result()
             node.get_logger().info(f'success={response.success}: {response.message}')

@@ -344,7 +344,9 @@ class Capture:
     @property
     def settled_once(self) -> bool:
         """The process settled at least once: what it had then, and created later, is valid."""
-        return self.time_to_settle_ms is not None
+        if self.state in ("warping", "settled"):
+            return True
+        return self.state in ("exit", "shutdown") and self.time_to_settle_ms is not None
 
     @property
     def ended_by_itself(self) -> bool:

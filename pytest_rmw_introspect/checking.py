@@ -173,7 +173,7 @@ class CheckResult:
                                   accept_command=accept_command, title=self.title())
         notes = self.capture.notes() if self.capture is not None else []
         if notes:
-            text += "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes)
+            text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes)
         return text
 
     def to_json(self) -> list[dict[str, Any]]:

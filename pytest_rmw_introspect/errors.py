@@ -239,18 +239,13 @@ def diagnose_unsettled(partial: Any) -> str:
             "never went quiet again: does it keep creating or destroying interfaces? Lower `horizon`, or set it "
             "to 0 to capture only what exists at the first settle."
         )
-    if not partial.ever_waited and not partial.activity_calls:
-        return (
-            "No thread ever waited in an executor (rmw_wait) and it did not use ROS (publish, take, graph "
-            "queries) after creating its interfaces: it is busy or blocked outside ROS (a long computation, "
-            "a blocking read, input(), a long time.sleep before it spins). Raise `timeout` if it is only slow; "
-            "a program that neither spins nor uses ROS in a loop cannot settle."
-        )
     if not partial.ever_waited:
         return (
-            "It never waited in an executor and did not keep using ROS after its last new interface (a steady "
-            "loop settles after two calls such as publish() with no new interface for the settle time). "
-            "Raise `timeout` if it is only slow."
+            "No thread ever waited in an executor (rmw_wait) and it did not keep using ROS (publish, take, "
+            "graph queries) after its last new interface: it is busy or blocked outside ROS (a long "
+            "computation, a blocking read, input(), a long time.sleep before it spins). A loop that never "
+            "spins settles once it makes two such calls with no new interface for the settle time. Raise "
+            "`timeout` if it is only slow."
         )
     return (
         "It waits in an executor but kept creating or destroying interfaces, so it was never quiet for the "

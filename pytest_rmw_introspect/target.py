@@ -279,9 +279,9 @@ def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
         return {str(k): _env_value(v) for k, v in value.items()}
     if key in ("settle", "timeout", "horizon"):
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise _fail(source, key, "a finite number of seconds", value)
+            raise _fail(source, key, "a number of seconds", value)
         if not 0 <= value <= MAX_SECONDS:
-            raise _fail(source, key, f"between 0 and {MAX_SECONDS:g} seconds", value)
+            raise _fail(source, key, f"a number of seconds from 0 to {MAX_SECONDS:g}", value)
         return float(value)
     raise AssertionError(key)  # pragma: no cover
 

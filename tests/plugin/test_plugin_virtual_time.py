@@ -90,3 +90,12 @@ def test_marker_horizon_and_the_report_notes(project):
     result = project.run("-rA")
     result.assert_outcomes(passed=1, failed=1)
     result.stdout.fnmatch_lines(["*Notes on the capture:*", "*the program ended by itself (status 0)*"])
+
+
+def test_a_node_on_sim_time_is_recorded_and_noted():
+    cap = pytest_rmw_introspect.capture(script=str(VT_NODES / "talker.py"), parameters={"use_sim_time": True})
+    (node,) = cap
+    assert node.uses_sim_time
+    assert any(f"node {node.fqn} uses sim time" in note for note in cap.notes())
+    plain = pytest_rmw_introspect.capture(script=str(VT_NODES / "talker.py"))
+    assert not any(n.uses_sim_time for n in plain) and plain.notes() == []

@@ -268,6 +268,30 @@ TEST_F(WarpTest, a_target_already_passed_returns_without_a_jump)
   CaptureHeader header;
   session.fill_header("warping", &header);
   EXPECT_EQ(1u, header.jumps);
+  // Still driven by timers: not quiet, the warp goes on.
+  session.enter_wait();
+  clock.advance_ms(5);
+  EXPECT_TRUE(session.try_jump(session.virtual_now_ns() - kMs));
+  clock.advance_ms(9);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  EXPECT_TRUE(session.warping());
+}
+
+TEST_F(WarpTest, polls_in_the_warp_are_not_quiet)
+{
+  settle_and_start_warp();
+  // Timers kept due by real time alone: polls and callbacks that publish, no jump.
+  for (int i = 0; i < 20; ++i) {
+    session.on_wait_entered();
+    session.on_activity();
+    session.on_activity();
+    clock.advance_ms(5);
+    EXPECT_EQ(Session::Action::kNone, session.poll().action) << i;
+  }
+  EXPECT_TRUE(session.warping());
+  // An old-school loop (no wait at all) does settle by activity in the warp.
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
 }
 
 TEST_F(WarpTest, horizon_clamps_the_warp)

@@ -92,7 +92,8 @@ void Runtime::leave_wait(uint64_t token)
 
 void Runtime::note_wait_entered()
 {
-  if (!ever_waited_.exchange(true)) {
+  // Once for ever_waited; during the warp every time (it breaks the warp's quiet).
+  if (!ever_waited_.exchange(true) || warping_.load()) {
     std::lock_guard<std::mutex> lock(session_mutex_);
     session_.on_wait_entered();
   }

@@ -56,6 +56,14 @@ void Session::on_change()
   break_quiet(last_change_ns_);
 }
 
+void Session::on_wait_entered()
+{
+  ever_waited_ = true;
+  if (phase_ == Phase::kWarping) {
+    break_quiet(clock_.now_ns());
+  }
+}
+
 uint64_t Session::enter_wait()
 {
   ever_waited_ = true;
@@ -94,7 +102,10 @@ bool Session::try_jump(int64_t target_ns)
   }
   const int64_t virtual_now = now + virtual_clock_.offset_ns();
   if (target_ns <= virtual_now) {
-    return true;  // another thread's jump already took virtual time past it
+    // Another thread's jump, or real time on a busy machine, already took virtual time past
+    // it: no jump, but timers still drive the process, so it is not quiet either.
+    break_quiet(now);
+    return true;
   }
   if (target_ns - t0_ns_ > settings_.horizon_ms * kNsPerMs) {
     horizon_reached_ = true;

@@ -43,8 +43,10 @@ public:
 
   /// A node or endpoint was created or destroyed.
   void on_change();
-  /// A thread enters rmw_wait (any wait, a poll included).
-  void on_wait_entered() {ever_waited_ = true;}
+  /// A thread enters rmw_wait (any wait, a poll included). In the warp this breaks the quiet:
+  /// a process that keeps entering waits that jump or poll is still driven by its timers
+  /// (on a busy machine real time alone can keep its short timers due).
+  void on_wait_entered();
   /// A thread blocks in rmw_wait; returns the token for leave_wait.
   uint64_t enter_wait();
   void leave_wait(uint64_t token);
@@ -54,8 +56,8 @@ public:
 
   /// In the warp: a wait with nothing ready would sleep until virtual time `target_ns` (the
   /// virtual time at its entry + its timeout). True: virtual time is now past it (jumped, or
-  /// another thread's jump already passed it), the wait returns a timeout at once. False:
-  /// wait for real (no warp, horizon reached, budget spent).
+  /// already past), the wait returns a timeout at once; either breaks the quiet of the final
+  /// settle. False: wait for real (no warp, horizon reached, budget spent).
   bool try_jump(int64_t target_ns);
   bool warping() const {return phase_ == Phase::kWarping;}
   /// Virtual now on the steady clock (real monotonic + offset).

@@ -30,8 +30,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from pytest_rmw_introspect import middleware, ros_env, target
-from pytest_rmw_introspect.runner import environment
+from pytest_rmw_introspect.run import middleware, ros_env, target
+from pytest_rmw_introspect.run.runner import environment
 
 PY = sys.executable
 PACKAGE = "rmw_introspect_examples"

@@ -28,9 +28,10 @@ import tempfile
 import time
 from pathlib import Path
 
-import pytest_rmw_introspect
 from bench_time_to_capture import run_fastdds
-from pytest_rmw_introspect import ros_env, target
+
+import pytest_rmw_introspect
+from pytest_rmw_introspect.run import ros_env, target
 
 PACKAGE = "rmw_introspect_examples"
 

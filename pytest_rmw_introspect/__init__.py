@@ -17,36 +17,95 @@ In a test, ``pytest_rmw_introspect.check_compatible("a.interfaces.yaml", "b.inte
 fails the test unless the nodes of the contracts fit together (a system check), and
 ``diff_contracts(old, new)`` compares two contract files without running anything.
 
-``pytest_rmw_introspect.capture`` is :func:`pytest_rmw_introspect.runner.capture`; the model it
-returns lives in :mod:`pytest_rmw_introspect.capture_model`.
+The package is layered (docs/design.md): ``model`` (the vocabulary, captures, contracts),
+``compare`` (options, drift, system checks, reports) and ``run`` (targets, the runner, ROS
+detection, the middleware library), then ``check`` (the pipeline, outcomes, the golden
+writer) and the two front ends, ``plugin`` (pytest) and ``cli`` (``rmw-introspect``).
 """
 
-from .capture_model import Capture, Endpoint, Interface, Node, RawNode
-from .checking import check_compatible, diff_contracts
-from .contract import Contract
-from .contract import load as load_contract
-from .errors import (
-    CaptureFormatError,
-    ContractError,
-    ExecutableNotFound,
-    NoNodeCreated,
-    RmwIntrospectError,
-    SetupError,
-    TargetConfigError,
-    TargetError,
-    TargetExited,
-    TargetTimeout,
-)
-from .runner import capture
-from .target import TargetSpec
+from __future__ import annotations
 
-__version__ = "0.1.0"
+import importlib
+from typing import TYPE_CHECKING, Any
+
+from ._version import __version__
+
+if TYPE_CHECKING:
+    from .check.pipeline import DiffResult, SystemResult, diff_contracts
+    from .compare.drift import DriftItem
+    from .compare.options import ComparisonOptions
+    from .compare.system import CompatItem
+    from .errors import (
+        CaptureFormatError,
+        ContractError,
+        ExecutableNotFound,
+        NoNodeCreated,
+        RmwIntrospectError,
+        SetupError,
+        TargetConfigError,
+        TargetError,
+        TargetExited,
+        TargetTimeout,
+    )
+    from .model.capture import Capture, Endpoint, Interface, Node, RawNode, VirtualTime
+    from .model.contract import Contract
+    from .model.contract import load as load_contract
+    from .model.vocabulary import Severity
+    from .plugin.assertions import check_compatible
+    from .run.runner import capture
+    from .run.target import TargetSpec
+
+#: public name → (module, attribute). Imported on first use: importing the package (which every
+#: `rmw-introspect` command and the pytest plugin do first) stays cheap, and nothing here pulls
+#: in pytest (``check_compatible``) or the whole pipeline until it is used. Measured with
+#: `python -X importtime`: eager imports made `rmw-introspect --help` ~60 ms slower.
+_LAZY: dict[str, tuple[str, str]] = {
+    "DiffResult": ("check.pipeline", "DiffResult"),
+    "SystemResult": ("check.pipeline", "SystemResult"),
+    "diff_contracts": ("check.pipeline", "diff_contracts"),
+    "DriftItem": ("compare.drift", "DriftItem"),
+    "ComparisonOptions": ("compare.options", "ComparisonOptions"),
+    "CompatItem": ("compare.system", "CompatItem"),
+    "Capture": ("model.capture", "Capture"),
+    "Endpoint": ("model.capture", "Endpoint"),
+    "Interface": ("model.capture", "Interface"),
+    "Node": ("model.capture", "Node"),
+    "RawNode": ("model.capture", "RawNode"),
+    "VirtualTime": ("model.capture", "VirtualTime"),
+    "Contract": ("model.contract", "Contract"),
+    "load_contract": ("model.contract", "load"),
+    "Severity": ("model.vocabulary", "Severity"),
+    "check_compatible": ("plugin.assertions", "check_compatible"),
+    "capture": ("run.runner", "capture"),
+    "TargetSpec": ("run.target", "TargetSpec"),
+    **{name: ("errors", name) for name in (
+        "CaptureFormatError", "ContractError", "ExecutableNotFound", "NoNodeCreated", "RmwIntrospectError",
+        "SetupError", "TargetConfigError", "TargetError", "TargetExited", "TargetTimeout")},
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module, attribute = _LAZY[name]
+    value = getattr(importlib.import_module(f".{module}", __name__), attribute)
+    globals()[name] = value  # later lookups skip __getattr__
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "Capture",
     "CaptureFormatError",
+    "CompatItem",
+    "ComparisonOptions",
     "Contract",
     "ContractError",
+    "DiffResult",
+    "DriftItem",
     "Endpoint",
     "ExecutableNotFound",
     "Interface",
@@ -54,12 +113,16 @@ __all__ = [
     "Node",
     "RawNode",
     "RmwIntrospectError",
+    "Severity",
     "SetupError",
+    "SystemResult",
     "TargetConfigError",
     "TargetError",
     "TargetExited",
     "TargetSpec",
     "TargetTimeout",
+    "VirtualTime",
+    "__version__",
     "capture",
     "check_compatible",
     "diff_contracts",

@@ -50,7 +50,7 @@ if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
   echo "$want" > "$stamp"
 fi
 
-echo "bootstrap: recording middleware at $("$venv/bin/python" -m pytest_rmw_introspect.middleware)"
+echo "bootstrap: recording middleware at $("$venv/bin/python" -m pytest_rmw_introspect.run.middleware)"
 
 if [ -x scripts/install-examples.sh ] && [ -d examples ]; then
   VENV="$venv" scripts/install-examples.sh

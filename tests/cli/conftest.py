@@ -19,7 +19,7 @@ from pytest_rmw_introspect.errors import SetupError
 @pytest.fixture(scope="session")
 def middleware_library() -> Path:
     """The middleware library, built once; the CLI processes reuse it (RMW_INTROSPECT_LIBRARY)."""
-    from pytest_rmw_introspect import middleware
+    from pytest_rmw_introspect.run import middleware
 
     try:
         return Path(middleware.ensure_library())

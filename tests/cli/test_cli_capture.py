@@ -9,7 +9,7 @@ import sys
 import yaml
 from cli_helpers import NODES, STRING_HASH
 
-from pytest_rmw_introspect import contract as contract_module
+from pytest_rmw_introspect.model import contract as contract_module
 
 TALKER_NODES_YAML = f"""\
 nodes:

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 import rmwi_helpers as h
 
-from pytest_rmw_introspect import middleware
+from pytest_rmw_introspect.run import middleware
 
 REPO = Path(__file__).resolve().parents[2]
 SOURCES = REPO / "rmw_introspect_cpp"

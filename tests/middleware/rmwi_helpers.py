@@ -15,7 +15,7 @@ from pathlib import Path
 import jsonschema
 import yaml
 
-from pytest_rmw_introspect import ros_env
+from pytest_rmw_introspect.run import ros_env
 
 REPO = Path(__file__).resolve().parents[2]
 NODES = Path(__file__).resolve().parent / "nodes"

@@ -17,7 +17,7 @@ NODES = Path(__file__).parent / "nodes"
 @pytest.fixture(scope="session")
 def middleware_library() -> Path:
     """The middleware library, built once for the whole run (the child sessions reuse it)."""
-    from pytest_rmw_introspect import middleware
+    from pytest_rmw_introspect.run import middleware
 
     try:
         return Path(middleware.ensure_library())

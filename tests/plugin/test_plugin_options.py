@@ -4,20 +4,21 @@ from __future__ import annotations
 
 import pytest
 
-from pytest_rmw_introspect.options import (
+from pytest_rmw_introspect.compare import drift
+from pytest_rmw_introspect.compare.options import (
     ComparisonOptions,
     OptionError,
     parse_layer,
     resolve,
 )
-from pytest_rmw_introspect.report import Severity
+from pytest_rmw_introspect.model.vocabulary import Severity
 
 
 def test_defaults():
     opts = resolve()
     assert opts == ComparisonOptions()
     assert opts.fail_on == "any" and opts.threshold() is Severity.SAFE
-    assert opts.compare_options().ignore_qos == frozenset()
+    assert opts.ignore_qos == frozenset() and not opts.ignores_all_qos
 
 
 def test_later_layers_win_and_unset_values_do_not_override():
@@ -57,8 +58,13 @@ def test_string_booleans_from_ini_files():
         "allow_extra": True, "include_infrastructure": False}
 
 
-def test_compare_options_and_threshold():
+def test_drift_compare_takes_the_comparison_options_as_they_are():
     opts = ComparisonOptions(ignore_type_hash=True, ignore_qos=True, allow_extra=True, fail_on="risky")
-    co = opts.compare_options()
-    assert (co.ignore_type_hash, co.ignore_qos, co.allow_extra) == (True, True, True)
+    pub = {"name": "/chatter", "type": "std_msgs/msg/String", "type_hash": "RIHS01_aa", "qos": {"depth": 10}}
+    changed = dict(pub, type_hash="RIHS01_bb", qos={"depth": 1})
+    extra = {"name": "/extra", "type": "std_msgs/msg/String"}
+    expected = {"/n": {"publishers": [pub]}}
+    actual = {"/n": {"publishers": [changed, extra]}}
+    assert drift.compare(expected, actual, opts) == []
+    assert {i.rule for i in drift.compare(expected, actual, ComparisonOptions())} >= {"TYPE_HASH_CHANGED", "PUB_ADDED"}
     assert opts.threshold() is Severity.RISKY and opts.ignores_all_qos

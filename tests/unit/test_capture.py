@@ -8,9 +8,9 @@ import json
 import pytest
 
 import pytest_rmw_introspect
-from pytest_rmw_introspect import capture_model as capture_module
-from pytest_rmw_introspect.capture_model import Capture, is_infrastructure
 from pytest_rmw_introspect.errors import CaptureFormatError
+from pytest_rmw_introspect.model import capture as capture_module
+from pytest_rmw_introspect.model.capture import Capture, is_infrastructure
 
 HASH = "RIHS01_" + "ab" * 32
 STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
@@ -373,9 +373,9 @@ def test_yaml_capture_is_read_too(tmp_path, talker):
 def test_package_capture_is_the_library_function_even_after_importing_the_model():
     import importlib
 
-    from pytest_rmw_introspect import runner
+    from pytest_rmw_introspect.run import runner
 
-    importlib.import_module("pytest_rmw_introspect.capture_model")
+    importlib.import_module("pytest_rmw_introspect.model.capture")
     assert pytest_rmw_introspect.capture is runner.capture
     assert pytest_rmw_introspect.Capture is Capture
 

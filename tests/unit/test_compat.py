@@ -4,9 +4,10 @@ import json
 
 import pytest
 
-from pytest_rmw_introspect import compat, report
-from pytest_rmw_introspect.compat import Endpoint, check_system
-from pytest_rmw_introspect.drift import Severity
+from pytest_rmw_introspect.compare import report
+from pytest_rmw_introspect.compare import system as compat
+from pytest_rmw_introspect.compare.system import Endpoint, check_system
+from pytest_rmw_introspect.model.vocabulary import Severity
 
 H1 = "RIHS01_" + "1" * 64
 H2 = "RIHS01_" + "2" * 64

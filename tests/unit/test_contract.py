@@ -8,8 +8,10 @@ import textwrap
 import jsonschema
 import pytest
 
-from pytest_rmw_introspect import contract
-from pytest_rmw_introspect.contract import (
+from pytest_rmw_introspect.check import golden
+from pytest_rmw_introspect.errors import ContractError
+from pytest_rmw_introspect.model import contract
+from pytest_rmw_introspect.model.contract import (
     Contract,
     dump_nodes,
     load,
@@ -17,7 +19,6 @@ from pytest_rmw_introspect.contract import (
     render,
     update_text,
 )
-from pytest_rmw_introspect.errors import ContractError
 
 HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
 H1, H2, H3 = ("RIHS01_" + c * 64 for c in "123")
@@ -293,16 +294,16 @@ def test_update_of_a_flow_style_file_rewrites_it():
 
 def test_write_creates_updates_and_reports_changes(tmp_path):
     path = tmp_path / "sub" / "c.yaml"
-    assert contract.write(path, NODES) is True
+    assert golden.update(path, NODES) == golden.CREATED
     assert path.read_text() == render(NODES)
-    assert contract.write(path, NODES) is False
+    assert golden.update(path, NODES) is None
     path.write_text(HEADER + path.read_text().split("contract_version: 1\n", 1)[1])
     before = path.read_text()
-    assert contract.write(path, NODES) is False
+    assert golden.update(path, NODES) is None
     assert path.read_text() == before
     changed = json.loads(json.dumps(NODES))
     changed["/talker"]["publishers"].pop()
-    assert contract.write(path, changed) is True
+    assert golden.update(path, changed) == golden.UPDATED
     assert path.read_text().startswith(HEADER)
     assert not list(path.parent.glob(".*tmp"))
 

@@ -4,8 +4,10 @@ import random
 
 import pytest
 
-from pytest_rmw_introspect import drift
-from pytest_rmw_introspect.drift import CompareOptions, DriftItem, Severity, compare
+from pytest_rmw_introspect.compare import drift
+from pytest_rmw_introspect.compare.drift import DriftItem, compare
+from pytest_rmw_introspect.compare.options import ComparisonOptions as CompareOptions
+from pytest_rmw_introspect.model.vocabulary import LISTS, Severity
 
 S = 1_000_000_000
 H1 = "RIHS01_" + "1" * 64
@@ -97,7 +99,7 @@ def test_whole_node_rewritten_is_reported_per_interface():
 # --------------------------------------------------------------------------- type and hash
 
 
-@pytest.mark.parametrize("kind", drift.KINDS)
+@pytest.mark.parametrize("kind", LISTS)
 def test_type_changed(kind):
     item = only(compare(nodes(kind, entry(type_="std_msgs/msg/String", qos=None)),
                         nodes(kind, entry(type_="std_msgs/msg/Int32", type_hash=H2, qos=None))))

@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect import contract, golden
+from pytest_rmw_introspect.check import golden
+from pytest_rmw_introspect.model import contract
 
 NODES = {"/talker": {"publishers": [{"name": "/chatter", "type": "std_msgs/msg/String",
                                      "qos": {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE",

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect import middleware, ros_env
 from pytest_rmw_introspect.errors import SetupError
+from pytest_rmw_introspect.run import middleware, ros_env
 
 
 def fake_ros(prefix: Path) -> ros_env.RosEnvironment:

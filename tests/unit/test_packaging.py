@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 import zipfile
 from pathlib import Path
+
+from pytest_rmw_introspect import __version__
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -32,3 +35,22 @@ def test_wheel_carries_the_middleware_sources_and_both_schemas(tmp_path):
     text = zipfile.ZipFile(wheel).read(entry_points).decode()
     assert "rmw_introspect = pytest_rmw_introspect.plugin" in text
     assert "rmw-introspect = pytest_rmw_introspect.cli:main" in text
+
+    package = REPO / "pytest_rmw_introspect"
+    modules = sorted(p.relative_to(REPO).as_posix() for p in package.rglob("*.py") if "rmw_introspect_cpp" not in p.parts)
+    assert [m for m in modules if m not in names] == [], "Python modules left out of the wheel"
+    assert "pytest_rmw_introspect/py.typed" in names
+    assert wheel.name.startswith(f"pytest_rmw_introspect-{__version__}-")
+
+
+def test_one_version_everywhere():
+    """pyproject reads the version from _version.py; both ament packages must carry the same."""
+    pyproject = (REPO / "pyproject.toml").read_text()
+    assert 'dynamic = ["version"]' in pyproject
+    assert 'version = {attr = "pytest_rmw_introspect._version.__version__"}' in pyproject
+    for package_xml in (REPO / "rmw_introspect_cpp" / "package.xml",
+                        REPO / "examples" / "rmw_introspect_examples" / "package.xml"):
+        found = re.search(r"<version>([^<]+)</version>", package_xml.read_text())
+        assert found and found.group(1) == __version__, f"{package_xml}: version {found and found.group(1)}, " \
+                                                        f"pytest_rmw_introspect/_version.py says {__version__}"
+    assert re.search(rf"^## \[{re.escape(__version__)}\]", (REPO / "CHANGELOG.md").read_text(), flags=re.M)

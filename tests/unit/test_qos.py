@@ -4,8 +4,8 @@ import itertools
 
 import pytest
 
-from pytest_rmw_introspect import qos
-from pytest_rmw_introspect.qos import Compatibility
+from pytest_rmw_introspect.model import qos
+from pytest_rmw_introspect.model.qos import Compatibility
 
 S = 1_000_000_000
 MS = 1_000_000

@@ -4,8 +4,10 @@ import json
 
 import pytest
 
-from pytest_rmw_introspect import report
-from pytest_rmw_introspect.drift import CompareOptions, Severity, compare
+from pytest_rmw_introspect.compare import report
+from pytest_rmw_introspect.compare.drift import compare
+from pytest_rmw_introspect.compare.options import ComparisonOptions as CompareOptions
+from pytest_rmw_introspect.model.vocabulary import Severity, parse_threshold
 
 H1 = "RIHS01_" + "1" * 64
 H2 = "RIHS01_" + "2" * 64
@@ -169,14 +171,14 @@ def test_to_json_empty():
      ("Risky", Severity.RISKY), ("breaking", Severity.BREAKING), (" BREAKING ", Severity.BREAKING)],
 )
 def test_parse_threshold(text, severity):
-    assert report.parse_threshold(text) is severity
+    assert parse_threshold(text) is severity
 
 
 @pytest.mark.parametrize("text", ["safe", "all", "", "warning", None, 1])
 def test_parse_threshold_rejects_other_values(text):
     with pytest.raises(ValueError, match="invalid fail threshold .*expected one of any, risky, "
                                          "breaking"):
-        report.parse_threshold(text)
+        parse_threshold(text)
 
 
 @pytest.mark.parametrize(

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect import ros_env
 from pytest_rmw_introspect.errors import SetupError
+from pytest_rmw_introspect.run import ros_env
 
 PYVER = f"python{sys.version_info.major}.{sys.version_info.minor}"
 

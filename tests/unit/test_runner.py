@@ -15,7 +15,6 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect import runner
 from pytest_rmw_introspect.errors import (
     ExecutableNotFound,
     NoNodeCreated,
@@ -23,8 +22,9 @@ from pytest_rmw_introspect.errors import (
     TargetExited,
     TargetTimeout,
 )
-from pytest_rmw_introspect.ros_env import RosEnvironment
-from pytest_rmw_introspect.target import TargetSpec
+from pytest_rmw_introspect.run import runner
+from pytest_rmw_introspect.run.ros_env import RosEnvironment
+from pytest_rmw_introspect.run.target import TargetSpec
 
 CAPTURE = {
     "format": "rmw_introspect_capture",

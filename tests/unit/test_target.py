@@ -8,13 +8,13 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect import target
 from pytest_rmw_introspect.errors import (
     ExecutableNotFound,
     TargetConfigError,
     TargetError,
 )
-from pytest_rmw_introspect.target import (
+from pytest_rmw_introspect.run import target
+from pytest_rmw_introspect.run.target import (
     TargetSpec,
     build_argv,
     merge,

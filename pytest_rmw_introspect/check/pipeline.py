@@ -1,49 +1,79 @@
-"""Checking a contract: the one place that loads a contract, builds its target, captures it and
-compares. The ``interfaces`` marker, contract files collected as pytest items and the
-``rmw-introspect`` command line all go through here.
+"""The check pipeline: the one place that loads a contract, layers its target and options,
+captures the target and compares. The ``interfaces`` marker, contract files collected as pytest
+items and the ``rmw-introspect`` command line all go through here, and then let
+:func:`pytest_rmw_introspect.check.outcome.decide` say what the result means.
 
-Layers (docs/design.md section 2). Every layer is a ``(mapping, source)`` pair for comparison
-options and a ``(mapping, base_dir, source)`` triple for target options; within a list the
-later layer wins. ``weak`` layers sit below the contract (ini file, command line of pytest),
-``strong`` layers above it (marker keyword arguments, the target flags of ``rmw-introspect``)::
+Layers (docs/design.md, "Options and their precedence"). Comparison options are ``(mapping,
+source)`` pairs and target options ``(mapping, base_dir, source)`` triples; within a list the
+later layer wins. :class:`Layers` holds ``weak`` layers, below the contract (ini file, pytest's
+command line), and ``strong`` layers, above it (marker keyword arguments, the target flags of
+``rmw-introspect``)::
 
-    prepared = prepare("contracts/talker.yaml", strong_target=[({"script": "t.py"}, here, "cli")])
+    layers = Layers(strong_target=[({"script": "t.py"}, here, "command line")])
+    prepared = prepare("contracts/talker.yaml", layers=layers)
     result = run(prepared, library=lib, ros=ros)      # captures; raises a TargetError
-    result.failed, result.items, result.render_text(accept_command="...")
+    outcome.decide(result, update=False, accept_command="...")
 
-:func:`check` does both and never raises an :class:`~.errors.RmwIntrospectError`: it is put on
-``result.error``. :func:`diff_contracts` compares two contract files without running anything;
-:func:`check_system` runs the system check (``compat.check_system``) over contract files, and
-:func:`check_compatible` is its pytest helper.
+:func:`check` does both and never raises an :class:`~pytest_rmw_introspect.errors.RmwIntrospectError`:
+it is put on ``result.error``. :func:`diff_contracts` compares two contract files without running
+anything; :func:`check_system` runs the system check over contract files.
 """
 
 from __future__ import annotations
 
-import inspect
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeAlias
 
-from .errors import RmwIntrospectError, TargetConfigError
-from .options import ComparisonOptions, resolve
-from .target import TargetSpec
+from ..compare import drift, report, system
+from ..compare.drift import DriftItem
+from ..compare.options import ComparisonOptions, resolve
+from ..compare.system import CompatItem
+from ..errors import RmwIntrospectError, TargetConfigError
+from ..model import contract as contract_module
+from ..model.capture import Capture
+from ..model.contract import Contract
+from ..model.paths import shown as display
+from ..model.vocabulary import Severity, parse_threshold
+from ..run import runner
+from ..run.ros_env import RosEnvironment
+from ..run.target import TargetSpec, merge
+from . import golden
 
-OptionLayer = tuple[Mapping[str, Any] | None, str]
-TargetLayer = tuple[Mapping[str, Any] | None, "str | Path | None", str]
+OptionLayer: TypeAlias = tuple[Mapping[str, Any] | None, str]
+TargetLayer: TypeAlias = tuple[Mapping[str, Any] | None, "str | Path | None", str]
 
 
-def display(path: str | Path, base: str | Path | None = None) -> str:
-    """``path`` relative to ``base`` (default: the current directory) unless that climbs far."""
-    try:
-        rel = os.path.relpath(path, base if base is not None else os.getcwd())
-    except ValueError:
-        return str(path)
-    return str(path) if rel.startswith("../../..") else rel
+@dataclass(frozen=True)
+class Layers:
+    """Where target and comparison options come from around a contract, weakest first.
+
+    Precedence is decided here and nowhere else: comparison options are ``weak_options`` <
+    the contract's ``options:`` < ``strong_options``; target options ``weak_target`` < the
+    contract's ``target:`` (paths relative to the contract) < ``strong_target``.
+    """
+
+    weak_target: Sequence[TargetLayer] = ()
+    strong_target: Sequence[TargetLayer] = ()
+    weak_options: Sequence[OptionLayer] = ()
+    strong_options: Sequence[OptionLayer] = ()
+
+    def target(self, contract: Contract | None = None, *, path: Path | None = None, shown: str = "") -> TargetSpec:
+        """The target: the layers around the contract's ``target:`` block (raises TargetConfigError)."""
+        around: list[TargetLayer] = []
+        if contract is not None and contract.target and path is not None:
+            around.append((contract.target, path.absolute().parent, f"{shown}: target"))
+        return merge(*self.weak_target, *around, *self.strong_target)
+
+    def options(self, contract: Contract | None = None, *, shown: str = "") -> ComparisonOptions:
+        """The comparison options: the layers around the contract's ``options:`` block (raises OptionError)."""
+        return resolve(*self.weak_options, (contract.options if contract else None, f"{shown}: options"),
+                       *self.strong_options)
 
 
-def _default_no_target(contract: Any, shown: str) -> str:
+def _default_no_target(contract: Contract | None, shown: str) -> str:
     if contract is None:
         return f"The contract {shown} does not exist and no target is given, so there is nothing to capture."
     return (
@@ -61,7 +91,7 @@ class Prepared:
 
     path: Path
     shown: str
-    contract: Any  # contract.Contract | None when the file does not exist (allow_missing)
+    contract: Contract | None  # None when the file does not exist (allow_missing)
     spec: TargetSpec
     options: ComparisonOptions
 
@@ -69,13 +99,10 @@ class Prepared:
 def prepare(
     contract_path: str | Path,
     *,
-    weak_target: Sequence[TargetLayer] = (),
-    strong_target: Sequence[TargetLayer] = (),
-    weak_options: Sequence[OptionLayer] = (),
-    strong_options: Sequence[OptionLayer] = (),
+    layers: Layers = Layers(),
     shown: str | None = None,
     allow_missing: bool = False,
-    no_target: Callable[[Any, str], str] = _default_no_target,
+    no_target: Callable[[Contract | None, str], str] = _default_no_target,
 ) -> Prepared:
     """Load the contract and resolve its options and target (raises an RmwIntrospectError).
 
@@ -83,25 +110,13 @@ def prepare(
     :class:`ContractError`. ``no_target(contract, shown)`` words the error raised when no layer
     names a target.
     """
-    from . import contract as contract_module
-
     path = Path(contract_path)
     shown = shown or display(path)
     contract = None
     if path.exists() or not allow_missing:
         contract = contract_module.load(path)
-    options = resolve(
-        *weak_options,
-        (contract.options if contract else None, f"{shown}: options"),
-        *strong_options,
-    )
-    spec = TargetSpec()
-    for values, base, source in weak_target:
-        spec = spec.merged(values, base_dir=base, source=source)
-    if contract is not None and contract.target:
-        spec = spec.merged(contract.target, base_dir=path.absolute().parent, source=f"{shown}: target")
-    for values, base, source in strong_target:
-        spec = spec.merged(values, base_dir=base, source=source)
+    options = layers.options(contract, shown=shown)
+    spec = layers.target(contract, path=path, shown=shown)
     if spec.kind is None:
         raise TargetConfigError(no_target(contract, shown))
     return Prepared(path=path, shown=shown, contract=contract, spec=spec, options=options)
@@ -112,7 +127,7 @@ def prepare(
 
 @dataclass
 class CheckResult:
-    """The outcome of checking one contract.
+    """What checking one contract found.
 
     ``items``: the drift (empty when it matches, or when there is no contract or no capture);
     ``error``: the RmwIntrospectError that stopped the check (``check`` only).
@@ -120,11 +135,11 @@ class CheckResult:
 
     path: Path
     shown: str
-    contract: Any = None
+    contract: Contract | None = None
     spec: TargetSpec | None = None
     options: ComparisonOptions = field(default_factory=ComparisonOptions)
-    capture: Any = None
-    items: list[Any] = field(default_factory=list)
+    capture: Capture | None = None
+    items: list[DriftItem] = field(default_factory=list)
     error: RmwIntrospectError | None = None
     compared: bool = False
 
@@ -134,7 +149,7 @@ class CheckResult:
         return self.contract is None and self.error is None
 
     @property
-    def threshold(self) -> Any:
+    def threshold(self) -> Severity:
         return self.options.threshold()
 
     @property
@@ -144,29 +159,24 @@ class CheckResult:
     @property
     def failed(self) -> bool:
         """An error, a missing contract, or drift at or above the fail threshold."""
-        from . import report
-
         return self.error is not None or self.missing or report.fails(self.items, self.threshold)
 
     def golden_nodes(self) -> dict[str, Any]:
         """The ``nodes`` to write when accepting the capture as the new contract."""
+        assert self.capture is not None, "no capture to accept"
         opts = self.options
         return self.capture.to_contract_nodes(with_type_hash=not opts.ignore_type_hash,
                                               with_qos=not opts.ignores_all_qos)
 
-    def update(self) -> str | None:
+    def update(self, *, new_header: str | None = None) -> str | None:
         """Write the golden (``golden.update``): ``created``, ``updated`` or None."""
-        from . import golden
-
-        return golden.update(self.path, self.golden_nodes())
+        return golden.update(self.path, self.golden_nodes(), new_header=new_header)
 
     def title(self) -> str:
         return f"Interface drift of {self.spec.describe()}" if self.spec is not None else "Interface drift"
 
     def render_text(self, accept_command: str | None = None) -> str:
         """The report for people (the same text as a failing test)."""
-        from . import report
-
         if self.error is not None:
             return str(self.error)
         text = report.render_text(self.items, contract_path=self.shown, threshold=self.threshold,
@@ -178,33 +188,27 @@ class CheckResult:
 
     def to_json(self) -> list[dict[str, Any]]:
         """``report.to_json`` of the drift, each item with the ``contract`` it belongs to."""
-        from . import report
-
         return [{"contract": self.shown, **item} for item in report.to_json(self.items)]
 
 
-def compare(prepared: Prepared, capture: Any) -> CheckResult:
+def compare(prepared: Prepared, capture: Capture) -> CheckResult:
     """Compare a capture with the prepared contract (no drift items when it does not exist)."""
-    from . import drift
-
     result = CheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
                          spec=prepared.spec, options=prepared.options, capture=capture)
     if prepared.contract is not None:
-        result.items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(),
-                                     prepared.options.compare_options())
+        result.items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)
         result.compared = True
     return result
 
 
-def run_capture(prepared: Prepared, *, library: str | Path | None = None, ros: Any = None) -> Any:
+def run_capture(prepared: Prepared, *, library: str | Path | None = None,
+                ros: RosEnvironment | None = None) -> Capture:
     """Capture the prepared target (raises a TargetError)."""
-    from . import runner
-
     return runner.run(prepared.spec, library=library, ros=ros,
                       include_infrastructure=prepared.options.include_infrastructure)
 
 
-def run(prepared: Prepared, *, library: str | Path | None = None, ros: Any = None) -> CheckResult:
+def run(prepared: Prepared, *, library: str | Path | None = None, ros: RosEnvironment | None = None) -> CheckResult:
     """Capture and compare (raises a TargetError when the target cannot be captured)."""
     return compare(prepared, run_capture(prepared, library=library, ros=ros))
 
@@ -212,9 +216,12 @@ def run(prepared: Prepared, *, library: str | Path | None = None, ros: Any = Non
 def check(
     contract_path: str | Path,
     *,
-    library: str | Path | None = None,
-    ros: Any = None,
-    **prepare_kwargs: Any,
+    library: str | Path | Callable[[], str | Path] | None = None,
+    ros: RosEnvironment | Callable[[], RosEnvironment] | None = None,
+    layers: Layers = Layers(),
+    shown: str | None = None,
+    allow_missing: bool = False,
+    no_target: Callable[[Contract | None, str], str] = _default_no_target,
 ) -> CheckResult:
     """:func:`prepare` + :func:`run`; an RmwIntrospectError ends up in ``result.error``.
 
@@ -222,10 +229,10 @@ def check(
     missing middleware is reported only for contracts that get as far as capturing.
     """
     path = Path(contract_path)
-    shown = prepare_kwargs.get("shown") or display(path)
+    shown = shown or display(path)
     prepared = None
     try:
-        prepared = prepare(path, **prepare_kwargs)
+        prepared = prepare(path, layers=layers, shown=shown, allow_missing=allow_missing, no_target=no_target)
         lib = library() if callable(library) else library
         env = ros() if callable(ros) else ros
         return run(prepared, library=lib, ros=env)
@@ -241,32 +248,28 @@ def check(
 
 @dataclass
 class DiffResult:
-    old: Any  # contract.Contract
-    new: Any
+    """Two contract files compared: ``old`` plays the contract, ``new`` the capture."""
+
+    old: Contract
+    new: Contract
     old_shown: str
     new_shown: str
     options: ComparisonOptions
-    items: list[Any]
+    items: list[DriftItem]
 
     @property
-    def threshold(self) -> Any:
+    def threshold(self) -> Severity:
         return self.options.threshold()
 
     @property
     def failed(self) -> bool:
-        from . import report
-
         return report.fails(self.items, self.threshold)
 
     def render_text(self) -> str:
-        from . import report
-
         return report.render_text(self.items, contract_path=self.old_shown, threshold=self.threshold,
                                   title=f"Interface drift of {self.new_shown}")
 
     def to_json(self) -> list[dict[str, Any]]:
-        from . import report
-
         return [{"contract": self.old_shown, **item} for item in report.to_json(self.items)]
 
 
@@ -282,9 +285,6 @@ def diff_contracts(
     top of the old contract's ``options:`` block. ``include_infrastructure`` has no effect
     (both files already list what they list). Raises :class:`ContractError`.
     """
-    from . import contract as contract_module
-    from . import drift
-
     old_shown, new_shown = display(old_path), display(new_path)
     old = contract_module.load(old_path)
     new = contract_module.load(new_path)
@@ -295,8 +295,8 @@ def diff_contracts(
             layers: Sequence[OptionLayer] = [(options, "diff_contracts()")]
         else:
             layers = options or ()
-        opts = resolve((old.options, f"{old_shown}: options"), *layers)
-    items = drift.compare(old.nodes, new.nodes, opts.compare_options())  # compare expands QoS
+        opts = Layers(strong_options=layers).options(old, shown=old_shown)
+    items = drift.compare(old.nodes, new.nodes, opts)  # compare expands QoS
     return DiffResult(old, new, old_shown, new_shown, opts, items)
 
 
@@ -305,25 +305,21 @@ def diff_contracts(
 
 @dataclass
 class SystemResult:
+    """Whether the nodes of several contracts fit together (:func:`check_system`)."""
+
     labels: list[str]
-    items: list[Any]
-    threshold: Any
+    items: list[CompatItem]
+    threshold: Severity
 
     @property
     def failed(self) -> bool:
-        from . import report
-
         return report.fails(self.items, self.threshold)
 
     def render_text(self) -> str:
-        from . import report
-
         return report.render_compat_text(self.items, threshold=self.threshold,
                                          title=f"System check of {len(self.labels)} contract(s)")
 
     def to_json(self) -> list[dict[str, Any]]:
-        from . import report
-
         return report.compat_to_json(self.items)
 
 
@@ -334,16 +330,12 @@ def check_system(
     strict_system_default: bool = False,
     base_dir: str | Path | None = None,
 ) -> SystemResult:
-    """Load the contracts and check that their nodes fit together (``compat.check_system``).
+    """Load the contracts and check that their nodes fit together (``compare.system``).
 
     Labels are the paths as shown (relative to the current directory). Relative paths are
     relative to ``base_dir`` (default: the current directory). Raises ContractError, or
     ValueError for a bad ``fail_on``.
     """
-    from . import compat
-    from . import contract as contract_module
-    from .report import parse_threshold
-
     threshold = parse_threshold(fail_on)
     systems: dict[str, Any] = {}
     for p in contract_paths:
@@ -356,44 +348,5 @@ def check_system(
         systems[label] = contract_module.load(path).nodes
     if not systems:
         raise ValueError("no contracts given to the system check")
-    items = compat.check_system(systems, strict_system_default=strict_system_default)
+    items = system.check_system(systems, strict_system_default=strict_system_default)
     return SystemResult(labels=list(systems), items=items, threshold=threshold)
-
-
-def check_compatible(
-    *contract_paths: str | Path,
-    fail_on: str = "breaking",
-    strict_system_default: bool = False,
-    base_dir: str | Path | None = None,
-) -> SystemResult:
-    """Fail the calling test unless the nodes of the given contracts fit together.
-
-    ::
-
-        def test_robot_system():
-            pytest_rmw_introspect.check_compatible(
-                "contracts/driver.interfaces.yaml", "contracts/planner.interfaces.yaml",
-                fail_on="risky")
-
-    Every subscription, service client and action client is matched with the publishers /
-    servers of the same name in all contracts (type, type hash, QoS compatibility; requesters
-    without a provider are RISKY). ``fail_on`` (``any``, ``risky``, ``breaking``; default
-    ``breaking``) is the least severe problem that fails; the failure message is the system
-    check report (``report.render_compat_text``). Relative paths are relative to ``base_dir``,
-    by default the directory of the calling test file (like the ``interfaces`` marker).
-    Returns the :class:`SystemResult` when the test does not fail, so it can assert more.
-    A contract that cannot be loaded fails the test with the loader's message.
-    """
-    import pytest
-
-    if base_dir is None:
-        caller = inspect.stack()[1].filename
-        base_dir = Path(caller).parent if caller and os.path.exists(caller) else None
-    try:
-        result = check_system(contract_paths, fail_on=fail_on,
-                              strict_system_default=strict_system_default, base_dir=base_dir)
-    except (RmwIntrospectError, ValueError) as exc:
-        pytest.fail(str(exc), pytrace=False)
-    if result.failed:
-        pytest.fail(result.render_text(), pytrace=False)
-    return result

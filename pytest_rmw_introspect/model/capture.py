@@ -20,7 +20,7 @@ servers, service clients, action servers, action clients), where
 
 This module is also callable: ``pytest_rmw_introspect.capture(script="talker.py")`` runs a
 target on the recording middleware and returns its :class:`Capture` (see
-:func:`pytest_rmw_introspect.runner.capture`).
+:func:`pytest_rmw_introspect.run.runner.capture`).
 """
 
 from __future__ import annotations
@@ -31,27 +31,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .errors import CaptureFormatError
+import yaml
+
+from ..errors import CaptureFormatError
+from . import qos as qos_module
+from .vocabulary import ACTION_HASHED_PARTS, ACTION_SERVICES, ACTION_TOPICS, KIND_TO_LIST, LISTS
 
 FORMAT = "rmw_introspect_capture"
 FORMAT_VERSIONS = (1,)
-
-LISTS = (
-    "publishers",
-    "subscriptions",
-    "service_servers",
-    "service_clients",
-    "action_servers",
-    "action_clients",
-)
-
-#: raw endpoint kind → contract list
-KIND_TO_LIST = {
-    "publisher": "publishers",
-    "subscription": "subscriptions",
-    "service": "service_servers",
-    "client": "service_clients",
-}
 
 PARAMETER_SERVICES = (
     "describe_parameters",
@@ -71,12 +58,8 @@ LIFECYCLE_SERVICES = (
 )
 LIFECYCLE_TOPICS = ("transition_event",)
 
-ACTION_SERVICES = ("send_goal", "cancel_goal", "get_result")
-ACTION_TOPICS = ("feedback", "status")
 SIM_CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
 
-#: the parts whose type depends on the action definition (their hashes go into the contract)
-ACTION_HASHED_PARTS = ("send_goal", "get_result", "feedback")
 
 
 # ---------------------------------------------------------------------- raw records
@@ -294,8 +277,6 @@ class Capture:
             data = json.loads(text)
         except json.JSONDecodeError as exc:
             if text.lstrip().startswith("format:"):
-                import yaml
-
                 try:
                     data = yaml.safe_load(text)
                 except yaml.YAMLError:
@@ -602,11 +583,11 @@ def _group_actions(eps: list[Endpoint], server: bool) -> tuple[list[Interface], 
                     break
         if action_type is None or not ({"send_goal", "get_result"} & set(found_parts)):
             continue
-        hashes = {
-            part: found_parts[part].type_hash
-            for part in ACTION_HASHED_PARTS
-            if part in found_parts and found_parts[part].type_hash
-        }
+        hashes: dict[str, str] = {}
+        for part in ACTION_HASHED_PARTS:
+            part_hash = found_parts[part].type_hash if part in found_parts else None
+            if part_hash:
+                hashes[part] = part_hash
         members = tuple(found_parts[p] for p in ACTION_SERVICES + ACTION_TOPICS if p in found_parts)
         used.update(id(m) for m in members)
         actions.append(Interface(name=base, type=action_type, type_hash=hashes or None, qos=None, endpoints=members))
@@ -615,8 +596,6 @@ def _group_actions(eps: list[Endpoint], server: bool) -> tuple[list[Interface], 
 
 
 def _contract_qos(raw: Mapping[str, Any]) -> dict[str, Any]:
-    from . import qos as qos_module
-
     return qos_module.from_capture(raw)
 
 

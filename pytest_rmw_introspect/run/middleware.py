@@ -22,11 +22,11 @@ from pathlib import Path
 
 from filelock import FileLock
 
+from ..errors import SetupError
 from . import ros_env
-from .errors import SetupError
 
 LIBRARY_FILE = "librmw_introspect_cpp.so"
-_PACKAGE_DIR = Path(__file__).resolve().parent
+_PACKAGE_DIR = Path(__file__).resolve().parent.parent  # the pytest_rmw_introspect package
 _BUILD_LOG_TAIL = 40
 
 
@@ -170,7 +170,7 @@ def resolve_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path |
 
 
 def main() -> int:
-    """``python -m pytest_rmw_introspect.middleware``: build if need be, print the library path."""
+    """``python -m pytest_rmw_introspect.run.middleware``: build if need be, print the library path."""
     try:
         found = resolve_library()
     except SetupError as exc:

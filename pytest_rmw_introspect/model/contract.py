@@ -33,7 +33,6 @@ from __future__ import annotations
 import functools
 import json
 import math
-import os
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from importlib import resources
@@ -42,32 +41,18 @@ from typing import Any
 
 import yaml
 
-from .capture_model import LISTS
-from .errors import ContractError
+from ..errors import ContractError
+from . import qos as qos_module
+from .vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS
 
 CONTRACT_VERSION = 1
-TOPIC_LISTS = ("publishers", "subscriptions")
-SERVICE_LISTS = ("service_servers", "service_clients")
-ACTION_LISTS = ("action_servers", "action_clients")
 ENTRY_KEYS = ("name", "type", "type_hash", "qos")
-ACTION_HASH_KEYS = ("send_goal", "get_result", "feedback")
-OPTION_KEYS = ("ignore_type_hash", "ignore_qos", "allow_extra", "include_infrastructure", "fail_on")
 
 DEFAULT_HEADER = (
     "# Interface contract checked by pytest-rmw-introspect.\n"
     "# Regenerate with `pytest --update-golden`; comments and keys above `nodes:` are kept.\n"
     f"contract_version: {CONTRACT_VERSION}\n"
 )
-
-_LIST_LABELS = {
-    "publishers": "publisher",
-    "subscriptions": "subscription",
-    "service_servers": "service server",
-    "service_clients": "service client",
-    "action_servers": "action server",
-    "action_clients": "action client",
-}
-
 
 @functools.lru_cache(maxsize=1)
 def schema() -> dict[str, Any]:
@@ -90,7 +75,6 @@ class Contract:
 
     def expanded_nodes(self) -> dict[str, dict[str, list[dict[str, Any]]]]:
         """``nodes`` with every topic QoS expanded to all fields (``qos.expand``)."""
-        from . import qos as qos_module
 
         out: dict[str, dict[str, list[dict[str, Any]]]] = {}
         for fqn, node in self.nodes.items():
@@ -192,6 +176,8 @@ def _check_duplicate_keys(node: yaml.Node, where: list[Any], path: Path | None) 
 
 
 def _schema_error(root: yaml.Node | None, data: Any, path: Path | None) -> ContractError | None:
+    # Imported here, not at the top: jsonschema costs ~80 ms, and `rmw-introspect --help` or a
+    # capture without a contract never needs it.
     import jsonschema
 
     validator = jsonschema.Draft7Validator(schema())
@@ -228,12 +214,12 @@ def _schema_reason(error: Any) -> str:
     if validator == "required":
         return error.message.replace("is a required property", "is required")
     if validator == "additionalProperties":
-        allowed = sorted((error.schema.get("properties") or {}).keys())
-        extra = sorted(set(instance) - set(allowed)) if isinstance(instance, Mapping) else []
-        if allowed:
+        allowed_keys = sorted((error.schema.get("properties") or {}).keys())
+        extra = sorted(set(instance) - set(allowed_keys)) if isinstance(instance, Mapping) else []
+        if allowed_keys:
             return (
                 f"unknown key{'s' if len(extra) > 1 else ''} {', '.join(map(repr, extra))}; "
-                f"allowed: {', '.join(allowed)}"
+                f"allowed: {', '.join(allowed_keys)}"
             )
     if validator == "type":
         expected = error.validator_value
@@ -287,7 +273,6 @@ def normalize_nodes(nodes: Mapping[str, Any]) -> dict[str, dict[str, list[dict[s
 
 
 def _check_semantics(root: yaml.Node | None, nodes: Mapping[str, Any], path: Path | None) -> None:
-    from . import qos as qos_module
 
     for fqn, node in nodes.items():
         for list_name in LISTS:
@@ -299,7 +284,7 @@ def _check_semantics(root: yaml.Node | None, nodes: Mapping[str, Any], path: Pat
                     raise ContractError(
                         path,
                         format_location(where + ["name"]),
-                        f"duplicate {_LIST_LABELS[list_name]} {name!r} in node {fqn} "
+                        f"duplicate {LABELS[list_name]} {name!r} in node {fqn} "
                         f"(also at {list_name}[{first_index[name]}]); each name may appear once per list",
                         line=_line(root, where + ["name"]),
                     )
@@ -335,7 +320,6 @@ def _scalar(value: Any) -> str:
 
 
 def _qos_text(value: Any) -> str:
-    from . import qos as qos_module
 
     if isinstance(value, str):
         return _scalar(value)
@@ -354,7 +338,7 @@ def _entry_lines(entry: Mapping[str, Any], indent: str) -> list[str]:
             lines.append(f"{lead}qos: {_qos_text(value)}")
         elif isinstance(value, Mapping):
             lines.append(f"{lead}{key}:")
-            sub = [k for k in ACTION_HASH_KEYS if k in value] + sorted(k for k in value if k not in ACTION_HASH_KEYS)
+            sub = [k for k in ACTION_HASHED_PARTS if k in value] + sorted(k for k in value if k not in ACTION_HASHED_PARTS)
             for k in sub:
                 lines.append(f"{indent}    {k}: {_scalar(value[k])}")
         else:
@@ -420,7 +404,8 @@ def split_text(text: str) -> tuple[str, str] | None:
 
 
 def update_text(old_text: str, nodes: Mapping[str, Any]) -> str:
-    """``old_text`` with only its ``nodes`` block replaced (see the module docstring)."""
+    """``old_text`` with only its ``nodes`` block replaced (see the module docstring). Files are
+    written by :mod:`pytest_rmw_introspect.check.golden`, the one writer."""
     parts = split_text(old_text) if old_text.strip() else None
     if parts is None:
         if old_text.strip() and "contract_version" in old_text and split_text(old_text + "\nnodes: {}\n"):
@@ -439,7 +424,6 @@ def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]
     expands to the captured QoS is kept as written; a ``type_hash`` or ``qos`` the contract
     leaves out (not compared) stays left out. New entries are taken as captured.
     """
-    from . import qos as qos_module
 
     old_nodes = normalize_nodes(old_nodes)
     out = normalize_nodes(new_nodes)
@@ -467,18 +451,3 @@ def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]
                             pass
                 node[list_name][i] = entry
     return out
-
-
-def write(path: str | Path, nodes: Mapping[str, Any]) -> bool:
-    """Write ``nodes`` to the contract at ``path`` (creating it, or updating only its ``nodes``
-    block). Returns True when the file's bytes changed."""
-    path = Path(path)
-    old = path.read_text(encoding="utf-8") if path.exists() else None
-    new = update_text(old, nodes) if old else render(nodes)
-    if old == new:
-        return False
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(new, encoding="utf-8")
-    tmp.replace(path)
-    return True

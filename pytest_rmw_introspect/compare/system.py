@@ -12,14 +12,17 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from . import qos
-from .drift import KIND_LABELS, Severity
+from ..model import qos
+from ..model.vocabulary import LABELS, PROVIDER_OF, Severity
 
-# requesting kind → providing kind, and the rule for a requester without any provider
+_WITHOUT_PROVIDER = {
+    "subscriptions": "SUBSCRIPTION_WITHOUT_PUBLISHER",
+    "service_clients": "CLIENT_WITHOUT_SERVER",
+    "action_clients": "ACTION_CLIENT_WITHOUT_SERVER",
+}
+# requesting list → providing list, and the rule for a requester without any provider
 _PAIRS: dict[str, tuple[str, str]] = {
-    "subscriptions": ("publishers", "SUBSCRIPTION_WITHOUT_PUBLISHER"),
-    "service_clients": ("service_servers", "CLIENT_WITHOUT_SERVER"),
-    "action_clients": ("action_servers", "ACTION_CLIENT_WITHOUT_SERVER"),
+    requester: (provider, _WITHOUT_PROVIDER[requester]) for requester, provider in PROVIDER_OF.items()
 }
 
 #: rule id → severity
@@ -41,7 +44,7 @@ class Endpoint:
     kind: str  # one of the six contract list names
 
     def __str__(self) -> str:
-        return f"{KIND_LABELS[self.kind]} of {self.node} ({self.label})"
+        return f"{LABELS[self.kind]} of {self.node} ({self.label})"
 
 
 @dataclass(frozen=True)

@@ -33,7 +33,12 @@ from typing import Any
 
 import pytest
 
-from .errors import RmwIntrospectError
+from ..check import pipeline
+from ..errors import RmwIntrospectError
+from ..model import contract as contract_module
+from ..model.contract import Contract
+from . import verdict
+from .session import state
 
 DEFAULT_PATTERNS = ("*.interfaces.yaml",)
 
@@ -65,8 +70,6 @@ class ContractFile(pytest.File):
     """A contract file: yields one :class:`ContractItem`."""
 
     def collect(self) -> Iterator[pytest.Item]:
-        from . import contract as contract_module
-
         try:
             loaded = contract_module.load(self.path)
         except RmwIntrospectError as exc:
@@ -74,6 +77,16 @@ class ContractFile(pytest.File):
             return
         name = ",".join(sorted(loaded.nodes)) or "no-nodes"
         yield ContractItem.from_parent(self, name=name, node_names=sorted(loaded.nodes))
+
+
+def _no_target(contract: Contract | None, shown: str) -> str:
+    return (
+        f"The contract {shown} has no `target:` block, so there is nothing to run. Contract files "
+        "collected as tests name their target themselves, e.g.\n"
+        "  target:\n    package: my_pkg\n    executable: my_node\n"
+        "(or command:, script:, module:), or check the contract from a test with "
+        "@pytest.mark.interfaces(..., package=..., executable=...)."
+    )
 
 
 class ContractItem(pytest.Item):
@@ -86,37 +99,19 @@ class ContractItem(pytest.Item):
         self.node_names = node_names or []
 
     def runtest(self) -> None:
-        from . import checking, plugin
-
         if self.load_error is not None:
             pytest.fail(str(self.load_error), pytrace=False)
-        state = plugin._state(self.config)
-        shown = plugin._display(self.path, self.config)
-
-        def no_target(contract: Any, shown: str) -> str:
-            return (
-                f"The contract {shown} has no `target:` block, so there is nothing to run. Contract files "
-                "collected as tests name their target themselves, e.g.\n"
-                "  target:\n    package: my_pkg\n    executable: my_node\n"
-                "(or command:, script:, module:), or check the contract from a test with "
-                "@pytest.mark.interfaces(..., package=..., executable=...)."
-            )
-
+        session_state = state(self.config)
         error: RmwIntrospectError | None = None
         try:
-            prepared = checking.prepare(
-                self.path,
-                weak_target=plugin._target_layers(state, self.config.rootpath),
-                weak_options=plugin._option_layers(state),
-                shown=shown,
-                no_target=no_target,
-            )
-            capture = checking.run_capture(prepared, library=state.library(), ros=state.ros())
+            prepared = pipeline.prepare(self.path, layers=session_state.layers(),
+                                        shown=session_state.display(self.path), no_target=_no_target)
+            capture = pipeline.run_capture(prepared, library=session_state.library(), ros=session_state.ros())
         except RmwIntrospectError as exc:
             error = exc
         if error is not None:  # failed outside the except block: no chained exception in the report
             pytest.fail(str(error), pytrace=False)
-        plugin._verdict(self, checking.compare(prepared, capture), state, plugin._accept_command(self))
+        verdict.apply(self, pipeline.compare(prepared, capture), session_state)
 
     def reportinfo(self) -> tuple[Path, int, str]:
         # a line number (0: the file itself) is needed by Node.warn for warnings below the threshold

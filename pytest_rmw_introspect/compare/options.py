@@ -28,10 +28,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import RmwIntrospectError
+from ..errors import RmwIntrospectError
+from ..model.qos import FIELDS as QOS_FIELDS
+from ..model.vocabulary import FAIL_ON, Severity, parse_threshold
 
 OPTION_KEYS = ("ignore_type_hash", "ignore_qos", "allow_extra", "include_infrastructure", "fail_on")
-FAIL_ON = ("any", "risky", "breaking")
 _TRUE = ("1", "true", "yes", "on", "all")
 _FALSE = ("0", "false", "no", "off", "")
 
@@ -42,23 +43,17 @@ class OptionError(RmwIntrospectError):
 
 @dataclass(frozen=True)
 class ComparisonOptions:
+    """How a capture (or a newer contract) is compared with a contract (the table above);
+    :func:`pytest_rmw_introspect.compare.drift.compare` takes it as it is."""
+
     ignore_type_hash: bool = False
-    ignore_qos: frozenset[str] | bool = frozenset()
-    allow_extra: bool = False
+    ignore_qos: frozenset[str] | bool = frozenset()  # True: every QoS field
+    allow_extra: bool = False  # the contract is a minimum: additions are not drift
     include_infrastructure: bool = False
     fail_on: str = "any"
 
-    def compare_options(self) -> Any:
-        """The ``drift.CompareOptions`` for these options."""
-        from .drift import CompareOptions
-
-        return CompareOptions(
-            ignore_type_hash=self.ignore_type_hash, ignore_qos=self.ignore_qos, allow_extra=self.allow_extra
-        )
-
-    def threshold(self) -> Any:
-        from .report import parse_threshold
-
+    def threshold(self) -> Severity:
+        """The least severity that fails (``fail_on``)."""
         return parse_threshold(self.fail_on)
 
     @property
@@ -75,8 +70,6 @@ def _bool(value: Any, key: str, source: str) -> bool:
 
 
 def _ignore_qos(value: Any, source: str) -> frozenset[str] | bool:
-    from .qos import FIELDS
-
     if isinstance(value, bool):
         return True if value else frozenset()
     if isinstance(value, str):
@@ -88,11 +81,11 @@ def _ignore_qos(value: Any, source: str) -> frozenset[str] | bool:
         value = [v.strip() for v in value.replace(" ", ",").split(",") if v.strip()]
     if isinstance(value, (list, tuple, set, frozenset)):
         fields = frozenset(str(v) for v in value)
-        unknown = sorted(fields - set(FIELDS))
+        unknown = sorted(fields - set(QOS_FIELDS))
         if unknown:
             raise OptionError(
                 f"{source}: `ignore_qos` names unknown QoS field(s) {', '.join(unknown)}; "
-                f"known: {', '.join(FIELDS)} (or true for all)"
+                f"known: {', '.join(QOS_FIELDS)} (or true for all)"
             )
         return fields
     raise OptionError(f"{source}: `ignore_qos` must be true/false or a list of QoS fields, got {value!r}")

@@ -17,11 +17,12 @@ from __future__ import annotations
 import functools
 import os
 import sys
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
 
-from .errors import SetupError
+from ..errors import SetupError
 
 WHEELS = "wheels"
 SYSTEM = "system"
@@ -122,13 +123,14 @@ def detect() -> RosEnvironment:
     return found
 
 
-def activation_env(library: Path, ros: RosEnvironment, base: dict[str, str] | None = None) -> dict[str, str]:
+def activation_env(library: Path, ros: RosEnvironment, base: Mapping[str, str] | None = None) -> dict[str, str]:
     """Environment variables that make a process of ``ros`` run on the middleware ``library``.
 
     ``base`` is the environment the process would otherwise get (default: ``os.environ``);
     only the returned variables need to be set on top of it.
     """
-    base = os.environ if base is None else base
+    if base is None:
+        base = os.environ
     library = Path(library).resolve()
     env: dict[str, str] = {}
     library_dirs = ros.library_path(base.get("LD_LIBRARY_PATH"))

@@ -5,26 +5,10 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
-from . import qos
-from .compat import CompatItem
-from .drift import KIND_LABELS, DriftItem, Severity
-
-#: fail_on spellings (contract options, CLI) → the lowest severity that fails
-THRESHOLDS: dict[str, Severity] = {
-    "any": Severity.SAFE,
-    "risky": Severity.RISKY,
-    "breaking": Severity.BREAKING,
-}
-_THRESHOLD_WORDS = {severity: word for word, severity in THRESHOLDS.items()}
-
-
-def parse_threshold(text: str) -> Severity:
-    """'any' | 'risky' | 'breaking' (any case) → Severity; ValueError otherwise."""
-    if isinstance(text, str) and text.strip().lower() in THRESHOLDS:
-        return THRESHOLDS[text.strip().lower()]
-    raise ValueError(
-        f"invalid fail threshold {text!r}: expected one of {', '.join(THRESHOLDS)}"
-    )
+from ..model import qos
+from ..model.vocabulary import LABELS, THRESHOLD_WORDS, Severity
+from .drift import DriftItem
+from .system import CompatItem
 
 
 def fails(items: Iterable[DriftItem | CompatItem], threshold: Severity) -> bool:
@@ -47,12 +31,12 @@ def _plural(count: int, word: str) -> str:
 def _section_header(severity: Severity, count: int, threshold: Severity) -> str:
     header = f"{severity.name} ({count})"
     if severity < threshold:
-        header += f" - below the fail threshold ({_THRESHOLD_WORDS[threshold]}), not failing"
+        header += f" - below the fail threshold ({THRESHOLD_WORDS[threshold]}), not failing"
     return header
 
 
 def _verdict(items: Sequence, threshold: Severity) -> str:
-    word = _THRESHOLD_WORDS[threshold]
+    word = THRESHOLD_WORDS[threshold]
     return f"Result: {'FAIL' if fails(items, threshold) else 'pass'} (fail on: {word})"
 
 
@@ -115,7 +99,7 @@ def render_text(
             interface = (item.kind, item.name)
             if item.kind != "node" and interface != current_interface:
                 current_interface = interface
-                lines.append(f"    {KIND_LABELS.get(item.kind, item.kind)} {item.name}")
+                lines.append(f"    {LABELS.get(item.kind, item.kind)} {item.name}")
             indent = "    " if item.kind == "node" else "      "
             lines.append(f"{indent}{_drift_line(item)}")
     if accept_command:

@@ -37,14 +37,15 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from .capture_model import Capture
-from .errors import (
+from ..errors import (
     CaptureFormatError,
     ExecutableNotFound,
     NoNodeCreated,
     TargetExited,
     TargetTimeout,
 )
+from ..model.capture import Capture
+from . import middleware, ros_env
 from .target import TargetSpec, build_argv
 
 #: seconds granted after SIGINT and after SIGTERM before the next, harder signal
@@ -115,8 +116,6 @@ def environment(
     base: Mapping[str, str] | None = None,
 ) -> dict[str, str]:
     """The complete environment of the target process."""
-    from . import ros_env
-
     env = dict(os.environ if base is None else base)
     env.update(ros_env.activation_env(library, ros, base=env))
     env.update(spec.env)
@@ -145,8 +144,6 @@ def run(
     ROS environment (default: ``ros_env.detect()``); ``keep_files``: keep the temporary
     capture and stderr files (default: the ``RMW_INTROSPECT_KEEP_FILES`` variable).
     """
-    from . import middleware, ros_env
-
     spec.validate()
     ros = ros or ros_env.detect()
     if library is None:
@@ -242,7 +239,7 @@ def capture(
 ) -> Capture:
     """Capture the interfaces of a target: the library function behind ``pytest_rmw_introspect.capture``.
 
-    Give the target as keyword arguments (the keys of :mod:`pytest_rmw_introspect.target`:
+    Give the target as keyword arguments (the keys of :mod:`pytest_rmw_introspect.run.target`:
     ``package``/``executable``, ``command``, ``script``, ``module``, ``arguments``,
     ``namespace``, ``node_name``, ``remappings``, ``parameters``, ``params_file``, ``env``,
     ``cwd``, ``settle``, ``timeout``), as a mapping, or as a :class:`TargetSpec`; keyword

@@ -8,27 +8,23 @@ The rule table, with the reasoning behind each severity, is docs/drift-rules.md.
 
 from __future__ import annotations
 
-import enum
 import json
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from deepdiff import DeepDiff
+from ..model import qos
+from ..model.vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS, TOPIC_LISTS, Severity
+from .options import ComparisonOptions
 
-from . import qos
-
-
-class Severity(enum.IntEnum):
-    SAFE = 0
-    RISKY = 1
-    BREAKING = 2
+if TYPE_CHECKING:
+    from deepdiff import DeepDiff
 
 
 @dataclass(frozen=True)
 class DriftItem:
     node: str  # fully qualified node name
-    kind: str  # one of KINDS, or "node"
+    kind: str  # one of LISTS, or "node"
     name: str  # interface name (node fqn for kind == "node")
     change: str  # "added" | "removed" | "type" | "type_hash" | "qos.<field>"
     old: Any  # contract side (None for added)
@@ -36,44 +32,6 @@ class DriftItem:
     rule: str  # stable rule id, see RULES
     severity: Severity
     message: str  # one line for people
-
-
-@dataclass(frozen=True)
-class CompareOptions:
-    ignore_type_hash: bool = False
-    ignore_qos: frozenset[str] | bool = frozenset()  # True: every QoS field
-    allow_extra: bool = False  # the contract is a minimum: additions are not drift
-
-
-KINDS: tuple[str, ...] = (
-    "publishers",
-    "subscriptions",
-    "service_servers",
-    "service_clients",
-    "action_servers",
-    "action_clients",
-)
-TOPIC_KINDS = frozenset({"publishers", "subscriptions"})
-#: Kinds whose peers depend on them (they offer something). The others request.
-OFFERING_KINDS = frozenset({"publishers", "service_servers", "action_servers"})
-
-#: Singular words for people, per kind.
-KIND_LABELS: dict[str, str] = {
-    "node": "node",
-    "publishers": "publisher",
-    "subscriptions": "subscription",
-    "service_servers": "service server",
-    "service_clients": "service client",
-    "action_servers": "action server",
-    "action_clients": "action client",
-}
-
-#: Which part of an action each type_hash key stands for.
-ACTION_HASH_PARTS: dict[str, str] = {
-    "send_goal": "goal",
-    "get_result": "result",
-    "feedback": "feedback",
-}
 
 
 @dataclass(frozen=True)
@@ -166,7 +124,7 @@ RULES: dict[str, Rule] = _rules(
 def compare(
     expected_nodes: Mapping | None,
     actual_nodes: Mapping | None,
-    options: CompareOptions = CompareOptions(),
+    options: ComparisonOptions | None = None,
 ) -> list[DriftItem]:
     """Classified differences between the contract's nodes and the captured nodes.
 
@@ -175,6 +133,11 @@ def compare(
     interface (e.g. no ``type_hash`` in a hand-written contract) is not compared.
     Items come most severe first, then by node, kind, name and change.
     """
+    # Imported here, not at the top: deepdiff costs ~0.1-0.2 s and only comparing needs it (the
+    # package, and so every `rmw-introspect` command, imports this module).
+    from deepdiff import DeepDiff
+
+    options = options or ComparisonOptions()
     ignored_qos = _ignored_qos_fields(options.ignore_qos)
     expected = _index(expected_nodes)
     actual = _index(actual_nodes)
@@ -232,17 +195,17 @@ def _index(nodes: Mapping | None) -> _Index:
     for node_name, node in (nodes or {}).items():
         node = node or {}
         index[node_name] = {
-            kind: _keyed_interfaces(node_name, kind, node.get(kind) or []) for kind in KINDS
+            kind: _keyed_interfaces(node_name, kind, node.get(kind) or []) for kind in LISTS
         }
     return index
 
 
 def _keyed_interfaces(node: str, kind: str, entries: Iterable[Mapping]) -> dict[str, _Interface]:
-    by_name: dict[str, list[_Interface]] = {}
+    by_name: dict[str | None, list[_Interface]] = {}
     for entry in entries:
         name = entry.get("name")
         by_name.setdefault(name, []).append(_Interface(entry, _compared(node, kind, entry)))
-    keyed: dict[str, _Interface] = {}
+    keyed: dict[Any, _Interface] = {}  # a nameless entry (a hand-written contract) is keyed None
     for name, interfaces in by_name.items():
         # The same name twice in one list (e.g. two publishers on one topic) stays visible:
         # "/chatter", "/chatter [2]", ... in a deterministic order.
@@ -257,11 +220,11 @@ def _compared(node: str, kind: str, entry: Mapping) -> dict[str, Any]:
     for key in ("type", "type_hash"):
         if entry.get(key) is not None:
             compared[key] = entry[key]
-    if kind in TOPIC_KINDS and entry.get("qos") is not None:
+    if kind in TOPIC_LISTS and entry.get("qos") is not None:
         try:
             compared["qos"] = qos.expand(entry["qos"])
         except ValueError as error:
-            raise ValueError(f"{node} {KIND_LABELS[kind]} {entry.get('name')}: {error}") from None
+            raise ValueError(f"{node} {LABELS[kind]} {entry.get('name')}: {error}") from None
     return compared
 
 
@@ -326,9 +289,9 @@ def _translate(diff: DeepDiff, expected: _Index, actual: _Index) -> list[DriftIt
 def _node_presence_items(node: str, expected: _Index, actual: _Index) -> list[DriftItem]:
     """A node added or removed, followed by each of its interfaces."""
     change, side = ("added", actual) if node in actual else ("removed", expected)
-    node_entry = {kind: [i.original for i in side[node][kind].values()] for kind in KINDS}
+    node_entry = {kind: [i.original for i in side[node][kind].values()] for kind in LISTS}
     items = [_presence_item(node, "node", node, change, node_entry)]
-    for kind in KINDS:
+    for kind in LISTS:
         for key, interface in side[node][kind].items():
             items.append(_presence_item(node, kind, key, change, interface.original))
     return items
@@ -400,11 +363,11 @@ def _type_hash_message(type_name: str | None, old: Any, new: Any) -> str:
     if isinstance(old, Mapping) and isinstance(new, Mapping):
         parts = sorted(
             (key for key in set(old) | set(new) if old.get(key) != new.get(key)),
-            key=lambda key: (list(ACTION_HASH_PARTS).index(key) if key in ACTION_HASH_PARTS
-                             else len(ACTION_HASH_PARTS), key),
+            key=lambda key: (list(ACTION_HASHED_PARTS).index(key) if key in ACTION_HASHED_PARTS
+                             else len(ACTION_HASHED_PARTS), key),
         )
         described = ", ".join(
-            f"{ACTION_HASH_PARTS[p]} ({p})" if p in ACTION_HASH_PARTS else p for p in parts
+            f"{ACTION_HASHED_PARTS[p]} ({p})" if p in ACTION_HASHED_PARTS else p for p in parts
         )
         return f"action definition of {type_name} changed: {described}"
     return f"message definition of {type_name} changed"
@@ -497,7 +460,7 @@ def _qos_item(node: str, kind: str, key: str, field_name: str, old: Any, new: An
 
 # --------------------------------------------------------------------------- ordering
 
-_KIND_ORDER = {kind: index for index, kind in enumerate(("node", *KINDS))}
+_KIND_ORDER = {kind: index for index, kind in enumerate(("node", *LISTS))}
 _CHANGE_ORDER = {
     change: index
     for index, change in enumerate(

@@ -38,6 +38,7 @@ from __future__ import annotations
 import math
 import os
 import shlex
+import shutil
 import sys
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
@@ -46,7 +47,7 @@ from typing import Any
 
 import yaml
 
-from .errors import ExecutableNotFound, TargetConfigError
+from ..errors import ExecutableNotFound, TargetConfigError
 
 DEFAULT_TIMEOUT = 20.0
 DEFAULT_SETTLE = 0.1
@@ -480,8 +481,6 @@ def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | No
 
 
 def _which(program: str, spec: TargetSpec) -> str:
-    import shutil
-
     if "/" in program:
         if not os.path.isfile(program):
             raise ExecutableNotFound(

@@ -1,23 +1,15 @@
-"""The ``rmw-introspect`` command line: capture, check, diff, compat.
-
-Everything it does goes through the same code as the pytest plugin (``checking.py``), so a
-contract checks the same way from both, and the reports are the same text.
-"""
+"""The ``rmw-introspect`` command line: its parser, help texts and the options it reads."""
 
 from __future__ import annotations
 
 import argparse
-import json
-import os
-import shlex
-import sys
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
 import yaml
 
-from .errors import RmwIntrospectError, TargetError
+from .._version import __version__
+from ..model.vocabulary import FAIL_ON
 
 EXIT_OK, EXIT_DRIFT, EXIT_ERROR = 0, 1, 2
 
@@ -168,7 +160,7 @@ def _add_target(parser: argparse.ArgumentParser) -> None:
 
 def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True) -> None:
     g = parser.add_argument_group("comparison options (override the contract's options: block)")
-    g.add_argument("--fail-on", choices=("any", "risky", "breaking"),
+    g.add_argument("--fail-on", choices=FAIL_ON,
                    help="least severe drift that fails (exit 1); default: the contract's, else any")
     g.add_argument("--ignore-type-hash", action="store_true", default=None, help="do not compare type hashes")
     g.add_argument("--ignore-qos", metavar="FIELDS",
@@ -188,8 +180,6 @@ def _add_format(parser: argparse.ArgumentParser) -> None:
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="rmw-introspect", description=_DESCRIPTION,
                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    from . import __version__
-
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
@@ -232,7 +222,7 @@ def build_parser() -> argparse.ArgumentParser:
                          description="System check: do the nodes of these contracts fit together?",
                          epilog=_COMPAT_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     com.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML)")
-    com.add_argument("--fail-on", choices=("any", "risky", "breaking"), default="breaking",
+    com.add_argument("--fail-on", choices=FAIL_ON, default="breaking",
                      help="least severe problem that fails (exit 1); default breaking")
     com.add_argument("--strict-system-default", action="store_true",
                      help="also report policies left at SYSTEM_DEFAULT on both ends (what rmw would warn about)")
@@ -253,7 +243,7 @@ def _pairs(values: Sequence[str] | None, sep: str, what: str, example: str) -> l
     return out
 
 
-def _target_from_args(args: argparse.Namespace, command: list[str] | None) -> dict[str, Any]:
+def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dict[str, Any]:
     """The target options given on the command line (a TargetSpec mapping)."""
     target: dict[str, Any] = {}
     for key in ("package", "executable", "script", "module", "namespace", "node_name", "params_file", "cwd",
@@ -288,7 +278,7 @@ def _target_from_args(args: argparse.Namespace, command: list[str] | None) -> di
     return target
 
 
-def _compare_from_args(args: argparse.Namespace) -> dict[str, Any]:
+def compare_from_args(args: argparse.Namespace) -> dict[str, Any]:
     return {
         "fail_on": args.fail_on,
         "ignore_type_hash": args.ignore_type_hash,
@@ -296,321 +286,3 @@ def _compare_from_args(args: argparse.Namespace) -> dict[str, Any]:
         "allow_extra": args.allow_extra,
         "include_infrastructure": getattr(args, "include_infrastructure", None),
     }
-
-
-class _Setup:
-    """ROS environment and middleware library, found on first use (only when a target runs)."""
-
-    def __init__(self) -> None:
-        self._ros: Any = None
-        self._library: Any = None
-
-    def ros(self) -> Any:
-        if self._ros is None:
-            from . import ros_env
-
-            self._ros = ros_env.detect()
-        return self._ros
-
-    def library(self) -> Any:
-        if self._library is None:
-            from . import middleware
-
-            self._library = middleware.ensure_library(self.ros())
-        return self._library
-
-
-def _relative_to(path: Path, base: Path) -> str:
-    """``path`` relative to ``base``, or absolute when that would climb more than two levels."""
-    try:
-        rel = os.path.relpath(path, base)
-    except ValueError:
-        return str(path)
-    return str(path.absolute()) if rel == "../.." or rel.startswith("../../") else rel
-
-
-def target_block(spec: Any, base: Path) -> dict[str, Any]:
-    """A contract ``target:`` block for ``spec`` with paths relative to ``base``."""
-    block = spec.to_mapping()
-    for key in ("script", "params_file", "cwd"):
-        if key in block:
-            block[key] = _relative_to(Path(block[key]), base)
-    if "command" in block and "/" in block["command"][0]:
-        first = _relative_to(Path(block["command"][0]).absolute(), base)
-        block["command"][0] = first if "/" in first else "./" + first
-    return block
-
-
-def contract_text(nodes: Any, *, spec: Any, base: Path, include_infrastructure: bool = False,
-                  how: str = "rmw-introspect capture") -> str:
-    """A complete contract: header with a ``target:`` block (and options), then ``nodes``."""
-    from . import contract as contract_module
-
-    header = (
-        f"# Interface contract written by `{how}`.\n"
-        "# Check it with `rmw-introspect check` or pytest (pytest-rmw-introspect); comments and keys\n"
-        "# above `nodes:` are kept when it is updated.\n"
-        f"contract_version: {contract_module.CONTRACT_VERSION}\n"
-    )
-    block = target_block(spec, base)
-    header += yaml.safe_dump({"target": block}, sort_keys=False, default_flow_style=False, allow_unicode=True)
-    if include_infrastructure:
-        header += "options:\n  include_infrastructure: true\n"
-    return contract_module.render(nodes, header=header)
-
-
-def _nodl_qos(q: Any) -> dict[str, Any]:
-    allowed = ("history", "depth", "reliability", "durability", "deadline_ns", "lifespan_ns", "liveliness",
-               "liveliness_lease_duration_ns")
-    return {k: q[k] for k in allowed if k in q}
-
-
-def nodl_documents(cap: Any, *, raw: bool) -> str:
-    """One NoDL v2 document per node (a YAML stream)."""
-    from . import qos as qos_module
-    from .capture_model import KIND_TO_LIST, LISTS
-
-    docs = []
-    if raw:
-        per_node: dict[str, dict[str, list[dict[str, Any]]]] = {}
-        live = {n.id: n for n in cap.raw_nodes if n.alive}
-        for n in sorted(live.values(), key=lambda n: n.seq):
-            per_node.setdefault(n.fqn, {name: [] for name in LISTS})
-        for e in sorted(cap.raw_endpoints, key=lambda e: e.seq):
-            owner = live.get(e.node_id)
-            if owner is None or not e.alive:
-                continue
-            entry: dict[str, Any] = {"name": e.name, "type": e.type}
-            if e.kind in ("publisher", "subscription"):
-                entry["qos"] = _nodl_qos(qos_module.from_capture(e.qos))
-            per_node[owner.fqn][KIND_TO_LIST[e.kind]].append(entry)
-        items = sorted(per_node.items())
-    else:
-        items = []
-        for node in cap:
-            lists: dict[str, list[dict[str, Any]]] = {}
-            for list_name in LISTS:
-                lists[list_name] = []
-                for i in getattr(node, list_name):
-                    entry = {"name": i.name, "type": i.type}
-                    if i.qos is not None:
-                        entry["qos"] = _nodl_qos(i.qos)
-                    lists[list_name].append(entry)
-            items.append((node.fqn, lists))
-    for fqn, lists in items:
-        doc = {"nodl_version": 2}
-        doc.update({k: v for k, v in lists.items() if v})
-        docs.append(f"# node: {fqn}\n" + yaml.safe_dump(doc, sort_keys=False, default_flow_style=False))
-    return "---\n" + "---\n".join(docs)
-
-
-def _emit(text: str, output: str | None) -> None:
-    if not text.endswith("\n"):
-        text += "\n"
-    if output is None:
-        sys.stdout.write(text)
-        return
-    path = Path(output)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text, encoding="utf-8")
-    except OSError as exc:
-        raise UsageError(f"cannot write {output}: {exc.strerror or exc}") from None
-    print(f"wrote {output}", file=sys.stderr)
-
-
-# ---------------------------------------------------------------------------- commands
-
-
-def _capture_text(cap: Any, args: argparse.Namespace, spec: Any, cwd: Path, partial_reason: str | None = None) -> str:
-    """The capture in the format asked for; a partial yaml contract says so in its header."""
-    if args.format == "nodl":
-        return nodl_documents(cap, raw=args.raw)
-    if args.raw:
-        raw = dict(cap.raw)
-        return (json.dumps(raw, indent=2) if args.format == "json"
-                else yaml.safe_dump(raw, sort_keys=False, default_flow_style=False))
-    if args.format == "json":
-        return json.dumps(cap.to_contract_nodes(), indent=2)
-    base = Path(args.output).absolute().parent if args.output else cwd
-    text = contract_text(cap.to_contract_nodes(), spec=spec, base=base,
-                         include_infrastructure=bool(args.include_infrastructure))
-    if partial_reason is not None:
-        text = f"# PARTIAL capture (not a complete interface): {partial_reason}\n" + text
-    return text
-
-
-def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
-    from . import runner
-    from .target import TargetSpec
-
-    cwd = Path.cwd()
-    target = _target_from_args(args, command)
-    spec = TargetSpec.from_mapping(target, base_dir=cwd, source="command line")
-    if spec.kind is None:
-        raise UsageError("no target: give --package P --executable E, --script FILE, --module M or -- COMMAND ARGS...")
-    setup = _Setup()
-    include = bool(args.include_infrastructure or args.raw)
-    try:
-        cap = runner.run(spec, library=setup.library(), ros=setup.ros(), include_infrastructure=include)
-    except TargetError as exc:
-        partial = getattr(exc, "partial", None)
-        if not args.partial or partial is None:
-            raise
-        reason = str(exc).splitlines()[0]
-        _emit(_capture_text(partial, args, spec, cwd, partial_reason=reason), args.output)
-        raise
-    for note in cap.notes():
-        print(f"note: {note}", file=sys.stderr)
-    text = _capture_text(cap, args, spec, cwd)
-    _emit(text, args.output)
-    return EXIT_OK
-
-
-def _accept_command(args: argparse.Namespace, contract: str, command: list[str] | None) -> str:
-    """`rmw-introspect check --update [the target and comparison flags given] CONTRACT`."""
-    words = ["rmw-introspect", "check", "--update"]
-    for key in ("package", "executable", "script", "module", "namespace", "node_name", "params_file", "cwd",
-                "settle", "timeout", "horizon", "fail_on", "ignore_qos"):
-        value = getattr(args, key, None)
-        if value is not None:
-            words += [f"--{key.replace('_', '-')}", str(value)]
-    for key, flag in (("arguments", "--arg"), ("remap", "--remap"), ("param", "--param"), ("env", "--env")):
-        for value in getattr(args, key, None) or ():
-            words += [flag, value]
-    for key, flag in (("ignore_type_hash", "--ignore-type-hash"), ("allow_extra", "--allow-extra"),
-                      ("include_infrastructure", "--include-ros-infra")):
-        if getattr(args, key, None):
-            words.append(flag)
-    words.append(contract)
-    if command:
-        words += ["--", *command]
-    return shlex.join(words)
-
-
-def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
-    from . import checking, golden
-
-    if args.update:
-        refusal = golden.ci_refusal()
-        if refusal:
-            raise UsageError(refusal.replace("--update-golden", "--update").replace(
-                "run `pytest --update` on", "run `rmw-introspect check --update` on"))
-    cwd = Path.cwd()
-    target = _target_from_args(args, command)
-    strong_target = [(target, cwd, "command line")] if target else []
-    strong_options = [(_compare_from_args(args), "command line")]
-    setup = _Setup()
-
-    def no_target(contract: Any, shown: str) -> str:
-        if contract is None:
-            return (f"{shown} does not exist; to create it, name the target, e.g. "
-                    f"rmw-introspect check --update --script node.py {shlex.quote(shown)}")
-        return (f"{shown} has no `target:` block naming what to run; add one (package+executable, "
-                "command, script or module) or name the target on the command line "
-                "(--package P --executable E, --script FILE, --module M or -- COMMAND)")
-
-    status = EXIT_OK
-    all_items: list[dict[str, Any]] = []
-    for raw_path in args.contracts:
-        path = Path(raw_path)
-        shown = raw_path
-        result = checking.check(path, library=setup.library, ros=setup.ros, shown=shown,
-                                strong_target=strong_target, strong_options=strong_options,
-                                allow_missing=args.update, no_target=no_target)
-        if result.error is not None:
-            print(f"rmw-introspect: {result.error}", file=sys.stderr)
-            status = EXIT_ERROR
-            continue
-        accept = _accept_command(args, shown, command)
-        all_items += result.to_json()
-        if result.missing:  # only with --update
-            text = contract_text(result.golden_nodes(), spec=result.spec, base=path.absolute().parent,
-                                 include_infrastructure=result.options.include_infrastructure,
-                                 how="rmw-introspect check --update")
-            try:
-                path.parent.mkdir(parents=True, exist_ok=True)
-                path.write_text(text, encoding="utf-8")
-            except OSError as exc:
-                print(f"rmw-introspect: cannot write {shown}: {exc.strerror or exc}", file=sys.stderr)
-                status = EXIT_ERROR
-                continue
-            print(f"created {shown}", file=sys.stderr)
-            continue
-        if args.update and result.drifted:
-            action = result.update()
-            if args.format == "text":
-                sys.stdout.write(result.render_text())
-            print(f"{action or 'unchanged'} {shown}", file=sys.stderr)
-            continue
-        if args.format == "text":
-            if result.drifted:
-                sys.stdout.write(result.render_text(accept_command=accept))
-                sys.stdout.write("\n")
-            else:
-                nodes = ", ".join(sorted(result.contract.nodes)) or "no nodes"
-                print(f"{shown}: matches ({nodes})")
-        if result.failed and status == EXIT_OK:
-            status = EXIT_DRIFT
-    if args.format == "json":
-        print(json.dumps(all_items, indent=2, default=str))
-    return status
-
-
-def cmd_diff(args: argparse.Namespace) -> int:
-    from . import checking
-
-    result = checking.diff_contracts(args.old, args.new, [(_compare_from_args(args), "command line")])
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    else:
-        sys.stdout.write(result.render_text())
-    return EXIT_DRIFT if result.failed else EXIT_OK
-
-
-def cmd_compat(args: argparse.Namespace) -> int:
-    from . import checking
-
-    result = checking.check_system(args.contracts, fail_on=args.fail_on,
-                                   strict_system_default=args.strict_system_default)
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    else:
-        sys.stdout.write(result.render_text())
-    return EXIT_DRIFT if result.failed else EXIT_OK
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``rmw-introspect`` console script; returns the exit status."""
-    argv = list(sys.argv[1:] if argv is None else argv)
-    command: list[str] | None = None
-    if "--" in argv:
-        i = argv.index("--")
-        argv, command = argv[:i], argv[i + 1:]
-        if not command:
-            print("rmw-introspect: error: `--` must be followed by the command to run", file=sys.stderr)
-            return EXIT_ERROR
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if command is not None and args.command not in ("capture", "check"):
-        print(f"rmw-introspect: error: `-- COMMAND` is only for capture and check, not {args.command}",
-              file=sys.stderr)
-        return EXIT_ERROR
-    try:
-        if args.command == "capture":
-            return cmd_capture(args, command)
-        if args.command == "check":
-            return cmd_check(args, command)
-        if args.command == "diff":
-            return cmd_diff(args)
-        return cmd_compat(args)
-    except (RmwIntrospectError, UsageError, ValueError) as exc:
-        print(f"rmw-introspect: {exc}", file=sys.stderr)
-        return EXIT_ERROR
-    except KeyboardInterrupt:
-        print("rmw-introspect: interrupted", file=sys.stderr)
-        return 130
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

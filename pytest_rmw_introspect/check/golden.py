@@ -1,0 +1,182 @@
+"""Writing contracts: the one writer every front end uses, CI refusal, and what was written.
+
+* :func:`update` writes a contract's ``nodes`` (creating the file, or replacing only its
+  ``nodes:`` block so comments, ``target:`` and ``options:`` above it stay as they are);
+  :func:`write_text` writes any other file a front end produces (``rmw-introspect capture -o``).
+  Both write atomically (a temporary file in the same directory, then a rename) under a file
+  lock keyed by the absolute path, so tests sharing a golden under pytest-xdist write it once
+  (the second writer finds the bytes it would write already there) and a killed run never
+  leaves half a file.
+* :func:`new_contract_text` is a complete new contract with a header saying how it was written
+  and a ``target:`` block (paths relative to the contract's directory).
+* ``ci_refusal()``: with ``CI`` set (non-empty, not ``0``/``false``) goldens are never written;
+  front ends turn the message into their usage error.
+* Every written golden is recorded on the test's report (``user_properties``) as
+  ``(USER_PROPERTY, "<action>\\t<path>")``; reports travel from xdist workers to the
+  controller, where :class:`GoldenSession` collects them for the terminal summary.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import tempfile
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+from filelock import FileLock
+
+from ..errors import ContractError
+from ..model import contract as contract_module
+from ..model.paths import relative_or_absolute, shown
+from ..run.target import TargetSpec
+
+USER_PROPERTY = "rmw_introspect_golden_written"
+CREATED = "created"
+UPDATED = "updated"
+LOCK_TIMEOUT = 120.0
+
+
+def ci_refusal(environ: Mapping[str, str] | None = None) -> str | None:
+    """The reason why goldens must not be written here, or None."""
+    environ = os.environ if environ is None else environ
+    value = environ.get("CI", "")
+    if value.strip() and value.strip().lower() not in ("0", "false", "no", "off"):
+        return (
+            f"--update-golden refuses to write golden contracts in CI (the CI environment variable "
+            f"is set to {value!r}). Goldens are reviewed changes: run `pytest --update-golden` on "
+            "your machine and commit the updated files, or unset CI if this is not a CI run."
+        )
+    return None
+
+
+# ---------------------------------------------------------------------------- the writer
+
+
+def _lock_path(path: Path) -> Path:
+    key = hashlib.sha256(str(path.resolve()).encode()).hexdigest()[:24]
+    directory = Path(tempfile.gettempdir()) / "pytest-rmw-introspect-locks"
+    directory.mkdir(parents=True, exist_ok=True)
+    return directory / f"{key}.lock"
+
+
+def _write_locked(path: Path, new_text: Callable[[str | None], str], timeout: float) -> bool:
+    """Under the path's lock: compute the new text from the current one (None: no file) and
+    replace the file atomically when it differs. True when the file's bytes changed."""
+    with FileLock(str(_lock_path(path)), timeout=timeout):
+        old = path.read_text(encoding="utf-8") if path.exists() else None
+        text = new_text(old)
+        if old == text:
+            return False
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+        try:
+            tmp.write_text(text, encoding="utf-8")
+            tmp.replace(path)
+        finally:
+            tmp.unlink(missing_ok=True)
+        return True
+
+
+def write_text(path: str | Path, text: str, *, timeout: float = LOCK_TIMEOUT) -> bool:
+    """Write ``text`` to ``path`` atomically under its lock; True when the bytes changed.
+    Raises OSError when the file or its directory cannot be written."""
+    return _write_locked(Path(path), lambda _old: text, timeout)
+
+
+def update(path: str | Path, nodes: Mapping[str, Any], *, new_header: str | None = None,
+           timeout: float = LOCK_TIMEOUT) -> str | None:
+    """Write the golden at ``path`` with ``nodes``; return ``CREATED``, ``UPDATED`` or None
+    (nothing to change). A new file starts with ``new_header`` (default: the plain contract
+    header). Entries the golden spells differently but equivalently keep their spelling
+    (``contract.preserve_spelling``); a broken golden is replaced, keeping its header when it
+    can be found."""
+    path = Path(path)
+    existed = path.exists()
+
+    def new_text(old: str | None) -> str:
+        wanted = nodes
+        if old:
+            try:
+                current = contract_module.loads(old, path=path)
+                wanted = contract_module.preserve_spelling(current.nodes, nodes)
+            except ContractError:
+                pass
+            return contract_module.update_text(old, wanted)
+        if new_header is not None:
+            return contract_module.render(wanted, header=new_header)
+        return contract_module.render(wanted)
+
+    if not _write_locked(path, new_text, timeout):
+        return None
+    return UPDATED if existed else CREATED
+
+
+# ---------------------------------------------------------------------------- new contracts
+
+
+def target_block(spec: TargetSpec, base: Path) -> dict[str, Any]:
+    """A contract ``target:`` block for ``spec`` with paths relative to ``base``."""
+    block = spec.to_mapping()
+    for key in ("script", "params_file", "cwd"):
+        if key in block:
+            block[key] = relative_or_absolute(Path(block[key]), base)
+    if "command" in block and "/" in block["command"][0]:
+        first = relative_or_absolute(Path(block["command"][0]).absolute(), base)
+        block["command"][0] = first if "/" in first else "./" + first
+    return block
+
+
+def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure: bool = False,
+                        how: str = "rmw-introspect capture") -> str:
+    """The header of a new contract: how it was written, ``contract_version``, a ``target:``
+    block (paths relative to ``base``, the contract's directory) and options."""
+    header = (
+        f"# Interface contract written by `{how}`.\n"
+        "# Check it with `rmw-introspect check` or pytest (pytest-rmw-introspect); comments and keys\n"
+        "# above `nodes:` are kept when it is updated.\n"
+        f"contract_version: {contract_module.CONTRACT_VERSION}\n"
+    )
+    header += yaml.safe_dump({"target": target_block(spec, base)}, sort_keys=False, default_flow_style=False,
+                             allow_unicode=True)
+    if include_infrastructure:
+        header += "options:\n  include_infrastructure: true\n"
+    return header
+
+
+def new_contract_text(nodes: Mapping[str, Any], *, spec: TargetSpec, base: Path,
+                      include_infrastructure: bool = False, how: str = "rmw-introspect capture") -> str:
+    """A complete new contract: :func:`new_contract_header`, then ``nodes``."""
+    header = new_contract_header(spec=spec, base=base, include_infrastructure=include_infrastructure, how=how)
+    return contract_module.render(nodes, header=header)
+
+
+# ---------------------------------------------------------------------------- reporting
+
+
+def property_value(action: str, path: str | Path) -> str:
+    return f"{action}\t{Path(path).resolve()}"
+
+
+@dataclass
+class GoldenSession:
+    """What this session wrote (filled from test reports, so it works under xdist)."""
+
+    enabled: bool = False
+    written: dict[Path, str] = field(default_factory=dict)
+
+    def record_report(self, user_properties: Iterable[tuple[str, object]]) -> None:
+        for name, value in user_properties:
+            if name != USER_PROPERTY or not isinstance(value, str) or "\t" not in value:
+                continue
+            action, path = value.split("\t", 1)
+            p = Path(path)
+            # "created" wins over a later "updated" of the same file
+            if self.written.get(p) != CREATED:
+                self.written[p] = action
+
+    def summary_lines(self, base: Path | None = None) -> list[str]:
+        return [f"{self.written[p]:8} {shown(p, base) if base is not None else p}" for p in sorted(self.written)]

@@ -1,0 +1,74 @@
+"""What a check means: the one pure function from a :class:`~.pipeline.CheckResult` to an
+:class:`Outcome` (pass, warn, fail, write the golden, or an error), with the text and JSON of
+the report.
+
+Front ends only translate it into their world: the ``interfaces`` marker and contract-file
+items into a pytest outcome, ``rmw-introspect check`` into output and an exit status. Writing
+the golden (``Verdict.WRITE``) is the front end's job, through ``golden.update``.
+"""
+
+from __future__ import annotations
+
+import enum
+import textwrap
+from dataclasses import dataclass, field
+from typing import Any
+
+from .pipeline import CheckResult
+
+
+class Verdict(enum.Enum):
+    PASS = "pass"  # the capture matches the contract
+    WARN = "warn"  # drift, all of it below the fail threshold
+    FAIL = "fail"  # drift at or above the fail threshold, or the golden is missing
+    WRITE = "write"  # updating: the golden is missing or drifted and is to be written
+    ERROR = "error"  # the check could not run (no target, bad contract, target failed, ...)
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """``message``: the one text for people (the failure, the warning, the error, or
+    ``CONTRACT: matches (NODES)``); ``report``: the drift report (empty without drift);
+    ``json``: the drift items as JSON objects, each naming its contract."""
+
+    verdict: Verdict
+    message: str
+    report: str = ""
+    json: list[dict[str, Any]] = field(default_factory=list)
+
+    @property
+    def failed(self) -> bool:
+        return self.verdict in (Verdict.FAIL, Verdict.ERROR)
+
+
+def decide(result: CheckResult, *, update: bool, accept_command: str | None = None) -> Outcome:
+    """The outcome of ``result``; ``update``: goldens may be written (``--update-golden``,
+    ``check --update``); ``accept_command``: the command that accepts the drift, for messages."""
+    if result.error is not None:
+        return Outcome(Verdict.ERROR, str(result.error))
+    items = result.to_json()
+    if result.contract is None:
+        if update:
+            return Outcome(Verdict.WRITE, f"{result.shown}: to be created", json=items)
+        assert result.spec is not None and result.capture is not None
+        return Outcome(
+            Verdict.FAIL,
+            f"The golden contract {result.shown} does not exist. Create it from the current capture of "
+            f"{result.spec.describe()} with:\n  {accept_command}\n\nCaptured:\n"
+            + textwrap.indent(result.capture.summary(), "  "),
+            json=items,
+        )
+    if not result.items:
+        nodes = ", ".join(sorted(result.contract.nodes)) or "no nodes"
+        return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes})")
+    if update:
+        text = result.render_text()
+        return Outcome(Verdict.WRITE, text, report=text, json=items)
+    text = result.render_text(accept_command=accept_command)
+    if result.failed:
+        return Outcome(Verdict.FAIL, text, report=text, json=items)
+    warning = (
+        f"{len(result.items)} interface change(s) against {result.shown} below the fail threshold "
+        f"({result.options.fail_on}); accept them with {accept_command}"
+    )
+    return Outcome(Verdict.WARN, warning, report=text, json=items)

@@ -1,0 +1,52 @@
+"""The ``rmw-introspect`` command line: capture, check, diff, compat.
+
+``parser`` (arguments and help texts), ``commands`` (each command over the check pipeline),
+``formats`` (what ``capture`` prints). :func:`main` is the console script.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+
+from ..errors import RmwIntrospectError
+from .parser import EXIT_ERROR, UsageError, build_parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``rmw-introspect`` console script; returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command: list[str] | None = None
+    if "--" in argv:
+        i = argv.index("--")
+        argv, command = argv[:i], argv[i + 1:]
+        if not command:
+            print("rmw-introspect: error: `--` must be followed by the command to run", file=sys.stderr)
+            return EXIT_ERROR
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if command is not None and args.command not in ("capture", "check"):
+        print(f"rmw-introspect: error: `-- COMMAND` is only for capture and check, not {args.command}",
+              file=sys.stderr)
+        return EXIT_ERROR
+    # The commands pull in the whole pipeline (deepdiff, jsonschema, ...): imported only once
+    # the arguments are valid, so `--help` and usage errors answer in a fraction of the time.
+    from . import commands
+
+    try:
+        if args.command == "capture":
+            return commands.cmd_capture(args, command)
+        if args.command == "check":
+            return commands.cmd_check(args, command)
+        if args.command == "diff":
+            return commands.cmd_diff(args)
+        return commands.cmd_compat(args)
+    except (RmwIntrospectError, UsageError, ValueError) as exc:
+        print(f"rmw-introspect: {exc}", file=sys.stderr)
+        return EXIT_ERROR
+    except KeyboardInterrupt:
+        print("rmw-introspect: interrupted", file=sys.stderr)
+        return 130
+
+
+__all__ = ["main"]

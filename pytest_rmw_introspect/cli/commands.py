@@ -1,0 +1,171 @@
+"""The four commands of ``rmw-introspect``. Each goes through the same pipeline as the pytest
+plugin (``check.pipeline`` and ``check.outcome``), so a contract checks the same way from
+both and the reports are the same text; this module only turns outcomes into output and an
+exit status."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shlex
+import sys
+from pathlib import Path
+from typing import Any
+
+from ..check import golden, pipeline
+from ..check.outcome import Verdict, decide
+from ..errors import TargetError
+from ..model.contract import Contract
+from ..run import middleware, ros_env, runner
+from ..run.ros_env import RosEnvironment
+from ..run.target import TargetSpec
+from . import formats
+from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, UsageError, compare_from_args, target_from_args
+
+
+class Setup:
+    """ROS environment and middleware library, found on first use (only when a target runs)."""
+
+    def __init__(self) -> None:
+        self._ros: RosEnvironment | None = None
+        self._library: Path | None = None
+
+    def ros(self) -> RosEnvironment:
+        if self._ros is None:
+            self._ros = ros_env.detect()
+        return self._ros
+
+    def library(self) -> Path:
+        if self._library is None:
+            self._library = Path(middleware.ensure_library(self.ros()))
+        return self._library
+
+
+def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
+    cwd = Path.cwd()
+    target = target_from_args(args, command)
+    spec = TargetSpec.from_mapping(target, base_dir=cwd, source="command line")
+    if spec.kind is None:
+        raise UsageError("no target: give --package P --executable E, --script FILE, --module M or -- COMMAND ARGS...")
+    setup = Setup()
+    include = bool(args.include_infrastructure or args.raw)
+    try:
+        cap = runner.run(spec, library=setup.library(), ros=setup.ros(), include_infrastructure=include)
+    except TargetError as exc:
+        partial = getattr(exc, "partial", None)
+        if not args.partial or partial is None:
+            raise
+        reason = str(exc).splitlines()[0]
+        formats.emit(formats.capture_text(partial, args, spec, cwd, partial_reason=reason), args.output)
+        raise
+    for note in cap.notes():
+        print(f"note: {note}", file=sys.stderr)
+    formats.emit(formats.capture_text(cap, args, spec, cwd), args.output)
+    return EXIT_OK
+
+
+def accept_command(args: argparse.Namespace, contract: str, command: list[str] | None) -> str:
+    """`rmw-introspect check --update [the target and comparison flags given] CONTRACT`."""
+    words = ["rmw-introspect", "check", "--update"]
+    for key in ("package", "executable", "script", "module", "namespace", "node_name", "params_file", "cwd",
+                "settle", "timeout", "horizon", "fail_on", "ignore_qos"):
+        value = getattr(args, key, None)
+        if value is not None:
+            words += [f"--{key.replace('_', '-')}", str(value)]
+    for key, flag in (("arguments", "--arg"), ("remap", "--remap"), ("param", "--param"), ("env", "--env")):
+        for value in getattr(args, key, None) or ():
+            words += [flag, value]
+    for key, flag in (("ignore_type_hash", "--ignore-type-hash"), ("allow_extra", "--allow-extra"),
+                      ("include_infrastructure", "--include-ros-infra")):
+        if getattr(args, key, None):
+            words.append(flag)
+    words.append(contract)
+    if command:
+        words += ["--", *command]
+    return shlex.join(words)
+
+
+def _no_target(contract: Contract | None, shown: str) -> str:
+    if contract is None:
+        return (f"{shown} does not exist; to create it, name the target, e.g. "
+                f"rmw-introspect check --update --script node.py {shlex.quote(shown)}")
+    return (f"{shown} has no `target:` block naming what to run; add one (package+executable, "
+            "command, script or module) or name the target on the command line "
+            "(--package P --executable E, --script FILE, --module M or -- COMMAND)")
+
+
+def _write_golden(result: pipeline.CheckResult, path: Path, shown: str) -> str:
+    """Write the golden of ``result``; returns what to say on stderr (raises OSError)."""
+    if result.missing:
+        assert result.spec is not None
+        header = golden.new_contract_header(spec=result.spec, base=path.absolute().parent,
+                                            include_infrastructure=result.options.include_infrastructure,
+                                            how="rmw-introspect check --update")
+        result.update(new_header=header)
+        return f"created {shown}"
+    return f"{result.update() or 'unchanged'} {shown}"
+
+
+def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
+    if args.update:
+        refusal = golden.ci_refusal()
+        if refusal:
+            raise UsageError(refusal.replace("--update-golden", "--update").replace(
+                "run `pytest --update` on", "run `rmw-introspect check --update` on"))
+    cwd = Path.cwd()
+    target = target_from_args(args, command)
+    layers = pipeline.Layers(strong_target=[(target, cwd, "command line")] if target else [],
+                             strong_options=[(compare_from_args(args), "command line")])
+    setup = Setup()
+    status = EXIT_OK
+    all_items: list[dict[str, Any]] = []
+    for shown in args.contracts:
+        path = Path(shown)
+        result = pipeline.check(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,
+                                allow_missing=args.update, no_target=_no_target)
+        outcome = decide(result, update=args.update, accept_command=accept_command(args, shown, command))
+        all_items += outcome.json
+        if outcome.verdict is Verdict.ERROR:
+            print(f"rmw-introspect: {outcome.message}", file=sys.stderr)
+            status = EXIT_ERROR
+            continue
+        if outcome.verdict is Verdict.WRITE:
+            try:
+                said = _write_golden(result, path, shown)
+            except OSError as exc:
+                print(f"rmw-introspect: cannot write {shown}: {exc.strerror or exc}", file=sys.stderr)
+                status = EXIT_ERROR
+                continue
+            if args.format == "text" and outcome.report:
+                sys.stdout.write(outcome.report)
+            print(said, file=sys.stderr)
+            continue
+        if args.format == "text":
+            if outcome.report:
+                sys.stdout.write(outcome.report + "\n")
+            else:
+                print(outcome.message)
+        if outcome.failed and status == EXIT_OK:
+            status = EXIT_DRIFT
+    if args.format == "json":
+        print(json.dumps(all_items, indent=2, default=str))
+    return status
+
+
+def cmd_diff(args: argparse.Namespace) -> int:
+    result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])
+    if args.format == "json":
+        print(json.dumps(result.to_json(), indent=2, default=str))
+    else:
+        sys.stdout.write(result.render_text())
+    return EXIT_DRIFT if result.failed else EXIT_OK
+
+
+def cmd_compat(args: argparse.Namespace) -> int:
+    result = pipeline.check_system(args.contracts, fail_on=args.fail_on,
+                                   strict_system_default=args.strict_system_default)
+    if args.format == "json":
+        print(json.dumps(result.to_json(), indent=2, default=str))
+    else:
+        sys.stdout.write(result.render_text())
+    return EXIT_DRIFT if result.failed else EXIT_OK

@@ -1,0 +1,96 @@
+"""What ``rmw-introspect capture`` prints or writes: a contract, JSON, NoDL or the raw capture."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from ..check import golden
+from ..model import qos as qos_module
+from ..model.capture import Capture
+from ..model.vocabulary import KIND_TO_LIST, LISTS
+from ..run.target import TargetSpec
+from .parser import UsageError
+
+_NODL_QOS_FIELDS = ("history", "depth", "reliability", "durability", "deadline_ns", "lifespan_ns", "liveliness",
+                    "liveliness_lease_duration_ns")
+
+
+def _nodl_qos(q: Mapping[str, Any]) -> dict[str, Any]:
+    return {k: q[k] for k in _NODL_QOS_FIELDS if k in q}
+
+
+def nodl_documents(cap: Capture, *, raw: bool) -> str:
+    """One NoDL v2 document per node (a YAML stream)."""
+    docs = []
+    items: list[tuple[str, dict[str, list[dict[str, Any]]]]]
+    if raw:
+        per_node: dict[str, dict[str, list[dict[str, Any]]]] = {}
+        live = {n.id: n for n in cap.raw_nodes if n.alive}
+        for n in sorted(live.values(), key=lambda n: n.seq):
+            per_node.setdefault(n.fqn, {name: [] for name in LISTS})
+        for e in sorted(cap.raw_endpoints, key=lambda e: e.seq):
+            owner = live.get(e.node_id)
+            if owner is None or not e.alive:
+                continue
+            entry: dict[str, Any] = {"name": e.name, "type": e.type}
+            if e.kind in ("publisher", "subscription"):
+                entry["qos"] = _nodl_qos(qos_module.from_capture(e.qos))
+            per_node[owner.fqn][KIND_TO_LIST[e.kind]].append(entry)
+        items = sorted(per_node.items())
+    else:
+        items = []
+        for node in cap:
+            lists: dict[str, list[dict[str, Any]]] = {}
+            for list_name in LISTS:
+                lists[list_name] = []
+                for i in getattr(node, list_name):
+                    entry = {"name": i.name, "type": i.type}
+                    if i.qos is not None:
+                        entry["qos"] = _nodl_qos(i.qos)
+                    lists[list_name].append(entry)
+            items.append((node.fqn, lists))
+    for fqn, node_lists in items:
+        doc: dict[str, Any] = {"nodl_version": 2}
+        doc.update({k: v for k, v in node_lists.items() if v})
+        docs.append(f"# node: {fqn}\n" + yaml.safe_dump(doc, sort_keys=False, default_flow_style=False))
+    return "---\n" + "---\n".join(docs)
+
+
+def capture_text(cap: Capture, args: argparse.Namespace, spec: TargetSpec, cwd: Path,
+                 partial_reason: str | None = None) -> str:
+    """The capture in the format asked for; a partial yaml contract says so in its header."""
+    if args.format == "nodl":
+        return nodl_documents(cap, raw=args.raw)
+    if args.raw:
+        raw = dict(cap.raw)
+        return (json.dumps(raw, indent=2) if args.format == "json"
+                else yaml.safe_dump(raw, sort_keys=False, default_flow_style=False))
+    if args.format == "json":
+        return json.dumps(cap.to_contract_nodes(), indent=2)
+    base = Path(args.output).absolute().parent if args.output else cwd
+    text = golden.new_contract_text(cap.to_contract_nodes(), spec=spec, base=base,
+                                    include_infrastructure=bool(args.include_infrastructure))
+    if partial_reason is not None:
+        text = f"# PARTIAL capture (not a complete interface): {partial_reason}\n" + text
+    return text
+
+
+def emit(text: str, output: str | None) -> None:
+    """Print ``text``, or write it to ``output`` through the one writer (atomic, locked)."""
+    if not text.endswith("\n"):
+        text += "\n"
+    if output is None:
+        sys.stdout.write(text)
+        return
+    try:
+        golden.write_text(output, text)
+    except OSError as exc:
+        raise UsageError(f"cannot write {output}: {exc.strerror or exc}") from None
+    print(f"wrote {output}", file=sys.stderr)

@@ -1,0 +1,88 @@
+"""pytest entry point of pytest-rmw-introspect (``pytest11``): the hooks, and the fixtures
+they register. Everything else lives in the modules next to it:
+
+* ``session``: command-line and ini options, the session's option layers, goldens written;
+* ``marker``: the ``interfaces`` marker (contract, target and options of a test);
+* ``fixtures``: ``interfaces``, ``rmw_capture``, ``rmw_introspect_ros``, ``rmw_introspect_library``;
+* ``items``: contract files collected as test items;
+* ``verdict``: an outcome (``check.outcome``) as a pytest outcome;
+* ``assertions``: ``check_compatible``.
+
+Usage::
+
+    @pytest.mark.interfaces("contracts/talker.yaml", script="nodes/talker.py")
+    def test_talker(interfaces):
+        assert "/talker" in interfaces          # the test may assert more
+
+Problems the user can cause (no target, a malformed contract, a target that crashes,
+hangs or creates no node, ROS 2 or the middleware missing) fail the test with a message
+that says what to do; they are never internal errors.
+
+Precedence of comparison options: marker > contract ``options:`` > command line > ini.
+Precedence of target options: marker > contract ``target:`` > command line > ini
+(``timeout``/``settle``/``horizon`` only on the command line and in the ini file).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Generator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from ..errors import RmwIntrospectError
+from . import items, marker, session
+from .fixtures import interfaces, rmw_capture, rmw_introspect_library, rmw_introspect_marker_check, rmw_introspect_ros
+
+__all__ = [
+    "interfaces",
+    "rmw_capture",
+    "rmw_introspect_library",
+    "rmw_introspect_ros",
+    "rmw_introspect_marker_check",
+]
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    session.addoption(parser)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line("markers", marker.MARKER_DOC)
+    session_state = session.configure(config)
+    config.stash[session.SESSION] = session_state
+    config.pluginmanager.register(session.GoldenReporter(session_state), "rmw-introspect-golden-reporter")
+
+
+def pytest_report_header(config: pytest.Config) -> list[str] | None:
+    session_state = config.stash.get(session.SESSION, None)
+    if session_state is not None and session_state.update:
+        return ["rmw-introspect: --update-golden: drifted and missing golden contracts will be written"]
+    return None
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_call(item: pytest.Item) -> Generator[None, Any, Any]:
+    st = item.stash.get(marker.ITEM, None)
+    if st is not None and st.error is not None:
+        pytest.fail(str(st.error), pytrace=False)
+    try:
+        result = yield
+    except RmwIntrospectError as exc:
+        # raised in the test body (e.g. by rmw_capture): a failure with the message, no traceback
+        pytest.fail(str(exc), pytrace=False)
+    if st is not None and st.capture is not None:
+        marker.check(item, st, session.state(item.config))
+    return result
+
+
+def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> items.ContractFile | None:
+    """Contract files (``rmw_introspect_contracts``) are test items of their own (``items``)."""
+    if items.matches(file_path, parent.config, items.patterns(parent.config)):
+        return items.ContractFile.from_parent(parent, path=file_path)
+    return None
+
+
+def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter, exitstatus: int, config: pytest.Config) -> None:
+    session.terminal_summary(terminalreporter, config)

@@ -1,0 +1,117 @@
+"""The ``interfaces`` marker: which contract a test checks, with which target and options.
+
+The marker's first argument is the golden contract, relative to the test file; its keyword
+arguments are target options (``run.target.TARGET_KEYS``, above the contract's ``target:``)
+and comparison options (``compare.options.OPTION_KEYS``, above the contract's ``options:``).
+The target is captured when the test sets up (:func:`prepare`); after the test body, the
+capture is compared inside the call phase (:func:`check`).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from ..check import pipeline
+from ..check.pipeline import Prepared
+from ..compare.options import OPTION_KEYS, OptionError
+from ..errors import RmwIntrospectError
+from ..model.capture import Capture
+from ..model.contract import Contract
+from ..run.target import TARGET_KEYS
+from . import verdict
+from .session import SessionState
+
+MARKER = "interfaces"
+MARKER_DOC = (
+    f"{MARKER}(contract, **options): capture the test's target on the recording middleware and "
+    "compare it with the golden contract (path relative to the test file). Keyword arguments: "
+    f"target options ({', '.join(TARGET_KEYS)}) and comparison options ({', '.join(OPTION_KEYS)})."
+)
+
+
+@dataclass
+class ItemState:
+    """A marker test's prepared contract and capture, or the error that stopped them."""
+
+    prepared: Prepared | None = None
+    capture: Capture | None = None
+    error: RmwIntrospectError | None = None
+
+
+ITEM = pytest.StashKey[ItemState]()
+
+
+def source(item: pytest.Item) -> str:
+    return f"@pytest.mark.{MARKER} of {item.nodeid}"
+
+
+def parse(item: pytest.Item) -> tuple[Path, dict[str, Any], dict[str, Any]]:
+    """The marker's contract path, target options and comparison options (raises OptionError)."""
+    marker = item.get_closest_marker(MARKER)
+    assert marker is not None
+    kwargs = dict(marker.kwargs)
+    contract = kwargs.pop("contract", None)
+    args = list(marker.args)
+    where = source(item)
+    if args:
+        if len(args) > 1 or contract is not None:
+            given = args + ([contract] if contract else [])
+            raise OptionError(f"{where}: give one contract path (positional or contract=...), got {given}")
+        contract = args[0]
+    if not contract or not isinstance(contract, (str, os.PathLike)):
+        raise OptionError(
+            f"{where}: the first argument must be the path of the golden contract, e.g. "
+            f"@pytest.mark.{MARKER}(\"contracts/talker.yaml\", script=\"talker.py\")"
+        )
+    unknown = sorted(set(kwargs) - set(TARGET_KEYS) - set(OPTION_KEYS))
+    if unknown:
+        raise OptionError(
+            f"{where}: unknown keyword argument(s) {', '.join(unknown)}; target options: "
+            f"{', '.join(TARGET_KEYS)}; comparison options: {', '.join(OPTION_KEYS)}"
+        )
+    path = Path(os.path.expanduser(str(contract)))
+    if not path.is_absolute():
+        path = Path(item.path).parent / path
+    target = {k: v for k, v in kwargs.items() if k in TARGET_KEYS}
+    options = {k: v for k, v in kwargs.items() if k in OPTION_KEYS}
+    return path, target, options
+
+
+def prepare(item: pytest.Item, session_state: SessionState) -> ItemState:
+    """Load the marker's contract, layer its target and options, and capture the target."""
+    st = ItemState()
+    try:
+        path, target_kw, option_kw = parse(item)
+
+        def no_target(contract: Contract | None, shown: str) -> str:
+            if contract is None:
+                return (
+                    f"The golden contract {shown} does not exist and the @pytest.mark.{MARKER} marker "
+                    "names no target, so there is nothing to capture. Name the target in the marker, "
+                    f"e.g. @pytest.mark.{MARKER}(\"{path.name}\", package=\"my_pkg\", executable=\"my_node\"), "
+                    f"then create the contract with:\n  {verdict.accept_command(item, session_state)}"
+                )
+            return (
+                f"No target to run: neither the {MARKER} marker of {item.nodeid} nor the `target:` block "
+                f"of {shown} names one (package+executable, command, script or module)."
+            )
+
+        layers = session_state.layers(strong_target=[(target_kw, Path(item.path).parent, source(item))],
+                                      strong_options=[(option_kw, source(item))])
+        st.prepared = pipeline.prepare(path, layers=layers, shown=session_state.display(path),
+                                       allow_missing=True, no_target=no_target)
+        st.capture = pipeline.run_capture(st.prepared, library=session_state.library(), ros=session_state.ros())
+    except RmwIntrospectError as exc:
+        st.error = exc
+    return st
+
+
+def check(item: pytest.Item, st: ItemState, session_state: SessionState) -> None:
+    """Compare the test's capture with its contract and apply the outcome."""
+    assert st.prepared is not None and st.capture is not None
+    verdict.apply(item, pipeline.compare(st.prepared, st.capture), session_state)

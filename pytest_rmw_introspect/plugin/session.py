@@ -1,0 +1,238 @@
+"""The pytest session of pytest-rmw-introspect: its command-line and ini options, the state
+they give (comparison and target option layers, ``--update-golden``), the ROS environment and
+middleware library found once per session, and the summary of goldens written."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from ..check import golden as golden_module
+from ..check.pipeline import Layers, OptionLayer, TargetLayer
+from ..compare.options import OptionError, parse_layer
+from ..errors import SetupError, TargetConfigError
+from ..model.paths import shown
+from ..model.vocabulary import FAIL_ON
+from ..run import middleware, ros_env
+from ..run.ros_env import RosEnvironment
+from ..run.target import TargetSpec
+
+#: target options that have a command-line option and an ini value
+SESSION_TARGET_KEYS = ("timeout", "settle", "horizon")
+
+
+@dataclass
+class SessionState:
+    update: bool
+    cli_options: dict[str, Any]
+    ini_options: dict[str, Any]
+    cli_target: dict[str, Any]
+    ini_target: dict[str, Any]
+    golden: golden_module.GoldenSession
+    invocation_dir: Path
+    rootdir: Path
+    _ros: RosEnvironment | None = None
+    _library: Path | None = None
+    _setup_error: SetupError | None = None
+
+    def ros(self) -> RosEnvironment:
+        self._setup()
+        assert self._ros is not None
+        return self._ros
+
+    def library(self) -> Path:
+        self._setup()
+        assert self._library is not None
+        return self._library
+
+    def _setup(self) -> None:
+        if self._setup_error is not None:
+            raise self._setup_error
+        if self._library is not None:
+            return
+        try:
+            self._ros = ros_env.detect()
+            self._library = Path(middleware.ensure_library(self._ros))
+        except SetupError as exc:
+            self._setup_error = exc
+            raise
+
+    def target_layers(self) -> list[TargetLayer]:
+        """The target layers below a contract's ``target:`` block (ini file, then command line)."""
+        return [(self.ini_target, self.rootdir, "ini file"), (self.cli_target, self.rootdir, "command line")]
+
+    def option_layers(self) -> list[OptionLayer]:
+        """The comparison option layers below a contract's ``options:`` block."""
+        return [(self.ini_options, "ini file"), (self.cli_options, "command line")]
+
+    def layers(self, *, strong_target: list[TargetLayer] | None = None,
+               strong_options: list[OptionLayer] | None = None) -> Layers:
+        """This session's layers, with a test's own (marker, fixture arguments) on top."""
+        return Layers(weak_target=self.target_layers(), strong_target=strong_target or [],
+                      weak_options=self.option_layers(), strong_options=strong_options or [])
+
+    def display(self, path: Path) -> str:
+        """``path`` as shown in messages: relative to where pytest was started."""
+        return shown(path, self.invocation_dir)
+
+
+SESSION = pytest.StashKey[SessionState]()
+
+
+def state(config: pytest.Config) -> SessionState:
+    return config.stash[SESSION]
+
+
+def addoption(parser: pytest.Parser) -> None:
+    group = parser.getgroup("rmw-introspect", "interface contracts of ROS 2 nodes (pytest-rmw-introspect)")
+    group.addoption(
+        "--update-golden",
+        action="store_true",
+        default=False,
+        help="rewrite the golden contracts of the selected tests that drifted and create missing "
+        "ones (refused when the CI environment variable is set)",
+    )
+    group.addoption(
+        "--rmw-introspect-fail-on",
+        choices=FAIL_ON,
+        default=None,
+        help="least severe interface drift that fails a test (default: ini rmw_introspect_fail_on, any)",
+    )
+    group.addoption(
+        "--rmw-introspect-ignore-type-hash",
+        action="store_true",
+        default=None,
+        help="do not compare type hashes",
+    )
+    group.addoption(
+        "--rmw-introspect-ignore-qos",
+        default=None,
+        metavar="FIELDS",
+        help="QoS fields not to compare: comma-separated names (depth,history) or 'all'",
+    )
+    group.addoption(
+        "--rmw-introspect-allow-extra",
+        action="store_true",
+        default=None,
+        help="interfaces and nodes the contract does not list are not drift",
+    )
+    group.addoption(
+        "--rmw-introspect-include-infrastructure",
+        action="store_true",
+        default=None,
+        help="also compare /rosout, /parameter_events, parameter and lifecycle services",
+    )
+    group.addoption("--rmw-introspect-timeout", type=float, default=None, metavar="SECONDS",
+                    help="default time a target gets to settle (default 20)")
+    group.addoption("--rmw-introspect-settle", type=float, default=None, metavar="SECONDS",
+                    help="default settle time of targets (default 0.1)")
+    group.addoption("--rmw-introspect-horizon", type=float, default=None, metavar="SECONDS",
+                    help="default virtual-time horizon of targets: seconds of a node's life a capture "
+                    "observes, timers firing at once (default 10; 0 turns virtual time off)")
+
+    group.addoption(
+        "--rmw-introspect-contracts",
+        default=None,
+        metavar="GLOBS",
+        help="contract files collected as test items: glob patterns, comma-separated "
+        "(default: ini rmw_introspect_contracts, *.interfaces.yaml; 'none' turns it off)",
+    )
+    parser.addini("rmw_introspect_contracts", "glob patterns of contract files collected as test items "
+                  "('none' turns it off)", type="args", default=["*.interfaces.yaml"])
+    parser.addini("rmw_introspect_ignore_type_hash", "do not compare type hashes", type="bool", default=False)
+    parser.addini("rmw_introspect_ignore_qos", "QoS fields not to compare (list, or 'all')", type="args", default=[])
+    parser.addini("rmw_introspect_allow_extra", "interfaces the contract does not list are not drift",
+                  type="bool", default=False)
+    parser.addini("rmw_introspect_include_infrastructure", "compare infrastructure endpoints too",
+                  type="bool", default=False)
+    parser.addini("rmw_introspect_fail_on", "least severe drift that fails: " + " | ".join(FAIL_ON), default="any")
+    parser.addini("rmw_introspect_timeout", "default target timeout in seconds", default="")
+    parser.addini("rmw_introspect_settle", "default target settle time in seconds", default="")
+    parser.addini("rmw_introspect_horizon", "default target virtual-time horizon in seconds (0: off)", default="")
+
+
+def _ini_float(config: pytest.Config, name: str) -> float | None:
+    raw = str(config.getini(name) or "").strip()
+    if not raw:
+        return None
+    try:
+        return float(raw)
+    except ValueError:
+        raise pytest.UsageError(f"ini option {name} = {raw!r} is not a number of seconds") from None
+
+
+def configure(config: pytest.Config) -> SessionState:
+    """Read and validate this session's options (a bad value is a ``pytest.UsageError``)."""
+    update = bool(config.getoption("update_golden", False))
+    if update:
+        refusal = golden_module.ci_refusal()
+        if refusal:
+            raise pytest.UsageError(refusal)
+
+    ini_qos = config.getini("rmw_introspect_ignore_qos")
+    ini_raw = {
+        "ignore_type_hash": config.getini("rmw_introspect_ignore_type_hash"),
+        "ignore_qos": (ini_qos[0] if len(ini_qos) == 1 else list(ini_qos)) if ini_qos else None,
+        "allow_extra": config.getini("rmw_introspect_allow_extra"),
+        "include_infrastructure": config.getini("rmw_introspect_include_infrastructure"),
+        "fail_on": config.getini("rmw_introspect_fail_on") or None,
+    }
+    cli_raw = {
+        "ignore_type_hash": config.getoption("rmw_introspect_ignore_type_hash", None),
+        "ignore_qos": config.getoption("rmw_introspect_ignore_qos", None),
+        "allow_extra": config.getoption("rmw_introspect_allow_extra", None),
+        "include_infrastructure": config.getoption("rmw_introspect_include_infrastructure", None),
+        "fail_on": config.getoption("rmw_introspect_fail_on", None),
+    }
+    try:
+        ini_options = parse_layer(ini_raw, "ini file")
+        cli_options = parse_layer(cli_raw, "command line")
+    except OptionError as exc:
+        raise pytest.UsageError(str(exc)) from None
+
+    ini_target = {key: _ini_float(config, f"rmw_introspect_{key}") for key in SESSION_TARGET_KEYS}
+    cli_target = {key: config.getoption(f"rmw_introspect_{key}", None) for key in SESSION_TARGET_KEYS}
+    try:
+        TargetSpec.from_mapping(ini_target, source="ini file").merged(cli_target, source="command line")
+    except TargetConfigError as exc:
+        raise pytest.UsageError(str(exc)) from None
+
+    return SessionState(
+        update=update,
+        cli_options=cli_options,
+        ini_options=ini_options,
+        cli_target={k: v for k, v in cli_target.items() if v is not None},
+        ini_target={k: v for k, v in ini_target.items() if v is not None},
+        golden=golden_module.GoldenSession(enabled=update),
+        invocation_dir=Path(config.invocation_params.dir),
+        rootdir=Path(config.rootpath),
+    )
+
+
+class GoldenReporter:
+    """Collects the goldens written (from test reports, so also those of xdist workers) and
+    lists them in the terminal summary. Registered per session in ``pytest_configure``."""
+
+    def __init__(self, session_state: SessionState) -> None:
+        self.state = session_state
+
+    def pytest_runtest_logreport(self, report: pytest.TestReport) -> None:
+        if report.user_properties:
+            self.state.golden.record_report(report.user_properties)
+
+
+def terminal_summary(terminalreporter: pytest.TerminalReporter, config: pytest.Config) -> None:
+    session_state = config.stash.get(SESSION, None)
+    if session_state is None or not session_state.update:
+        return
+    lines = session_state.golden.summary_lines(session_state.invocation_dir)
+    terminalreporter.section("rmw-introspect: golden contracts")
+    if lines:
+        for line in lines:
+            terminalreporter.write_line(line)
+        terminalreporter.write_line(f"{len(lines)} golden contract(s) written")
+    else:
+        terminalreporter.write_line("no golden contract needed changes")

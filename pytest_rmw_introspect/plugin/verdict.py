@@ -1,0 +1,43 @@
+"""The pytest side of an outcome: a passing test, a written golden, a failure with the drift
+report, or a warning below the threshold. Shared by ``interfaces`` marker tests and
+contract-file items; the decision itself is ``check.outcome.decide``."""
+
+from __future__ import annotations
+
+import json
+import shlex
+from pathlib import Path
+
+import pytest
+
+from ..check import golden as golden_module
+from ..check.outcome import Verdict, decide
+from ..check.pipeline import CheckResult
+from .session import SessionState
+
+#: user property with the drift items as JSON (report.to_json + contract), for JUnit XML
+DRIFT_PROPERTY = "rmw_introspect_drift"
+
+
+def accept_command(item: pytest.Item, session_state: SessionState) -> str:
+    """``pytest --update-golden FILE::TEST``: the command that accepts this item's drift."""
+    file_part = session_state.display(Path(item.path))
+    suffix = item.nodeid.split("::", 1)[1] if "::" in item.nodeid else ""
+    node = file_part + (f"::{suffix}" if suffix else "")
+    return f"pytest --update-golden {shlex.quote(node)}"
+
+
+def apply(item: pytest.Item, result: CheckResult, session_state: SessionState) -> None:
+    """Turn a compared result into the test's outcome (raises ``pytest.fail`` on failure)."""
+    outcome = decide(result, update=session_state.update, accept_command=accept_command(item, session_state))
+    if outcome.json:
+        # the machine-readable drift on the report (JUnit writes it as a <property>)
+        item.user_properties.append((DRIFT_PROPERTY, json.dumps(outcome.json, sort_keys=True, default=str)))
+    if outcome.verdict is Verdict.WRITE:
+        action = result.update()
+        if action is not None:
+            item.user_properties.append((golden_module.USER_PROPERTY, golden_module.property_value(action, result.path)))
+    elif outcome.failed:
+        pytest.fail(outcome.message, pytrace=False)
+    elif outcome.verdict is Verdict.WARN:
+        item.warn(pytest.PytestWarning(outcome.message))

@@ -1,0 +1,208 @@
+"""The package's layers, read from its imports (docs/design.md, "Layers").
+
+Each module may import only from its own layer and the layers below it; no module imports
+another's private names; imports are at module level except the few that measurably cut
+start-up time; and the module-level imports form no cycle.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import pytest_rmw_introspect
+
+PACKAGE = Path(pytest_rmw_introspect.__file__).parent
+NAME = "pytest_rmw_introspect"
+
+#: layer → the layers (besides itself) it may import
+ALLOWED: dict[str, set[str]] = {
+    "errors": set(),
+    "_version": set(),
+    "model": {"errors"},
+    "compare": {"errors", "model"},
+    "run": {"errors", "model"},
+    "check": {"errors", "model", "compare", "run"},
+    "plugin": {"errors", "_version", "model", "compare", "run", "check"},
+    "cli": {"errors", "_version", "model", "compare", "run", "check"},
+    "__main__": {"cli"},
+    "__init__": {"errors", "_version", "model", "compare", "run", "check", "plugin"},
+}
+
+#: function-local imports that are there on purpose, each cutting start-up time:
+#: (module, imported module) → why
+LOCAL_IMPORTS = {
+    ("model.contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a contract needs it",
+    ("compare.drift", "deepdiff"): "deepdiff costs 0.1-0.2 s; only comparing needs it",
+    ("cli", "pytest_rmw_introspect.cli"): "`--help` and usage errors answer without the pipeline",
+}
+
+
+def _modules() -> dict[str, ast.Module]:
+    out = {}
+    for path in sorted(PACKAGE.rglob("*.py")):
+        if "rmw_introspect_cpp" in path.parts:
+            continue
+        rel = path.relative_to(PACKAGE).with_suffix("")
+        parts = list(rel.parts)
+        if parts[-1] == "__init__" and len(parts) > 1:
+            parts = parts[:-1]
+        out[".".join(parts)] = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    return out
+
+
+MODULES = _modules()
+
+
+def _is_package(module: str) -> bool:
+    return module == "__init__" or (PACKAGE / module.replace(".", "/") / "__init__.py").is_file()
+
+
+def _resolve(module: str, node: ast.ImportFrom) -> str:
+    """The absolute name a relative ``from`` import refers to."""
+    if node.level == 0:
+        return node.module or ""
+    here = [] if module == "__init__" else module.split(".")
+    base = here if _is_package(module) else here[:-1]
+    if node.level > 1:
+        base = base[: len(base) - (node.level - 1)]
+    return ".".join([NAME, *base, *([node.module] if node.module else [])])
+
+
+def _imports(module: str, tree: ast.Module) -> list[tuple[ast.AST, str, list[str], bool]]:
+    """(node, imported module, names, at module level) for every import of ``module``."""
+    top_level = set(map(id, tree.body))
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                found.append((node, alias.name, [], id(node) in top_level))
+        elif isinstance(node, ast.ImportFrom):
+            found.append((node, _resolve(module, node), [a.name for a in node.names], id(node) in top_level))
+    return found
+
+
+def _layer(absolute: str) -> str | None:
+    if absolute == NAME:
+        return "__init__"
+    if absolute.startswith(NAME + "."):
+        return absolute.split(".")[1]
+    return None
+
+
+def _under_type_checking(tree: ast.Module, target: ast.AST) -> bool:
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and isinstance(node.test, ast.Name) and node.test.id == "TYPE_CHECKING":
+            if any(target is child for stmt in node.body for child in ast.walk(stmt)):
+                return True
+    return False
+
+
+def test_every_module_belongs_to_a_layer():
+    assert {m.split(".")[0] for m in MODULES} <= set(ALLOWED), sorted(MODULES)
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_imports_follow_the_layers(module):
+    own = module.split(".")[0]
+    wrong = []
+    for node, imported, names, _top in _imports(module, MODULES[module]):
+        targets = [imported]
+        if imported == NAME:  # `from .. import x` names submodules or package attributes
+            targets = [f"{NAME}.{n}" for n in names]
+        for target in targets:
+            layer = _layer(target)
+            if layer is not None and layer != own and layer not in ALLOWED[own]:
+                wrong.append(f"line {node.lineno}: {target}")
+    assert not wrong, f"{module} ({own}) may import only {sorted(ALLOWED[own] | {own})}: " + "; ".join(wrong)
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_no_private_names_of_other_modules(module):
+    tree = MODULES[module]
+    module_aliases = set()
+    wrong = []
+    for node, imported, names, _top in _imports(module, tree):
+        if _layer(imported) is None and not imported.startswith(NAME):
+            continue
+        for name in names:
+            if name.startswith("_") and not name.startswith("__"):
+                wrong.append(f"line {node.lineno}: from {imported} import {name}")
+            module_aliases.update(a.asname or a.name for a in node.names)  # type: ignore[attr-defined]
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+                and node.value.id in module_aliases and node.attr.startswith("_") and not node.attr.startswith("__")):
+            wrong.append(f"line {node.lineno}: {node.value.id}.{node.attr}")
+    assert not wrong, f"{module} uses private names of other modules: " + "; ".join(wrong)
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_imports_are_at_module_level_unless_they_cut_start_up_time(module):
+    tree = MODULES[module]
+    local = [
+        (node.lineno, imported)
+        for node, imported, _names, top in _imports(module, tree)
+        if not top and not _under_type_checking(tree, node) and (module, imported) not in LOCAL_IMPORTS
+    ]
+    assert not local, f"{module}: function-local imports {local}; import at module level, or list the " \
+                      "import in LOCAL_IMPORTS with the start-up time it saves"
+
+
+def test_the_listed_local_imports_exist():
+    for (module, imported), _why in LOCAL_IMPORTS.items():
+        assert any(i == imported and not top for _n, i, _names, top in _imports(module, MODULES[module])), (module, imported)
+
+
+def test_module_level_imports_form_no_cycle():
+    graph: dict[str, set[str]] = {m: set() for m in MODULES}
+    for module, tree in MODULES.items():
+        for _node, imported, names, top in _imports(module, tree):
+            if not top or _under_type_checking(tree, _node):
+                continue
+            candidates = [imported] + [f"{imported}.{n}" for n in names]
+            for candidate in candidates:
+                if candidate == NAME:
+                    target = "__init__"
+                elif candidate.startswith(NAME + "."):
+                    target = candidate[len(NAME) + 1:]
+                else:
+                    continue
+                if target in graph and target != module:
+                    graph[module].add(target)
+    # a package's modules import the package itself implicitly: ignore edges to an ancestor package
+    for module in graph:
+        graph[module] = {t for t in graph[module] if not module.startswith(t + ".") and t != "__init__"}
+    state: dict[str, int] = {}
+    stack: list[str] = []
+
+    def visit(m: str) -> None:
+        state[m] = 1
+        stack.append(m)
+        for t in sorted(graph[m]):
+            if state.get(t) == 1:
+                raise AssertionError("import cycle: " + " -> ".join(stack[stack.index(t):] + [t]))
+            if t not in state:
+                visit(t)
+        stack.pop()
+        state[m] = 2
+
+    for m in sorted(graph):
+        if m not in state:
+            visit(m)
+
+
+def test_the_public_api_exports_every_type_its_functions_return():
+    import typing
+
+    api = pytest_rmw_introspect
+    exported = set(api.__all__)
+    for name in ("capture", "diff_contracts", "load_contract", "check_compatible"):
+        hints = typing.get_type_hints(getattr(api, name))
+        returned = hints["return"]
+        assert returned.__name__ in exported and getattr(api, returned.__name__) is returned, (name, returned)
+    for name in exported:
+        assert hasattr(api, name), name
+    assert set(api._LAZY) | {"__version__"} == exported  # the table of lazy names is the export list
+    assert (PACKAGE / "py.typed").is_file()

@@ -2,7 +2,7 @@
 VENV ?= $(CURDIR)/.venv
 export VENV
 
-.PHONY: example test lint bootstrap bench asan clean
+.PHONY: example test test-fast typecheck lint bootstrap bench asan clean
 
 bootstrap:
 	scripts/bootstrap.sh
@@ -11,9 +11,17 @@ bootstrap:
 example: bootstrap
 	scripts/check-examples.sh
 
-## test: the whole test suite (middleware gtests, end-to-end, plugin, unit)
-test: bootstrap
+## test: type check, then the whole test suite (middleware gtests, end-to-end, plugin, unit)
+test: bootstrap typecheck
 	$(VENV)/bin/pytest $(PYTEST_ARGS)
+
+## test-fast: the fast tier alone (unit tests: no node is started, no pytest subprocess), in seconds
+test-fast: bootstrap
+	$(VENV)/bin/pytest -m "not e2e and not plugin" $(PYTEST_ARGS)
+
+## typecheck: mypy on the package (configured in pyproject.toml)
+typecheck: bootstrap
+	$(VENV)/bin/python -m mypy
 
 lint: bootstrap
 	$(VENV)/bin/python -m pip install --quiet ruff

@@ -5,3 +5,26 @@
 """
 
 pytest_plugins = ["pytester"]
+
+
+# ---------------------------------------------------------------------------- tiers
+# Tests are marked by where they live, so a new test file lands in the right tier by itself:
+#   e2e     real nodes on the real middleware (tests/middleware, tests/cli, the example package)
+#   plugin  pytest run in a subprocess by pytester (tests/plugin)
+# Everything else (tests/unit) is the fast tier: `make test-fast` = pytest -m "not e2e and not plugin".
+import pytest  # noqa: E402
+
+_TIERS = {"middleware": "e2e", "cli": "e2e", "plugin": "plugin"}
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    root = config.rootpath
+    for item in items:
+        try:
+            parts = item.path.relative_to(root).parts
+        except ValueError:
+            continue
+        if parts[:1] == ("examples",):
+            item.add_marker(pytest.mark.e2e)
+        elif parts[:1] == ("tests",) and len(parts) > 1 and parts[1] in _TIERS:
+            item.add_marker(getattr(pytest.mark, _TIERS[parts[1]]))

@@ -28,17 +28,20 @@ struct ContextImpl
 };
 
 /// A stored "on new data" / event callback. Never called: nothing ever arrives.
-struct Callback
+class Callback
 {
-  std::mutex mutex;
-  rmw_event_callback_t callback = nullptr;
-  const void * user_data = nullptr;
+public:
   void set(rmw_event_callback_t cb, const void * data)
   {
-    std::lock_guard<std::mutex> lock(mutex);
-    callback = cb;
-    user_data = data;
+    std::lock_guard<std::mutex> lock(mutex_);
+    callback_ = cb;
+    user_data_ = data;
   }
+
+private:
+  std::mutex mutex_;  // a leaf lock
+  rmw_event_callback_t callback_ = nullptr;
+  const void * user_data_ = nullptr;
 };
 
 /// Publishers and subscriptions are the targets of rmw_event_t::data.

@@ -150,8 +150,10 @@ class TargetExited(_WithPartialCapture):
         stderr_tail: str,
         partial: Any = None,
         argv: Sequence[str] = (),
+        hint: str | None = None,
     ) -> None:
         self.status = status
+        self.hint = hint
         self.stderr_tail = _tail(stderr_tail)
         self.partial = partial
         self.argv = list(argv)
@@ -167,6 +169,8 @@ class TargetExited(_WithPartialCapture):
         else:
             parts.append("It wrote nothing to stderr.")
         parts.append(self._partial_summary())
+        if hint:
+            parts.append(hint)
         super().__init__("\n".join(parts), target=target)
 
 
@@ -251,3 +255,15 @@ def diagnose_unsettled(partial: Any) -> str:
         "It waits in an executor but kept creating or destroying interfaces, so it was never quiet for the "
         "settle time. Raise `timeout` if it is only slow to finish starting."
     )
+
+
+class GoldenWriteError(RmwIntrospectError):
+    """A contract (or another file the tool writes) could not be written."""
+
+    def __init__(self, path: str | Path, reason: str) -> None:
+        self.path = Path(path)
+        self.reason = reason
+        super().__init__(
+            f"cannot write {path}: {reason}. Make the file and its directory writable (and the lock "
+            "directory, pytest-rmw-introspect-locks in the temporary directory), or write elsewhere."
+        )

@@ -6,7 +6,9 @@
   Both write atomically (a temporary file in the same directory, then a rename) under a file
   lock keyed by the absolute path, so tests sharing a golden under pytest-xdist write it once
   (the second writer finds the bytes it would write already there) and a killed run never
-  leaves half a file.
+  leaves half a file. A symlinked golden is written through the link (the shared file is
+  updated, the link stays), an existing file keeps its permission bits, and a file with CRLF
+  line endings keeps them (its header byte for byte). Failures are :class:`GoldenWriteError`.
 * :func:`new_contract_text` is a complete new contract with a header saying how it was written
   and a ``target:`` block (paths relative to the contract's directory).
 * ``ci_refusal()``: with ``CI`` set (non-empty, not ``0``/``false``) goldens are never written;
@@ -20,6 +22,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import stat
 import tempfile
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
@@ -27,9 +30,9 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-from filelock import FileLock
+from filelock import FileLock, Timeout
 
-from ..errors import ContractError
+from ..errors import ContractError, GoldenWriteError
 from ..model import contract as contract_module
 from ..model.paths import relative_or_absolute, shown
 from ..run.target import TargetSpec
@@ -65,25 +68,43 @@ def _lock_path(path: Path) -> Path:
 
 def _write_locked(path: Path, new_text: Callable[[str | None], str], timeout: float) -> bool:
     """Under the path's lock: compute the new text from the current one (None: no file) and
-    replace the file atomically when it differs. True when the file's bytes changed."""
-    with FileLock(str(_lock_path(path)), timeout=timeout):
-        old = path.read_text(encoding="utf-8") if path.exists() else None
-        text = new_text(old)
-        if old == text:
-            return False
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-        try:
-            tmp.write_text(text, encoding="utf-8")
-            tmp.replace(path)
-        finally:
-            tmp.unlink(missing_ok=True)
-        return True
+    replace the file atomically when it differs. True when the file's bytes changed.
+
+    Text is handled with LF line endings; a file that used CRLF gets CRLF back. Raises
+    GoldenWriteError."""
+    target = path.resolve() if path.is_symlink() else path  # write through a link, keep the link
+    try:
+        with FileLock(str(_lock_path(target)), timeout=timeout):
+            old_bytes = target.read_bytes() if target.exists() else None
+            old = old_bytes.decode("utf-8") if old_bytes is not None else None
+            crlf = old is not None and "\r\n" in old
+            text = new_text(old.replace("\r\n", "\n") if old is not None else None)
+            if crlf:
+                text = text.replace("\r\n", "\n").replace("\n", "\r\n")
+            if old == text:
+                return False
+            target.parent.mkdir(parents=True, exist_ok=True)
+            tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
+            try:
+                tmp.write_bytes(text.encode("utf-8"))
+                if old_bytes is not None:
+                    os.chmod(tmp, stat.S_IMODE(target.stat().st_mode))
+                tmp.replace(target)
+            finally:
+                tmp.unlink(missing_ok=True)
+            return True
+    except Timeout:
+        raise GoldenWriteError(path, f"another process held its lock for {timeout:g} s") from None
+    except UnicodeDecodeError as exc:
+        raise GoldenWriteError(path, f"the existing file is not UTF-8 text ({exc.reason})") from None
+    except OSError as exc:
+        where = f" ({exc.filename})" if exc.filename and str(exc.filename) != str(path) else ""
+        raise GoldenWriteError(path, f"{exc.strerror or exc}{where}") from None
 
 
 def write_text(path: str | Path, text: str, *, timeout: float = LOCK_TIMEOUT) -> bool:
     """Write ``text`` to ``path`` atomically under its lock; True when the bytes changed.
-    Raises OSError when the file or its directory cannot be written."""
+    Raises GoldenWriteError when the file or its directory cannot be written."""
     return _write_locked(Path(path), lambda _old: text, timeout)
 
 
@@ -118,9 +139,14 @@ def update(path: str | Path, nodes: Mapping[str, Any], *, new_header: str | None
 # ---------------------------------------------------------------------------- new contracts
 
 
-def target_block(spec: TargetSpec, base: Path) -> dict[str, Any]:
-    """A contract ``target:`` block for ``spec`` with paths relative to ``base``."""
+def target_block(spec: TargetSpec, base: Path, run_dir: Path | None = None) -> dict[str, Any]:
+    """A contract ``target:`` block for ``spec`` with paths relative to ``base`` (the contract's
+    directory). ``run_dir``: the directory the target ran in; when its command line names
+    relative paths that exist there and no ``cwd`` is set, ``cwd`` is recorded, so that the
+    contract checks the same way from any directory."""
     block = spec.to_mapping()
+    if run_dir is not None and "cwd" not in block and _names_relative_paths(spec, run_dir):
+        block["cwd"] = str(run_dir.absolute())
     for key in ("script", "params_file", "cwd"):
         if key in block:
             block[key] = relative_or_absolute(Path(block[key]), base)
@@ -130,8 +156,13 @@ def target_block(spec: TargetSpec, base: Path) -> dict[str, Any]:
     return block
 
 
+def _names_relative_paths(spec: TargetSpec, run_dir: Path) -> bool:
+    words = [*(spec.command or ())[1:], *spec.arguments]
+    return any(w and not os.path.isabs(w) and not w.startswith("-") and (run_dir / w).exists() for w in words)
+
+
 def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure: bool = False,
-                        how: str = "rmw-introspect capture") -> str:
+                        how: str = "rmw-introspect capture", run_dir: Path | None = None) -> str:
     """The header of a new contract: how it was written, ``contract_version``, a ``target:``
     block (paths relative to ``base``, the contract's directory) and options."""
     header = (
@@ -140,7 +171,7 @@ def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure:
         "# above `nodes:` are kept when it is updated.\n"
         f"contract_version: {contract_module.CONTRACT_VERSION}\n"
     )
-    header += yaml.safe_dump({"target": target_block(spec, base)}, sort_keys=False, default_flow_style=False,
+    header += yaml.safe_dump({"target": target_block(spec, base, run_dir)}, sort_keys=False, default_flow_style=False,
                              allow_unicode=True)
     if include_infrastructure:
         header += "options:\n  include_infrastructure: true\n"
@@ -148,9 +179,11 @@ def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure:
 
 
 def new_contract_text(nodes: Mapping[str, Any], *, spec: TargetSpec, base: Path,
-                      include_infrastructure: bool = False, how: str = "rmw-introspect capture") -> str:
+                      include_infrastructure: bool = False, how: str = "rmw-introspect capture",
+                      run_dir: Path | None = None) -> str:
     """A complete new contract: :func:`new_contract_header`, then ``nodes``."""
-    header = new_contract_header(spec=spec, base=base, include_infrastructure=include_infrastructure, how=how)
+    header = new_contract_header(spec=spec, base=base, include_infrastructure=include_infrastructure, how=how,
+                                 run_dir=run_dir)
     return contract_module.render(nodes, header=header)
 
 

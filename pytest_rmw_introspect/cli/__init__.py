@@ -6,11 +6,25 @@
 
 from __future__ import annotations
 
+import signal
 import sys
+import threading
 from collections.abc import Sequence
+from types import FrameType
 
 from ..errors import RmwIntrospectError
 from .parser import EXIT_ERROR, UsageError, build_parser
+
+EXIT_TERMINATED = 128 + signal.SIGTERM
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived (a CI job cancelled): unwinds like KeyboardInterrupt, so a running target
+    is stopped and temporary files are removed on the way out."""
+
+
+def _raise_terminated(signum: int, frame: FrameType | None) -> None:
+    raise Terminated()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -29,6 +43,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"rmw-introspect: error: `-- COMMAND` is only for capture and check, not {args.command}",
               file=sys.stderr)
         return EXIT_ERROR
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _raise_terminated)
     # The commands pull in the whole pipeline (deepdiff, jsonschema, ...): imported only once
     # the arguments are valid, so `--help` and usage errors answer in a fraction of the time.
     from . import commands
@@ -47,6 +63,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("rmw-introspect: interrupted", file=sys.stderr)
         return 130
+    except Terminated:
+        print("rmw-introspect: terminated", file=sys.stderr)
+        return EXIT_TERMINATED
 
 
 __all__ = ["main"]

@@ -14,7 +14,7 @@ from typing import Any
 
 from ..check import golden, pipeline
 from ..check.outcome import Verdict, decide
-from ..errors import TargetError
+from ..errors import GoldenWriteError, TargetError
 from ..model.contract import Contract
 from ..run import middleware, ros_env, runner
 from ..run.ros_env import RosEnvironment
@@ -95,12 +95,12 @@ def _no_target(contract: Contract | None, shown: str) -> str:
 
 
 def _write_golden(result: pipeline.CheckResult, path: Path, shown: str) -> str:
-    """Write the golden of ``result``; returns what to say on stderr (raises OSError)."""
+    """Write the golden of ``result``; returns what to say on stderr (raises GoldenWriteError)."""
     if result.missing:
         assert result.spec is not None
         header = golden.new_contract_header(spec=result.spec, base=path.absolute().parent,
                                             include_infrastructure=result.options.include_infrastructure,
-                                            how="rmw-introspect check --update")
+                                            how="rmw-introspect check --update", run_dir=result.spec.cwd or Path.cwd())
         result.update(new_header=header)
         return f"created {shown}"
     return f"{result.update() or 'unchanged'} {shown}"
@@ -132,8 +132,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         if outcome.verdict is Verdict.WRITE:
             try:
                 said = _write_golden(result, path, shown)
-            except OSError as exc:
-                print(f"rmw-introspect: cannot write {shown}: {exc.strerror or exc}", file=sys.stderr)
+            except GoldenWriteError as exc:
+                print(f"rmw-introspect: {exc}", file=sys.stderr)
                 status = EXIT_ERROR
                 continue
             if args.format == "text" and outcome.report:

@@ -16,7 +16,6 @@ from ..model import qos as qos_module
 from ..model.capture import Capture
 from ..model.vocabulary import KIND_TO_LIST, LISTS
 from ..run.target import TargetSpec
-from .parser import UsageError
 
 _NODL_QOS_FIELDS = ("history", "depth", "reliability", "durability", "deadline_ns", "lifespan_ns", "liveliness",
                     "liveliness_lease_duration_ns")
@@ -76,7 +75,8 @@ def capture_text(cap: Capture, args: argparse.Namespace, spec: TargetSpec, cwd: 
         return json.dumps(cap.to_contract_nodes(), indent=2)
     base = Path(args.output).absolute().parent if args.output else cwd
     text = golden.new_contract_text(cap.to_contract_nodes(), spec=spec, base=base,
-                                    include_infrastructure=bool(args.include_infrastructure))
+                                    include_infrastructure=bool(args.include_infrastructure),
+                                    run_dir=spec.cwd or cwd)
     if partial_reason is not None:
         text = f"# PARTIAL capture (not a complete interface): {partial_reason}\n" + text
     return text
@@ -89,8 +89,5 @@ def emit(text: str, output: str | None) -> None:
     if output is None:
         sys.stdout.write(text)
         return
-    try:
-        golden.write_text(output, text)
-    except OSError as exc:
-        raise UsageError(f"cannot write {output}: {exc.strerror or exc}") from None
+    golden.write_text(output, text)  # raises GoldenWriteError: a message, exit status 2
     print(f"wrote {output}", file=sys.stderr)

@@ -36,7 +36,8 @@ examples:
 exit status: 0 everything matches (or only drift below the fail threshold), 1 drift /
 incompatibility at or above the fail threshold, 2 an error (a missing or malformed contract,
 no target, a target that fails, hangs or creates no node, ROS 2 or the middleware missing,
-a bad option). Errors are one message on stderr, never a traceback.
+a bad option). Errors are one message on stderr, never a traceback. Interrupted (Ctrl-C) 130,
+terminated (SIGTERM) 143; a running target is stopped first.
 """
 
 _TARGET_HELP = """\
@@ -82,7 +83,7 @@ formats:
 
 endpoints:
   default               infrastructure endpoints (/rosout, /parameter_events, parameter,
-                        type description and lifecycle services) are left out; the
+                        type description, logger and lifecycle services) are left out; the
                         services and topics of an action are grouped into one action entry.
   --include-ros-infra   keeps the infrastructure endpoints (the yaml contract then gets
                         `options: {include_infrastructure: true}`); actions stay grouped.

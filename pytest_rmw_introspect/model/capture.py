@@ -57,6 +57,8 @@ LIFECYCLE_SERVICES = (
     "get_transition_graph",
 )
 LIFECYCLE_TOPICS = ("transition_event",)
+#: per-node services of enable_logger_service (rclcpp NodeOptions, rclpy Node(enable_logger_service=True))
+LOGGER_SERVICES = ("get_logger_levels", "set_logger_levels")
 
 SIM_CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
 
@@ -218,6 +220,25 @@ class Node:
 
 
 @dataclass
+class OtherProcess:
+    """Another ROS process the target started (it ran on the middleware too and wrote its own
+    capture file, which is not part of the target's capture)."""
+
+    pid: int | None
+    argv: list[str]
+    node_names: list[str]
+
+    def describe(self) -> str:
+        # long paths by their last part: the program and script names are what tell processes apart
+        words = [f".../{Path(w).name}" if len(w) > 40 and "/" in w else w for w in self.argv]
+        command = " ".join(words) if words else "?"
+        if len(command) > 120:
+            command = command[:117] + "..."
+        nodes = ", ".join(self.node_names) or "no node"
+        return f"pid {self.pid} `{command}` ({nodes})"
+
+
+@dataclass
 class Capture:
     """One process's capture: the raw records plus the contract view in ``nodes``."""
 
@@ -248,6 +269,10 @@ class Capture:
     stderr: str = ""
     wall_time: float | None = None
     command: list[str] = field(default_factory=list)
+    #: other ROS processes the target started (each wrote a capture of its own)
+    other_processes: list[OtherProcess] = field(default_factory=list)
+    #: the target created no ROS node itself: this capture is of the one ROS process it started
+    from_child: OtherProcess | None = None
 
     # ---------------------------------------------------------------- building
     @classmethod
@@ -293,6 +318,7 @@ class Capture:
         other.returncode, other.stderr, other.wall_time, other.command = (
             self.returncode, self.stderr, self.wall_time, self.command,
         )
+        other.other_processes, other.from_child = self.other_processes, self.from_child
         return other
 
     # ---------------------------------------------------------------- queries
@@ -334,9 +360,36 @@ class Capture:
         """The program ended on its own, with status 0, before the capture's final settle."""
         return bool(self.ended_before_settle) and self.returncode == 0
 
+    @property
+    def duplicate_node_names(self) -> list[str]:
+        """Fully qualified names held by more than one live node of this process (a real ROS 2
+        failure: their parameter services and logs collide; a contract can list them only once)."""
+        counts: dict[str, int] = {}
+        for raw_node in self.raw_nodes:
+            if raw_node.alive:
+                counts[raw_node.fqn] = counts.get(raw_node.fqn, 0) + 1
+        return sorted(fqn for fqn, count in counts.items() if count > 1)
+
     def notes(self) -> list[str]:
         """What a reader of a report should know about how this capture came about."""
         notes: list[str] = []
+        if self.from_child is not None:
+            notes.append(
+                "the target created no ROS node itself; this is the capture of the ROS process it started: "
+                + self.from_child.describe()
+            )
+        if self.other_processes:
+            notes.append(
+                "the target started other ROS processes, which are not part of this capture (capture each "
+                "as a target of its own): " + "; ".join(p.describe() for p in self.other_processes)
+            )
+        for fqn in self.duplicate_node_names:
+            count = sum(1 for raw_node in self.raw_nodes if raw_node.alive and raw_node.fqn == fqn)
+            notes.append(
+                f"{count} nodes are named {fqn} in one process: ROS 2 cannot tell them apart (their parameter "
+                "services collide); the contract lists their interfaces under one entry. Give each node a "
+                "name of its own."
+            )
         if self.ended_by_itself:
             notes.append(
                 "the program ended by itself (status 0) before its final settle: the capture is what was "
@@ -537,7 +590,7 @@ def is_infrastructure(endpoint: Endpoint, node_fqn: str) -> bool:
     if not name.startswith(prefix):
         return False
     leaf = name[len(prefix):]
-    if kind == "service" and (leaf in PARAMETER_SERVICES or leaf in LIFECYCLE_SERVICES):
+    if kind == "service" and (leaf in PARAMETER_SERVICES or leaf in LIFECYCLE_SERVICES or leaf in LOGGER_SERVICES):
         return True
     return kind == "publisher" and leaf in LIFECYCLE_TOPICS
 

@@ -13,6 +13,7 @@ import pytest
 from ..check import golden as golden_module
 from ..check.outcome import Verdict, decide
 from ..check.pipeline import CheckResult
+from ..errors import GoldenWriteError
 from .session import SessionState
 
 #: user property with the drift items as JSON (report.to_json + contract), for JUnit XML
@@ -34,7 +35,10 @@ def apply(item: pytest.Item, result: CheckResult, session_state: SessionState) -
         # the machine-readable drift on the report (JUnit writes it as a <property>)
         item.user_properties.append((DRIFT_PROPERTY, json.dumps(outcome.json, sort_keys=True, default=str)))
     if outcome.verdict is Verdict.WRITE:
-        action = result.update()
+        try:
+            action = result.update()
+        except GoldenWriteError as exc:
+            pytest.fail(str(exc), pytrace=False)
         if action is not None:
             item.user_properties.append((golden_module.USER_PROPERTY, golden_module.property_value(action, result.path)))
     elif outcome.failed:

@@ -123,6 +123,13 @@ def detect() -> RosEnvironment:
     return found
 
 
+_SANITIZER_RUNTIMES = ("libasan", "libtsan", "libubsan", "liblsan", "libhwasan", "libclang_rt.")
+
+
+def _is_sanitizer_runtime(path: str) -> bool:
+    return os.path.basename(path).startswith(_SANITIZER_RUNTIMES)
+
+
 def activation_env(library: Path, ros: RosEnvironment, base: Mapping[str, str] | None = None) -> dict[str, str]:
     """Environment variables that make a process of ``ros`` run on the middleware ``library``.
 
@@ -135,11 +142,22 @@ def activation_env(library: Path, ros: RosEnvironment, base: Mapping[str, str] |
     env: dict[str, str] = {}
     library_dirs = ros.library_path(base.get("LD_LIBRARY_PATH"))
     prefixes = [str(p) for p in ros.ament_prefixes]
+    # The process's own AMENT_PREFIX_PATH (a target's `env:`, a sourced overlay) comes first.
+    for prefix in reversed([p for p in base.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]):
+        if prefix in prefixes:
+            prefixes.remove(prefix)
+        prefixes.insert(0, prefix)
     # Preloaded on both kinds of install: with the wheels it is the only way in; on a standard
     # install RMW_IMPLEMENTATION selects it too, but only a preloaded library's definitions of
     # rcutils_steady_time_now/rcutils_system_time_now replace librcutils' (virtual time).
-    preload = [str(library)] + [p for p in base.get("LD_PRELOAD", "").split() if p != str(library)]
-    env["LD_PRELOAD"] = " ".join(preload)
+    # Sanitizer runtimes must come first in LD_PRELOAD, so they stay ahead of the library.
+    others = [p for p in base.get("LD_PRELOAD", "").replace(":", " ").split() if p != str(library)]
+    sanitizers = [p for p in others if _is_sanitizer_runtime(p)]
+    rest = [p for p in others if p not in sanitizers]
+    env["LD_PRELOAD"] = " ".join([*sanitizers, str(library), *rest])
+    # Set on both kinds: a user's RMW_IMPLEMENTATION=rmw_fastrtps_cpp would make rcl refuse the
+    # preloaded middleware (RCL_RET_MISMATCHED_RMW_ID, exit 102) in the wheels setup.
+    env["RMW_IMPLEMENTATION"] = MIDDLEWARE_NAME
     if ros.kind == WHEELS:
         env["LD_LIBRARY_PATH"] = library_dirs
         # The wheels' bootstrapper would re-exec the interpreter just to set LD_LIBRARY_PATH;
@@ -147,7 +165,6 @@ def activation_env(library: Path, ros: RosEnvironment, base: Mapping[str, str] |
         env["_ROS_WHEELS_BOOTSTRAP_COMPLETE"] = "1"
     else:
         install_prefix = library.parent.parent
-        env["RMW_IMPLEMENTATION"] = MIDDLEWARE_NAME
         env["LD_LIBRARY_PATH"] = os.pathsep.join([str(library.parent), library_dirs])
         if str(install_prefix) not in prefixes:
             prefixes.insert(0, str(install_prefix))

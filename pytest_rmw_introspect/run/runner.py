@@ -17,6 +17,12 @@ What counts as a capture:
 * it ended by itself with status 0 before it ever settled: what was alive just before its
   own final teardown (``Capture.ended_by_itself``).
 
+Every ROS process the target starts runs on the middleware too (it inherits the environment):
+each writes a capture file of its own (``capture.<pid>.json``). The capture is the target's own
+process; the others are reported (``Capture.other_processes``). A target that creates no node
+itself but starts exactly one ROS process (a wrapper script) is captured from that process,
+with a note.
+
 The runner waits up to the target's ``timeout``. A process still running then is stopped
 with SIGINT, SIGTERM and finally SIGKILL (short grace periods, to its whole process group),
 and whatever capture the middleware wrote so far (it writes progress snapshots) is attached
@@ -28,8 +34,8 @@ process that created no node is :class:`~pytest_rmw_introspect.errors.NoNodeCrea
 from __future__ import annotations
 
 import os
+import re
 import shutil
-import signal
 import subprocess
 import tempfile
 import time
@@ -44,59 +50,55 @@ from ..errors import (
     TargetExited,
     TargetTimeout,
 )
-from ..model.capture import Capture
-from . import middleware, ros_env
+from ..model.capture import Capture, OtherProcess
+from . import middleware, process, ros_env
 from .target import TargetSpec, build_argv
 
-#: seconds granted after SIGINT and after SIGTERM before the next, harder signal
-SIGINT_GRACE = 2.0
-SIGTERM_GRACE = 1.0
-_STDERR_TAIL_BYTES = 16_384
+#: where a capture run's files go: ``<tempdir>/rmw_introspect_<runner pid>_<random>/``
+_WORKDIR_PREFIX = "rmw_introspect_"
+#: a working directory left by a runner that was killed is removed by the next run after this long
+_STALE_AFTER_S = 600.0
+#: the middleware substitutes the process id: every ROS process of the target writes its own file
+_OUTPUT_PATTERN = "capture.<pid>.json"
+_MISSING_MODULE = re.compile(r"ModuleNotFoundError: No module named '([^']+)'")
 
 
-def _read_tail(path: Path, limit: int = _STDERR_TAIL_BYTES) -> str:
+def stop(proc: subprocess.Popen[bytes], sigint_grace: float | None = None,
+         sigterm_grace: float | None = None) -> int:
+    """Stop a target process: SIGINT, SIGTERM, SIGKILL to its group (``process.stop``)."""
+    return process.stop(proc, sigint_grace, sigterm_grace)
+
+
+def _pid_alive(pid: int) -> bool:
     try:
-        with path.open("rb") as f:
-            f.seek(0, os.SEEK_END)
-            size = f.tell()
-            f.seek(max(0, size - limit))
-            return f.read().decode("utf-8", errors="replace")
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def sweep_stale_workdirs(tempdir: Path | None = None, *, now: float | None = None) -> list[Path]:
+    """Remove working directories of runners that are gone (killed with SIGKILL, say) and
+    older than ten minutes; returns what was removed."""
+    base = Path(tempdir or tempfile.gettempdir())
+    now = time.time() if now is None else now
+    removed: list[Path] = []
+    try:
+        candidates = list(base.glob(f"{_WORKDIR_PREFIX}*_*"))
     except OSError:
-        return ""
-
-
-def _signal_group(proc: subprocess.Popen, sig: int) -> None:
-    try:
-        os.killpg(proc.pid, sig)
-    except (ProcessLookupError, PermissionError):
+        return removed
+    for path in candidates:
+        owner = path.name[len(_WORKDIR_PREFIX):].split("_", 1)[0]
         try:
-            proc.send_signal(sig)
-        except ProcessLookupError:
-            pass
-
-
-def stop(proc: subprocess.Popen, sigint_grace: float = SIGINT_GRACE, sigterm_grace: float = SIGTERM_GRACE) -> int:
-    """Stop ``proc`` (started with ``start_new_session=True``): SIGINT, SIGTERM, SIGKILL."""
-    for sig, grace in ((signal.SIGINT, sigint_grace), (signal.SIGTERM, sigterm_grace)):
-        if proc.poll() is not None:
-            break
-        _signal_group(proc, sig)
-        try:
-            proc.wait(grace)
-        except subprocess.TimeoutExpired:
+            if not owner.isdigit() or _pid_alive(int(owner)) or now - path.stat().st_mtime < _STALE_AFTER_S:
+                continue
+        except OSError:
             continue
-    if proc.poll() is None:
-        _signal_group(proc, signal.SIGKILL)
-        proc.wait()
-    return proc.returncode
-
-
-def _reap_group(proc: subprocess.Popen) -> None:
-    """Kill what the target left behind in its own process group (its children)."""
-    try:
-        os.killpg(proc.pid, signal.SIGKILL)
-    except (ProcessLookupError, PermissionError):
-        pass
+        shutil.rmtree(path, ignore_errors=True)
+        removed.append(path)
+    return removed
 
 
 def _try_load(path: Path, include_infrastructure: bool) -> Capture | None:
@@ -115,10 +117,13 @@ def environment(
     output: Path,
     base: Mapping[str, str] | None = None,
 ) -> dict[str, str]:
-    """The complete environment of the target process."""
+    """The complete environment of the target process; ``output`` may contain ``<pid>``, which
+    the middleware replaces with each process's id."""
     env = dict(os.environ if base is None else base)
-    env.update(ros_env.activation_env(library, ros, base=env))
+    # the target's own variables first, then the activation merged with them: a target's
+    # LD_PRELOAD, LD_LIBRARY_PATH or AMENT_PREFIX_PATH extends the middleware's, never drops it
     env.update(spec.env)
+    env.update(ros_env.activation_env(library, ros, base=env))
     env["RMW_INTROSPECT_OUTPUT"] = str(output)
     env["RMW_INTROSPECT_FORMAT"] = "json"
     env["RMW_INTROSPECT_EXIT"] = "1"
@@ -154,55 +159,53 @@ def run(
     if keep_files is None:
         keep_files = os.environ.get("RMW_INTROSPECT_KEEP_FILES", "") not in ("", "0", "false")
 
-    workdir = Path(tempfile.mkdtemp(prefix="rmw_introspect_"))
-    output = workdir / "capture.json"
-    stderr_path = workdir / "stderr.txt"
-    stdout_path = workdir / "stdout.txt"
-    env = environment(spec, Path(library), ros, output)
+    sweep_stale_workdirs()
+    workdir = Path(tempfile.mkdtemp(prefix=f"{_WORKDIR_PREFIX}{os.getpid()}_"))
+    env = environment(spec, Path(library), ros, workdir / _OUTPUT_PATTERN)
     describe = spec.describe()
     timeout = spec.effective_timeout()
     cwd = spec.cwd
     if cwd is not None and not cwd.is_dir():
+        shutil.rmtree(workdir, ignore_errors=True)
         raise ExecutableNotFound(f"Working directory {cwd} of target {describe} does not exist.", target=describe)
 
     started = time.monotonic()
     try:
-        with stderr_path.open("wb") as err, stdout_path.open("wb") as out:
-            try:
-                proc = subprocess.Popen(
-                    argv,
-                    env=env,
-                    cwd=str(cwd) if cwd else None,
-                    stdin=subprocess.DEVNULL,
-                    stdout=out,
-                    stderr=err,
-                    start_new_session=True,
-                )
-            except OSError as exc:
-                raise ExecutableNotFound(
-                    f"Cannot start the target {describe}: {exc.strerror or exc} ({argv[0]}).",
-                    target=describe,
-                    searched=[argv[0]],
-                ) from None
-            timed_out = False
-            try:
-                returncode = proc.wait(timeout)
-            except subprocess.TimeoutExpired:
-                timed_out = True
-                returncode = stop(proc)
-            except BaseException:  # KeyboardInterrupt while waiting: do not leave it behind
-                stop(proc, 0.5, 0.5)
-                raise
-            finally:
-                _reap_group(proc)
+        try:
+            proc = process.start(argv, env=env, cwd=cwd)
+        except OSError as exc:
+            raise ExecutableNotFound(
+                f"Cannot start the target {describe}: {exc.strerror or exc} ({argv[0]}).",
+                target=describe,
+                searched=[argv[0]],
+            ) from None
+        assert proc.stdout is not None and proc.stderr is not None
+        stdout_tail, stderr_tail = process.OutputTail(proc.stdout), process.OutputTail(proc.stderr)
+        timed_out = False
+        try:
+            returncode = proc.wait(timeout)
+        except subprocess.TimeoutExpired:
+            timed_out = True
+            returncode = stop(proc)
+        except BaseException:  # KeyboardInterrupt (or SIGTERM, see cli) while waiting: do not leave it behind
+            stop(proc, 0.5, 0.5)
+            raise
+        finally:
+            process.reap_group(proc)
+            stdout_tail.finish()
+            stderr_tail.finish()
         wall = time.monotonic() - started
-        stderr = _read_tail(stderr_path)
+        stderr = stderr_tail.text()
+        if keep_files:
+            (workdir / "stderr.txt").write_text(stderr, encoding="utf-8")
+            (workdir / "stdout.txt").write_text(stdout_tail.text(), encoding="utf-8")
 
+        output, others, from_child = _outputs(workdir, proc.pid, include_infrastructure)
         if timed_out:
             raise TargetTimeout(describe, timeout, _try_load(output, include_infrastructure), stderr, argv)
         captured = _try_load(output, include_infrastructure) if returncode != 0 else None
         if returncode != 0 and (captured is None or not captured.settled_once):
-            raise TargetExited(describe, returncode, stderr, captured, argv)
+            raise TargetExited(describe, returncode, stderr, captured, argv, hint=_missing_module_hint(stderr))
         if captured is None:
             if not output.exists():
                 raise NoNodeCreated(
@@ -221,10 +224,46 @@ def run(
         captured.wall_time = wall
         captured.command = argv
         captured.path = output if keep_files else None
+        captured.other_processes = others
+        captured.from_child = from_child
         return captured
     finally:
         if not keep_files:
             shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _describe_process(path: Path, include_infrastructure: bool) -> OtherProcess:
+    pid_text = path.name.split(".")[1] if path.name.count(".") >= 2 else ""
+    other = _try_load(path, include_infrastructure)
+    if other is None:
+        return OtherProcess(pid=int(pid_text) if pid_text.isdigit() else None, argv=[], node_names=[])
+    names = sorted({n.fqn for n in other.raw_nodes})
+    return OtherProcess(pid=other.pid, argv=list(other.argv), node_names=names)
+
+
+def _outputs(workdir: Path, pid: int, include_infrastructure: bool) -> tuple[Path, list[OtherProcess], OtherProcess | None]:
+    """The target's capture file, the other ROS processes it started, and (when the target
+    itself wrote nothing but exactly one child did) that child, whose file becomes the capture."""
+    own = workdir / _OUTPUT_PATTERN.replace("<pid>", str(pid))
+    # written atomically by the middleware (<file>.tmp.<pid>, then a rename): skip temporaries
+    others = sorted(p for p in workdir.glob(_OUTPUT_PATTERN.replace("<pid>", "*"))
+                    if p != own and not p.name.endswith(".json.tmp") and ".tmp." not in p.name)
+    if own.exists() or len(others) != 1:
+        return own, [_describe_process(p, include_infrastructure) for p in others], None
+    return others[0], [], _describe_process(others[0], include_infrastructure)
+
+
+def _missing_module_hint(stderr: str) -> str | None:
+    """What to do when the target could not import a module, or None."""
+    missing = _MISSING_MODULE.findall(stderr)
+    if not missing:
+        return None
+    return (
+        f"Hint: the target could not import {missing[-1]!r}. It runs with the environment of the process "
+        "that checks it plus the target's `env:`, and a contract records only what `env:` lists: if the "
+        "module comes from a workspace or another virtual environment, give PYTHONPATH (or "
+        "AMENT_PREFIX_PATH) in the target's `env:`, or run the check where the node's environment is set up."
+    )
 
 
 def capture(

@@ -28,3 +28,19 @@ def talker_contract(*, target: str | None = None, depth: int = 10, reliability: 
         "    action_servers: []\n"
         "    action_clients: []\n"
     )
+
+
+def wait_for_file(path: Path, timeout: float = 30.0) -> int:
+    """Wait until ``path`` holds a number (a pid a test process wrote) and return it."""
+    import time
+
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            text = path.read_text().strip()
+        except FileNotFoundError:
+            text = ""
+        if text.isdigit():
+            return int(text)
+        assert time.monotonic() < deadline, f"{path} was never written"
+        time.sleep(0.05)

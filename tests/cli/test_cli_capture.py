@@ -195,3 +195,64 @@ def test_capture_to_an_unwritable_output_is_an_error(cli):
     assert result.returncode == 2, result
     assert "cannot write afile/sub/out.yaml" in result.stderr
     assert "Traceback" not in result.stderr
+
+
+def test_a_command_with_relative_paths_records_where_it_ran(cli):
+    """`capture -o DIR/x.yaml -- python rel/node.py`: the contract must check from anywhere."""
+    (cli.path / "rel").mkdir()
+    shutil.copy(NODES / "talker.py", cli.path / "rel" / "node.py")
+    result = cli("capture", "-o", "contracts/x.interfaces.yaml", "--", sys.executable, "rel/node.py")
+    assert result.returncode == 0, result
+    target = contract_module.load(cli.path / "contracts" / "x.interfaces.yaml").target
+    assert target["command"][1:] == ["rel/node.py"] and target["cwd"] == ".."
+    (cli.path / "elsewhere").mkdir()
+    check = cli("check", "../contracts/x.interfaces.yaml", cwd=cli.path / "elsewhere")
+    assert check.returncode == 0, check
+
+
+def test_sigterm_stops_the_target_and_ends_the_cli(cli):
+    """A cancelled CI job sends SIGTERM: the CLI ends like on Ctrl-C, and the target with it."""
+    import os
+    import signal
+    import subprocess
+    import time
+
+    from cli_helpers import wait_for_file
+
+    pid_file = cli.path / "target.pid"
+    script = cli.write("hang.py", f"""\
+        import os, time
+        open({str(pid_file)!r}, "w").write(str(os.getpid()))
+        time.sleep(120)
+        """)
+    proc = subprocess.Popen([sys.executable, "-m", "pytest_rmw_introspect", "capture", "--script", str(script),
+                             "--timeout", "100"],
+                            cwd=cli.path, env=cli.env, stderr=subprocess.PIPE, text=True)
+    target = wait_for_file(pid_file)
+    proc.send_signal(signal.SIGTERM)
+    _, stderr = proc.communicate(timeout=20)
+    assert proc.returncode == 128 + signal.SIGTERM, stderr
+    assert "terminated" in stderr and "Traceback" not in stderr
+    deadline = time.monotonic() + 10
+    while os.path.exists(f"/proc/{target}") and open(f"/proc/{target}/stat").read().split(") ")[1][0] != "Z":
+        assert time.monotonic() < deadline, "the target outlived the CLI"
+        time.sleep(0.05)
+
+
+def test_a_target_that_starts_another_ros_process_is_captured_alone(cli):
+    """Both processes run on the middleware and write their own capture: the target's is the
+    capture, the child is reported (it used to overwrite the target's capture at random)."""
+    cli.write("parent.py", f"""\
+        import subprocess, sys
+        import rclpy
+        child = subprocess.Popen([sys.executable, {str(NODES / "talker.py")!r}])
+        rclpy.init()
+        node = rclpy.create_node("parent")
+        node.create_publisher(__import__("std_msgs.msg", fromlist=["Int32"]).Int32, "count", 1)
+        child.wait()          # the child settles (and ends) first, then the parent spins and settles
+        rclpy.spin(node)
+        """)
+    result = cli("capture", "--format", "json", "--script", "parent.py")
+    assert result.returncode == 0, result
+    assert list(json.loads(result.stdout)) == ["/parent"]
+    assert "note: the target started other ROS processes" in result.stderr and "/talker" in result.stderr

@@ -439,3 +439,27 @@ def test_malformed_time_field(talker, time_field):
     talker.doc["time"] = time_field
     with pytest.raises(CaptureFormatError, match="`time`"):
         talker.capture()
+
+
+def test_two_live_nodes_with_one_name_are_reported():
+    b = Builder()
+    a = b.node("dup")
+    b.ep(a, "publisher", "/x", "std_msgs/msg/String")
+    b.node("dup")
+    b.node("other")
+    gone = b.node("other", destroyed=True)  # a destroyed namesake is no collision
+    assert gone
+    cap = b.capture()
+    assert cap.duplicate_node_names == ["/dup"]
+    (note,) = [n for n in cap.notes() if "/dup" in n]
+    assert note.startswith("2 nodes are named /dup in one process") and "parameter services collide" in note
+
+
+def test_logger_services_are_infrastructure():
+    b = Builder()
+    n = b.node("talker")
+    b.ep(n, "service", "/talker/get_logger_levels", "rcl_interfaces/srv/GetLoggerLevels")
+    b.ep(n, "service", "/talker/set_logger_levels", "rcl_interfaces/srv/SetLoggerLevels")
+    b.ep(n, "service", "/talker/reset", "std_srvs/srv/Empty")
+    assert b.capture()["/talker"].names("service_servers") == ["/talker/reset"]
+    assert len(b.capture(include_infrastructure=True)["/talker"].service_servers) == 3 + len(PARAM_SERVICES)

@@ -80,3 +80,64 @@ def test_session_collects_reports_and_lists_files(tmp_path):
                            (golden.USER_PROPERTY, "garbage")])
     assert session.written == {a.resolve(): golden.CREATED, b.resolve(): golden.UPDATED}
     assert session.summary_lines(tmp_path) == ["created  a.yaml", "updated  sub/b.yaml"]
+
+
+# ---------------------------------------------------------------------------- links, modes, line endings, errors
+
+
+CHANGED = {"/talker": {"publishers": [dict(NODES["/talker"]["publishers"][0], name="/chat")]}}
+
+
+def test_a_symlinked_golden_updates_the_shared_file_and_stays_a_link(tmp_path):
+    shared = tmp_path / "shared" / "talker.interfaces.yaml"
+    golden.update(shared, NODES)
+    link = tmp_path / "pkg" / "talker.interfaces.yaml"
+    link.parent.mkdir()
+    link.symlink_to(shared)
+    assert golden.update(link, CHANGED) == golden.UPDATED
+    assert link.is_symlink() and link.resolve() == shared.resolve()
+    assert "/chat\n" in shared.read_text()
+
+
+def test_an_updated_golden_keeps_its_permission_bits(tmp_path):
+    path = tmp_path / "c.yaml"
+    golden.update(path, NODES)
+    path.chmod(0o640)
+    assert golden.update(path, CHANGED) == golden.UPDATED
+    assert path.stat().st_mode & 0o777 == 0o640
+
+
+def test_a_crlf_golden_keeps_its_header_byte_for_byte_and_its_line_endings(tmp_path):
+    path = tmp_path / "c.yaml"
+    header = b"# written on Windows\r\ncontract_version: 1\r\ntarget:\r\n  script: talker.py\r\n"
+    path.write_bytes(header + contract.dump_nodes(NODES).replace("\n", "\r\n").encode())
+    assert golden.update(path, NODES) is None  # the same nodes: nothing to change
+    assert golden.update(path, CHANGED) == golden.UPDATED
+    data = path.read_bytes()
+    assert data.startswith(header)
+    assert b"/chat\r\n" in data and b"\n" not in data.replace(b"\r\n", b"")
+    assert contract.load(path).nodes["/talker"]["publishers"][0]["name"] == "/chat"
+
+
+def test_an_unwritable_directory_is_a_golden_write_error(tmp_path):
+    from pytest_rmw_introspect.errors import GoldenWriteError
+
+    blocker = tmp_path / "afile"
+    blocker.write_text("x")
+    with pytest.raises(GoldenWriteError) as info:
+        golden.update(blocker / "sub" / "c.yaml", NODES)
+    message = str(info.value)
+    assert message.startswith(f"cannot write {blocker / 'sub' / 'c.yaml'}:") and "writable" in message
+    with pytest.raises(GoldenWriteError):
+        golden.write_text(blocker / "out.yaml", "x\n")
+
+
+def test_a_lock_held_too_long_is_a_golden_write_error(tmp_path):
+    from filelock import FileLock
+
+    from pytest_rmw_introspect.errors import GoldenWriteError
+
+    path = tmp_path / "c.yaml"
+    with FileLock(str(golden._lock_path(path))):  # another process writing the same golden
+        with pytest.raises(GoldenWriteError, match="held its lock"):
+            golden.update(path, NODES, timeout=0.05)

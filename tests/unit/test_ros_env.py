@@ -87,7 +87,28 @@ def test_wheels_activation_preloads_the_library_and_skips_the_bootstrap_reexec(t
     assert env["LD_PRELOAD"] == f"{lib.resolve()} /other.so"
     assert env["LD_LIBRARY_PATH"].split(":") == [str(prefix / "lib"), "/x"]
     assert env["_ROS_WHEELS_BOOTSTRAP_COMPLETE"] == "1"
-    assert "RMW_IMPLEMENTATION" not in env
+    # named too: a user's RMW_IMPLEMENTATION=rmw_fastrtps_cpp would make rcl refuse the preload
+    assert env["RMW_IMPLEMENTATION"] == "rmw_introspect_cpp"
+
+
+def test_sanitizer_runtimes_stay_first_and_the_library_follows(tmp_path):
+    prefix = make_wheels_prefix(tmp_path / "venv")
+    ros = ros_env.RosEnvironment(ros_env.WHEELS, prefix, "jazzy", (prefix,), (prefix / "lib",))
+    lib = tmp_path / "librmw_introspect_cpp.so"
+    lib.write_bytes(b"")
+    base = {"LD_PRELOAD": "/opt/libfoo.so:/usr/lib/x86_64-linux-gnu/libasan.so.8"}
+    env = ros_env.activation_env(lib, ros, base=base)
+    assert env["LD_PRELOAD"].split() == ["/usr/lib/x86_64-linux-gnu/libasan.so.8", str(lib.resolve()),
+                                         "/opt/libfoo.so"]
+
+
+def test_the_process_own_ament_prefixes_come_first(tmp_path):
+    prefix = make_wheels_prefix(tmp_path / "venv")
+    ros = ros_env.RosEnvironment(ros_env.WHEELS, prefix, "jazzy", (prefix,), (prefix / "lib",))
+    lib = tmp_path / "librmw_introspect_cpp.so"
+    lib.write_bytes(b"")
+    env = ros_env.activation_env(lib, ros, base={"AMENT_PREFIX_PATH": f"/overlay:{prefix}"})
+    assert env["AMENT_PREFIX_PATH"].split(":") == ["/overlay", str(prefix)]
 
 
 def test_system_activation_selects_by_name_and_adds_the_install_prefix(tmp_path):

@@ -22,7 +22,7 @@ from pytest_rmw_introspect.errors import (
     TargetExited,
     TargetTimeout,
 )
-from pytest_rmw_introspect.run import runner
+from pytest_rmw_introspect.run import process, runner
 from pytest_rmw_introspect.run.ros_env import RosEnvironment
 from pytest_rmw_introspect.run.target import TargetSpec
 
@@ -78,7 +78,7 @@ def fake(tmp_path: Path, body: str, name: str = "fake_node.py") -> Path:
         "    doc['argv'] = sys.argv\n"
         "    if not nodes:\n"
         "        doc['nodes'] = []; doc['endpoints'] = []\n"
-        "    out = os.environ['RMW_INTROSPECT_OUTPUT']\n"
+        "    out = os.environ['RMW_INTROSPECT_OUTPUT'].replace('<pid>', str(os.getpid()))\n"
         "    tmp = out + '.tmp.' + str(os.getpid())\n"
         "    open(tmp, 'w').write(json.dumps(doc))\n"
         "    os.rename(tmp, out)\n"
@@ -117,7 +117,7 @@ def test_each_capture_gets_its_own_output_file(tmp_path, ros, library):
     a = runner.run(spec, library=library, ros=ros)
     b = runner.run(spec, library=library, ros=ros)
     assert a.stderr.strip() != b.stderr.strip()
-    assert Path(a.stderr.strip()).name == "capture.json"
+    assert Path(a.stderr.strip()).name == "capture.<pid>.json"  # each process of the target its own file
 
 
 def test_keep_files_keeps_the_capture(tmp_path, ros, library):
@@ -179,8 +179,8 @@ def test_timeout_stops_the_process_and_shows_the_partial_capture(tmp_path, ros, 
 
 
 def test_timeout_escalates_to_sigkill_when_signals_are_ignored(tmp_path, ros, library, monkeypatch):
-    monkeypatch.setattr(runner, "SIGINT_GRACE", 0.2)
-    monkeypatch.setattr(runner, "SIGTERM_GRACE", 0.2)
+    monkeypatch.setattr(process, "SIGINT_GRACE", 0.2)
+    monkeypatch.setattr(process, "SIGTERM_GRACE", 0.2)
     body = """
     import signal
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -340,3 +340,129 @@ def test_timeout_says_why_the_capture_did_not_settle(tmp_path, ros, library, sna
 def test_timeout_without_any_capture_says_ros_was_never_initialised(tmp_path, ros, library):
     with pytest.raises(TargetTimeout, match="never initialised ROS 2 on the recording middleware"):
         run(tmp_path, ros, library, "while True:\n    time.sleep(0.05)\n", timeout=0.5)
+
+
+# ---------------------------------------------------------------------------- other processes, environment, limits
+
+
+def test_a_ros_process_the_target_starts_writes_its_own_file_and_is_reported(tmp_path, ros, library):
+    child = fake(tmp_path, "write()\n", name="child_node.py")
+    body = f"""
+    import subprocess
+    subprocess.run([sys.executable, {str(child)!r}], check=True)   # another ROS process, which settles first
+    write()
+    """
+    cap = run(tmp_path, ros, library, body)
+    assert cap.pid == cap.raw["pid"] and cap.argv[-1].endswith("fake_node.py")  # the target's own capture
+    (other,) = cap.other_processes
+    assert other.argv[-1].endswith("child_node.py") and other.node_names == ["/fake"]
+    assert other.pid != cap.pid
+    assert any("started other ROS processes" in note and "child_node.py" in note for note in cap.notes())
+
+
+def test_a_wrapper_that_starts_one_ros_process_is_captured_from_it(tmp_path, ros, library):
+    child = fake(tmp_path, "write()\n", name="child_node.py")
+    body = f"""
+    import subprocess
+    sys.exit(subprocess.run([sys.executable, {str(child)!r}]).returncode)   # no ROS in the wrapper itself
+    """
+    cap = run(tmp_path, ros, library, body)
+    assert cap.argv[-1].endswith("child_node.py")
+    assert cap.from_child is not None and cap.other_processes == []
+    assert any("created no ROS node itself" in note for note in cap.notes())
+
+
+def test_the_target_env_extends_the_activation_instead_of_replacing_it(tmp_path, library):
+    ros = RosEnvironment(kind="wheels", prefix=tmp_path, distro="jazzy", ament_prefixes=(tmp_path,),
+                         library_dirs=(tmp_path / "lib",))
+    spec = TargetSpec.from_mapping({"module": "m", "env": {
+        "LD_PRELOAD": "/opt/libmine.so", "RMW_IMPLEMENTATION": "rmw_fastrtps_cpp", "LD_LIBRARY_PATH": "/mine"}})
+    env = runner.environment(spec, library, ros, tmp_path / "c.json", base={"PATH": os.environ["PATH"]})
+    assert env["LD_PRELOAD"].split() == [str(library.resolve()), "/opt/libmine.so"]
+    assert env["RMW_IMPLEMENTATION"] == "rmw_introspect_cpp"
+    assert env["LD_LIBRARY_PATH"].split(":") == [str(tmp_path / "lib"), "/mine"]
+
+
+def test_a_user_rmw_implementation_does_not_reach_the_target(tmp_path, ros, library, monkeypatch):
+    monkeypatch.setenv("RMW_IMPLEMENTATION", "rmw_fastrtps_cpp")
+    body = "assert os.environ['RMW_IMPLEMENTATION'] == 'rmw_introspect_cpp'\nwrite()\n"
+    assert run(tmp_path, ros, library, body).node_names == ["/fake"]
+
+
+def test_a_flood_of_output_keeps_only_a_bounded_tail(tmp_path, ros, library):
+    body = """
+    chunk = 'x' * 65535 + '\\n'
+    for _ in range(400):                       # 26 MB on each stream
+        sys.stderr.write(chunk); sys.stdout.write(chunk)
+    sys.stderr.write('the last line\\n'); sys.stderr.flush()
+    write()
+    """
+    cap = run(tmp_path, ros, library, body)
+    assert cap.stderr.endswith("the last line\n")
+    assert len(cap.stderr) <= 16_384
+
+
+def test_a_missing_module_gets_a_hint_about_the_environment(tmp_path, ros, library):
+    body = "import rmwi_no_such_module_anywhere\n"
+    with pytest.raises(TargetExited) as info:
+        run(tmp_path, ros, library, body)
+    message = str(info.value)
+    assert "could not import 'rmwi_no_such_module_anywhere'" in message and "PYTHONPATH" in message
+    assert "`env:`" in message
+
+
+def test_stale_working_directories_of_dead_runners_are_swept(tmp_path):
+    import subprocess
+
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    old = time.time() - 3600
+    stale = tmp_path / f"rmw_introspect_{dead.pid}_abc"
+    mine = tmp_path / f"rmw_introspect_{os.getpid()}_def"
+    recent = tmp_path / f"rmw_introspect_{dead.pid}_ghi"
+    for path in (stale, mine, recent):
+        path.mkdir()
+        (path / "capture.1.json").write_text("{}")
+    for path in (stale, mine):
+        os.utime(path, (old, old))
+    assert runner.sweep_stale_workdirs(tmp_path) == [stale]
+    assert not stale.exists() and mine.exists() and recent.exists()
+
+
+def test_a_hung_target_dies_with_its_runner(tmp_path, ros, library):
+    """SIGKILL of the runner (a cancelled CI job) must not leave the target running."""
+    import signal
+    import subprocess
+
+    pid_file = tmp_path / "target.pid"
+    script = fake(tmp_path, f"open({str(pid_file)!r}, 'w').write(str(os.getpid()))\ntime.sleep(60)\n")
+    runner_code = textwrap.dedent(f"""
+        from pathlib import Path
+        from pytest_rmw_introspect.run import process, runner
+        from pytest_rmw_introspect.run.ros_env import RosEnvironment
+        from pytest_rmw_introspect.run.target import TargetSpec
+        ros = RosEnvironment(kind="system", prefix=Path({str(ros.prefix)!r}), distro="jazzy",
+                             ament_prefixes=(Path({str(ros.prefix)!r}),), library_dirs=())
+        runner.run(TargetSpec.from_mapping({{"script": {str(script)!r}, "timeout": 60}}),
+                   library={str(library)!r}, ros=ros)
+    """)
+    parent = subprocess.Popen([sys.executable, "-c", runner_code])
+    deadline = time.monotonic() + 20
+    while not pid_file.exists() or not pid_file.read_text():
+        assert time.monotonic() < deadline, "the target never started"
+        time.sleep(0.05)
+    target = int(pid_file.read_text())
+    parent.send_signal(signal.SIGKILL)
+    parent.wait()
+    deadline = time.monotonic() + 10
+    while True:
+        try:
+            os.kill(target, 0)
+        except ProcessLookupError:
+            break
+        # a zombie waiting for init to reap it is dead too
+        status = Path(f"/proc/{target}/stat")
+        if status.exists() and status.read_text().split(") ", 1)[1].startswith("Z"):
+            break
+        assert time.monotonic() < deadline, "the target outlived its runner"
+        time.sleep(0.05)

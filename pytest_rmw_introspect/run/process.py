@@ -1,0 +1,144 @@
+"""The target's process: started in its own process group, tied to the runner's life, its
+output kept as a bounded tail, stopped with escalating signals.
+
+* The child gets the parent-death signal SIGKILL (``prctl(PR_SET_PDEATHSIG)``): when the runner
+  dies (SIGKILL, a CI job cancelled, an xdist worker killed), a hung target dies with it instead
+  of being reparented to init.
+* stdout and stderr are read by threads into :class:`OutputTail` buffers of a fixed size: a
+  target logging in a loop cannot fill the disk (only the tail is ever shown).
+* :func:`stop`: SIGINT, SIGTERM, then SIGKILL to the whole group, with short grace periods.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import functools
+import os
+import signal
+import subprocess
+import threading
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import IO
+
+#: seconds granted after SIGINT and after SIGTERM before the next, harder signal
+SIGINT_GRACE = 2.0
+SIGTERM_GRACE = 1.0
+#: bytes of stdout and of stderr kept (the end of each)
+TAIL_BYTES = 16_384
+_PR_SET_PDEATHSIG = 1
+
+
+def _load_libc() -> ctypes.CDLL | None:
+    try:
+        return ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+    except OSError:
+        return None
+
+
+_LIBC = _load_libc()
+
+
+def _die_with_parent(parent: int) -> None:  # runs in the child between fork and exec
+    if _LIBC is not None:
+        _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    if os.getppid() != parent:  # the runner died before the signal was armed
+        os._exit(1)
+
+
+class OutputTail:
+    """The last ``limit`` bytes a pipe delivered, read by a daemon thread until EOF."""
+
+    def __init__(self, pipe: IO[bytes], limit: int = TAIL_BYTES) -> None:
+        self._pipe = pipe
+        self._limit = limit
+        self._data = bytearray()
+        self._total = 0
+        self._lock = threading.Lock()
+        self._thread = threading.Thread(target=self._drain, name="rmw-introspect-output", daemon=True)
+        self._thread.start()
+
+    def _drain(self) -> None:
+        fd = self._pipe.fileno()
+        try:
+            while True:
+                chunk = os.read(fd, 65536)
+                if not chunk:
+                    break
+                with self._lock:
+                    self._total += len(chunk)
+                    self._data += chunk
+                    if len(self._data) > 2 * self._limit:
+                        del self._data[: len(self._data) - self._limit]
+        except OSError:
+            pass
+        finally:
+            self._pipe.close()
+
+    def finish(self, timeout: float = 1.0) -> None:
+        """Wait (briefly) for EOF: a daemonised grandchild may hold the pipe open for ever."""
+        self._thread.join(timeout)
+
+    @property
+    def total_bytes(self) -> int:
+        return self._total
+
+    def text(self) -> str:
+        with self._lock:
+            data = bytes(self._data[-self._limit:])
+        return data.decode("utf-8", errors="replace")
+
+
+def start(argv: Sequence[str], *, env: Mapping[str, str], cwd: Path | None) -> subprocess.Popen[bytes]:
+    """Start ``argv`` in a new session (its own process group), stdin closed, output piped.
+    Raises OSError when it cannot be started."""
+    return subprocess.Popen(
+        list(argv),
+        env=dict(env),
+        cwd=str(cwd) if cwd else None,
+        stdin=subprocess.DEVNULL,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+        preexec_fn=functools.partial(_die_with_parent, os.getpid()),
+    )
+
+
+def _signal_group(proc: subprocess.Popen[bytes], sig: int) -> None:
+    try:
+        os.killpg(proc.pid, sig)
+    except (ProcessLookupError, PermissionError):
+        try:
+            proc.send_signal(sig)
+        except ProcessLookupError:
+            pass
+
+
+def stop(proc: subprocess.Popen[bytes], sigint_grace: float | None = None,
+         sigterm_grace: float | None = None) -> int:
+    """Stop ``proc`` (started by :func:`start`): SIGINT, SIGTERM, SIGKILL to its group, after
+    the grace periods given (default: ``SIGINT_GRACE``, ``SIGTERM_GRACE`` as they are now)."""
+    graces = (SIGINT_GRACE if sigint_grace is None else sigint_grace,
+              SIGTERM_GRACE if sigterm_grace is None else sigterm_grace)
+    for sig, grace in zip((signal.SIGINT, signal.SIGTERM), graces, strict=True):
+        if proc.poll() is not None:
+            break
+        _signal_group(proc, sig)
+        try:
+            proc.wait(grace)
+        except subprocess.TimeoutExpired:
+            continue
+    if proc.poll() is None:
+        _signal_group(proc, signal.SIGKILL)
+        proc.wait()
+    return proc.returncode
+
+
+def reap_group(proc: subprocess.Popen[bytes]) -> None:
+    """Kill what the target left behind in its own process group (its children). Children that
+    started a session of their own (daemons, ``setsid``) are out of reach: see the README."""
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass

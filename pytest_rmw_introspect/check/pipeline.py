@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any, TypeAlias
 
 from ..compare import drift, report, system
+from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions, resolve
 from ..compare.system import CompatItem
@@ -35,6 +36,7 @@ from ..errors import RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
 from ..model.capture import Capture
 from ..model.contract import Contract
+from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.vocabulary import Severity, parse_threshold
 from ..run import runner
@@ -190,6 +192,18 @@ class CheckResult:
         """``report.to_json`` of the drift, each item with the ``contract`` it belongs to."""
         return [{"contract": self.shown, **item} for item in report.to_json(self.items)]
 
+    def for_ci(self, *, written: str | None = None) -> ContractOutcome:
+        """This result for the CI formats (``--format markdown|github``)."""
+        if self.contract is not None:
+            nodes = sorted(self.contract.nodes)
+        else:
+            nodes = self.capture.node_names if self.capture is not None else []
+        return ContractOutcome(
+            contract=self.shown, items=self.items, threshold=self.threshold, nodes=nodes,
+            error=str(self.error) if self.error is not None else None, written=written,
+            lines=line_index(self.contract.text) if self.contract is not None else {},
+        )
+
 
 def compare(prepared: Prepared, capture: Capture) -> CheckResult:
     """Compare a capture with the prepared contract (no drift items when it does not exist)."""
@@ -272,6 +286,11 @@ class DiffResult:
     def to_json(self) -> list[dict[str, Any]]:
         return [{"contract": self.old_shown, **item} for item in report.to_json(self.items)]
 
+    def for_ci(self) -> ContractOutcome:
+        """For the CI formats: annotations point at NEW, the file a pull request changes."""
+        return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.threshold,
+                               nodes=sorted(self.new.nodes), lines=line_index(self.new.text))
+
 
 def diff_contracts(
     old_path: str | Path,
@@ -310,6 +329,8 @@ class SystemResult:
     labels: list[str]
     items: list[CompatItem]
     threshold: Severity
+    #: where each contract (by label) lists its nodes and interfaces, for annotations
+    lines: dict[str, LineIndex] = field(default_factory=dict)
 
     @property
     def failed(self) -> bool:
@@ -338,6 +359,7 @@ def check_system(
     """
     threshold = parse_threshold(fail_on)
     systems: dict[str, Any] = {}
+    lines: dict[str, LineIndex] = {}
     for p in contract_paths:
         path = Path(os.path.expanduser(str(p)))
         if not path.is_absolute() and base_dir is not None:
@@ -345,8 +367,10 @@ def check_system(
         label = display(path)
         if label in systems:
             continue
-        systems[label] = contract_module.load(path).nodes
+        loaded = contract_module.load(path)
+        systems[label] = loaded.nodes
+        lines[label] = line_index(loaded.text)
     if not systems:
         raise ValueError("no contracts given to the system check")
     items = system.check_system(systems, strict_system_default=strict_system_default)
-    return SystemResult(labels=list(systems), items=items, threshold=threshold)
+    return SystemResult(labels=list(systems), items=items, threshold=threshold, lines=lines)

@@ -14,6 +14,7 @@ from typing import Any
 
 from ..check import golden, pipeline
 from ..check.outcome import Verdict, decide
+from ..compare import ci_report
 from ..errors import GoldenWriteError, TargetError
 from ..model.contract import Contract
 from ..run import middleware, ros_env, runner
@@ -119,6 +120,7 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     setup = Setup()
     status = EXIT_OK
     all_items: list[dict[str, Any]] = []
+    for_ci: list[ci_report.ContractOutcome] = []
     for shown in args.contracts:
         path = Path(shown)
         result = pipeline.check(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,
@@ -127,6 +129,7 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         all_items += outcome.json
         if outcome.verdict is Verdict.ERROR:
             print(f"rmw-introspect: {outcome.message}", file=sys.stderr)
+            for_ci.append(result.for_ci())
             status = EXIT_ERROR
             continue
         if outcome.verdict is Verdict.WRITE:
@@ -134,12 +137,15 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
                 said = _write_golden(result, path, shown)
             except GoldenWriteError as exc:
                 print(f"rmw-introspect: {exc}", file=sys.stderr)
+                for_ci.append(ci_report.ContractOutcome(contract=shown, error=str(exc)))
                 status = EXIT_ERROR
                 continue
             if args.format == "text" and outcome.report:
                 sys.stdout.write(outcome.report)
             print(said, file=sys.stderr)
+            for_ci.append(result.for_ci(written=said.split(" ", 1)[0]))
             continue
+        for_ci.append(result.for_ci())
         if args.format == "text":
             if outcome.report:
                 sys.stdout.write(outcome.report + "\n")
@@ -149,6 +155,10 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             status = EXIT_DRIFT
     if args.format == "json":
         print(json.dumps(all_items, indent=2, default=str))
+    elif args.format == "markdown":
+        sys.stdout.write(ci_report.drift_markdown(for_ci))
+    elif args.format == "github":
+        sys.stdout.write(ci_report.drift_github(for_ci))
     return status
 
 
@@ -156,6 +166,10 @@ def cmd_diff(args: argparse.Namespace) -> int:
     result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
+    elif args.format == "markdown":
+        sys.stdout.write(ci_report.drift_markdown([result.for_ci()], title=f"Interface drift of {result.new_shown}"))
+    elif args.format == "github":
+        sys.stdout.write(ci_report.drift_github([result.for_ci()]))
     else:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK
@@ -166,6 +180,10 @@ def cmd_compat(args: argparse.Namespace) -> int:
                                    strict_system_default=args.strict_system_default)
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
+    elif args.format == "markdown":
+        sys.stdout.write(ci_report.compat_markdown(result.items, threshold=result.threshold, labels=result.labels))
+    elif args.format == "github":
+        sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines))
     else:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK

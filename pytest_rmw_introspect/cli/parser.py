@@ -173,9 +173,14 @@ def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True) -> None
                        help="also capture and compare /rosout, /parameter_events, parameter and lifecycle services")
 
 
+REPORT_FORMATS = ("text", "json", "markdown", "github")
+
+
 def _add_format(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--format", choices=("text", "json"), default="text",
-                        help="text: the report for people (default); json: machine-readable items")
+    parser.add_argument("--format", choices=REPORT_FORMATS, default="text",
+                        help="text: the report for people (default); json: machine-readable items; "
+                        "markdown: a summary table and the grouped drift (a pull-request comment, "
+                        "$GITHUB_STEP_SUMMARY); github: GitHub Actions annotations on the contract lines")
 
 
 def build_parser() -> argparse.ArgumentParser:

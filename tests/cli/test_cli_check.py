@@ -153,3 +153,20 @@ def test_a_setup_error_is_exit_2_with_its_message(cli):
         assert result.returncode == 2, result
         assert "RMW_INTROSPECT_LIBRARY points at" in result.stderr, result
         assert "Traceback" not in result.stderr
+
+
+def test_check_in_the_ci_formats(cli):
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, depth=3))
+    cli.write("good.interfaces.yaml", talker_contract(target=TALKER))
+    cli.write("broken.interfaces.yaml", "contract_version: 1\nnodes: {talker: {}}\n")
+    contracts = ("talker.interfaces.yaml", "good.interfaces.yaml", "broken.interfaces.yaml")
+    md = cli("check", *contracts, "--format", "markdown")
+    assert md.returncode == 2, md  # an error wins over drift
+    assert md.stdout.startswith("## Interface contracts: 2 of 3 failing\n"), md
+    assert "| `talker.interfaces.yaml` | `/talker` | ❌ 0 breaking, 0 risky, 1 safe |" in md.stdout
+    assert "| `good.interfaces.yaml` | `/talker` | ✅ matches |" in md.stdout
+    assert "| `broken.interfaces.yaml` | - | 🛑 error: invalid contract broken.interfaces.yaml:2: " in md.stdout
+    gh = cli("check", "talker.interfaces.yaml", "--format", "github", "--fail-on", "breaking")
+    assert gh.returncode == 0, gh
+    assert gh.stdout == ("::warning file=talker.interfaces.yaml,line=7,title=QOS_DEPTH_INCREASED (SAFE)::"
+                         "/talker publisher /chatter: depth 3 -> 10: more samples are queued; matching is unaffected\n"), gh

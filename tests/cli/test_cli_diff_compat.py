@@ -147,3 +147,23 @@ def test_help_documents_every_option(cli_nodes_only, command, expected):
     text = " ".join(result.stdout.split())  # argparse wraps lines
     for word in expected:
         assert " ".join(word.split()) in text, word
+
+
+def test_diff_and_compat_in_the_ci_formats(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("old.yaml", talker_contract())
+    cli.write("new.yaml", talker_contract(depth=5))
+    md = cli("diff", "old.yaml", "new.yaml", "--format", "markdown")
+    assert md.returncode == 1, md
+    assert md.stdout.startswith("## Interface drift of new.yaml: 1 of 1 failing\n")
+    assert "| `new.yaml` | `/talker` | ❌ 0 breaking, 1 risky, 0 safe |" in md.stdout
+    gh = cli("diff", "old.yaml", "new.yaml", "--format", "github")
+    assert gh.returncode == 1, gh
+    # the annotation points at the publisher's entry in the file the pull request changed
+    assert gh.stdout.startswith("::error file=new.yaml,line=5,title=QOS_DEPTH_DECREASED (RISKY)::/talker publisher /chatter")
+    cli.write("listener.yaml", LISTENER)
+    compat = cli("compat", "new.yaml", "listener.yaml", "--format", "github", "--fail-on", "risky")
+    assert compat.returncode == 1, compat
+    assert "::error file=listener.yaml,line=" in compat.stdout and "SUBSCRIPTION_WITHOUT_PUBLISHER" in compat.stdout
+    compat_md = cli("compat", "new.yaml", "listener.yaml", "--format", "markdown")
+    assert compat_md.stdout.startswith("## System check of 2 contract(s): pass\n"), compat_md

@@ -1,0 +1,160 @@
+"""Reports for CI: Markdown (a pull-request comment, ``$GITHUB_STEP_SUMMARY``) and GitHub Actions
+workflow commands (``::error file=...,line=...::``, shown as annotations on the contract file).
+
+The text report (``report.py``) stays the one for terminals and failing tests; these render the
+same items for the places CI shows them. Items at or above the fail threshold are errors,
+items below it warnings.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+from ..model.locate import LineIndex, line_of
+from ..model.vocabulary import LABELS, THRESHOLD_WORDS, Severity
+from .drift import DriftItem
+from .system import CompatItem
+
+
+@dataclass(frozen=True)
+class ContractOutcome:
+    """One contract's result as the CI formats show it."""
+
+    contract: str  # the path as shown
+    items: Sequence[DriftItem] = ()
+    threshold: Severity = Severity.SAFE
+    nodes: Sequence[str] = ()
+    error: str | None = None  # the check could not run
+    written: str | None = None  # "created" / "updated" (check --update)
+    lines: LineIndex = field(default_factory=dict)  # where the contract lists each node and interface
+
+    @property
+    def failed(self) -> bool:
+        return self.error is not None or any(i.severity >= self.threshold for i in self.items)
+
+
+def _counts(items: Sequence[DriftItem] | Sequence[CompatItem]) -> str:
+    return ", ".join(f"{sum(1 for i in items if i.severity is s)} {s.name.lower()}" for s in reversed(Severity))
+
+
+def _cell(text: str) -> str:
+    """Text inside a Markdown table cell: one line, pipes escaped."""
+    first = text.strip().splitlines()[0] if text.strip() else ""
+    return first.replace("|", "\\|")
+
+
+def _result_cell(outcome: ContractOutcome) -> str:
+    if outcome.error is not None:
+        return f"🛑 error: {_cell(outcome.error)}"
+    if outcome.written:
+        return f"✏️ {outcome.written}"
+    if not outcome.items:
+        return "✅ matches"
+    if outcome.failed:
+        return f"❌ {_counts(outcome.items)}"
+    return f"⚠️ {_counts(outcome.items)} (below the fail threshold: {THRESHOLD_WORDS[outcome.threshold]})"
+
+
+def _drift_bullets(items: Sequence[DriftItem], threshold: Severity) -> list[str]:
+    lines: list[str] = []
+    for severity in reversed(Severity):
+        group = [i for i in items if i.severity is severity]
+        if not group:
+            continue
+        note = "" if severity >= threshold else " (below the fail threshold)"
+        lines += ["", f"**{severity.name}** ({len(group)}){note}", ""]
+        for item in group:
+            where = f"`{item.node}`" if item.kind == "node" else f"`{item.node}` {LABELS.get(item.kind, item.kind)} `{item.name}`"
+            lines.append(f"- {where}: `{item.rule}` {item.message}")
+    return lines
+
+
+def drift_markdown(outcomes: Sequence[ContractOutcome], *, title: str = "Interface contracts") -> str:
+    """A summary table (one row per contract) and each contract's drift grouped by severity."""
+    failing = sum(1 for o in outcomes if o.failed)
+    verdict = f"{failing} of {len(outcomes)} failing" if failing else f"all {len(outcomes)} pass"
+    lines = [f"## {title}: {verdict}", "", "| contract | nodes | result |", "|---|---|---|"]
+    for o in outcomes:
+        nodes = ", ".join(f"`{n}`" for n in o.nodes) or "-"
+        lines.append(f"| `{o.contract}` | {nodes} | {_result_cell(o)} |")
+    for o in outcomes:
+        if o.error is not None:
+            lines += ["", f"### `{o.contract}`", "", "```", o.error.rstrip("\n"), "```"]
+        elif o.items:
+            lines += ["", f"### `{o.contract}`: {len(o.items)} change(s) ({_counts(o.items)})"]
+            lines += _drift_bullets(o.items, o.threshold)
+    return "\n".join(lines) + "\n"
+
+
+def compat_markdown(items: Sequence[CompatItem], *, threshold: Severity, labels: Sequence[str],
+                    title: str = "System check") -> str:
+    """The system check: a verdict, the contracts checked and the problems by severity."""
+    failing = any(i.severity >= threshold for i in items)
+    verdict = "FAIL" if failing else "pass"
+    lines = [f"## {title} of {len(labels)} contract(s): {verdict}", ""]
+    lines.append(f"{len(items)} problem(s) ({_counts(items)}); fail on: {THRESHOLD_WORDS[threshold]}.")
+    lines += ["", "| severity | name | rule | provider → requester | problem |", "|---|---|---|---|---|"]
+    for item in items:
+        ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
+        lines.append(f"| {item.severity.name} | `{item.name}` | `{item.rule}` | {_cell(ends)} | {_cell(item.message)} |")
+    lines += ["", "<details><summary>contracts checked</summary>", ""]
+    lines += [f"- `{label}`" for label in labels]
+    lines += ["", "</details>"]
+    return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------------------- GitHub workflow commands
+
+
+def _escape_data(text: str) -> str:
+    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def _escape_property(text: str) -> str:
+    return _escape_data(text).replace(":", "%3A").replace(",", "%2C")
+
+
+def annotation(level: str, message: str, *, file: str | None = None, line: int | None = None,
+               title: str | None = None) -> str:
+    """One workflow command: ``::error file=F,line=L,title=T::message``."""
+    props = []
+    if file:
+        props.append(f"file={_escape_property(file)}")
+    if line:
+        props.append(f"line={line}")
+    if title:
+        props.append(f"title={_escape_property(title)}")
+    return f"::{level} {','.join(props)}::{_escape_data(message)}" if props else f"::{level}::{_escape_data(message)}"
+
+
+def drift_github(outcomes: Sequence[ContractOutcome]) -> str:
+    """An annotation per drift item (error at or above the threshold, warning below), on the
+    contract's line of the interface (or of its node), and one per contract that could not be
+    checked."""
+    lines = []
+    for o in outcomes:
+        if o.error is not None:
+            lines.append(annotation("error", o.error.rstrip("\n"), file=o.contract, title="contract not checked"))
+            continue
+        for item in o.items:
+            level = "error" if item.severity >= o.threshold else "warning"
+            what = item.node if item.kind == "node" else f"{item.node} {LABELS.get(item.kind, item.kind)} {item.name}"
+            lines.append(annotation(level, f"{what}: {item.message}", file=o.contract,
+                                    line=line_of(o.lines, item.node, item.kind, item.name),
+                                    title=f"{item.rule} ({item.severity.name})"))
+    return "\n".join(lines) + ("\n" if lines else "")
+
+
+def compat_github(items: Sequence[CompatItem], *, threshold: Severity,
+                  lines: Mapping[str, LineIndex] | None = None) -> str:
+    """An annotation per system-check problem, on the requesting end's contract and line."""
+    out = []
+    for item in items:
+        level = "error" if item.severity >= threshold else "warning"
+        index = (lines or {}).get(item.requester.label, {})
+        ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
+        out.append(annotation(level, f"{item.name}: {ends}: {item.message}", file=item.requester.label,
+                              line=line_of(index, item.requester.node, item.requester.kind, item.name),
+                              title=f"{item.rule} ({item.severity.name})"))
+    return "\n".join(out) + ("\n" if out else "")

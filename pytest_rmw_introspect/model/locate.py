@@ -1,0 +1,57 @@
+"""Where things are written in a contract file: the line of each node and interface entry, for
+annotations that point at the contract (``--format github``)."""
+
+from __future__ import annotations
+
+import yaml
+
+from .vocabulary import LISTS
+
+#: (node, list name or "node", interface name) → 1-based line
+LineIndex = dict[tuple[str, str, str], int]
+
+
+def _scalar(node: yaml.Node) -> str | None:
+    return node.value if isinstance(node, yaml.ScalarNode) else None
+
+
+def _child(mapping: yaml.Node, key: str) -> yaml.Node | None:
+    if not isinstance(mapping, yaml.MappingNode):
+        return None
+    for k, v in mapping.value:
+        if _scalar(k) == key:
+            return v
+    return None
+
+
+def line_index(text: str) -> LineIndex:
+    """The lines of every node and interface entry of a contract's text (empty when the text
+    does not parse: annotations then point at the file)."""
+    try:
+        root = yaml.compose(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
+    except yaml.YAMLError:
+        return {}
+    index: LineIndex = {}
+    nodes = _child(root, "nodes") if root is not None else None
+    if not isinstance(nodes, yaml.MappingNode):
+        return index
+    for key, node in nodes.value:
+        fqn = _scalar(key)
+        if fqn is None:
+            continue
+        index[(fqn, "node", fqn)] = key.start_mark.line + 1
+        for list_name in LISTS:
+            entries = _child(node, list_name)
+            if not isinstance(entries, yaml.SequenceNode):
+                continue
+            for entry in entries.value:
+                name_node = _child(entry, "name")
+                name = _scalar(name_node) if name_node is not None else None
+                if name is not None:
+                    index.setdefault((fqn, list_name, name), entry.start_mark.line + 1)
+    return index
+
+
+def line_of(index: LineIndex, node: str, kind: str, name: str) -> int | None:
+    """The line of an interface entry, else of its node, else None."""
+    return index.get((node, kind, name)) or index.get((node, "node", node))

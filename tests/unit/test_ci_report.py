@@ -1,0 +1,125 @@
+"""The CI formats (``--format markdown`` and ``--format github``) against golden text.
+
+The golden files are in tests/unit/golden_text/; after an intended change of the output,
+regenerate them with ``RMWI_REGENERATE_GOLDEN_TEXT=1 pytest tests/unit/test_ci_report.py`` and
+review the diff.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from pytest_rmw_introspect.compare import ci_report
+from pytest_rmw_introspect.compare.ci_report import ContractOutcome
+from pytest_rmw_introspect.compare.drift import compare
+from pytest_rmw_introspect.compare.system import check_system
+from pytest_rmw_introspect.model.contract import loads
+from pytest_rmw_introspect.model.locate import line_index, line_of
+from pytest_rmw_introspect.model.vocabulary import Severity
+
+GOLDEN = Path(__file__).parent / "golden_text"
+
+TALKER = """\
+contract_version: 1
+nodes:
+  /talker:
+    publishers:
+      - name: /chatter
+        type: std_msgs/msg/String
+        qos: {history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}
+      - name: /status
+        type: std_msgs/msg/String
+    service_servers:
+      - name: /talker/reset
+        type: std_srvs/srv/Empty
+"""
+CAPTURED = {"/talker": {
+    "publishers": [
+        {"name": "/chatter", "type": "std_msgs/msg/String",
+         "qos": {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}},
+        {"name": "/status", "type": "std_msgs/msg/String"},
+        {"name": "/extra", "type": "std_msgs/msg/Int32"},
+    ],
+    "service_servers": [],
+}}
+LISTENER = """\
+contract_version: 1
+nodes:
+  /listener:
+    subscriptions:
+      - name: /chatter
+        type: std_msgs/msg/String
+        qos: {history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}
+    service_clients:
+      - name: /talker/reset
+        type: std_srvs/srv/Trigger
+"""
+
+
+def outcomes() -> list[ContractOutcome]:
+    items = compare(loads(TALKER).nodes, CAPTURED)
+    return [
+        ContractOutcome("contracts/talker.interfaces.yaml", items, Severity.RISKY, ["/talker"], lines=line_index(TALKER)),
+        ContractOutcome("contracts/listener.interfaces.yaml", (), Severity.SAFE, ["/listener"]),
+        ContractOutcome("contracts/broken.interfaces.yaml",
+                        error="contracts/broken.interfaces.yaml:3: nodes./x: not a fully qualified node name\nmore"),
+    ]
+
+
+def compat_items():
+    systems = {"contracts/talker.interfaces.yaml": CAPTURED, "contracts/listener.interfaces.yaml": loads(LISTENER).nodes}
+    return check_system(systems)
+
+
+def check_golden(name: str, text: str) -> None:
+    path = GOLDEN / name
+    if os.environ.get("RMWI_REGENERATE_GOLDEN_TEXT"):
+        path.write_text(text, encoding="utf-8")
+    assert text == path.read_text(encoding="utf-8"), f"{name} differs from its golden text"
+
+
+def test_drift_markdown():
+    check_golden("drift.md", ci_report.drift_markdown(outcomes()))
+
+
+def test_drift_github_annotations():
+    check_golden("drift.github.txt", ci_report.drift_github(outcomes()))
+
+
+def test_compat_markdown_and_github():
+    items = compat_items()
+    labels = ["contracts/talker.interfaces.yaml", "contracts/listener.interfaces.yaml"]
+    check_golden("compat.md", ci_report.compat_markdown(items, threshold=Severity.BREAKING, labels=labels))
+    lines = {"contracts/listener.interfaces.yaml": line_index(LISTENER)}
+    check_golden("compat.github.txt", ci_report.compat_github(items, threshold=Severity.BREAKING, lines=lines))
+
+
+def test_all_passing_markdown_says_so():
+    text = ci_report.drift_markdown([ContractOutcome("a.interfaces.yaml", nodes=["/a"])])
+    assert text.startswith("## Interface contracts: all 1 pass\n") and "✅ matches" in text
+    assert ci_report.drift_github([ContractOutcome("a.interfaces.yaml", nodes=["/a"])]) == ""
+
+
+@pytest.mark.parametrize("message, expected", [
+    ("a%b", "::error::a%25b"),
+    ("two\nlines\r", "::error::two%0Alines%0D"),
+])
+def test_annotation_data_is_escaped(message, expected):
+    assert ci_report.annotation("error", message) == expected
+
+
+def test_annotation_properties_are_escaped():
+    line = ci_report.annotation("warning", "m", file="dir,x/a:b.yaml", line=3, title="T: one, two")
+    assert line == "::warning file=dir%2Cx/a%3Ab.yaml,line=3,title=T%3A one%2C two::m"
+
+
+def test_line_index_of_a_contract():
+    index = line_index(TALKER)
+    assert line_of(index, "/talker", "publishers", "/status") == 8
+    assert line_of(index, "/talker", "service_servers", "/talker/reset") == 11
+    assert line_of(index, "/talker", "publishers", "/missing") == 3  # the node's line
+    assert line_of(index, "/nobody", "node", "/nobody") is None
+    assert line_index("nodes: [unclosed") == {}

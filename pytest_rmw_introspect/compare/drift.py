@@ -26,7 +26,7 @@ class DriftItem:
     node: str  # fully qualified node name
     kind: str  # one of LISTS, or "node"
     name: str  # interface name (node fqn for kind == "node")
-    change: str  # "added" | "removed" | "type" | "type_hash" | "qos.<field>"
+    change: str  # "added" | "removed" | "renamed" | "type" | "type_hash" | "qos.<field>"
     old: Any  # contract side (None for added)
     new: Any  # capture side (None for removed)
     rule: str  # stable rule id, see RULES
@@ -89,6 +89,10 @@ RULES: dict[str, Rule] = _rules(
     Rule("ACTION_SERVER_ADDED", _S, "action server added"),
     Rule("ACTION_CLIENT_REMOVED", _R, "action client removed"),
     Rule("ACTION_CLIENT_ADDED", _R, "action client added"),
+    *(Rule(f"{stem}_RENAMED", _B, f"{LABELS[kind]} renamed (one removed, one of the same type added)")
+      for kind, stem in (("publishers", "PUB"), ("subscriptions", "SUB"), ("service_servers", "SERVICE_SERVER"),
+                         ("service_clients", "SERVICE_CLIENT"), ("action_servers", "ACTION_SERVER"),
+                         ("action_clients", "ACTION_CLIENT"))),
     Rule("TYPE_CHANGED", _B, "interface type name changed"),
     Rule("TYPE_HASH_CHANGED", _B, "type definition changed under the same type name"),
     *(
@@ -162,7 +166,50 @@ def compare(
             return False
         return True
 
-    return sorted(filter(wanted, items), key=_sort_key)
+    return sorted(_pair_renames(list(filter(wanted, items))), key=_sort_key)
+
+
+_RENAME_RULE = {
+    "publishers": "PUB_RENAMED", "subscriptions": "SUB_RENAMED", "service_servers": "SERVICE_SERVER_RENAMED",
+    "service_clients": "SERVICE_CLIENT_RENAMED", "action_servers": "ACTION_SERVER_RENAMED",
+    "action_clients": "ACTION_CLIENT_RENAMED",
+}
+_RENAME_EFFECT = {
+    "publishers": "subscribers of {old} stop receiving data",
+    "subscriptions": "the node no longer receives what is published on {old}",
+    "service_servers": "clients of {old} get no answer",
+    "service_clients": "the node no longer calls the server of {old}",
+    "action_servers": "action clients of {old} get no answer",
+    "action_clients": "the node no longer sends goals to {old}",
+}
+
+
+def _pair_renames(items: list[DriftItem]) -> list[DriftItem]:
+    """One interface removed and one of the same kind and type added in the same node read as a
+    rename: one item naming both (still BREAKING). Ambiguous cases (two removed or two added of
+    that type) stay separate items."""
+    slots: dict[tuple[str, str, Any], dict[str, list[DriftItem]]] = {}
+    for item in items:
+        if item.kind == "node" or item.change not in ("removed", "added"):
+            continue
+        entry = item.old if item.change == "removed" else item.new
+        type_name = entry.get("type") if isinstance(entry, Mapping) else None
+        if type_name:
+            slots.setdefault((item.node, item.kind, type_name), {"removed": [], "added": []})[item.change].append(item)
+    paired: list[DriftItem] = []
+    for (node, kind, type_name), sides in slots.items():
+        if len(sides["removed"]) != 1 or len(sides["added"]) != 1:
+            continue
+        removed, added = sides["removed"][0], sides["added"][0]
+        rule = RULES[_RENAME_RULE[kind]]
+        effect = _RENAME_EFFECT[kind].format(old=removed.name)
+        paired.append(DriftItem(
+            node=node, kind=kind, name=removed.name, change="renamed", old=removed.old, new=added.new,
+            rule=rule.id, severity=rule.severity,
+            message=f"{LABELS[kind]} {removed.name} looks renamed to {added.name} (same type {type_name}): {effect}",
+        ))
+        items = [i for i in items if i is not removed and i is not added]
+    return items + paired
 
 
 def _ignored_qos_fields(ignore_qos: bool | Iterable[str]) -> frozenset[str]:
@@ -464,7 +511,7 @@ _KIND_ORDER = {kind: index for index, kind in enumerate(("node", *LISTS))}
 _CHANGE_ORDER = {
     change: index
     for index, change in enumerate(
-        ("added", "removed", "type", "type_hash", *(f"qos.{f}" for f in qos.FIELDS))
+        ("added", "removed", "renamed", "type", "type_hash", *(f"qos.{f}" for f in qos.FIELDS))
     )
 }
 

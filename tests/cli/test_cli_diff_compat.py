@@ -36,16 +36,15 @@ def test_diff_reports_drift_with_the_check_rules(cli_nodes_only):
     cli.write("new.yaml", talker_contract(reliability="BEST_EFFORT").replace("/chatter", "/speech"))
     result = cli("diff", "old.yaml", "new.yaml")
     assert result.returncode == 1, result
-    assert "Interface drift of new.yaml against old.yaml: 2 changes (1 breaking, 0 risky, 1 safe)" in result.stdout
-    assert "[PUB_REMOVED]" in result.stdout and "[PUB_ADDED]" in result.stdout
+    assert "Interface drift of new.yaml against old.yaml: 1 change (1 breaking, 0 risky, 0 safe)" in result.stdout
+    assert "[PUB_RENAMED] publisher /chatter looks renamed to /speech" in result.stdout
     assert "To accept" not in result.stdout
 
     as_json = cli("diff", "--format", "json", "old.yaml", "new.yaml")
     assert as_json.returncode == 1
     items = json.loads(as_json.stdout)
-    assert [(i["rule"], i["severity"], i["name"], i["contract"]) for i in items] == [
-        ("PUB_REMOVED", "BREAKING", "/chatter", "old.yaml"),
-        ("PUB_ADDED", "SAFE", "/speech", "old.yaml"),
+    assert [(i["rule"], i["severity"], i["name"], i["change"], i["new"]["name"], i["contract"]) for i in items] == [
+        ("PUB_RENAMED", "BREAKING", "/chatter", "renamed", "/speech", "old.yaml"),
     ]
 
 
@@ -135,7 +134,7 @@ def test_compat_threshold(cli_nodes_only):
                                  "--timeout SECONDS", "{yaml,json,nodl}", "--raw", "--include-ros-infra",
                                  "-o FILE", "NoDL v2"]),
         (("check", "--help"), ["CONTRACT", "--update", "--fail-on {any,risky,breaking}", "--ignore-type-hash",
-                               "--ignore-qos FIELDS", "--allow-extra", "--include-ros-infra", "--format {text,json}",
+                               "--ignore-qos FIELDS", "--allow-extra", "--include-ros-infra", "--format {text,json,markdown,github}",
                                "refused when the CI environment variable is set", "2 errors"]),
         (("diff", "--help"), ["OLD", "NEW", "--fail-on", "--format"]),
         (("compat", "--help"), ["CONTRACT", "--fail-on", "--strict-system-default", "--format"]),

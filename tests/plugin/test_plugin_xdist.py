@@ -79,7 +79,7 @@ def test_drift_under_xdist_is_a_failure_with_the_report(project):
     """)
     result = project.run("-n", "2")
     result.assert_outcomes(passed=1, failed=1)
-    result.stdout.fnmatch_lines(["*PUB_REMOVED*", "*pytest --update-golden test_nodes.py::test_a"])
+    result.stdout.fnmatch_lines(["*PUB_RENAMED*", "*pytest --update-golden test_nodes.py::test_a"])
     result = project.run("-n", "2", "--update-golden")
     result.assert_outcomes(passed=2)
     result.stdout.fnmatch_lines(["updated  a.yaml", "1 golden contract(s) written"])

@@ -96,6 +96,38 @@ def test_whole_node_rewritten_is_reported_per_interface():
         ("/a", "PUB_REMOVED"), ("/b", "PUB_REMOVED"), ("/c", "PUB_ADDED")]
 
 
+# --------------------------------------------------------------------------- renames
+
+RENAME_RULES = {"publishers": "PUB_RENAMED", "subscriptions": "SUB_RENAMED",
+                "service_servers": "SERVICE_SERVER_RENAMED", "service_clients": "SERVICE_CLIENT_RENAMED",
+                "action_servers": "ACTION_SERVER_RENAMED", "action_clients": "ACTION_CLIENT_RENAMED"}
+
+
+@pytest.mark.parametrize("kind", LISTS)
+def test_one_removed_and_one_added_of_the_same_type_read_as_a_rename(kind):
+    item = only(compare(nodes(kind, entry("/chatter"), entry("/kept", type_="std_msgs/msg/Int32")),
+                        nodes(kind, entry("/speech"), entry("/kept", type_="std_msgs/msg/Int32"))))
+    assert (item.change, item.rule, item.severity) == ("renamed", RENAME_RULES[kind], BREAKING)
+    assert (item.name, item.old["name"], item.new["name"]) == ("/chatter", "/chatter", "/speech")
+    assert "/chatter looks renamed to /speech (same type std_msgs/msg/String)" in item.message
+
+
+def test_no_rename_across_types_kinds_or_ambiguity():
+    other_type = compare(nodes("publishers", entry("/a")),
+                         nodes("publishers", entry("/b", type_="std_msgs/msg/Int32", type_hash=H2)))
+    assert sorted(i.rule for i in other_type) == ["PUB_ADDED", "PUB_REMOVED"]
+    other_kind = compare({"/n": {"publishers": [entry("/a")]}}, {"/n": {"subscriptions": [entry("/b")]}})
+    assert sorted(i.rule for i in other_kind) == ["PUB_REMOVED", "SUB_ADDED"]
+    ambiguous = compare(nodes("publishers", entry("/a")), nodes("publishers", entry("/b"), entry("/c")))
+    assert sorted(i.rule for i in ambiguous) == ["PUB_ADDED", "PUB_ADDED", "PUB_REMOVED"]
+
+
+def test_with_allow_extra_a_rename_is_a_removal():
+    items = compare(nodes("publishers", entry("/a")), nodes("publishers", entry("/b")),
+                    CompareOptions(allow_extra=True))
+    assert [i.rule for i in items] == ["PUB_REMOVED"]
+
+
 # --------------------------------------------------------------------------- type and hash
 
 
@@ -240,7 +272,7 @@ def test_qos_rules(kind, field, old, new, rule, severity):
 
 def test_every_rule_has_a_test_row():
     tested = {row[2] for row in PRESENCE_ROWS} | {row[4] for row in QOS_ROWS} | {
-        "NODE_ADDED", "NODE_REMOVED", "TYPE_CHANGED", "TYPE_HASH_CHANGED"}
+        "NODE_ADDED", "NODE_REMOVED", "TYPE_CHANGED", "TYPE_HASH_CHANGED"} | set(RENAME_RULES.values())
     assert tested == set(drift.RULES)
 
 

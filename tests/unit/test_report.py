@@ -30,7 +30,7 @@ EXPECTED = {
 ACTUAL = {
     "/talker": {
         "publishers": [entry("/chatter", qos="sensor_data", type_hash=H2),
-                       entry("/scan", qos="sensor_data")],
+                       entry("/scan", qos="sensor_data", type_="sensor_msgs/msg/LaserScan")],  # not a rename of /old
         "subscriptions": [entry("/cmd", qos={"reliability": "BEST_EFFORT"})],
         "service_servers": [entry("/reset", qos=None, type_="std_srvs/srv/Trigger")],
     },
@@ -70,7 +70,7 @@ def test_render_text_full_report(items):
         "SAFE (2) - below the fail threshold (risky), not failing",
         "  /talker",
         "    publisher /scan",
-        "      [PUB_ADDED] new publisher on /scan (std_msgs/msg/String): nothing existing depends "
+        "      [PUB_ADDED] new publisher on /scan (sensor_msgs/msg/LaserScan): nothing existing depends "
         "on it (qos sensor_data)",
         "    subscription /cmd",
         "      [QOS_RELIABILITY_REQUEST_LOWERED] subscription requests less reliability RELIABLE "

@@ -45,6 +45,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_ERROR
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _raise_terminated)
+    if args.command == "validate":  # only the contract loader: fast enough for a pre-commit hook
+        from .validate import cmd_validate
+
+        try:
+            return cmd_validate(args)
+        except KeyboardInterrupt:
+            return 130
     # The commands pull in the whole pipeline (deepdiff, jsonschema, ...): imported only once
     # the arguments are valid, so `--help` and usage errors answer in a fraction of the time.
     from . import commands

@@ -187,3 +187,4 @@ def cmd_compat(args: argparse.Namespace) -> int:
     else:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK
+

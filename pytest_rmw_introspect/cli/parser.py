@@ -22,6 +22,7 @@ commands:
   check     run the target of each contract and compare it with the contract (drift report)
   diff      compare two contract files without running anything
   compat    check that the nodes of several contracts fit together (types, hashes, QoS, peers)
+  validate  check that contract files are valid, without running anything (a pre-commit hook)
 
 Run `rmw-introspect COMMAND --help` for the options of a command.
 
@@ -119,6 +120,20 @@ any provider is RISKY. A policy left at SYSTEM_DEFAULT on both ends is not repor
 --fail-on defaults to `breaking` here (a partial system lacking some publisher is common).
 exit status: 0 compatible (or problems below --fail-on), 1 problems at or above --fail-on,
 2 errors (missing or malformed contract).
+"""
+
+
+_VALIDATE_EPILOG = """\
+Each file is read like `check` reads it (YAML syntax, the contract schema, QoS values, duplicate
+interfaces, contract_version); nothing is run. As a pre-commit hook (.pre-commit-hooks.yaml of
+this repository):
+
+  - repo: https://github.com/<owner>/pytest-rmw-introspect
+    rev: <version>
+    hooks:
+      - id: rmw-introspect-validate
+
+exit status: 0 all valid, 2 at least one invalid file (each named with its line and reason).
 """
 
 
@@ -223,6 +238,14 @@ def build_parser() -> argparse.ArgumentParser:
     dif.add_argument("new", metavar="NEW", help="the contract as it is now")
     _add_compare(dif, infra=False)
     _add_format(dif)
+
+    val = sub.add_parser("validate", help="check that contract files are valid (no target is run)",
+                         description="Load and validate contract files (YAML, schema, QoS values, duplicates) "
+                         "without running anything: fast enough for a pre-commit hook.",
+                         epilog=_VALIDATE_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    val.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML)")
+    val.add_argument("--format", choices=("text", "github"), default="text",
+                     help="text: one line per file (default); github: an annotation per invalid file")
 
     com = sub.add_parser("compat", help="check that the nodes of several contracts fit together",
                          description="System check: do the nodes of these contracts fit together?",

@@ -166,3 +166,32 @@ def test_diff_and_compat_in_the_ci_formats(cli_nodes_only):
     assert "::error file=listener.yaml,line=" in compat.stdout and "SUBSCRIPTION_WITHOUT_PUBLISHER" in compat.stdout
     compat_md = cli("compat", "new.yaml", "listener.yaml", "--format", "markdown")
     assert compat_md.stdout.startswith("## System check of 2 contract(s): pass\n"), compat_md
+
+
+def test_validate_checks_files_without_running_anything(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("good.interfaces.yaml", talker_contract(target="script: does_not_exist.py"))
+    cli.write("bad.interfaces.yaml", "contract_version: 1\nnodes:\n  /talker:\n    publishers: 3\n")
+    ok = cli("validate", "good.interfaces.yaml")
+    assert (ok.returncode, ok.stdout) == (0, "good.interfaces.yaml: valid (/talker)\n"), ok
+    bad = cli("validate", "good.interfaces.yaml", "bad.interfaces.yaml")
+    assert bad.returncode == 2, bad
+    assert "bad.interfaces.yaml:4" in bad.stderr and "Traceback" not in bad.stderr
+    gh = cli("validate", "bad.interfaces.yaml", "--format", "github")
+    assert gh.returncode == 2 and gh.stdout.startswith("::error file=bad.interfaces.yaml,line=4,title=invalid contract::"), gh
+
+
+def test_the_pre_commit_hook_runs_validate_on_contract_files():
+    import pathlib
+    import re
+
+    import yaml
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    (hook,) = yaml.safe_load((root / ".pre-commit-hooks.yaml").read_text())
+    assert hook["id"] == "rmw-introspect-validate" and hook["entry"] == "rmw-introspect validate"
+    assert hook["language"] == "python"
+    pattern = re.compile(hook["files"])
+    assert pattern.search("contracts/talker.interfaces.yaml") and pattern.search("robot.system.yaml")
+    assert not pattern.search("params.yaml")
+    assert 'rmw-introspect = "pytest_rmw_introspect.cli:main"' in (root / "pyproject.toml").read_text()

@@ -184,7 +184,9 @@ class NoNodeCreated(_WithPartialCapture):
         partial: Any = None,
         argv: Sequence[str] = (),
         detail: str | None = None,
+        hint: str | None = None,
     ) -> None:
+        self.hint = hint
         self.stderr_tail = _tail(stderr_tail)
         self.partial = partial
         self.argv = list(argv)
@@ -199,6 +201,8 @@ class NoNodeCreated(_WithPartialCapture):
             parts.append("Command: " + " ".join(self.argv))
         if self.stderr_tail:
             parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
+        if hint:
+            parts.append(hint)
         super().__init__("\n".join(parts), target=target)
 
 

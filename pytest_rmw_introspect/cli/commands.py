@@ -47,7 +47,8 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
     target = target_from_args(args, command)
     spec = TargetSpec.from_mapping(target, base_dir=cwd, source="command line")
     if spec.kind is None:
-        raise UsageError("no target: give --package P --executable E, --script FILE, --module M or -- COMMAND ARGS...")
+        raise UsageError("no target: give --package P --executable E, --script FILE, --module M, "
+                         "--entry-point MOD:FUNC or -- COMMAND ARGS...")
     setup = Setup()
     include = bool(args.include_infrastructure or args.raw)
     try:
@@ -68,7 +69,7 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
 def accept_command(args: argparse.Namespace, contract: str, command: list[str] | None) -> str:
     """`rmw-introspect check --update [the target and comparison flags given] CONTRACT`."""
     words = ["rmw-introspect", "check", "--update"]
-    for key in ("package", "executable", "script", "module", "namespace", "node_name", "params_file", "cwd",
+    for key in ("package", "executable", "script", "module", "entry_point", "namespace", "node_name", "params_file", "cwd",
                 "settle", "timeout", "horizon", "fail_on", "ignore_qos"):
         value = getattr(args, key, None)
         if value is not None:

@@ -44,8 +44,11 @@ terminated (SIGTERM) 143; a running target is stopped first.
 _TARGET_HELP = """\
 what to run (exactly one of):
   --package P --executable E   an executable of an ament package, found like `ros2 run`
+                               (or a console script of the Python distribution P, as
+                               `pip install -e .` installs an ament_python package)
   --script FILE                a Python file, run with this interpreter
   --module M                   a Python module, run as `python -m M`
+  --entry-point MOD:FUNC       a Python function, called like its console script
   -- COMMAND ARGS...           any command (everything after `--`)
 The other target options (--namespace, --remap, --param, ...) are added as `--ros-args`.
 """
@@ -155,6 +158,8 @@ def _add_target(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--executable", metavar="E", help="executable inside <prefix>/lib/<package>/")
     g.add_argument("--script", metavar="FILE", help="Python file to run with this interpreter")
     g.add_argument("--module", metavar="M", help="Python module to run as `python -m M`")
+    g.add_argument("--entry-point", metavar="MOD:FUNC",
+                   help="Python function to call like its console script (`my_pkg.camera:main`)")
     g.add_argument("--arg", dest="arguments", action="append", metavar="ARG",
                    help="extra command-line argument before --ros-args (repeatable)")
     g.add_argument("--namespace", metavar="NS", help="node namespace (-r __ns:=NS)")
@@ -275,7 +280,7 @@ def _pairs(values: Sequence[str] | None, sep: str, what: str, example: str) -> l
 def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dict[str, Any]:
     """The target options given on the command line (a TargetSpec mapping)."""
     target: dict[str, Any] = {}
-    for key in ("package", "executable", "script", "module", "namespace", "node_name", "params_file", "cwd",
+    for key in ("package", "executable", "script", "module", "entry_point", "namespace", "node_name", "params_file", "cwd",
                 "settle", "timeout", "horizon"):
         value = getattr(args, key, None)
         if value is not None:
@@ -298,11 +303,11 @@ def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dic
     env = _pairs(args.env, "=", "--env", "K=V")
     if env:
         target["env"] = dict(env)
-    kinds = [k for k in ("package", "executable", "script", "module", "command") if k in target]
+    kinds = [k for k in ("package", "executable", "script", "module", "entry_point", "command") if k in target]
     if "package" in kinds and "executable" in kinds:
         kinds.remove("executable")
     if len([k for k in kinds if k != "executable"]) > 1 or ("executable" in kinds and len(kinds) > 1):
-        shown = ["-- COMMAND" if k == "command" else f"--{k}" for k in kinds]
+        shown = ["-- COMMAND" if k == "command" else f"--{k.replace('_', '-')}" for k in kinds]
         raise UsageError(f"give one target, not {' and '.join(shown)}")
     return target
 

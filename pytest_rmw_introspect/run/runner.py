@@ -52,7 +52,7 @@ from ..errors import (
 )
 from ..model.capture import Capture, OtherProcess
 from . import middleware, process, ros_env
-from .target import TargetSpec, build_argv
+from .target import TargetSpec, build_argv, module_main_hint
 
 #: where a capture run's files go: ``<tempdir>/rmw_introspect_<runner pid>_<random>/``
 _WORKDIR_PREFIX = "rmw_introspect_"
@@ -206,6 +206,7 @@ def run(
         captured = _try_load(output, include_infrastructure) if returncode != 0 else None
         if returncode != 0 and (captured is None or not captured.settled_once):
             raise TargetExited(describe, returncode, stderr, captured, argv, hint=_missing_module_hint(stderr))
+        no_node_hint = module_main_hint(spec.module, _module_origin(argv[0], spec, cwd)) if spec.module else None
         if captured is None:
             if not output.exists():
                 raise NoNodeCreated(
@@ -215,10 +216,11 @@ def run(
                     argv,
                     detail="it exited with status 0 and wrote no capture: it never initialised ROS 2, "
                     "or it did not run on the recording middleware",
+                    hint=no_node_hint,
                 )
             captured = Capture.load(output, include_infrastructure=include_infrastructure)
         if not captured.raw_nodes:
-            raise NoNodeCreated(describe, stderr, captured, argv)
+            raise NoNodeCreated(describe, stderr, captured, argv, hint=no_node_hint)
         captured.returncode = returncode
         captured.stderr = stderr
         captured.wall_time = wall
@@ -251,6 +253,20 @@ def _outputs(workdir: Path, pid: int, include_infrastructure: bool) -> tuple[Pat
     if own.exists() or len(others) != 1:
         return own, [_describe_process(p, include_infrastructure) for p in others], None
     return others[0], [], _describe_process(others[0], include_infrastructure)
+
+
+def _module_origin(python: str, spec: TargetSpec, cwd: Path | None) -> Path | None:
+    """The file ``python -m <module>`` ran, as the target's interpreter and environment find it
+    (editable installs have their own finders): asked only after the target created no node."""
+    assert spec.module is not None
+    code = "import importlib.util, sys\ns = importlib.util.find_spec(sys.argv[1])\nprint(s.origin if s and s.origin else '')"
+    try:
+        found = subprocess.run([python, "-c", code, spec.module], env={**os.environ, **spec.env},
+                               cwd=str(cwd) if cwd else None, capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+    origin = found.stdout.strip()
+    return Path(origin) if found.returncode == 0 and origin else None
 
 
 def _missing_module_hint(stderr: str) -> str | None:

@@ -9,6 +9,8 @@ The same keys are accepted everywhere (the capture API, a contract's ``target`` 
 ``command``        an explicit command: a list of strings (or one string, split like a shell)
 ``script``         a Python file, run with the current interpreter (``sys.executable``)
 ``module``         a Python module, run as ``python -m <module>``
+``entry_point``    a Python function, ``package.module:function`` (what a ``console_scripts``
+                   entry point names), called like the script pip generates for it
 ``arguments``      extra command-line arguments, placed before ``--ros-args``
 ``namespace``      ``--ros-args -r __ns:=<namespace>``
 ``node_name``      ``--ros-args -r __node:=<node_name>``
@@ -37,11 +39,13 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import shlex
 import shutil
 import sys
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
+from importlib import metadata
 from pathlib import Path
 from typing import Any
 
@@ -56,7 +60,7 @@ DEFAULT_HORIZON = 10.0
 MAX_SECONDS = 86_400.0
 
 #: keys that say *what* to run; a layer that sets one of them replaces the whole choice
-KIND_KEYS = ("package", "executable", "command", "script", "module")
+KIND_KEYS = ("package", "executable", "command", "script", "module", "entry_point")
 #: every target key, in documentation order
 TARGET_KEYS = (
     "package",
@@ -64,6 +68,7 @@ TARGET_KEYS = (
     "command",
     "script",
     "module",
+    "entry_point",
     "arguments",
     "namespace",
     "node_name",
@@ -87,6 +92,7 @@ class TargetSpec:
     command: tuple[str, ...] | None = None
     script: Path | None = None
     module: str | None = None
+    entry_point: str | None = None
     arguments: tuple[str, ...] = ()
     namespace: str | None = None
     node_name: str | None = None
@@ -127,7 +133,7 @@ class TargetSpec:
         given = {k: v for k, v in options.items() if v is not None}
         if any(k in given for k in KIND_KEYS):
             # a new choice of what to run replaces the inherited one entirely
-            values.update(package=None, executable=None, command=None, script=None, module=None)
+            values.update(package=None, executable=None, command=None, script=None, module=None, entry_point=None)
         for key, value in given.items():
             values[key] = _convert(key, value, base, source)
         spec = replace(self, **values)
@@ -148,6 +154,8 @@ class TargetSpec:
             return "script"
         if self.module is not None:
             return "module"
+        if self.entry_point is not None:
+            return "entry_point"
         if self.package is not None or self.executable is not None:
             return "executable"
         return None
@@ -163,6 +171,8 @@ class TargetSpec:
             return f"script {self.script}"
         if kind == "module":
             return f"module {self.module}"
+        if kind == "entry_point":
+            return f"entry point {self.entry_point}"
         return "(no target)"
 
     def effective_timeout(self) -> float:
@@ -183,13 +193,14 @@ class TargetSpec:
                 ("command", self.command is not None),
                 ("script", self.script is not None),
                 ("module", self.module is not None),
+                ("entry_point", self.entry_point is not None),
             )
             if present
         ]
         if not chosen:
             raise TargetConfigError(
-                "No target to run: give `package` and `executable`, `command`, `script` or "
-                "`module` (in the marker's keyword arguments, the contract's `target:` block, "
+                "No target to run: give `package` and `executable`, `command`, `script`, `module` "
+                "or `entry_point` (in the marker's keyword arguments, the contract's `target:` block, "
                 "or the capture() call)."
             )
         if len(chosen) > 1:
@@ -250,11 +261,18 @@ def _str_list(value: Any, source: str, key: str) -> tuple[str, ...]:
     raise _fail(source, key, "a list of strings", value)
 
 
+_ENTRY_POINT = re.compile(r"^[A-Za-z_][\w]*(\.[A-Za-z_][\w]*)*:[A-Za-z_][\w]*(\.[A-Za-z_][\w]*)*$")
+
+
 def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
     if key in ("package", "executable", "module", "node_name"):
         if not isinstance(value, str) or not value:
             raise _fail(source, key, "a non-empty string", value)
         return value
+    if key == "entry_point":
+        if not isinstance(value, str) or not _ENTRY_POINT.match(value.strip()):
+            raise _fail(source, key, "a function as `package.module:function`", value)
+        return value.strip()
     if key == "namespace":
         if not isinstance(value, str):
             raise _fail(source, key, "a string", value)
@@ -459,7 +477,19 @@ def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | No
     kind = spec.kind
     if kind == "executable":
         assert spec.package and spec.executable
-        base = [str(find_executable(spec.package, spec.executable, prefixes))]
+        try:
+            base = [str(find_executable(spec.package, spec.executable, prefixes))]
+        except ExecutableNotFound as not_installed:
+            # an ament_python package developed in a venv (`pip install -e .`): its executables
+            # are console scripts in the venv's bin/, not in lib/<package>/
+            entry_point = console_script(spec.package, spec.executable, _python_path(spec))
+            if entry_point is None:
+                raise ExecutableNotFound(
+                    f"{not_installed} No console script '{spec.executable}' in a Python distribution named "
+                    f"'{spec.package}' either (a package installed with `pip install -e .`).",
+                    target=not_installed.target, searched=not_installed.searched, found=not_installed.found,
+                ) from None
+            base = entry_point_argv(entry_point, python, name=spec.executable)
     elif kind == "script":
         assert spec.script is not None
         if not spec.script.is_file():
@@ -471,6 +501,9 @@ def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | No
         base = [python, str(spec.script)]
     elif kind == "module":
         base = [python, "-m", str(spec.module)]
+    elif kind == "entry_point":
+        assert spec.entry_point is not None
+        base = entry_point_argv(spec.entry_point, python)
     else:
         assert spec.command is not None
         base = list(spec.command)
@@ -478,6 +511,66 @@ def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | No
     if spec.params_file is not None and not spec.params_file.is_file():
         raise TargetConfigError(f"params_file {spec.params_file} does not exist.")
     return [*base, *spec.arguments, *ros_arguments(spec)]
+
+
+#: what pip's console-script wrapper does: import the module, call the function, exit with its result
+_ENTRY_POINT_LAUNCHER = (
+    "import importlib, sys\n"
+    "target = sys.argv.pop(1)\n"
+    "module, _, attribute = target.partition(':')\n"
+    "sys.argv[0] = sys.argv.pop(1)\n"
+    "function = importlib.import_module(module)\n"
+    "for part in attribute.split('.'):\n"
+    "    function = getattr(function, part)\n"
+    "sys.exit(function())\n"
+)
+
+
+def entry_point_argv(entry_point: str, python: str, name: str | None = None) -> list[str]:
+    """The command line that calls ``package.module:function`` like its console script;
+    ``sys.argv[0]`` is ``name`` (the script's name) or the function's."""
+    return [python, "-c", _ENTRY_POINT_LAUNCHER, entry_point, name or entry_point.rpartition(":")[2]]
+
+
+def _python_path(spec: TargetSpec) -> list[str]:
+    """Where the target's interpreter finds distributions: its PYTHONPATH, then ours."""
+    extra = [p for p in (spec.env.get("PYTHONPATH") or os.environ.get("PYTHONPATH") or "").split(os.pathsep) if p]
+    return [*extra, *sys.path]
+
+
+def _normalized(name: str) -> str:
+    return re.sub(r"[-_.]+", "-", name).lower()
+
+
+def console_script(package: str, executable: str, path: Sequence[str]) -> str | None:
+    """The ``console_scripts`` entry point ``executable`` of the distribution named ``package``
+    (``-``/``_`` and case ignored) found on ``path``, as ``module:function``; None if none."""
+    wanted = _normalized(package)
+    for dist in metadata.distributions(path=list(path)):
+        if _normalized(dist.metadata["Name"] or "") != wanted:
+            continue
+        for ep in dist.entry_points:
+            if ep.group == "console_scripts" and ep.name == executable:
+                return str(ep.value)
+    return None
+
+
+def module_main_hint(module: str, origin: Path | None) -> str | None:
+    """Why ``python -m module`` may have run nothing: the module's file (``origin``) defines
+    ``main`` but has no ``if __name__ == "__main__":`` block. None when that is not the case."""
+    if origin is None or not origin.is_file():
+        return None
+    try:
+        text = origin.read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return None
+    if not re.search(r"^def main\(", text, flags=re.M) or "__main__" in text:
+        return None
+    return (
+        f"{origin} defines main() but has no `if __name__ == \"__main__\":` block, so `python -m {module}` "
+        f"defines the node and returns without running it. Name the function instead: "
+        f"`entry_point: {module}:main` (what a console script calls)."
+    )
 
 
 def _which(program: str, spec: TargetSpec) -> str:

@@ -256,3 +256,42 @@ def test_a_target_that_starts_another_ros_process_is_captured_alone(cli):
     assert result.returncode == 0, result
     assert list(json.loads(result.stdout)) == ["/parent"]
     assert "note: the target started other ROS processes" in result.stderr and "/talker" in result.stderr
+
+
+def test_an_ament_python_package_installed_with_pip_e_is_checked_through_its_console_script(cli, tmp_path):
+    """`pip install -e .` puts an ament_python package's executables in the venv's bin/ as
+    console scripts: `--package P --executable E` finds them through the distribution's
+    metadata, and `--module` of a module without a __main__ block says what to use instead."""
+    import subprocess
+    import uuid
+
+    name = f"rmwi_ep_demo_{uuid.uuid4().hex[:8]}"
+    pkg = tmp_path / "src" / name
+    (pkg / name).mkdir(parents=True)
+    (pkg / name / "__init__.py").write_text("")
+    (pkg / name / "camera.py").write_text(
+        "import rclpy\nfrom std_msgs.msg import String\n\n\n"
+        "def main():\n"
+        "    rclpy.init()\n"
+        "    node = rclpy.create_node('camera')\n"
+        "    node.create_publisher(String, 'image_info', 10)\n"
+        "    rclpy.spin(node)\n")
+    (pkg / "setup.py").write_text(
+        "from setuptools import setup\n"
+        f"setup(name='{name}', version='0.0.1', packages=['{name}'],\n"
+        f"      entry_points={{'console_scripts': ['camera = {name}.camera:main']}})\n")
+    pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "--quiet"]
+    subprocess.run([*pip, "install", "--no-deps", "-e", str(pkg)], check=True,
+                   capture_output=True, timeout=300)
+    try:
+        result = cli("capture", "--format", "json", "--package", name, "--executable", "camera")
+        assert result.returncode == 0, result
+        assert json.loads(result.stdout)["/camera"]["publishers"][0]["name"] == "/image_info"
+        via_entry_point = cli("capture", "--format", "json", "--entry-point", f"{name}.camera:main")
+        assert via_entry_point.stdout == result.stdout, via_entry_point
+        as_module = cli("capture", "--module", f"{name}.camera")
+        assert as_module.returncode == 2, as_module
+        assert "created no ROS node" in as_module.stderr
+        assert f"`entry_point: {name}.camera:main`" in as_module.stderr
+    finally:
+        subprocess.run([*pip, "uninstall", "--yes", name], capture_output=True, timeout=300)

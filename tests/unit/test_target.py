@@ -302,3 +302,68 @@ def test_defaults_and_describe():
 def test_to_mapping_round_trips():
     options = {"module": "m", "remappings": {"a": "b"}, "parameters": {"p": 1}, "timeout": 3.0}
     assert TargetSpec.from_mapping(options).to_mapping() == options
+
+
+# ---------------------------------------------------------------------------- entry points, console scripts
+
+
+def test_an_entry_point_target_calls_the_function_like_its_console_script(tmp_path):
+    spec = TargetSpec.from_mapping({"entry_point": "my_pkg.camera:main", "arguments": ["--x"], "namespace": "/a"})
+    assert spec.kind == "entry_point" and spec.describe() == "entry point my_pkg.camera:main"
+    argv = target.build_argv(spec, python="/py")
+    assert argv[:2] == ["/py", "-c"] and argv[3:] == ["my_pkg.camera:main", "main", "--x", "--ros-args", "-r", "__ns:=/a"]
+    module = tmp_path / "ep_demo_mod.py"
+    module.write_text("import sys\ndef main():\n    print(sys.argv)\n    return 3\n")
+    import subprocess
+
+    run = subprocess.run([sys.executable, *argv[1:3], "ep_demo_mod:main", "camera", "--flag"], cwd=tmp_path,
+                         capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(tmp_path)})
+    assert run.returncode == 3 and run.stdout.strip() == "['camera', '--flag']", run
+
+
+@pytest.mark.parametrize("value", ["my_pkg.camera", "my_pkg:", ":main", "my pkg:main", "a:b:c", 3])
+def test_a_malformed_entry_point_is_refused(value):
+    with pytest.raises(TargetConfigError, match="`entry_point` must be a function as `package.module:function`"):
+        TargetSpec.from_mapping({"entry_point": value})
+
+
+def test_an_entry_point_replaces_another_kind_of_target():
+    spec = TargetSpec.from_mapping({"script": "a.py"}).merged({"entry_point": "m:f"})
+    assert spec.kind == "entry_point" and spec.script is None
+
+
+def _fake_distribution(site, name, scripts):
+    info = site / f"{name.replace('-', '_')}-1.0.dist-info"
+    info.mkdir(parents=True)
+    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {name}\nVersion: 1.0\n")
+    lines = "".join(f"{k} = {v}\n" for k, v in scripts.items())
+    (info / "entry_points.txt").write_text(f"[console_scripts]\n{lines}")
+
+
+def test_a_package_executable_falls_back_to_a_console_script(tmp_path):
+    site = tmp_path / "site"
+    _fake_distribution(site, "my-camera_pkg", {"camera": "my_camera_pkg.camera:main"})
+    assert target.console_script("my_camera_pkg", "camera", [str(site)]) == "my_camera_pkg.camera:main"
+    assert target.console_script("My-Camera-Pkg", "camera", [str(site)]) == "my_camera_pkg.camera:main"
+    assert target.console_script("my_camera_pkg", "lidar", [str(site)]) is None
+    spec = TargetSpec.from_mapping({"package": "my_camera_pkg", "executable": "camera",
+                                    "env": {"PYTHONPATH": str(site)}})
+    argv = target.build_argv(spec, prefixes=[], python="/py")
+    assert argv[3:5] == ["my_camera_pkg.camera:main", "camera"]
+    with pytest.raises(ExecutableNotFound) as info:
+        target.build_argv(TargetSpec.from_mapping({"package": "my_camera_pkg", "executable": "lidar",
+                                                   "env": {"PYTHONPATH": str(site)}}), prefixes=[])
+    assert "No console script 'lidar' in a Python distribution named 'my_camera_pkg' either" in str(info.value)
+
+
+def test_a_module_with_main_but_no_main_block_gets_a_hint(tmp_path):
+    (tmp_path / "pkg_a").mkdir()
+    (tmp_path / "pkg_a" / "__init__.py").write_text("")
+    (tmp_path / "pkg_a" / "camera.py").write_text("def main():\n    pass\n")
+    (tmp_path / "pkg_a" / "runs.py").write_text("def main():\n    pass\n\nif __name__ == '__main__':\n    main()\n")
+    hint = target.module_main_hint("pkg_a.camera", tmp_path / "pkg_a" / "camera.py")
+    assert hint is not None and "defines main() but has no `if __name__ == \"__main__\":` block" in hint
+    assert "`entry_point: pkg_a.camera:main`" in hint
+    assert target.module_main_hint("pkg_a.runs", tmp_path / "pkg_a" / "runs.py") is None
+    assert target.module_main_hint("pkg_a.missing", tmp_path / "pkg_a" / "missing.py") is None
+    assert target.module_main_hint("pkg_a.missing", None) is None

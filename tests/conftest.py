@@ -9,12 +9,12 @@ pytest_plugins = ["pytester"]
 
 # ---------------------------------------------------------------------------- tiers
 # Tests are marked by where they live, so a new test file lands in the right tier by itself:
-#   e2e     real nodes on the real middleware (tests/middleware, tests/cli, the example package)
+#   e2e     real nodes on the real middleware (tests/middleware, tests/cli, tests/cmake, the example package)
 #   plugin  pytest run in a subprocess by pytester (tests/plugin)
 # Everything else (tests/unit) is the fast tier: `make test-fast` = pytest -m "not e2e and not plugin".
 import pytest  # noqa: E402
 
-_TIERS = {"middleware": "e2e", "cli": "e2e", "plugin": "plugin"}
+_TIERS = {"middleware": "e2e", "cli": "e2e", "cmake": "e2e", "plugin": "plugin"}
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:

@@ -40,6 +40,9 @@ def test_wheel_carries_the_middleware_sources_and_both_schemas(tmp_path):
     modules = sorted(p.relative_to(REPO).as_posix() for p in package.rglob("*.py") if "rmw_introspect_cpp" not in p.parts)
     assert [m for m in modules if m not in names] == [], "Python modules left out of the wheel"
     assert "pytest_rmw_introspect/py.typed" in names
+    # find_package(pytest_rmw_introspect) after a wheel install: <prefix>/share/pytest_rmw_introspect/cmake
+    assert f"pytest_rmw_introspect-{__version__}.data/data/share/pytest_rmw_introspect/cmake/pytest_rmw_introspectConfig.cmake" in names
+    assert "pytest_rmw_introspect/cmake/pytest_rmw_introspectConfig.cmake" in names
     assert wheel.name.startswith(f"pytest_rmw_introspect-{__version__}-")
 
 

@@ -54,7 +54,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 130
     # The commands pull in the whole pipeline (deepdiff, jsonschema, ...): imported only once
     # the arguments are valid, so `--help` and usage errors answer in a fraction of the time.
-    from . import commands
+    from . import commands, init
 
     try:
         if args.command == "capture":
@@ -63,6 +63,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return commands.cmd_check(args, command)
         if args.command == "diff":
             return commands.cmd_diff(args)
+        if args.command == "init":
+            return init.cmd_init(args)
         return commands.cmd_compat(args)
     except (RmwIntrospectError, UsageError, ValueError) as exc:
         print(f"rmw-introspect: {exc}", file=sys.stderr)

@@ -23,6 +23,7 @@ commands:
   diff      compare two contract files without running anything
   compat    check that the nodes of several contracts fit together (types, hashes, QoS, peers)
   validate  check that contract files are valid, without running anything (a pre-commit hook)
+  init      write a contract for every executable of an installed package
 
 Run `rmw-introspect COMMAND --help` for the options of a command.
 
@@ -125,6 +126,15 @@ exit status: 0 compatible (or problems below --fail-on), 1 problems at or above 
 2 errors (missing or malformed contract).
 """
 
+
+_INIT_EPILOG = """\
+Each executable is captured with default options (no parameters, remappings or namespace);
+edit a contract's `target:` block and run `rmw-introspect check --update` on it for another
+configuration. Executables that cannot be captured (they need arguments, hardware, a peer)
+are listed with the reason and get no contract. Existing contracts are kept unless --force.
+
+exit status: 0 every executable captured, 2 at least one could not be (or no executables).
+"""
 
 _VALIDATE_EPILOG = """\
 Each file is read like `check` reads it (YAML syntax, the contract schema, QoS values, duplicate
@@ -243,6 +253,19 @@ def build_parser() -> argparse.ArgumentParser:
     dif.add_argument("new", metavar="NEW", help="the contract as it is now")
     _add_compare(dif, infra=False)
     _add_format(dif)
+
+    ini = sub.add_parser("init", help="write a contract for every executable of a package",
+                         description="Capture every executable an installed package provides and write one "
+                         "contract per executable into DIR/contracts/.", epilog=_INIT_EPILOG,
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
+    ini.add_argument("--package", required=True, metavar="P", help="the installed package (ament index, or a "
+                     "Python distribution with console scripts)")
+    ini.add_argument("--output-dir", default=".", metavar="DIR",
+                     help="the package's source directory: contracts go to DIR/contracts (default: .)")
+    ini.add_argument("--force", action="store_true", help="overwrite existing contracts")
+    for option, text in (("--settle", "settle time of each capture"), ("--timeout", "time each executable gets"),
+                         ("--horizon", "virtual-time horizon of each capture")):
+        ini.add_argument(option, type=float, metavar="SECONDS", help=text)
 
     val = sub.add_parser("validate", help="check that contract files are valid (no target is run)",
                          description="Load and validate contract files (YAML, schema, QoS values, duplicates) "

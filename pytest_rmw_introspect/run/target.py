@@ -470,6 +470,22 @@ def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> 
     return candidate
 
 
+def package_executables(package: str, prefixes: Sequence[Path], python_path: Sequence[str] = ()) -> list[str]:
+    """Every executable ``package`` installs: ``lib/<package>/*`` of the first prefix that has the
+    package (like ``ros2 run``), else the console scripts of the Python distribution ``package``."""
+    for prefix in prefixes:
+        if (Path(prefix) / "share" / "ament_index" / "resource_index" / "packages" / package).exists():
+            lib_dir = Path(prefix) / "lib" / package
+            if lib_dir.is_dir():
+                return sorted(p.name for p in lib_dir.iterdir() if p.is_file() and os.access(p, os.X_OK))
+            return []
+    wanted = _normalized(package)
+    for dist in metadata.distributions(path=list(python_path) or sys.path):
+        if _normalized(dist.metadata["Name"] or "") == wanted:
+            return sorted({ep.name for ep in dist.entry_points if ep.group == "console_scripts"})
+    return []
+
+
 def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | None = None) -> list[str]:
     """The full command line of ``spec`` (``prefixes``: the ament prefixes to search)."""
     spec.validate()

@@ -162,7 +162,7 @@ def test_python_dash_m_dispatches_to_the_cli(cli):
 
 def test_capture_errors_are_messages_with_exit_status_2(cli):
     cases = {
-        ("capture",): "no target: give --package P --executable E, --script FILE, --module M or -- COMMAND",
+        ("capture",): "no target: give --package P --executable E, --script FILE, --module M, --entry-point MOD:FUNC or -- COMMAND",
         ("capture", "--script", "a.py", "--module", "m"): "give one target, not --script and --module",
         ("capture", "--script", "a.py", "--param", "depth"): "--param 'depth' is not of the form NAME:=VALUE",
         ("capture", "--script", "a.py", "--env", "X"): "--env 'X' is not of the form K=V",

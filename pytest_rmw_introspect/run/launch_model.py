@@ -57,7 +57,7 @@ class LaunchedNode:
     ros_arguments: tuple[str, ...] = ()
     parameters: tuple[Parameter, ...] = ()
     remappings: tuple[tuple[str, str], ...] = ()
-    env: Mapping[str, str | None] = field(default_factory=dict)
+    env: Mapping[str, str] = field(default_factory=dict)
     cwd: Path | None = None
     #: the complete command line, when the launch source gives it (Python launch files:
     #: launch_ros prepared it); otherwise it is built from the fields above

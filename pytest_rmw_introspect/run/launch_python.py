@@ -162,7 +162,6 @@ class _Walker:
         command = tuple(description.final_cmd)
         final_env = description.final_env or dict(os.environ)
         env = {k: v for k, v in final_env.items() if self.base_env.get(k) != v}
-        env.update({k: None for k in self.base_env if k not in final_env})
         package = self.text(node.node_package)
         self.result.nodes.append(LaunchedNode(
             executable=self.text(node.node_executable) or command[0],

@@ -20,7 +20,7 @@ Supported (XML and YAML, ``-`` and ``_`` spellings alike):
                             nested ``param`` (``outer.inner``)
 ``remap``                   ``from``, ``to``
 ``env``                     ``name``, ``value`` (inside ``node``)
-``set_env``, ``unset_env``  ``name`` (, ``value``): for the processes started after it in its scope
+``set_env``                 ``name``, ``value``: for the processes started after it in its scope
 ``group``                   ``scoped`` (default true), ``forwarding`` (default true), children
 ``push_ros_namespace``      ``namespace``: for the nodes after it in its scope
 ``include``                 ``file``; children ``arg`` (``name``, ``value``)
@@ -76,7 +76,6 @@ _TAGS: dict[str, tuple[frozenset[str], frozenset[str]]] = {
     "arg": (frozenset({"name", "default", "description"}), frozenset({"choice"})),
     "let": (frozenset({"name", "value"}), frozenset()),
     "set_env": (frozenset({"name", "value"}), frozenset()),
-    "unset_env": (frozenset({"name"}), frozenset()),
     "group": (frozenset({"scoped", "forwarding"}), frozenset()),
     "push_ros_namespace": (frozenset({"namespace"}), frozenset()),
     "include": (frozenset({"file"}), frozenset({"arg"})),
@@ -101,7 +100,7 @@ MAX_INCLUDE_DEPTH = 40
 class _Scope:
     configurations: dict[str, str]
     namespace: str | None
-    env: dict[str, str | None]
+    env: dict[str, str]
 
     def copy(self) -> _Scope:
         return _Scope(dict(self.configurations), self.namespace, dict(self.env))
@@ -144,7 +143,7 @@ def read(
     ``arguments`` (launch arguments, as ``ros2 launch ... name:=value``). ``prefixes``: the
     ament prefixes for ``$(find-pkg-*)`` and includes. Raises LaunchError."""
     path = Path(path).absolute()
-    given = {str(k): _argument_text(v) for k, v in (arguments or {}).items()}
+    given = {str(k): argument_text(v) for k, v in (arguments or {}).items()}
     result = LaunchResult(source=path, arguments=given)
     if not path.is_file():
         raise LaunchError(f"launch file {shown(path)} does not exist")
@@ -164,7 +163,7 @@ def read(
     return result
 
 
-def _argument_text(value: Any) -> str:
+def argument_text(value: Any) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
     return str(value)
@@ -186,7 +185,7 @@ class _Reader:
 
     def text(self, value: Any, scope: _Scope, file: Path) -> str:
         if not isinstance(value, str):
-            return _argument_text(value)
+            return argument_text(value)
         return launch_substitutions.substitute(value, self.context(scope, file))
 
     def unsupported(self, where: Where, what: str) -> None:
@@ -302,9 +301,6 @@ class _Reader:
     def tag_set_env(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
         name = self.text(self.require(entity, file, "name"), scope, file)
         scope.env[name] = self.text(self.require(entity, file, "value"), scope, file)
-
-    def tag_unset_env(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
-        scope.env[self.text(self.require(entity, file, "name"), scope, file)] = None
 
     def tag_push_ros_namespace(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
         scope.namespace = join_namespace(scope.namespace, self.text(self.require(entity, file, "namespace"), scope, file))

@@ -395,7 +395,7 @@ def test_nested_groups_and_scoping(tmp_path):
           <group scoped="false">
             <push_ros_namespace namespace="leaky"/>
             <let name="v" value="leaked"/>
-            <unset_env name="HOME"/>
+            <set_env name="LEAKED_ENV" value="yes"/>
           </group>
           <node pkg="p" exec="after" name="$(var v)"/>
           <group forwarding="false">
@@ -411,8 +411,8 @@ def test_nested_groups_and_scoping(tmp_path):
         ("abs", None, "/abs/c", {"E": "1"}),
         ("a", None, "/a", {"E": "1"}),
         ("top", "top", None, {}),
-        ("after", "leaked", "/leaky", {"HOME": None}),
-        ("fresh", None, "/leaky", {"HOME": None}),
+        ("after", "leaked", "/leaky", {"LEAKED_ENV": "yes"}),
+        ("fresh", None, "/leaky", {"LEAKED_ENV": "yes"}),
     ]
 
 

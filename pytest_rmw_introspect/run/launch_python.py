@@ -72,6 +72,7 @@ def read(
         if prefixes:  # $(find-pkg-share) and includes in launch look packages up here
             existing = [p for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
             os.environ["AMENT_PREFIX_PATH"] = os.pathsep.join(dict.fromkeys([*existing, *map(str, prefixes)]))
+        base_env = dict(os.environ)  # what a process gets anyway: its env is what the launch file adds
         for key, value in env.items():
             if value is None:
                 os.environ.pop(key, None)
@@ -83,7 +84,7 @@ def read(
             context.launch_configurations["ros_namespace"] = namespace
         source = launch.launch_description_sources.PythonLaunchDescriptionSource(str(path))
         description = source.get_launch_description(context)
-        _Walker(launch, launch_ros, context, result, path, saved).walk(description)
+        _Walker(launch, launch_ros, context, result, path, base_env).walk(description)
     except LaunchError:
         raise
     except Exception as exc:  # noqa: BLE001 - a launch file is arbitrary Python: say which and why

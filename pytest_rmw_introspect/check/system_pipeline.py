@@ -243,10 +243,11 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
 
 
 def run_capture(prepared: SystemPrepared, *, library: str | Path | None = None,
-                ros: RosEnvironment | None = None) -> SystemCapture:
-    """Capture every process of the prepared system (raises a TargetError)."""
+                ros: RosEnvironment | None = None, jobs: int | None = None) -> SystemCapture:
+    """Capture every process of the prepared system (raises a TargetError); ``jobs``: processes
+    at a time (default: the number of cores)."""
     return run_system.capture_system(prepared.launch, target=prepared.target, library=library, ros=ros,
-                                     include_infrastructure=prepared.options.include_infrastructure)
+                                     include_infrastructure=prepared.options.include_infrastructure, jobs=jobs)
 
 
 def check(
@@ -261,6 +262,7 @@ def check(
     system_fail_on: str | None = None,
     shown: str | None = None,
     allow_missing: bool = False,
+    jobs: int | None = None,
 ) -> SystemCheckResult:
     """:func:`prepare`, capture, :func:`compare`; an RmwIntrospectError ends up in ``result.error``."""
     path = Path(contract_path)
@@ -272,7 +274,7 @@ def check(
                            allow_missing=allow_missing, ros=ros)
         lib = library() if callable(library) else library
         env = ros() if callable(ros) else ros
-        return compare(prepared, run_capture(prepared, library=lib, ros=env))
+        return compare(prepared, run_capture(prepared, library=lib, ros=env, jobs=jobs))
     except RmwIntrospectError as exc:
         result = SystemCheckResult(path=path, shown=shown, error=exc)
         if prepared is not None:

@@ -37,12 +37,23 @@ def is_system(path: Path, args: argparse.Namespace | None = None) -> bool:
     return path.name.endswith(system_contract.SUFFIX) or (args is not None and wants_launch(args))
 
 
+def launch_arguments(args: argparse.Namespace) -> dict[str, str]:
+    """``--launch-arg NAME:=VALUE`` options as a mapping."""
+    arguments = {}
+    for value in getattr(args, "launch_arg", None) or ():
+        name, found, text = value.partition(":=")
+        if not found or not name:
+            raise UsageError(f"--launch-arg {value!r} is not of the form NAME:=VALUE")
+        arguments[name] = text
+    return arguments
+
+
 def launch_block(args: argparse.Namespace) -> dict[str, Any] | None:
     """The ``launch:`` block the command line gives (None: none)."""
     if not wants_launch(args):
         if getattr(args, "launch_arg", None) or getattr(args, "allow_unsupported", None):
             raise UsageError("--launch-arg and --allow-unsupported need a launch file: --launch FILE or "
-                             "--launch-package P --launch-file F")
+                             "--launch-package P --launch-file F (or, for `check`, a system contract)")
         return None
     block: dict[str, Any] = {}
     if args.launch:
@@ -53,12 +64,7 @@ def launch_block(args: argparse.Namespace) -> dict[str, Any] | None:
         if not (args.launch_package and args.launch_file):
             raise UsageError("--launch-package and --launch-file go together")
         block.update(package=args.launch_package, file=args.launch_file)
-    arguments = {}
-    for value in args.launch_arg or ():
-        name, found, text = value.partition(":=")
-        if not found or not name:
-            raise UsageError(f"--launch-arg {value!r} is not of the form NAME:=VALUE")
-        arguments[name] = text
+    arguments = launch_arguments(args)
     if arguments:
         block["arguments"] = arguments
     if args.allow_unsupported:
@@ -115,15 +121,20 @@ def check(args: argparse.Namespace, path: Path, shown: str, command: list[str] |
     cwd = Path.cwd()
     try:
         target = _process_target(args, command)
-        block = launch_block(args)
+        # a launch file given here replaces the contract's; launch arguments alone go on top of its
+        block = launch_block(args) if wants_launch(args) else None
+        arguments = launch_arguments(args) if block is None else None
+        if block is None and args.allow_unsupported:
+            raise UsageError("--allow-unsupported needs a launch file given here; in a system contract, "
+                             "write `allow_unsupported: true` in its `launch:` block")
     except UsageError as exc:
         return system_pipeline.SystemCheckResult(path=path, shown=shown,
                                                  error=TargetConfigError(str(exc)))
     layers = Layers(strong_target=[(target, cwd, "command line")] if target else [],
                     strong_options=[(compare_from_args(args), "command line")])
     return system_pipeline.check(path, library=library, ros=ros, layers=layers, launch=block, launch_base=cwd,
-                                 system_fail_on=getattr(args, "system_fail_on", None), shown=shown,
-                                 allow_missing=args.update)
+                                 launch_arguments=arguments, system_fail_on=getattr(args, "system_fail_on", None),
+                                 shown=shown, allow_missing=args.update, jobs=args.jobs)
 
 
 def cmd_diff(args: argparse.Namespace) -> int:

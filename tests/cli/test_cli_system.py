@@ -104,7 +104,11 @@ def test_capture_check_update_of_a_system(cli):
     new_text = cli.read("robot.system.yaml")
     assert new_text.startswith("# kept\n") and "arguments: {mistakes: 'false'}" in new_text
     assert new_text.count("executable: talker") == 1
-    assert cli("check", "robot.system.yaml", timeout=120).returncode == 0
+    assert cli("check", "robot.system.yaml", "--jobs", "1", timeout=120).returncode == 0
+    # launch arguments on the command line go on top of the contract's
+    again = cli("check", "robot.system.yaml", "--launch-arg", "mistakes:=true", "--format", "json", timeout=120)
+    assert again.returncode == 1, again
+    assert {"SUB_ADDED", "SUB_REMOVED", "TYPE_MISMATCH", "DUPLICATE_NODE_NAME"} <= {i["rule"] for i in json.loads(again.stdout)}
     # diff and compat of system contracts
     cli.write("old.system.yaml", text)
     diff = cli("diff", "old.system.yaml", "robot.system.yaml")

@@ -128,7 +128,8 @@ def prepare(
 def launched_processes(capture: SystemCapture) -> list[LaunchedProcess]:
     """The processes of a capture as the system rules read them."""
     return [LaunchedProcess(label=p.label, expected=p.launched.expected_fqn, nodes=p.contract_nodes(),
-                            duplicates=tuple(p.capture.duplicate_node_names) if p.capture is not None else ())
+                            duplicates=tuple(p.capture.duplicate_node_names) if p.capture is not None else (),
+                            where=str(p.launched.where))
             for p in capture.processes]
 
 

@@ -174,6 +174,8 @@ class LaunchedProcess:
     duplicates: tuple[str, ...] = ()
     #: a process the launch file starts (False: a node contract checked along, which promises no node)
     launched: bool = True
+    #: where the launch file starts it (``robot.launch.xml:12``), when known
+    where: str | None = None
 
 
 _MULTIPLE = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "ACTION_MULTIPLE_SERVERS"}
@@ -193,10 +195,11 @@ def check_launched(processes: Sequence[LaunchedProcess], *, strict_system_defaul
                                                        and process.expected not in process.nodes)):
             created = ", ".join(sorted(process.nodes)) or "no node at all"
             wanted = f"node {process.expected}" if process.expected else "a node"
+            at = f" at {process.where}" if process.where else " here"
             items.append(CompatItem(
                 "LAUNCHED_NODE_NOT_CREATED", RULES["LAUNCHED_NODE_NOT_CREATED"], process.expected or process.label,
                 Endpoint(process.label, process.expected or "(unnamed)", "node"), None,
-                f"the launch file starts {wanted} here, but the process created {created}"))
+                f"the launch file starts {wanted}{at}, but the process created {created}"))
     for process in processes:
         for fqn in process.duplicates:
             holders[fqn].append(process.label)

@@ -158,6 +158,10 @@ class SystemCapture:
         for process in self.processes:
             if process.capture is not None:
                 notes += [f"{process.label}: {note}" for note in process.capture.notes()]
+            elif process.no_node is not None:
+                stderr = process.no_node.stderr_tail.strip().splitlines()
+                notes.append(f"{process.label} ({process.launched.where}) created no node"
+                             + (f"; the end of its stderr: {stderr[-1]}" if stderr else ""))
         return notes
 
     def summary(self) -> str:

@@ -144,7 +144,9 @@ def test_a_launched_process_that_creates_no_node(cli):
     result = cli("check", "silent.system.yaml", timeout=120)
     assert result.returncode == 1, result
     assert "[LAUNCHED_NODE_NOT_CREATED] node of /silent" in result.stdout
-    assert "the launch file starts node /silent here, but the process created no node at all" in result.stdout
+    assert "the launch file starts node /silent at launch/silent.launch.xml:2, but the process created no node at all" \
+        in result.stdout
+    assert f"  - {Path(sys.executable).name} (launch/silent.launch.xml:2) created no node\n" in result.stdout
 
 
 def test_unsupported_constructs_fail_unless_allowed(cli):

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # `make example`: check the example package against the package as installed into the venv by
 # scripts/install-examples.sh: its tests (test/: marker tests and a smoke test of every
-# executable) and its contract files as bare pytest items (contracts/*.interfaces.yaml), then
-# the system check across all its contracts (types, hashes, QoS, missing peers).
+# executable) and its contract files as bare pytest items (contracts/*.interfaces.yaml, and
+# contracts/robot.system.yaml: every process of launch/robot.launch.xml captured and checked as
+# one system), then the system check across all its node contracts (types, hashes, QoS, missing peers).
 # Extra arguments go to pytest.
 set -euo pipefail
 

@@ -136,6 +136,17 @@ def update(path: str | Path, nodes: Mapping[str, Any], *, new_header: str | None
     return UPDATED if existed else CREATED
 
 
+def update_with(path: str | Path, new_text: Callable[[str | None], str], *,
+                timeout: float = LOCK_TIMEOUT) -> str | None:
+    """Write the file at ``path`` as ``new_text(current text or None)`` computes it, under its
+    lock and atomically (system contracts); return ``CREATED``, ``UPDATED`` or None."""
+    path = Path(path)
+    existed = path.exists()
+    if not _write_locked(path, new_text, timeout):
+        return None
+    return UPDATED if existed else CREATED
+
+
 # ---------------------------------------------------------------------------- new contracts
 
 

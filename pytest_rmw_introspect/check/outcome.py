@@ -11,10 +11,56 @@ from __future__ import annotations
 
 import enum
 import textwrap
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from pathlib import Path
+from typing import Any, Protocol
 
-from .pipeline import CheckResult
+from ..compare.options import ComparisonOptions
+from ..errors import RmwIntrospectError
+
+
+class _Described(Protocol):
+    def describe(self) -> str: ...
+
+
+class _Summarised(Protocol):
+    def summary(self) -> str: ...
+
+
+class _WithNodes(Protocol):
+    @property
+    def nodes(self) -> Mapping[str, Any]: ...
+
+
+class Checked(Protocol):
+    """What :func:`decide` reads: a ``pipeline.CheckResult`` (a node contract) or a
+    ``system_pipeline.SystemCheckResult`` (a system contract). ``items``: everything found;
+    ``drifted``: whether the golden differs from the capture (what updating would write)."""
+
+    @property
+    def error(self) -> RmwIntrospectError | None: ...
+    @property
+    def path(self) -> Path: ...
+    @property
+    def shown(self) -> str: ...
+    @property
+    def contract(self) -> _WithNodes | None: ...
+    @property
+    def spec(self) -> _Described | None: ...
+    @property
+    def capture(self) -> _Summarised | None: ...
+    @property
+    def options(self) -> ComparisonOptions: ...
+    @property
+    def items(self) -> Sequence[Any]: ...
+    @property
+    def drifted(self) -> bool: ...
+    @property
+    def failed(self) -> bool: ...
+    def to_json(self) -> list[dict[str, Any]]: ...
+    def render_text(self, accept_command: str | None = None) -> str: ...
+    def update(self) -> str | None: ...
 
 
 class Verdict(enum.Enum):
@@ -41,7 +87,7 @@ class Outcome:
         return self.verdict in (Verdict.FAIL, Verdict.ERROR)
 
 
-def decide(result: CheckResult, *, update: bool, accept_command: str | None = None) -> Outcome:
+def decide(result: Checked, *, update: bool, accept_command: str | None = None) -> Outcome:
     """The outcome of ``result``; ``update``: goldens may be written (``--update-golden``,
     ``check --update``); ``accept_command``: the command that accepts the drift, for messages."""
     if result.error is not None:
@@ -61,12 +107,16 @@ def decide(result: CheckResult, *, update: bool, accept_command: str | None = No
     if not result.items:
         nodes = ", ".join(sorted(result.contract.nodes)) or "no nodes"
         return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes})")
-    if update:
+    if update and result.drifted:
         text = result.render_text()
         return Outcome(Verdict.WRITE, text, report=text, json=items)
-    text = result.render_text(accept_command=accept_command)
+    # a system check can find problems without drift: nothing to accept then
+    text = result.render_text(accept_command=accept_command if result.drifted else None)
     if result.failed:
         return Outcome(Verdict.FAIL, text, report=text, json=items)
+    if not result.drifted:
+        warning = f"{len(result.items)} system problem(s) in {result.shown} below the fail threshold"
+        return Outcome(Verdict.WARN, warning, report=text, json=items)
     warning = (
         f"{len(result.items)} interface change(s) against {result.shown} below the fail threshold "
         f"({result.options.fail_on}); accept them with {accept_command}"

@@ -65,6 +65,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return commands.cmd_diff(args)
         if args.command == "init":
             return init.cmd_init(args)
+        if args.command == "graph":
+            return commands.cmd_graph(args)
         return commands.cmd_compat(args)
     except (RmwIntrospectError, UsageError, ValueError) as exc:
         print(f"rmw-introspect: {exc}", file=sys.stderr)

@@ -20,7 +20,7 @@ from ..model.contract import Contract
 from ..run import middleware, ros_env, runner
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
-from . import formats
+from . import formats, system
 from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, UsageError, compare_from_args, target_from_args
 
 
@@ -43,6 +43,10 @@ class Setup:
 
 
 def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
+    if system.wants_launch(args):
+        setup_ = Setup()
+        return system.cmd_capture(args, command, setup_.ros, setup_.library)
+    system.launch_block(args)  # launch options without a launch file are a usage error
     cwd = Path.cwd()
     target = target_from_args(args, command)
     spec = TargetSpec.from_mapping(target, base_dir=cwd, source="command line")
@@ -96,8 +100,11 @@ def _no_target(contract: Contract | None, shown: str) -> str:
             "(--package P --executable E, --script FILE, --module M or -- COMMAND)")
 
 
-def _write_golden(result: pipeline.CheckResult, path: Path, shown: str) -> str:
+def _write_golden(result: pipeline.CheckResult | system.system_pipeline.SystemCheckResult, path: Path,
+                  shown: str) -> str:
     """Write the golden of ``result``; returns what to say on stderr (raises GoldenWriteError)."""
+    if not isinstance(result, pipeline.CheckResult):  # a system contract writes its own header
+        return f"{result.update() or 'unchanged'} {shown}"
     if result.missing:
         assert result.spec is not None
         header = golden.new_contract_header(spec=result.spec, base=path.absolute().parent,
@@ -124,8 +131,12 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     for_ci: list[ci_report.ContractOutcome] = []
     for shown in args.contracts:
         path = Path(shown)
-        result = pipeline.check(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,
-                                allow_missing=args.update, no_target=_no_target)
+        result: pipeline.CheckResult | system.system_pipeline.SystemCheckResult
+        if system.is_system(path, args):
+            result = system.check(args, path, shown, command, setup.ros, setup.library)
+        else:
+            result = pipeline.check(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,
+                                    allow_missing=args.update, no_target=_no_target)
         outcome = decide(result, update=args.update, accept_command=accept_command(args, shown, command))
         all_items += outcome.json
         if outcome.verdict is Verdict.ERROR:
@@ -164,6 +175,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
 
 
 def cmd_diff(args: argparse.Namespace) -> int:
+    if system.any_system([args.old, args.new]):
+        return system.cmd_diff(args)
     result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
@@ -177,6 +190,8 @@ def cmd_diff(args: argparse.Namespace) -> int:
 
 
 def cmd_compat(args: argparse.Namespace) -> int:
+    if system.any_system(args.contracts):
+        return system.cmd_compat(args)
     result = pipeline.check_system(args.contracts, fail_on=args.fail_on,
                                    strict_system_default=args.strict_system_default)
     if args.format == "json":
@@ -189,3 +204,6 @@ def cmd_compat(args: argparse.Namespace) -> int:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK
 
+
+def cmd_graph(args: argparse.Namespace) -> int:
+    return system.cmd_graph(args)

@@ -10,6 +10,7 @@ import yaml
 
 from .._version import __version__
 from ..model.vocabulary import FAIL_ON
+from . import system_options
 
 EXIT_OK, EXIT_DRIFT, EXIT_ERROR = 0, 1, 2
 
@@ -24,6 +25,10 @@ commands:
   compat    check that the nodes of several contracts fit together (types, hashes, QoS, peers)
   validate  check that contract files are valid, without running anything (a pre-commit hook)
   init      write a contract for every executable of an installed package
+  graph     draw a system (Mermaid, Graphviz DOT or HTML) with what does not fit marked
+
+A launch file is a target too: `capture --launch robot.launch.xml -o robot.system.yaml` captures
+every process it starts into a system contract, which check, diff, compat and graph read.
 
 Run `rmw-introspect COMMAND --help` for the options of a command.
 
@@ -34,6 +39,8 @@ examples:
   rmw-introspect check --update contracts/talker.interfaces.yaml
   rmw-introspect diff old/talker.interfaces.yaml talker.interfaces.yaml --format json
   rmw-introspect compat contracts/*.interfaces.yaml
+  rmw-introspect capture --launch-package my_robot --launch-file robot.launch.xml -o robot.system.yaml
+  rmw-introspect graph robot.system.yaml --format html -o robot.html
 
 exit status: 0 everything matches (or only drift below the fail threshold), 1 drift /
 incompatibility at or above the fail threshold, 2 an error (a missing or malformed contract,
@@ -234,6 +241,7 @@ def build_parser() -> argparse.ArgumentParser:
     out.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
     out.add_argument("--partial", action="store_true",
                      help="when the target fails or hangs, still write what was captured (exit status stays 2)")
+    system_options.add_launch(cap)
 
     chk = sub.add_parser("check", help="capture each contract's target and compare",
                          description="Capture the target of each contract and compare it with the contract.",
@@ -245,6 +253,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_format(chk)
     chk.add_argument("--update", action="store_true",
                      help="rewrite drifted contracts and create missing ones (refused when CI is set)")
+    system_options.add_launch(chk)
+    system_options.add_system_fail_on(chk)
 
     dif = sub.add_parser("diff", help="compare two contract files (no target is run)",
                          description="Compare two contract files without running anything.",
@@ -284,6 +294,7 @@ def build_parser() -> argparse.ArgumentParser:
     com.add_argument("--strict-system-default", action="store_true",
                      help="also report policies left at SYSTEM_DEFAULT on both ends (what rmw would warn about)")
     _add_format(com)
+    system_options.add_graph(sub, _Parser)
     return parser
 
 

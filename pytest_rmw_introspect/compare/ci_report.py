@@ -28,13 +28,17 @@ class ContractOutcome:
     error: str | None = None  # the check could not run
     written: str | None = None  # "created" / "updated" (check --update)
     lines: LineIndex = field(default_factory=dict)  # where the contract lists each node and interface
+    #: a system contract's system-check problems, judged against their own threshold
+    system_items: Sequence[CompatItem] = ()
+    system_threshold: Severity = Severity.BREAKING
 
     @property
     def failed(self) -> bool:
-        return self.error is not None or any(i.severity >= self.threshold for i in self.items)
+        return (self.error is not None or any(i.severity >= self.threshold for i in self.items)
+                or any(i.severity >= self.system_threshold for i in self.system_items))
 
 
-def _counts(items: Sequence[DriftItem] | Sequence[CompatItem]) -> str:
+def _counts(items: Sequence[DriftItem | CompatItem]) -> str:
     return ", ".join(f"{sum(1 for i in items if i.severity is s)} {s.name.lower()}" for s in reversed(Severity))
 
 
@@ -49,11 +53,12 @@ def _result_cell(outcome: ContractOutcome) -> str:
         return f"🛑 error: {_cell(outcome.error)}"
     if outcome.written:
         return f"✏️ {outcome.written}"
-    if not outcome.items:
+    everything: list[DriftItem | CompatItem] = [*outcome.items, *outcome.system_items]
+    if not everything:
         return "✅ matches"
     if outcome.failed:
-        return f"❌ {_counts(outcome.items)}"
-    return f"⚠️ {_counts(outcome.items)} (below the fail threshold: {THRESHOLD_WORDS[outcome.threshold]})"
+        return f"❌ {_counts(everything)}"
+    return f"⚠️ {_counts(everything)} (below the fail threshold: {THRESHOLD_WORDS[outcome.threshold]})"
 
 
 def _drift_bullets(items: Sequence[DriftItem], threshold: Severity) -> list[str]:
@@ -81,9 +86,14 @@ def drift_markdown(outcomes: Sequence[ContractOutcome], *, title: str = "Interfa
     for o in outcomes:
         if o.error is not None:
             lines += ["", f"### `{o.contract}`", "", "```", o.error.rstrip("\n"), "```"]
-        elif o.items:
+        elif o.items or o.system_items:
             lines += ["", f"### `{o.contract}`: {len(o.items)} change(s) ({_counts(o.items)})"]
             lines += _drift_bullets(o.items, o.threshold)
+            if o.system_items:
+                lines += ["", f"System check: {len(o.system_items)} problem(s) ({_counts(o.system_items)})", ""]
+                for item in o.system_items:
+                    ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
+                    lines.append(f"- {item.severity.name} `{item.name}`: `{item.rule}` {ends}: {item.message}")
     return "\n".join(lines) + "\n"
 
 
@@ -143,18 +153,23 @@ def drift_github(outcomes: Sequence[ContractOutcome]) -> str:
             lines.append(annotation(level, f"{what}: {item.message}", file=o.contract,
                                     line=line_of(o.lines, item.node, item.kind, item.name),
                                     title=f"{item.rule} ({item.severity.name})"))
+        if o.system_items:
+            lines.append(compat_github(o.system_items, threshold=o.system_threshold, lines={o.contract: o.lines},
+                                       file=o.contract).rstrip("\n"))
     return "\n".join(lines) + ("\n" if lines else "")
 
 
 def compat_github(items: Sequence[CompatItem], *, threshold: Severity,
-                  lines: Mapping[str, LineIndex] | None = None) -> str:
-    """An annotation per system-check problem, on the requesting end's contract and line."""
+                  lines: Mapping[str, LineIndex] | None = None, file: str | None = None) -> str:
+    """An annotation per system-check problem, on the requesting end's contract (or ``file``,
+    a system contract holding every end) and line."""
     out = []
     for item in items:
         level = "error" if item.severity >= threshold else "warning"
-        index = (lines or {}).get(item.requester.label, {})
+        where = file or item.requester.label
+        index = (lines or {}).get(where, {})
         ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
-        out.append(annotation(level, f"{item.name}: {ends}: {item.message}", file=item.requester.label,
+        out.append(annotation(level, f"{item.name}: {ends}: {item.message}", file=where,
                               line=line_of(index, item.requester.node, item.requester.kind, item.name),
                               title=f"{item.rule} ({item.severity.name})"))
     return "\n".join(out) + ("\n" if out else "")

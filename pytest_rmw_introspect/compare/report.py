@@ -150,7 +150,12 @@ def render_compat_text(
             if item.name != current_name:
                 current_name = item.name
                 lines.append(f"  {item.name}")
-            ends = f"{item.provider} -> {item.requester}" if item.provider else str(item.requester)
+            if item.provider is None:
+                ends = str(item.requester)
+            elif item.provider.kind == item.requester.kind:  # two of a kind: duplicates, several servers
+                ends = f"{item.provider} and {item.requester}"
+            else:
+                ends = f"{item.provider} -> {item.requester}"
             lines.append(f"    [{item.rule}] {ends}: {item.message}")
     return "\n".join(lines) + "\n"
 

@@ -8,7 +8,7 @@ The rules and their severities are in docs/drift-rules.md ("System checks").
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -34,6 +34,11 @@ RULES: dict[str, Severity] = {
     "SUBSCRIPTION_WITHOUT_PUBLISHER": Severity.RISKY,
     "CLIENT_WITHOUT_SERVER": Severity.RISKY,
     "ACTION_CLIENT_WITHOUT_SERVER": Severity.RISKY,
+    # system contracts (a launch file's processes): check_launched
+    "DUPLICATE_NODE_NAME": Severity.BREAKING,
+    "SERVICE_MULTIPLE_SERVERS": Severity.BREAKING,
+    "ACTION_MULTIPLE_SERVERS": Severity.BREAKING,
+    "LAUNCHED_NODE_NOT_CREATED": Severity.BREAKING,
 }
 
 
@@ -151,3 +156,70 @@ def _strip_levels(reason: str) -> str:
 def _sort_key(item: CompatItem) -> tuple:
     provider = item.provider or Endpoint("", "", "")
     return (-item.severity, item.name, item.rule, item.requester, provider)
+
+
+# ---------------------------------------------------------------------------- launched systems
+
+
+@dataclass(frozen=True)
+class LaunchedProcess:
+    """One process of a system (a launch file's node): ``label`` names it in reports,
+    ``expected`` is the fully qualified node name the launch file gives it (None: the program
+    chooses), ``nodes`` the contract entries of the nodes it created."""
+
+    label: str
+    expected: str | None
+    nodes: Mapping[str, Mapping[str, Any]]
+    #: node names held by more than one node of this one process (its capture lists them once)
+    duplicates: tuple[str, ...] = ()
+    #: a process the launch file starts (False: a node contract checked along, which promises no node)
+    launched: bool = True
+    #: where the launch file starts it (``robot.launch.xml:12``), when known
+    where: str | None = None
+
+
+_MULTIPLE = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "ACTION_MULTIPLE_SERVERS"}
+
+
+def check_launched(processes: Sequence[LaunchedProcess], *, strict_system_default: bool = False) -> list[CompatItem]:
+    """Every system rule over the processes a launch file starts: the connections between all
+    their nodes (:func:`check_system`, one label per process), plus node names held by more
+    than one node, services and actions with more than one server, and processes that did not
+    create the node the launch file names (or created none). Most severe first."""
+    items = check_system({p.label: p.nodes for p in processes}, strict_system_default=strict_system_default)
+    holders: dict[str, list[str]] = {}
+    for process in processes:
+        for fqn in process.nodes:
+            holders.setdefault(fqn, []).append(process.label)
+        if process.launched and (not process.nodes or (process.expected is not None
+                                                       and process.expected not in process.nodes)):
+            created = ", ".join(sorted(process.nodes)) or "no node at all"
+            wanted = f"node {process.expected}" if process.expected else "a node"
+            at = f" at {process.where}" if process.where else " here"
+            items.append(CompatItem(
+                "LAUNCHED_NODE_NOT_CREATED", RULES["LAUNCHED_NODE_NOT_CREATED"], process.expected or process.label,
+                Endpoint(process.label, process.expected or "(unnamed)", "node"), None,
+                f"the launch file starts {wanted}{at}, but the process created {created}"))
+    for process in processes:
+        for fqn in process.duplicates:
+            holders[fqn].append(process.label)
+    for fqn, labels in holders.items():
+        for label in labels[1:]:
+            items.append(CompatItem(
+                "DUPLICATE_NODE_NAME", RULES["DUPLICATE_NODE_NAME"], fqn,
+                Endpoint(label, fqn, "node"), Endpoint(labels[0], fqn, "node"),
+                f"{len(labels)} nodes are named {fqn}: ROS 2 cannot tell them apart (parameter services, "
+                "logging and `ros2 node` address nodes by name); give each a name of its own"))
+    for kind, rule in _MULTIPLE.items():
+        servers: dict[str, list[Endpoint]] = {}
+        for process in processes:
+            for fqn, node in process.nodes.items():
+                for entry in (node or {}).get(kind) or []:
+                    servers.setdefault(entry.get("name"), []).append(Endpoint(process.label, fqn, kind))
+        for name, found in servers.items():
+            for other in found[1:]:
+                items.append(CompatItem(
+                    rule, RULES[rule], name, other, found[0],
+                    f"{len(found)} {LABELS[kind]}s for {name}: every request reaches each of them and is executed "
+                    "by each; the client takes whichever answer comes first"))
+    return sorted(items, key=_sort_key)

@@ -32,8 +32,9 @@ from typing import Any
 import pytest
 
 from ..errors import RmwIntrospectError
-from . import items, marker, session
+from . import items, marker, session, system_marker
 from .fixtures import interfaces, rmw_capture, rmw_introspect_library, rmw_introspect_marker_check, rmw_introspect_ros
+from .system_marker import rmw_introspect_system_marker_check, system_capture
 
 __all__ = [
     "interfaces",
@@ -41,6 +42,8 @@ __all__ = [
     "rmw_introspect_library",
     "rmw_introspect_ros",
     "rmw_introspect_marker_check",
+    "rmw_introspect_system_marker_check",
+    "system_capture",
 ]
 
 
@@ -50,6 +53,7 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 
 def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line("markers", marker.MARKER_DOC)
+    config.addinivalue_line("markers", system_marker.MARKER_DOC)
     session_state = session.configure(config)
     config.stash[session.SESSION] = session_state
     config.pluginmanager.register(session.GoldenReporter(session_state), "rmw-introspect-golden-reporter")
@@ -67,6 +71,9 @@ def pytest_runtest_call(item: pytest.Item) -> Generator[None, Any, Any]:
     st = item.stash.get(marker.ITEM, None)
     if st is not None and st.error is not None:
         pytest.fail(str(st.error), pytrace=False)
+    system_st = item.stash.get(system_marker.ITEM, None)
+    if system_st is not None and system_st.error is not None:
+        pytest.fail(str(system_st.error), pytrace=False)
     try:
         result = yield
     except RmwIntrospectError as exc:
@@ -74,12 +81,17 @@ def pytest_runtest_call(item: pytest.Item) -> Generator[None, Any, Any]:
         pytest.fail(str(exc), pytrace=False)
     if st is not None and st.capture is not None:
         marker.check(item, st, session.state(item.config))
+    if system_st is not None and system_st.capture is not None:
+        system_marker.check(item, system_st, session.state(item.config))
     return result
 
 
-def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> items.ContractFile | None:
-    """Contract files (``rmw_introspect_contracts``) are test items of their own (``items``)."""
+def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.File | None:
+    """Contract files (``rmw_introspect_contracts``) are test items of their own (``items``;
+    system contracts: ``system_marker``)."""
     if items.matches(file_path, parent.config, items.patterns(parent.config)):
+        if system_marker.is_system_file(file_path):
+            return system_marker.SystemContractFile.from_parent(parent, path=file_path)
         return items.ContractFile.from_parent(parent, path=file_path)
     return None
 

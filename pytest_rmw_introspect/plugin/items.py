@@ -40,7 +40,7 @@ from ..model.contract import Contract
 from . import verdict
 from .session import state
 
-DEFAULT_PATTERNS = ("*.interfaces.yaml",)
+DEFAULT_PATTERNS = ("*.interfaces.yaml", "*.system.yaml")
 
 
 def patterns(config: pytest.Config) -> list[str]:

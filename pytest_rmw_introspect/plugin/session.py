@@ -138,10 +138,10 @@ def addoption(parser: pytest.Parser) -> None:
         default=None,
         metavar="GLOBS",
         help="contract files collected as test items: glob patterns, comma-separated "
-        "(default: ini rmw_introspect_contracts, *.interfaces.yaml; 'none' turns it off)",
+        "(default: ini rmw_introspect_contracts, *.interfaces.yaml *.system.yaml; 'none' turns it off)",
     )
     parser.addini("rmw_introspect_contracts", "glob patterns of contract files collected as test items "
-                  "('none' turns it off)", type="args", default=["*.interfaces.yaml"])
+                  "('none' turns it off)", type="args", default=["*.interfaces.yaml", "*.system.yaml"])
     parser.addini("rmw_introspect_ignore_type_hash", "do not compare type hashes", type="bool", default=False)
     parser.addini("rmw_introspect_ignore_qos", "QoS fields not to compare (list, or 'all')", type="args", default=[])
     parser.addini("rmw_introspect_allow_extra", "interfaces the contract does not list are not drift",

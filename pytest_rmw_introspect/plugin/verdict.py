@@ -11,8 +11,7 @@ from pathlib import Path
 import pytest
 
 from ..check import golden as golden_module
-from ..check.outcome import Verdict, decide
-from ..check.pipeline import CheckResult
+from ..check.outcome import Checked, Verdict, decide
 from ..errors import GoldenWriteError
 from .session import SessionState
 
@@ -28,7 +27,7 @@ def accept_command(item: pytest.Item, session_state: SessionState) -> str:
     return f"pytest --update-golden {shlex.quote(node)}"
 
 
-def apply(item: pytest.Item, result: CheckResult, session_state: SessionState) -> None:
+def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> None:
     """Turn a compared result into the test's outcome (raises ``pytest.fail`` on failure)."""
     outcome = decide(result, update=session_state.update, accept_command=accept_command(item, session_state))
     if outcome.json:

@@ -163,7 +163,10 @@ def test_rules_table_is_complete():
     assert set(compat.RULES) == {row for rows in (
         ["TYPE_MISMATCH", "TYPE_HASH_MISMATCH", "QOS_INCOMPATIBLE", "QOS_MAYBE_INCOMPATIBLE",
          "SUBSCRIPTION_WITHOUT_PUBLISHER", "CLIENT_WITHOUT_SERVER",
-         "ACTION_CLIENT_WITHOUT_SERVER"],) for row in rows}
+         "ACTION_CLIENT_WITHOUT_SERVER"],
+        # system contracts only (check_launched)
+        ["DUPLICATE_NODE_NAME", "SERVICE_MULTIPLE_SERVERS", "ACTION_MULTIPLE_SERVERS",
+         "LAUNCHED_NODE_NOT_CREATED"]) for row in rows}
 
 
 # --------------------------------------------------------------------------- rendering

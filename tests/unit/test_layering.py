@@ -35,6 +35,7 @@ ALLOWED: dict[str, set[str]] = {
 #: (module, imported module) → why
 LOCAL_IMPORTS = {
     ("model.contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a contract needs it",
+    ("model.system_contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a system contract needs it",
     ("compare.drift", "deepdiff"): "deepdiff costs 0.1-0.2 s; only comparing needs it",
     ("cli", "pytest_rmw_introspect.cli"): "`--help` and usage errors answer without the pipeline",
     ("cli", "pytest_rmw_introspect.cli.validate"): "`validate` (a pre-commit hook) loads only the contract reader",

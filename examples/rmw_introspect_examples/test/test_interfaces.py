@@ -120,3 +120,13 @@ def test_self_test_ends_by_itself(interfaces):
 def test_motor_deadline_client_gives_up_after_settling(interfaces):
     assert interfaces.returncode == 1  # gave up: its 5 s deadline passed at once in virtual time
     assert [c.name for c in interfaces['/motor_deadline_client'].service_clients] == ['/enable_motors']
+
+
+# The whole robot: every process launch/robot.launch.xml starts, checked as one system (the
+# contract's nodes, and every connection between them: types, QoS, peers, node names).
+@pytest.mark.system_contract('../contracts/robot.system.yaml')
+def test_robot_system(system_capture):
+    lidar = next(p for p in system_capture.processes if p.launched.executable == 'laser_driver')
+    assert lidar.node_names == ['/robot1/lidar']
+    assert any(a.endswith('config/robot_params.yaml') for a in lidar.capture.command)
+

@@ -1,0 +1,387 @@
+"""Checking a system contract (``*.system.yaml``): the check pipeline for a whole launch file.
+
+The same steps as ``pipeline`` for a node contract, and the same option layers
+(``pipeline.Layers``): load the system contract (``model.system_contract``), resolve its
+``launch:`` block, the process-wide target options (``settle``, ``timeout``, ``horizon``,
+``env``) and the comparison options, capture every process (``run.system.capture_system``),
+then
+
+* compare the system's nodes with the contract's ``nodes`` (``compare.drift``: the drift rules
+  of a node contract), and
+* run the system rules on the capture (``compare.system.check_launched``: type, hash and QoS
+  of every connection, requesters without providers, duplicate node names, several servers,
+  launched processes that created no node), judged with ``system_fail_on`` (default
+  ``breaking``, like ``rmw-introspect compat``).
+
+:class:`SystemCheckResult` is what ``check.outcome.decide`` reads, like a ``CheckResult``; its
+``items`` are the drift and then the system problems, ``drifted`` says whether the golden
+differs. :func:`load_any` and :func:`check_contracts` run the system rules on contract files
+without capturing (``compat``, ``graph``); :func:`diff_system` compares two system contracts.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..compare import drift, report
+from ..compare.ci_report import ContractOutcome
+from ..compare.drift import DriftItem
+from ..compare.options import ComparisonOptions
+from ..compare.system import CompatItem, LaunchedProcess, check_launched, check_system
+from ..errors import RmwIntrospectError, TargetConfigError
+from ..model import contract as contract_module
+from ..model import system_contract
+from ..model.contract import Contract
+from ..model.locate import line_index
+from ..model.paths import shown as display
+from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
+from ..model.vocabulary import Severity, parse_threshold
+from ..run import system as run_system
+from ..run.ros_env import RosEnvironment
+from ..run.system import LaunchSpec, SystemCapture
+from ..run.target import TargetSpec
+from . import golden
+from .pipeline import Layers, OptionLayer
+
+#: the system rules fail on this unless ``system_fail_on`` says otherwise (as ``compat``)
+DEFAULT_SYSTEM_FAIL_ON = "breaking"
+NO_LAYERS = Layers()
+
+
+@dataclass
+class SystemPrepared:
+    """A system contract with its launch file, process-wide target and options resolved."""
+
+    path: Path
+    shown: str
+    contract: SystemContract | None
+    launch: LaunchSpec
+    target: TargetSpec
+    options: ComparisonOptions
+    system_threshold: Severity
+
+
+def _as_contract(system: SystemContract | None) -> Contract | None:
+    """The parts ``Layers`` reads (``target:``, ``options:``) as a node contract."""
+    if system is None:
+        return None
+    return Contract(path=system.path, nodes=system.nodes, target=system.target, options=system.comparison_options)
+
+
+def system_threshold(contract: SystemContract | None, strong: str | None) -> Severity:
+    """``system_fail_on``: given here (marker, command line) > the contract's > ``breaking``."""
+    word = strong or (contract.system_fail_on if contract is not None else None) or DEFAULT_SYSTEM_FAIL_ON
+    return parse_threshold(word)
+
+
+def prepare(
+    contract_path: str | Path,
+    *,
+    layers: Layers = NO_LAYERS,
+    launch: Mapping[str, Any] | None = None,
+    launch_base: str | Path | None = None,
+    launch_arguments: Mapping[str, Any] | None = None,
+    system_fail_on: str | None = None,
+    shown: str | None = None,
+    allow_missing: bool = False,
+    ros: RosEnvironment | Callable[[], RosEnvironment] | None = None,
+) -> SystemPrepared:
+    """Load the system contract and resolve what to launch, the process-wide target options and
+    the comparison options. ``launch``: a ``launch:`` block given by the caller (relative paths
+    to ``launch_base``), replacing the contract's; ``launch_arguments``: launch arguments on top of
+    the block's. Raises an RmwIntrospectError."""
+    path = Path(contract_path)
+    shown = shown or display(path)
+    contract = None
+    if path.exists() or not allow_missing:
+        contract = system_contract.load(path)
+    as_contract = _as_contract(contract)
+    options = layers.options(as_contract, shown=shown)
+    target = layers.target(as_contract, path=path, shown=shown)
+    extra = sorted(k for k in target.to_mapping() if k not in SYSTEM_TARGET_KEYS)
+    if extra:
+        raise TargetConfigError(
+            f"{shown}: a system contract runs what its launch file starts; its target options may only be "
+            f"{', '.join(SYSTEM_TARGET_KEYS)} (got {', '.join(extra)})")
+    if launch is not None:
+        block, base, source = launch, Path(launch_base or Path.cwd()), "launch options"
+    elif contract is not None:
+        block, base, source = contract.launch, path.absolute().parent, f"{shown}: launch"
+    else:
+        raise TargetConfigError(
+            f"The system contract {shown} does not exist and no launch file is given, so there is nothing to "
+            "capture; name one (--launch FILE, or --launch-package P --launch-file F)")
+    if launch_arguments:
+        block = {**block, "arguments": {**(block.get("arguments") or {}), **launch_arguments}}
+    env = ros() if callable(ros) else ros
+    spec = run_system.resolve_launch(block, base_dir=base, source=source,
+                                     prefixes=run_system.ament_prefixes(env))
+    return SystemPrepared(path=path, shown=shown, contract=contract, launch=spec, target=target, options=options,
+                          system_threshold=system_threshold(contract, system_fail_on))
+
+
+# ---------------------------------------------------------------------------- result
+
+
+def launched_processes(capture: SystemCapture) -> list[LaunchedProcess]:
+    """The processes of a capture as the system rules read them."""
+    return [LaunchedProcess(label=p.label, expected=p.launched.expected_fqn, nodes=p.contract_nodes(),
+                            duplicates=tuple(p.capture.duplicate_node_names) if p.capture is not None else (),
+                            where=str(p.launched.where))
+            for p in capture.processes]
+
+
+def contract_processes(contract: SystemContract, label: str | None = None) -> list[LaunchedProcess]:
+    """The processes of a system contract as the system rules read them (labels as in a capture)."""
+    entries = [p for p, _ in contract.process_nodes()]
+    names = run_system.labels([(p.get("package"), str(p.get("executable"))) for p in entries])
+    prefix = f"{label}: " if label else ""
+    return [LaunchedProcess(label=prefix + name, expected=p.get("name"), nodes=nodes)
+            for name, (p, nodes) in zip(names, contract.process_nodes(), strict=True)]
+
+
+@dataclass
+class SystemCheckResult:
+    """What checking one system contract found: drift of its nodes and system problems."""
+
+    path: Path
+    shown: str
+    contract: SystemContract | None = None
+    spec: LaunchSpec | None = None
+    options: ComparisonOptions = field(default_factory=ComparisonOptions)
+    system_threshold: Severity = Severity.BREAKING
+    capture: SystemCapture | None = None
+    drift_items: list[DriftItem] = field(default_factory=list)
+    system_items: list[CompatItem] = field(default_factory=list)
+    error: RmwIntrospectError | None = None
+    compared: bool = False
+
+    @property
+    def items(self) -> list[DriftItem | CompatItem]:
+        return [*self.drift_items, *self.system_items]
+
+    @property
+    def missing(self) -> bool:
+        return self.contract is None and self.error is None
+
+    @property
+    def threshold(self) -> Severity:
+        return self.options.threshold()
+
+    @property
+    def drifted(self) -> bool:
+        return bool(self.drift_items)
+
+    @property
+    def failed(self) -> bool:
+        return (self.error is not None or self.missing or report.fails(self.drift_items, self.threshold)
+                or report.fails(self.system_items, self.system_threshold))
+
+    def for_ci(self, *, written: str | None = None) -> ContractOutcome:
+        """This result for the CI formats (``--format markdown|github``)."""
+        nodes = sorted(self.contract.nodes) if self.contract is not None else []
+        return ContractOutcome(
+            contract=self.shown, items=self.drift_items, threshold=self.threshold, nodes=nodes,
+            error=str(self.error) if self.error is not None else None, written=written,
+            lines=line_index(self.contract.text) if self.contract is not None else {},
+            system_items=self.system_items, system_threshold=self.system_threshold,
+        )
+
+    def golden_nodes(self) -> dict[str, Any]:
+        assert self.capture is not None, "no capture to accept"
+        return self.capture.to_contract_nodes(with_type_hash=not self.options.ignore_type_hash,
+                                              with_qos=not self.options.ignores_all_qos)
+
+    def new_text(self, old: str | None) -> str:
+        """The system contract to write, given the current text (None: a new file)."""
+        assert self.capture is not None and self.spec is not None
+        nodes = self.golden_nodes()
+        if old:
+            try:
+                current = system_contract.loads(old, path=self.path)
+                nodes = contract_module.preserve_spelling(current.nodes, nodes)
+            except RmwIntrospectError:
+                pass
+            return system_contract.update_text(old, self.capture.process_entries(), nodes)
+        header = system_contract.new_header(self.spec.to_block(self.path.absolute().parent),
+                                            options={"include_infrastructure": True}
+                                            if self.options.include_infrastructure else None,
+                                            how="pytest-rmw-introspect (--update-golden / check --update)")
+        return system_contract.render(self.capture.process_entries(), nodes, header=header)
+
+    def update(self) -> str | None:
+        """Write the system contract (``golden.update_with``): ``created``, ``updated`` or None."""
+        return golden.update_with(self.path, self.new_text)
+
+    def title(self) -> str:
+        return f"Interface drift of {self.spec.describe()}" if self.spec is not None else "Interface drift"
+
+    def render_text(self, accept_command: str | None = None) -> str:
+        if self.error is not None:
+            return str(self.error)
+        parts = []
+        if self.drift_items or not self.system_items:
+            parts.append(report.render_text(self.drift_items, contract_path=self.shown, threshold=self.threshold,
+                                            accept_command=accept_command if self.drift_items else None,
+                                            title=self.title()))
+        if self.system_items:
+            parts.append(report.render_compat_text(self.system_items, threshold=self.system_threshold,
+                                                   title=f"System check of {self.shown}"))
+        text = "\n".join(p.rstrip("\n") + "\n" for p in parts)
+        notes = self.capture.notes() if self.capture is not None else []
+        if notes:
+            text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes) + "\n"
+        return text
+
+    def to_json(self) -> list[dict[str, Any]]:
+        drift_json = [{"contract": self.shown, **item} for item in report.to_json(self.drift_items)]
+        system_json = [{"contract": self.shown, **item} for item in report.compat_to_json(self.system_items)]
+        return drift_json + system_json
+
+
+def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResult:
+    """Compare a system capture with the prepared contract and run the system rules on it."""
+    result = SystemCheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
+                               spec=prepared.launch, options=prepared.options,
+                               system_threshold=prepared.system_threshold, capture=capture)
+    result.system_items = check_launched(launched_processes(capture))
+    if prepared.contract is not None:
+        result.drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)
+        result.compared = True
+    return result
+
+
+def run_capture(prepared: SystemPrepared, *, library: str | Path | None = None,
+                ros: RosEnvironment | None = None, jobs: int | None = None) -> SystemCapture:
+    """Capture every process of the prepared system (raises a TargetError); ``jobs``: processes
+    at a time (default: the number of cores)."""
+    return run_system.capture_system(prepared.launch, target=prepared.target, library=library, ros=ros,
+                                     include_infrastructure=prepared.options.include_infrastructure, jobs=jobs)
+
+
+def check(
+    contract_path: str | Path,
+    *,
+    library: str | Path | Callable[[], str | Path] | None = None,
+    ros: RosEnvironment | Callable[[], RosEnvironment] | None = None,
+    layers: Layers = NO_LAYERS,
+    launch: Mapping[str, Any] | None = None,
+    launch_base: str | Path | None = None,
+    launch_arguments: Mapping[str, Any] | None = None,
+    system_fail_on: str | None = None,
+    shown: str | None = None,
+    allow_missing: bool = False,
+    jobs: int | None = None,
+) -> SystemCheckResult:
+    """:func:`prepare`, capture, :func:`compare`; an RmwIntrospectError ends up in ``result.error``."""
+    path = Path(contract_path)
+    shown = shown or display(path)
+    prepared = None
+    try:
+        prepared = prepare(path, layers=layers, launch=launch, launch_base=launch_base,
+                           launch_arguments=launch_arguments, system_fail_on=system_fail_on, shown=shown,
+                           allow_missing=allow_missing, ros=ros)
+        lib = library() if callable(library) else library
+        env = ros() if callable(ros) else ros
+        return compare(prepared, run_capture(prepared, library=lib, ros=env, jobs=jobs))
+    except RmwIntrospectError as exc:
+        result = SystemCheckResult(path=path, shown=shown, error=exc)
+        if prepared is not None:
+            result.contract, result.spec, result.options = prepared.contract, prepared.launch, prepared.options
+            result.system_threshold = prepared.system_threshold
+        return result
+
+
+# ---------------------------------------------------------------------------- without capturing
+
+
+@dataclass
+class LoadedContracts:
+    """Contract files of either kind, as the system rules and the graph read them."""
+
+    labels: list[str]
+    processes: list[LaunchedProcess]
+    any_system: bool
+
+    def nodes_by_label(self) -> dict[str, Mapping[str, Any]]:
+        return {p.label: p.nodes for p in self.processes}
+
+
+def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None) -> LoadedContracts:
+    """Node contracts (one process each, labelled with the path) and system contracts (their
+    processes, labelled ``PATH: package/executable``). Raises ContractError, ValueError."""
+    labels: list[str] = []
+    processes: list[LaunchedProcess] = []
+    any_system = False
+    paths = list(paths)
+    for p in paths:
+        path = Path(os.path.expanduser(str(p)))
+        if not path.is_absolute() and base_dir is not None:
+            path = Path(base_dir) / path
+        label = display(path)
+        if label in labels:
+            continue
+        labels.append(label)
+        if system_contract.is_system_contract(path):
+            any_system = True
+            # the process labels name the file only when several files are drawn together
+            processes += contract_processes(system_contract.load(path), label if len(paths) > 1 else None)
+        else:
+            processes.append(LaunchedProcess(label=label, expected=None, nodes=contract_module.load(path).nodes,
+                                             launched=False))
+    if not labels:
+        raise ValueError("no contracts given to the system check")
+    return LoadedContracts(labels, processes, any_system)
+
+
+def system_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
+    """The system rules over loaded contracts: all of them when a system contract is among
+    them, the connection rules (``compat`` as before) for node contracts alone."""
+    if loaded.any_system:
+        return check_launched(loaded.processes, strict_system_default=strict_system_default)
+    return check_system(loaded.nodes_by_label(), strict_system_default=strict_system_default)
+
+
+@dataclass
+class SystemDiff:
+    """Two system contracts compared (``old`` plays the contract, ``new`` the capture)."""
+
+    old_shown: str
+    new_shown: str
+    options: ComparisonOptions
+    items: list[DriftItem]
+
+    @property
+    def failed(self) -> bool:
+        return report.fails(self.items, self.options.threshold())
+
+    def render_text(self) -> str:
+        return report.render_text(self.items, contract_path=self.old_shown, threshold=self.options.threshold(),
+                                  title=f"Interface drift of {self.new_shown}")
+
+    def to_json(self) -> list[dict[str, Any]]:
+        return [{"contract": self.old_shown, **item} for item in report.to_json(self.items)]
+
+
+def load_nodes(path: str | Path) -> tuple[Contract, str]:
+    """A contract file of either kind as a node ``Contract`` (the nodes and options a diff reads)."""
+    if system_contract.is_system_contract(path):
+        system = system_contract.load(path)
+        as_contract = _as_contract(system)
+        assert as_contract is not None
+        return as_contract, "system"
+    return contract_module.load(path), "node"
+
+
+def diff_system(old_path: str | Path, new_path: str | Path, options: Sequence[OptionLayer] = ()) -> SystemDiff:
+    """Compare the nodes of two contracts of which at least one is a system contract, with the
+    drift rules (raises ContractError)."""
+    old, _ = load_nodes(old_path)
+    new, _ = load_nodes(new_path)
+    old_shown = display(old_path)
+    opts = Layers(strong_options=options).options(old, shown=old_shown)
+    return SystemDiff(old_shown, display(new_path), opts, drift.compare(old.nodes, new.nodes, opts))

@@ -1,0 +1,172 @@
+"""System contracts on the command line: ``capture --launch``, ``check``/``diff``/``compat`` of
+``*.system.yaml`` files, and ``graph``. ``commands`` hands over to these when a launch file or
+a system contract is involved."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+from ..check import system_pipeline
+from ..check.pipeline import Layers, SystemResult
+from ..compare import graph as graph_module
+from ..errors import TargetConfigError
+from ..model import system_contract
+from ..model.vocabulary import parse_threshold
+from ..run import system as run_system
+from ..run.ros_env import RosEnvironment
+from ..run.target import TargetSpec
+from . import formats
+from .parser import EXIT_DRIFT, EXIT_OK, UsageError, compare_from_args, target_from_args
+
+
+def wants_launch(args: argparse.Namespace) -> bool:
+    return bool(getattr(args, "launch", None) or getattr(args, "launch_package", None)
+                or getattr(args, "launch_file", None))
+
+
+def is_system(path: Path, args: argparse.Namespace | None = None) -> bool:
+    """A system contract: ``*.system.yaml``, a file that says ``system_version``, or (for a
+    contract still to be created) any path when a launch file is given."""
+    if path.exists():
+        return system_contract.is_system_contract(path)
+    return path.name.endswith(system_contract.SUFFIX) or (args is not None and wants_launch(args))
+
+
+def launch_arguments(args: argparse.Namespace) -> dict[str, str]:
+    """``--launch-arg NAME:=VALUE`` options as a mapping."""
+    arguments = {}
+    for value in getattr(args, "launch_arg", None) or ():
+        name, found, text = value.partition(":=")
+        if not found or not name:
+            raise UsageError(f"--launch-arg {value!r} is not of the form NAME:=VALUE")
+        arguments[name] = text
+    return arguments
+
+
+def launch_block(args: argparse.Namespace) -> dict[str, Any] | None:
+    """The ``launch:`` block the command line gives (None: none)."""
+    if not wants_launch(args):
+        if getattr(args, "launch_arg", None) or getattr(args, "allow_unsupported", None):
+            raise UsageError("--launch-arg and --allow-unsupported need a launch file: --launch FILE or "
+                             "--launch-package P --launch-file F (or, for `check`, a system contract)")
+        return None
+    block: dict[str, Any] = {}
+    if args.launch:
+        if args.launch_package or args.launch_file:
+            raise UsageError("give --launch FILE or --launch-package P --launch-file F, not both")
+        block["path"] = args.launch
+    else:
+        if not (args.launch_package and args.launch_file):
+            raise UsageError("--launch-package and --launch-file go together")
+        block.update(package=args.launch_package, file=args.launch_file)
+    arguments = launch_arguments(args)
+    if arguments:
+        block["arguments"] = arguments
+    if args.allow_unsupported:
+        block["allow_unsupported"] = True
+    return block
+
+
+def _process_target(args: argparse.Namespace, command: list[str] | None) -> dict[str, Any]:
+    target = target_from_args(args, command)
+    extra = sorted(k for k in target if k not in system_contract.SYSTEM_TARGET_KEYS)
+    if extra:
+        flags = ", ".join("-- COMMAND" if k == "command" else f"--{k.replace('_', '-')}" for k in extra)
+        raise UsageError(f"with a launch file the launch file says what runs: {flags} cannot be given "
+                         f"(only --settle, --timeout, --horizon, --env, for every process)")
+    return target
+
+
+def cmd_capture(args: argparse.Namespace, command: list[str] | None, ros: Callable[[], RosEnvironment],
+                library: Callable[[], Path]) -> int:
+    """``capture --launch ...``: every process of the launch file; a system contract (yaml) or JSON."""
+    if args.format == "nodl" or args.raw:
+        raise UsageError("with a launch file, capture writes a system contract (--format yaml) or JSON "
+                         "(--format json); --raw and nodl are for single targets")
+    cwd = Path.cwd()
+    block = launch_block(args)
+    assert block is not None
+    target = _process_target(args, command)
+    env = ros()
+    spec = run_system.resolve_launch(block, base_dir=cwd, source="command line",
+                                     prefixes=run_system.ament_prefixes(env))
+    process_target = TargetSpec.from_mapping(target, base_dir=cwd, source="command line")
+    include = bool(args.include_infrastructure)
+    cap = run_system.capture_system(spec, target=process_target, library=library(), ros=env,
+                                    include_infrastructure=include, jobs=args.jobs)
+    for note in cap.notes():
+        print(f"note: {note}", file=sys.stderr)
+    nodes = cap.to_contract_nodes()
+    if args.format == "json":
+        processes = [{**p.entry(), "launched_at": str(p.launched.where),
+                      "command": p.capture.command if p.capture is not None else None} for p in cap.processes]
+        text = json.dumps({"processes": processes, "nodes": nodes}, indent=2)
+    else:
+        base = Path(args.output).absolute().parent if args.output else cwd
+        header = system_contract.new_header(spec.to_block(base), target=target or None,
+                                            options={"include_infrastructure": True} if include else None)
+        text = system_contract.render(cap.process_entries(), nodes, header=header)
+    formats.emit(text, args.output)
+    return EXIT_OK
+
+
+def check(args: argparse.Namespace, path: Path, shown: str, command: list[str] | None,
+          ros: Callable[[], RosEnvironment], library: Callable[[], Path]) -> system_pipeline.SystemCheckResult:
+    """``check`` of one system contract (errors end up in ``result.error``)."""
+    cwd = Path.cwd()
+    try:
+        target = _process_target(args, command)
+        # a launch file given here replaces the contract's; launch arguments alone go on top of its
+        block = launch_block(args) if wants_launch(args) else None
+        arguments = launch_arguments(args) if block is None else None
+        if block is None and args.allow_unsupported:
+            raise UsageError("--allow-unsupported needs a launch file given here; in a system contract, "
+                             "write `allow_unsupported: true` in its `launch:` block")
+    except UsageError as exc:
+        return system_pipeline.SystemCheckResult(path=path, shown=shown,
+                                                 error=TargetConfigError(str(exc)))
+    layers = Layers(strong_target=[(target, cwd, "command line")] if target else [],
+                    strong_options=[(compare_from_args(args), "command line")])
+    return system_pipeline.check(path, library=library, ros=ros, layers=layers, launch=block, launch_base=cwd,
+                                 launch_arguments=arguments, system_fail_on=getattr(args, "system_fail_on", None),
+                                 shown=shown, allow_missing=args.update, jobs=args.jobs)
+
+
+def cmd_diff(args: argparse.Namespace) -> int:
+    result = system_pipeline.diff_system(args.old, args.new, [(compare_from_args(args), "command line")])
+    if args.format == "json":
+        print(json.dumps(result.to_json(), indent=2, default=str))
+    else:
+        sys.stdout.write(result.render_text())
+    return EXIT_DRIFT if result.failed else EXIT_OK
+
+
+def any_system(paths: Sequence[str]) -> bool:
+    return any(Path(p).exists() and system_contract.is_system_contract(p) for p in paths)
+
+
+def cmd_compat(args: argparse.Namespace) -> int:
+    """``compat`` with system contracts among the files: every system rule."""
+    loaded = system_pipeline.load_any(args.contracts)
+    threshold = parse_threshold(args.fail_on)
+    items = system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default)
+    result = SystemResult(labels=loaded.labels, items=items, threshold=threshold)
+    if args.format == "json":
+        print(json.dumps(result.to_json(), indent=2, default=str))
+    else:
+        sys.stdout.write(result.render_text())
+    return EXIT_DRIFT if result.failed else EXIT_OK
+
+
+def cmd_graph(args: argparse.Namespace) -> int:
+    loaded = system_pipeline.load_any(args.contracts)
+    items = system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default)
+    title = args.title or "System " + ", ".join(Path(p).name for p in args.contracts)
+    drawing = graph_module.build(loaded.processes, items, title=title)
+    formats.emit(graph_module.render(drawing, args.format, threshold=parse_threshold(args.fail_on)), args.output)
+    return EXIT_OK

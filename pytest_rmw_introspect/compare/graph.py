@@ -1,0 +1,435 @@
+"""A system drawn: nodes, topics, services and actions, with the system rules' findings on them.
+
+:func:`build` turns the processes of a system (``compare.system.LaunchedProcess``: a system
+contract's processes, or one per node contract) and the system rules' items into a
+:class:`SystemGraph`: a vertex per node (grouped by process) and per topic, service and action,
+an edge per endpoint, from what offers to what requests (publisher → topic → subscription,
+service server → service → client, action server → action → action client). Every item marks
+what it is about, with its rule id: the two edges
+of an incompatible connection, the edge and the interface of a requester without provider, the
+vertices of duplicate node names, the interface and the edges of several servers, a process
+that created no node.
+
+Three renderings: :func:`to_mermaid` (renders in pull requests and issues inside a
+```` ```mermaid ```` block), :func:`to_dot` (Graphviz: ``dot -Tsvg``), :func:`to_html` (one
+self-contained page: an SVG drawn here, no script and nothing fetched, and the list of
+problems). Marked edges and vertices are red (BREAKING) or orange (RISKY) and carry the rule id.
+"""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from ..model.vocabulary import LABELS, LISTS, OFFERING_LISTS, Severity
+from .system import CompatItem, LaunchedProcess
+
+#: interface list → the kind of interface vertex it connects to
+CATEGORY = {
+    "publishers": "topic", "subscriptions": "topic",
+    "service_servers": "service", "service_clients": "service",
+    "action_servers": "action", "action_clients": "action",
+}
+COLORS = {Severity.BREAKING: "#d62728", Severity.RISKY: "#ff7f0e", Severity.SAFE: "#1f77b4"}
+_CONNECTION_RULES = {"TYPE_MISMATCH", "TYPE_HASH_MISMATCH", "QOS_INCOMPATIBLE", "QOS_MAYBE_INCOMPATIBLE"}
+
+
+@dataclass
+class Mark:
+    """A finding on a vertex or an edge."""
+
+    rule: str
+    severity: Severity
+    message: str
+
+
+@dataclass
+class Vertex:
+    id: str
+    kind: str  # node, topic, service, action, missing
+    label: str
+    detail: str = ""
+    group: str | None = None
+    marks: list[Mark] = field(default_factory=list)
+
+    @property
+    def severity(self) -> Severity | None:
+        return max((m.severity for m in self.marks), default=None)
+
+
+@dataclass
+class Edge:
+    source: str
+    target: str
+    list_name: str
+    marks: list[Mark] = field(default_factory=list)
+
+    @property
+    def severity(self) -> Severity | None:
+        return max((m.severity for m in self.marks), default=None)
+
+    @property
+    def rules(self) -> list[str]:
+        return sorted({m.rule for m in self.marks})
+
+
+@dataclass
+class SystemGraph:
+    title: str
+    vertices: dict[str, Vertex]
+    edges: list[Edge]
+    groups: dict[str, list[str]]  # process label → its node vertices
+    items: list[CompatItem]
+
+    def node_vertices(self) -> list[Vertex]:
+        return [v for v in self.vertices.values() if v.kind in ("node", "missing")]
+
+    def interface_vertices(self) -> list[Vertex]:
+        return [v for v in self.vertices.values() if v.kind not in ("node", "missing")]
+
+
+def build(processes: Sequence[LaunchedProcess], items: Sequence[CompatItem], title: str = "System") -> SystemGraph:
+    """The graph of ``processes`` with ``items`` marked on it."""
+    vertices: dict[str, Vertex] = {}
+    edges: dict[tuple[str, str, str, str], Edge] = {}  # (process, node, list, name) → edge
+    node_ids: dict[tuple[str, str], str] = {}
+    interface_ids: dict[tuple[str, str], str] = {}
+    groups: dict[str, list[str]] = {}
+
+    def interface(category: str, name: str, type_name: str = "") -> str:
+        key = (category, name)
+        if key not in interface_ids:
+            interface_ids[key] = f"{category[0]}{len(interface_ids)}"
+            vertices[interface_ids[key]] = Vertex(interface_ids[key], category, name, type_name)
+        elif type_name and not vertices[interface_ids[key]].detail:
+            vertices[interface_ids[key]].detail = type_name
+        return interface_ids[key]
+
+    for process in processes:
+        groups.setdefault(process.label, [])
+        for fqn in sorted(process.nodes):
+            vid = f"n{len(node_ids)}"
+            node_ids[(process.label, fqn)] = vid
+            vertices[vid] = Vertex(vid, "node", fqn, process.label, group=process.label)
+            groups[process.label].append(vid)
+            for list_name in LISTS:
+                for entry in (process.nodes[fqn] or {}).get(list_name) or []:
+                    iid = interface(CATEGORY[list_name], str(entry.get("name")), str(entry.get("type") or ""))
+                    source, target = (vid, iid) if list_name in OFFERING_LISTS else (iid, vid)
+                    edges[(process.label, fqn, list_name, str(entry.get("name")))] = Edge(source, target, list_name)
+
+    def mark_edge(label: str, node: str, list_name: str, name: str, mark: Mark) -> None:
+        edge = edges.get((label, node, list_name, name))
+        if edge is not None:
+            edge.marks.append(mark)
+
+    for item in items:
+        mark = Mark(item.rule, item.severity, item.message)
+        requester, provider = item.requester, item.provider
+        if item.rule == "LAUNCHED_NODE_NOT_CREATED":
+            vid = f"m{len(vertices)}"
+            vertices[vid] = Vertex(vid, "missing", requester.node if requester.node != "(unnamed)" else "no node",
+                                   requester.label, group=requester.label, marks=[mark])
+            groups.setdefault(requester.label, []).append(vid)
+        elif item.rule == "DUPLICATE_NODE_NAME":
+            for end in (requester, provider):
+                if end is not None and (end.label, end.node) in node_ids:
+                    vertices[node_ids[(end.label, end.node)]].marks.append(mark)
+        elif requester.kind in CATEGORY:
+            if item.rule not in _CONNECTION_RULES:  # a missing peer, several servers: the interface too
+                key = (CATEGORY[requester.kind], item.name)
+                if key in interface_ids:
+                    marked = vertices[interface_ids[key]]
+                    if all(m.rule != item.rule for m in marked.marks):
+                        marked.marks.append(mark)
+            mark_edge(requester.label, requester.node, requester.kind, item.name, mark)
+            if provider is not None:
+                mark_edge(provider.label, provider.node, provider.kind, item.name, mark)
+    ordered = sorted(edges.values(), key=lambda e: (e.source, e.target, e.list_name))
+    return SystemGraph(title, vertices, ordered, groups, list(items))
+
+
+# ---------------------------------------------------------------------------- Mermaid
+
+
+def _mermaid_text(text: str) -> str:
+    return html.escape(text, quote=True).replace("&quot;", "#quot;").replace("&#x27;", "'")
+
+
+_MERMAID_SHAPES = {"node": ('["', '"]'), "topic": ('(["', '"])'), "service": ('{{"', '"}}'),
+                   "action": ('[["', '"]]'), "missing": ('["', '"]')}
+
+
+def to_mermaid(graph: SystemGraph) -> str:
+    """A Mermaid flowchart (wrap it in a ```` ```mermaid ```` block to render it on GitHub or GitLab)."""
+    lines = ["flowchart LR", "  %% " + " ".join(graph.title.split())]
+    for index, (label, members) in enumerate(graph.groups.items()):
+        lines.append(f'  subgraph p{index}["{_mermaid_text(label)}"]')
+        for vid in members:
+            lines.append("    " + _mermaid_vertex(graph.vertices[vid]))
+        lines.append("  end")
+    for vertex in graph.interface_vertices():
+        lines.append("  " + _mermaid_vertex(vertex))
+    styles = []
+    for index, edge in enumerate(graph.edges):
+        if edge.marks:
+            lines.append(f'  {edge.source} -- "{_mermaid_text(" ".join(edge.rules))}" --> {edge.target}')
+            styles.append(f"  linkStyle {index} stroke:{COLORS[edge.severity or Severity.SAFE]},stroke-width:3px")
+        else:
+            lines.append(f"  {edge.source} --> {edge.target}")
+    lines += styles
+    lines.append(f"  classDef breaking fill:#fde0e0,stroke:{COLORS[Severity.BREAKING]},stroke-width:3px")
+    lines.append(f"  classDef risky fill:#fff0dd,stroke:{COLORS[Severity.RISKY]},stroke-width:3px")
+    for vertex in graph.vertices.values():
+        if vertex.severity is not None and vertex.severity >= Severity.RISKY:
+            lines.append(f"  class {vertex.id} {'breaking' if vertex.severity is Severity.BREAKING else 'risky'}")
+    return "\n".join(lines) + "\n"
+
+
+def _mermaid_vertex(vertex: Vertex) -> str:
+    opening, closing = _MERMAID_SHAPES[vertex.kind]
+    text = _mermaid_text(vertex.label)
+    if vertex.kind == "missing":
+        text = f"{text}<br/>not created"
+    elif vertex.kind != "node" and vertex.detail:
+        text += f"<br/><small>{_mermaid_text(vertex.detail)}</small>"
+    if vertex.marks:
+        text += "<br/><b>" + _mermaid_text(" ".join(sorted({m.rule for m in vertex.marks}))) + "</b>"
+    return f"{vertex.id}{opening}{text}{closing}"
+
+
+# ---------------------------------------------------------------------------- Graphviz
+
+
+def _dot_text(text: str) -> str:
+    return text.replace("\\", "\\\\").replace('"', '\\"')
+
+
+_DOT_SHAPES = {"node": "box", "topic": "ellipse", "service": "hexagon", "action": "box3d", "missing": "box"}
+
+
+def to_dot(graph: SystemGraph) -> str:
+    """A Graphviz digraph (``dot -Tsvg system.dot -o system.svg``)."""
+    lines = [f'digraph "{_dot_text(graph.title)}" {{', "  rankdir=LR;",
+             '  node [fontname="Helvetica", fontsize=11]; edge [fontname="Helvetica", fontsize=10];']
+    for index, (label, members) in enumerate(graph.groups.items()):
+        lines.append(f'  subgraph cluster_{index} {{ label="{_dot_text(label)}"; style=rounded; color="#999999";')
+        for vid in members:
+            lines.append("    " + _dot_vertex(graph.vertices[vid]))
+        lines.append("  }")
+    for vertex in graph.interface_vertices():
+        lines.append("  " + _dot_vertex(vertex))
+    for edge in graph.edges:
+        attributes = ""
+        if edge.marks:
+            color = COLORS[edge.severity or Severity.SAFE]
+            attributes = (f' [color="{color}", penwidth=3, fontcolor="{color}", '
+                          f'label="{_dot_text(" ".join(edge.rules))}"]')
+        lines.append(f"  {edge.source} -> {edge.target}{attributes};")
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
+def _dot_vertex(vertex: Vertex) -> str:
+    text = vertex.label
+    if vertex.kind == "missing":
+        text += "\\nnot created"
+    elif vertex.kind != "node" and vertex.detail:
+        text = _dot_text(text) + "\\n" + _dot_text(vertex.detail)
+    else:
+        text = _dot_text(text)
+    attributes = [f'label="{text}"', f"shape={_DOT_SHAPES[vertex.kind]}"]
+    if vertex.kind == "missing":
+        attributes.append("style=dashed")
+    if vertex.marks:
+        color = COLORS[vertex.severity or Severity.SAFE]
+        rules = " ".join(sorted({m.rule for m in vertex.marks}))
+        attributes[0] = f'label="{text}\\n{_dot_text(rules)}"'
+        attributes += [f'color="{color}"', "penwidth=3", f'fontcolor="{color}"']
+    return f"{vertex.id} [{', '.join(attributes)}];"
+
+
+# ---------------------------------------------------------------------------- HTML
+
+_BOX_W, _IFACE_W, _BOX_H, _GAP, _COL_GAP, _MARGIN = 250, 290, 46, 18, 170, 30
+
+
+def _layout(graph: SystemGraph) -> tuple[dict[str, tuple[float, float, float]], float, float]:
+    """x, y, width of every vertex: providers left, interfaces in the middle, requesters right."""
+    offers: dict[str, int] = {}
+    requests: dict[str, int] = {}
+    neighbours: dict[str, list[str]] = {}
+    for edge in graph.edges:
+        node, iface = (edge.source, edge.target) if edge.list_name in OFFERING_LISTS else (edge.target, edge.source)
+        counts = offers if edge.list_name in OFFERING_LISTS else requests
+        counts[node] = counts.get(node, 0) + 1
+        neighbours.setdefault(node, []).append(iface)
+    interfaces = sorted(graph.interface_vertices(), key=lambda v: (v.kind != "topic", v.kind, v.label))
+    rank = {v.id: i for i, v in enumerate(interfaces)}
+    left: list[Vertex] = []
+    right: list[Vertex] = []
+    for vertex in graph.node_vertices():
+        (right if requests.get(vertex.id, 0) > offers.get(vertex.id, 0) else left).append(vertex)
+
+    def centre(vertex: Vertex) -> float:
+        near = [rank[i] for i in neighbours.get(vertex.id, []) if i in rank]
+        return sum(near) / len(near) if near else len(rank)
+
+    positions: dict[str, tuple[float, float, float]] = {}
+    columns = [(sorted(left, key=lambda v: (centre(v), v.label)), _MARGIN, _BOX_W),
+               (interfaces, _MARGIN + _BOX_W + _COL_GAP, _IFACE_W),
+               (sorted(right, key=lambda v: (centre(v), v.label)), _MARGIN + _BOX_W + _IFACE_W + 2 * _COL_GAP, _BOX_W)]
+    height = 0.0
+    for column, x, width in columns:
+        y = _MARGIN + 20
+        for vertex in column:
+            positions[vertex.id] = (x, y, width)
+            y += _BOX_H + _GAP
+        height = max(height, y)
+    return positions, _MARGIN * 2 + 2 * _BOX_W + _IFACE_W + 2 * _COL_GAP, height + _MARGIN
+
+
+_FILL = {"node": "#eef4fb", "topic": "#f4f4f4", "service": "#f1f8ee", "action": "#f7f0fa", "missing": "#ffffff"}
+
+
+def to_svg(graph: SystemGraph) -> str:
+    """The graph as one SVG drawing (used by :func:`to_html`)."""
+    positions, width, height = _layout(graph)
+    e = html.escape
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" '
+           f'viewBox="0 0 {width:.0f} {height:.0f}" font-family="Helvetica, Arial, sans-serif" role="img">',
+           "<defs>"]
+    for name, color in (("plain", "#777777"), *((s.name.lower(), c) for s, c in COLORS.items())):
+        out.append(f'<marker id="arrow-{name}" viewBox="0 0 10 10" refX="10" refY="5" markerUnits="userSpaceOnUse" '
+                   f'markerWidth="11" markerHeight="11" orient="auto-start-reverse">'
+                   f'<path d="M 0 0 L 10 5 L 0 10 z" fill="{color}"/></marker>')
+    out.append("</defs>")
+    headings = [("nodes", _MARGIN), ("topics, services, actions", _MARGIN + _BOX_W + _COL_GAP),
+                ("nodes", _MARGIN + _BOX_W + _IFACE_W + 2 * _COL_GAP)]
+    for heading, hx in headings:
+        out.append(f'<text x="{hx}" y="{_MARGIN}" font-size="12" fill="#666">{e(heading)}</text>')
+    labels = []
+    for edge in sorted(graph.edges, key=lambda edge: edge.severity or -1):  # marked edges drawn last, on top
+        if edge.source not in positions or edge.target not in positions:
+            continue
+        sx, sy, sw = positions[edge.source]
+        tx, ty, tw = positions[edge.target]
+        y1, y2 = sy + _BOX_H / 2, ty + _BOX_H / 2
+        x1, x2 = (sx + sw, tx) if sx < tx else (sx, tx + tw)
+        bend = (x2 - x1) / 2
+        severity = edge.severity
+        color = COLORS[severity] if severity is not None else "#999999"
+        marker = severity.name.lower() if severity is not None else "plain"
+        widthpx = 3.5 if severity is not None else 1.3
+        title = "; ".join(f"{m.rule}: {m.message}" for m in edge.marks) or LABELS[edge.list_name]
+        out.append(f'<path class="edge{" marked" if edge.marks else ""}" data-rules="{e(" ".join(edge.rules))}" '
+                   f'd="M {x1:.1f} {y1:.1f} C {x1 + bend:.1f} {y1:.1f}, {x2 - bend:.1f} {y2:.1f}, {x2:.1f} {y2:.1f}" '
+                   f'fill="none" stroke="{color}" stroke-width="{widthpx}" marker-end="url(#arrow-{marker})">'
+                   f"<title>{e(title)}</title></path>")
+        if edge.marks:
+            mx, my = (x1 + x2) / 2, (y1 + y2) / 2 - 6
+            text = " ".join(edge.rules)
+            labels.append(f'<rect x="{mx - 3.3 * len(text) - 4:.1f}" y="{my - 12:.1f}" width="{6.6 * len(text) + 8:.1f}" '
+                          f'height="16" rx="3" fill="#ffffff" stroke="{color}"/>'
+                          f'<text x="{mx:.1f}" y="{my:.1f}" font-size="11" font-weight="bold" fill="{color}" '
+                          f'text-anchor="middle">{e(text)}</text>')
+    for vertex in graph.vertices.values():
+        if vertex.id not in positions:
+            continue
+        x, y, w = positions[vertex.id]
+        severity = vertex.severity
+        stroke = COLORS[severity] if severity is not None else "#888888"
+        fill = {Severity.BREAKING: "#fde0e0", Severity.RISKY: "#fff0dd"}.get(severity, _FILL[vertex.kind]) \
+            if severity is not None else _FILL[vertex.kind]
+        radius = 22 if vertex.kind == "topic" else 4
+        dash = ' stroke-dasharray="6 4"' if vertex.kind == "missing" else ""
+        title = "; ".join(f"{m.rule}: {m.message}" for m in vertex.marks) or vertex.kind
+        out.append(f'<g class="vertex {vertex.kind}{" marked" if vertex.marks else ""}" id="{vertex.id}">'
+                   f"<title>{e(title)}</title>"
+                   f'<rect x="{x}" y="{y}" width="{w}" height="{_BOX_H}" rx="{radius}" fill="{fill}" '
+                   f'stroke="{stroke}" stroke-width="{3 if severity is not None else 1.2}"{dash}/>')
+        main = vertex.label if vertex.kind != "missing" else f"{vertex.label} (not created)"
+        kind_word = {"node": "", "missing": ""}.get(vertex.kind, vertex.kind + " ")
+        out.append(f'<text x="{x + 10}" y="{y + 19}" font-size="13" font-weight="bold" fill="#222">'
+                   f"{e(_clip(kind_word + main, w))}</text>")
+        second = vertex.detail
+        if vertex.marks:
+            second = " ".join(sorted({m.rule for m in vertex.marks}))
+        out.append(f'<text x="{x + 10}" y="{y + 36}" font-size="11" fill="{stroke if vertex.marks else "#555"}">'
+                   f"{e(_clip(second, w))}</text></g>")
+    out += labels
+    out.append("</svg>")
+    return "\n".join(out)
+
+
+def _clip(text: str, width: float) -> str:
+    limit = int((width - 16) / 7)
+    return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
+def to_html(graph: SystemGraph, *, threshold: Severity = Severity.BREAKING) -> str:
+    """One self-contained HTML page: the drawing and the list of problems (no scripts, nothing fetched)."""
+    e = html.escape
+    rows = []
+    for item in graph.items:
+        color = COLORS[item.severity]
+        ends = str(item.requester) if item.provider is None else f"{item.provider} → {item.requester}"
+        rows.append(f'<tr><td><span class="sev" style="background:{color}">{e(item.severity.name)}</span></td>'
+                    f"<td><code>{e(item.rule)}</code></td><td><code>{e(item.name)}</code></td>"
+                    f"<td>{e(ends)}</td><td>{e(item.message)}</td></tr>")
+    failing = sum(1 for item in graph.items if item.severity >= threshold)
+    verdict = (f'<p class="verdict fail">{failing} problem(s) at or above the threshold</p>' if failing
+               else '<p class="verdict pass">No problem at or above the threshold</p>')
+    table = ("<table><thead><tr><th>severity</th><th>rule</th><th>name</th><th>where</th><th>why</th></tr></thead>"
+             f"<tbody>{''.join(rows)}</tbody></table>") if rows else "<p>All connections fit together.</p>"
+    nodes = len([v for v in graph.vertices.values() if v.kind == "node"])
+    interfaces = len(graph.interface_vertices())
+    return f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>{e(graph.title)}</title>
+<style>
+body {{ font-family: Helvetica, Arial, sans-serif; margin: 24px; color: #222; }}
+h1 {{ font-size: 20px; margin: 0 0 4px 0; }}
+.summary {{ color: #555; margin: 0 0 12px 0; }}
+.verdict {{ font-weight: bold; margin: 8px 0 16px 0; }}
+.verdict.fail {{ color: {COLORS[Severity.BREAKING]}; }}
+.verdict.pass {{ color: #2a7d2a; }}
+.drawing {{ overflow: auto; border: 1px solid #ddd; border-radius: 6px; background: #fff; }}
+table {{ border-collapse: collapse; margin-top: 18px; font-size: 13px; }}
+th, td {{ border-bottom: 1px solid #e4e4e4; padding: 6px 10px; text-align: left; vertical-align: top; }}
+.sev {{ color: #fff; border-radius: 3px; padding: 1px 6px; font-size: 11px; }}
+.legend {{ font-size: 12px; color: #555; margin-top: 10px; }}
+</style>
+</head>
+<body>
+<h1>{e(graph.title)}</h1>
+<p class="summary">{nodes} node(s), {interfaces} topic(s), service(s) and action(s), {len(graph.groups)} process(es)</p>
+{verdict}
+<div class="drawing">
+{to_svg(graph)}
+</div>
+<p class="legend">Arrows point from what offers to what requests: publisher → topic → subscription,
+service server → service → client, action server → action → action client. Red: BREAKING, orange: RISKY,
+each with its rule id (docs/drift-rules.md).</p>
+{table}
+</body>
+</html>
+"""
+
+
+def render(graph: SystemGraph, fmt: str, *, threshold: Severity = Severity.BREAKING) -> str:
+    """``mermaid``, ``dot`` or ``html``."""
+    if fmt == "mermaid":
+        return to_mermaid(graph)
+    if fmt == "dot":
+        return to_dot(graph)
+    if fmt == "html":
+        return to_html(graph, threshold=threshold)
+    raise ValueError(f"unknown graph format {fmt!r}: expected mermaid, dot or html")
+
+
+FORMATS = ("mermaid", "dot", "html")
+

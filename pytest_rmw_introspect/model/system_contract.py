@@ -1,0 +1,363 @@
+"""System contracts (``*.system.yaml``): a whole robot, as a launch file starts it.
+
+::
+
+    # comments and keys above `processes:` survive updates
+    system_version: 1
+    launch:                          # what starts the system
+      package: my_robot_bringup      # with `file`: found like `ros2 launch PACKAGE FILE`
+      file: robot.launch.xml         # (or `path: launch/robot.launch.xml`, relative to this file)
+      arguments: {use_lidar: "true"}
+      allow_unsupported: false       # true: capture what the launch reader supports, note the rest
+    target: {timeout: 30}            # optional: settle, timeout, horizon, env for every process
+    options: {fail_on: any, system_fail_on: breaking}
+    processes:                       # every process the launch file starts, in launch order
+      - package: my_robot_bringup
+        executable: lidar_driver
+        name: /robot/lidar           # the node name the launch file gives (null: the program's)
+        nodes: [/robot/lidar]        # the nodes the process created
+    nodes:                           # every node of the system, as in a node contract
+      /robot/lidar: {publishers: [...], ...}
+
+``nodes`` is exactly the ``nodes`` block of a node contract, so a system drifts like a node
+contract does (``compare.drift``). ``processes`` says which process created which node: the
+system rules (``compare.system.check_launched``) read it for duplicate node names and for
+launched processes that created no node. Two processes creating one node name share one entry
+under ``nodes`` (the union of their interfaces; the duplicate itself is a BREAKING system problem).
+
+Loading validates against the node contract schema's definitions (``schema()`` builds the
+system schema from them) and reports file, line, place and reason like the node contract
+loader. Writing is deterministic; updating keeps the text above the top-level ``processes:``
+key byte for byte and regenerates ``processes`` and ``nodes``.
+"""
+
+from __future__ import annotations
+
+import copy
+import functools
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from ..errors import ContractError
+from . import contract as contract_module
+from . import qos as qos_module
+from .vocabulary import FAIL_ON, LABELS, LISTS
+
+SYSTEM_VERSION = 1
+SUFFIX = ".system.yaml"
+#: target options that apply to every process of a system
+SYSTEM_TARGET_KEYS = ("settle", "timeout", "horizon", "env")
+PROCESS_KEYS = ("package", "executable", "name", "nodes")
+
+DEFAULT_HEADER = (
+    "# System contract checked by pytest-rmw-introspect: every process a launch file starts,\n"
+    "# the nodes they create and their interfaces. Regenerate with `pytest --update-golden` or\n"
+    "# `rmw-introspect check --update`; comments and keys above `processes:` are kept.\n"
+    f"system_version: {SYSTEM_VERSION}\n"
+)
+
+
+def is_system_contract(path: str | Path) -> bool:
+    """``*.system.yaml``, or a YAML file whose first keys say ``system_version``."""
+    path = Path(path)
+    if path.name.endswith(SUFFIX):
+        return True
+    try:
+        with path.open(encoding="utf-8") as f:
+            head = f.read(4096)
+    except (OSError, UnicodeDecodeError):
+        return False
+    return any(line.startswith("system_version:") for line in head.splitlines())
+
+
+@functools.lru_cache(maxsize=1)
+def schema() -> dict[str, Any]:
+    """The JSON Schema of system contracts, built from the node contract schema's definitions."""
+    base = contract_module.schema()
+    definitions = copy.deepcopy(base["definitions"])
+    options = definitions["options"]
+    options["properties"]["system_fail_on"] = {"enum": list(FAIL_ON)}
+    target = definitions["target"]
+    definitions["system_target"] = {
+        "description": "Target options applied to every process of the system.",
+        "type": "object",
+        "additionalProperties": False,
+        "properties": {k: target["properties"][k] for k in SYSTEM_TARGET_KEYS},
+    }
+    definitions["launch"] = {
+        "description": "The launch file that starts the system.",
+        "type": "object",
+        "additionalProperties": False,
+        "properties": {
+            "package": {"type": "string", "minLength": 1},
+            "file": {"type": "string", "minLength": 1},
+            "path": {"type": "string", "minLength": 1},
+            "arguments": {"type": "object", "additionalProperties": {"type": ["string", "number", "boolean"]}},
+            "allow_unsupported": {"type": "boolean"},
+        },
+    }
+    definitions["process"] = {
+        "type": "object",
+        "additionalProperties": False,
+        "required": ["executable", "nodes"],
+        "properties": {
+            "package": {"type": ["string", "null"]},
+            "executable": {"type": "string", "minLength": 1},
+            "name": {"type": ["string", "null"]},
+            "nodes": {"type": "array", "items": {"type": "string"}},
+        },
+    }
+    return {
+        "$schema": base.get("$schema", "http://json-schema.org/draft-07/schema#"),
+        "title": "pytest-rmw-introspect system contract",
+        "type": "object",
+        "required": ["system_version", "launch"],
+        "additionalProperties": False,
+        "properties": {
+            "system_version": {"const": SYSTEM_VERSION},
+            "launch": {"$ref": "#/definitions/launch"},
+            "target": {"$ref": "#/definitions/system_target"},
+            "options": {"$ref": "#/definitions/options"},
+            "processes": {"type": ["array", "null"], "items": {"$ref": "#/definitions/process"}},
+            "nodes": copy.deepcopy(base["properties"]["nodes"]) | {"type": ["object", "null"]},
+        },
+        "definitions": definitions,
+    }
+
+
+@dataclass
+class SystemContract:
+    """A loaded system contract (``nodes`` normalised like a node contract's)."""
+
+    path: Path | None
+    launch: dict[str, Any]
+    processes: list[dict[str, Any]]
+    nodes: dict[str, dict[str, list[dict[str, Any]]]]
+    target: dict[str, Any] | None = None
+    options: dict[str, Any] = field(default_factory=dict)
+    text: str = ""
+
+    @property
+    def comparison_options(self) -> dict[str, Any]:
+        """``options`` without ``system_fail_on`` (the comparison options of the nodes)."""
+        return {k: v for k, v in self.options.items() if k != "system_fail_on"}
+
+    @property
+    def system_fail_on(self) -> str | None:
+        value = self.options.get("system_fail_on")
+        return str(value) if value is not None else None
+
+    def process_nodes(self) -> list[tuple[dict[str, Any], dict[str, Any]]]:
+        """Each process with the contract entries of the nodes it created."""
+        return [(p, {fqn: self.nodes.get(fqn, {name: [] for name in LISTS}) for fqn in p.get("nodes") or []})
+                for p in self.processes]
+
+
+# ---------------------------------------------------------------------------- loading
+
+
+def _where(root: yaml.Node | None, location: Sequence[Any]) -> int | None:
+    node = root
+    for part in location:
+        if isinstance(node, yaml.MappingNode):
+            found = [v for k, v in node.value if isinstance(k, yaml.ScalarNode) and k.value == str(part)]
+            if not found:
+                break
+            node = found[-1]
+        elif isinstance(node, yaml.SequenceNode) and isinstance(part, int) and 0 <= part < len(node.value):
+            node = node.value[part]
+        else:
+            break
+    return node.start_mark.line + 1 if node is not None else None
+
+
+def _duplicate_keys(node: yaml.Node, where: list[Any], path: Path | None) -> None:
+    if isinstance(node, yaml.MappingNode):
+        seen: dict[str, int] = {}
+        for k, v in node.value:
+            key = k.value if isinstance(k, yaml.ScalarNode) else "?"
+            if key in seen:
+                raise ContractError(path, contract_module.format_location(where + [key]),
+                                    f"duplicate key {key!r} (first at line {seen[key]}); YAML would silently keep "
+                                    "only the last one", line=k.start_mark.line + 1)
+            seen[key] = k.start_mark.line + 1
+            _duplicate_keys(v, where + [key], path)
+    elif isinstance(node, yaml.SequenceNode):
+        for i, item in enumerate(node.value):
+            _duplicate_keys(item, where + [i], path)
+
+
+def load(path: str | Path) -> SystemContract:
+    """Read and validate a system contract (raises ContractError)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ContractError(path, None, "the file does not exist") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ContractError(path, None, f"cannot read it: {exc}") from None
+    return loads(text, path=path)
+
+
+def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
+    """Parse and validate system contract text; ``path`` is used in messages and to resolve
+    ``launch: {path: ...}``."""
+    path = Path(path) if path is not None else None
+    loader = yaml.SafeLoader(text)
+    try:
+        root = loader.get_single_node()
+        if root is not None:
+            _duplicate_keys(root, [], path)
+        data = loader.construct_document(root) if root is not None else None
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        reason = " ".join(p for p in (exc.context, exc.problem) if p)
+        raise ContractError(path, None, f"YAML syntax error: {reason}", line=mark.line + 1 if mark else None) from None
+    except yaml.YAMLError as exc:
+        raise ContractError(path, None, f"YAML error: {exc}") from None
+    finally:
+        loader.dispose()
+    if data is None:
+        raise ContractError(path, None, "the file is empty; it needs at least `system_version: 1` and `launch:`")
+    if not isinstance(data, Mapping):
+        raise ContractError(path, None, f"the document is a {type(data).__name__}, not a mapping", line=1)
+    _validate(root, data, path)
+    launch = dict(data["launch"])
+    has_file = "file" in launch or "package" in launch
+    if has_file == ("path" in launch) or ("file" in launch) != ("package" in launch):
+        raise ContractError(path, "launch", "name the launch file with `package` and `file` (like ros2 launch), "
+                            "or with `path` (relative to this file), not both", line=_where(root, ["launch"]))
+    nodes = contract_module.normalize_nodes(data.get("nodes") or {})
+    for fqn, node in nodes.items():
+        for list_name in LISTS:
+            seen: set[str] = set()
+            for i, entry in enumerate(node[list_name]):
+                location = ["nodes", fqn, list_name, i]
+                if entry["name"] in seen:
+                    raise ContractError(path, contract_module.format_location(location + ["name"]),
+                                        f"duplicate {LABELS[list_name]} {entry['name']!r} in node {fqn}",
+                                        line=_where(root, location))
+                seen.add(entry["name"])
+                if "qos" in entry:
+                    try:
+                        qos_module.expand(entry["qos"])
+                    except ValueError as exc:
+                        raise ContractError(path, contract_module.format_location(location + ["qos"]), str(exc),
+                                            line=_where(root, location + ["qos"])) from None
+    processes = [dict(p) for p in data.get("processes") or []]
+    for i, process in enumerate(processes):
+        for fqn in process.get("nodes") or []:
+            if fqn not in nodes:
+                raise ContractError(path, f"processes[{i}].nodes", f"node {fqn} is not listed under `nodes:`",
+                                    line=_where(root, ["processes", i, "nodes"]))
+    return SystemContract(path=path, launch=launch, processes=processes, nodes=nodes,
+                          target=dict(data["target"]) if data.get("target") is not None else None,
+                          options=dict(data.get("options") or {}), text=text)
+
+
+def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:
+    # Imported here, not at the top: jsonschema costs ~80 ms (as in model.contract).
+    import jsonschema
+
+    errors = list(jsonschema.Draft7Validator(schema()).iter_errors(data))
+    if not errors:
+        return
+    best = jsonschema.exceptions.best_match(errors)
+    location = list(best.absolute_path)
+    if best.validator == "additionalProperties" and isinstance(best.instance, Mapping):
+        allowed = sorted((best.schema.get("properties") or {}).keys())
+        extra = sorted(set(best.instance) - set(allowed))
+        reason = f"unknown key(s) {', '.join(map(repr, extra))}; allowed: {', '.join(allowed)}"
+    elif best.validator == "required":
+        reason = best.message.replace("is a required property", "is required")
+    elif best.validator == "enum":
+        reason = f"{best.instance!r} is not one of: {', '.join(map(str, best.validator_value))}"
+    elif best.validator == "const" and location == ["system_version"]:
+        reason = f"system_version {best.instance!r} is not supported; this plugin reads system_version {SYSTEM_VERSION}"
+    else:
+        reason = best.message
+    more = len(errors) - 1
+    if more:
+        reason += f" (and {more} more problem{'s' if more > 1 else ''} in the file)"
+    raise ContractError(path, contract_module.format_location(location) or None, reason, line=_where(root, location))
+
+
+# ---------------------------------------------------------------------------- writing
+
+
+def _scalar(value: Any) -> str:
+    if value is None:
+        return "null"
+    return yaml.safe_dump(value, default_flow_style=True, width=float("inf")).strip().removesuffix("\n...").strip()
+
+
+def dump_processes(processes: Sequence[Mapping[str, Any]]) -> str:
+    """The ``processes:`` block, deterministic (launch order kept)."""
+    if not processes:
+        return "processes: []\n"
+    lines = ["processes:"]
+    for process in processes:
+        keys = [k for k in PROCESS_KEYS if k in process]
+        for n, key in enumerate(keys):
+            lead = "  - " if n == 0 else "    "
+            value = process[key]
+            if key == "nodes":
+                text = "[" + ", ".join(_scalar(v) for v in value) + "]"
+            else:
+                text = _scalar(value)
+            lines.append(f"{lead}{key}: {text}")
+    return "\n".join(lines) + "\n"
+
+
+def render(processes: Sequence[Mapping[str, Any]], nodes: Mapping[str, Any], header: str = DEFAULT_HEADER) -> str:
+    """A complete system contract: ``header`` (with ``system_version`` and ``launch:``), then
+    ``processes`` and ``nodes``."""
+    if header and not header.endswith("\n"):
+        header += "\n"
+    return header + dump_processes(processes) + contract_module.dump_nodes(nodes)
+
+
+def update_text(old_text: str, processes: Sequence[Mapping[str, Any]], nodes: Mapping[str, Any]) -> str:
+    """``old_text`` with its ``processes`` and ``nodes`` blocks regenerated: the text above the
+    first of them is kept byte for byte, and so are top-level keys after them."""
+    try:
+        root = yaml.compose(old_text, Loader=yaml.SafeLoader)
+    except yaml.YAMLError:
+        root = None
+    if not isinstance(root, yaml.MappingNode) or root.flow_style:
+        return render(processes, nodes)
+    lines = old_text.splitlines(keepends=True)
+    keys = [(k.value if isinstance(k, yaml.ScalarNode) else None, k.start_mark) for k, _ in root.value]
+    ours = [i for i, (name, mark) in enumerate(keys) if name in ("processes", "nodes") and mark.column == 0]
+    if not ours:
+        base = old_text if old_text.endswith("\n") else old_text + "\n"
+        return base + dump_processes(processes) + contract_module.dump_nodes(nodes)
+    header = "".join(lines[: keys[ours[0]][1].line])
+    after = [i for i in range(len(keys)) if i > ours[-1] and keys[i][0] not in ("processes", "nodes")]
+    trailer = "".join(lines[keys[after[0]][1].line:]) if after else ""
+    if header and not header.endswith("\n"):
+        header += "\n"
+    return header + dump_processes(processes) + contract_module.dump_nodes(nodes) + trailer
+
+
+def new_header(launch: Mapping[str, Any], *, target: Mapping[str, Any] | None = None,
+               options: Mapping[str, Any] | None = None, how: str = "rmw-introspect capture --launch") -> str:
+    """The header of a new system contract: how it was written, ``system_version``, ``launch:``
+    (and ``target:``, ``options:`` when given)."""
+    header = (
+        f"# System contract written by `{how}`:\n"
+        "# every process the launch file starts, the nodes they create and their interfaces.\n"
+        "# Check it with `rmw-introspect check` or pytest (pytest-rmw-introspect); comments and\n"
+        "# keys above `processes:` are kept when it is updated.\n"
+        f"system_version: {SYSTEM_VERSION}\n"
+    )
+    blocks: dict[str, Any] = {"launch": dict(launch)}
+    if target:
+        blocks["target"] = dict(target)
+    if options:
+        blocks["options"] = dict(options)
+    return header + yaml.safe_dump(blocks, sort_keys=False, default_flow_style=False, allow_unicode=True)

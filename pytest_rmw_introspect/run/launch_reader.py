@@ -1,0 +1,431 @@
+"""Launch files as system targets: which processes a launch file starts, with which command line.
+
+:func:`read` reads an XML or YAML launch file itself (no ``launch``/``launch_ros`` needed, so
+it works with the ROS 2 PyPI wheels), a Python launch file through ``launch``/``launch_ros``
+when they are importable (``launch_python``), or a ``record.json`` written by play_launch's
+``dump_launch`` (``launch_record``), and gives a :class:`LaunchResult`: the nodes it starts
+(:class:`LaunchedNode`: package, executable, name, namespace, arguments, parameters,
+remappings, environment, and the file and line that starts it), the launch arguments it
+declares, and everything it contains that this reader does not support.
+
+Supported (XML and YAML, ``-`` and ``_`` spellings alike):
+
+==========================  ===============================================================
+``launch``                  the root
+``arg``                     ``name``, ``default``, ``description``, ``<choice value=...>``
+``let``                     ``name``, ``value``
+``node``                    ``pkg``, ``exec``, ``name``, ``namespace``, ``args``, ``ros_args``,
+                            ``cwd``; children ``param``, ``remap``, ``env``
+``param``                   ``name`` + ``value`` (``value_sep``), ``from`` (a parameters file),
+                            nested ``param`` (``outer.inner``)
+``remap``                   ``from``, ``to``
+``env``                     ``name``, ``value`` (inside ``node``)
+``set_env``                 ``name``, ``value``: for the processes started after it in its scope
+``group``                   ``scoped`` (default true), ``forwarding`` (default true), children
+``push_ros_namespace``      ``namespace``: for the nodes after it in its scope
+``include``                 ``file``; children ``arg`` (``name``, ``value``)
+``if``, ``unless``          on every entity
+==========================  ===============================================================
+
+Substitutions: ``launch_substitutions``. Relative paths (``include file``, ``param from``,
+``node cwd``) are relative to the directory of the launch file that names them (``ros2 launch``
+takes them relative to where it is started; ``$(dirname)`` or ``$(find-pkg-share ...)`` make a
+launch file independent of both). Attributes that do not change what a node creates
+(``output``, ``respawn``, ``emulate_tty``, ...) are accepted and have no effect. Anything else
+(an unknown tag, composable node containers, ``launch-prefix``, an unsupported substitution)
+is an :class:`Unsupported` entry with its file and line; :meth:`LaunchResult.require_supported`
+turns them into one :class:`LaunchError`.
+"""
+
+from __future__ import annotations
+
+import os
+import shlex
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from ..model.paths import shown
+from . import launch_entities, launch_python, launch_record, launch_substitutions
+from .launch_entities import Entity, EntityFormatError
+from .launch_model import (
+    DeclaredArgument,
+    LaunchedNode,
+    LaunchError,
+    LaunchResult,
+    Parameter,
+    Unsupported,
+    Where,
+    find_package_prefix,
+    join_namespace,
+)
+from .launch_substitutions import Context, SubstitutionError, UnsupportedSubstitution
+
+#: attributes that do not change what a node creates: accepted, no effect
+IGNORED_NODE_ATTRIBUTES = frozenset({
+    "output", "respawn", "respawn_delay", "emulate_tty", "sigterm_timeout", "sigkill_timeout", "exec_name",
+    "log_cmd", "additional_env",
+})
+_CONDITION = frozenset({"if", "unless"})
+#: tag → (attributes it takes, child tags it takes)
+_TAGS: dict[str, tuple[frozenset[str], frozenset[str]]] = {
+    "launch": (frozenset({"version"}), frozenset()),
+    "arg": (frozenset({"name", "default", "description"}), frozenset({"choice"})),
+    "let": (frozenset({"name", "value"}), frozenset()),
+    "set_env": (frozenset({"name", "value"}), frozenset()),
+    "group": (frozenset({"scoped", "forwarding"}), frozenset()),
+    "push_ros_namespace": (frozenset({"namespace"}), frozenset()),
+    "include": (frozenset({"file"}), frozenset({"arg"})),
+    "node": (frozenset({"pkg", "exec", "name", "namespace", "args", "ros_args", "cwd"}) | IGNORED_NODE_ATTRIBUTES,
+             frozenset({"param", "remap", "env"})),
+}
+_UNSUPPORTED_HINTS = {
+    "node_container": "composable node containers are not supported: start each component as a node of its "
+                      "own for the system check, or capture the container with a node contract",
+    "composable_node_container": "composable node containers are not supported (see node_container)",
+    "load_composable_node": "loading composable nodes is not supported (see node_container)",
+    "composable_node": "composable nodes are not supported (see node_container)",
+    "executable": "plain processes (<executable>) are not captured: start ROS nodes with <node>",
+    "set_parameter": "global parameters (<set_parameter>) are not supported: give the parameter to each node",
+    "set_remap": "group-wide remappings (<set_remap>) are not supported: give the remapping to each node",
+    "timer": "delayed actions (<timer>) are not supported",
+}
+MAX_INCLUDE_DEPTH = 40
+
+
+@dataclass
+class _Scope:
+    configurations: dict[str, str]
+    namespace: str | None
+    env: dict[str, str]
+
+    def copy(self) -> _Scope:
+        return _Scope(dict(self.configurations), self.namespace, dict(self.env))
+
+
+def launch_file_of_package(package: str, file: str, prefixes: Sequence[Path]) -> Path:
+    """``ros2 launch PACKAGE FILE``: FILE in the package's share directory (a relative path, or a
+    name searched for below it). Raises LaunchError."""
+    try:
+        share = find_package_prefix(package, prefixes) / "share" / package
+    except SubstitutionError as exc:
+        raise LaunchError(f"launch file {file} of package {package}: {exc}") from None
+    if "/" in file:
+        path = share / file
+        if not path.is_file():
+            raise LaunchError(f"launch file {file} of package {package}: {path} does not exist")
+        return path
+    found = sorted(p for p in share.rglob(file) if p.is_file())
+    if not found:
+        raise LaunchError(
+            f"package {package} has no launch file named {file} (searched {share}); install it "
+            "(`install(DIRECTORY launch DESTINATION share/${PROJECT_NAME})`) or give its path"
+        )
+    if len(found) > 1:
+        raise LaunchError(f"package {package} has several files named {file}: {', '.join(map(str, found))}; "
+                          "give the path relative to the package's share directory")
+    return found[0]
+
+
+# ---------------------------------------------------------------------------- the reader
+
+
+def read(
+    path: str | Path,
+    arguments: Mapping[str, Any] | None = None,
+    *,
+    prefixes: Sequence[Path] = (),
+) -> LaunchResult:
+    """Read a launch file (XML, YAML, Python, or a dump_launch ``record.json``) with
+    ``arguments`` (launch arguments, as ``ros2 launch ... name:=value``). ``prefixes``: the
+    ament prefixes for ``$(find-pkg-*)`` and includes. Raises LaunchError."""
+    path = Path(path).absolute()
+    given = {str(k): argument_text(v) for k, v in (arguments or {}).items()}
+    result = LaunchResult(source=path, arguments=given)
+    if not path.is_file():
+        raise LaunchError(f"launch file {shown(path)} does not exist")
+    if path.name.endswith(".json"):
+        launch_record.read(path, result)
+        return result
+    reader = _Reader(result, list(prefixes))
+    reader.read_file(path, _Scope(dict(given), None, {}), None, ())
+    declared = {d.name for d in result.declared}
+    unknown = sorted(set(given) - declared)
+    # Python launch files declare their arguments in code this reader does not see
+    if unknown and not any(f.suffix == ".py" for f in result.files):
+        known = ", ".join(sorted(declared)) or "none"
+        raise LaunchError(
+            f"{shown(path)}: launch argument(s) {', '.join(unknown)} given but not declared by the launch file "
+            f"or its includes (declared: {known}); check the spelling"
+        )
+    return result
+
+
+def argument_text(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return str(value)
+
+
+class _Reader:
+    def __init__(self, result: LaunchResult, prefixes: list[Path]) -> None:
+        self.result = result
+        self.prefixes = prefixes
+        self.anon: dict[str, str] = {}
+
+    # ------------------------------------------------------------ helpers
+    def context(self, scope: _Scope, file: Path) -> Context:
+        return Context(scope.configurations, launch_substitutions.environment_view(scope.env), file,
+                       self.find_package, self.anon)
+
+    def find_package(self, package: str) -> Path:
+        return find_package_prefix(package, self.prefixes)
+
+    def text(self, value: Any, scope: _Scope, file: Path) -> str:
+        if not isinstance(value, str):
+            return argument_text(value)
+        return launch_substitutions.substitute(value, self.context(scope, file))
+
+    def unsupported(self, where: Where, what: str) -> None:
+        self.result.unsupported.append(Unsupported(where, what))
+
+    def error(self, where: Where, reason: str) -> LaunchError:
+        return LaunchError(f"{where}: {reason}")
+
+    def path(self, value: Any, scope: _Scope, file: Path) -> Path:
+        p = Path(os.path.expanduser(self.text(value, scope, file)))
+        return p if p.is_absolute() else file.parent / p
+
+    def condition(self, entity: Entity, scope: _Scope, file: Path) -> bool:
+        """False when an ``if``/``unless`` attribute says to skip the entity."""
+        where = Where(file, entity.line)
+        for key, wanted in (("if", True), ("unless", False)):
+            if key not in entity.attributes:
+                continue
+            text = self.text(entity.attributes[key], scope, file).strip().lower()
+            if text in ("true", "1"):
+                value = True
+            elif text in ("false", "0"):
+                value = False
+            else:
+                raise self.error(where, f"the condition {key}={entity.attributes[key]!r} gives {text!r}; "
+                                        "a condition must give true, false, 1 or 0")
+            if value is not wanted:
+                return False
+        return True
+
+    def check_attributes(self, entity: Entity, file: Path, allowed: frozenset[str]) -> None:
+        for name in sorted(set(entity.attributes) - allowed - _CONDITION):
+            self.unsupported(Where(file, entity.line), f"attribute `{name}` of <{entity.tag}> is not supported")
+
+    def require(self, entity: Entity, file: Path, name: str) -> Any:
+        if name not in entity.attributes or entity.attributes[name] is None:
+            raise self.error(Where(file, entity.line), f"<{entity.tag}> needs the attribute `{name}`")
+        return entity.attributes[name]
+
+    # ------------------------------------------------------------ files
+    def read_file(self, path: Path, scope: _Scope, included_from: Where | None, stack: tuple[Path, ...]) -> None:
+        if path in stack or len(stack) > MAX_INCLUDE_DEPTH:
+            chain = " -> ".join(shown(p) for p in (*stack, path))
+            raise LaunchError(f"{included_from}: include cycle: {chain}")
+        self.result.files.append(path)
+        if path.suffix == ".py":
+            launch_python.read(path, scope.configurations, scope.namespace, dict(scope.env), self.result,
+                               self.prefixes, included_from)
+            return
+        where = included_from or Where(path)
+        try:
+            root = launch_entities.parse_file(path)
+        except FileNotFoundError:
+            raise LaunchError(f"{where}: launch file {shown(path)} does not exist") from None
+        except OSError as exc:
+            raise LaunchError(f"{where}: cannot read {shown(path)}: {exc}") from None
+        except EntityFormatError as exc:
+            raise LaunchError(f"{Where(path, exc.line)}: {exc.reason}") from None
+        if root.tag != "launch":
+            raise LaunchError(f"{Where(path, root.line)}: the root element is <{root.tag}>, not <launch>")
+        self.check_attributes(root, path, _TAGS["launch"][0])
+        self.entities(root.children, scope, path, (*stack, path))
+
+    def entities(self, entities: Sequence[Entity], scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        for entity in entities:
+            try:
+                if not self.condition(entity, scope, file):
+                    continue
+                self.entity(entity, scope, file, stack)
+            except UnsupportedSubstitution as exc:
+                self.unsupported(Where(file, entity.line), f"<{entity.tag}>: {exc}")
+            except SubstitutionError as exc:
+                raise self.error(Where(file, entity.line), f"<{entity.tag}>: {exc}") from None
+
+    def entity(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        tag = entity.tag
+        where = Where(file, entity.line)
+        if tag not in _TAGS or tag == "launch":
+            hint = _UNSUPPORTED_HINTS.get(tag, "this tag is not supported")
+            self.unsupported(where, f"<{tag}>: {hint}")
+            return
+        attributes, child_tags = _TAGS[tag]
+        self.check_attributes(entity, file, attributes)
+        if tag not in ("group", "include"):
+            for child in entity.children:
+                if child.tag not in child_tags:
+                    self.unsupported(Where(file, child.line), f"<{child.tag}> inside <{tag}> is not supported")
+        getattr(self, f"tag_{tag}")(entity, scope, file, stack)
+
+    # ------------------------------------------------------------ tags
+    def tag_arg(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        where = Where(file, entity.line)
+        name = str(self.require(entity, file, "name"))
+        default = entity.attributes.get("default")
+        choices = tuple(self.text(self.require(c, file, "value"), scope, file)
+                        for c in entity.children if c.tag == "choice")
+        description = entity.attributes.get("description")
+        self.result.declared.append(DeclaredArgument(name, None if default is None else str(default),
+                                                     None if description is None else str(description), choices, where))
+        if name not in scope.configurations:
+            if default is None:
+                raise self.error(where, f"launch argument '{name}' is required (it has no default) and was not given; "
+                                        f"pass it: arguments: {{{name}: ...}} (--launch-arg {name}:=VALUE)")
+            scope.configurations[name] = self.text(default, scope, file)
+        value = scope.configurations[name]
+        if choices and value not in choices:
+            raise self.error(where, f"launch argument '{name}' is {value!r}; it must be one of {', '.join(choices)}")
+
+    def tag_let(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        name = str(self.require(entity, file, "name"))
+        scope.configurations[name] = self.text(self.require(entity, file, "value"), scope, file)
+
+    def tag_set_env(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        name = self.text(self.require(entity, file, "name"), scope, file)
+        scope.env[name] = self.text(self.require(entity, file, "value"), scope, file)
+
+    def tag_push_ros_namespace(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        scope.namespace = join_namespace(scope.namespace, self.text(self.require(entity, file, "namespace"), scope, file))
+
+    def flag(self, entity: Entity, name: str, default: bool, scope: _Scope, file: Path) -> bool:
+        if name not in entity.attributes:
+            return default
+        text = self.text(entity.attributes[name], scope, file).strip().lower()
+        if text not in ("true", "false", "1", "0"):
+            raise self.error(Where(file, entity.line), f"`{name}` must be true or false, got {text!r}")
+        return text in ("true", "1")
+
+    def tag_group(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        scoped = self.flag(entity, "scoped", True, scope, file)
+        forwarding = self.flag(entity, "forwarding", True, scope, file)
+        inner = scope.copy() if scoped else scope
+        if not forwarding:
+            inner.configurations.clear()
+        self.entities(entity.children, inner, file, stack)
+
+    def tag_include(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        where = Where(file, entity.line)
+        target = self.path(self.require(entity, file, "file"), scope, file)
+        inner = scope.copy()
+        for child in entity.children:
+            if child.tag != "arg":
+                self.unsupported(Where(file, child.line), f"<{child.tag}> inside <include> is not supported")
+                continue
+            if not self.condition(child, scope, file):
+                continue
+            self.check_attributes(child, file, frozenset({"name", "value"}))
+            name = self.text(self.require(child, file, "name"), scope, file)
+            inner.configurations[name] = self.text(self.require(child, file, "value"), scope, file)
+        self.read_file(target, inner, where, stack)
+
+    def tag_node(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        where = Where(file, entity.line)
+        a = entity.attributes
+        executable = self.text(self.require(entity, file, "exec"), scope, file)
+        package = self.text(a["pkg"], scope, file) if a.get("pkg") is not None else None
+        name = self.text(a["name"], scope, file) if a.get("name") is not None else None
+        namespace = join_namespace(scope.namespace, self.text(a["namespace"], scope, file)
+                                   if a.get("namespace") is not None else None)
+        arguments = tuple(shlex.split(self.text(a["args"], scope, file))) if a.get("args") is not None else ()
+        ros_arguments = tuple(shlex.split(self.text(a["ros_args"], scope, file))) if a.get("ros_args") is not None else ()
+        cwd = self.path(a["cwd"], scope, file) if a.get("cwd") is not None else None
+        parameters: list[Parameter] = []
+        remappings: list[tuple[str, str]] = []
+        env = dict(scope.env)
+        for child in entity.children:
+            if not self.condition(child, scope, file):
+                continue
+            if child.tag == "param":
+                parameters += self.parameters(child, "", scope, file)
+            elif child.tag == "remap":
+                self.check_attributes(child, file, frozenset({"from", "to"}))
+                remappings.append((self.text(self.require(child, file, "from"), scope, file),
+                                   self.text(self.require(child, file, "to"), scope, file)))
+            elif child.tag == "env":
+                self.check_attributes(child, file, frozenset({"name", "value"}))
+                env[self.text(self.require(child, file, "name"), scope, file)] = self.text(
+                    self.require(child, file, "value"), scope, file)
+        if not executable:
+            raise self.error(where, "<node> has an empty `exec`")
+        self.result.nodes.append(LaunchedNode(
+            executable=executable, package=package or None, where=where, name=name or None, namespace=namespace,
+            arguments=arguments, ros_arguments=ros_arguments, parameters=tuple(parameters),
+            remappings=tuple(remappings), env=env, cwd=cwd))
+
+    def parameters(self, entity: Entity, prefix: str, scope: _Scope, file: Path) -> list[Parameter]:
+        where = Where(file, entity.line)
+        a = entity.attributes
+        self.check_attributes(entity, file, frozenset({"name", "value", "value_sep", "from", "allow_substs"}))
+        if a.get("from") is not None:
+            if prefix:
+                raise self.error(where, "a parameters file (`from`) cannot be nested inside a <param>")
+            path = self.path(a["from"], scope, file)
+            if not path.is_file():
+                raise self.error(where, f"parameters file {shown(path)} does not exist")
+            return [Parameter(file=path)]
+        name = prefix + str(self.text(self.require(entity, file, "name"), scope, file))
+        nested = [c for c in entity.children if c.tag == "param"]
+        if nested:
+            out: list[Parameter] = []
+            for child in nested:
+                if self.condition(child, scope, file):
+                    out += self.parameters(child, name + ".", scope, file)
+            return out
+        if "value" not in a:
+            raise self.error(where, f"<param name=\"{name}\"> needs `value`, `from` or nested <param> entries")
+        return [Parameter(name=name, value=self.value(a["value"], a.get("value_sep"), scope, file))]
+
+    def value(self, raw: Any, separator: Any, scope: _Scope, file: Path) -> Any:
+        """A parameter value typed as launch_ros types it."""
+        if isinstance(raw, list):
+            return [self.value(v, None, scope, file) for v in raw]
+        if not isinstance(raw, str):
+            return raw
+        text = self.text(raw, scope, file)
+        if separator is not None:
+            sep = self.text(separator, scope, file)
+            return [guess_type(part) for part in text.split(sep)] if text else []
+        if launch_substitutions.has_substitution(raw):
+            try:
+                loaded = yaml.safe_load(text)
+            except yaml.YAMLError:
+                return text
+            return loaded if isinstance(loaded, (str, int, float, bool, list)) else text
+        return guess_type(text)
+
+
+def guess_type(text: str) -> Any:
+    """A launch-file value without a type: an integer, a float, true/false, or the text."""
+    for convert in (int, float):
+        try:
+            return convert(text)
+        except ValueError:
+            pass
+    if text.lower() in ("true", "false"):
+        return text.lower() == "true"
+    return text
+
+
+__all__ = [
+    "DeclaredArgument", "LaunchError", "LaunchResult", "LaunchedNode", "Parameter", "Unsupported", "Where",
+    "find_package_prefix", "guess_type", "join_namespace", "launch_file_of_package", "read",
+]

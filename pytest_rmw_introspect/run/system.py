@@ -1,0 +1,280 @@
+"""System captures: every process a launch file starts, captured on the recording middleware.
+
+:func:`resolve_launch` turns a system contract's ``launch:`` block (or the command line's
+``--launch``) into a :class:`LaunchSpec`; :func:`capture_system` reads the launch file
+(``launch_reader``), runs every process it starts through the runner (``runner.run``: its own
+capture file, settle, virtual time, timeout), in parallel with at most as many processes at a
+time as the machine has cores, each with the command line, parameters, remappings and
+environment the launch file gives it, and returns a :class:`SystemCapture`.
+
+A process that runs but creates no node is part of the result (the system rule
+``LAUNCHED_NODE_NOT_CREATED`` reports it); a process that cannot be captured (not found,
+crashes, hangs) makes the whole capture a :class:`SystemCaptureError` listing every such
+process. No data moves between the processes, so capturing them apart is the same as
+capturing them together.
+"""
+
+from __future__ import annotations
+
+import os
+import shlex
+import shutil
+import tempfile
+from collections.abc import Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..errors import NoNodeCreated, TargetConfigError, TargetError
+from ..model.capture import Capture
+from ..model.paths import shown
+from . import launch_reader, middleware, ros_env, runner
+from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter
+from .target import TargetSpec
+
+#: keys of a ``launch:`` block
+LAUNCH_KEYS = ("package", "file", "path", "arguments", "allow_unsupported")
+
+
+@dataclass(frozen=True)
+class LaunchSpec:
+    """A launch file to start, with its arguments."""
+
+    path: Path
+    arguments: Mapping[str, str] = field(default_factory=dict)
+    allow_unsupported: bool = False
+    package: str | None = None
+    file: str | None = None
+
+    def describe(self) -> str:
+        where = f"{self.package} {self.file}" if self.package else shown(self.path)
+        args = " ".join(f"{k}:={shlex.quote(v)}" for k, v in self.arguments.items())
+        return f"launch {where}" + (f" {args}" if args else "")
+
+    def to_block(self, base: Path | None = None) -> dict[str, Any]:
+        """The ``launch:`` block of a system contract (``path`` relative to ``base``)."""
+        block: dict[str, Any] = {}
+        if self.package:
+            block.update(package=self.package, file=self.file)
+        else:
+            block["path"] = os.path.relpath(self.path, base) if base is not None else str(self.path)
+        if self.arguments:
+            block["arguments"] = dict(self.arguments)
+        if self.allow_unsupported:
+            block["allow_unsupported"] = True
+        return block
+
+
+def ament_prefixes(ros: Any = None) -> list[Path]:
+    """The prefixes ``$(find-pkg-share)`` and ``ros2 launch PACKAGE`` search: AMENT_PREFIX_PATH,
+    then those of the detected install."""
+    return ros_env.ament_prefixes(tuple(getattr(ros, "ament_prefixes", ()) or ()))
+
+
+def resolve_launch(block: Mapping[str, Any], *, base_dir: str | Path | None, source: str,
+                   prefixes: Sequence[Path]) -> LaunchSpec:
+    """A ``launch:`` block → :class:`LaunchSpec` (raises TargetConfigError / LaunchError)."""
+    unknown = sorted(set(block) - set(LAUNCH_KEYS))
+    if unknown:
+        raise TargetConfigError(f"{source}: unknown launch key(s) {', '.join(unknown)}; known: {', '.join(LAUNCH_KEYS)}")
+    arguments = block.get("arguments") or {}
+    if not isinstance(arguments, Mapping):
+        raise TargetConfigError(f"{source}: `arguments` must be a mapping of launch argument names to values")
+    args = {str(k): launch_reader.argument_text(v) for k, v in arguments.items()}
+    allow = bool(block.get("allow_unsupported", False))
+    if block.get("path") is not None:
+        path = Path(os.path.expanduser(str(block["path"])))
+        if not path.is_absolute() and base_dir is not None:
+            path = Path(base_dir) / path
+        return LaunchSpec(path=path.absolute(), arguments=args, allow_unsupported=allow)
+    package, file = block.get("package"), block.get("file")
+    if not package or not file:
+        raise TargetConfigError(f"{source}: name the launch file with `package` and `file` (like ros2 launch) "
+                                "or with `path`")
+    path = launch_reader.launch_file_of_package(str(package), str(file), prefixes)
+    return LaunchSpec(path=path, arguments=args, allow_unsupported=allow, package=str(package), file=str(file))
+
+
+@dataclass
+class ProcessCapture:
+    """One process of a system: what the launch file says, and its capture (None when it
+    created no node: ``no_node`` says how it ended)."""
+
+    launched: LaunchedNode
+    label: str
+    capture: Capture | None = None
+    no_node: NoNodeCreated | None = None
+
+    @property
+    def node_names(self) -> list[str]:
+        return self.capture.node_names if self.capture is not None else []
+
+    def contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> dict[str, Any]:
+        if self.capture is None:
+            return {}
+        return self.capture.to_contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos)
+
+    def entry(self) -> dict[str, Any]:
+        """This process in a system contract's ``processes:`` block."""
+        out: dict[str, Any] = {}
+        if self.launched.package:
+            out["package"] = self.launched.package
+        out["executable"] = self.launched.executable
+        out["name"] = self.launched.expected_fqn
+        out["nodes"] = self.node_names
+        return out
+
+
+@dataclass
+class SystemCapture:
+    """Every process of a system and what it created."""
+
+    spec: LaunchSpec
+    launch: LaunchResult
+    processes: list[ProcessCapture]
+
+    def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> dict[str, Any]:
+        """All nodes of the system (a node name held by several processes: the union)."""
+        merged: dict[str, dict[str, list[dict[str, Any]]]] = {}
+        for process in self.processes:
+            for fqn, node in process.contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos).items():
+                into = merged.setdefault(fqn, {k: [] for k in node})
+                for list_name, entries in node.items():
+                    for entry in entries:
+                        if entry not in into.setdefault(list_name, []):
+                            into[list_name].append(entry)
+        return {fqn: merged[fqn] for fqn in sorted(merged)}
+
+    def process_entries(self) -> list[dict[str, Any]]:
+        return [p.entry() for p in self.processes]
+
+    @property
+    def node_names(self) -> list[str]:
+        return sorted({n for p in self.processes for n in p.node_names})
+
+    def notes(self) -> list[str]:
+        notes = [f"not captured ({u.where}): {u.what}" for u in self.launch.unsupported]
+        for process in self.processes:
+            if process.capture is not None:
+                notes += [f"{process.label}: {note}" for note in process.capture.notes()]
+            elif process.no_node is not None:
+                stderr = process.no_node.stderr_tail.strip().splitlines()
+                notes.append(f"{process.label} ({process.launched.where}) created no node"
+                             + (f"; the end of its stderr: {stderr[-1]}" if stderr else ""))
+        return notes
+
+    def summary(self) -> str:
+        lines = [f"{self.spec.describe()}: {len(self.processes)} process(es), {len(self.node_names)} node(s)"]
+        lines += [f"note: {note}" for note in self.notes()]
+        for process in self.processes:
+            lines.append(f"{process.label} ({process.launched.where}): {', '.join(process.node_names) or 'no node'}")
+        return "\n".join(lines)
+
+
+class SystemCaptureError(TargetError):
+    """Some processes of a system could not be captured; ``failures`` maps each one's label to its error."""
+
+    def __init__(self, spec: LaunchSpec, failures: Sequence[tuple[ProcessCapture, TargetError]], total: int) -> None:
+        self.failures = list(failures)
+        parts = [f"{len(failures)} of the {total} processes of `{spec.describe()}` could not be captured:"]
+        for process, error in failures:
+            parts.append(f"\n[{process.label}] started at {process.launched.where}:\n" + _indent(str(error)))
+        super().__init__("\n".join(parts), target=spec.describe())
+
+
+def _indent(text: str) -> str:
+    return "\n".join("    " + line for line in text.splitlines())
+
+
+def labels(processes: Sequence[tuple[str | None, str]]) -> list[str]:
+    """A short unique label per process from its (package, executable): ``package/executable``
+    (``#2``, ``#3`` when repeated)."""
+    out: list[str] = []
+    seen: dict[str, int] = {}
+    for package, executable in processes:
+        base = f"{package}/{executable}" if package else os.path.basename(executable)
+        seen[base] = seen.get(base, 0) + 1
+        out.append(base if seen[base] == 1 else f"{base} #{seen[base]}")
+    return out
+
+
+def process_spec(node: LaunchedNode, base: TargetSpec, params_dir: Path) -> TargetSpec:
+    """The target of one launched process: the launch file's command line on top of the
+    system's process-wide options (``base``: settle, timeout, horizon, env)."""
+    counter = [0]
+
+    def params_file(parameter: Parameter) -> Path:
+        counter[0] += 1
+        path = params_dir / f"params_{counter[0]}.yaml"
+        path.write_text(parameter.file_text or "", encoding="utf-8")
+        return path
+
+    env = {**base.env, **node.env}
+    options: dict[str, Any] = {"env": env} if env else {}
+    if node.cwd is not None:
+        options["cwd"] = str(node.cwd)
+    if node.command is not None:
+        options["command"] = list(node.command)
+    elif node.package:
+        options.update(package=node.package, executable=node.executable,
+                       arguments=[*node.arguments, *node.ros_argument_list(params_file)])
+    else:
+        options["command"] = [node.executable, *node.arguments, *node.ros_argument_list(params_file)]
+    spec = TargetSpec(settle=base.settle, timeout=base.timeout, horizon=base.horizon)
+    return spec.merged(options, source=f"launch file {node.where}")
+
+
+def capture_system(
+    spec: LaunchSpec,
+    *,
+    target: TargetSpec | None = None,
+    library: str | Path | None = None,
+    ros: Any = None,
+    include_infrastructure: bool = False,
+    jobs: int | None = None,
+    launch: LaunchResult | None = None,
+) -> SystemCapture:
+    """Read ``spec``'s launch file and capture every process it starts (raises LaunchError,
+    SystemCaptureError, SetupError). ``target``: process-wide options (settle, timeout,
+    horizon, env); ``jobs``: processes at a time (default: the number of cores)."""
+    ros = ros or ros_env.detect()
+    if library is None:
+        library = middleware.ensure_library(ros)
+    if launch is None:
+        launch = launch_reader.read(spec.path, spec.arguments, prefixes=ament_prefixes(ros))
+    if not spec.allow_unsupported:
+        launch.require_supported()
+    if not launch.nodes:
+        raise LaunchError(f"{shown(spec.path)} starts no node (with the arguments given: "
+                                        f"{dict(spec.arguments) or 'none'})")
+    base = target or TargetSpec()
+    names = labels([(n.package, n.executable) for n in launch.nodes])
+    processes = [ProcessCapture(node, label) for node, label in zip(launch.nodes, names, strict=True)]
+    params_dir = Path(tempfile.mkdtemp(prefix="rmw_introspect_params_"))
+    try:
+        specs = []
+        for i, process in enumerate(processes):
+            directory = params_dir / str(i)
+            directory.mkdir()
+            specs.append(process_spec(process.launched, base, directory))
+
+        def run_one(index: int) -> TargetError | None:
+            try:
+                processes[index].capture = runner.run(specs[index], library=library, ros=ros,
+                                                      include_infrastructure=include_infrastructure)
+            except NoNodeCreated as exc:
+                processes[index].no_node = exc
+            except TargetError as exc:
+                return exc
+            return None
+
+        workers = max(1, min(len(processes), jobs or os.cpu_count() or 2))
+        with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="rmw-introspect-system") as pool:
+            errors = list(pool.map(run_one, range(len(processes))))
+    finally:
+        shutil.rmtree(params_dir, ignore_errors=True)
+    failures = [(p, e) for p, e in zip(processes, errors, strict=True) if e is not None]
+    if failures:
+        raise SystemCaptureError(spec, failures, len(processes))
+    return SystemCapture(spec=spec, launch=launch, processes=processes)

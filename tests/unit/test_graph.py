@@ -1,0 +1,145 @@
+"""The system drawn (compare.graph): what is marked, and the Mermaid, DOT and HTML renderings."""
+
+from __future__ import annotations
+
+import re
+from html.parser import HTMLParser
+
+import pytest
+
+from pytest_rmw_introspect.compare import graph
+from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched
+from pytest_rmw_introspect.model.vocabulary import Severity
+
+STRING = "std_msgs/msg/String"
+
+
+def node(**lists):
+    out = {k: [] for k in ("publishers", "subscriptions", "service_servers", "service_clients", "action_servers",
+                           "action_clients")}
+    for list_name, entries in lists.items():
+        out[list_name] = [dict(e) for e in entries]
+    return out
+
+
+def broken_system() -> list[LaunchedProcess]:
+    return [
+        LaunchedProcess("demo/map_server", None, {"/robot/map_server": node(publishers=[
+            {"name": "/robot/map", "type": "nav_msgs/msg/OccupancyGrid", "qos": "map"}])}),
+        LaunchedProcess("demo/listener", "/robot/map_listener", {"/robot/map_listener": node(subscriptions=[
+            {"name": "/robot/map", "type": STRING, "qos": "default"}])}),
+        LaunchedProcess("demo/talker", "/robot/talker", {"/robot/talker": node(publishers=[
+            {"name": "/robot/chatter", "type": STRING, "qos": "default"}])}),
+        LaunchedProcess("demo/talker #2", "/robot/talker", {"/robot/talker": node(publishers=[
+            {"name": "/robot/chatter", "type": STRING, "qos": "default"}])}),
+        LaunchedProcess("demo/client", None, {"/robot/client": node(service_clients=[
+            {"name": "/robot/enable_motor", "type": "std_srvs/srv/SetBool"}])}),
+        LaunchedProcess("demo/silent", "/robot/silent", {}),
+    ]
+
+
+def build():
+    processes = broken_system()
+    return graph.build(processes, check_launched(processes), title="Broken <robot>")
+
+
+def test_the_graph_marks_every_problem():
+    g = build()
+    by_label = {}
+    for v in g.vertices.values():
+        by_label.setdefault(v.label, []).append(v)
+    # a type mismatch marks both edges of the connection
+    marked = [(g.vertices[e.source].label, g.vertices[e.target].label, e.rules) for e in g.edges if e.marks]
+    assert ("/robot/map_server", "/robot/map", ["TYPE_MISMATCH"]) in marked
+    assert ("/robot/map", "/robot/map_listener", ["TYPE_MISMATCH"]) in marked
+    # a client without server: its edge and the service
+    assert ("/robot/enable_motor", "/robot/client", ["CLIENT_WITHOUT_SERVER"]) in marked
+    service = by_label["/robot/enable_motor"][0]
+    assert service.kind == "service" and service.severity is Severity.RISKY
+    # duplicate node names: both vertices; a process without its node: a vertex of its own
+    talkers = by_label["/robot/talker"]
+    assert len(talkers) == 2 and all(v.severity is Severity.BREAKING for v in talkers)
+    missing = by_label["/robot/silent"][0]
+    assert missing.kind == "missing" and missing.marks[0].rule == "LAUNCHED_NODE_NOT_CREATED"
+    assert missing.id in g.groups["demo/silent"]
+    # what fits is not marked
+    chatter_edges = [e for e in g.edges if g.vertices[e.target].label == "/robot/chatter"]
+    assert len(chatter_edges) == 2 and not any(e.marks for e in chatter_edges)
+    assert g.vertices[chatter_edges[0].target].detail == STRING
+
+
+def test_several_servers_mark_the_service_and_both_edges():
+    processes = [LaunchedProcess(label, None, {f"/{label}": node(service_servers=[
+        {"name": "/enable", "type": "std_srvs/srv/SetBool"}])}) for label in ("a", "b")]
+    g = graph.build(processes, check_launched(processes))
+    service = [v for v in g.vertices.values() if v.kind == "service"][0]
+    assert [m.rule for m in service.marks] == ["SERVICE_MULTIPLE_SERVERS"]
+    assert sorted(e.rules for e in g.edges) == [["SERVICE_MULTIPLE_SERVERS"], ["SERVICE_MULTIPLE_SERVERS"]]
+
+
+def test_mermaid():
+    text = graph.to_mermaid(build())
+    assert text.startswith("flowchart LR\n")
+    assert 'subgraph p0["demo/map_server"]' in text
+    assert re.search(r'n\d+\["/robot/map_server"\]', text)
+    assert re.search(r't\d+\(\["/robot/map<br/><small>nav_msgs/msg/OccupancyGrid</small>"\]\)', text)
+    assert re.search(r's\d+\{\{"/robot/enable_motor<br/><small>std_srvs/srv/SetBool</small><br/><b>CLIENT_WITHOUT_SERVER</b>"\}\}', text)
+    assert re.search(r'n\d+ -- "TYPE_MISMATCH" --> t\d+', text)
+    # every marked link is styled by its index among all links
+    links = [line.strip() for line in text.splitlines() if "-->" in line]
+    for index, link in enumerate(links):
+        styled = f"linkStyle {index} stroke:" in text
+        assert styled == ('-- "' in link), link
+    assert "linkStyle" in text and "stroke:#d62728" in text and "stroke:#ff7f0e" in text
+    assert "class " in text and "classDef breaking" in text
+    assert "%% Broken <robot>" in text
+
+
+def test_dot():
+    text = graph.to_dot(build())
+    assert text.startswith('digraph "Broken <robot>" {')
+    assert 'subgraph cluster_0 { label="demo/map_server";' in text
+    assert re.search(r'-> t\d+ \[color="#d62728", penwidth=3, fontcolor="#d62728", label="TYPE_MISMATCH"\]', text)
+    assert re.search(r'n\d+ \[label="/robot/talker\\nDUPLICATE_NODE_NAME", shape=box, color="#d62728"', text)
+    assert "style=dashed" in text  # the process that created no node
+    assert text.count("{") == text.count("}")
+
+
+class _Collector(HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.tags: list[str] = []
+        self.external: list[str] = []
+
+    def handle_starttag(self, tag, attrs):
+        self.tags.append(tag)
+        for key, value in attrs:
+            if key in ("src", "href") and value and not value.startswith("#"):
+                self.external.append(value)
+
+
+def test_html_is_one_self_contained_page():
+    page = graph.to_html(build(), threshold=Severity.BREAKING)
+    collector = _Collector()
+    collector.feed(page)
+    assert collector.external == []  # nothing fetched
+    assert "script" not in collector.tags
+    assert "svg" in collector.tags and "table" in collector.tags
+    assert "<title>Broken &lt;robot&gt;</title>" in page
+    assert "problem(s) at or above the threshold" in page
+    assert page.count('class="edge marked"') == 3  # the two TYPE_MISMATCH edges and the client's
+    assert 'data-rules="TYPE_MISMATCH"' in page and 'data-rules="CLIENT_WITHOUT_SERVER"' in page
+    for rule in ("TYPE_MISMATCH", "DUPLICATE_NODE_NAME", "CLIENT_WITHOUT_SERVER", "LAUNCHED_NODE_NOT_CREATED"):
+        assert f"<code>{rule}</code>" in page
+    fine = graph.to_html(graph.build(broken_system()[2:3], []))
+    assert "marked" not in fine.split("<svg", 1)[1].split("</svg>")[0]
+    assert "No problem at or above the threshold" in fine and "All connections fit together." in fine
+
+
+def test_render_dispatch():
+    g = build()
+    assert graph.render(g, "mermaid") == graph.to_mermaid(g)
+    assert graph.render(g, "dot") == graph.to_dot(g)
+    assert graph.render(g, "html").startswith("<!DOCTYPE html>")
+    with pytest.raises(ValueError, match="unknown graph format 'png'"):
+        graph.render(g, "png")

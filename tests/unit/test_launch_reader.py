@@ -1,0 +1,572 @@
+"""The launch reader (run.launch_reader): XML and YAML launch files, substitutions, includes,
+conditions, groups, unsupported constructs, play_launch record.json files and Python launch
+files without launch_ros."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from pytest_rmw_introspect.run import launch_reader, launch_substitutions
+from pytest_rmw_introspect.run.launch_model import LaunchError, Parameter
+
+# ---------------------------------------------------------------------------- helpers
+
+
+def write(path: Path, text: str) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(textwrap.dedent(text).lstrip("\n"), encoding="utf-8")
+    return path
+
+
+@pytest.fixture
+def prefix(tmp_path: Path) -> Path:
+    """An ament prefix with a package `bringup` (share/bringup/launch/...) and `other`."""
+    root = tmp_path / "prefix"
+    for package in ("bringup", "other"):
+        write(root / "share" / "ament_index" / "resource_index" / "packages" / package, "")
+        (root / "share" / package).mkdir(parents=True, exist_ok=True)
+    return root
+
+
+def read(path: Path, arguments=None, prefix: Path | None = None):
+    return launch_reader.read(path, arguments, prefixes=[prefix] if prefix else [])
+
+
+def summary(result) -> list[tuple]:
+    """(package, executable, name, namespace, parameters, remappings, arguments, ros_arguments) per node."""
+    out = []
+    for node in result.nodes:
+        params = tuple((p.name, p.value) if p.name else ("file", p.file.name) for p in node.parameters)
+        out.append((node.package, node.executable, node.name, node.namespace, params, node.remappings,
+                    node.arguments, node.ros_arguments))
+    return out
+
+
+# ---------------------------------------------------------------------------- every tag, XML and YAML
+
+ALL_TAGS_XML = """
+<launch>
+  <arg name="ns" default="robot" description="namespace of the robot"/>
+  <arg name="use_lidar" default="true">
+    <choice value="true"/><choice value="false"/>
+  </arg>
+  <let name="rate" value="5.5"/>
+  <set_env name="ROBOT_COLOR" value="red"/>
+  <group>
+    <push-ros-namespace namespace="$(var ns)"/>
+    <node pkg="pkg_a" exec="talker" name="talker" output="screen" respawn="true"
+          args="--verbose 'two words'" ros_args="--log-level warn">
+      <param name="rate" value="$(var rate)"/>
+      <param name="count" value="7"/>
+      <param name="enabled" value="true"/>
+      <param name="label" value="hello"/>
+      <param name="ids" value="1,2,3" value-sep=","/>
+      <param name="limits"><param name="max" value="2.0"/><param name="min" value="-1"/></param>
+      <param from="params.yaml"/>
+      <remap from="chatter" to="chat"/>
+      <env name="EXTRA" value="1"/>
+    </node>
+    <node pkg="pkg_a" exec="laser" namespace="sensors" if="$(var use_lidar)"/>
+    <node pkg="pkg_a" exec="camera" unless="$(var use_lidar)"/>
+  </group>
+  <node pkg="pkg_b" exec="planner" namespace="/absolute"/>
+</launch>
+"""
+
+ALL_TAGS_YAML = """
+launch:
+- arg: {name: ns, default: robot, description: namespace of the robot}
+- arg:
+    name: use_lidar
+    default: "true"
+    choice: [{value: "true"}, {value: "false"}]
+- let: {name: rate, value: "5.5"}
+- set_env: {name: ROBOT_COLOR, value: red}
+- group:
+    children:
+    - push_ros_namespace: {namespace: $(var ns)}
+    - node:
+        pkg: pkg_a
+        exec: talker
+        name: talker
+        output: screen
+        respawn: true
+        args: --verbose 'two words'
+        ros_args: --log-level warn
+        param:
+        - {name: rate, value: $(var rate)}
+        - {name: count, value: 7}
+        - {name: enabled, value: true}
+        - {name: label, value: hello}
+        - {name: ids, value: [1, 2, 3]}
+        - name: limits
+          param:
+          - {name: max, value: 2.0}
+          - {name: min, value: -1}
+        - {from: params.yaml}
+        remap:
+        - {from: chatter, to: chat}
+        env:
+        - {name: EXTRA, value: "1"}
+    - node: {pkg: pkg_a, exec: laser, namespace: sensors, if: $(var use_lidar)}
+    - node: {pkg: pkg_a, exec: camera, unless: $(var use_lidar)}
+- node: {pkg: pkg_b, exec: planner, namespace: /absolute}
+"""
+
+EXPECTED_TALKER = (
+    "pkg_a", "talker", "talker", "/robot",
+    (("rate", 5.5), ("count", 7), ("enabled", True), ("label", "hello"), ("ids", [1, 2, 3]),
+     ("limits.max", 2.0), ("limits.min", -1), ("file", "params.yaml")),
+    (("chatter", "chat"),), ("--verbose", "two words"), ("--log-level", "warn"),
+)
+
+
+@pytest.mark.parametrize("name,text", [("robot.launch.xml", ALL_TAGS_XML), ("robot.launch.yaml", ALL_TAGS_YAML)])
+def test_every_supported_tag(tmp_path, name, text):
+    write(tmp_path / "params.yaml", "/**:\n  ros__parameters: {gain: 2}\n")
+    path = write(tmp_path / name, text)
+    result = read(path)
+    assert result.unsupported == []
+    assert summary(result) == [
+        EXPECTED_TALKER,
+        ("pkg_a", "laser", None, "/robot/sensors", (), (), (), ()),
+        ("pkg_b", "planner", None, "/absolute", (), (), (), ()),
+    ]
+    talker = result.nodes[0]
+    assert dict(talker.env) == {"ROBOT_COLOR": "red", "EXTRA": "1"}
+    assert dict(result.nodes[2].env) == {"ROBOT_COLOR": "red"}
+    assert talker.expected_fqn == "/robot/talker"
+    assert str(talker.where).endswith(f"{name}:10" if name.endswith(".xml") else f"{name}:12")
+    assert [(d.name, d.default, d.choices) for d in result.declared] == [
+        ("ns", "robot", ()), ("use_lidar", "true", ("true", "false"))]
+    assert result.declared[0].description == "namespace of the robot"
+    # the other way round: the camera instead of the lidar
+    other = read(path, {"use_lidar": False, "ns": "r2"})
+    assert [(n.executable, n.namespace) for n in other.nodes] == [
+        ("talker", "/r2"), ("camera", "/r2"), ("planner", "/absolute")]
+
+
+def test_command_line_follows_launch_ros(tmp_path):
+    write(tmp_path / "params.yaml", "{}\n")
+    talker = read(write(tmp_path / "a.launch.xml", ALL_TAGS_XML)).nodes[0]
+    assert talker.ros_argument_list() == [
+        "--ros-args", "-r", "__node:=talker", "-r", "__ns:=/robot",
+        "-p", "rate:=5.5", "-p", "count:=7", "-p", "enabled:=true", "-p", "label:=hello", "-p", "ids:=[1, 2, 3]",
+        "-p", "limits.max:=2.0", "-p", "limits.min:=-1", "--params-file", str(tmp_path / "params.yaml"),
+        "-r", "chatter:=chat", "--log-level", "warn"]
+    plain = launch_reader.LaunchedNode(executable="x", package="p", where=talker.where)
+    assert plain.ros_argument_list() == []
+    assert plain.expected_fqn is None
+
+
+@pytest.mark.parametrize("value,expected", [
+    ("5", 5), ("-3", -3), ("2.5", 2.5), ("1e3", 1000.0), ("true", True), ("False", False), ("hello", "hello"),
+    ("", ""), ("'quoted'", "'quoted'"),
+])
+def test_untyped_values_are_typed_like_launch(value, expected):
+    assert launch_reader.guess_type(value) == expected
+
+
+def test_values_with_substitutions_are_read_as_yaml(tmp_path):
+    path = write(tmp_path / "a.launch.xml", """
+        <launch>
+          <let name="list" value="[1, 2]"/>
+          <let name="word" value="text: with colon"/>
+          <node pkg="p" exec="e">
+            <param name="a" value="$(var list)"/>
+            <param name="b" value="$(var word)"/>
+            <param name="c" value="x$(var list)"/>
+            <param name="d" value="" value-sep=","/>
+          </node>
+        </launch>""")
+    params = read(path).nodes[0].parameters
+    assert [(p.name, p.value) for p in params] == [("a", [1, 2]), ("b", "text: with colon"), ("c", "x[1, 2]"), ("d", [])]
+
+
+# ---------------------------------------------------------------------------- substitutions
+
+
+def test_substitutions(tmp_path, prefix, monkeypatch):
+    monkeypatch.setenv("ROBOT_MODEL", "turtle")
+    monkeypatch.delenv("NOT_SET_ANYWHERE", raising=False)
+    path = write(tmp_path / "launch" / "subs.launch.xml", """
+        <launch>
+          <arg name="pkg" default="bringup"/>
+          <node pkg="p" exec="e" name="$(anon worker)">
+            <param name="var" value="$(var pkg)"/>
+            <param name="env" value="$(env ROBOT_MODEL)"/>
+            <param name="env_default" value="$(env NOT_SET_ANYWHERE 'fall back')"/>
+            <param name="optenv" value="[$(optenv NOT_SET_ANYWHERE)]"/>
+            <param name="share" value="$(find-pkg-share $(var pkg))"/>
+            <param name="prefix" value="$(find-pkg-prefix other)"/>
+            <param name="dirname" value="$(dirname)"/>
+            <param name="filename" value="$(filename)"/>
+            <param name="again" value="$(anon worker)"/>
+            <param name="other" value="$(anon helper)"/>
+          </node>
+        </launch>""")
+    node = read(path, prefix=prefix).nodes[0]
+    values = {p.name: p.value for p in node.parameters}
+    assert values["var"] == "bringup"
+    assert values["env"] == "turtle"
+    assert values["env_default"] == "fall back"
+    assert values["optenv"] == []
+    assert values["share"] == str(prefix / "share" / "bringup")
+    assert values["prefix"] == str(prefix)
+    assert values["dirname"] == str(tmp_path / "launch")
+    assert values["filename"] == str(path)
+    # $(anon NAME): one name per NAME within the launch, the same in every run
+    assert node.name == values["again"] and node.name.startswith("worker_anon_")
+    assert values["other"].startswith("helper_anon_") and values["other"] != node.name
+    assert read(path, prefix=prefix).nodes[0].name == node.name
+
+
+@pytest.mark.parametrize("text,error", [
+    ("$(var nope)", "launch configuration 'nope' is not set"),
+    ("$(env NOT_SET_ANYWHERE)", "environment variable 'NOT_SET_ANYWHERE' is not set"),
+    ("$(find-pkg-share no_such_package)", "package 'no_such_package' is not in the ament index"),
+    ("$(var)", "$(var) takes 1 argument(s), got 0"),
+    ("$(var a", "unterminated substitution"),
+    ("$(var 'a)", "unterminated quote"),
+])
+def test_substitution_errors_name_the_file_and_line(tmp_path, prefix, text, error, monkeypatch):
+    monkeypatch.delenv("NOT_SET_ANYWHERE", raising=False)
+    path = write(tmp_path / "bad.launch.xml", f"""
+        <launch>
+
+          <node pkg="p" exec="e" name="{text}"/>
+        </launch>""")
+    with pytest.raises(LaunchError) as info:
+        read(path, prefix=prefix)
+    assert "bad.launch.xml:3: <node>: " in str(info.value)
+    assert error in str(info.value)
+
+
+def test_substitution_parser():
+    parse = launch_substitutions.parse
+    Sub = launch_substitutions.Substitution
+    assert parse("plain text") == ("plain text",)
+    assert parse("a $(var x) b") == ("a ", Sub("var", (("x",),)), " b")
+    assert parse("$(find-pkg-share $(var p))/x") == (Sub("find-pkg-share", ((Sub("var", (("p",),)),),)), "/x")
+    assert parse("$(env A \"two words\")") == (Sub("env", (("A",), ("two words",))),)
+    assert parse("$(dirname)") == (Sub("dirname"),)
+
+
+# ---------------------------------------------------------------------------- includes
+
+
+def test_includes_with_arguments_and_scopes(tmp_path, prefix):
+    write(prefix / "share" / "bringup" / "launch" / "sensor.launch.yaml", """
+        launch:
+        - arg: {name: sensor, default: lidar}
+        - arg: {name: rate, default: "10"}
+        - let: {name: leaked, value: "no"}
+        - node:
+            pkg: pkg_s
+            exec: $(var sensor)
+            name: $(var sensor)_driver
+            param: [{name: rate, value: $(var rate)}]
+        """)
+    write(tmp_path / "parts" / "relative.launch.xml", """
+        <launch>
+          <node pkg="pkg_r" exec="relative" namespace="$(var where)"/>
+        </launch>""")
+    path = write(tmp_path / "top.launch.xml", """
+        <launch>
+          <let name="where" value="here"/>
+          <group>
+            <push-ros-namespace namespace="front"/>
+            <include file="$(find-pkg-share bringup)/launch/sensor.launch.yaml">
+              <arg name="sensor" value="camera"/>
+            </include>
+          </group>
+          <include file="$(find-pkg-share bringup)/launch/sensor.launch.yaml"/>
+          <include file="parts/relative.launch.xml"/>
+          <node pkg="p" exec="after" name="$(var leaked none)" if="false"/>
+        </launch>""")
+    result = read(path, prefix=prefix)
+    assert [(n.executable, n.name, n.namespace, [(p.name, p.value) for p in n.parameters]) for n in result.nodes] == [
+        ("camera", "camera_driver", "/front", [("rate", 10)]),
+        ("lidar", "lidar_driver", None, [("rate", 10)]),
+        ("relative", None, "/here", []),
+    ]
+    assert [p.name for p in result.files] == ["top.launch.xml", "sensor.launch.yaml", "sensor.launch.yaml",
+                                              "relative.launch.xml"]
+    # a let inside an include does not leak out of it
+    leak = write(tmp_path / "leak.launch.xml", """
+        <launch>
+          <include file="$(find-pkg-share bringup)/launch/sensor.launch.yaml"/>
+          <node pkg="p" exec="$(var leaked)"/>
+        </launch>""")
+    with pytest.raises(LaunchError, match=r"leak.launch.xml:3: <node>: launch configuration 'leaked' is not set"):
+        read(leak, prefix=prefix)
+
+
+def test_include_errors(tmp_path, prefix):
+    missing = write(tmp_path / "missing.launch.xml", """
+        <launch>
+          <include file="nowhere.launch.xml"/>
+        </launch>""")
+    with pytest.raises(LaunchError, match=r"missing.launch.xml:2: launch file .*nowhere.launch.xml does not exist"):
+        read(missing)
+    write(tmp_path / "b.launch.xml", '<launch>\n  <include file="a.launch.xml"/>\n</launch>\n')
+    cycle = write(tmp_path / "a.launch.xml", '<launch>\n  <include file="b.launch.xml"/>\n</launch>\n')
+    with pytest.raises(LaunchError, match=r"b.launch.xml:2: include cycle: .*a.launch.xml -> .*b.launch.xml -> .*a.launch.xml"):
+        read(cycle)
+    odd = write(tmp_path / "odd.launch.xml", '<launch>\n  <include file="x.launch"/>\n</launch>\n')
+    write(tmp_path / "x.launch", "<launch/>")
+    with pytest.raises(LaunchError, match=r"unknown launch file type '.launch'"):
+        read(odd)
+
+
+def test_launch_file_of_a_package(prefix):
+    write(prefix / "share" / "bringup" / "launch" / "robot.launch.xml", "<launch/>")
+    write(prefix / "share" / "bringup" / "launch" / "sub" / "twice.launch.xml", "<launch/>")
+    write(prefix / "share" / "bringup" / "config" / "twice.launch.xml", "<launch/>")
+    find = launch_reader.launch_file_of_package
+    assert find("bringup", "robot.launch.xml", [prefix]) == prefix / "share/bringup/launch/robot.launch.xml"
+    assert find("bringup", "launch/sub/twice.launch.xml", [prefix]).is_file()
+    with pytest.raises(LaunchError, match="several files named twice.launch.xml"):
+        find("bringup", "twice.launch.xml", [prefix])
+    with pytest.raises(LaunchError, match="has no launch file named nope.launch.xml"):
+        find("bringup", "nope.launch.xml", [prefix])
+    with pytest.raises(LaunchError, match="package 'nobody' is not in the ament index"):
+        find("nobody", "x.launch.xml", [prefix])
+
+
+# ---------------------------------------------------------------------------- conditions and groups
+
+
+@pytest.mark.parametrize("attribute,value,started", [
+    ("if", "true", True), ("if", "1", True), ("if", "TRUE", True), ("if", "false", False), ("if", "0", False),
+    ("unless", "true", False), ("unless", "0", True),
+])
+def test_conditions(tmp_path, attribute, value, started):
+    path = write(tmp_path / "c.launch.xml", f'<launch>\n  <node pkg="p" exec="e" {attribute}="{value}"/>\n</launch>\n')
+    assert len(read(path).nodes) == int(started)
+
+
+def test_conditions_on_children_and_bad_values(tmp_path):
+    path = write(tmp_path / "c.launch.xml", """
+        <launch>
+          <arg name="debug" default="false"/>
+          <node pkg="p" exec="e">
+            <param name="a" value="1" if="$(var debug)"/>
+            <param name="b" value="2" unless="$(var debug)"/>
+            <remap from="x" to="y" if="$(var debug)"/>
+          </node>
+          <group if="$(var debug)">
+            <unknown_tag/>
+          </group>
+        </launch>""")
+    result = read(path)
+    assert [(p.name, p.value) for p in result.nodes[0].parameters] == [("b", 2)]
+    assert result.nodes[0].remappings == ()
+    assert result.unsupported == []  # what a false condition skips is not reported
+    bad = write(tmp_path / "bad.launch.xml", '<launch>\n  <node pkg="p" exec="e" if="yes"/>\n</launch>\n')
+    with pytest.raises(LaunchError, match=r"bad.launch.xml:2: the condition if='yes' gives 'yes'; a condition must give true, false, 1 or 0"):
+        read(bad)
+
+
+def test_nested_groups_and_scoping(tmp_path):
+    path = write(tmp_path / "g.launch.xml", """
+        <launch>
+          <let name="v" value="top"/>
+          <group>
+            <push_ros_namespace namespace="a"/>
+            <let name="v" value="inner"/>
+            <set_env name="E" value="1"/>
+            <group>
+              <push_ros_namespace namespace="b"/>
+              <node pkg="p" exec="ab" name="$(var v)"/>
+              <group>
+                <push_ros_namespace namespace="/abs"/>
+                <node pkg="p" exec="abs" namespace="c"/>
+              </group>
+            </group>
+            <node pkg="p" exec="a"/>
+          </group>
+          <node pkg="p" exec="top" name="$(var v)"/>
+          <group scoped="false">
+            <push_ros_namespace namespace="leaky"/>
+            <let name="v" value="leaked"/>
+            <set_env name="LEAKED_ENV" value="yes"/>
+          </group>
+          <node pkg="p" exec="after" name="$(var v)"/>
+          <group forwarding="false">
+            <node pkg="p" exec="fresh" name="$(var v)"/>
+          </group>
+        </launch>""")
+    with pytest.raises(LaunchError, match=r"g.launch.xml:25: <node>: launch configuration 'v' is not set"):
+        read(path)
+    path.write_text(path.read_text().replace('name="$(var v)"/>\n  </group>', '/>\n  </group>'))
+    result = read(path)
+    assert [(n.executable, n.name, n.namespace, dict(n.env)) for n in result.nodes] == [
+        ("ab", "inner", "/a/b", {"E": "1"}),
+        ("abs", None, "/abs/c", {"E": "1"}),
+        ("a", None, "/a", {"E": "1"}),
+        ("top", "top", None, {}),
+        ("after", "leaked", "/leaky", {"LEAKED_ENV": "yes"}),
+        ("fresh", None, "/leaky", {"LEAKED_ENV": "yes"}),
+    ]
+
+
+def test_join_namespace():
+    join = launch_reader.join_namespace
+    assert join(None, None) is None
+    assert join(None, "a") == "/a"
+    assert join("/a", "b/") == "/a/b"
+    assert join("/a", "/b") == "/b"
+    assert join("/a", "") == "/a"
+    assert join("/a", "/") == "/"
+
+
+# ---------------------------------------------------------------------------- arguments
+
+
+def test_argument_errors(tmp_path):
+    path = write(tmp_path / "args.launch.xml", """
+        <launch>
+          <arg name="required"/>
+          <arg name="mode" default="fast"><choice value="fast"/><choice value="slow"/></arg>
+        </launch>""")
+    with pytest.raises(LaunchError, match=r"args.launch.xml:2: launch argument 'required' is required .* was not given"):
+        read(path)
+    with pytest.raises(LaunchError, match=r"args.launch.xml:3: launch argument 'mode' is 'medium'; it must be one of fast, slow"):
+        read(path, {"required": "x", "mode": "medium"})
+    with pytest.raises(LaunchError, match=r"launch argument\(s\) requird given but not declared .* \(declared: mode, required\)"):
+        read(path, {"required": "x", "requird": "y"})
+    assert read(path, {"required": "x", "mode": "slow"}).nodes == []
+
+
+# ---------------------------------------------------------------------------- unsupported and malformed
+
+
+def test_unsupported_constructs_are_listed_with_file_and_line(tmp_path):
+    path = write(tmp_path / "u.launch.xml", """
+        <launch>
+          <node_container pkg="rclcpp_components" exec="component_container" name="c"/>
+          <load_composable_node target="/c"/>
+          <executable cmd="ls"/>
+          <node pkg="p" exec="e" launch-prefix="gdb --args">
+            <param name="x" value="$(eval '1 + 1')"/>
+            <unknown_child/>
+          </node>
+          <node pkg="p" exec="$(command 'echo hi')"/>
+          <timer period="2.0"><node pkg="p" exec="late"/></timer>
+          <node pkg="p" exec="ok"/>
+        </launch>""")
+    result = read(path)
+    assert [n.executable for n in result.nodes] == ["ok"]
+    listed = [(u.where.line, u.what.split(":")[0]) for u in result.unsupported]
+    assert listed == [
+        (2, "<node_container>"), (3, "<load_composable_node>"), (4, "<executable>"),
+        (5, "attribute `launch_prefix` of <node> is not supported"), (7, "<unknown_child> inside <node> is not supported"),
+        (5, "<node>"), (9, "<node>"), (10, "<timer>"),
+    ]
+    assert "the substitution $(eval ...) is not supported" in result.unsupported[5].what
+    with pytest.raises(LaunchError) as info:
+        result.require_supported()
+    message = str(info.value)
+    assert "u.launch.xml uses what the launch reader does not support" in message
+    assert "u.launch.xml:9: <node>: the substitution $(command ...) is not supported" in message
+    assert "allow_unsupported: true" in message
+
+
+@pytest.mark.parametrize("name,text,error", [
+    ("a.launch.xml", "<launch>\n  <node pkg='p'\n</launch>\n", r"a.launch.xml:3: not well-formed XML"),
+    ("b.launch.xml", "<robot/>\n", r"b.launch.xml:1: the root element is <robot>, not <launch>"),
+    ("c.launch.xml", "<launch>\n  <node pkg='p'/>\n</launch>\n", r"c.launch.xml:2: <node> needs the attribute `exec`"),
+    ("d.launch.yaml", "nodes: []\n", r"d.launch.yaml:1: a YAML launch file starts with `launch:`"),
+    ("e.launch.yaml", "launch:\n- node: {pkg: p, exec: [\n", r"e.launch.yaml:3: YAML syntax error"),
+    ("f.launch.yaml", "launch:\n- node: {pkg: p}\n  arg: {name: x}\n", r"f.launch.yaml:2: each entity is a mapping with one key"),
+    ("g.launch.xml", "<launch>\n  <node pkg='p' exec='e'><param name='x'/></node>\n</launch>\n",
+     r"g.launch.xml:2: <param name=\"x\"> needs `value`, `from` or nested <param> entries"),
+    ("h.launch.xml", "<launch>\n  <node pkg='p' exec='e'><param from='none.yaml'/></node>\n</launch>\n",
+     r"h.launch.xml:2: parameters file none.yaml does not exist|h.launch.xml:2: parameters file .*none.yaml does not exist"),
+])
+def test_malformed_launch_files(tmp_path, name, text, error):
+    path = tmp_path / name
+    path.write_text(text)
+    with pytest.raises(LaunchError, match=error):
+        read(path)
+
+
+def test_missing_launch_file(tmp_path):
+    with pytest.raises(LaunchError, match=r"launch file .*absent.launch.xml does not exist"):
+        read(tmp_path / "absent.launch.xml")
+
+
+# ---------------------------------------------------------------------------- other launch sources
+
+
+def test_play_launch_record(tmp_path):
+    record = {
+        "node": [
+            {"executable": "talker", "package": "demo", "name": "/robot/talker", "namespace": "/robot",
+             "params": [["rate", "5.0"], ["label:=hi", "True"]], "params_files": ["/**:\n  ros__parameters: {a: 1}\n"],
+             "remaps": [["chatter", "chat"]], "ros_args": None, "args": ["--x"], "cmd": ["/elsewhere/talker"],
+             "env": [["K", "V"]], "respawn": False, "respawn_delay": None, "global_params": []},
+            {"executable": "plain", "package": None, "name": None, "namespace": None, "cmd": ["/opt/bin/plain", "--a"]},
+        ],
+        "container": [{"name": "/c", "namespace": "/"}],
+        "load_node": [],
+        "lifecycle_node": [],
+        "file_data": {},
+    }
+    path = tmp_path / "record.json"
+    path.write_text(json.dumps(record))
+    result = read(path)
+    talker, plain = result.nodes
+    assert (talker.package, talker.executable, talker.name, talker.namespace) == ("demo", "talker", "talker", "/robot")
+    assert talker.parameters == (Parameter(file_text="/**:\n  ros__parameters: {a: 1}\n"), Parameter("rate", 5.0),
+                                 Parameter("label", "hi"))
+    assert talker.remappings == (("chatter", "chat"),)
+    assert talker.arguments == ("--x",)
+    assert dict(talker.env) == {"K": "V"}
+    assert (plain.package, plain.executable, plain.name, plain.namespace) == (None, "/opt/bin/plain", None, None)
+    assert [u.what for u in result.unsupported] == [
+        "container[0] (/c): composable nodes and their containers are not supported"]
+    written = []
+    args = talker.ros_argument_list(lambda p: written.append(p.file_text) or tmp_path / "p.yaml")
+    assert args[:7] == ["--ros-args", "-r", "__node:=talker", "-r", "__ns:=/robot", "--params-file", str(tmp_path / "p.yaml")]
+    assert written == ["/**:\n  ros__parameters: {a: 1}\n"]
+
+
+@pytest.mark.parametrize("text,error", [
+    ("[1, 2", "not valid JSON"), ("{}", "no `node` list"), ('{"node": [{}]}', r"node\[0\] has no `executable`"),
+    ('{"node": [{"executable": "x", "params": "a"}]}', r"node\[0\].params is not a list of \[name, value\] pairs"),
+])
+def test_bad_records(tmp_path, text, error):
+    path = tmp_path / "record.json"
+    path.write_text(text)
+    with pytest.raises(LaunchError, match=error):
+        read(path)
+
+
+def _launch_ros_importable() -> bool:
+    try:
+        return importlib.util.find_spec("launch_ros") is not None
+    except (ImportError, ValueError):
+        return False
+
+
+@pytest.mark.skipif(_launch_ros_importable(), reason="launch_ros is importable here: the error path does not apply")
+def test_python_launch_files_need_launch_ros(tmp_path):
+    path = write(tmp_path / "robot.launch.py", "from launch import LaunchDescription\n"
+                                               "def generate_launch_description():\n    return LaunchDescription([])\n")
+    with pytest.raises(LaunchError) as info:
+        read(path)
+    message = str(info.value)
+    assert "robot.launch.py is a Python launch file" in message
+    assert "ROS 2 PyPI wheels do not include them" in message
+    assert "write the launch file in XML or YAML" in message and "record.json" in message
+    # also when an XML file includes it, with the line of the include
+    top = write(tmp_path / "top.launch.xml", '<launch>\n  <include file="robot.launch.py"/>\n</launch>\n')
+    with pytest.raises(LaunchError, match=r"top.launch.xml:2: .*robot.launch.py is a Python launch file"):
+        read(top)

@@ -2,7 +2,7 @@
 VENV ?= $(CURDIR)/.venv
 export VENV
 
-.PHONY: example test test-fast typecheck lint bootstrap bench asan clean
+.PHONY: example test test-fast typecheck fuzz lint bootstrap bench asan clean
 
 bootstrap:
 	scripts/bootstrap.sh
@@ -18,6 +18,10 @@ test: bootstrap typecheck
 ## test-fast: the fast tier alone (unit tests: no node is started, no pytest subprocess), in seconds
 test-fast: bootstrap
 	$(VENV)/bin/pytest -m "not e2e and not plugin" $(PYTEST_ARGS)
+
+## fuzz: the input fuzz tests with many more cases (RMWI_FUZZ_CASES, RMWI_FUZZ_SEED to vary)
+fuzz: bootstrap
+	RMWI_FUZZ_CASES=$${RMWI_FUZZ_CASES:-5000} $(VENV)/bin/pytest -p no:cacheprovider tests/unit/test_fuzz_inputs.py $(PYTEST_ARGS)
 
 ## typecheck: mypy on the package (configured in pyproject.toml)
 typecheck: bootstrap

@@ -31,10 +31,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from ..errors import CaptureFormatError
 from . import qos as qos_module
+from . import untrusted
 from .vocabulary import ACTION_HASHED_PARTS, ACTION_SERVICES, ACTION_TOPICS, KIND_TO_LIST, LISTS
 
 FORMAT = "rmw_introspect_capture"
@@ -291,23 +290,28 @@ class Capture:
         """Read a capture file written by the middleware."""
         path = Path(path)
         try:
-            text = path.read_text(encoding="utf-8")
+            text = untrusted.read_text(path)
         except FileNotFoundError:
             raise CaptureFormatError(path, "the file does not exist") from None
-        except OSError as exc:
-            raise CaptureFormatError(path, f"cannot read it: {exc}") from None
+        except untrusted.InputError as exc:
+            raise CaptureFormatError(path, exc.reason) from None
         if not text.strip():
             raise CaptureFormatError(path, "the file is empty")
         try:
             data = json.loads(text)
         except json.JSONDecodeError as exc:
-            if text.lstrip().startswith("format:"):
-                try:
-                    data = yaml.safe_load(text)
-                except yaml.YAMLError:
-                    raise CaptureFormatError(path, f"not valid JSON or YAML ({exc})") from None
-            else:
+            if not text.lstrip().startswith("format:"):
                 raise CaptureFormatError(path, f"not valid JSON: {exc}") from None
+            try:  # RMW_INTROSPECT_FORMAT=yaml
+                root = untrusted.compose_yaml(text)
+                if root is None:
+                    raise CaptureFormatError(path, "the file is empty")
+                untrusted.check_tree(root)
+                data = untrusted.construct(root)
+            except untrusted.InputError as yaml_exc:
+                raise CaptureFormatError(path, f"not valid JSON ({exc}) or YAML ({yaml_exc})") from None
+        except RecursionError:
+            raise CaptureFormatError(path, "nested too deeply") from None
         return cls.from_dict(data, include_infrastructure=include_infrastructure, path=path)
 
     def with_infrastructure(self, include: bool) -> Capture:
@@ -497,7 +501,7 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
                     created_real_ms=_optional_float(n.get("created_real_ms")),
                 )
             )
-        except (KeyError, TypeError, ValueError) as exc:
+        except (KeyError, TypeError, ValueError, OverflowError) as exc:
             raise CaptureFormatError(path, f"{where}: missing or malformed field {exc}") from None
 
     endpoints: list[Endpoint] = []
@@ -509,6 +513,8 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
             _require(kind in KIND_TO_LIST, path, f"{where}: unknown kind {kind!r}")
             qos = e.get("qos") or {}
             _require(isinstance(qos, Mapping), path, f"{where}: `qos` is not an object")
+            if kind in ("publisher", "subscription"):
+                qos_module.from_capture(qos)  # ValueError: a QoS value the middleware never writes
             endpoints.append(
                 Endpoint(
                     seq=int(e.get("seq", 0)),
@@ -526,9 +532,19 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
                     created_real_ms=_optional_float(e.get("created_real_ms")),
                 )
             )
-        except (KeyError, TypeError, ValueError) as exc:
+        except (KeyError, TypeError, ValueError, OverflowError) as exc:
             raise CaptureFormatError(path, f"{where}: missing or malformed field {exc}") from None
 
+    argv = data.get("argv") or []
+    _require(isinstance(argv, list) and all(isinstance(a, str) for a in argv), path, "`argv` is not a list of strings")
+    for key in ("pid", "settle_ms", "time_to_settle_ms", "elapsed_ms", "activity_calls"):
+        value = data.get(key)
+        _require(value is None or (isinstance(value, (int, float)) and not isinstance(value, bool)), path,
+                 f"`{key}` is not a number")
+    for key in ("state", "settled_by", "rmw_implementation"):
+        _require(data.get(key) is None or isinstance(data.get(key), str), path, f"`{key}` is not a string")
+    _require(data.get("ever_waited") is None or isinstance(data.get("ever_waited"), bool), path,
+             "`ever_waited` is not true or false")
     capture = Capture(
         nodes=build_view(raw_nodes, endpoints, include_infrastructure=include_infrastructure),
         raw_nodes=raw_nodes,
@@ -537,7 +553,7 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
         format_version=int(version),
         rmw_implementation=data.get("rmw_implementation"),
         pid=data.get("pid"),
-        argv=list(data.get("argv") or []),
+        argv=list(argv),
         settle_ms=data.get("settle_ms"),
         time_to_settle_ms=data.get("time_to_settle_ms"),
         elapsed_ms=data.get("elapsed_ms"),
@@ -571,7 +587,7 @@ def _virtual_time(data: Any, path: Path | None) -> VirtualTime | None:
             horizon_reached=bool(data.get("horizon_reached", False)),
             warp_budget_exhausted=bool(data.get("warp_budget_exhausted", False)),
         )
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise CaptureFormatError(path, f"`time`: malformed field ({exc})") from None
 
 

@@ -43,6 +43,7 @@ import yaml
 
 from ..errors import ContractError
 from . import qos as qos_module
+from . import untrusted
 from .vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS
 
 CONTRACT_VERSION = 1
@@ -136,43 +137,16 @@ def _line(root: yaml.Node | None, path: list[Any]) -> int | None:
 
 
 def _compose(text: str, path: Path | None) -> tuple[yaml.Node | None, Any]:
-    loader = yaml.SafeLoader(text)
+    """The node tree (for line numbers) and the data of ``text``, checked on the way: keys are
+    unique strings, nesting and alias expansion are bounded (``untrusted``)."""
     try:
-        root = loader.get_single_node()
-        if root is not None:
-            _check_duplicate_keys(root, [], path)
-        data = loader.construct_document(root) if root is not None else None
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line = mark.line + 1 if mark is not None else None
-        column = f", column {mark.column + 1}" if mark is not None else ""
-        reason = " ".join(p for p in (exc.context, exc.problem) if p)
-        raise ContractError(path, None, f"YAML syntax error{column}: {reason}", line=line) from None
-    except yaml.YAMLError as exc:
-        raise ContractError(path, None, f"YAML error: {exc}") from None
-    finally:
-        loader.dispose()
-    return root, data
-
-
-def _check_duplicate_keys(node: yaml.Node, where: list[Any], path: Path | None) -> None:
-    if isinstance(node, yaml.MappingNode):
-        seen: dict[str, int] = {}
-        for k, v in node.value:
-            key = k.value if isinstance(k, yaml.ScalarNode) else None
-            if key is not None:
-                if key in seen:
-                    raise ContractError(
-                        path,
-                        format_location(where + [key]) or key,
-                        f"duplicate key {key!r} (first at line {seen[key]}); YAML would silently keep only the last one",
-                        line=k.start_mark.line + 1,
-                    )
-                seen[key] = k.start_mark.line + 1
-            _check_duplicate_keys(v, where + [key if key is not None else "?"], path)
-    elif isinstance(node, yaml.SequenceNode):
-        for i, item in enumerate(node.value):
-            _check_duplicate_keys(item, where + [i], path)
+        root = untrusted.compose_yaml(text)
+        if root is None:
+            return None, None
+        untrusted.check_tree(root)
+        return root, untrusted.construct(root)
+    except untrusted.InputError as exc:
+        raise ContractError(path, format_location(list(exc.location)) or None, exc.reason, line=exc.line) from None
 
 
 def _schema_error(root: yaml.Node | None, data: Any, path: Path | None) -> ContractError | None:
@@ -197,7 +171,7 @@ def _schema_error(root: yaml.Node | None, data: Any, path: Path | None) -> Contr
 
 def _schema_reason(error: Any) -> str:
     validator = error.validator
-    instance = error.instance
+    instance = untrusted.Short(error.instance)
     if "propertyNames" in error.absolute_schema_path:
         return f"node name {instance!r} is not a fully qualified node name (e.g. /talker or /ns/talker)"
     if validator == "pattern" and error.absolute_path and error.absolute_path[-1] == "name":
@@ -215,15 +189,18 @@ def _schema_reason(error: Any) -> str:
         return error.message.replace("is a required property", "is required")
     if validator == "additionalProperties":
         allowed_keys = sorted((error.schema.get("properties") or {}).keys())
-        extra = sorted(set(instance) - set(allowed_keys)) if isinstance(instance, Mapping) else []
+        extra = sorted(set(error.instance) - set(allowed_keys)) if isinstance(error.instance, Mapping) else []
         if allowed_keys:
             return (
-                f"unknown key{'s' if len(extra) > 1 else ''} {', '.join(map(repr, extra))}; "
+                f"unknown key{'s' if len(extra) > 1 else ''} {', '.join(untrusted.shorten(e, 40) for e in extra[:5])}"
+                f"{' and more' if len(extra) > 5 else ''}; "
                 f"allowed: {', '.join(allowed_keys)}"
             )
     if validator == "type":
         expected = error.validator_value
         expected = " or ".join(expected) if isinstance(expected, list) else expected
+        if list(error.absolute_path) == ["nodes"] and error.instance is None:
+            return "`nodes:` is empty; write `nodes: {}` for a contract without nodes (fill it with --update-golden)"
         return f"{instance!r} is not of type {expected}"
     return error.message
 
@@ -232,11 +209,11 @@ def load(path: str | Path) -> Contract:
     """Read and validate a contract file (raises :class:`ContractError`)."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = untrusted.read_text(path)
     except FileNotFoundError:
         raise ContractError(path, None, "the file does not exist") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ContractError(path, None, f"cannot read it: {exc}") from None
+    except untrusted.InputError as exc:
+        raise ContractError(path, None, exc.reason) from None
     return loads(text, path=path)
 
 

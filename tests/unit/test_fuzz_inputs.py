@@ -1,0 +1,301 @@
+"""Untrusted input, fuzzed: contracts, the target's parameters and the capture-file reader.
+
+A fixed seed and a bounded number of cases (``RMWI_FUZZ_CASES``, default 150 per input kind;
+`make fuzz` runs many more): no traceback (only the documented errors), no hang (each case
+under a few seconds), and the command line's exit status is 0, 1 or 2.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import copy
+import io
+import json
+import os
+import random
+import signal
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import pytest
+
+from pytest_rmw_introspect import cli
+from pytest_rmw_introspect.errors import CaptureFormatError, ContractError, TargetConfigError
+from pytest_rmw_introspect.model.capture import Capture
+from pytest_rmw_introspect.model.contract import loads
+from pytest_rmw_introspect.run.target import TargetSpec, ros_arguments
+
+CASES = int(os.environ.get("RMWI_FUZZ_CASES", "150"))
+SEED = int(os.environ.get("RMWI_FUZZ_SEED", "20261123"))
+CASE_SECONDS = 5.0
+
+CONTRACT = """\
+# a contract
+contract_version: 1
+target:
+  script: talker.py
+  parameters: {rate: 10.0, names: [a, b], nested: {x: 1}}
+options:
+  fail_on: risky
+  ignore_qos: [depth]
+nodes:
+  /talker:
+    publishers:
+      - name: /chatter
+        type: std_msgs/msg/String
+        type_hash: RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18
+        qos: {history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}
+    subscriptions:
+      - name: /cmd
+        type: std_msgs/msg/String
+        qos: sensor_data
+    service_servers:
+      - {name: /talker/reset, type: std_srvs/srv/Empty}
+    action_servers:
+      - name: /fib
+        type: test_msgs/action/Fibonacci
+        type_hash: {send_goal: RIHS01_0000000000000000000000000000000000000000000000000000000000000000}
+"""
+
+
+@contextlib.contextmanager
+def deadline(seconds: float, what: str) -> Iterator[None]:
+    def expired(signum, frame):
+        raise AssertionError(f"hang: {what} took more than {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+# ---------------------------------------------------------------------------- mutations
+
+
+def _flip(rng: random.Random, text: str) -> str:
+    i = rng.randrange(len(text))
+    return text[:i] + chr(rng.randrange(0, 0x2FF)) + text[i + 1:]
+
+
+def _control(rng: random.Random, text: str) -> str:
+    i = rng.randrange(len(text))
+    return text[:i] + chr(rng.choice([0, 1, 7, 8, 0x1B, 0x7F, 0x85, 0xFEFF])) + text[i:]
+
+
+def _cut(rng: random.Random, text: str) -> str:
+    i, j = sorted(rng.randrange(len(text)) for _ in range(2))
+    return text[:i] + text[j:]
+
+
+def _repeat_line(rng: random.Random, text: str) -> str:
+    lines = text.splitlines(keepends=True)
+    i = rng.randrange(len(lines))
+    return "".join(lines[:i] + [lines[i]] * rng.randint(2, 4) + lines[i:])
+
+
+def _odd_key(rng: random.Random, text: str) -> str:
+    key = rng.choice(["1", "null", "true", "~", "[a]", "{b: c}", "1.5", "0x10", "'/ok'", "!!binary aGk="])
+    lines = text.splitlines(keepends=True)
+    i = rng.randrange(len(lines))
+    indent = len(lines[i]) - len(lines[i].lstrip())
+    return "".join(lines[:i] + [" " * indent + f"{key}: x\n"] + lines[i:])
+
+
+def _odd_value(rng: random.Random, text: str) -> str:
+    value = rng.choice(["null", "[]", "{}", "-1", "1e309", ".nan", "'" + "x" * 2000 + "'", "!!python/none ''",
+                        "*nope", "&a [*a]", "2026-11-23", "0b101", "[[[[[[1]]]]]]"])
+    lines = [line for line in text.splitlines(keepends=True)]
+    candidates = [i for i, line in enumerate(lines) if ": " in line]
+    i = rng.choice(candidates)
+    head = lines[i].split(": ", 1)[0]
+    lines[i] = f"{head}: {value}\n"
+    return "".join(lines)
+
+
+MUTATORS: list[Callable[[random.Random, str], str]] = [_flip, _control, _cut, _repeat_line, _odd_key, _odd_value]
+
+
+def mutated_contracts(count: int) -> Iterator[str]:
+    rng = random.Random(SEED)
+    for _ in range(count):
+        text = CONTRACT
+        for _ in range(rng.randint(1, 3)):
+            text = rng.choice(MUTATORS)(rng, text)
+        yield text
+
+
+# ---------------------------------------------------------------------------- contracts
+
+
+def _load(text: str) -> None:
+    with deadline(CASE_SECONDS, "loading a contract"):
+        try:
+            loads(text, path="fuzzed.interfaces.yaml")
+        except ContractError as exc:
+            assert "fuzzed.interfaces.yaml" in str(exc)
+            assert len(exc.reason) < 600, exc.reason  # values are cut in messages
+
+
+def test_mutated_contracts_load_or_fail_with_a_contract_error():
+    for text in mutated_contracts(CASES):
+        _load(text)
+
+
+def _bomb(levels: int = 9, width: int = 9) -> str:
+    lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x]"]
+    for level in range(1, levels):
+        lines.append(f"a{level}: &a{level} [" + ", ".join([f"*a{level - 1}"] * width) + "]")
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize(("text", "reason"), [
+    ("contract_version: 1\nnodes:\n  /t:\n    publishers: \x07\n", "control characters"),
+    ("contract_version: 1\nnodes:\n  1: {}\n", "mapping keys must be strings, got '1'"),
+    ("contract_version: 1\nnodes:\n  null: {}\n", "mapping keys must be strings, got 'null'"),
+    ("contract_version: 1\nnodes:\n  true: {}\n", "mapping keys must be strings, got 'true'"),
+    ("contract_version: 1\nnodes:\n  ? [a, b]\n  : {}\n", "mapping keys must be strings, got a list or mapping"),
+    ("contract_version: 1\nnodes: " + "[" * 2000 + "]" * 2000 + "\n", "nested"),
+    ("contract_version: 1\nnodes: " + "{a: " * 200 + "1" + "}" * 200 + "\n", "nested more than 64 levels"),
+    (_bomb() + "contract_version: 1\nnodes: {}\n", "alias bomb"),
+    ("contract_version: 1\ntarget:\n  script: a.py\n  parameters:\n"
+     + "".join(f"    {line}\n" for line in _bomb().splitlines()) + "nodes: {}\n", "alias bomb"),
+    ("contract_version: 1\nnodes:\n", "write `nodes: {}` for a contract without nodes"),
+    ("contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - name: /x\n        type: '" + "y" * 900 + "'\n",
+     "..."),
+])
+def test_hostile_contracts_are_refused_quickly_with_a_reason(text, reason):
+    started = time.monotonic()
+    with deadline(CASE_SECONDS, "a hostile contract"), pytest.raises(ContractError) as info:
+        loads(text, path="hostile.interfaces.yaml")
+    assert time.monotonic() - started < CASE_SECONDS
+    assert reason in info.value.reason, info.value.reason
+    assert len(str(info.value)) < 400, str(info.value)
+
+
+def test_a_fifo_a_directory_and_a_huge_file_are_refused(tmp_path, monkeypatch):
+    from pytest_rmw_introspect.model import contract, untrusted
+
+    fifo = tmp_path / "pipe.interfaces.yaml"
+    os.mkfifo(fifo)
+    with deadline(CASE_SECONDS, "reading a FIFO"), pytest.raises(ContractError, match="not a regular file"):
+        contract.load(fifo)
+    with pytest.raises(ContractError, match="a directory"):
+        contract.load(tmp_path)
+    big = tmp_path / "big.interfaces.yaml"
+    big.write_text("contract_version: 1\nnodes: {}\n" + "#" * 2000 + "\n")
+    monkeypatch.setattr(untrusted, "MAX_FILE_BYTES", 1000)
+    with pytest.raises(ContractError, match="more than the"):
+        contract.load(big)
+
+
+# ---------------------------------------------------------------------------- the command line
+
+
+def test_diff_and_compat_of_mutated_contracts_exit_0_1_or_2(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    Path("good.interfaces.yaml").write_text(CONTRACT)
+    for n, text in enumerate(mutated_contracts(max(10, CASES // 5))):
+        Path("fuzzed.interfaces.yaml").write_text(text, encoding="utf-8", errors="surrogatepass")
+        for argv in (["diff", "good.interfaces.yaml", "fuzzed.interfaces.yaml"],
+                     ["compat", "good.interfaces.yaml", "fuzzed.interfaces.yaml"],
+                     ["validate", "fuzzed.interfaces.yaml"]):
+            err = io.StringIO()
+            with deadline(CASE_SECONDS, " ".join(argv)), contextlib.redirect_stderr(err), \
+                    contextlib.redirect_stdout(io.StringIO()):
+                status = cli.main(argv)
+            assert status in (0, 1, 2), (n, argv, status)
+            assert "Traceback" not in err.getvalue()
+
+
+# ---------------------------------------------------------------------------- target parameters
+
+
+def _random_value(rng: random.Random, depth: int = 0):
+    choice = rng.randrange(9 if depth < 3 else 6)
+    if choice == 0:
+        return rng.choice([True, False, None])
+    if choice == 1:
+        return rng.choice([0, -1, 2**63, 1e309, float("nan"), 3.5])
+    if choice == 2:
+        return "".join(chr(rng.randrange(0, 0x500)) for _ in range(rng.randrange(6)))
+    if choice == 3:
+        return rng.choice(["true", "1", "", ":=", "a: b", "[1, 2]", "'", "\n"])
+    if choice == 4:
+        return b"bytes"
+    if choice == 5:
+        return object()
+    if choice in (6, 7):
+        return [_random_value(rng, depth + 1) for _ in range(rng.randrange(4))]
+    return {rng.choice(["a", "b.c", "", 1, None]): _random_value(rng, depth + 1) for _ in range(rng.randrange(3))}
+
+
+def test_fuzzed_parameters_are_accepted_or_refused_with_a_target_config_error():
+    rng = random.Random(SEED)
+    for _ in range(CASES):
+        params = {rng.choice(["rate", "x.y", "", "n"]): _random_value(rng) for _ in range(rng.randrange(1, 4))}
+        with deadline(CASE_SECONDS, "target parameters"):
+            try:
+                ros_arguments(TargetSpec.from_mapping({"script": "a.py", "parameters": params}))
+            except TargetConfigError as exc:
+                assert "parameter" in str(exc), exc
+
+
+# ---------------------------------------------------------------------------- the capture-file reader
+
+CAPTURE = {
+    "format": "rmw_introspect_capture", "format_version": 1, "rmw_implementation": "rmw_introspect_cpp",
+    "pid": 1, "argv": ["x"], "state": "settled", "settle_ms": 10, "time_to_settle_ms": 1.0, "elapsed_ms": 1.0,
+    "nodes": [{"id": 1, "seq": 1, "name": "t", "namespace": "/", "fqn": "/t", "enclave": "/", "destroyed": False}],
+    "endpoints": [
+        {"seq": 2, "kind": "publisher", "node_id": 1, "node": "/t", "name": "/c", "type": "std_msgs/msg/String",
+         "type_hash": None, "typesupport": "rosidl_typesupport_c",
+         "qos": {"history": "KEEP_LAST", "depth": 7, "reliability": "RELIABLE", "durability": "VOLATILE",
+                 "liveliness": "SYSTEM_DEFAULT", "deadline_ns": 0, "lifespan_ns": 0,
+                 "liveliness_lease_duration_ns": 0, "avoid_ros_namespace_conventions": False},
+         "destroyed": False},
+        {"seq": 3, "kind": "service", "node_id": 1, "node": "/t", "name": "/f/_action/send_goal",
+         "type": "test_msgs/action/Fibonacci_SendGoal", "type_hash": None, "qos": {}, "destroyed": False},
+    ],
+    "time": {"horizon_ms": 10000, "virtual_elapsed_ms": 5.0, "real_elapsed_ms": 1.0, "jumps": 2},
+}
+
+
+def _paths(value, prefix=()):
+    yield prefix
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield from _paths(v, prefix + (k,))
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            yield from _paths(v, prefix + (i,))
+
+
+def test_mutated_capture_documents_parse_or_fail_with_a_capture_format_error():
+    rng = random.Random(SEED)
+    paths = [p for p in _paths(CAPTURE) if p]
+    for _ in range(CASES):
+        doc = copy.deepcopy(CAPTURE)
+        for _ in range(rng.randint(1, 3)):
+            path = rng.choice(paths)
+            parent = doc
+            try:
+                for part in path[:-1]:
+                    parent = parent[part]
+                if rng.random() < 0.3 and isinstance(parent, dict):
+                    parent.pop(path[-1], None)
+                else:
+                    parent[path[-1]] = _random_value(rng)
+            except (KeyError, IndexError, TypeError):
+                continue
+        with deadline(CASE_SECONDS, "a capture document"):
+            try:
+                capture = Capture.from_dict(json.loads(json.dumps(doc, default=str)))
+            except CaptureFormatError:
+                continue
+            capture.summary()
+            capture.notes()
+            capture.to_contract_nodes()

@@ -45,6 +45,7 @@ import yaml
 from ..errors import ContractError
 from . import contract as contract_module
 from . import qos as qos_module
+from . import untrusted
 from .vocabulary import FAIL_ON, LABELS, LISTS
 
 SYSTEM_VERSION = 1
@@ -175,31 +176,15 @@ def _where(root: yaml.Node | None, location: Sequence[Any]) -> int | None:
     return node.start_mark.line + 1 if node is not None else None
 
 
-def _duplicate_keys(node: yaml.Node, where: list[Any], path: Path | None) -> None:
-    if isinstance(node, yaml.MappingNode):
-        seen: dict[str, int] = {}
-        for k, v in node.value:
-            key = k.value if isinstance(k, yaml.ScalarNode) else "?"
-            if key in seen:
-                raise ContractError(path, contract_module.format_location(where + [key]),
-                                    f"duplicate key {key!r} (first at line {seen[key]}); YAML would silently keep "
-                                    "only the last one", line=k.start_mark.line + 1)
-            seen[key] = k.start_mark.line + 1
-            _duplicate_keys(v, where + [key], path)
-    elif isinstance(node, yaml.SequenceNode):
-        for i, item in enumerate(node.value):
-            _duplicate_keys(item, where + [i], path)
-
-
 def load(path: str | Path) -> SystemContract:
     """Read and validate a system contract (raises ContractError)."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = untrusted.read_text(path)
     except FileNotFoundError:
         raise ContractError(path, None, "the file does not exist") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ContractError(path, None, f"cannot read it: {exc}") from None
+    except untrusted.InputError as exc:
+        raise ContractError(path, None, exc.reason) from None
     return loads(text, path=path)
 
 
@@ -207,20 +192,15 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
     """Parse and validate system contract text; ``path`` is used in messages and to resolve
     ``launch: {path: ...}``."""
     path = Path(path) if path is not None else None
-    loader = yaml.SafeLoader(text)
+    # the same bounded reading as node contracts: unique string keys, bounded nesting and aliases
     try:
-        root = loader.get_single_node()
+        root = untrusted.compose_yaml(text)
         if root is not None:
-            _duplicate_keys(root, [], path)
-        data = loader.construct_document(root) if root is not None else None
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        reason = " ".join(p for p in (exc.context, exc.problem) if p)
-        raise ContractError(path, None, f"YAML syntax error: {reason}", line=mark.line + 1 if mark else None) from None
-    except yaml.YAMLError as exc:
-        raise ContractError(path, None, f"YAML error: {exc}") from None
-    finally:
-        loader.dispose()
+            untrusted.check_tree(root)
+        data = untrusted.construct(root) if root is not None else None
+    except untrusted.InputError as exc:
+        raise ContractError(path, contract_module.format_location(list(exc.location)) or None, exc.reason,
+                            line=exc.line) from None
     if data is None:
         raise ContractError(path, None, "the file is empty; it needs at least `system_version: 1` and `launch:`")
     if not isinstance(data, Mapping):

@@ -63,7 +63,9 @@ def _write_in_process(args):
 
 def test_concurrent_writers_write_a_golden_once(tmp_path):
     path = tmp_path / "shared.yaml"
-    ctx = multiprocessing.get_context("fork")
+    # spawn, not fork: a worker of this test process may hold threads (pipe readers of earlier
+    # captures), and a forked child can inherit a lock one of them held
+    ctx = multiprocessing.get_context("spawn")
     with ctx.Pool(4) as pool:
         results = pool.map(_write_in_process, [(str(path),)] * 8)
     assert results.count(golden.CREATED) == 1

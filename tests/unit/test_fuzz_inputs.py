@@ -64,6 +64,9 @@ def deadline(seconds: float, what: str) -> Iterator[None]:
     def expired(signum, frame):
         raise AssertionError(f"hang: {what} took more than {seconds} s")
 
+    # pytest-timeout may have an alarm running for the whole test: put it back afterwards
+    outer_remaining, _ = signal.getitimer(signal.ITIMER_REAL)
+    started = time.monotonic()
     previous = signal.signal(signal.SIGALRM, expired)
     signal.setitimer(signal.ITIMER_REAL, seconds)
     try:
@@ -71,6 +74,8 @@ def deadline(seconds: float, what: str) -> Iterator[None]:
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+        if outer_remaining > 0:
+            signal.setitimer(signal.ITIMER_REAL, max(0.001, outer_remaining - (time.monotonic() - started)))
 
 
 # ---------------------------------------------------------------------------- mutations

@@ -2,7 +2,7 @@
 VENV ?= $(CURDIR)/.venv
 export VENV
 
-.PHONY: example test lint bootstrap bench asan clean
+.PHONY: example test lint bootstrap bench asan conformance clean
 
 bootstrap:
 	scripts/bootstrap.sh
@@ -25,6 +25,12 @@ bench: bootstrap
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap
 	scripts/asan-e2e.sh
+
+## conformance: the official RMW API suite (test_rmw_implementation) on the middleware; needs
+## RMW_CONFORMANCE_SRC=<dir with rmw_implementation and osrf_testing_tools_cpp checkouts>,
+## see docs/conformance.md. CONFORMANCE_ARGS passes options (e.g. --details, --baseline-memcheck)
+conformance: bootstrap
+	$(VENV)/bin/python scripts/conformance/run.py $(CONFORMANCE_ARGS)
 
 clean:
 	rm -rf $(VENV) build .pytest_cache

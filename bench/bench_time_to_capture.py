@@ -43,11 +43,11 @@ from rclpy.node import Node
 rclpy.init()
 n = Node("bench_observer")
 print("ready", flush=True)
-target, ns = sys.argv[1], sys.argv[2]
+target, ns, topic = sys.argv[1], sys.argv[2], sys.argv[3]
 sys.stdin.readline()
 while True:
     try:
-        if any(t.endswith("chatter") for t, _ in n.get_publisher_names_and_types_by_node(target, ns)):
+        if any(t.endswith(topic) for t, _ in n.get_publisher_names_and_types_by_node(target, ns)):
             break
     except Exception:
         pass
@@ -93,14 +93,15 @@ def run_recording(argv: list[str], library: Path, ros: ros_env.RosEnvironment) -
         return ms
 
 
-def run_fastdds(argv: list[str], node_name: str, ros: ros_env.RosEnvironment) -> float:
+def run_fastdds(argv: list[str], node_name: str, ros: ros_env.RosEnvironment, topic: str = "chatter") -> float:
+    """Spawn -> a second, already running rclpy process sees the node's `topic` publisher (ms)."""
     env = dict(os.environ)
     env["LD_LIBRARY_PATH"] = ros.library_path(env.get("LD_LIBRARY_PATH"))
     env["_ROS_WHEELS_BOOTSTRAP_COMPLETE"] = "1"
     env["ROS_DOMAIN_ID"] = "91"
     for key in ("LD_PRELOAD", "RMW_IMPLEMENTATION"):
         env.pop(key, None)
-    observer = subprocess.Popen([PY, "-c", OBSERVER, node_name, "/"], env=env, stdin=subprocess.PIPE,
+    observer = subprocess.Popen([PY, "-c", OBSERVER, node_name, "/", topic], env=env, stdin=subprocess.PIPE,
                                 stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     try:
         if observer.stdout.readline().strip() != "ready":

@@ -10,7 +10,9 @@ servers, service clients, action servers, action clients), where
 * infrastructure endpoints (``/rosout``, ``/parameter_events``, parameter services,
   ``get_type_description``, lifecycle services and ``transition_event``) are left out unless
   ``include_infrastructure=True``,
-* destroyed nodes and endpoints are left out (they stay in ``raw_*``),
+* destroyed nodes and endpoints are left out (they stay in ``raw_*``), except those destroyed
+  in the run of destructions that ended the program (``in_teardown``: alive until its own
+  final teardown),
 * hidden names (a segment starting with ``_``) are kept.
 
 ``Capture.to_contract_nodes()`` gives the ``nodes`` mapping of a contract
@@ -71,6 +73,8 @@ LIFECYCLE_TOPICS = ("transition_event",)
 
 ACTION_SERVICES = ("send_goal", "cancel_goal", "get_result")
 ACTION_TOPICS = ("feedback", "status")
+SIM_CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
+
 #: the parts whose type depends on the action definition (their hashes go into the contract)
 ACTION_HASHED_PARTS = ("send_goal", "get_result", "feedback")
 
@@ -89,6 +93,16 @@ class RawNode:
     fqn: str
     enclave: str = "/"
     destroyed: bool = False
+    #: destroyed in the run of destructions that ended the process (alive before its teardown)
+    in_teardown: bool = False
+    #: the node's virtual and real age (ms since the first rmw_init) when it was created
+    created_virtual_ms: float | None = None
+    created_real_ms: float | None = None
+
+    @property
+    def alive(self) -> bool:
+        """Alive at the end of the capture, or until the program's own final teardown."""
+        return not self.destroyed or self.in_teardown
 
 
 @dataclass(frozen=True)
@@ -109,6 +123,31 @@ class Endpoint:
     qos: Mapping[str, Any]
     typesupport: str | None = None
     destroyed: bool = False
+    in_teardown: bool = False
+    created_virtual_ms: float | None = None
+    created_real_ms: float | None = None
+
+    @property
+    def alive(self) -> bool:
+        """Alive at the end of the capture, or until the program's own final teardown."""
+        return not self.destroyed or self.in_teardown
+
+
+@dataclass(frozen=True)
+class VirtualTime:
+    """How far the middleware advanced the node's clock (``time`` in the capture file)."""
+
+    horizon_ms: float
+    virtual_elapsed_ms: float
+    real_elapsed_ms: float
+    jumps: int
+    warp_ms: float
+    horizon_reached: bool
+    warp_budget_exhausted: bool
+
+    @property
+    def enabled(self) -> bool:
+        return self.horizon_ms > 0
 
 
 # ---------------------------------------------------------------------- contract view
@@ -160,6 +199,14 @@ class Node:
     raw: tuple[RawNode, ...] = ()
     endpoints: tuple[Endpoint, ...] = ()
 
+    @property
+    def uses_sim_time(self) -> bool:
+        """The node subscribes to ``/clock`` (``use_sim_time``): its ROS time stands still in a
+        capture, so timers on the ROS clock never fire."""
+        return any(
+            e.kind == "subscription" and e.name == "/clock" and e.type == SIM_CLOCK_TYPE and e.alive for e in self.endpoints
+        )
+
     def interfaces(self) -> Iterator[tuple[str, Interface]]:
         for list_name in LISTS:
             for entry in getattr(self, list_name):
@@ -202,6 +249,14 @@ class Capture:
     settle_ms: float | None = None
     time_to_settle_ms: float | None = None
     elapsed_ms: float | None = None
+    #: "wait" (a thread waited quietly in an executor) or "activity" (a steady loop that never
+    #: waits kept using the middleware); None before any settle
+    settled_by: str | None = None
+    ever_waited: bool | None = None
+    activity_calls: int | None = None
+    virtual_time: VirtualTime | None = None
+    #: written as the process ended (states exit/shutdown): whether that was before its final settle
+    ended_before_settle: bool | None = None
     include_infrastructure: bool = False
     path: Path | None = None
     raw: Mapping[str, Any] = field(default_factory=dict)
@@ -286,6 +341,48 @@ class Capture:
     def settled(self) -> bool:
         return self.state in ("settled", "shutdown", "exit")
 
+    @property
+    def settled_once(self) -> bool:
+        """The process settled at least once: what it had then, and created later, is valid."""
+        if self.state in ("warping", "settled"):
+            return True
+        return self.state in ("exit", "shutdown") and self.time_to_settle_ms is not None
+
+    @property
+    def ended_by_itself(self) -> bool:
+        """The program ended on its own, with status 0, before the capture's final settle."""
+        return bool(self.ended_before_settle) and self.returncode == 0
+
+    def notes(self) -> list[str]:
+        """What a reader of a report should know about how this capture came about."""
+        notes: list[str] = []
+        if self.ended_by_itself:
+            notes.append(
+                "the program ended by itself (status 0) before its final settle: the capture is what was "
+                "alive just before its own final teardown"
+            )
+        elif self.returncode not in (None, 0) and self.settled_once:
+            how = f"was killed by signal {-self.returncode}" if self.returncode < 0 else f"exited with status {self.returncode}"
+            notes.append(
+                f"the program {how} after it had settled (for example a timeout that expired at once in "
+                "virtual time): the capture is what it had created until then"
+            )
+        vt = self.virtual_time
+        if vt is not None and vt.enabled and not vt.horizon_reached:
+            if vt.warp_budget_exhausted:
+                notes.append(
+                    f"virtual time stopped at {vt.virtual_elapsed_ms / 1000:.3g} s of the {vt.horizon_ms / 1000:g} s "
+                    f"horizon: the warp used its real-time budget ({vt.jumps} jumps; a very fast timer?); "
+                    "interfaces created later are not in the capture"
+                )
+        for node in self:
+            if node.uses_sim_time:
+                notes.append(
+                    f"node {node.fqn} uses sim time (use_sim_time): its ROS clock waits for /clock, which never "
+                    "arrives in a capture, so its ROS-time timers never fire"
+                )
+        return notes
+
     def endpoints(self, *, include_destroyed: bool = False) -> list[Endpoint]:
         """All raw endpoints (infrastructure included), by creation order."""
         return [e for e in self.raw_endpoints if include_destroyed or not e.destroyed]
@@ -300,6 +397,13 @@ class Capture:
     def summary(self) -> str:
         """A short human-readable listing (used in error messages)."""
         lines = [f"state: {self.state}; {len(self.nodes)} node(s)"]
+        vt = self.virtual_time
+        if vt is not None and vt.enabled:
+            lines.append(
+                f"virtual time: {vt.virtual_elapsed_ms / 1000:.3g} s of a {vt.horizon_ms / 1000:g} s horizon "
+                f"in {vt.real_elapsed_ms / 1000:.3g} s real ({vt.jumps} jumps)"
+            )
+        lines += [f"note: {note}" for note in self.notes()]
         for node in self:
             lines.append(node.fqn)
             for list_name, entry in node.interfaces():
@@ -354,6 +458,9 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
                     fqn=str(n.get("fqn") or _fqn(namespace, name)),
                     enclave=str(n.get("enclave", "/")),
                     destroyed=bool(n.get("destroyed", False)),
+                    in_teardown=bool(n.get("in_teardown", False)),
+                    created_virtual_ms=_optional_float(n.get("created_virtual_ms")),
+                    created_real_ms=_optional_float(n.get("created_real_ms")),
                 )
             )
         except (KeyError, TypeError, ValueError) as exc:
@@ -380,6 +487,9 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
                     qos=dict(qos),
                     typesupport=e.get("typesupport"),
                     destroyed=bool(e.get("destroyed", False)),
+                    in_teardown=bool(e.get("in_teardown", False)),
+                    created_virtual_ms=_optional_float(e.get("created_virtual_ms")),
+                    created_real_ms=_optional_float(e.get("created_real_ms")),
                 )
             )
         except (KeyError, TypeError, ValueError) as exc:
@@ -397,11 +507,38 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
         settle_ms=data.get("settle_ms"),
         time_to_settle_ms=data.get("time_to_settle_ms"),
         elapsed_ms=data.get("elapsed_ms"),
+        settled_by=data.get("settled_by"),
+        ever_waited=data.get("ever_waited"),
+        activity_calls=data.get("activity_calls"),
+        virtual_time=_virtual_time(data.get("time"), path),
+        ended_before_settle=(data["ended"].get("before_settle") if isinstance(data.get("ended"), Mapping) else None),
         include_infrastructure=include_infrastructure,
         path=path,
         raw=data,
     )
     return capture
+
+
+def _optional_float(value: Any) -> float | None:
+    return None if value is None else float(value)
+
+
+def _virtual_time(data: Any, path: Path | None) -> VirtualTime | None:
+    if data is None:
+        return None
+    _require(isinstance(data, Mapping), path, "`time` is not an object")
+    try:
+        return VirtualTime(
+            horizon_ms=float(data.get("horizon_ms", 0)),
+            virtual_elapsed_ms=float(data.get("virtual_elapsed_ms", 0)),
+            real_elapsed_ms=float(data.get("real_elapsed_ms", 0)),
+            jumps=int(data.get("jumps", 0)),
+            warp_ms=float(data.get("warp_ms", 0)),
+            horizon_reached=bool(data.get("horizon_reached", False)),
+            warp_budget_exhausted=bool(data.get("warp_budget_exhausted", False)),
+        )
+    except (TypeError, ValueError) as exc:
+        raise CaptureFormatError(path, f"`time`: malformed field ({exc})") from None
 
 
 def _fqn(namespace: str, name: str) -> str:
@@ -490,7 +627,7 @@ def build_view(
     include_infrastructure: bool = False,
 ) -> dict[str, Node]:
     """The contract view: live nodes by fully qualified name with their grouped interfaces."""
-    live_nodes = [n for n in raw_nodes if not n.destroyed]
+    live_nodes = [n for n in raw_nodes if n.alive]
     by_id = {n.id: n for n in live_nodes}
     nodes: dict[str, Node] = {}
     for n in sorted(live_nodes, key=lambda n: n.seq):
@@ -507,7 +644,7 @@ def build_view(
             continue  # endpoint of a destroyed (or unknown) node
         node = nodes[owner.fqn]
         node.endpoints = node.endpoints + (e,)
-        if e.destroyed:
+        if not e.alive:
             continue
         if not include_infrastructure and is_infrastructure(e, owner.fqn):
             continue

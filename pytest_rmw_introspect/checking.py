@@ -169,8 +169,12 @@ class CheckResult:
 
         if self.error is not None:
             return str(self.error)
-        return report.render_text(self.items, contract_path=self.shown, threshold=self.threshold,
+        text = report.render_text(self.items, contract_path=self.shown, threshold=self.threshold,
                                   accept_command=accept_command, title=self.title())
+        notes = self.capture.notes() if self.capture is not None else []
+        if notes:
+            text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes)
+        return text
 
     def to_json(self) -> list[dict[str, Any]]:
         """``report.to_json`` of the drift, each item with the ``contract`` it belongs to."""

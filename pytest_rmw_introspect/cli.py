@@ -17,7 +17,7 @@ from typing import Any
 
 import yaml
 
-from .errors import RmwIntrospectError
+from .errors import RmwIntrospectError, TargetError
 
 EXIT_OK, EXIT_DRIFT, EXIT_ERROR = 0, 1, 2
 
@@ -99,6 +99,12 @@ endpoints:
                         endpoints with raw rmw QoS), with nodl the endpoints per node,
                         ungrouped and unfiltered.
 
+--partial: when the target fails, hangs or creates no node, still write what was captured so
+far (to -o or stdout; a yaml contract gets a `# PARTIAL capture` comment). The exit status stays 2.
+
+Notes about how the capture came about (the program ended by itself, exited after settling,
+uses sim time, virtual time stopped early) are printed to stderr as `note: ...` lines.
+
 exit status: 0 captured, 2 error (no target, target failed/hung/created no node, setup).
 """
 
@@ -155,6 +161,9 @@ def _add_target(parser: argparse.ArgumentParser) -> None:
                    help="quiet time (while the node waits) after which the capture is final (default 0.1)")
     g.add_argument("--timeout", type=float, metavar="SECONDS",
                    help="time the target gets to settle before it is stopped (default 20)")
+    g.add_argument("--horizon", type=float, metavar="SECONDS",
+                   help="seconds of the node's virtual life the capture observes: timers fire at once "
+                   "(default 10; 0 turns virtual time off)")
 
 
 def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True) -> None:
@@ -197,6 +206,8 @@ def build_parser() -> argparse.ArgumentParser:
     out.add_argument("--include-ros-infra", dest="include_infrastructure", action="store_true",
                      help="keep infrastructure endpoints (actions stay grouped)")
     out.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+    out.add_argument("--partial", action="store_true",
+                     help="when the target fails or hangs, still write what was captured (exit status stays 2)")
 
     chk = sub.add_parser("check", help="capture each contract's target and compare",
                          description="Capture the target of each contract and compare it with the contract.",
@@ -246,7 +257,7 @@ def _target_from_args(args: argparse.Namespace, command: list[str] | None) -> di
     """The target options given on the command line (a TargetSpec mapping)."""
     target: dict[str, Any] = {}
     for key in ("package", "executable", "script", "module", "namespace", "node_name", "params_file", "cwd",
-                "settle", "timeout"):
+                "settle", "timeout", "horizon"):
         value = getattr(args, key, None)
         if value is not None:
             target[key] = value
@@ -362,12 +373,12 @@ def nodl_documents(cap: Any, *, raw: bool) -> str:
     docs = []
     if raw:
         per_node: dict[str, dict[str, list[dict[str, Any]]]] = {}
-        live = {n.id: n for n in cap.raw_nodes if not n.destroyed}
+        live = {n.id: n for n in cap.raw_nodes if n.alive}
         for n in sorted(live.values(), key=lambda n: n.seq):
             per_node.setdefault(n.fqn, {name: [] for name in LISTS})
         for e in sorted(cap.raw_endpoints, key=lambda e: e.seq):
             owner = live.get(e.node_id)
-            if owner is None or e.destroyed:
+            if owner is None or not e.alive:
                 continue
             entry: dict[str, Any] = {"name": e.name, "type": e.type}
             if e.kind in ("publisher", "subscription"):
@@ -411,6 +422,24 @@ def _emit(text: str, output: str | None) -> None:
 # ---------------------------------------------------------------------------- commands
 
 
+def _capture_text(cap: Any, args: argparse.Namespace, spec: Any, cwd: Path, partial_reason: str | None = None) -> str:
+    """The capture in the format asked for; a partial yaml contract says so in its header."""
+    if args.format == "nodl":
+        return nodl_documents(cap, raw=args.raw)
+    if args.raw:
+        raw = dict(cap.raw)
+        return (json.dumps(raw, indent=2) if args.format == "json"
+                else yaml.safe_dump(raw, sort_keys=False, default_flow_style=False))
+    if args.format == "json":
+        return json.dumps(cap.to_contract_nodes(), indent=2)
+    base = Path(args.output).absolute().parent if args.output else cwd
+    text = contract_text(cap.to_contract_nodes(), spec=spec, base=base,
+                         include_infrastructure=bool(args.include_infrastructure))
+    if partial_reason is not None:
+        text = f"# PARTIAL capture (not a complete interface): {partial_reason}\n" + text
+    return text
+
+
 def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
     from . import runner
     from .target import TargetSpec
@@ -422,19 +451,18 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
         raise UsageError("no target: give --package P --executable E, --script FILE, --module M or -- COMMAND ARGS...")
     setup = _Setup()
     include = bool(args.include_infrastructure or args.raw)
-    cap = runner.run(spec, library=setup.library(), ros=setup.ros(), include_infrastructure=include)
-    if args.format == "nodl":
-        text = nodl_documents(cap, raw=args.raw)
-    elif args.raw:
-        raw = dict(cap.raw)
-        text = (json.dumps(raw, indent=2) if args.format == "json"
-                else yaml.safe_dump(raw, sort_keys=False, default_flow_style=False))
-    elif args.format == "json":
-        text = json.dumps(cap.to_contract_nodes(), indent=2)
-    else:
-        base = Path(args.output).absolute().parent if args.output else cwd
-        text = contract_text(cap.to_contract_nodes(), spec=spec, base=base,
-                             include_infrastructure=bool(args.include_infrastructure))
+    try:
+        cap = runner.run(spec, library=setup.library(), ros=setup.ros(), include_infrastructure=include)
+    except TargetError as exc:
+        partial = getattr(exc, "partial", None)
+        if not args.partial or partial is None:
+            raise
+        reason = str(exc).splitlines()[0]
+        _emit(_capture_text(partial, args, spec, cwd, partial_reason=reason), args.output)
+        raise
+    for note in cap.notes():
+        print(f"note: {note}", file=sys.stderr)
+    text = _capture_text(cap, args, spec, cwd)
     _emit(text, args.output)
     return EXIT_OK
 
@@ -443,7 +471,7 @@ def _accept_command(args: argparse.Namespace, contract: str, command: list[str] 
     """`rmw-introspect check --update [the target and comparison flags given] CONTRACT`."""
     words = ["rmw-introspect", "check", "--update"]
     for key in ("package", "executable", "script", "module", "namespace", "node_name", "params_file", "cwd",
-                "settle", "timeout", "fail_on", "ignore_qos"):
+                "settle", "timeout", "horizon", "fail_on", "ignore_qos"):
         value = getattr(args, key, None)
         if value is not None:
             words += [f"--{key.replace('_', '-')}", str(value)]

@@ -213,16 +213,41 @@ class TargetTimeout(_WithPartialCapture):
         self.partial = partial
         self.stderr_tail = _tail(stderr_tail)
         self.argv = list(argv)
-        parts = [
-            (
-                f"The target {target} did not settle within {timeout:g} s and was stopped. "
-                "A node settles once it waits for work (spins) and creates nothing new for the "
-                "settle time; a node that never spins never settles. Raise `timeout` if it is just slow."
-            )
-        ]
+        parts = [f"The target {target} did not settle within {timeout:g} s and was stopped. {diagnose_unsettled(partial)}"]
         if self.argv:
             parts.append("Command: " + " ".join(self.argv))
         if self.stderr_tail:
             parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
         parts.append(self._partial_summary())
         super().__init__("\n".join(parts), target=target)
+
+
+def diagnose_unsettled(partial: Any) -> str:
+    """Why a capture did not settle, told from the last snapshot the middleware wrote, and what to do."""
+    if partial is None:
+        return (
+            "It wrote no capture: it never initialised ROS 2 on the recording middleware (busy or blocked "
+            "before rclpy.init() / rcl_init, or not a ROS program). Raise `timeout` if it is only slow to start."
+        )
+    if not partial.raw_nodes:
+        return "It initialised ROS 2 but created no node yet. Raise `timeout` if it is only slow to start."
+    if partial.state == "warping":
+        vt = partial.virtual_time
+        age = f" (virtual age {vt.virtual_elapsed_ms / 1000:.3g} s)" if vt is not None else ""
+        return (
+            f"It settled after {partial.time_to_settle_ms or 0:.0f} ms; virtual time was then advanced{age} but it "
+            "never went quiet again: does it keep creating or destroying interfaces? Lower `horizon`, or set it "
+            "to 0 to capture only what exists at the first settle."
+        )
+    if not partial.ever_waited:
+        return (
+            "No thread ever waited in an executor (rmw_wait) and it did not keep using ROS (publish, take, "
+            "graph queries) after its last new interface: it is busy or blocked outside ROS (a long "
+            "computation, a blocking read, input(), a long time.sleep before it spins). A loop that never "
+            "spins settles once it makes two such calls with no new interface for the settle time. Raise "
+            "`timeout` if it is only slow."
+        )
+    return (
+        "It waits in an executor but kept creating or destroying interfaces, so it was never quiet for the "
+        "settle time. Raise `timeout` if it is only slow to finish starting."
+    )

@@ -19,7 +19,7 @@ that says what to do; they are never internal errors.
 
 Precedence of comparison options: marker > contract ``options:`` > command line > ini.
 Precedence of target options: marker > contract ``target:`` > command line > ini
-(``timeout``/``settle`` only on the command line and in the ini file).
+(``timeout``/``settle``/``horizon`` only on the command line and in the ini file).
 """
 
 from __future__ import annotations
@@ -157,6 +157,9 @@ def pytest_addoption(parser: pytest.Parser) -> None:
                     help="default time a target gets to settle (default 20)")
     group.addoption("--rmw-introspect-settle", type=float, default=None, metavar="SECONDS",
                     help="default settle time of targets (default 0.1)")
+    group.addoption("--rmw-introspect-horizon", type=float, default=None, metavar="SECONDS",
+                    help="default virtual-time horizon of targets: seconds of a node's life a capture "
+                    "observes, timers firing at once (default 10; 0 turns virtual time off)")
 
     group.addoption(
         "--rmw-introspect-contracts",
@@ -176,6 +179,7 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addini("rmw_introspect_fail_on", "least severe drift that fails: any | risky | breaking", default="any")
     parser.addini("rmw_introspect_timeout", "default target timeout in seconds", default="")
     parser.addini("rmw_introspect_settle", "default target settle time in seconds", default="")
+    parser.addini("rmw_introspect_horizon", "default target virtual-time horizon in seconds (0: off)", default="")
 
 
 def _ini_float(config: pytest.Config, name: str) -> float | None:
@@ -217,10 +221,8 @@ def pytest_configure(config: pytest.Config) -> None:
     except OptionError as exc:
         raise pytest.UsageError(str(exc)) from None
 
-    ini_target = {"timeout": _ini_float(config, "rmw_introspect_timeout"),
-                  "settle": _ini_float(config, "rmw_introspect_settle")}
-    cli_target = {"timeout": config.getoption("rmw_introspect_timeout", None),
-                  "settle": config.getoption("rmw_introspect_settle", None)}
+    ini_target = {key: _ini_float(config, f"rmw_introspect_{key}") for key in ("timeout", "settle", "horizon")}
+    cli_target = {key: config.getoption(f"rmw_introspect_{key}", None) for key in ("timeout", "settle", "horizon")}
     try:
         TargetSpec.from_mapping(ini_target, source="ini file").merged(cli_target, source="command line")
     except TargetConfigError as exc:

@@ -133,9 +133,12 @@ def activation_env(library: Path, ros: RosEnvironment, base: dict[str, str] | No
     env: dict[str, str] = {}
     library_dirs = ros.library_path(base.get("LD_LIBRARY_PATH"))
     prefixes = [str(p) for p in ros.ament_prefixes]
+    # Preloaded on both kinds of install: with the wheels it is the only way in; on a standard
+    # install RMW_IMPLEMENTATION selects it too, but only a preloaded library's definitions of
+    # rcutils_steady_time_now/rcutils_system_time_now replace librcutils' (virtual time).
+    preload = [str(library)] + [p for p in base.get("LD_PRELOAD", "").split() if p != str(library)]
+    env["LD_PRELOAD"] = " ".join(preload)
     if ros.kind == WHEELS:
-        preload = [str(library)] + [p for p in base.get("LD_PRELOAD", "").split() if p != str(library)]
-        env["LD_PRELOAD"] = " ".join(preload)
         env["LD_LIBRARY_PATH"] = library_dirs
         # The wheels' bootstrapper would re-exec the interpreter just to set LD_LIBRARY_PATH;
         # it is set already, so tell it to skip that (saves a whole interpreter start).

@@ -4,7 +4,18 @@ The process gets the middleware's activation environment (``ros_env.activation_e
 capture file of its own (``RMW_INTROSPECT_OUTPUT`` in a fresh temporary directory, so
 captures never collide, not even under pytest-xdist), ``RMW_INTROSPECT_EXIT=1`` (the
 middleware ends the process with status 0 as soon as its interfaces settled) and
-``RMW_INTROSPECT_SETTLE_MS`` from the target's ``settle``.
+``RMW_INTROSPECT_SETTLE_MS`` from the target's ``settle`` and ``RMW_INTROSPECT_HORIZON_MS``
+from its ``horizon`` (virtual time: after the first settle the middleware advances the node's
+clock through every timed wait, up to that age, then settles again).
+
+What counts as a capture:
+
+* the process settled (and the middleware ended it): the normal case;
+* it settled once and then ended by itself with any status, or crashed (a timeout that
+  expired at once in virtual time, say): what it had created until then, with the exit
+  reported as information (``Capture.notes()``);
+* it ended by itself with status 0 before it ever settled: what was alive just before its
+  own final teardown (``Capture.ended_by_itself``).
 
 The runner waits up to the target's ``timeout``. A process still running then is stopped
 with SIGINT, SIGTERM and finally SIGKILL (short grace periods, to its whole process group),
@@ -114,6 +125,7 @@ def environment(
     env["RMW_INTROSPECT_EXIT"] = "1"
     env["RMW_INTROSPECT_AUTO_EXPORT"] = "1"
     env["RMW_INTROSPECT_SETTLE_MS"] = str(max(0, round(spec.effective_settle() * 1000)))
+    env["RMW_INTROSPECT_HORIZON_MS"] = str(max(0, round(spec.effective_horizon() * 1000)))
     env.setdefault("PYTHONUNBUFFERED", "1")
     return env
 
@@ -191,19 +203,21 @@ def run(
 
         if timed_out:
             raise TargetTimeout(describe, timeout, _try_load(output, include_infrastructure), stderr, argv)
-        if returncode != 0:
-            raise TargetExited(describe, returncode, stderr, _try_load(output, include_infrastructure), argv)
-        if not output.exists():
-            raise NoNodeCreated(
-                describe,
-                stderr,
-                None,
-                argv,
-                detail="it exited with status 0 and wrote no capture: it never initialised ROS 2, "
-                "or it did not run on the recording middleware",
-            )
-        captured = Capture.load(output, include_infrastructure=include_infrastructure)
-        if not captured.nodes:
+        captured = _try_load(output, include_infrastructure) if returncode != 0 else None
+        if returncode != 0 and (captured is None or not captured.settled_once):
+            raise TargetExited(describe, returncode, stderr, captured, argv)
+        if captured is None:
+            if not output.exists():
+                raise NoNodeCreated(
+                    describe,
+                    stderr,
+                    None,
+                    argv,
+                    detail="it exited with status 0 and wrote no capture: it never initialised ROS 2, "
+                    "or it did not run on the recording middleware",
+                )
+            captured = Capture.load(output, include_infrastructure=include_infrastructure)
+        if not captured.raw_nodes:
             raise NoNodeCreated(describe, stderr, captured, argv)
         captured.returncode = returncode
         captured.stderr = stderr

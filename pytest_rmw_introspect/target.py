@@ -22,6 +22,10 @@ The same keys are accepted everywhere (the capture API, a contract's ``target`` 
 ``settle``         seconds without changes (while the node waits) after which the capture is
                    final (``RMW_INTROSPECT_SETTLE_MS``)
 ``timeout``        seconds to wait for the process to settle before stopping it
+``horizon``        seconds of the node's virtual life the capture observes: after the first
+                   settle, the middleware advances the ROS clock through every timed wait up
+                   to this age, so timers fire at once (``RMW_INTROSPECT_HORIZON_MS``;
+                   default 10, ``0`` turns virtual time off)
 =================  ==========================================================================
 
 Exactly one of ``package``+``executable``, ``command``, ``script``, ``module`` names the
@@ -46,6 +50,9 @@ from .errors import ExecutableNotFound, TargetConfigError
 
 DEFAULT_TIMEOUT = 20.0
 DEFAULT_SETTLE = 0.1
+DEFAULT_HORIZON = 10.0
+#: the largest settle, timeout or horizon accepted (a day); beyond it a value is a mistake
+MAX_SECONDS = 86_400.0
 
 #: keys that say *what* to run; a layer that sets one of them replaces the whole choice
 KIND_KEYS = ("package", "executable", "command", "script", "module")
@@ -66,6 +73,7 @@ TARGET_KEYS = (
     "cwd",
     "settle",
     "timeout",
+    "horizon",
 )
 
 
@@ -88,6 +96,7 @@ class TargetSpec:
     cwd: Path | None = None
     settle: float | None = None
     timeout: float | None = None
+    horizon: float | None = None
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -160,6 +169,9 @@ class TargetSpec:
 
     def effective_settle(self) -> float:
         return DEFAULT_SETTLE if self.settle is None else self.settle
+
+    def effective_horizon(self) -> float:
+        return DEFAULT_HORIZON if self.horizon is None else self.horizon
 
     def validate(self) -> None:
         """Raise :class:`TargetConfigError` unless exactly one way of running is chosen."""
@@ -265,9 +277,11 @@ def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
         if not isinstance(value, Mapping):
             raise _fail(source, key, "a mapping of variable names to strings", value)
         return {str(k): _env_value(v) for k, v in value.items()}
-    if key in ("settle", "timeout"):
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or math.isnan(value):
+    if key in ("settle", "timeout", "horizon"):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             raise _fail(source, key, "a number of seconds", value)
+        if not 0 <= value <= MAX_SECONDS:
+            raise _fail(source, key, f"a number of seconds from 0 to {MAX_SECONDS:g}", value)
         return float(value)
     raise AssertionError(key)  # pragma: no cover
 

@@ -9,18 +9,13 @@
 #include "rmw/rmw.h"
 
 #include "detail/common.hpp"
-#include "detail/config.hpp"
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/recorder.hpp"
+#include "detail/runtime.hpp"
 
 using rmw_introspect::ClientImpl;
 using rmw_introspect::kIdentifier;
-
-#define RMWI_CHECK_CLIENT(client) \
-  RMW_CHECK_ARGUMENT_FOR_NULL(client, RMW_RET_INVALID_ARGUMENT); \
-  RMWI_CHECK_IDENTIFIER( \
-    client, client->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION)
 
 extern "C"
 {
@@ -29,8 +24,7 @@ rmw_client_t * rmw_create_client(
   const rmw_node_t * node, const rosidl_service_type_support_t * type_supports,
   const char * service_name, const rmw_qos_profile_t * qos_policies)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, nullptr);
-  RMWI_CHECK_IDENTIFIER(node, node->implementation_identifier, return nullptr);
+  RMWI_CHECK_HANDLE_RETURN_NULL(node);
   RMW_CHECK_ARGUMENT_FOR_NULL(type_supports, nullptr);
   RMW_CHECK_ARGUMENT_FOR_NULL(service_name, nullptr);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos_policies, nullptr);
@@ -49,12 +43,8 @@ rmw_client_t * rmw_create_client(
 
 rmw_ret_t rmw_destroy_client(rmw_node_t * node, rmw_client_t * client)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, RMW_RET_INVALID_ARGUMENT);
-  RMW_CHECK_ARGUMENT_FOR_NULL(client, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
-  RMWI_CHECK_IDENTIFIER(
-    client, client->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(node);
+  RMWI_CHECK_HANDLE(client);
   std::unique_ptr<ClientImpl> impl(static_cast<ClientImpl *>(client->data));
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Client, impl->name, impl->node);
@@ -63,11 +53,12 @@ rmw_ret_t rmw_destroy_client(rmw_node_t * node, rmw_client_t * client)
 
 rmw_ret_t rmw_send_request(const rmw_client_t * client, const void * ros_request, int64_t * sequence_id)
 {
-  RMWI_CHECK_CLIENT(client);
+  RMWI_CHECK_HANDLE(client);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_request, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(sequence_id, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<ClientImpl *>(client->data);
   *sequence_id = impl->next_sequence.fetch_add(1);
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;  // the request is dropped; no response will come
 }
 
@@ -75,18 +66,19 @@ rmw_ret_t rmw_take_response(
   const rmw_client_t * client, rmw_service_info_t * request_header, void * ros_response,
   bool * taken)
 {
-  RMWI_CHECK_CLIENT(client);
+  RMWI_CHECK_HANDLE(client);
   RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_response, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_client_request_publisher_get_actual_qos(
   const rmw_client_t * client, rmw_qos_profile_t * qos)
 {
-  RMWI_CHECK_CLIENT(client);
+  RMWI_CHECK_HANDLE(client);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
   *qos = static_cast<const ClientImpl *>(client->data)->qos;
   return RMW_RET_OK;
@@ -95,7 +87,7 @@ rmw_ret_t rmw_client_request_publisher_get_actual_qos(
 rmw_ret_t rmw_client_response_subscription_get_actual_qos(
   const rmw_client_t * client, rmw_qos_profile_t * qos)
 {
-  RMWI_CHECK_CLIENT(client);
+  RMWI_CHECK_HANDLE(client);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
   *qos = static_cast<const ClientImpl *>(client->data)->qos;
   return RMW_RET_OK;
@@ -104,14 +96,14 @@ rmw_ret_t rmw_client_response_subscription_get_actual_qos(
 rmw_ret_t rmw_client_set_on_new_response_callback(
   rmw_client_t * client, rmw_event_callback_t callback, const void * user_data)
 {
-  RMWI_CHECK_CLIENT(client);
+  RMWI_CHECK_HANDLE(client);
   static_cast<ClientImpl *>(client->data)->on_new_response.set(callback, user_data);
   return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_get_gid_for_client(const rmw_client_t * client, rmw_gid_t * gid)
 {
-  RMWI_CHECK_CLIENT(client);
+  RMWI_CHECK_HANDLE(client);
   RMW_CHECK_ARGUMENT_FOR_NULL(gid, RMW_RET_INVALID_ARGUMENT);
   const auto * impl = static_cast<const ClientImpl *>(client->data);
   gid->implementation_identifier = kIdentifier;
@@ -122,14 +114,13 @@ rmw_ret_t rmw_get_gid_for_client(const rmw_client_t * client, rmw_gid_t * gid)
 rmw_ret_t rmw_service_server_is_available(
   const rmw_node_t * node, const rmw_client_t * client, bool * is_available)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
-  RMWI_CHECK_CLIENT(client);
+  RMWI_CHECK_HANDLE(node);
+  RMWI_CHECK_HANDLE(client);
   RMW_CHECK_ARGUMENT_FOR_NULL(is_available, RMW_RET_INVALID_ARGUMENT);
   // Answer "available" so that clients go on to what they do after wait_for_service()
   // (and create the entities that follow); RMW_INTROSPECT_SERVER_AVAILABLE=0 says no.
-  *is_available = rmw_introspect::Config::get().server_available;
+  *is_available = rmw_introspect::Runtime::instance().config().server_available;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 

@@ -6,6 +6,7 @@
 
 #include "detail/common.hpp"
 #include "detail/handles.hpp"
+#include "detail/runtime.hpp"
 
 using rmw_introspect::EventSource;
 using rmw_introspect::kIdentifier;
@@ -72,10 +73,7 @@ rmw_ret_t rmw_publisher_event_init(
   rmw_event_t * rmw_event, const rmw_publisher_t * publisher, rmw_event_type_t event_type)
 {
   RMW_CHECK_ARGUMENT_FOR_NULL(rmw_event, RMW_RET_INVALID_ARGUMENT);
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(publisher);
   auto * source = static_cast<EventSource *>(static_cast<rmw_introspect::PublisherImpl *>(
       publisher->data));
   return init_event(rmw_event, source, event_type, true);
@@ -85,10 +83,7 @@ rmw_ret_t rmw_subscription_event_init(
   rmw_event_t * rmw_event, const rmw_subscription_t * subscription, rmw_event_type_t event_type)
 {
   RMW_CHECK_ARGUMENT_FOR_NULL(rmw_event, RMW_RET_INVALID_ARGUMENT);
-  RMW_CHECK_ARGUMENT_FOR_NULL(subscription, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    subscription, subscription->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(subscription);
   auto * source = static_cast<EventSource *>(static_cast<rmw_introspect::SubscriptionImpl *>(
       subscription->data));
   return init_event(rmw_event, source, event_type, false);
@@ -96,24 +91,19 @@ rmw_ret_t rmw_subscription_event_init(
 
 rmw_ret_t rmw_take_event(const rmw_event_t * event_handle, void * event_info, bool * taken)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(event_handle, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    event handle, event_handle->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(event_handle);
   RMW_CHECK_ARGUMENT_FOR_NULL(event_info, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_event_set_callback(
   rmw_event_t * event, rmw_event_callback_t callback, const void * user_data)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(event, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    event, event->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(event);
   auto * source = static_cast<EventSource *>(event->data);
-  RMW_CHECK_FOR_NULL_WITH_MSG(source, "event is not initialized", return RMW_RET_INVALID_ARGUMENT);
   if (event->event_type >= RMW_EVENT_INVALID) {
     RMW_SET_ERROR_MSG("invalid event type");
     return RMW_RET_INVALID_ARGUMENT;

@@ -15,6 +15,7 @@ extern "C"
 
 rmw_ret_t rmw_compare_gids_equal(const rmw_gid_t * gid1, const rmw_gid_t * gid2, bool * result)
 {
+  // A GID has no implementation data to check, only its identifier.
   RMW_CHECK_ARGUMENT_FOR_NULL(gid1, RMW_RET_INVALID_ARGUMENT);
   RMWI_CHECK_IDENTIFIER(
     gid1, gid1->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);

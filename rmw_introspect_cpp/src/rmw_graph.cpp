@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rcutils/strdup.h"
@@ -24,11 +25,11 @@
 
 #include "detail/common.hpp"
 #include "detail/recorder.hpp"
+#include "detail/runtime.hpp"
 
 using rmw_introspect::EndpointKind;
 using rmw_introspect::EndpointRecord;
 using rmw_introspect::NodeRecord;
-using rmw_introspect::Recorder;
 
 namespace
 {
@@ -75,6 +76,16 @@ rmw_ret_t fill_names_and_types(
   return RMW_RET_OK;
 }
 
+// Every graph query reads the records through this; a query also counts as activity (a
+// process polling the graph in a loop settles like one that waits).
+template<typename Fn>
+void visit_graph(Fn && fn)
+{
+  auto & runtime = rmw_introspect::Runtime::instance();
+  runtime.on_activity();
+  runtime.recorder().visit(std::forward<Fn>(fn));
+}
+
 bool is_topic_kind(EndpointKind kind)
 {
   return kind == EndpointKind::Publisher || kind == EndpointKind::Subscription;
@@ -82,9 +93,7 @@ bool is_topic_kind(EndpointKind kind)
 
 rmw_ret_t check_node(const rmw_node_t * node)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(node);
   return RMW_RET_OK;
 }
 
@@ -163,7 +172,7 @@ rmw_ret_t names_and_types_by_node(
   }
   bool found = false;
   NameTypes entries;
-  Recorder::instance().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> & nodes, const std::vector<EndpointRecord> & endpoints) {
       std::set<uint64_t> ids;
       for (const auto & n : nodes) {
@@ -199,7 +208,7 @@ rmw_ret_t count_endpoints(
   }
   RMW_CHECK_ARGUMENT_FOR_NULL(count, RMW_RET_INVALID_ARGUMENT);
   size_t n = 0;
-  Recorder::instance().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && e.kind == kind && e.name == name) {
@@ -229,7 +238,7 @@ rmw_ret_t info_by_topic(
     return ret;
   }
   std::vector<EndpointRecord> matches;
-  Recorder::instance().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && e.kind == kind && e.name == topic_name) {
@@ -281,7 +290,7 @@ rmw_ret_t node_names_impl(
   rcutils_string_array_t * node_namespaces, rcutils_string_array_t * enclaves)
 {
   std::vector<NodeRecord> live;
-  Recorder::instance().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> & nodes, const std::vector<EndpointRecord> &) {
       for (const auto & n : nodes) {
         if (n.alive) {
@@ -370,7 +379,7 @@ rmw_ret_t rmw_get_topic_names_and_types(
     return ret;
   }
   NameTypes entries;
-  Recorder::instance().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && is_topic_kind(e.kind)) {
@@ -390,7 +399,7 @@ rmw_ret_t rmw_get_service_names_and_types(
     return ret;
   }
   NameTypes entries;
-  Recorder::instance().visit(
+  visit_graph(
     [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && !is_topic_kind(e.kind)) {

@@ -1,7 +1,6 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 // Identity, init options, init / shutdown / context_fini.
 
-#include <mutex>
 #include <new>
 
 #include "rcutils/allocator.h"
@@ -14,7 +13,7 @@
 
 #include "detail/common.hpp"
 #include "detail/handles.hpp"
-#include "detail/session.hpp"
+#include "detail/runtime.hpp"
 
 using rmw_introspect::kIdentifier;
 
@@ -151,10 +150,13 @@ rmw_ret_t rmw_init(const rmw_init_options_t * options, rmw_context_t * context)
     return ret;
   }
   context->impl = reinterpret_cast<rmw_context_impl_t *>(impl);
-  rmw_introspect::Session::instance().on_init();
+  rmw_introspect::Runtime::instance().on_init();
   return RMW_RET_OK;
 }
 
+// rmw_shutdown and rmw_context_fini check the context's impl before its identifier (like
+// rmw_zenoh_cpp): a finalized, zero-initialized context is an invalid argument, not a
+// foreign one. Every other entry point checks its handles with RMWI_CHECK_HANDLE*.
 rmw_ret_t rmw_shutdown(rmw_context_t * context)
 {
   RMW_CHECK_ARGUMENT_FOR_NULL(context, RMW_RET_INVALID_ARGUMENT);
@@ -163,13 +165,10 @@ rmw_ret_t rmw_shutdown(rmw_context_t * context)
   RMWI_CHECK_IDENTIFIER(
     context, context->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   auto * impl = reinterpret_cast<rmw_introspect::ContextImpl *>(context->impl);
-  {
-    auto & hub = rmw_introspect::WaitHub::instance();
-    std::lock_guard<std::mutex> lock(hub.mutex);
-    impl->is_shutdown.store(true);
-  }
-  rmw_introspect::WaitHub::instance().cv.notify_all();
-  rmw_introspect::Session::instance().on_shutdown();
+  auto & runtime = rmw_introspect::Runtime::instance();
+  // Under the wait hub's lock, so that no waiter misses it between its check and its sleep.
+  runtime.wait_hub().update_and_wake([impl]() {impl->is_shutdown.store(true);});
+  runtime.on_shutdown();
   return RMW_RET_OK;
 }
 

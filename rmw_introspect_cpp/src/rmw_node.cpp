@@ -1,73 +1,17 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 // Nodes and their graph guard conditions.
 
-#include <cstdarg>
-#include <cstdio>
 #include <memory>
-#include <mutex>
 #include <new>
-#include <set>
 
 #include "rmw/rmw.h"
 #include "rmw/validate_namespace.h"
 #include "rmw/validate_node_name.h"
 
 #include "detail/common.hpp"
-#include "detail/config.hpp"
 #include "detail/handles.hpp"
-#include "detail/recorder.hpp"
-
-namespace rmw_introspect
-{
-
-namespace
-{
-std::mutex & graph_mutex()
-{
-  static std::mutex * m = new std::mutex();
-  return *m;
-}
-std::set<GuardConditionImpl *> & graph_guards()
-{
-  static auto * guards = new std::set<GuardConditionImpl *>();
-  return *guards;
-}
-}  // namespace
-
-void register_graph_guard(GuardConditionImpl * gc)
-{
-  std::lock_guard<std::mutex> lock(graph_mutex());
-  graph_guards().insert(gc);
-}
-
-void unregister_graph_guard(GuardConditionImpl * gc)
-{
-  std::lock_guard<std::mutex> lock(graph_mutex());
-  graph_guards().erase(gc);
-}
-
-void notify_graph_change()
-{
-  std::lock_guard<std::mutex> lock(graph_mutex());
-  for (GuardConditionImpl * gc : graph_guards()) {
-    WaitHub::instance().trigger(&gc->gc);
-  }
-}
-
-void verbose_log(const char * format, ...)
-{
-  if (!Config::get().verbose) {
-    return;
-  }
-  char buffer[1024];
-  va_list args;
-  va_start(args, format);
-  vsnprintf(buffer, sizeof(buffer), format, args);
-  va_end(args);
-  std::fprintf(stderr, "[rmw_introspect] %s\n", buffer);
-}
-
-}  // namespace rmw_introspect
+#include "detail/log.hpp"
+#include "detail/runtime.hpp"
 
 using rmw_introspect::kIdentifier;
 using rmw_introspect::NodeImpl;
@@ -77,9 +21,7 @@ extern "C"
 
 rmw_node_t * rmw_create_node(rmw_context_t * context, const char * name, const char * namespace_)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(context, nullptr);
-  RMWI_CHECK_IDENTIFIER(init context, context->implementation_identifier, return nullptr);
-  RMW_CHECK_FOR_NULL_WITH_MSG(context->impl, "expected initialized context", return nullptr);
+  RMWI_CHECK_HANDLE_OR(context, impl, nullptr, nullptr);
   auto * context_impl = reinterpret_cast<rmw_introspect::ContextImpl *>(context->impl);
   if (context_impl->is_shutdown.load()) {
     RMW_SET_ERROR_MSG("context has been shutdown");
@@ -124,27 +66,28 @@ rmw_node_t * rmw_create_node(rmw_context_t * context, const char * name, const c
   impl->graph_guard.handle.data = &impl->graph_guard;
   impl->graph_guard.handle.context = context;
   const char * enclave = context->options.enclave != nullptr ? context->options.enclave : "/";
-  impl->record_id = rmw_introspect::Recorder::instance().add_node(name, namespace_, enclave);
+  auto & runtime = rmw_introspect::Runtime::instance();
+  impl->record_id =
+    runtime.recorder().add_node(name, namespace_, enclave, runtime.creation_time());
   rmw_introspect::verbose_log(
     "node %s (namespace %s, enclave %s)", impl->name.c_str(), impl->namespace_.c_str(), enclave);
-  rmw_introspect::register_graph_guard(&impl->graph_guard);
-  rmw_introspect::notify_graph_change();
+  runtime.graph_guards().add(&impl->graph_guard.gc);
+  runtime.notify_graph_change();
   context_impl->node_count.fetch_add(1);
   return &impl.release()->handle;
 }
 
 rmw_ret_t rmw_destroy_node(rmw_node_t * node)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(node);
   std::unique_ptr<NodeImpl> impl(static_cast<NodeImpl *>(node->data));
-  rmw_introspect::unregister_graph_guard(&impl->graph_guard);
-  const bool teardown = rmw_introspect::in_teardown(impl->context_impl);
-  rmw_introspect::Recorder::instance().destroy_node(impl->record_id, teardown);
+  auto & runtime = rmw_introspect::Runtime::instance();
+  runtime.graph_guards().remove(&impl->graph_guard.gc);
+  const bool teardown = runtime.in_teardown(impl->context_impl);
+  runtime.recorder().destroy_node(impl->record_id, teardown);
   rmw_introspect::verbose_log(
     "destroyed node %s%s", impl->name.c_str(), teardown ? " (teardown)" : "");
-  rmw_introspect::notify_graph_change();
+  runtime.notify_graph_change();
   if (impl->context_impl != nullptr) {
     impl->context_impl->node_count.fetch_sub(1);
   }
@@ -153,10 +96,8 @@ rmw_ret_t rmw_destroy_node(rmw_node_t * node)
 
 const rmw_guard_condition_t * rmw_node_get_graph_guard_condition(const rmw_node_t * node)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, nullptr);
-  RMWI_CHECK_IDENTIFIER(node, node->implementation_identifier, return nullptr);
+  RMWI_CHECK_HANDLE_RETURN_NULL(node);
   auto * impl = static_cast<NodeImpl *>(node->data);
-  RMW_CHECK_FOR_NULL_WITH_MSG(impl, "node impl is null", return nullptr);
   return &impl->graph_guard.handle;
 }
 

@@ -14,6 +14,7 @@
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/recorder.hpp"
+#include "detail/runtime.hpp"
 
 using rmw_introspect::kIdentifier;
 using rmw_introspect::PublisherImpl;
@@ -23,7 +24,7 @@ namespace
 size_t count_local(const std::string & topic, rmw_introspect::EndpointKind kind)
 {
   size_t count = 0;
-  rmw_introspect::Recorder::instance().visit(
+  rmw_introspect::Runtime::instance().recorder().visit(
     [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && e.kind == kind && e.name == topic) {
@@ -35,12 +36,6 @@ size_t count_local(const std::string & topic, rmw_introspect::EndpointKind kind)
 }
 }  // namespace
 
-// The first checks of every call on a publisher: not NULL, and one of ours.
-#define RMWI_CHECK_PUBLISHER(publisher) \
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT); \
-  RMWI_CHECK_IDENTIFIER( \
-    publisher, publisher->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION)
-
 extern "C"
 {
 
@@ -49,8 +44,7 @@ rmw_publisher_t * rmw_create_publisher(
   const char * topic_name, const rmw_qos_profile_t * qos_profile,
   const rmw_publisher_options_t * publisher_options)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, nullptr);
-  RMWI_CHECK_IDENTIFIER(node, node->implementation_identifier, return nullptr);
+  RMWI_CHECK_HANDLE_RETURN_NULL(node);
   RMW_CHECK_ARGUMENT_FOR_NULL(type_supports, nullptr);
   RMW_CHECK_ARGUMENT_FOR_NULL(topic_name, nullptr);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos_profile, nullptr);
@@ -80,13 +74,8 @@ rmw_publisher_t * rmw_create_publisher(
 
 rmw_ret_t rmw_destroy_publisher(rmw_node_t * node, rmw_publisher_t * publisher)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, RMW_RET_INVALID_ARGUMENT);
-  RMW_CHECK_ARGUMENT_FOR_NULL(publisher, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
-  RMWI_CHECK_IDENTIFIER(
-    publisher, publisher->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(node);
+  RMWI_CHECK_HANDLE(publisher);
   std::unique_ptr<PublisherImpl> impl(static_cast<PublisherImpl *>(publisher->data));
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Publisher, impl->name, impl->node);
@@ -98,8 +87,9 @@ rmw_ret_t rmw_publish(
   rmw_publisher_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;  // accepted and dropped: nothing leaves the process
 }
 
@@ -108,8 +98,9 @@ rmw_ret_t rmw_publish_serialized_message(
   rmw_publisher_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -117,7 +108,7 @@ rmw_ret_t rmw_borrow_loaned_message(
   const rmw_publisher_t * publisher, const rosidl_message_type_support_t * type_support,
   void ** ros_message)
 {
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(type_support, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   if (*ros_message != nullptr) {
@@ -132,7 +123,7 @@ rmw_ret_t rmw_publish_loaned_message(
   const rmw_publisher_t * publisher, void * ros_message, rmw_publisher_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_SET_ERROR_MSG("Loaning is not supported");
   return RMW_RET_UNSUPPORTED;
@@ -141,7 +132,7 @@ rmw_ret_t rmw_publish_loaned_message(
 rmw_ret_t rmw_return_loaned_message_from_publisher(
   const rmw_publisher_t * publisher, void * loaned_message)
 {
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_SET_ERROR_MSG("Loaning is not supported");
   return RMW_RET_UNSUPPORTED;
@@ -150,16 +141,17 @@ rmw_ret_t rmw_return_loaned_message_from_publisher(
 rmw_ret_t rmw_publisher_count_matched_subscriptions(
   const rmw_publisher_t * publisher, size_t * subscription_count)
 {
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(subscription_count, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<const PublisherImpl *>(publisher->data);
   *subscription_count = count_local(impl->name, rmw_introspect::EndpointKind::Subscription);
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_publisher_get_actual_qos(const rmw_publisher_t * publisher, rmw_qos_profile_t * qos)
 {
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
   *qos = static_cast<const PublisherImpl *>(publisher->data)->qos;
   return RMW_RET_OK;
@@ -167,14 +159,14 @@ rmw_ret_t rmw_publisher_get_actual_qos(const rmw_publisher_t * publisher, rmw_qo
 
 rmw_ret_t rmw_publisher_assert_liveliness(const rmw_publisher_t * publisher)
 {
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_publisher_wait_for_all_acked(const rmw_publisher_t * publisher, rmw_time_t wait_timeout)
 {
   (void)wait_timeout;
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   return RMW_RET_OK;  // nothing was sent, so everything is acknowledged
 }
 
@@ -182,7 +174,7 @@ rmw_ret_t rmw_publisher_get_network_flow_endpoints(
   const rmw_publisher_t * publisher, rcutils_allocator_t * allocator,
   rmw_network_flow_endpoint_array_t * network_flow_endpoint_array)
 {
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(allocator, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(network_flow_endpoint_array, RMW_RET_INVALID_ARGUMENT);
   RMW_SET_ERROR_MSG("network flow endpoints are not supported: nothing goes on a network");
@@ -191,7 +183,7 @@ rmw_ret_t rmw_publisher_get_network_flow_endpoints(
 
 rmw_ret_t rmw_get_gid_for_publisher(const rmw_publisher_t * publisher, rmw_gid_t * gid)
 {
-  RMWI_CHECK_PUBLISHER(publisher);
+  RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(gid, RMW_RET_INVALID_ARGUMENT);
   const auto * impl = static_cast<const PublisherImpl *>(publisher->data);
   gid->implementation_identifier = kIdentifier;

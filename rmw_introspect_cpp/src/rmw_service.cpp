@@ -8,18 +8,13 @@
 #include "rmw/rmw.h"
 
 #include "detail/common.hpp"
-#include "detail/config.hpp"
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
+#include "detail/runtime.hpp"
 #include "detail/recorder.hpp"
 
 using rmw_introspect::kIdentifier;
 using rmw_introspect::ServiceImpl;
-
-#define RMWI_CHECK_SERVICE(service) \
-  RMW_CHECK_ARGUMENT_FOR_NULL(service, RMW_RET_INVALID_ARGUMENT); \
-  RMWI_CHECK_IDENTIFIER( \
-    service, service->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION)
 
 extern "C"
 {
@@ -28,8 +23,7 @@ rmw_service_t * rmw_create_service(
   const rmw_node_t * node, const rosidl_service_type_support_t * type_supports,
   const char * service_name, const rmw_qos_profile_t * qos_profile)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, nullptr);
-  RMWI_CHECK_IDENTIFIER(node, node->implementation_identifier, return nullptr);
+  RMWI_CHECK_HANDLE_RETURN_NULL(node);
   RMW_CHECK_ARGUMENT_FOR_NULL(type_supports, nullptr);
   RMW_CHECK_ARGUMENT_FOR_NULL(service_name, nullptr);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos_profile, nullptr);
@@ -48,12 +42,8 @@ rmw_service_t * rmw_create_service(
 
 rmw_ret_t rmw_destroy_service(rmw_node_t * node, rmw_service_t * service)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, RMW_RET_INVALID_ARGUMENT);
-  RMW_CHECK_ARGUMENT_FOR_NULL(service, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
-  RMWI_CHECK_IDENTIFIER(
-    service, service->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(node);
+  RMWI_CHECK_HANDLE(service);
   std::unique_ptr<ServiceImpl> impl(static_cast<ServiceImpl *>(service->data));
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Service, impl->name, impl->node);
@@ -64,27 +54,29 @@ rmw_ret_t rmw_take_request(
   const rmw_service_t * service, rmw_service_info_t * request_header, void * ros_request,
   bool * taken)
 {
-  RMWI_CHECK_SERVICE(service);
+  RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_request, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_send_response(
   const rmw_service_t * service, rmw_request_id_t * request_header, void * ros_response)
 {
-  RMWI_CHECK_SERVICE(service);
+  RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_response, RMW_RET_INVALID_ARGUMENT);
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;  // dropped
 }
 
 rmw_ret_t rmw_service_request_subscription_get_actual_qos(
   const rmw_service_t * service, rmw_qos_profile_t * qos)
 {
-  RMWI_CHECK_SERVICE(service);
+  RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
   *qos = static_cast<const ServiceImpl *>(service->data)->qos;
   return RMW_RET_OK;
@@ -93,7 +85,7 @@ rmw_ret_t rmw_service_request_subscription_get_actual_qos(
 rmw_ret_t rmw_service_response_publisher_get_actual_qos(
   const rmw_service_t * service, rmw_qos_profile_t * qos)
 {
-  RMWI_CHECK_SERVICE(service);
+  RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
   *qos = static_cast<const ServiceImpl *>(service->data)->qos;
   return RMW_RET_OK;
@@ -102,7 +94,7 @@ rmw_ret_t rmw_service_response_publisher_get_actual_qos(
 rmw_ret_t rmw_service_set_on_new_request_callback(
   rmw_service_t * service, rmw_event_callback_t callback, const void * user_data)
 {
-  RMWI_CHECK_SERVICE(service);
+  RMWI_CHECK_HANDLE(service);
   static_cast<ServiceImpl *>(service->data)->on_new_request.set(callback, user_data);
   return RMW_RET_OK;
 }

@@ -12,10 +12,10 @@
 #include "rmw/subscription_content_filter_options.h"
 
 #include "detail/common.hpp"
-#include "detail/config.hpp"
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/recorder.hpp"
+#include "detail/runtime.hpp"
 
 using rmw_introspect::kIdentifier;
 using rmw_introspect::SubscriptionImpl;
@@ -29,12 +29,6 @@ bool ends_with(const std::string & s, const char * suffix)
 }
 }  // namespace
 
-#define RMWI_CHECK_SUBSCRIPTION(subscription) \
-  RMW_CHECK_ARGUMENT_FOR_NULL(subscription, RMW_RET_INVALID_ARGUMENT); \
-  RMWI_CHECK_IDENTIFIER( \
-    subscription, subscription->implementation_identifier, \
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION)
-
 extern "C"
 {
 
@@ -43,8 +37,7 @@ rmw_subscription_t * rmw_create_subscription(
   const char * topic_name, const rmw_qos_profile_t * qos_policies,
   const rmw_subscription_options_t * subscription_options)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, nullptr);
-  RMWI_CHECK_IDENTIFIER(node, node->implementation_identifier, return nullptr);
+  RMWI_CHECK_HANDLE_RETURN_NULL(node);
   RMW_CHECK_ARGUMENT_FOR_NULL(type_supports, nullptr);
   RMW_CHECK_ARGUMENT_FOR_NULL(topic_name, nullptr);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos_policies, nullptr);
@@ -86,13 +79,8 @@ rmw_subscription_t * rmw_create_subscription(
 
 rmw_ret_t rmw_destroy_subscription(rmw_node_t * node, rmw_subscription_t * subscription)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(node, RMW_RET_INVALID_ARGUMENT);
-  RMW_CHECK_ARGUMENT_FOR_NULL(subscription, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    node, node->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
-  RMWI_CHECK_IDENTIFIER(
-    subscription, subscription->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(node);
+  RMWI_CHECK_HANDLE(subscription);
   std::unique_ptr<SubscriptionImpl> impl(static_cast<SubscriptionImpl *>(subscription->data));
   if (impl->has_filter) {
     rcutils_allocator_t allocator = rcutils_get_default_allocator();
@@ -107,11 +95,11 @@ rmw_ret_t rmw_destroy_subscription(rmw_node_t * node, rmw_subscription_t * subsc
 rmw_ret_t rmw_subscription_count_matched_publishers(
   const rmw_subscription_t * subscription, size_t * publisher_count)
 {
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(publisher_count, RMW_RET_INVALID_ARGUMENT);
   const auto * impl = static_cast<const SubscriptionImpl *>(subscription->data);
   size_t count = 0;
-  rmw_introspect::Recorder::instance().visit(
+  rmw_introspect::Runtime::instance().recorder().visit(
     [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (e.alive && e.kind == rmw_introspect::EndpointKind::Publisher &&
@@ -124,19 +112,20 @@ rmw_ret_t rmw_subscription_count_matched_publishers(
   // With RMW_INTROSPECT_SERVER_AVAILABLE=1 every server a client waits for is "there". An
   // action server is there for rcl_action_server_is_available() only when its feedback and
   // status publishers are matched too, so those two topics count the simulated server.
-  if (rmw_introspect::Config::get().server_available && count == 0 &&
+  if (rmw_introspect::Runtime::instance().config().server_available && count == 0 &&
     (ends_with(impl->name, "/_action/feedback") || ends_with(impl->name, "/_action/status")))
   {
     count = 1;
   }
   *publisher_count = count;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_subscription_get_actual_qos(
   const rmw_subscription_t * subscription, rmw_qos_profile_t * qos)
 {
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
   *qos = static_cast<const SubscriptionImpl *>(subscription->data)->qos;
   return RMW_RET_OK;
@@ -145,7 +134,7 @@ rmw_ret_t rmw_subscription_get_actual_qos(
 rmw_ret_t rmw_subscription_set_content_filter(
   rmw_subscription_t * subscription, const rmw_subscription_content_filter_options_t * options)
 {
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(options, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
   std::lock_guard<std::mutex> lock(impl->filter_mutex);
@@ -174,7 +163,7 @@ rmw_ret_t rmw_subscription_get_content_filter(
   const rmw_subscription_t * subscription, rcutils_allocator_t * allocator,
   rmw_subscription_content_filter_options_t * options)
 {
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(allocator, RMW_RET_INVALID_ARGUMENT);
   RCUTILS_CHECK_ALLOCATOR_WITH_MSG(
     allocator, "allocator argument is invalid", return RMW_RET_INVALID_ARGUMENT);
@@ -192,7 +181,7 @@ rmw_ret_t rmw_subscription_get_network_flow_endpoints(
   const rmw_subscription_t * subscription, rcutils_allocator_t * allocator,
   rmw_network_flow_endpoint_array_t * network_flow_endpoint_array)
 {
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(allocator, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(network_flow_endpoint_array, RMW_RET_INVALID_ARGUMENT);
   RMW_SET_ERROR_MSG("network flow endpoints are not supported: nothing goes on a network");
@@ -202,7 +191,7 @@ rmw_ret_t rmw_subscription_get_network_flow_endpoints(
 rmw_ret_t rmw_subscription_set_on_new_message_callback(
   rmw_subscription_t * subscription, rmw_event_callback_t callback, const void * user_data)
 {
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   static_cast<SubscriptionImpl *>(subscription->data)->on_new_message.set(callback, user_data);
   return RMW_RET_OK;
 }
@@ -231,10 +220,11 @@ rmw_ret_t rmw_take(
   rmw_subscription_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -243,11 +233,12 @@ rmw_ret_t rmw_take_with_info(
   rmw_message_info_t * message_info, rmw_subscription_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -257,7 +248,7 @@ rmw_ret_t rmw_take_sequence(
   rmw_subscription_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_sequence, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info_sequence, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
@@ -276,6 +267,7 @@ rmw_ret_t rmw_take_sequence(
   *taken = 0u;
   message_sequence->size = 0u;
   message_info_sequence->size = 0u;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -284,10 +276,11 @@ rmw_ret_t rmw_take_serialized_message(
   bool * taken, rmw_subscription_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -296,11 +289,12 @@ rmw_ret_t rmw_take_serialized_message_with_info(
   bool * taken, rmw_message_info_t * message_info, rmw_subscription_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -309,7 +303,7 @@ rmw_ret_t rmw_take_loaned_message(
   rmw_subscription_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_SET_ERROR_MSG("Loaning is not supported");
@@ -321,7 +315,7 @@ rmw_ret_t rmw_take_loaned_message_with_info(
   rmw_message_info_t * message_info, rmw_subscription_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
@@ -332,7 +326,7 @@ rmw_ret_t rmw_take_loaned_message_with_info(
 rmw_ret_t rmw_return_loaned_message_from_subscription(
   const rmw_subscription_t * subscription, void * loaned_message)
 {
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_SET_ERROR_MSG("Loaning is not supported");
   return RMW_RET_UNSUPPORTED;
@@ -344,10 +338,11 @@ rmw_ret_t rmw_take_dynamic_message(
   rmw_subscription_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(dynamic_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 
@@ -357,11 +352,12 @@ rmw_ret_t rmw_take_dynamic_message_with_info(
   rmw_message_info_t * message_info, rmw_subscription_allocation_t * allocation)
 {
   (void)allocation;
-  RMWI_CHECK_SUBSCRIPTION(subscription);
+  RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(dynamic_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
+  rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
 

@@ -2,17 +2,16 @@
 // Wait sets and rmw_wait: blocks until a guard condition of the set is triggered or the
 // timeout expires; subscriptions, services, clients and events are never ready.
 
-#include <chrono>
+#include <cstdint>
 #include <memory>
-#include <mutex>
 #include <new>
 
 #include "rmw/rmw.h"
 
 #include "detail/common.hpp"
 #include "detail/handles.hpp"
-#include "detail/session.hpp"
-#include "detail/wait.hpp"
+#include "detail/runtime.hpp"
+#include "detail/wait_hub.hpp"
 
 using rmw_introspect::GuardConditionImpl;
 using rmw_introspect::kIdentifier;
@@ -47,19 +46,16 @@ void clear_all(T ** entries, size_t count)
   }
 }
 
-// RAII registration of a thread blocked in rmw_wait (for settle detection).
-class WaitRegistration
+// The timeout in ns: negative = forever (NULL, RMW_DURATION_INFINITE and other huge values
+// saturate), 0 = poll.
+int64_t timeout_ns(const rmw_time_t * timeout)
 {
-public:
-  WaitRegistration()
-  : token_(rmw_introspect::Session::instance().enter_wait()) {}
-  ~WaitRegistration() {rmw_introspect::Session::instance().leave_wait(token_);}
-  WaitRegistration(const WaitRegistration &) = delete;
-  WaitRegistration & operator=(const WaitRegistration &) = delete;
-
-private:
-  uint64_t token_;
-};
+  constexpr uint64_t kMaxSec = 100ull * 365ull * 24ull * 3600ull;
+  if (timeout == nullptr || timeout->sec >= kMaxSec) {
+    return -1;
+  }
+  return static_cast<int64_t>(timeout->sec) * 1000000000 + static_cast<int64_t>(timeout->nsec);
+}
 
 }  // namespace
 
@@ -69,8 +65,7 @@ extern "C"
 rmw_wait_set_t * rmw_create_wait_set(rmw_context_t * context, size_t max_conditions)
 {
   (void)max_conditions;  // no per-set storage is needed
-  RMW_CHECK_ARGUMENT_FOR_NULL(context, nullptr);
-  RMWI_CHECK_IDENTIFIER(init context, context->implementation_identifier, return nullptr);
+  RMWI_CHECK_HANDLE_OR(context, impl, nullptr, nullptr);
   std::unique_ptr<WaitSetImpl> impl(new (std::nothrow) WaitSetImpl());
   if (!impl) {
     RMW_SET_ERROR_MSG("failed to allocate wait set");
@@ -85,9 +80,7 @@ rmw_wait_set_t * rmw_create_wait_set(rmw_context_t * context, size_t max_conditi
 
 rmw_ret_t rmw_destroy_wait_set(rmw_wait_set_t * wait_set)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(wait_set, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    wait set, wait_set->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(wait_set);
   delete static_cast<WaitSetImpl *>(wait_set->data);
   return RMW_RET_OK;
 }
@@ -97,42 +90,18 @@ rmw_ret_t rmw_wait(
   rmw_services_t * services, rmw_clients_t * clients, rmw_events_t * events,
   rmw_wait_set_t * wait_set, const rmw_time_t * wait_timeout)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(wait_set, RMW_RET_INVALID_ARGUMENT);
-  RMWI_CHECK_IDENTIFIER(
-    wait set, wait_set->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE(wait_set);
 
-  auto & hub = rmw_introspect::WaitHub::instance();
   const auto * ws = static_cast<const WaitSetImpl *>(wait_set->data);
   // Once the context is shut down (rmw_shutdown wakes every waiter), waits return at once:
   // an executor woken by its SIGINT guard condition just before the shutdown must not go
   // back to sleep forever.
-  auto shut_down = [ws]() {
-      return ws != nullptr && ws->context != nullptr && ws->context->is_shutdown.load();
+  auto ready = [ws, guard_conditions]() {
+      return any_triggered(guard_conditions) ||
+             (ws->context != nullptr && ws->context->is_shutdown.load());
     };
-  {
-    std::unique_lock<std::mutex> lock(hub.mutex);
-    if (!any_triggered(guard_conditions) && !shut_down()) {
-      const bool poll = wait_timeout != nullptr && wait_timeout->sec == 0 &&
-        wait_timeout->nsec == 0;
-      if (!poll) {
-        WaitRegistration registration;
-        auto ready = [&]() {return any_triggered(guard_conditions) || shut_down();};
-        if (wait_timeout == nullptr) {
-          hub.cv.wait(lock, ready);
-        } else {
-          // Saturate: RMW_DURATION_INFINITE and other huge timeouts wait "forever".
-          const uint64_t max_sec = 100ull * 365ull * 24ull * 3600ull;
-          if (wait_timeout->sec >= max_sec) {
-            hub.cv.wait(lock, ready);
-          } else {
-            const auto timeout = std::chrono::seconds(wait_timeout->sec) +
-              std::chrono::nanoseconds(wait_timeout->nsec);
-            hub.cv.wait_until(lock, std::chrono::steady_clock::now() + timeout, ready);
-          }
-        }
-      }
-    }
-  }
+  // Blocks, or in the warp jumps virtual time by the timeout and returns at once.
+  rmw_introspect::Runtime::instance().wait(ready, timeout_ns(wait_timeout));
 
   // Consume the triggers of the ready guard conditions; NULL out everything not ready.
   bool any_ready = false;

@@ -24,7 +24,7 @@ namespace
 RecorderSnapshot sample()
 {
   rmw_introspect::Recorder recorder;
-  const uint64_t n = recorder.add_node("talker", "/", "/");
+  const uint64_t n = recorder.add_node("talker", "/", "/", {0.5, 0.5});
   rmw_introspect::EndpointRecord e;
   e.kind = rmw_introspect::EndpointKind::Publisher;
   e.node_id = n;
@@ -33,6 +33,7 @@ RecorderSnapshot sample()
   e.type_hash = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18";
   e.typesupport = "rosidl_typesupport_c";
   e.qos = rmw_qos_profile_default;
+  e.created = {3000.25, 30.125};
   recorder.add_endpoint(e);
   e.kind = rmw_introspect::EndpointKind::Subscription;
   e.name = "/odd \"name\"\\\n";
@@ -55,6 +56,14 @@ CaptureHeader header()
   h.has_time_to_settle = true;
   h.time_to_settle_ms = 31.75;
   h.elapsed_ms = 31.9;
+  h.settled_by = "wait";
+  h.ever_waited = true;
+  h.activity_calls = 3;
+  h.horizon_ms = 10000;
+  h.virtual_elapsed_ms = 3031.9;
+  h.real_elapsed_ms = 31.9;
+  h.jumps = 1;
+  h.warp_ms = 3000.0;
   return h;
 }
 
@@ -98,6 +107,18 @@ TEST(CaptureWriter, json_exact)
   "settle_ms": 10,
   "time_to_settle_ms": 31.750,
   "elapsed_ms": 31.900,
+  "settled_by": "wait",
+  "ever_waited": true,
+  "activity_calls": 3,
+  "time": {
+    "horizon_ms": 10000,
+    "virtual_elapsed_ms": 3031.900,
+    "real_elapsed_ms": 31.900,
+    "jumps": 1,
+    "warp_ms": 3000.000,
+    "horizon_reached": false,
+    "warp_budget_exhausted": false
+  },
   "nodes": [
     {
       "id": 1,
@@ -106,7 +127,10 @@ TEST(CaptureWriter, json_exact)
       "namespace": "/",
       "fqn": "/talker",
       "enclave": "/",
-      "destroyed": false
+      "destroyed": false,
+      "in_teardown": false,
+      "created_virtual_ms": 0.500,
+      "created_real_ms": 0.500
     }
   ],
   "endpoints": [
@@ -130,7 +154,10 @@ TEST(CaptureWriter, json_exact)
         "liveliness_lease_duration_ns": 0,
         "avoid_ros_namespace_conventions": false
       },
-      "destroyed": false
+      "destroyed": false,
+      "in_teardown": false,
+      "created_virtual_ms": 3000.250,
+      "created_real_ms": 30.125
     },
     {
       "seq": 3,
@@ -152,7 +179,10 @@ TEST(CaptureWriter, json_exact)
         "liveliness_lease_duration_ns": 0,
         "avoid_ros_namespace_conventions": false
       },
-      "destroyed": true
+      "destroyed": true,
+      "in_teardown": false,
+      "created_virtual_ms": 3000.250,
+      "created_real_ms": 30.125
     }
   ]
 }
@@ -222,4 +252,30 @@ TEST(CaptureWriter, argv_of_this_process)
   const auto argv = rmw_introspect::read_process_argv();
   ASSERT_FALSE(argv.empty());
   EXPECT_NE(std::string::npos, argv[0].find("test_capture_writer"));
+}
+
+TEST(CaptureWriter, ended_only_in_end_captures_with_teardown_marks)
+{
+  CaptureHeader h = header();
+  h.state = "exit";
+  h.has_ended = true;
+  h.ended_before_settle = true;
+  h.settled_by.clear();
+  rmw_introspect::Recorder recorder;
+  const uint64_t n = recorder.add_node("n", "/", "/");
+  rmw_introspect::EndpointRecord e;
+  e.node_id = n;
+  e.name = "/p";
+  e.type = "std_msgs/msg/String";
+  e.typesupport = "rosidl_typesupport_c";
+  e.qos = rmw_qos_profile_default;
+  recorder.add_endpoint(e);
+  recorder.destroy_node(n);
+  const std::string text = rmw_introspect::render_capture_json(h, recorder.snapshot(true));
+  EXPECT_NE(std::string::npos, text.find("\"settled_by\": null,"));
+  EXPECT_NE(std::string::npos, text.find("\"ended\": {\n    \"before_settle\": true\n  },"));
+  EXPECT_EQ(std::string::npos, text.find("\"in_teardown\": false"));
+  h.has_ended = false;
+  EXPECT_EQ(
+    std::string::npos, rmw_introspect::render_capture_json(h, recorder.snapshot()).find("ended"));
 }

@@ -149,3 +149,64 @@ TEST(Recorder, concurrent_creation_keeps_a_total_order)
     EXPECT_EQ(i + 1, snap.endpoints[i].id);
   }
 }
+
+TEST(Recorder, destroying_a_node_destroys_its_endpoints)
+{
+  Recorder recorder;
+  const uint64_t a = recorder.add_node("a", "/", "/");
+  const uint64_t b = recorder.add_node("b", "/", "/");
+  const uint64_t pa = recorder.add_endpoint(endpoint(EndpointKind::Publisher, a, "/pa"));
+  const uint64_t pb = recorder.add_endpoint(endpoint(EndpointKind::Publisher, b, "/pb"));
+  EXPECT_TRUE(recorder.destroy_node(a));
+  EXPECT_FALSE(recorder.destroy_endpoint(pa));  // already gone with its node
+  auto snap = recorder.snapshot();
+  EXPECT_TRUE(snap.endpoints[pa - 1].destroyed);
+  EXPECT_FALSE(snap.endpoints[pa - 1].alive);
+  EXPECT_FALSE(snap.endpoints[pb - 1].destroyed);
+  EXPECT_TRUE(snap.endpoints[pb - 1].alive);
+  // Teardown destruction of a node: its endpoints leave the graph, unflagged.
+  EXPECT_TRUE(recorder.destroy_node(b, true));
+  snap = recorder.snapshot();
+  EXPECT_FALSE(snap.endpoints[pb - 1].destroyed);
+  EXPECT_FALSE(snap.endpoints[pb - 1].alive);
+}
+
+TEST(Recorder, teardown_run_is_the_trailing_destructions)
+{
+  Recorder recorder;
+  const uint64_t n = recorder.add_node("n", "/", "/");
+  const uint64_t early = recorder.add_endpoint(endpoint(EndpointKind::Publisher, n, "/early"));
+  recorder.destroy_endpoint(early);  // destroyed before a later creation: behaviour
+  const uint64_t sub = recorder.add_endpoint(endpoint(EndpointKind::Subscription, n, "/s"));
+  const uint64_t pub = recorder.add_endpoint(endpoint(EndpointKind::Publisher, n, "/p"));
+  const uint64_t other = recorder.add_node("other", "/", "/");
+  recorder.destroy_endpoint(pub);
+  recorder.destroy_endpoint(sub, true);  // teardown: not an event, not flagged
+  recorder.destroy_node(n);
+  // Without marking (running/settled captures), nothing is in_teardown.
+  for (const auto & e : recorder.snapshot().endpoints) {
+    EXPECT_FALSE(e.in_teardown);
+  }
+  const auto snap = recorder.snapshot(true);
+  EXPECT_FALSE(snap.endpoints[early - 1].in_teardown);
+  EXPECT_TRUE(snap.endpoints[early - 1].destroyed);
+  EXPECT_FALSE(snap.endpoints[sub - 1].in_teardown);
+  EXPECT_FALSE(snap.endpoints[sub - 1].destroyed);
+  EXPECT_TRUE(snap.endpoints[pub - 1].in_teardown);
+  EXPECT_TRUE(snap.nodes[n - 1].in_teardown);
+  EXPECT_FALSE(snap.nodes[other - 1].in_teardown);  // alive
+}
+
+TEST(Recorder, creation_times_are_kept)
+{
+  Recorder recorder;
+  const uint64_t n = recorder.add_node("n", "/", "/", {3000.5, 12.25});
+  auto e = endpoint(EndpointKind::Publisher, n, "/p");
+  e.created = {4000.0, 13.0};
+  recorder.add_endpoint(e);
+  const auto snap = recorder.snapshot();
+  EXPECT_DOUBLE_EQ(3000.5, snap.nodes[0].created.virtual_ms);
+  EXPECT_DOUBLE_EQ(12.25, snap.nodes[0].created.real_ms);
+  EXPECT_DOUBLE_EQ(4000.0, snap.endpoints[0].created.virtual_ms);
+  EXPECT_DOUBLE_EQ(13.0, snap.endpoints[0].created.real_ms);
+}

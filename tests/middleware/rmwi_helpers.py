@@ -172,6 +172,21 @@ def rclpy_node_infrastructure(fqn: str) -> list[dict]:
     return out
 
 
+def lifecycle_infrastructure(fqn: str) -> list[dict]:
+    """What an rclpy LifecycleNode adds to the infrastructure of every node, in order."""
+    return [
+        ep("publisher", fqn, f"{fqn}/transition_event", "lifecycle_msgs/msg/TransitionEvent"),
+        ep("service", fqn, f"{fqn}/change_state", "lifecycle_msgs/srv/ChangeState", QOS_SERVICES),
+        ep("service", fqn, f"{fqn}/get_state", "lifecycle_msgs/srv/GetState", QOS_SERVICES),
+        ep("service", fqn, f"{fqn}/get_available_states", "lifecycle_msgs/srv/GetAvailableStates",
+           QOS_SERVICES),
+        ep("service", fqn, f"{fqn}/get_available_transitions",
+           "lifecycle_msgs/srv/GetAvailableTransitions", QOS_SERVICES),
+        ep("service", fqn, f"{fqn}/get_transition_graph",
+           "lifecycle_msgs/srv/GetAvailableTransitions", QOS_SERVICES),
+    ]
+
+
 def node(name: str, namespace: str = "/", destroyed=False, enclave="/") -> dict:
     fqn = "/" + name if namespace == "/" else f"{namespace}/{name}"
     return {"name": name, "namespace": namespace, "fqn": fqn, "enclave": enclave, "destroyed": destroyed}

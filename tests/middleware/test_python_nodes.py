@@ -90,14 +90,7 @@ def test_lifecycle_node(run):
     result = run(h.python_node("lifecycle_node.py"))
     h.assert_settled_process(result)
     n = "/lc_node"
-    lifecycle = [
-        ep("publisher", n, f"{n}/transition_event", "lifecycle_msgs/msg/TransitionEvent"),
-        ep("service", n, f"{n}/change_state", "lifecycle_msgs/srv/ChangeState", h.QOS_SERVICES),
-        ep("service", n, f"{n}/get_state", "lifecycle_msgs/srv/GetState", h.QOS_SERVICES),
-        ep("service", n, f"{n}/get_available_states", "lifecycle_msgs/srv/GetAvailableStates", h.QOS_SERVICES),
-        ep("service", n, f"{n}/get_available_transitions", "lifecycle_msgs/srv/GetAvailableTransitions", h.QOS_SERVICES),
-        ep("service", n, f"{n}/get_transition_graph", "lifecycle_msgs/srv/GetAvailableTransitions", h.QOS_SERVICES),
-    ]
+    lifecycle = h.lifecycle_infrastructure(n)
     h.assert_capture(result.capture, [node("lc_node")], infra(n) + lifecycle + [
         ep("publisher", n, "/lc_chatter", "std_msgs/msg/String"),
         # created in on_configure, destroyed in on_activate: kept, flagged

@@ -378,3 +378,64 @@ def test_package_capture_is_the_library_function_even_after_importing_the_model(
     importlib.import_module("pytest_rmw_introspect.capture_model")
     assert pytest_rmw_introspect.capture is runner.capture
     assert pytest_rmw_introspect.Capture is Capture
+
+
+# ---------------------------------------------------------------------------- virtual time, endings
+
+
+def test_entities_destroyed_in_the_final_teardown_are_in_the_view(talker):
+    """A program that ended by itself: what was alive just before its own teardown."""
+    for entity in talker.doc["nodes"] + talker.doc["endpoints"]:
+        entity.update(destroyed=True, in_teardown=True)
+    talker.doc.update(state="exit", time_to_settle_ms=None, ended={"before_settle": True})
+    cap = talker.capture()
+    assert cap.node_names == ["/talker"]
+    assert [p.name for p in cap["/talker"].publishers] == ["/chatter"]
+    assert all(e.destroyed and e.in_teardown for e in cap.raw_endpoints)  # the raw truth
+    assert cap.ended_before_settle is True and not cap.settled_once
+    assert not cap.ended_by_itself  # the runner knows the exit status; the file alone does not
+    cap.returncode = 0
+    assert cap.ended_by_itself
+
+
+def test_an_endpoint_destroyed_before_the_final_teardown_stays_out(talker):
+    talker.ep(1, "publisher", "/old", "std_msgs/msg/String", destroyed=True)
+    talker.doc["endpoints"][-1]["in_teardown"] = False
+    cap = talker.capture()
+    assert [p.name for p in cap["/talker"].publishers] == ["/chatter"]
+
+
+def test_virtual_time_and_creation_ages_are_read(talker):
+    talker.doc["time"] = {"horizon_ms": 10000, "virtual_elapsed_ms": 10000.5, "real_elapsed_ms": 140.2, "jumps": 21,
+                          "warp_ms": 9850.0, "horizon_reached": True, "warp_budget_exhausted": False}
+    talker.doc.update(settled_by="wait", ever_waited=True, activity_calls=22)
+    talker.doc["endpoints"][-1].update(created_virtual_ms=3000.4, created_real_ms=95.1)
+    cap = talker.capture()
+    vt = cap.virtual_time
+    assert vt is not None and vt.enabled and vt.jumps == 21 and vt.horizon_reached
+    assert cap.settled_by == "wait" and cap.ever_waited and cap.activity_calls == 22
+    assert cap["/talker"].publishers[0].endpoints[0].created_virtual_ms == 3000.4
+    assert "virtual time: 10 s of a 10 s horizon in 0.14 s real (21 jumps)" in cap.summary()
+    assert cap.notes() == []
+
+
+def test_a_warp_that_ran_out_of_budget_is_noted(talker):
+    talker.doc["time"] = {"horizon_ms": 10000, "virtual_elapsed_ms": 2500.0, "real_elapsed_ms": 3100.0, "jumps": 2500,
+                          "warp_ms": 2400.0, "horizon_reached": False, "warp_budget_exhausted": True}
+    (note,) = talker.capture().notes()
+    assert "virtual time stopped at 2.5 s of the 10 s horizon" in note and "2500 jumps" in note
+
+
+def test_a_node_on_sim_time_is_noted(talker):
+    talker.ep(1, "subscription", "/clock", "rosgraph_msgs/msg/Clock")
+    cap = talker.capture()
+    assert cap["/talker"].uses_sim_time
+    (note,) = cap.notes()
+    assert "node /talker uses sim time" in note
+
+
+@pytest.mark.parametrize("time_field", [[], "soon", {"jumps": "many"}])
+def test_malformed_time_field(talker, time_field):
+    talker.doc["time"] = time_field
+    with pytest.raises(CaptureFormatError, match="`time`"):
+        talker.capture()

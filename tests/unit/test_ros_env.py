@@ -101,4 +101,5 @@ def test_system_activation_selects_by_name_and_adds_the_install_prefix(tmp_path)
     assert env["RMW_IMPLEMENTATION"] == "rmw_introspect_cpp"
     assert env["AMENT_PREFIX_PATH"].split(":") == [str(install.resolve()), str(underlay)]
     assert env["LD_LIBRARY_PATH"].split(":")[0] == str(install.resolve() / "lib")
-    assert "LD_PRELOAD" not in env
+    # preloaded as well: virtual time needs the library's rcutils clocks to win over librcutils'
+    assert env["LD_PRELOAD"].split()[0] == str(lib.resolve())

@@ -68,9 +68,12 @@ def fake(tmp_path: Path, body: str, name: str = "fake_node.py") -> Path:
     script.write_text(
         "import json, os, sys, time\n"
         f"CAPTURE = {json.dumps(CAPTURE)!r}\n"
-        "def write(state='settled', nodes=True):\n"
+        "def write(state='settled', nodes=True, teardown=False, **extra):\n"
         "    doc = json.loads(CAPTURE)\n"
         "    doc['state'] = state\n"
+        "    doc.update(extra)\n"
+        "    for entity in (doc['nodes'] + doc['endpoints']) if teardown else ():\n"
+        "        entity.update(destroyed=True, in_teardown=True)\n"
         "    doc['pid'] = os.getpid()\n"
         "    doc['argv'] = sys.argv\n"
         "    if not nodes:\n"
@@ -259,5 +262,81 @@ def test_activation_environment_for_wheels(tmp_path, library):
     assert env["LD_PRELOAD"].split()[0] == str(library.resolve())
     assert env["RMW_INTROSPECT_OUTPUT"] == str(tmp_path / "c.json")
     assert env["RMW_INTROSPECT_SETTLE_MS"] == "50"
+    assert env["RMW_INTROSPECT_HORIZON_MS"] == "10000"  # virtual time is on by default
     assert env["RMW_INTROSPECT_EXIT"] == "1"
     assert env["RMW_INTROSPECT_VERBOSE"] == "1"
+
+
+# ---------------------------------------------------------------------------- virtual time
+
+
+def test_horizon_reaches_the_middleware(tmp_path, ros, library):
+    body = """
+    assert os.environ['RMW_INTROSPECT_HORIZON_MS'] == '2500', os.environ['RMW_INTROSPECT_HORIZON_MS']
+    write()
+    """
+    assert run(tmp_path, ros, library, body, horizon=2.5).node_names == ["/fake"]
+    off = "assert os.environ['RMW_INTROSPECT_HORIZON_MS'] == '0'\nwrite()\n"
+    assert run(tmp_path, ros, library, off, horizon=0).node_names == ["/fake"]
+
+
+def test_exit_after_settling_is_a_capture_with_a_note(tmp_path, ros, library):
+    # settled, then (in the warp) a timeout expired at once and the program gave up
+    body = """
+    write(state='warping')
+    write(state='exit', teardown=True, ended={'before_settle': True})
+    sys.exit(1)
+    """
+    cap = run(tmp_path, ros, library, body)
+    assert cap.returncode == 1
+    assert cap.node_names == ["/fake"]  # destroyed in its final teardown: still its interface
+    assert [s.name for s in cap["/fake"].subscriptions] == ["/cmd"]
+    assert not cap.ended_by_itself
+    (note,) = cap.notes()
+    assert "exited with status 1 after it had settled" in note
+
+
+def test_crash_after_settling_is_a_capture_with_a_note(tmp_path, ros, library):
+    cap = run(tmp_path, ros, library, "write(state='warping')\nos.kill(os.getpid(), 11)\n")
+    assert cap.returncode == -11 and cap.node_names == ["/fake"]
+    assert "was killed by signal 11 after it had settled" in cap.notes()[0]
+
+
+def test_program_that_ends_by_itself_before_settling(tmp_path, ros, library):
+    body = "write(state='exit', teardown=True, time_to_settle_ms=None, ended={'before_settle': True})\n"
+    cap = run(tmp_path, ros, library, body)
+    assert cap.ended_by_itself and cap.returncode == 0
+    assert cap.node_names == ["/fake"]
+    assert cap.raw_nodes[0].destroyed and cap.raw_nodes[0].in_teardown  # the raw capture tells the truth
+    assert "ended by itself" in cap.notes()[0]
+    assert "ended by itself" in cap.summary()
+
+
+def test_failure_before_settling_stays_a_failure(tmp_path, ros, library):
+    body = "write(state='exit', teardown=True, time_to_settle_ms=None, ended={'before_settle': True})\nsys.exit(3)\n"
+    with pytest.raises(TargetExited, match="exited with status 3 before its interfaces settled"):
+        run(tmp_path, ros, library, body)
+
+
+@pytest.mark.parametrize(
+    "snapshot, diagnosis",
+    [
+        ("ever_waited=False, activity_calls=0", "No thread ever waited in an executor (rmw_wait) and it did not keep using"),
+        ("ever_waited=False, activity_calls=1", "it is busy or blocked outside ROS"),
+        ("ever_waited=True, activity_calls=3", "kept creating or destroying interfaces"),
+        ("state='warping', ever_waited=True, time={'horizon_ms': 10000, 'virtual_elapsed_ms': 4000}",
+         "virtual time was then advanced (virtual age 4 s) but it never went quiet again"),
+        ("nodes=False", "It initialised ROS 2 but created no node yet"),
+    ],
+)
+def test_timeout_says_why_the_capture_did_not_settle(tmp_path, ros, library, snapshot, diagnosis):
+    state = "" if "state=" in snapshot else "state='running', "
+    body = f"write({state}{snapshot})\nwhile True:\n    time.sleep(0.05)\n"
+    with pytest.raises(TargetTimeout) as info:
+        run(tmp_path, ros, library, body, timeout=0.5)
+    assert diagnosis in str(info.value)
+
+
+def test_timeout_without_any_capture_says_ros_was_never_initialised(tmp_path, ros, library):
+    with pytest.raises(TargetTimeout, match="never initialised ROS 2 on the recording middleware"):
+        run(tmp_path, ros, library, "while True:\n    time.sleep(0.05)\n", timeout=0.5)

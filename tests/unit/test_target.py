@@ -248,6 +248,11 @@ def test_unknown_key_is_reported_with_the_source():
     [
         ({"timeout": "soon"}, "`timeout` must be a number of seconds"),
         ({"settle": True}, "`settle` must be a number of seconds"),
+        ({"settle": float("inf")}, "`settle` must be a number of seconds, got inf"),
+        ({"timeout": float("nan")}, "`timeout` must be a number of seconds, got nan"),
+        ({"settle": 90_000}, "`settle` must be a number of seconds from 0 to 86400"),
+        ({"horizon": -1}, "`horizon` must be a number of seconds from 0 to 86400"),
+        ({"horizon": "10s"}, "`horizon` must be a number of seconds"),
         ({"remappings": 3}, "`remappings` must be"),
         ({"parameters": ["a"]}, "`parameters` must be a mapping"),
         ({"command": {"a": 1}}, "`command` must be a list of strings"),
@@ -288,6 +293,8 @@ def test_defaults_and_describe():
     spec = TargetSpec.from_mapping({"command": ["ros2", "run", "a b"]})
     assert spec.effective_timeout() == target.DEFAULT_TIMEOUT
     assert spec.effective_settle() == target.DEFAULT_SETTLE
+    assert spec.effective_horizon() == target.DEFAULT_HORIZON == 10.0
+    assert TargetSpec.from_mapping({"module": "m", "horizon": 0}).effective_horizon() == 0.0
     assert spec.describe() == "`ros2 run 'a b'`"
     assert TargetSpec.from_mapping({"module": "x.y"}).describe() == "module x.y"
 

@@ -82,3 +82,41 @@ def test_c_node_on_rcl(interfaces):
     node = interfaces['/c_talker']
     assert [p.name for p in node.publishers] == ['/chatter']
     assert [s.name for s in node.subscriptions] == ['/c_talker/enable']
+
+
+# ---------------------------------------------------------------- virtual time
+# Interfaces that appear seconds after start, and programs that end by themselves: the
+# middleware's virtual time (target option `horizon`, 10 s by default) makes a node's first
+# seconds pass at once, so these are captured with the default options, in milliseconds.
+
+
+@pytest.mark.interfaces('../contracts/battery_monitor.interfaces.yaml')
+def test_battery_monitor_publisher_created_by_a_timer_after_3_s(interfaces):
+    (battery,) = interfaces['/battery_monitor'].publishers
+    assert battery.name == '/battery_state'
+    (raw,) = battery.endpoints
+    assert raw.created_virtual_ms >= 3000  # created 3 s into the node's (virtual) life
+
+
+@pytest.mark.interfaces('../contracts/watchdog.interfaces.yaml')
+def test_watchdog_subscribes_on_its_fifth_tick(interfaces):
+    (heartbeat,) = interfaces['/watchdog'].subscriptions
+    assert heartbeat.endpoints[0].created_virtual_ms >= 5000
+
+
+@pytest.mark.interfaces('../contracts/old_school_talker.interfaces.yaml')
+def test_old_school_loop_settles_without_an_executor(interfaces):
+    assert interfaces.settled_by == 'activity'
+    assert [p.name for p in interfaces['/old_school_talker'].publishers] == ['/chatter']
+
+
+@pytest.mark.interfaces('../contracts/self_test.interfaces.yaml')
+def test_self_test_ends_by_itself(interfaces):
+    assert interfaces.ended_by_itself
+    assert [p.name for p in interfaces['/self_test'].publishers] == ['/self_test/report']
+
+
+@pytest.mark.interfaces('../contracts/motor_deadline_client.interfaces.yaml')
+def test_motor_deadline_client_gives_up_after_settling(interfaces):
+    assert interfaces.returncode == 1  # gave up: its 5 s deadline passed at once in virtual time
+    assert [c.name for c in interfaces['/motor_deadline_client'].service_clients] == ['/enable_motors']

@@ -33,11 +33,18 @@ NODES = {
     'fibonacci_server': ([], 'Computing 10 Fibonacci numbers'),
     'lifecycle_talker': (['--ros-args', '-p', 'autostart:=true'], 'activated'),
     'relay': ([], 'relaying chatter'),
+    'battery_monitor': ([], 'calibrated: publishing battery state'),
+    'watchdog': ([], 'grace period over: watching heartbeat'),
+    'old_school_talker': ([], 'Publishing: "Old school hello'),
 }
-#: clients: they exit by themselves (status 0) once their server has answered
+#: programs that exit by themselves (status 0): clients once their server has answered,
+#: self_test once its check is done
 CLIENTS = {
     'motor_enable_client': ([], 'success=True: motors enabled'),
     'fibonacci_client': ([], 'Result: [0, 1, 1, 2, 3, 5, 8, 13, 21, 34, 55]'),
+    # a generous deadline: a dozen processes start at once on a small machine
+    'motor_deadline_client': (['--ros-args', '-p', 'deadline:=30.0'], 'success=True: motors enabled'),
+    'self_test': ([], 'self test done: '),
 }
 #: how long all of them get to start, discover each other and print their line
 DEADLINE = 60.0

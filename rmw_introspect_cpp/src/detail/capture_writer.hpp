@@ -2,6 +2,7 @@
 #ifndef DETAIL__CAPTURE_WRITER_HPP_
 #define DETAIL__CAPTURE_WRITER_HPP_
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,11 +17,25 @@ struct CaptureHeader
 {
   long pid = 0;
   std::vector<std::string> argv;
-  std::string state = "running";  // running | settled | shutdown | exit
+  std::string state = "running";  // running | warping | settled | shutdown | exit
   int settle_ms = 10;
   bool has_time_to_settle = false;
   double time_to_settle_ms = 0.0;
   double elapsed_ms = 0.0;
+  std::string settled_by;         // "wait" | "activity" | "" (null: not settled)
+  bool ever_waited = false;
+  uint64_t activity_calls = 0;
+  // "time": virtual time (horizon 0 = off)
+  int64_t horizon_ms = 0;
+  double virtual_elapsed_ms = 0.0;
+  double real_elapsed_ms = 0.0;
+  uint64_t jumps = 0;
+  double warp_ms = 0.0;
+  bool horizon_reached = false;
+  bool warp_budget_exhausted = false;
+  // "ended": only in the captures written as the process ends (exit, shutdown)
+  bool has_ended = false;
+  bool ended_before_settle = false;
 };
 
 std::string render_capture_json(const CaptureHeader & header, const RecorderSnapshot & snapshot);

@@ -2,7 +2,9 @@
 #ifndef DETAIL__CONFIG_HPP_
 #define DETAIL__CONFIG_HPP_
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace rmw_introspect
 {
@@ -19,16 +21,24 @@ struct Config
   bool auto_export = true;        // RMW_INTROSPECT_AUTO_EXPORT
   bool verbose = false;           // RMW_INTROSPECT_VERBOSE
   bool server_available = true;   // RMW_INTROSPECT_SERVER_AVAILABLE
+  int64_t horizon_ms = 0;         // RMW_INTROSPECT_HORIZON_MS (0: virtual time off)
+  int64_t warp_budget_ms = 3000;  // RMW_INTROSPECT_WARP_BUDGET_MS
+  /// One line per value that was out of range or not a number (kept at its default);
+  /// the Runtime prints them on stderr.
+  std::vector<std::string> warnings;
 
   /// Parse the environment of this process (pid used for the default output path).
   static Config from_environment(long pid);
-  /// The process-wide configuration, read once on first use.
-  static const Config & get();
 };
 
 /// Interpret an environment flag: "1", "true", "yes", "on" (any case) are true,
 /// "0", "false", "no", "off", "" are false; anything else gives `fallback`.
 bool parse_flag(const char * value, bool fallback);
+
+/// A duration in milliseconds from the environment variable `name`: 0 .. 24 h. Unset or
+/// empty keeps `*value`; anything else out of range or not a number keeps it too and adds a
+/// line to `warnings`.
+void parse_ms(const char * name, int64_t * value, std::vector<std::string> * warnings);
 
 }  // namespace rmw_introspect
 

@@ -14,7 +14,9 @@
 #include "detail/handles.hpp"
 #include "detail/identifier.hpp"
 #include "detail/qos.hpp"
+#include "detail/log.hpp"
 #include "detail/recorder.hpp"
+#include "detail/runtime.hpp"
 
 namespace rmw_introspect
 {
@@ -55,7 +57,6 @@ std::unique_ptr<Impl> new_endpoint(
   const char * name, const rmw_qos_profile_t * qos, const char * what)
 {
   const auto * node_impl = static_cast<const NodeImpl *>(node->data);
-  RMW_CHECK_FOR_NULL_WITH_MSG(node_impl, "node impl is null", return nullptr);
   ResolvedType type;
   std::string error;
   if (!resolve(type_support, &type, &error)) {
@@ -71,7 +72,7 @@ std::unique_ptr<Impl> new_endpoint(
   impl->node = node_impl;
   impl->type = std::move(type);
   impl->qos = *qos;
-  impl->gid = Recorder::instance().new_gid();
+  impl->gid = Runtime::instance().recorder().new_gid();
   impl->handle.implementation_identifier = kIdentifier;
   impl->handle.data = impl.get();
   return impl;
@@ -91,12 +92,14 @@ inline uint64_t record_endpoint(
   record.typesupport = type.typesupport;
   record.qos = qos;
   record.gid = gid;
-  const uint64_t id = Recorder::instance().add_endpoint(std::move(record));
+  Runtime & runtime = Runtime::instance();
+  record.created = runtime.creation_time();
+  const uint64_t id = runtime.recorder().add_endpoint(std::move(record));
   verbose_log(
     "%s %s [%s] (node %s/%s, %s)", endpoint_kind_to_string(kind), name.c_str(),
     type.name.c_str(), node->namespace_ == "/" ? "" : node->namespace_.c_str(),
     node->name.c_str(), type.typesupport.c_str());
-  notify_graph_change();
+  runtime.notify_graph_change();
   return id;
 }
 
@@ -110,12 +113,13 @@ void record(Impl & impl, EndpointKind kind)
 inline void forget_endpoint(
   uint64_t record_id, EndpointKind kind, const std::string & name, const NodeImpl * node)
 {
-  const bool teardown = in_teardown(node != nullptr ? node->context_impl : nullptr);
-  Recorder::instance().destroy_endpoint(record_id, teardown);
+  Runtime & runtime = Runtime::instance();
+  const bool teardown = runtime.in_teardown(node != nullptr ? node->context_impl : nullptr);
+  runtime.recorder().destroy_endpoint(record_id, teardown);
   verbose_log(
     "destroyed %s %s%s", endpoint_kind_to_string(kind), name.c_str(),
     teardown ? " (teardown)" : "");
-  notify_graph_change();
+  runtime.notify_graph_change();
 }
 
 }  // namespace rmw_introspect

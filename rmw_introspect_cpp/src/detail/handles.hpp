@@ -15,7 +15,7 @@
 
 #include "detail/recorder.hpp"
 #include "detail/typesupport.hpp"
-#include "detail/wait.hpp"
+#include "detail/wait_hub.hpp"
 
 namespace rmw_introspect
 {
@@ -106,18 +106,6 @@ struct WaitSetImpl
   rmw_wait_set_t handle{};
   const ContextImpl * context = nullptr;  // a wait on a shut down context does not block
 };
-
-/// Trigger the graph guard condition of every live node (a local graph change).
-void notify_graph_change();
-void register_graph_guard(GuardConditionImpl * gc);
-void unregister_graph_guard(GuardConditionImpl * gc);
-
-/// True when destroying an entity now is teardown rather than behaviour: its context was
-/// shut down, the process is exiting (atexit ran), or the Python interpreter is finalizing.
-bool in_teardown(const ContextImpl * context);
-
-/// Verbose log line on stderr when RMW_INTROSPECT_VERBOSE=1.
-void verbose_log(const char * format, ...) __attribute__((format(printf, 1, 2)));
 
 }  // namespace rmw_introspect
 

@@ -20,6 +20,14 @@ enum class EndpointKind { Publisher, Subscription, Service, Client };
 
 const char * endpoint_kind_to_string(EndpointKind kind);
 
+/// When an entity was created: its process's virtual and real age (ms since the first
+/// rmw_init).
+struct CreationTime
+{
+  double virtual_ms = 0.0;
+  double real_ms = 0.0;
+};
+
 struct NodeRecord
 {
   uint64_t id = 0;
@@ -28,8 +36,11 @@ struct NodeRecord
   std::string namespace_;
   std::string fqn;
   std::string enclave;
+  CreationTime created;
   bool destroyed = false;  // destroyed while the process was running (reported)
   bool alive = true;       // not destroyed at all, teardown included (graph queries)
+  uint64_t destroyed_event = 0;  // place of the destruction in the event sequence
+  bool in_teardown = false;      // destroyed in the final run of destructions (snapshot)
 };
 
 struct EndpointRecord
@@ -47,8 +58,11 @@ struct EndpointRecord
   std::string typesupport;
   rmw_qos_profile_t qos{};
   Gid gid{};
+  CreationTime created;
   bool destroyed = false;  // destroyed while the process was running (reported)
   bool alive = true;       // not destroyed at all, teardown included (graph queries)
+  uint64_t destroyed_event = 0;  // place of the destruction in the event sequence
+  bool in_teardown = false;      // destroyed in the final run of destructions (snapshot)
 };
 
 /// A consistent copy of everything recorded, for writers and graph queries.
@@ -71,16 +85,16 @@ public:
   Recorder(const Recorder &) = delete;
   Recorder & operator=(const Recorder &) = delete;
 
-  /// The process-wide recorder (never destroyed: usable from atexit handlers).
-  static Recorder & instance();
-
   /// Called (without the recorder lock held) after every change.
   void set_change_listener(std::function<void()> listener);
 
-  uint64_t add_node(const char * name, const char * namespace_, const char * enclave);
-  /// Mark a node destroyed. A `teardown` destruction (after rmw_shutdown of its context, or
-  /// while the process/interpreter exits) only removes it from the graph: the capture keeps
-  /// `destroyed: false`, since it says nothing about the node's interface.
+  uint64_t add_node(
+    const char * name, const char * namespace_, const char * enclave,
+    const CreationTime & created = CreationTime());
+  /// Mark a node destroyed, and every endpoint of it not destroyed yet. A `teardown`
+  /// destruction (after rmw_shutdown of its context, or while the process/interpreter exits)
+  /// only removes them from the graph: the capture keeps `destroyed: false`, since it says
+  /// nothing about the node's interface.
   bool destroy_node(uint64_t node_id, bool teardown = false);
 
   /// Adds an endpoint of a live node; fills id, seq, gid and the node fields.
@@ -88,7 +102,10 @@ public:
   uint64_t add_endpoint(EndpointRecord record);
   bool destroy_endpoint(uint64_t endpoint_id, bool teardown = false);
 
-  RecorderSnapshot snapshot() const;
+  /// With `mark_teardown` (captures written as the process ends): the entities destroyed in
+  /// the trailing run of destructions - the longest suffix of the creation/destruction event
+  /// sequence without a creation - get `in_teardown`.
+  RecorderSnapshot snapshot(bool mark_teardown = false) const;
   uint64_t generation() const;
 
   /// Run `fn(nodes, endpoints)` under the lock (for graph queries that only read).
@@ -105,6 +122,8 @@ private:
   std::vector<NodeRecord> nodes_;
   std::vector<EndpointRecord> endpoints_;
   uint64_t seq_ = 0;
+  uint64_t event_ = 0;           // creations and (reported) destructions
+  uint64_t last_creation_event_ = 0;
   uint64_t generation_ = 0;
   uint64_t gid_counter_ = 0;
   std::array<uint8_t, 8> gid_prefix_{};

@@ -2,68 +2,137 @@
 #ifndef DETAIL__SESSION_HPP_
 #define DETAIL__SESSION_HPP_
 
-#include <chrono>
-#include <condition_variable>
 #include <cstdint>
-#include <mutex>
-#include <string>
-#include <thread>
 
-#include "detail/config.hpp"
+#include "detail/capture_writer.hpp"
+#include "detail/clock.hpp"
 
 namespace rmw_introspect
 {
 
-/// Settle detection, progress snapshots and capture writing for this process.
+/// When the capture of this process settles, when virtual time is warped and what is written
+/// when: a state machine with no thread and no lock of its own, on an injected real clock
+/// (unit-tested without a process). The Runtime serializes every call and runs the monitor
+/// thread that acts on poll(). Phases (see docs/notes vt-spec):
 ///
-/// Settled = no node/endpoint change for settle_ms AND a thread is blocked in rmw_wait
-/// that entered it after the last change. A small monitor thread (sleeping on a condition
-/// variable, no polling) does the timing; it never keeps the process alive.
+/// 1. settling: settled when no node/endpoint changed for settle_ms AND either a thread is
+///    blocked in rmw_wait that entered it after the last change ("wait"), or at least two
+///    activity calls (publish, take, graph queries, ...) came after it ("activity").
+/// 2. With horizon 0 that settle is final. Otherwise a "warping" snapshot is written and
+///    finite waits with nothing ready jump virtual time (try_jump) until the node's virtual
+///    age would pass the horizon or the real-time budget is spent.
+/// 3. final settle: the same rule as 1, where a jump also counts as a change. Then the
+///    final "settled" capture is written.
+/// A "running" (before the first settle) or "warping" progress snapshot is due 20 ms after
+/// every burst of entity changes.
 class Session
 {
 public:
-  static Session & instance();
+  struct Settings
+  {
+    int settle_ms = 10;
+    int64_t horizon_ms = 0;
+    int64_t warp_budget_ms = 3000;
+  };
 
-  /// First rmw_init of the process: start the clock and the monitor, register atexit.
-  void on_init();
-  /// A node or endpoint was created or destroyed (recorder listener).
+  Session(const Clock & clock, VirtualClock & virtual_clock, const Settings & settings);
+
+  /// First rmw_init of the process: the session's time starts. False when already started.
+  bool start();
+  bool started() const {return started_;}
+
+  /// A node or endpoint was created or destroyed.
   void on_change();
-  /// A thread enters rmw_wait; returns the token for leave_wait.
+  /// A thread enters rmw_wait (any wait, a poll included). In the warp this breaks the quiet:
+  /// a process that keeps entering waits that jump or poll is still driven by its timers
+  /// (on a busy machine real time alone can keep its short timers due).
+  void on_wait_entered();
+  /// A thread blocks in rmw_wait; returns the token for leave_wait.
   uint64_t enter_wait();
   void leave_wait(uint64_t token);
-  /// rmw_shutdown: write a capture with state "shutdown".
-  void on_shutdown();
-  /// Normal process exit (atexit): write a capture with state "exit".
-  void on_process_exit();
+  /// publish, take*, send_request/response, take_request/response, graph queries, counts of
+  /// matched endpoints, server_is_available. True when the monitor should look again.
+  bool on_activity();
 
-  /// True once the process-exit capture is being written.
-  bool exiting();
+  /// In the warp: a wait with nothing ready would sleep until virtual time `target_ns` (the
+  /// virtual time at its entry + its timeout). True: virtual time is now past it (jumped, or
+  /// already past), the wait returns a timeout at once; either breaks the quiet of the final
+  /// settle. False: wait for real (no warp, horizon reached, budget spent).
+  bool try_jump(int64_t target_ns);
+  bool warping() const {return phase_ == Phase::kWarping;}
+  /// Virtual now on the steady clock (real monotonic + offset).
+  int64_t virtual_now_ns() const;
 
-  /// Write the capture now with `state` (no-op with AUTO_EXPORT=0 or before rmw_init).
-  void write_capture(const char * state);
+  enum class Action
+  {
+    kNone,          // nothing to do before `deadline_ns` (or the next input, without one)
+    kWriteRunning,  // write a progress snapshot now (progress_state())
+    kStartWarp,     // settled once: write "warping" now and wake the waiters to jump
+    kSettle,        // settled for good: write "settled" now
+  };
+  struct Step
+  {
+    Action action = Action::kNone;
+    bool has_deadline = false;
+    int64_t deadline_ns = 0;  // on the session's clock
+  };
+  /// What the monitor has to do now; the write it asks for is counted as done.
+  Step poll();
+  /// "running" before the first settle and after the final one, "warping" in between.
+  const char * progress_state() const;
+
+  /// A capture is being written out of turn (rmw_shutdown, process exit).
+  void note_written() {written_generation_ = generation_;}
+
+  /// The process-exit capture is being written: nothing may replace it.
+  void begin_exit() {exiting_ = true;}
+  bool exiting() const {return exiting_;}
+
+  /// The session's part of a capture header for a write with `state` (times, settle, warp;
+  /// `ended` for "exit" and "shutdown").
+  void fill_header(const char * state, CaptureHeader * header) const;
+
+  /// Real and virtual age now, for the creation times of entities.
+  double real_age_ms() const;
+  double virtual_age_ms() const;
 
 private:
-  Session();
-  void monitor_loop();
-  void settle_locked(std::unique_lock<std::mutex> & lock);
-  void write_capture_unlocked(const char * state, double time_to_settle_ms, bool has_settle);
+  enum class Phase { kSettling, kWarping, kFinalSettling, kDone };
 
-  using Clock = std::chrono::steady_clock;
+  /// A change for the quiet rule: entity change, jump, warp start.
+  void break_quiet(int64_t now);
+  void end_warp();
+  /// The settle rule at `now`: true when settled; else may set `deadline`.
+  bool quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline);
 
-  const Config & config_;
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  bool initialized_ = false;
+  const Clock & clock_;
+  VirtualClock & virtual_clock_;
+  const Settings settings_;
+  Phase phase_ = Phase::kSettling;
+  bool started_ = false;
   bool exiting_ = false;
-  Clock::time_point t0_{};
-  Clock::time_point last_change_{};
-  uint64_t generation_ = 0;       // bumped on every change
-  uint64_t waiters_current_ = 0;  // threads in rmw_wait that entered at generation_
+  int64_t t0_ns_ = 0;
+  // Entity changes: progress snapshots and settles are per generation.
+  uint64_t generation_ = 0;
+  int64_t last_change_ns_ = 0;
   uint64_t written_generation_ = UINT64_MAX;   // last generation written at all
   uint64_t settled_generation_ = UINT64_MAX;   // last generation written as settled
+  // The quiet rule: entity changes and jumps.
+  uint64_t quiet_epoch_ = 0;
+  int64_t quiet_since_ns_ = 0;
+  uint64_t waiters_current_ = 0;  // threads in rmw_wait that entered in quiet_epoch_
+  uint64_t activity_current_ = 0;  // activity calls in quiet_epoch_
+  // Reported.
   bool has_settled_ = false;
-  double time_to_settle_ms_ = 0.0;
-  std::mutex write_mutex_;
+  int64_t time_to_settle_ns_ = 0;
+  const char * settled_by_ = nullptr;
+  bool ever_waited_ = false;
+  uint64_t activity_calls_ = 0;
+  int64_t warp_start_ns_ = 0;
+  uint64_t jumps_ = 0;
+  int64_t warp_ns_ = 0;
+  bool horizon_reached_ = false;
+  bool budget_exhausted_ = false;
 };
 
 }  // namespace rmw_introspect

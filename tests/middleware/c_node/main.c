@@ -10,14 +10,7 @@
 #include "rosidl_runtime_c/message_type_support_struct.h"
 #include "std_msgs/msg/string.h"
 
-#define CHECK(call) \
-  do { \
-    rcl_ret_t rc_ = (call); \
-    if (rc_ != RCL_RET_OK) { \
-      fprintf(stderr, "%s failed: %s\n", #call, rcl_get_error_string().str); \
-      return 1; \
-    } \
-  } while (0)
+#include "check.h"
 
 int main(int argc, char ** argv)
 {

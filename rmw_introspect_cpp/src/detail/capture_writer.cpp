@@ -254,6 +254,24 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     "time_to_settle_ms",
     header.has_time_to_settle ? Value::number(header.time_to_settle_ms) : Value::null());
   doc.add("elapsed_ms", Value::number(header.elapsed_ms));
+  doc.add(
+    "settled_by", header.settled_by.empty() ? Value::null() : Value::string(header.settled_by));
+  doc.add("ever_waited", Value::boolean(header.ever_waited));
+  doc.add("activity_calls", Value::integer(static_cast<int64_t>(header.activity_calls)));
+  Value time = Value::object();
+  time.add("horizon_ms", Value::integer(header.horizon_ms));
+  time.add("virtual_elapsed_ms", Value::number(header.virtual_elapsed_ms));
+  time.add("real_elapsed_ms", Value::number(header.real_elapsed_ms));
+  time.add("jumps", Value::integer(static_cast<int64_t>(header.jumps)));
+  time.add("warp_ms", Value::number(header.warp_ms));
+  time.add("horizon_reached", Value::boolean(header.horizon_reached));
+  time.add("warp_budget_exhausted", Value::boolean(header.warp_budget_exhausted));
+  doc.add("time", std::move(time));
+  if (header.has_ended) {
+    Value ended = Value::object();
+    ended.add("before_settle", Value::boolean(header.ended_before_settle));
+    doc.add("ended", std::move(ended));
+  }
   Value nodes = Value::array();
   for (const auto & n : snapshot.nodes) {
     Value node = Value::object();
@@ -264,6 +282,9 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     node.add("fqn", Value::string(n.fqn));
     node.add("enclave", Value::string(n.enclave));
     node.add("destroyed", Value::boolean(n.destroyed));
+    node.add("in_teardown", Value::boolean(n.in_teardown));
+    node.add("created_virtual_ms", Value::number(n.created.virtual_ms));
+    node.add("created_real_ms", Value::number(n.created.real_ms));
     nodes.push(std::move(node));
   }
   doc.add("nodes", std::move(nodes));
@@ -280,6 +301,9 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     ep.add("typesupport", Value::string(e.typesupport));
     ep.add("qos", qos_value(e.qos));
     ep.add("destroyed", Value::boolean(e.destroyed));
+    ep.add("in_teardown", Value::boolean(e.in_teardown));
+    ep.add("created_virtual_ms", Value::number(e.created.virtual_ms));
+    ep.add("created_real_ms", Value::number(e.created.real_ms));
     endpoints.push(std::move(ep));
   }
   doc.add("endpoints", std::move(endpoints));

@@ -1,9 +1,8 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 #include "detail/config.hpp"
 
-#include <unistd.h>
-
 #include <cctype>
+#include <cerrno>
 #include <cstdlib>
 #include <string>
 
@@ -26,6 +25,25 @@ bool parse_flag(const char * value, bool fallback)
     return false;
   }
   return fallback;
+}
+
+void parse_ms(const char * name, int64_t * value, std::vector<std::string> * warnings)
+{
+  constexpr long long kMaxMs = 24LL * 3600LL * 1000LL;
+  const char * text = std::getenv(name);
+  if (text == nullptr || text[0] == '\0') {
+    return;
+  }
+  char * end = nullptr;
+  errno = 0;
+  const long long parsed = std::strtoll(text, &end, 10);
+  if (end == text || *end != '\0' || errno == ERANGE || parsed < 0 || parsed > kMaxMs) {
+    warnings->push_back(
+      std::string(name) + "=" + text + " is not a number of milliseconds in 0.." +
+      std::to_string(kMaxMs) + ": using " + std::to_string(*value));
+    return;
+  }
+  *value = parsed;
 }
 
 Config Config::from_environment(long pid)
@@ -55,26 +73,16 @@ Config Config::from_environment(long pid)
     config.output_path = "/tmp/rmw_introspect_" + pid_string +
       (config.format == CaptureFormat::Yaml ? ".yaml" : ".json");
   }
-  const char * settle = std::getenv("RMW_INTROSPECT_SETTLE_MS");
-  if (settle != nullptr && settle[0] != '\0') {
-    char * end = nullptr;
-    long value = std::strtol(settle, &end, 10);
-    if (end != settle && value >= 0 && value <= 24L * 3600L * 1000L) {
-      config.settle_ms = static_cast<int>(value);
-    }
-  }
+  int64_t settle_ms = config.settle_ms;
+  parse_ms("RMW_INTROSPECT_SETTLE_MS", &settle_ms, &config.warnings);
+  config.settle_ms = static_cast<int>(settle_ms);
+  parse_ms("RMW_INTROSPECT_HORIZON_MS", &config.horizon_ms, &config.warnings);
+  parse_ms("RMW_INTROSPECT_WARP_BUDGET_MS", &config.warp_budget_ms, &config.warnings);
   config.exit_on_settle = parse_flag(std::getenv("RMW_INTROSPECT_EXIT"), false);
   config.auto_export = parse_flag(std::getenv("RMW_INTROSPECT_AUTO_EXPORT"), true);
   config.verbose = parse_flag(std::getenv("RMW_INTROSPECT_VERBOSE"), false);
   config.server_available = parse_flag(std::getenv("RMW_INTROSPECT_SERVER_AVAILABLE"), true);
   return config;
-}
-
-const Config & Config::get()
-{
-  // Leaked on purpose: usable from atexit handlers and the monitor thread at any time.
-  static const Config * config = new Config(from_environment(static_cast<long>(getpid())));
-  return *config;
 }
 
 }  // namespace rmw_introspect

@@ -44,12 +44,6 @@ Recorder::Recorder()
   std::memcpy(gid_prefix_.data() + 4, &salt, 4);
 }
 
-Recorder & Recorder::instance()
-{
-  static Recorder * recorder = new Recorder();  // leaked: valid during exit
-  return *recorder;
-}
-
 void Recorder::set_change_listener(std::function<void()> listener)
 {
   std::lock_guard<std::mutex> lock(listener_mutex_);
@@ -80,17 +74,20 @@ Gid Recorder::new_gid()
   return gid;
 }
 
-uint64_t Recorder::add_node(const char * name, const char * namespace_, const char * enclave)
+uint64_t Recorder::add_node(
+  const char * name, const char * namespace_, const char * enclave, const CreationTime & created)
 {
   NodeRecord record;
   record.name = name ? name : "";
   record.namespace_ = namespace_ ? namespace_ : "";
   record.fqn = make_fqn(record.namespace_, record.name);
   record.enclave = enclave ? enclave : "/";
+  record.created = created;
   uint64_t id = 0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     record.seq = ++seq_;
+    last_creation_event_ = ++event_;
     record.id = nodes_.size() + 1;
     id = record.id;
     nodes_.push_back(std::move(record));
@@ -108,10 +105,19 @@ bool Recorder::destroy_node(uint64_t node_id, bool teardown)
       return false;
     }
     nodes_[node_id - 1].alive = false;
+    const uint64_t event = teardown ? 0 : ++event_;
+    for (auto & endpoint : endpoints_) {
+      if (endpoint.node_id == node_id && endpoint.alive) {
+        endpoint.alive = false;
+        endpoint.destroyed = !teardown;
+        endpoint.destroyed_event = event;
+      }
+    }
     if (teardown) {
       return true;  // nothing reported changes
     }
     nodes_[node_id - 1].destroyed = true;
+    nodes_[node_id - 1].destroyed_event = event;
     ++generation_;
   }
   notify();
@@ -133,6 +139,7 @@ uint64_t Recorder::add_endpoint(EndpointRecord record)
     record.node_namespace = node.namespace_;
     record.node_fqn = node.fqn;
     record.seq = ++seq_;
+    last_creation_event_ = ++event_;
     record.id = endpoints_.size() + 1;
     id = record.id;
     endpoints_.push_back(std::move(record));
@@ -156,19 +163,29 @@ bool Recorder::destroy_endpoint(uint64_t endpoint_id, bool teardown)
       return true;
     }
     endpoints_[endpoint_id - 1].destroyed = true;
+    endpoints_[endpoint_id - 1].destroyed_event = ++event_;
     ++generation_;
   }
   notify();
   return true;
 }
 
-RecorderSnapshot Recorder::snapshot() const
+RecorderSnapshot Recorder::snapshot(bool mark_teardown) const
 {
   std::lock_guard<std::mutex> lock(mutex_);
   RecorderSnapshot snap;
   snap.generation = generation_;
   snap.nodes = nodes_;
   snap.endpoints = endpoints_;
+  if (mark_teardown) {
+    auto mark = [this](auto & records) {
+        for (auto & r : records) {
+          r.in_teardown = r.destroyed && r.destroyed_event > last_creation_event_;
+        }
+      };
+    mark(snap.nodes);
+    mark(snap.endpoints);
+  }
   return snap;
 }
 

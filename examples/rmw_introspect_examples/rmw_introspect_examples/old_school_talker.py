@@ -1,0 +1,36 @@
+"""old_school_talker: a publisher in a plain loop, no executor (the "old school" rclpy style).
+
+Interface: publisher ``chatter`` (std_msgs/msg/String) with the default QoS.
+
+``while rclpy.ok(): publish(); time.sleep(0.5)`` never calls an executor, so no thread ever
+waits in the middleware. The recording middleware still sees the node settle: it keeps using
+the middleware (``publish``) after its last new interface, which is what a steady loop looks
+like. Note that ``time.sleep`` is Python's own time, which virtual time does not shorten.
+"""
+
+import time
+
+import rclpy
+from rclpy.executors import ExternalShutdownException
+from std_msgs.msg import String
+
+
+def main(args=None):
+    rclpy.init(args=args)
+    # The whole body is inside the try: on Ctrl-C, rclpy's own handler shuts the context down
+    # (ending the loop) and Python raises KeyboardInterrupt at whatever line runs next.
+    try:
+        node = rclpy.create_node('old_school_talker')
+        publisher = node.create_publisher(String, 'chatter', 10)
+        count = 0
+        while rclpy.ok():
+            msg = String(data=f'Old school hello: {count}')
+            count += 1
+            node.get_logger().info(f'Publishing: "{msg.data}"')
+            publisher.publish(msg)
+            time.sleep(0.5)
+        node.destroy_node()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        rclpy.try_shutdown()

@@ -1,0 +1,243 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+#include "detail/runtime.hpp"
+
+#include <pthread.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <thread>
+
+#include "detail/capture_writer.hpp"
+#include "detail/handles.hpp"
+#include "detail/python.hpp"
+
+namespace rmw_introspect
+{
+
+Runtime & Runtime::instance()
+{
+  static Runtime * runtime = new Runtime();  // leaked on purpose, see the declaration
+  return *runtime;
+}
+
+namespace
+{
+Session::Settings session_settings(const Config & config)
+{
+  Session::Settings settings;
+  settings.settle_ms = config.settle_ms;
+  settings.horizon_ms = config.horizon_ms;
+  settings.warp_budget_ms = config.warp_budget_ms;
+  return settings;
+}
+}  // namespace
+
+Runtime::Runtime()
+: config_(Config::from_environment(static_cast<long>(getpid()))),
+  session_(clock_, virtual_clock_, session_settings(config_))
+{
+  for (const auto & warning : config_.warnings) {
+    std::fprintf(stderr, "[rmw_introspect] warning: %s\n", warning.c_str());
+  }
+  recorder_.set_change_listener([this]() {on_change();});
+}
+
+void Runtime::notify_graph_change()
+{
+  graph_guards_.trigger_all(wait_hub_);
+}
+
+void Runtime::on_init()
+{
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    if (!session_.start()) {
+      return;
+    }
+    argv_ = read_process_argv();
+  }
+  std::atexit([]() {Runtime::instance().on_process_exit();});
+  std::thread([this]() {monitor_loop();}).detach();
+}
+
+void Runtime::on_change()
+{
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    session_.on_change();
+  }
+  session_cv_.notify_all();
+}
+
+uint64_t Runtime::enter_wait()
+{
+  uint64_t token = 0;
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    token = session_.enter_wait();
+  }
+  session_cv_.notify_all();
+  return token;
+}
+
+void Runtime::leave_wait(uint64_t token)
+{
+  std::lock_guard<std::mutex> lock(session_mutex_);
+  session_.leave_wait(token);
+}
+
+void Runtime::note_wait_entered()
+{
+  // Once for ever_waited; during the warp every time (it breaks the warp's quiet).
+  if (!ever_waited_.exchange(true) || warping_.load()) {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    session_.on_wait_entered();
+  }
+}
+
+void Runtime::on_activity()
+{
+  bool wake = false;
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    wake = session_.on_activity();
+  }
+  if (wake) {
+    session_cv_.notify_all();
+  }
+}
+
+CreationTime Runtime::creation_time()
+{
+  std::lock_guard<std::mutex> lock(session_mutex_);
+  CreationTime created;
+  created.virtual_ms = session_.virtual_age_ms();
+  created.real_ms = session_.real_age_ms();
+  return created;
+}
+
+void Runtime::monitor_loop()
+{
+  pthread_setname_np(pthread_self(), "rmwi_monitor");
+  std::unique_lock<std::mutex> lock(session_mutex_);
+  while (!session_.exiting()) {
+    const Session::Step step = session_.poll();
+    warping_.store(session_.warping());
+    if (step.action != Session::Action::kNone) {
+      CaptureHeader header;
+      session_.fill_header("settled", &header);
+      const char * progress = session_.progress_state();
+      lock.unlock();
+      switch (step.action) {
+        case Session::Action::kSettle:
+          write_capture("settled");
+          exit_if_asked(header.time_to_settle_ms);
+          break;
+        case Session::Action::kStartWarp:
+          // A valid capture so far (the node may exit or crash during the warp), then wake
+          // every waiter: those blocked on a finite timeout come back to jump.
+          write_capture("warping");
+          wait_hub_.update_and_wake([this]() {warp_starts_.fetch_add(1);});
+          break;
+        default:
+          write_capture(progress);
+          break;
+      }
+      lock.lock();
+      continue;
+    }
+    if (step.has_deadline) {
+      session_cv_.wait_until(
+        lock, std::chrono::steady_clock::time_point(std::chrono::nanoseconds(step.deadline_ns)));
+    } else {
+      session_cv_.wait(lock);
+    }
+  }
+}
+
+void Runtime::exit_if_asked(double time_to_settle_ms)
+{
+  if (!config_.exit_on_settle) {
+    return;
+  }
+  if (config_.verbose) {
+    std::fprintf(
+      stderr, "[rmw_introspect] settled after %.1f ms: exiting (RMW_INTROSPECT_EXIT=1)\n",
+      time_to_settle_ms);
+  }
+  flush_python_streams();
+  std::fflush(nullptr);
+  _exit(0);
+}
+
+void Runtime::on_shutdown()
+{
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    session_.note_written();
+  }
+  write_capture("shutdown");
+}
+
+void Runtime::on_process_exit()
+{
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    if (!session_.started()) {
+      return;
+    }
+    session_.begin_exit();
+    session_.note_written();
+  }
+  session_cv_.notify_all();
+  write_capture("exit");
+}
+
+bool Runtime::in_teardown(const ContextImpl * context)
+{
+  if (context != nullptr && context->is_shutdown.load()) {
+    return true;
+  }
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    if (session_.exiting()) {
+      return true;
+    }
+  }
+  return python_is_finalizing();
+}
+
+void Runtime::write_capture(const char * state)
+{
+  if (!config_.auto_export) {
+    return;
+  }
+  std::lock_guard<std::mutex> write_lock(write_mutex_);
+  CaptureHeader header;
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    if (!session_.started() || (session_.exiting() && std::strcmp(state, "exit") != 0)) {
+      return;
+    }
+    session_.fill_header(state, &header);
+  }
+  header.pid = static_cast<long>(getpid());
+  header.argv = argv_;
+  header.state = state;
+  // The captures written as the process ends mark its final run of destructions.
+  const std::string content =
+    render_capture(config_.format, header, recorder_.snapshot(header.has_ended));
+  std::string error;
+  if (!write_file_atomically(config_.output_path, content, &error)) {
+    std::fprintf(stderr, "[rmw_introspect] cannot write capture: %s\n", error.c_str());
+  } else if (config_.verbose) {
+    std::fprintf(
+      stderr, "[rmw_introspect] wrote %s capture to %s\n", state, config_.output_path.c_str());
+  }
+}
+
+}  // namespace rmw_introspect

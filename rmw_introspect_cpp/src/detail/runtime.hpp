@@ -1,0 +1,168 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+#ifndef DETAIL__RUNTIME_HPP_
+#define DETAIL__RUNTIME_HPP_
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "detail/clock.hpp"
+#include "detail/config.hpp"
+#include "detail/graph_guards.hpp"
+#include "detail/recorder.hpp"
+#include "detail/session.hpp"
+#include "detail/wait_hub.hpp"
+
+namespace rmw_introspect
+{
+
+struct ContextImpl;
+
+/// Everything this process's middleware keeps beyond the handles rcl holds: configuration,
+/// recorder, session (settle) with its monitor thread, wait hub and graph guard conditions.
+/// One object per process, reached through instance() by the rmw_* entry points.
+///
+/// Lock order: a thread holding one of these mutexes takes only those further down the list.
+///   1. Runtime::write_mutex_    serializes capture writes (held while rendering one)
+///   2. GraphGuards' mutex       trigger_all() triggers through the wait hub
+///   3. WaitHub's mutex          rmw_wait registers a blocked thread with the session under it
+///   4. Runtime::session_mutex_  the Session; the monitor thread sleeps on session_cv_
+///   5. Recorder's mutex         a leaf: its change listener (-> session) runs after release
+/// Per-entity mutexes (stored callbacks, a subscription's content filter) are leaves too.
+class Runtime
+{
+public:
+  /// The process-wide runtime, made on first use and never destroyed: atexit handlers, the
+  /// monitor thread and waits still running in other threads use it while the process exits.
+  static Runtime & instance();
+
+  Runtime(const Runtime &) = delete;
+  Runtime & operator=(const Runtime &) = delete;
+
+  const Config & config() const {return config_;}
+  const VirtualClock & virtual_clock() const {return virtual_clock_;}
+  Recorder & recorder() {return recorder_;}
+  WaitHub & wait_hub() {return wait_hub_;}
+  GraphGuards & graph_guards() {return graph_guards_;}
+
+  /// Trigger the graph guard condition of every live node (a local graph change).
+  void notify_graph_change();
+
+  /// First rmw_init of the process: start the session and its monitor, register atexit.
+  void on_init();
+  /// The blocking part of rmw_wait: until `ready()` (evaluated under the wait hub's lock)
+  /// holds or `timeout_ns` passes (0: poll, negative: forever). In the warp, a finite wait
+  /// with nothing ready jumps virtual time instead and returns at once.
+  template<typename ReadyFn>
+  void wait(ReadyFn ready, int64_t timeout_ns);
+  /// publish, take*, send_*, graph queries...: the process is in its loop (settle rule).
+  void on_activity();
+  /// The process's virtual and real age now (creation times).
+  CreationTime creation_time();
+  /// rmw_shutdown: write a capture with state "shutdown".
+  void on_shutdown();
+  /// Normal process exit (atexit): write a capture with state "exit".
+  void on_process_exit();
+
+  /// True when destroying an entity now is teardown rather than behaviour: its context was
+  /// shut down, the process is exiting (atexit ran), or the Python interpreter is finalizing.
+  bool in_teardown(const ContextImpl * context);
+
+private:
+  /// RAII registration of a thread blocked in rmw_wait (settle rule).
+  class BlockedWait
+  {
+public:
+    explicit BlockedWait(Runtime & runtime)
+    : runtime_(runtime), token_(runtime.enter_wait()) {}
+    ~BlockedWait() {runtime_.leave_wait(token_);}
+    BlockedWait(const BlockedWait &) = delete;
+    BlockedWait & operator=(const BlockedWait &) = delete;
+
+private:
+    Runtime & runtime_;
+    uint64_t token_;
+  };
+
+  Runtime();
+  uint64_t enter_wait();
+  void leave_wait(uint64_t token);
+  void note_wait_entered();
+  /// In the warp and with nothing ready: jump virtual time to `target_ns` (see Session).
+  template<typename ReadyFn>
+  bool try_jump(ReadyFn & ready, int64_t target_ns);
+  void on_change();
+  void monitor_loop();
+  /// Write the capture with `state` (no-op with AUTO_EXPORT=0 or before rmw_init; once the
+  /// exit capture is being written, nothing else replaces it).
+  void write_capture(const char * state);
+  /// The settled capture is written: end the process when RMW_INTROSPECT_EXIT=1.
+  void exit_if_asked(double time_to_settle_ms);
+
+  const Config config_;
+  const SteadyClock clock_;
+  VirtualClock virtual_clock_;
+  Recorder recorder_;
+  WaitHub wait_hub_;
+  GraphGuards graph_guards_;
+  std::vector<std::string> argv_;  // read at rmw_init (immutable after)
+
+  std::mutex write_mutex_;
+  std::mutex session_mutex_;
+  std::condition_variable session_cv_;
+  Session session_;
+  // Lock-free hints for rmw_wait (the Session under session_mutex_ decides).
+  std::atomic<bool> ever_waited_{false};
+  std::atomic<bool> warping_{false};
+  std::atomic<uint64_t> warp_starts_{0};  // bumped under the wait hub's lock
+};
+
+template<typename ReadyFn>
+bool Runtime::try_jump(ReadyFn & ready, int64_t target_ns)
+{
+  if (wait_hub_.poll(ready)) {
+    return false;  // ready: nothing to jump for
+  }
+  std::lock_guard<std::mutex> lock(session_mutex_);
+  const bool jumped = session_.try_jump(target_ns);
+  warping_.store(session_.warping());
+  return jumped;
+}
+
+template<typename ReadyFn>
+void Runtime::wait(ReadyFn ready, int64_t timeout_ns)
+{
+  note_wait_entered();
+  if (timeout_ns == 0) {
+    return;  // a poll: rmw_wait reads the guard conditions itself
+  }
+  const int64_t start_ns = clock_.now_ns();
+  const int64_t target_ns = start_ns + virtual_clock_.offset_ns() + timeout_ns;
+  for (int64_t remaining = timeout_ns; ; ) {
+    if (remaining > 0 && warping_.load() && try_jump(ready, target_ns)) {
+      return;
+    }
+    // The start of the warp wakes every waiter: a finite wait re-enters to jump, an infinite
+    // one re-registers as blocked after the warp began (the settle rule counts only those).
+    const uint64_t warp_starts = warp_starts_.load();
+    auto ready_or_warp = [&]() {return ready() || warp_starts_.load() != warp_starts;};
+    wait_hub_.wait(
+      ready_or_warp, remaining, [this]() -> BlockedWait {return BlockedWait(*this);});
+    if (warp_starts_.load() == warp_starts || ready()) {
+      return;
+    }
+    if (remaining > 0) {
+      remaining = timeout_ns - (clock_.now_ns() - start_ns);
+      if (remaining <= 0) {
+        return;
+      }
+    }
+  }
+}
+
+}  // namespace rmw_introspect
+
+#endif  // DETAIL__RUNTIME_HPP_

@@ -1,0 +1,238 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+#include "detail/session.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace rmw_introspect
+{
+
+namespace
+{
+// Delay after the last change before a progress snapshot is written.
+constexpr int64_t kSnapshotDelayNs = 20 * 1000 * 1000;
+constexpr int64_t kNsPerMs = 1000 * 1000;
+// Activity calls after the last change that make a process that never waits "in its loop".
+constexpr uint64_t kSettlingActivity = 2;
+
+void propose(int64_t when, bool * has_deadline, int64_t * deadline)
+{
+  if (!*has_deadline || when < *deadline) {
+    *has_deadline = true;
+    *deadline = when;
+  }
+}
+}  // namespace
+
+Session::Session(const Clock & clock, VirtualClock & virtual_clock, const Settings & settings)
+: clock_(clock), virtual_clock_(virtual_clock), settings_(settings)
+{
+}
+
+bool Session::start()
+{
+  if (started_) {
+    return false;
+  }
+  started_ = true;
+  t0_ns_ = clock_.now_ns();
+  last_change_ns_ = t0_ns_;
+  quiet_since_ns_ = t0_ns_;
+  return true;
+}
+
+void Session::break_quiet(int64_t now)
+{
+  ++quiet_epoch_;
+  quiet_since_ns_ = now;
+  waiters_current_ = 0;
+  activity_current_ = 0;
+}
+
+void Session::on_change()
+{
+  ++generation_;
+  last_change_ns_ = clock_.now_ns();
+  break_quiet(last_change_ns_);
+}
+
+void Session::on_wait_entered()
+{
+  ever_waited_ = true;
+  if (phase_ == Phase::kWarping) {
+    break_quiet(clock_.now_ns());
+  }
+}
+
+uint64_t Session::enter_wait()
+{
+  ever_waited_ = true;
+  ++waiters_current_;
+  return quiet_epoch_;
+}
+
+void Session::leave_wait(uint64_t token)
+{
+  if (token == quiet_epoch_ && waiters_current_ > 0) {
+    --waiters_current_;
+  }
+}
+
+bool Session::on_activity()
+{
+  ++activity_calls_;
+  return ++activity_current_ == kSettlingActivity;
+}
+
+int64_t Session::virtual_now_ns() const
+{
+  return clock_.now_ns() + virtual_clock_.offset_ns();
+}
+
+bool Session::try_jump(int64_t target_ns)
+{
+  if (phase_ != Phase::kWarping) {
+    return false;
+  }
+  const int64_t now = clock_.now_ns();
+  if (now - warp_start_ns_ >= settings_.warp_budget_ms * kNsPerMs) {
+    budget_exhausted_ = true;
+    end_warp();
+    return false;
+  }
+  const int64_t virtual_now = now + virtual_clock_.offset_ns();
+  if (target_ns <= virtual_now) {
+    // Another thread's jump, or real time on a busy machine, already took virtual time past
+    // it: no jump, but timers still drive the process, so it is not quiet either.
+    break_quiet(now);
+    return true;
+  }
+  if (target_ns - t0_ns_ > settings_.horizon_ms * kNsPerMs) {
+    horizon_reached_ = true;
+    end_warp();
+    return false;
+  }
+  const int64_t delta = target_ns - virtual_now;
+  virtual_clock_.advance(delta);
+  ++jumps_;
+  warp_ns_ += delta;
+  break_quiet(now);
+  return true;
+}
+
+void Session::end_warp()
+{
+  phase_ = Phase::kFinalSettling;
+}
+
+bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline)
+{
+  const bool by_wait = waiters_current_ > 0;
+  if (!by_wait && activity_current_ < kSettlingActivity) {
+    return false;  // the next wait or activity call wakes the monitor
+  }
+  const int64_t settle_at = quiet_since_ns_ + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
+  if (now < settle_at) {
+    propose(settle_at, has_deadline, deadline);
+    return false;
+  }
+  settled_by_ = by_wait ? "wait" : "activity";
+  return true;
+}
+
+Session::Step Session::poll()
+{
+  Step step;
+  if (!started_ || exiting_) {
+    return step;
+  }
+  const int64_t now = clock_.now_ns();
+  const int64_t horizon_ns = settings_.horizon_ms * kNsPerMs;
+  if (phase_ == Phase::kWarping) {
+    const int64_t budget_end = warp_start_ns_ + settings_.warp_budget_ms * kNsPerMs;
+    // Real time also ages the node: the real moment its virtual age reaches the horizon.
+    const int64_t horizon_at = t0_ns_ + horizon_ns - virtual_clock_.offset_ns();
+    if (now >= budget_end) {
+      budget_exhausted_ = true;
+      end_warp();
+    } else if (now >= horizon_at) {
+      horizon_reached_ = true;
+      end_warp();
+    } else {
+      propose(std::min(budget_end, horizon_at), &step.has_deadline, &step.deadline_ns);
+    }
+  }
+  const bool in_warp = phase_ == Phase::kWarping || phase_ == Phase::kFinalSettling;
+  if ((in_warp || settled_generation_ != generation_) &&
+    quiet_settled(now, &step.has_deadline, &step.deadline_ns))
+  {
+    settled_generation_ = generation_;
+    written_generation_ = generation_;
+    has_settled_ = true;
+    time_to_settle_ns_ = now - t0_ns_;
+    step.has_deadline = false;
+    if (phase_ == Phase::kSettling && horizon_ns > 0) {
+      if (now + virtual_clock_.offset_ns() - t0_ns_ < horizon_ns) {
+        phase_ = Phase::kWarping;
+        warp_start_ns_ = now;
+        break_quiet(now);  // the warp must see settle_ms without a jump before it ends
+        step.action = Action::kStartWarp;
+        return step;
+      }
+      horizon_reached_ = true;  // settling took longer than the horizon
+    }
+    phase_ = Phase::kDone;
+    step.action = Action::kSettle;
+    return step;
+  }
+  if (written_generation_ != generation_) {
+    const int64_t snapshot_at = last_change_ns_ + kSnapshotDelayNs;
+    if (now >= snapshot_at) {
+      written_generation_ = generation_;
+      step.action = Action::kWriteRunning;
+      step.has_deadline = false;
+      return step;
+    }
+    propose(snapshot_at, &step.has_deadline, &step.deadline_ns);
+  }
+  return step;
+}
+
+const char * Session::progress_state() const
+{
+  return phase_ == Phase::kWarping || phase_ == Phase::kFinalSettling ? "warping" : "running";
+}
+
+double Session::real_age_ms() const
+{
+  return ns_to_ms(clock_.now_ns() - t0_ns_);
+}
+
+double Session::virtual_age_ms() const
+{
+  return ns_to_ms(virtual_now_ns() - t0_ns_);
+}
+
+void Session::fill_header(const char * state, CaptureHeader * header) const
+{
+  const int64_t now = clock_.now_ns();
+  const int64_t offset = virtual_clock_.offset_ns();
+  header->settle_ms = settings_.settle_ms;
+  header->has_time_to_settle = has_settled_;
+  header->time_to_settle_ms = ns_to_ms(time_to_settle_ns_);
+  header->elapsed_ms = ns_to_ms(now - t0_ns_);
+  header->settled_by = settled_by_ != nullptr ? settled_by_ : "";
+  header->ever_waited = ever_waited_;
+  header->activity_calls = activity_calls_;
+  header->horizon_ms = settings_.horizon_ms;
+  header->virtual_elapsed_ms = ns_to_ms(now + offset - t0_ns_);
+  header->real_elapsed_ms = header->elapsed_ms;
+  header->jumps = jumps_;
+  header->warp_ms = ns_to_ms(warp_ns_);
+  header->horizon_reached = horizon_reached_;
+  header->warp_budget_exhausted = budget_exhausted_;
+  header->has_ended = std::strcmp(state, "exit") == 0 || std::strcmp(state, "shutdown") == 0;
+  header->ended_before_settle = phase_ != Phase::kDone;
+}
+
+}  // namespace rmw_introspect

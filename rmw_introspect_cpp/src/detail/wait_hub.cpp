@@ -1,0 +1,25 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+#include "detail/wait_hub.hpp"
+
+namespace rmw_introspect
+{
+
+void WaitHub::trigger(GuardCondition * gc)
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    gc->triggered.store(true);
+  }
+  cv_.notify_all();
+}
+
+void WaitHub::update_and_wake(const std::function<void()> & change)
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    change();
+  }
+  cv_.notify_all();
+}
+
+}  // namespace rmw_introspect

@@ -1,0 +1,417 @@
+// Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
+// The Session state machine on a manual clock: settling (by wait, by activity), progress
+// snapshots, the warp (jumps, horizon, budget), the final settle, exit. No thread, no sleep.
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "detail/session.hpp"
+
+using rmw_introspect::CaptureHeader;
+using rmw_introspect::Session;
+
+namespace
+{
+
+constexpr int64_t kMs = 1000 * 1000;
+
+class ManualClock : public rmw_introspect::Clock
+{
+public:
+  int64_t now_ns() const override {return now;}
+  void advance_ms(int64_t ms) {now += ms * kMs;}
+  int64_t now = 1000 * kMs;
+};
+
+Session::Settings settings(int64_t horizon_ms = 0, int64_t budget_ms = 3000)
+{
+  Session::Settings s;
+  s.settle_ms = 10;
+  s.horizon_ms = horizon_ms;
+  s.warp_budget_ms = budget_ms;
+  return s;
+}
+
+class SessionTest : public ::testing::Test
+{
+protected:
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  Session session{clock, virtual_clock, settings()};
+};
+
+}  // namespace
+
+TEST_F(SessionTest, nothing_happens_before_start)
+{
+  EXPECT_FALSE(session.started());
+  session.on_change();
+  session.enter_wait();
+  clock.advance_ms(100);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  EXPECT_TRUE(session.start());
+  EXPECT_FALSE(session.start());
+}
+
+TEST_F(SessionTest, settles_after_quiet_with_a_thread_waiting)
+{
+  session.start();
+  session.on_change();
+  const uint64_t token = session.enter_wait();
+  clock.advance_ms(5);
+  Session::Step step = session.poll();
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  ASSERT_TRUE(step.has_deadline);
+  EXPECT_EQ(clock.now + 5 * kMs, step.deadline_ns);  // 10 ms after the change
+  clock.advance_ms(5);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_TRUE(header.has_time_to_settle);
+  EXPECT_DOUBLE_EQ(10.0, header.time_to_settle_ms);
+  EXPECT_EQ(10, header.settle_ms);
+  // Settled once per generation: nothing more to do, no deadline.
+  step = session.poll();
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  EXPECT_FALSE(step.has_deadline);
+  session.leave_wait(token);
+}
+
+TEST_F(SessionTest, no_settle_without_a_waiter_only_a_running_snapshot)
+{
+  session.start();
+  session.on_change();
+  clock.advance_ms(19);
+  Session::Step step = session.poll();
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  EXPECT_EQ(clock.now + 1 * kMs, step.deadline_ns);
+  clock.advance_ms(1);
+  EXPECT_EQ(Session::Action::kWriteRunning, session.poll().action);
+  clock.advance_ms(10000);
+  step = session.poll();
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  EXPECT_FALSE(step.has_deadline);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_FALSE(header.has_time_to_settle);
+  EXPECT_DOUBLE_EQ(10020.0, header.elapsed_ms);
+}
+
+TEST_F(SessionTest, a_waiter_from_before_the_last_change_does_not_count)
+{
+  session.start();
+  const uint64_t old = session.enter_wait();
+  clock.advance_ms(1);
+  session.on_change();  // the old waiter no longer counts
+  clock.advance_ms(50);
+  EXPECT_EQ(Session::Action::kWriteRunning, session.poll().action);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  session.leave_wait(old);  // a stale token changes nothing
+  const uint64_t fresh = session.enter_wait();
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  session.leave_wait(fresh);
+}
+
+TEST_F(SessionTest, resettles_after_a_later_change)
+{
+  session.start();
+  session.enter_wait();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  clock.advance_ms(500);
+  session.on_change();
+  session.enter_wait();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_DOUBLE_EQ(520.0, header.time_to_settle_ms);
+}
+
+TEST_F(SessionTest, exiting_stops_everything)
+{
+  session.start();
+  session.on_change();
+  session.begin_exit();
+  EXPECT_TRUE(session.exiting());
+  clock.advance_ms(100);
+  session.enter_wait();
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+}
+
+TEST_F(SessionTest, settles_by_activity_without_any_wait)
+{
+  session.start();
+  session.on_change();
+  EXPECT_FALSE(session.on_activity());
+  clock.advance_ms(50);
+  // One call is not a loop yet: a progress snapshot only.
+  EXPECT_EQ(Session::Action::kWriteRunning, session.poll().action);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  EXPECT_TRUE(session.on_activity());  // the second: the monitor looks again
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_EQ("activity", header.settled_by);
+  EXPECT_FALSE(header.ever_waited);
+  EXPECT_EQ(2u, header.activity_calls);
+}
+
+TEST_F(SessionTest, activity_before_the_last_change_does_not_count)
+{
+  session.start();
+  session.on_activity();
+  session.on_activity();
+  clock.advance_ms(1);
+  session.on_change();
+  session.on_activity();
+  clock.advance_ms(50);
+  EXPECT_EQ(Session::Action::kWriteRunning, session.poll().action);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+}
+
+TEST_F(SessionTest, settled_by_wait_is_reported)
+{
+  session.start();
+  session.on_wait_entered();
+  session.enter_wait();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_EQ("wait", header.settled_by);
+  EXPECT_TRUE(header.ever_waited);
+  EXPECT_FALSE(header.has_ended);
+  EXPECT_EQ(0, header.horizon_ms);
+  EXPECT_EQ(0u, header.jumps);
+}
+
+TEST_F(SessionTest, no_warp_with_horizon_0)
+{
+  session.start();
+  session.enter_wait();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  EXPECT_FALSE(session.warping());
+  EXPECT_FALSE(session.try_jump(session.virtual_now_ns() + 1000 * kMs));
+  EXPECT_EQ(0, virtual_clock.offset_ns());
+}
+
+class WarpTest : public ::testing::Test
+{
+protected:
+  // Settle once (by wait) and enter the warp.
+  void settle_and_start_warp()
+  {
+    session.start();
+    session.on_change();
+    token = session.enter_wait();
+    clock.advance_ms(10);
+    ASSERT_EQ(Session::Action::kStartWarp, session.poll().action);
+    ASSERT_TRUE(session.warping());
+    EXPECT_STREQ("warping", session.progress_state());
+  }
+  // A wait with `timeout_ms` entered now.
+  bool wait_ms(int64_t timeout_ms)
+  {
+    return session.try_jump(session.virtual_now_ns() + timeout_ms * kMs);
+  }
+
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  Session session{clock, virtual_clock, settings(10000, 3000)};
+  uint64_t token = 0;
+};
+
+TEST_F(WarpTest, first_settle_starts_the_warp_and_needs_a_new_quiet_period)
+{
+  settle_and_start_warp();
+  // The waiter of the first settle does not end the warp: the warp start breaks the quiet.
+  clock.advance_ms(100);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  session.leave_wait(token);  // stale
+  session.enter_wait();
+  const Session::Step step = session.poll();
+  EXPECT_EQ(Session::Action::kSettle, step.action);  // quiet since the warp start
+  EXPECT_FALSE(session.warping());
+  EXPECT_STREQ("running", session.progress_state());
+}
+
+TEST_F(WarpTest, jumps_are_counted_and_move_both_clocks)
+{
+  settle_and_start_warp();
+  const int64_t before = session.virtual_now_ns();
+  EXPECT_TRUE(wait_ms(3000));
+  EXPECT_EQ(3000 * kMs, virtual_clock.offset_ns());
+  EXPECT_EQ(before + 3000 * kMs, session.virtual_now_ns());
+  EXPECT_TRUE(wait_ms(500));
+  CaptureHeader header;
+  session.fill_header("warping", &header);
+  EXPECT_EQ(2u, header.jumps);
+  EXPECT_DOUBLE_EQ(3500.0, header.warp_ms);
+  EXPECT_DOUBLE_EQ(3510.0, header.virtual_elapsed_ms);  // 10 ms real + 3.5 s jumped
+  EXPECT_DOUBLE_EQ(10.0, header.real_elapsed_ms);
+  EXPECT_EQ(10000, header.horizon_ms);
+  EXPECT_DOUBLE_EQ(3510.0, session.virtual_age_ms());
+  EXPECT_DOUBLE_EQ(10.0, session.real_age_ms());
+}
+
+TEST_F(WarpTest, a_target_already_passed_returns_without_a_jump)
+{
+  settle_and_start_warp();
+  // Two threads entered their waits at the same virtual time: 1 s and 2 s timeouts.
+  const int64_t entry = session.virtual_now_ns();
+  EXPECT_TRUE(session.try_jump(entry + 2000 * kMs));
+  EXPECT_TRUE(session.try_jump(entry + 1000 * kMs));  // already past: no second jump
+  EXPECT_EQ(2000 * kMs, virtual_clock.offset_ns());
+  CaptureHeader header;
+  session.fill_header("warping", &header);
+  EXPECT_EQ(1u, header.jumps);
+  // Still driven by timers: not quiet, the warp goes on.
+  session.enter_wait();
+  clock.advance_ms(5);
+  EXPECT_TRUE(session.try_jump(session.virtual_now_ns() - kMs));
+  clock.advance_ms(9);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  EXPECT_TRUE(session.warping());
+}
+
+TEST_F(WarpTest, polls_in_the_warp_are_not_quiet)
+{
+  settle_and_start_warp();
+  // Timers kept due by real time alone: polls and callbacks that publish, no jump.
+  for (int i = 0; i < 20; ++i) {
+    session.on_wait_entered();
+    session.on_activity();
+    session.on_activity();
+    clock.advance_ms(5);
+    EXPECT_EQ(Session::Action::kNone, session.poll().action) << i;
+  }
+  EXPECT_TRUE(session.warping());
+  // An old-school loop (no wait at all) does settle by activity in the warp.
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+}
+
+TEST_F(WarpTest, horizon_clamps_the_warp)
+{
+  settle_and_start_warp();
+  for (int i = 0; i < 9; ++i) {
+    EXPECT_TRUE(wait_ms(1000)) << i;
+  }
+  // Virtual age 9.01 s: one more second would pass the 10 s horizon: no jump, warp over.
+  EXPECT_FALSE(wait_ms(1000));
+  EXPECT_FALSE(session.warping());
+  EXPECT_FALSE(wait_ms(1));  // over for good
+  CaptureHeader header;
+  session.fill_header("warping", &header);
+  EXPECT_TRUE(header.horizon_reached);
+  EXPECT_FALSE(header.warp_budget_exhausted);
+  EXPECT_EQ(9u, header.jumps);
+  EXPECT_LE(header.virtual_elapsed_ms, 10000.0);
+  // Final settle: a thread blocked after the last jump, settle_ms of quiet.
+  session.enter_wait();
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+}
+
+TEST_F(WarpTest, a_1khz_timer_makes_10000_jumps_to_a_10s_horizon)
+{
+  settle_and_start_warp();
+  int jumps = 0;
+  while (wait_ms(1)) {
+    ++jumps;
+    clock.now += 100 * 1000;  // 100 us of real time per timer callback
+  }
+  EXPECT_GE(jumps, 9000);
+  EXPECT_LE(jumps, 10000);
+  CaptureHeader header;
+  session.fill_header("warping", &header);
+  EXPECT_TRUE(header.horizon_reached);
+  EXPECT_EQ(static_cast<uint64_t>(jumps), header.jumps);
+}
+
+TEST_F(WarpTest, budget_stops_the_warp)
+{
+  settle_and_start_warp();
+  EXPECT_TRUE(wait_ms(1));
+  clock.advance_ms(3000);  // the warp's real-time budget is spent
+  EXPECT_FALSE(wait_ms(1));
+  EXPECT_FALSE(session.warping());
+  CaptureHeader header;
+  session.fill_header("warping", &header);
+  EXPECT_TRUE(header.warp_budget_exhausted);
+  EXPECT_FALSE(header.horizon_reached);
+}
+
+TEST_F(WarpTest, budget_deadline_ends_a_warp_without_jumps)
+{
+  settle_and_start_warp();
+  const Session::Step step = session.poll();
+  ASSERT_TRUE(step.has_deadline);
+  EXPECT_EQ(clock.now + 3000 * kMs, step.deadline_ns);
+  clock.advance_ms(3000);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  EXPECT_FALSE(session.warping());
+}
+
+TEST_F(WarpTest, a_jump_breaks_the_quiet_and_creations_in_the_warp_are_snapshots)
+{
+  settle_and_start_warp();
+  EXPECT_TRUE(wait_ms(3000));
+  session.on_change();  // the timer created a publisher
+  session.enter_wait();
+  clock.advance_ms(5);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  clock.advance_ms(5);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);  // final
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_FALSE(header.horizon_reached);
+  EXPECT_EQ(1u, header.jumps);
+  EXPECT_DOUBLE_EQ(20.0, header.time_to_settle_ms);
+}
+
+TEST_F(WarpTest, progress_snapshots_in_the_warp_say_warping)
+{
+  settle_and_start_warp();
+  session.on_change();
+  clock.advance_ms(20);
+  EXPECT_EQ(Session::Action::kWriteRunning, session.poll().action);
+  EXPECT_STREQ("warping", session.progress_state());
+}
+
+TEST_F(WarpTest, ended_says_whether_the_final_settle_came)
+{
+  settle_and_start_warp();
+  CaptureHeader header;
+  session.fill_header("exit", &header);
+  EXPECT_TRUE(header.has_ended);
+  EXPECT_TRUE(header.ended_before_settle);  // exited during the warp
+  session.fill_header("warping", &header);
+  EXPECT_FALSE(header.has_ended);
+  session.enter_wait();
+  clock.advance_ms(10);
+  ASSERT_EQ(Session::Action::kSettle, session.poll().action);
+  session.fill_header("shutdown", &header);
+  EXPECT_TRUE(header.has_ended);
+  EXPECT_FALSE(header.ended_before_settle);
+}
+
+TEST(SessionHorizon, settling_past_the_horizon_skips_the_warp)
+{
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  Session session{clock, virtual_clock, settings(100, 3000)};
+  session.start();
+  clock.advance_ms(200);
+  session.enter_wait();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_TRUE(header.horizon_reached);
+  EXPECT_EQ(0u, header.jumps);
+}

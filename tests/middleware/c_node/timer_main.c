@@ -1,0 +1,78 @@
+// A ROS 2 node in plain C on rcl with an rcl timer: node "c_timer" in namespace "/c"; a
+// 2 s steady-clock timer whose callback creates a publisher on "timed" (once), then it
+// waits on a wait set holding the timer, like an executor (rcl_wait derives the timeout
+// from the timer). Virtual time makes the 2 s pass at once.
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "rcl/error_handling.h"
+#include "rcl/rcl.h"
+#include "rcl/timer.h"
+#include "rcutils/allocator.h"
+#include "rosidl_runtime_c/message_type_support_struct.h"
+#include "std_msgs/msg/string.h"
+
+#include "check.h"
+
+static rcl_node_t g_node;
+static rcl_publisher_t g_publisher;
+static bool g_created = false;
+
+static void on_timer(rcl_timer_t * timer, int64_t last_call_time)
+{
+  (void)timer;
+  (void)last_call_time;
+  if (g_created) {
+    return;
+  }
+  g_publisher = rcl_get_zero_initialized_publisher();
+  rcl_publisher_options_t options = rcl_publisher_get_default_options();
+  const rosidl_message_type_support_t * ts = ROSIDL_GET_MSG_TYPE_SUPPORT(std_msgs, msg, String);
+  if (rcl_publisher_init(&g_publisher, &g_node, ts, "timed", &options) != RCL_RET_OK) {
+    fprintf(stderr, "rcl_publisher_init failed: %s\n", rcl_get_error_string().str);
+    exit(1);
+  }
+  g_created = true;
+}
+
+int main(int argc, char ** argv)
+{
+  rcl_allocator_t allocator = rcl_get_default_allocator();
+  rcl_init_options_t init_options = rcl_get_zero_initialized_init_options();
+  CHECK(rcl_init_options_init(&init_options, allocator));
+  rcl_context_t context = rcl_get_zero_initialized_context();
+  CHECK(rcl_init(argc, (const char * const *)argv, &init_options, &context));
+
+  g_node = rcl_get_zero_initialized_node();
+  rcl_node_options_t node_options = rcl_node_get_default_options();
+  CHECK(rcl_node_init(&g_node, "c_timer", "/c", &context, &node_options));
+
+  rcl_clock_t clock;
+  CHECK(rcl_clock_init(RCL_STEADY_TIME, &clock, &allocator));
+  rcl_timer_t timer = rcl_get_zero_initialized_timer();
+  CHECK(rcl_timer_init2(&timer, &clock, &context, RCL_S_TO_NS(2), on_timer, allocator, true));
+
+  rcl_wait_set_t wait_set = rcl_get_zero_initialized_wait_set();
+  CHECK(rcl_wait_set_init(&wait_set, 0, 0, 1, 0, 0, 0, &context, allocator));
+  for (;;) {
+    CHECK(rcl_wait_set_clear(&wait_set));
+    CHECK(rcl_wait_set_add_timer(&wait_set, &timer, NULL));
+    rcl_ret_t ret = rcl_wait(&wait_set, -1);
+    if (ret == RCL_RET_TIMEOUT) {
+      continue;
+    }
+    if (ret != RCL_RET_OK) {
+      fprintf(stderr, "rcl_wait failed: %s\n", rcl_get_error_string().str);
+      return 1;
+    }
+    if (wait_set.timers[0] != NULL) {
+      ret = rcl_timer_call(&timer);
+      if (ret != RCL_RET_OK && ret != RCL_RET_TIMER_CANCELED) {
+        fprintf(stderr, "rcl_timer_call failed: %s\n", rcl_get_error_string().str);
+        return 1;
+      }
+    }
+  }
+  return 0;
+}

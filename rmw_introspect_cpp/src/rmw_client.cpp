@@ -114,9 +114,11 @@ rmw_ret_t rmw_get_gid_for_client(const rmw_client_t * client, rmw_gid_t * gid)
 rmw_ret_t rmw_service_server_is_available(
   const rmw_node_t * node, const rmw_client_t * client, bool * is_available)
 {
-  RMWI_CHECK_HANDLE(node);
-  RMWI_CHECK_HANDLE(client);
-  RMW_CHECK_ARGUMENT_FOR_NULL(is_available, RMW_RET_INVALID_ARGUMENT);
+  // A NULL argument is RMW_RET_ERROR here, not RMW_RET_INVALID_ARGUMENT as rmw.h documents:
+  // rmw_fastrtps_cpp answers so and test_rmw_implementation expects it.
+  RMWI_CHECK_HANDLE_OR(node, data, RMW_RET_ERROR, RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE_OR(client, data, RMW_RET_ERROR, RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(is_available, RMW_RET_ERROR);
   // Answer "available" so that clients go on to what they do after wait_for_service()
   // (and create the entities that follow); RMW_INTROSPECT_SERVER_AVAILABLE=0 says no.
   *is_available = rmw_introspect::Runtime::instance().config().server_available;

@@ -80,7 +80,9 @@ rmw_wait_set_t * rmw_create_wait_set(rmw_context_t * context, size_t max_conditi
 
 rmw_ret_t rmw_destroy_wait_set(rmw_wait_set_t * wait_set)
 {
-  RMWI_CHECK_HANDLE(wait_set);
+  // NULL is RMW_RET_ERROR, as in rmw_fastrtps_cpp and test_rmw_implementation.
+  RMWI_CHECK_HANDLE_OR(
+    wait_set, data, RMW_RET_ERROR, RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   delete static_cast<WaitSetImpl *>(wait_set->data);
   return RMW_RET_OK;
 }

@@ -174,7 +174,13 @@ rmw_ret_t rmw_subscription_get_content_filter(
     RMW_SET_ERROR_MSG("this subscription has no content filter");
     return RMW_RET_ERROR;
   }
-  return rmw_subscription_content_filter_options_copy(&impl->filter, allocator, options);
+  // `options` is an output the caller has not necessarily initialised (the suite passes an
+  // uninitialised struct): never _copy()/_set() into it, they finalize it first and would free
+  // garbage. Fill it from zero, as rmw_fastrtps_cpp does with _init().
+  *options = rmw_get_zero_initialized_content_filter_options();
+  return rmw_subscription_content_filter_options_init(
+    impl->filter.filter_expression, impl->filter.expression_parameters.size,
+    const_cast<const char **>(impl->filter.expression_parameters.data), allocator, options);
 }
 
 rmw_ret_t rmw_subscription_get_network_flow_endpoints(

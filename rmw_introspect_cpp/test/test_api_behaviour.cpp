@@ -267,6 +267,54 @@ TEST_F(ApiBehaviour, gids_requests_takes_qos)
   EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&filter, &alloc));
 }
 
+TEST_F(ApiBehaviour, content_filter_is_read_into_an_uninitialised_struct)
+{
+  // test_subscription.cpp passes an uninitialised struct: nothing in it may be freed.
+  rmw_subscription_content_filter_options_t got;
+  std::memset(&got, 0xa5, sizeof(got));
+  rcutils_allocator_t alloc = rcutils_get_default_allocator();
+  rmw_reset_error();
+  EXPECT_EQ(RMW_RET_ERROR, rmw_subscription_get_content_filter(subscription, &alloc, &got));
+  EXPECT_TRUE(rmw_error_is_set());  // no filter set yet
+  rmw_reset_error();
+
+  rmw_subscription_content_filter_options_t filter =
+    rmw_get_zero_initialized_content_filter_options();
+  const char * params[] = {"3.14159", "'x'"};
+  ASSERT_EQ(
+    RMW_RET_OK, rmw_subscription_content_filter_options_init(
+      "float32_value = %0 OR data = %1", 2, params, &alloc, &filter));
+  rmw_subscription_options_t options = rmw_get_default_subscription_options();
+  options.content_filter_options = &filter;
+  rmw_subscription_t * sub = rmw_create_subscription(node, msg_ts, "/filtered", &qos, &options);
+  ASSERT_NE(nullptr, sub) << rmw_get_error_string().str;
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&filter, &alloc));
+  EXPECT_TRUE(sub->is_cft_enabled);
+
+  std::memset(&got, 0xa5, sizeof(got));
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_get_content_filter(sub, &alloc, &got));
+  EXPECT_STREQ("float32_value = %0 OR data = %1", got.filter_expression);
+  ASSERT_EQ(2u, got.expression_parameters.size);
+  EXPECT_STREQ("3.14159", got.expression_parameters.data[0]);
+  EXPECT_STREQ("'x'", got.expression_parameters.data[1]);
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&got, &alloc));
+
+  // No parameters: the output's parameter array is empty, not garbage.
+  rmw_subscription_content_filter_options_t plain =
+    rmw_get_zero_initialized_content_filter_options();
+  ASSERT_EQ(
+    RMW_RET_OK,
+    rmw_subscription_content_filter_options_init("data = 'y'", 0, nullptr, &alloc, &plain));
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_set_content_filter(sub, &plain));
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&plain, &alloc));
+  std::memset(&got, 0xa5, sizeof(got));
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_get_content_filter(sub, &alloc, &got));
+  EXPECT_STREQ("data = 'y'", got.filter_expression);
+  EXPECT_EQ(0u, got.expression_parameters.size);
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&got, &alloc));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_subscription(node, sub));
+}
+
 TEST_F(ApiBehaviour, cpp_and_action_type_supports_are_recorded)
 {
   const rosidl_message_type_support_t * cpp_ts =

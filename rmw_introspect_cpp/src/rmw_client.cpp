@@ -80,7 +80,8 @@ rmw_ret_t rmw_client_request_publisher_get_actual_qos(
 {
   RMWI_CHECK_HANDLE(client);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
-  *qos = static_cast<const ClientImpl *>(client->data)->qos;
+  *qos = rmw_introspect::service_actual_qos(
+    static_cast<const ClientImpl *>(client->data)->qos, rmw_introspect::QosSide::kWriter);
   return RMW_RET_OK;
 }
 
@@ -89,7 +90,8 @@ rmw_ret_t rmw_client_response_subscription_get_actual_qos(
 {
   RMWI_CHECK_HANDLE(client);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
-  *qos = static_cast<const ClientImpl *>(client->data)->qos;
+  *qos = rmw_introspect::service_actual_qos(
+    static_cast<const ClientImpl *>(client->data)->qos, rmw_introspect::QosSide::kReader);
   return RMW_RET_OK;
 }
 

@@ -152,7 +152,7 @@ rmw_ret_t rmw_publisher_get_actual_qos(const rmw_publisher_t * publisher, rmw_qo
 {
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
-  *qos = static_cast<const PublisherImpl *>(publisher->data)->qos;
+  *qos = static_cast<const PublisherImpl *>(publisher->data)->actual_qos;
   return RMW_RET_OK;
 }
 

@@ -78,7 +78,8 @@ rmw_ret_t rmw_service_request_subscription_get_actual_qos(
 {
   RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
-  *qos = static_cast<const ServiceImpl *>(service->data)->qos;
+  *qos = rmw_introspect::service_actual_qos(
+    static_cast<const ServiceImpl *>(service->data)->qos, rmw_introspect::QosSide::kReader);
   return RMW_RET_OK;
 }
 
@@ -87,7 +88,8 @@ rmw_ret_t rmw_service_response_publisher_get_actual_qos(
 {
   RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
-  *qos = static_cast<const ServiceImpl *>(service->data)->qos;
+  *qos = rmw_introspect::service_actual_qos(
+    static_cast<const ServiceImpl *>(service->data)->qos, rmw_introspect::QosSide::kWriter);
   return RMW_RET_OK;
 }
 

@@ -127,7 +127,7 @@ rmw_ret_t rmw_subscription_get_actual_qos(
 {
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
-  *qos = static_cast<const SubscriptionImpl *>(subscription->data)->qos;
+  *qos = static_cast<const SubscriptionImpl *>(subscription->data)->actual_qos;
   return RMW_RET_OK;
 }
 

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "rcutils/types/string_array.h"
+#include "rmw/time.h"
 #include "rmw/get_node_info_and_types.h"
 #include "rmw/get_service_names_and_types.h"
 #include "rmw/get_topic_endpoint_info.h"
@@ -64,6 +65,12 @@ std::set<std::string> names_of(const rmw_names_and_types_t & nt)
   }
   return out;
 }
+bool is_infinite(const rmw_time_t & t)
+{
+  const rmw_time_t infinite = RMW_DURATION_INFINITE;
+  return t.sec == infinite.sec && t.nsec == infinite.nsec;
+}
+
 }  // namespace
 
 using ApiBehaviour = ApiFixture;
@@ -231,7 +238,8 @@ TEST_F(ApiBehaviour, gids_requests_takes_qos)
   EXPECT_EQ(RMW_RET_OK, rmw_service_server_is_available(node, client, &available));
   EXPECT_TRUE(available);
 
-  // Actual QoS = requested QoS, BEST_AVAILABLE included.
+  // Actual QoS: concrete policies kept as requested, BEST_AVAILABLE resolved (a publisher
+  // makes it TRANSIENT_LOCAL), what was set kept.
   rmw_qos_profile_t requested = rmw_qos_profile_sensor_data;
   requested.durability = RMW_QOS_POLICY_DURABILITY_BEST_AVAILABLE;
   requested.deadline = {1, 500};
@@ -242,12 +250,13 @@ TEST_F(ApiBehaviour, gids_requests_takes_qos)
   EXPECT_EQ(requested.history, actual.history);
   EXPECT_EQ(requested.depth, actual.depth);
   EXPECT_EQ(requested.reliability, actual.reliability);
-  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_BEST_AVAILABLE, actual.durability);
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL, actual.durability);
   EXPECT_EQ(1u, actual.deadline.sec);
   EXPECT_EQ(500u, actual.deadline.nsec);
   EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, pub));
   ASSERT_EQ(RMW_RET_OK, rmw_service_request_subscription_get_actual_qos(service, &actual));
   EXPECT_EQ(rmw_qos_profile_services_default.depth, actual.depth);
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_RELIABLE, actual.reliability);
 
   // Content filter round trip.
   rmw_subscription_content_filter_options_t filter =
@@ -313,6 +322,114 @@ TEST_F(ApiBehaviour, content_filter_is_read_into_an_uninitialised_struct)
   EXPECT_EQ(0u, got.expression_parameters.size);
   EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&got, &alloc));
   EXPECT_EQ(RMW_RET_OK, rmw_destroy_subscription(node, sub));
+}
+
+TEST_F(ApiBehaviour, actual_qos_is_resolved_and_the_capture_keeps_the_request)
+{
+  // test_publisher.cpp:246-252, test_subscription.cpp:254-262: what was left to the
+  // middleware comes back concrete, as rmw_fastrtps_cpp resolves it.
+  const rmw_qos_profile_t sysdef = rmw_qos_profile_system_default;
+  rmw_publisher_t * pub = rmw_create_publisher(node, msg_ts, "/sysdef", &sysdef, &pub_options);
+  ASSERT_NE(nullptr, pub);
+  rmw_qos_profile_t actual = rmw_qos_profile_unknown;
+  ASSERT_EQ(RMW_RET_OK, rmw_publisher_get_actual_qos(pub, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_HISTORY_KEEP_LAST, actual.history);
+  EXPECT_EQ(1u, actual.depth);
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_RELIABLE, actual.reliability);  // DataWriter default
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL, actual.durability);
+  EXPECT_EQ(RMW_QOS_POLICY_LIVELINESS_AUTOMATIC, actual.liveliness);
+  EXPECT_TRUE(is_infinite(actual.deadline));
+  EXPECT_TRUE(is_infinite(actual.lifespan));
+  EXPECT_TRUE(is_infinite(actual.liveliness_lease_duration));
+
+  rmw_subscription_t * sub =
+    rmw_create_subscription(node, msg_ts, "/sysdef", &sysdef, &sub_options);
+  ASSERT_NE(nullptr, sub);
+  actual = rmw_qos_profile_unknown;
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_get_actual_qos(sub, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_HISTORY_KEEP_LAST, actual.history);
+  EXPECT_EQ(1u, actual.depth);
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT, actual.reliability);  // DataReader default
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_VOLATILE, actual.durability);
+  EXPECT_EQ(RMW_QOS_POLICY_LIVELINESS_AUTOMATIC, actual.liveliness);
+  // Resolved this way the two match, as on Fast DDS.
+  size_t count = 0;
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(1u, count);
+
+  // A depth that was asked for stays; so does a concrete policy.
+  rmw_qos_profile_t some = sysdef;
+  some.depth = 7;
+  some.reliability = RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
+  rmw_publisher_t * pub7 = rmw_create_publisher(node, msg_ts, "/sysdef7", &some, &pub_options);
+  ASSERT_NE(nullptr, pub7);
+  ASSERT_EQ(RMW_RET_OK, rmw_publisher_get_actual_qos(pub7, &actual));
+  EXPECT_EQ(7u, actual.depth);
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT, actual.reliability);
+
+  // BEST_AVAILABLE (rmw_dds_common rules): a subscription follows the publishers already there
+  // (the one here: BEST_EFFORT, TRANSIENT_LOCAL as resolved), a publisher is RELIABLE +
+  // TRANSIENT_LOCAL.
+  const rmw_qos_profile_t best = rmw_qos_profile_best_available;
+  rmw_subscription_t * best_sub =
+    rmw_create_subscription(node, msg_ts, "/sysdef7", &best, &sub_options);
+  ASSERT_NE(nullptr, best_sub);
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_get_actual_qos(best_sub, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT, actual.reliability);
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL, actual.durability);
+  EXPECT_EQ(RMW_QOS_POLICY_LIVELINESS_AUTOMATIC, actual.liveliness);
+  EXPECT_TRUE(is_infinite(actual.deadline));  // the publisher's (infinite) is the largest
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_count_matched_publishers(best_sub, &count));
+  EXPECT_EQ(1u, count);
+  rmw_publisher_t * best_pub =
+    rmw_create_publisher(node, msg_ts, "/best_alone", &best, &pub_options);
+  ASSERT_NE(nullptr, best_pub);
+  ASSERT_EQ(RMW_RET_OK, rmw_publisher_get_actual_qos(best_pub, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_RELIABLE, actual.reliability);
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL, actual.durability);
+  EXPECT_EQ(RMW_QOS_POLICY_LIVELINESS_AUTOMATIC, actual.liveliness);
+
+  // Services and clients: requests are written by the client and read by the service.
+  rmw_client_t * cli = rmw_create_client(node, srv_ts, "/sysdef_srv", &sysdef);
+  ASSERT_NE(nullptr, cli);
+  rmw_service_t * srv = rmw_create_service(node, srv_ts, "/sysdef_srv", &sysdef);
+  ASSERT_NE(nullptr, srv);
+  ASSERT_EQ(RMW_RET_OK, rmw_client_request_publisher_get_actual_qos(cli, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_RELIABLE, actual.reliability);
+  EXPECT_EQ(RMW_QOS_POLICY_HISTORY_KEEP_LAST, actual.history);
+  ASSERT_EQ(RMW_RET_OK, rmw_client_response_subscription_get_actual_qos(cli, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT, actual.reliability);
+  ASSERT_EQ(RMW_RET_OK, rmw_service_request_subscription_get_actual_qos(srv, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_VOLATILE, actual.durability);
+  ASSERT_EQ(RMW_RET_OK, rmw_service_response_publisher_get_actual_qos(srv, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL, actual.durability);
+
+  // The graph and the capture keep what the node asked for.
+  rcutils_allocator_t alloc = rcutils_get_default_allocator();
+  rmw_topic_endpoint_info_array_t infos = rmw_get_zero_initialized_topic_endpoint_info_array();
+  ASSERT_EQ(RMW_RET_OK, rmw_get_publishers_info_by_topic(node, &alloc, "/sysdef", false, &infos));
+  ASSERT_EQ(1u, infos.size);
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_SYSTEM_DEFAULT, infos.info_array[0].qos_profile.reliability);
+  EXPECT_EQ(RMW_RET_OK, rmw_topic_endpoint_info_array_fini(&infos, &alloc));
+  std::remove(capture_path().c_str());
+  ASSERT_EQ(RMW_RET_OK, rmw_shutdown(&context));
+  const std::string text = read_file(capture_path());
+  const size_t at = text.find("\"name\": \"/sysdef\"");
+  ASSERT_NE(std::string::npos, at) << text;
+  const size_t next = text.find("\"seq\":", at);
+  const std::string entry = text.substr(at, next - at);
+  EXPECT_NE(std::string::npos, entry.find("\"reliability\": \"SYSTEM_DEFAULT\"")) << entry;
+  EXPECT_NE(std::string::npos, entry.find("\"durability\": \"SYSTEM_DEFAULT\"")) << entry;
+  EXPECT_NE(std::string::npos, entry.find("\"history\": \"SYSTEM_DEFAULT\"")) << entry;
+  unlink(capture_path().c_str());
+
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_service(node, srv));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_client(node, cli));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, best_pub));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_subscription(node, best_sub));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, pub7));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_subscription(node, sub));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, pub));
 }
 
 TEST_F(ApiBehaviour, cpp_and_action_type_supports_are_recorded)

@@ -74,7 +74,8 @@ struct EndpointImpl
   uint64_t record_id = 0;
   const NodeImpl * node = nullptr;
   ResolvedType type;
-  rmw_qos_profile_t qos{};
+  rmw_qos_profile_t qos{};         // as requested (recorded as such)
+  rmw_qos_profile_t actual_qos{};  // as a middleware resolves it (see endpoint_common.hpp)
   Gid gid{};
 };
 

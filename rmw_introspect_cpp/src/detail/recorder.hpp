@@ -56,7 +56,8 @@ struct EndpointRecord
   std::string type;
   std::string type_hash;
   std::string typesupport;
-  rmw_qos_profile_t qos{};
+  rmw_qos_profile_t qos{};         // as requested: what the capture reports
+  rmw_qos_profile_t actual_qos{};  // as resolved (rmw_*_get_actual_qos): what matching uses
   Gid gid{};
   CreationTime created;
   bool destroyed = false;  // destroyed while the process was running (reported)

@@ -19,23 +19,6 @@
 using rmw_introspect::kIdentifier;
 using rmw_introspect::PublisherImpl;
 
-namespace
-{
-size_t count_local(const std::string & topic, rmw_introspect::EndpointKind kind)
-{
-  size_t count = 0;
-  rmw_introspect::Runtime::instance().recorder().visit(
-    [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
-      for (const auto & e : endpoints) {
-        if (e.alive && e.kind == kind && e.name == topic) {
-          ++count;
-        }
-      }
-    });
-  return count;
-}
-}  // namespace
-
 extern "C"
 {
 
@@ -143,7 +126,8 @@ rmw_ret_t rmw_publisher_count_matched_subscriptions(
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(subscription_count, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<const PublisherImpl *>(publisher->data);
-  *subscription_count = count_local(impl->name, rmw_introspect::EndpointKind::Subscription);
+  *subscription_count = rmw_introspect::count_matched(
+    rmw_introspect::EndpointKind::Subscription, impl->name, impl->type.name, impl->actual_qos);
   rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }

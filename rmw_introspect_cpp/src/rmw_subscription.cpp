@@ -98,17 +98,8 @@ rmw_ret_t rmw_subscription_count_matched_publishers(
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(publisher_count, RMW_RET_INVALID_ARGUMENT);
   const auto * impl = static_cast<const SubscriptionImpl *>(subscription->data);
-  size_t count = 0;
-  rmw_introspect::Runtime::instance().recorder().visit(
-    [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
-      for (const auto & e : endpoints) {
-        if (e.alive && e.kind == rmw_introspect::EndpointKind::Publisher &&
-        e.name == impl->name)
-        {
-          ++count;
-        }
-      }
-    });
+  size_t count = rmw_introspect::count_matched(
+    rmw_introspect::EndpointKind::Publisher, impl->name, impl->type.name, impl->actual_qos);
   // With RMW_INTROSPECT_SERVER_AVAILABLE=1 every server a client waits for is "there". An
   // action server is there for rcl_action_server_is_available() only when its feedback and
   // status publishers are matched too, so those two topics count the simulated server.

@@ -432,6 +432,67 @@ TEST_F(ApiBehaviour, actual_qos_is_resolved_and_the_capture_keeps_the_request)
   EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, pub));
 }
 
+TEST_F(ApiBehaviour, matched_counts_follow_qos_compatibility_and_type)
+{
+  // test_publisher.cpp:413, test_subscription.cpp:424: BEST_EFFORT publisher, RELIABLE
+  // subscription in one process: no match on either side.
+  rmw_qos_profile_t best_effort = rmw_qos_profile_default;
+  best_effort.reliability = RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
+  rmw_qos_profile_t reliable = rmw_qos_profile_default;
+  rmw_publisher_t * pub = rmw_create_publisher(node, msg_ts, "/m", &best_effort, &pub_options);
+  ASSERT_NE(nullptr, pub);
+  rmw_subscription_t * rsub = rmw_create_subscription(node, msg_ts, "/m", &reliable, &sub_options);
+  ASSERT_NE(nullptr, rsub);
+  size_t count = 9;
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(0u, count);
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_count_matched_publishers(rsub, &count));
+  EXPECT_EQ(0u, count);
+  // ... still both in the graph.
+  EXPECT_EQ(RMW_RET_OK, rmw_count_subscribers(node, "/m", &count));
+  EXPECT_EQ(1u, count);
+
+  // A BEST_EFFORT subscription matches.
+  rmw_subscription_t * bsub =
+    rmw_create_subscription(node, msg_ts, "/m", &best_effort, &sub_options);
+  ASSERT_NE(nullptr, bsub);
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(1u, count);
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_count_matched_publishers(bsub, &count));
+  EXPECT_EQ(1u, count);
+
+  // Other incompatibilities: a deadline the publisher does not offer, TRANSIENT_LOCAL asked of
+  // a VOLATILE publisher.
+  rmw_qos_profile_t deadline = best_effort;
+  deadline.deadline = {1, 0};
+  rmw_subscription_t * dsub = rmw_create_subscription(node, msg_ts, "/m", &deadline, &sub_options);
+  ASSERT_NE(nullptr, dsub);
+  rmw_qos_profile_t latched = best_effort;
+  latched.durability = RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL;
+  rmw_subscription_t * lsub = rmw_create_subscription(node, msg_ts, "/m", &latched, &sub_options);
+  ASSERT_NE(nullptr, lsub);
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(1u, count);
+
+  // Another type on the same topic name does not match either.
+  const rosidl_message_type_support_t * other_ts =
+    ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, action, Fibonacci_FeedbackMessage);
+  rmw_subscription_t * tsub =
+    rmw_create_subscription(node, other_ts, "/m", &best_effort, &sub_options);
+  ASSERT_NE(nullptr, tsub);
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(1u, count);
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_count_matched_publishers(tsub, &count));
+  EXPECT_EQ(0u, count);
+
+  for (rmw_subscription_t * s : {rsub, bsub, dsub, lsub, tsub}) {
+    EXPECT_EQ(RMW_RET_OK, rmw_destroy_subscription(node, s));
+  }
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(0u, count);
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, pub));
+}
+
 TEST_F(ApiBehaviour, cpp_and_action_type_supports_are_recorded)
 {
   const rosidl_message_type_support_t * cpp_ts =

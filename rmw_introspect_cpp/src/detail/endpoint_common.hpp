@@ -134,6 +134,29 @@ inline rmw_qos_profile_t resolve_actual_qos(
   return resolve_system_defaults(qos, topic_side(kind));
 }
 
+/// How many endpoints of `peer_kind` (Subscription for a publisher, Publisher for a
+/// subscription) in this process match an endpoint on `topic` of `type` with `actual_qos`: the
+/// same topic name and type, and QoS without an incompatibility (rmw_qos_profile_check_compatible
+/// semantics, on both sides' actual QoS). Allocates nothing.
+inline size_t count_matched(
+  EndpointKind peer_kind, const std::string & topic, const std::string & type,
+  const rmw_qos_profile_t & actual_qos)
+{
+  size_t count = 0;
+  Runtime::instance().recorder().visit(
+    [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
+      for (const auto & e : endpoints) {
+        if (!e.alive || e.kind != peer_kind || e.name != topic || e.type != type) {
+          continue;
+        }
+        const bool match = peer_kind == EndpointKind::Subscription ?
+          qos_match(actual_qos, e.actual_qos) : qos_match(e.actual_qos, actual_qos);
+        count += match ? 1u : 0u;
+      }
+    });
+  return count;
+}
+
 /// Record an endpoint of `node` and return its record id (0 when the node is unknown).
 inline uint64_t record_endpoint(
   EndpointKind kind, const NodeImpl * node, const std::string & name, const ResolvedType & type,

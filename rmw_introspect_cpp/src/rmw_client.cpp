@@ -5,6 +5,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "rmw/rmw.h"
 
@@ -16,6 +17,38 @@
 
 using rmw_introspect::ClientImpl;
 using rmw_introspect::kIdentifier;
+
+namespace
+{
+
+/// A live service of this process with the client's name and type whose request reader
+/// matches the client's request writer and whose response writer matches the client's
+/// response reader (actual QoS, rmw_qos_profile_check_compatible rules). Allocates nothing.
+bool local_server_matches(const ClientImpl & client)
+{
+  using rmw_introspect::QosSide;
+  using rmw_introspect::service_actual_qos;
+  const rmw_qos_profile_t request_writer = service_actual_qos(client.qos, QosSide::kWriter);
+  const rmw_qos_profile_t response_reader = service_actual_qos(client.qos, QosSide::kReader);
+  bool found = false;
+  rmw_introspect::Runtime::instance().recorder().visit(
+    [&](const std::vector<rmw_introspect::NodeRecord> &,
+    const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
+      for (const auto & e : endpoints) {
+        if (found || !e.alive || e.kind != rmw_introspect::EndpointKind::Service ||
+        e.name != client.name || e.type != client.type.name)
+        {
+          continue;
+        }
+        found =
+        rmw_introspect::qos_match(request_writer, service_actual_qos(e.qos, QosSide::kReader)) &&
+        rmw_introspect::qos_match(service_actual_qos(e.qos, QosSide::kWriter), response_reader);
+      }
+    });
+  return found;
+}
+
+}  // namespace
 
 extern "C"
 {
@@ -122,9 +155,12 @@ rmw_ret_t rmw_service_server_is_available(
   RMWI_CHECK_HANDLE_OR(client, data, RMW_RET_ERROR, RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   RMW_CHECK_ARGUMENT_FOR_NULL(is_available, RMW_RET_ERROR);
   // Answer "available" so that clients go on to what they do after wait_for_service()
-  // (and create the entities that follow); RMW_INTROSPECT_SERVER_AVAILABLE=0 says no.
-  *is_available = rmw_introspect::Runtime::instance().config().server_available;
-  rmw_introspect::Runtime::instance().on_activity();
+  // (and create the entities that follow). With RMW_INTROSPECT_SERVER_AVAILABLE=0, answer as a
+  // real middleware would from what it can see: a server of this process.
+  rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
+  *is_available = runtime.config().server_available ||
+    local_server_matches(*static_cast<const ClientImpl *>(client->data));
+  runtime.on_activity();
   return RMW_RET_OK;
 }
 

@@ -11,7 +11,8 @@ nothing upstream is kept in this repository. Steps:
    ``${RMW_CONFORMANCE_BUILD:-${RMW_INTROSPECT_CACHE:-~/.cache/pytest-rmw-introspect}/conformance}``,
    against the ROS 2 prefix of this venv (the PyPI wheels) or a sourced /opt/ros/jazzy;
 2. run every binary in each configuration, with a per-run timeout, in its own process group:
-     introspect          LD_PRELOAD=<our library>, RMW_IMPLEMENTATION=rmw_introspect_cpp
+     introspect          LD_PRELOAD=<our library>, RMW_IMPLEMENTATION=rmw_introspect_cpp,
+                         RMW_INTROSPECT_SERVER_AVAILABLE=0 (no simulated servers)
      introspect+memcheck the same plus osrf_testing_tools_cpp's libmemory_tools_interpose.so
      fastdds             no preload (the baseline: the suite is sound here)
      fastdds+memcheck    the baseline with the memory checks (only with --baseline-memcheck)
@@ -298,7 +299,7 @@ def run_binary(exe: Path, config: str, env: dict[str, str], timeout: float, work
 
 
 def make_env(config: str, base: dict[str, str], library: str | None, interpose: Path,
-             domain: int) -> dict[str, str]:
+             domain: int, workdir: Path) -> dict[str, str]:
     env = dict(base)
     for key in ("LD_PRELOAD", "RMW_IMPLEMENTATION", "RMW_INTROSPECT_OUTPUT"):
         env.pop(key, None)
@@ -312,6 +313,11 @@ def make_env(config: str, base: dict[str, str], library: str | None, interpose: 
     if config.startswith("introspect"):
         preload.append(str(library))
         env["RMW_IMPLEMENTATION"] = "rmw_introspect_cpp"
+        # No simulated servers: the suite expects a client to see only the servers of its own
+        # process (test_client.cpp service_server_is_available_good_args).
+        env["RMW_INTROSPECT_SERVER_AVAILABLE"] = "0"
+        # Each binary's capture goes to the run's temporary directory, not /tmp.
+        env["RMW_INTROSPECT_OUTPUT"] = str(workdir / "rmw_introspect_<pid>.json")
     else:
         env["RMW_IMPLEMENTATION"] = "rmw_fastrtps_cpp"
     if preload:
@@ -453,7 +459,8 @@ def main(argv: list[str] | None = None) -> int:
                 if not exe.is_file():
                     r = BinaryResult(binary, config, notes=["binary not built"])
                 else:
-                    r = run_binary(exe, config, make_env(config, base, library, interpose, domain),
+                    r = run_binary(exe, config,
+                                   make_env(config, base, library, interpose, domain, workdir),
                                    args.timeout, workdir)
                 results[(binary, config)] = r
                 log(f"{binary:<34} {config:<20} " + " ".join(

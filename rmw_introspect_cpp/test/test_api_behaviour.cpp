@@ -19,9 +19,12 @@
 #include "rmw/get_service_names_and_types.h"
 #include "rmw/get_topic_endpoint_info.h"
 #include "rmw/get_topic_names_and_types.h"
+#include "rmw/events_statuses/matched.h"
 #include "rmw/names_and_types.h"
+#include "rmw/serialized_message.h"
 #include "rmw/subscription_content_filter_options.h"
 #include "rmw/topic_endpoint_info_array.h"
+#include "rosidl_runtime_c/string_functions.h"
 #include "rosidl_typesupport_cpp/message_type_support.hpp"
 #include "std_msgs/msg/string.hpp"
 #include "test_msgs/action/fibonacci.h"
@@ -491,6 +494,51 @@ TEST_F(ApiBehaviour, matched_counts_follow_qos_compatibility_and_type)
   EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
   EXPECT_EQ(0u, count);
   EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, pub));
+}
+
+TEST_F(ApiBehaviour, without_delivery_nothing_arrives_but_serialization_works)
+{
+  // RMW_INTROSPECT_DELIVERY is off by default: publishing drops, nothing is ever ready.
+  std_msgs__msg__String msg;
+  std_msgs__msg__String__init(&msg);
+  ASSERT_TRUE(rosidl_runtime_c__String__assign(&msg.data, "round trip"));
+  ASSERT_EQ(RMW_RET_OK, rmw_publish(publisher, &msg, nullptr));
+  std_msgs__msg__String out;
+  std_msgs__msg__String__init(&out);
+  bool taken = true;
+  ASSERT_EQ(RMW_RET_OK, rmw_take(subscription, &out, &taken, nullptr));
+  EXPECT_FALSE(taken);
+  void * storage[1] = {subscription->data};
+  rmw_subscriptions_t subs{1, storage};
+  rmw_time_t timeout{0, 10000000};
+  EXPECT_EQ(
+    RMW_RET_TIMEOUT, rmw_wait(&subs, nullptr, nullptr, nullptr, nullptr, wait_set, &timeout));
+  EXPECT_EQ(nullptr, storage[0]);
+  rmw_event_t matched = rmw_get_zero_initialized_event();
+  ASSERT_EQ(RMW_RET_OK, rmw_publisher_event_init(&matched, publisher, RMW_EVENT_PUBLICATION_MATCHED));
+  rmw_matched_status_t status{};
+  EXPECT_EQ(RMW_RET_OK, rmw_take_event(&matched, &status, &taken));
+  EXPECT_FALSE(taken);
+  EXPECT_EQ(RMW_RET_OK, rmw_event_fini(&matched));
+
+  // rmw_serialize / rmw_deserialize: CDR through the type support, C or C++.
+  rcutils_allocator_t alloc = rcutils_get_default_allocator();
+  rmw_serialized_message_t bytes = rmw_get_zero_initialized_serialized_message();
+  ASSERT_EQ(RMW_RET_OK, rmw_serialized_message_init(&bytes, 0u, &alloc));
+  ASSERT_EQ(RMW_RET_OK, rmw_serialize(&msg, msg_ts, &bytes));
+  EXPECT_EQ(4u + 4u + 11u, bytes.buffer_length);  // header, length, "round trip\0"
+  ASSERT_EQ(RMW_RET_OK, rmw_deserialize(&bytes, msg_ts, &out));
+  EXPECT_STREQ("round trip", out.data.data);
+  std_msgs::msg::String cpp;
+  const rosidl_message_type_support_t * cpp_ts =
+    rosidl_typesupport_cpp::get_message_type_support_handle<std_msgs::msg::String>();
+  ASSERT_EQ(RMW_RET_OK, rmw_deserialize(&bytes, cpp_ts, &cpp));
+  EXPECT_EQ("round trip", cpp.data);
+  bytes.buffer_length = 6;  // truncated
+  EXPECT_RET_WITH_ERROR(RMW_RET_ERROR, rmw_deserialize(&bytes, msg_ts, &out));
+  EXPECT_EQ(RMW_RET_OK, rmw_serialized_message_fini(&bytes));
+  std_msgs__msg__String__fini(&out);
+  std_msgs__msg__String__fini(&msg);
 }
 
 TEST_F(ApiBehaviour, cpp_and_action_type_supports_are_recorded)

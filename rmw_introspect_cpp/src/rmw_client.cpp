@@ -1,18 +1,22 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Service clients: recorded on creation; requests get sequence numbers, never responses.
+// Service clients: recorded on creation; requests get sequence numbers and, with in-process
+// delivery, go to the matching services of this process, whose responses come back.
 
 #include <cstring>
 #include <memory>
 #include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rmw/rmw.h"
 
+#include "detail/cdr.hpp"
 #include "detail/common.hpp"
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/recorder.hpp"
+#include "detail/delivery.hpp"
 #include "detail/runtime.hpp"
 
 using rmw_introspect::ClientImpl;
@@ -70,7 +74,11 @@ rmw_client_t * rmw_create_client(
     return nullptr;
   }
   impl->handle.service_name = impl->name.c_str();
+  rmw_introspect::service_layouts(impl->type, &impl->request_layout, &impl->response_layout);
   rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Client);
+  if (rmw_introspect::Runtime::instance().config().delivery) {
+    rmw_introspect::Runtime::instance().delivery().add(impl.get());
+  }
   return &impl.release()->handle;
 }
 
@@ -79,6 +87,9 @@ rmw_ret_t rmw_destroy_client(rmw_node_t * node, rmw_client_t * client)
   RMWI_CHECK_HANDLE(node);
   RMWI_CHECK_HANDLE(client);
   std::unique_ptr<ClientImpl> impl(static_cast<ClientImpl *>(client->data));
+  if (rmw_introspect::Runtime::instance().config().delivery) {
+    rmw_introspect::Runtime::instance().delivery().remove(impl.get());
+  }
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Client, impl->name, impl->node);
   return RMW_RET_OK;
@@ -90,9 +101,22 @@ rmw_ret_t rmw_send_request(const rmw_client_t * client, const void * ros_request
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_request, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(sequence_id, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<ClientImpl *>(client->data);
+  rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
+  runtime.on_activity();
+  if (!runtime.config().delivery) {
+    *sequence_id = impl->next_sequence.fetch_add(1);
+    return RMW_RET_OK;  // the request is dropped; no response will come
+  }
+  // In-process delivery: to every matching service of this process.
+  std::vector<uint8_t> data;
+  std::string error;
+  if (!rmw_introspect::cdr_serialize(impl->request_layout, ros_request, &data, &error)) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("cannot serialize the request: %s", error.c_str());
+    return RMW_RET_ERROR;
+  }
   *sequence_id = impl->next_sequence.fetch_add(1);
-  rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;  // the request is dropped; no response will come
+  runtime.delivery().send_request(*impl, *sequence_id, std::move(data));
+  return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_take_response(
@@ -103,9 +127,9 @@ rmw_ret_t rmw_take_response(
   RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_response, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;
+  return rmw_introspect::take_response(
+    *static_cast<ClientImpl *>(client->data), request_header, ros_response, taken);
 }
 
 rmw_ret_t rmw_client_request_publisher_get_actual_qos(

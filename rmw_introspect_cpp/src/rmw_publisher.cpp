@@ -1,5 +1,6 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Publishers: recorded on creation; publishing accepts and drops.
+// Publishers: recorded on creation; publishing accepts and drops (or, with in-process
+// delivery, hands the message to the matching subscriptions of this process).
 
 #include <cstring>
 #include <memory>
@@ -10,10 +11,12 @@
 #include "rmw/get_network_flow_endpoints.h"
 #include "rmw/rmw.h"
 
+#include "detail/cdr.hpp"
 #include "detail/common.hpp"
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/recorder.hpp"
+#include "detail/delivery.hpp"
 #include "detail/runtime.hpp"
 
 using rmw_introspect::kIdentifier;
@@ -51,7 +54,11 @@ rmw_publisher_t * rmw_create_publisher(
   impl->handle.topic_name = impl->name.c_str();
   impl->handle.options = *publisher_options;
   impl->handle.can_loan_messages = false;
+  impl->layout = rmw_introspect::message_layout(impl->type);
   rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Publisher);
+  if (rmw_introspect::Runtime::instance().config().delivery) {
+    rmw_introspect::Runtime::instance().delivery().add(impl.get());
+  }
   return &impl.release()->handle;
 }
 
@@ -60,6 +67,9 @@ rmw_ret_t rmw_destroy_publisher(rmw_node_t * node, rmw_publisher_t * publisher)
   RMWI_CHECK_HANDLE(node);
   RMWI_CHECK_HANDLE(publisher);
   std::unique_ptr<PublisherImpl> impl(static_cast<PublisherImpl *>(publisher->data));
+  if (impl->delivered.load()) {
+    rmw_introspect::Runtime::instance().delivery().remove(impl.get());
+  }
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Publisher, impl->name, impl->node);
   return RMW_RET_OK;
@@ -72,8 +82,21 @@ rmw_ret_t rmw_publish(
   (void)allocation;
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;  // accepted and dropped: nothing leaves the process
+  rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
+  runtime.on_activity();
+  auto * impl = static_cast<PublisherImpl *>(publisher->data);
+  if (!impl->delivered.load()) {
+    return RMW_RET_OK;  // accepted and dropped: nothing leaves the process
+  }
+  // In-process delivery: to the matching subscriptions of this process, as CDR.
+  std::vector<uint8_t> data;
+  std::string error;
+  if (!rmw_introspect::cdr_serialize(impl->layout, ros_message, &data, &error)) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("cannot serialize the message: %s", error.c_str());
+    return RMW_RET_ERROR;
+  }
+  runtime.delivery().publish(*impl, ros_message, data.data(), data.size());
+  return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_publish_serialized_message(
@@ -83,7 +106,13 @@ rmw_ret_t rmw_publish_serialized_message(
   (void)allocation;
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
+  rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
+  runtime.on_activity();
+  auto * impl = static_cast<PublisherImpl *>(publisher->data);
+  if (impl->delivered.load() && serialized_message->buffer != nullptr) {
+    runtime.delivery().publish(
+      *impl, nullptr, serialized_message->buffer, serialized_message->buffer_length);
+  }
   return RMW_RET_OK;
 }
 

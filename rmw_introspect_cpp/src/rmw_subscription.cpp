@@ -1,5 +1,5 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Subscriptions: recorded on creation; nothing is ever received.
+// Subscriptions: recorded on creation; nothing is received unless in-process delivery is on.
 
 #include <cstring>
 #include <memory>
@@ -15,6 +15,9 @@
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/recorder.hpp"
+#include "detail/content_filter.hpp"
+#include "detail/delivery.hpp"
+#include "detail/log.hpp"
 #include "detail/runtime.hpp"
 
 using rmw_introspect::kIdentifier;
@@ -64,6 +67,7 @@ rmw_subscription_t * rmw_create_subscription(
   impl->handle.options.content_filter_options = nullptr;  // not owned by us
   impl->handle.can_loan_messages = false;
   impl->handle.is_cft_enabled = false;
+  impl->layout = rmw_introspect::message_layout(impl->type);
   if (subscription_options->content_filter_options != nullptr &&
     subscription_options->content_filter_options->filter_expression != nullptr)
   {
@@ -74,6 +78,9 @@ rmw_subscription_t * rmw_create_subscription(
     }
   }
   rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Subscription);
+  if (rmw_introspect::Runtime::instance().config().delivery) {
+    rmw_introspect::Runtime::instance().delivery().add(impl.get());
+  }
   return &impl.release()->handle;
 }
 
@@ -82,6 +89,9 @@ rmw_ret_t rmw_destroy_subscription(rmw_node_t * node, rmw_subscription_t * subsc
   RMWI_CHECK_HANDLE(node);
   RMWI_CHECK_HANDLE(subscription);
   std::unique_ptr<SubscriptionImpl> impl(static_cast<SubscriptionImpl *>(subscription->data));
+  if (impl->delivered.load()) {
+    rmw_introspect::Runtime::instance().delivery().remove(impl.get());
+  }
   if (impl->has_filter) {
     rcutils_allocator_t allocator = rcutils_get_default_allocator();
     rmw_introspect::ignore_result(
@@ -134,6 +144,7 @@ rmw_ret_t rmw_subscription_set_content_filter(
     rmw_introspect::ignore_result(
       rmw_subscription_content_filter_options_fini(&impl->filter, &allocator));
     impl->has_filter = false;
+    impl->compiled_filter.reset();
     subscription->is_cft_enabled = false;
   }
   if (options->filter_expression == nullptr || options->filter_expression[0] == '\0') {
@@ -147,6 +158,22 @@ rmw_ret_t rmw_subscription_set_content_filter(
   }
   impl->has_filter = true;
   subscription->is_cft_enabled = true;
+  if (rmw_introspect::Runtime::instance().config().delivery) {
+    // Filtering applies to in-process delivery. An expression that does not compile (a
+    // syntax this filter does not know) lets everything through rather than failing a
+    // subscription the node expects to have.
+    std::vector<std::string> parameters;
+    for (size_t i = 0; i < impl->filter.expression_parameters.size; ++i) {
+      parameters.emplace_back(impl->filter.expression_parameters.data[i]);
+    }
+    std::string error;
+    impl->compiled_filter = rmw_introspect::ContentFilter::compile(
+      impl->layout, impl->filter.filter_expression, parameters, &error);
+    if (!impl->compiled_filter) {
+      rmw_introspect::verbose_log(
+        "content filter of %s not applied: %s", impl->name.c_str(), error.c_str());
+    }
+  }
   return RMW_RET_OK;
 }
 
@@ -221,9 +248,9 @@ rmw_ret_t rmw_take(
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;
+  return rmw_introspect::take_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), ros_message, taken, nullptr);
 }
 
 rmw_ret_t rmw_take_with_info(
@@ -235,9 +262,9 @@ rmw_ret_t rmw_take_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
-  *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;
+  return rmw_introspect::take_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), ros_message, taken, message_info);
 }
 
 rmw_ret_t rmw_take_sequence(
@@ -266,6 +293,21 @@ rmw_ret_t rmw_take_sequence(
   message_sequence->size = 0u;
   message_info_sequence->size = 0u;
   rmw_introspect::Runtime::instance().on_activity();
+  auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
+  for (size_t i = 0; i < count; ++i) {
+    bool one = false;
+    const rmw_ret_t ret = rmw_introspect::take_message(
+      *impl, message_sequence->data[i], &one, &message_info_sequence->data[i]);
+    if (ret != RMW_RET_OK) {
+      return ret;
+    }
+    if (!one) {
+      break;
+    }
+    ++*taken;
+    message_sequence->size = *taken;
+    message_info_sequence->size = *taken;
+  }
   return RMW_RET_OK;
 }
 
@@ -277,9 +319,9 @@ rmw_ret_t rmw_take_serialized_message(
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;
+  return rmw_introspect::take_serialized_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), serialized_message, taken, nullptr);
 }
 
 rmw_ret_t rmw_take_serialized_message_with_info(
@@ -291,9 +333,10 @@ rmw_ret_t rmw_take_serialized_message_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
-  *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;
+  return rmw_introspect::take_serialized_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), serialized_message, taken,
+    message_info);
 }
 
 rmw_ret_t rmw_take_loaned_message(

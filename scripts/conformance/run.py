@@ -12,7 +12,8 @@ nothing upstream is kept in this repository. Steps:
    against the ROS 2 prefix of this venv (the PyPI wheels) or a sourced /opt/ros/jazzy;
 2. run every binary in each configuration, with a per-run timeout, in its own process group:
      introspect          LD_PRELOAD=<our library>, RMW_IMPLEMENTATION=rmw_introspect_cpp,
-                         RMW_INTROSPECT_SERVER_AVAILABLE=0 (no simulated servers)
+                         RMW_INTROSPECT_SERVER_AVAILABLE=0 (no simulated servers),
+                         RMW_INTROSPECT_DELIVERY=1 (in-process delivery)
      introspect+memcheck the same plus osrf_testing_tools_cpp's libmemory_tools_interpose.so
      fastdds             no preload (the baseline: the suite is sound here)
      fastdds+memcheck    the baseline with the memory checks (only with --baseline-memcheck)
@@ -316,6 +317,9 @@ def make_env(config: str, base: dict[str, str], library: str | None, interpose: 
         # No simulated servers: the suite expects a client to see only the servers of its own
         # process (test_client.cpp service_server_is_available_good_args).
         env["RMW_INTROSPECT_SERVER_AVAILABLE"] = "0"
+        # In-process delivery: the suite publishes, calls services and waits for matched
+        # events inside one process.
+        env["RMW_INTROSPECT_DELIVERY"] = "1"
         # Each binary's capture goes to the run's temporary directory, not /tmp.
         env["RMW_INTROSPECT_OUTPUT"] = str(workdir / "rmw_introspect_<pid>.json")
     else:

@@ -4,6 +4,8 @@
 
 #include <atomic>
 #include <cstdint>
+#include <deque>
+#include <memory>
 #include <mutex>
 #include <string>
 
@@ -13,6 +15,9 @@
 #include "rmw/subscription_content_filter_options.h"
 #include "rmw/types.h"
 
+#include "detail/cdr.hpp"
+#include "detail/content_filter.hpp"
+#include "detail/inbox.hpp"
 #include "detail/recorder.hpp"
 #include "detail/typesupport.hpp"
 #include "detail/wait_hub.hpp"
@@ -27,7 +32,8 @@ struct ContextImpl
   std::atomic<size_t> node_count{0};
 };
 
-/// A stored "on new data" / event callback. Never called: nothing ever arrives.
+/// A stored "on new data" / event callback. Called only with in-process delivery
+/// (RMW_INTROSPECT_DELIVERY=1): new messages, requests, responses, matched changes.
 struct Callback
 {
   std::mutex mutex;
@@ -39,6 +45,14 @@ struct Callback
     callback = cb;
     user_data = data;
   }
+  /// Call it (if set) with `count` new events.
+  void notify(size_t count)
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (callback != nullptr) {
+      callback(user_data, count);
+    }
+  }
 };
 
 /// Publishers and subscriptions are the targets of rmw_event_t::data.
@@ -46,6 +60,8 @@ struct EventSource
 {
   bool is_publisher = false;
   Callback event_callbacks[RMW_EVENT_INVALID];
+  MatchedState matched;  // PUBLICATION_MATCHED / SUBSCRIPTION_MATCHED (delivery only)
+  std::atomic<bool> delivered{false};  // registered with the Delivery: events are live
 };
 
 struct GuardConditionImpl
@@ -81,6 +97,10 @@ struct EndpointImpl
 
 struct PublisherImpl : EventSource, EndpointImpl<rmw_publisher_t>
 {
+  MessageLayout layout;                 // the caller's type support (C or C++)
+  std::atomic<int64_t> next_sequence{1};  // publication sequence numbers
+  std::mutex history_mutex;             // TRANSIENT_LOCAL: the last `depth` samples
+  std::deque<Sample> history;
 };
 
 struct SubscriptionImpl : EventSource, EndpointImpl<rmw_subscription_t>
@@ -89,17 +109,27 @@ struct SubscriptionImpl : EventSource, EndpointImpl<rmw_subscription_t>
   std::mutex filter_mutex;
   bool has_filter = false;
   rmw_subscription_content_filter_options_t filter{};
+  std::unique_ptr<ContentFilter> compiled_filter;  // NULL: the expression did not compile
+  MessageLayout layout;
+  Inbox inbox;
+  std::atomic<int64_t> next_reception{1};
 };
 
 struct ServiceImpl : EndpointImpl<rmw_service_t>
 {
   Callback on_new_request;
+  MessageLayout request_layout;
+  MessageLayout response_layout;
+  Inbox requests;
 };
 
 struct ClientImpl : EndpointImpl<rmw_client_t>
 {
   std::atomic<int64_t> next_sequence{1};
   Callback on_new_response;
+  MessageLayout request_layout;
+  MessageLayout response_layout;
+  Inbox responses;
 };
 
 struct WaitSetImpl

@@ -53,10 +53,11 @@ rmw_publisher_t * rmw_create_publisher(
   impl->is_publisher = true;
   impl->handle.topic_name = impl->name.c_str();
   impl->handle.options = *publisher_options;
-  impl->handle.can_loan_messages = false;
   impl->layout = rmw_introspect::message_layout(impl->type);
+  const bool delivery = rmw_introspect::Runtime::instance().config().delivery;
+  impl->handle.can_loan_messages = delivery && rmw_introspect::can_loan(impl->layout);
   rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Publisher);
-  if (rmw_introspect::Runtime::instance().config().delivery) {
+  if (delivery) {
     rmw_introspect::Runtime::instance().delivery().add(impl.get());
   }
   return &impl.release()->handle;
@@ -70,6 +71,7 @@ rmw_ret_t rmw_destroy_publisher(rmw_node_t * node, rmw_publisher_t * publisher)
   if (impl->delivered.load()) {
     rmw_introspect::Runtime::instance().delivery().remove(impl.get());
   }
+  rmw_introspect::free_loans(impl->loans, impl->layout);
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Publisher, impl->name, impl->node);
   return RMW_RET_OK;
@@ -124,8 +126,12 @@ rmw_ret_t rmw_borrow_loaned_message(
   RMWI_CHECK_CAN_LOAN(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(type_support, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  if (*ros_message != nullptr) {
+    RMW_SET_ERROR_MSG("ros_message argument must point to a null pointer");
+    return RMW_RET_INVALID_ARGUMENT;
+  }
+  return rmw_introspect::borrow_loaned_message(
+    *static_cast<PublisherImpl *>(publisher->data), ros_message);
 }
 
 rmw_ret_t rmw_publish_loaned_message(
@@ -135,8 +141,9 @@ rmw_ret_t rmw_publish_loaned_message(
   RMWI_CHECK_HANDLE(publisher);
   RMWI_CHECK_CAN_LOAN(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  rmw_introspect::Runtime::instance().on_activity();
+  return rmw_introspect::publish_loaned_message(
+    *static_cast<PublisherImpl *>(publisher->data), ros_message);
 }
 
 rmw_ret_t rmw_return_loaned_message_from_publisher(
@@ -145,8 +152,8 @@ rmw_ret_t rmw_return_loaned_message_from_publisher(
   RMWI_CHECK_HANDLE(publisher);
   RMWI_CHECK_CAN_LOAN(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  auto * impl = static_cast<PublisherImpl *>(publisher->data);
+  return rmw_introspect::return_loaned_message(impl->loans, impl->layout, loaned_message);
 }
 
 rmw_ret_t rmw_publisher_count_matched_subscriptions(

@@ -65,9 +65,10 @@ rmw_subscription_t * rmw_create_subscription(
   impl->handle.topic_name = impl->name.c_str();
   impl->handle.options = *subscription_options;
   impl->handle.options.content_filter_options = nullptr;  // not owned by us
-  impl->handle.can_loan_messages = false;
   impl->handle.is_cft_enabled = false;
   impl->layout = rmw_introspect::message_layout(impl->type);
+  impl->handle.can_loan_messages = rmw_introspect::Runtime::instance().config().delivery &&
+    rmw_introspect::can_loan(impl->layout);
   if (subscription_options->content_filter_options != nullptr &&
     subscription_options->content_filter_options->filter_expression != nullptr)
   {
@@ -92,6 +93,7 @@ rmw_ret_t rmw_destroy_subscription(rmw_node_t * node, rmw_subscription_t * subsc
   if (impl->delivered.load()) {
     rmw_introspect::Runtime::instance().delivery().remove(impl.get());
   }
+  rmw_introspect::free_loans(impl->loans, impl->layout);
   if (impl->has_filter) {
     rcutils_allocator_t allocator = rcutils_get_default_allocator();
     rmw_introspect::ignore_result(
@@ -348,8 +350,9 @@ rmw_ret_t rmw_take_loaned_message(
   RMWI_CHECK_CAN_LOAN(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  rmw_introspect::Runtime::instance().on_activity();
+  return rmw_introspect::take_loaned_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), loaned_message, taken, nullptr);
 }
 
 rmw_ret_t rmw_take_loaned_message_with_info(
@@ -362,8 +365,9 @@ rmw_ret_t rmw_take_loaned_message_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  rmw_introspect::Runtime::instance().on_activity();
+  return rmw_introspect::take_loaned_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), loaned_message, taken, message_info);
 }
 
 rmw_ret_t rmw_return_loaned_message_from_subscription(
@@ -372,8 +376,8 @@ rmw_ret_t rmw_return_loaned_message_from_subscription(
   RMWI_CHECK_HANDLE(subscription);
   RMWI_CHECK_CAN_LOAN(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
+  return rmw_introspect::return_loaned_message(impl->loans, impl->layout, loaned_message);
 }
 
 rmw_ret_t rmw_take_dynamic_message(

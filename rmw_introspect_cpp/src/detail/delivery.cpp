@@ -13,9 +13,8 @@
 #include "rmw/error_handling.h"
 #include "rmw/event.h"
 #include "rmw/serialized_message.h"
-#include "rosidl_runtime_c/message_initialization.h"
-#include "rosidl_runtime_cpp/message_initialization.hpp"
 
+#include "detail/common.hpp"
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/identifier.hpp"
@@ -74,45 +73,14 @@ class TemporaryMessage
 {
 public:
   explicit TemporaryMessage(const MessageLayout & layout)
-  : layout_(layout)
-  {
-    if (layout.is_cpp) {
-      const auto * m = static_cast<const members::CppTypes::Members *>(layout.members);
-      memory_ = allocate(m->size_of_);
-      if (memory_ != nullptr) {
-        m->init_function(memory_, rosidl_runtime_cpp::MessageInitialization::ALL);
-      }
-    } else {
-      const auto * m = static_cast<const members::CTypes::Members *>(layout.members);
-      memory_ = allocate(m->size_of_);
-      if (memory_ != nullptr) {
-        m->init_function(memory_, ROSIDL_RUNTIME_C_MSG_INIT_ALL);
-      }
-    }
-  }
-  ~TemporaryMessage()
-  {
-    if (memory_ == nullptr) {
-      return;
-    }
-    if (layout_.is_cpp) {
-      static_cast<const members::CppTypes::Members *>(layout_.members)->fini_function(memory_);
-    } else {
-      static_cast<const members::CTypes::Members *>(layout_.members)->fini_function(memory_);
-    }
-    ::operator delete(memory_, std::align_val_t(alignof(std::max_align_t)));
-  }
+  : layout_(layout), memory_(members::create_message(layout.members, layout.is_cpp)) {}
+  ~TemporaryMessage() {members::destroy_message(layout_.members, layout_.is_cpp, memory_);}
   TemporaryMessage(const TemporaryMessage &) = delete;
   TemporaryMessage & operator=(const TemporaryMessage &) = delete;
 
   void * get() const {return memory_;}
 
 private:
-  static void * allocate(size_t size)
-  {
-    return ::operator new(std::max<size_t>(size, 1u),
-             std::align_val_t(alignof(std::max_align_t)), std::nothrow);
-  }
   MessageLayout layout_;
   void * memory_ = nullptr;
 };
@@ -478,6 +446,117 @@ rmw_ret_t take_response(
   *request_header = sample.service_info;
   *taken = true;
   return RMW_RET_OK;
+}
+
+bool can_loan(const MessageLayout & layout)
+{
+  if (layout.members == nullptr) {
+    return false;
+  }
+  return layout.is_cpp ?
+         members::is_plain<members::CppTypes>(
+    static_cast<const members::CppTypes::Members *>(layout.members)) :
+         members::is_plain<members::CTypes>(
+    static_cast<const members::CTypes::Members *>(layout.members));
+}
+
+namespace
+{
+
+void * lend(Loans & loans, const MessageLayout & layout)
+{
+  void * message = members::create_message(layout.members, layout.is_cpp);
+  if (message != nullptr) {
+    std::lock_guard<std::mutex> lock(loans.mutex);
+    loans.out.insert(message);
+  }
+  return message;
+}
+
+bool is_lent(Loans & loans, void * message)
+{
+  std::lock_guard<std::mutex> lock(loans.mutex);
+  return loans.out.count(message) != 0u;
+}
+
+}  // namespace
+
+rmw_ret_t borrow_loaned_message(PublisherImpl & publisher, void ** ros_message)
+{
+  *ros_message = lend(publisher.loans, publisher.layout);
+  if (*ros_message == nullptr) {
+    RMW_SET_ERROR_MSG("failed to allocate a loaned message");
+    return RMW_RET_BAD_ALLOC;
+  }
+  return RMW_RET_OK;
+}
+
+rmw_ret_t publish_loaned_message(PublisherImpl & publisher, void * ros_message)
+{
+  if (!is_lent(publisher.loans, ros_message)) {
+    RMW_SET_ERROR_MSG("ros_message was not loaned by this publisher");
+    return RMW_RET_INVALID_ARGUMENT;
+  }
+  std::vector<uint8_t> data;
+  std::string error;
+  rmw_ret_t ret = RMW_RET_OK;
+  if (!cdr_serialize(publisher.layout, ros_message, &data, &error)) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("cannot serialize the message: %s", error.c_str());
+    ret = RMW_RET_ERROR;
+  } else {
+    Runtime::instance().delivery().publish(publisher, ros_message, data.data(), data.size());
+  }
+  // Published or not, the loan ends here (rmw.h: the message must not be used afterwards).
+  const rmw_ret_t returned = return_loaned_message(publisher.loans, publisher.layout, ros_message);
+  return ret != RMW_RET_OK ? ret : returned;
+}
+
+rmw_ret_t take_loaned_message(
+  SubscriptionImpl & subscription, void ** loaned_message, bool * taken,
+  rmw_message_info_t * info)
+{
+  *taken = false;
+  if (subscription.inbox.count.load() == 0u) {
+    return RMW_RET_OK;
+  }
+  void * message = lend(subscription.loans, subscription.layout);
+  if (message == nullptr) {
+    RMW_SET_ERROR_MSG("failed to allocate a loaned message");
+    return RMW_RET_BAD_ALLOC;
+  }
+  const rmw_ret_t ret = take_message(subscription, message, taken, info);
+  if (ret != RMW_RET_OK || !*taken) {
+    rmw_introspect::ignore_result(
+      return_loaned_message(subscription.loans, subscription.layout, message));
+    return ret;
+  }
+  *loaned_message = message;
+  return RMW_RET_OK;
+}
+
+rmw_ret_t return_loaned_message(Loans & loans, const MessageLayout & layout, void * message)
+{
+  {
+    std::lock_guard<std::mutex> lock(loans.mutex);
+    if (loans.out.erase(message) == 0u) {
+      RMW_SET_ERROR_MSG("the message was not loaned by this publisher or subscription");
+      return RMW_RET_ERROR;
+    }
+  }
+  members::destroy_message(layout.members, layout.is_cpp, message);
+  return RMW_RET_OK;
+}
+
+void free_loans(Loans & loans, const MessageLayout & layout)
+{
+  std::set<void *> out;
+  {
+    std::lock_guard<std::mutex> lock(loans.mutex);
+    out.swap(loans.out);
+  }
+  for (void * message : out) {
+    members::destroy_message(layout.members, layout.is_cpp, message);
+  }
 }
 
 bool any_ready(

@@ -17,6 +17,8 @@ struct SubscriptionImpl;
 struct ServiceImpl;
 struct ClientImpl;
 struct EventSource;
+struct Loans;
+struct MessageLayout;
 
 /// In-process delivery (RMW_INTROSPECT_DELIVERY=1): what a publisher publishes is copied (as
 /// CDR, through each side's own type support) to every subscription of this process that
@@ -71,6 +73,20 @@ rmw_ret_t take_request(
   ServiceImpl & service, rmw_service_info_t * request_header, void * ros_request, bool * taken);
 rmw_ret_t take_response(
   ClientImpl & client, rmw_service_info_t * request_header, void * ros_response, bool * taken);
+
+/// Loans, with in-process delivery, for plain types (fixed size: no string, no sequence) as
+/// on rmw_fastrtps_cpp: a loaned message is an initialised message of the endpoint's type.
+bool can_loan(const MessageLayout & layout);
+rmw_ret_t borrow_loaned_message(PublisherImpl & publisher, void ** ros_message);
+/// Publish a message borrowed from `publisher` and take it back.
+rmw_ret_t publish_loaned_message(PublisherImpl & publisher, void * ros_message);
+rmw_ret_t take_loaned_message(
+  SubscriptionImpl & subscription, void ** loaned_message, bool * taken,
+  rmw_message_info_t * info);
+/// Give a loan back (RMW_RET_ERROR when `message` is not one of `loans`).
+rmw_ret_t return_loaned_message(Loans & loans, const MessageLayout & layout, void * message);
+/// Free the loans still out (the endpoint is being destroyed).
+void free_loans(Loans & loans, const MessageLayout & layout);
 
 /// rmw_wait: whether any entry of these arrays has something to take (reads atomics only).
 bool any_ready(

@@ -7,6 +7,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 
 #include "rmw/event.h"
@@ -95,8 +96,17 @@ struct EndpointImpl
   Gid gid{};
 };
 
+/// Messages loaned out (in-process delivery, plain types): made by the middleware, the
+/// caller's until returned; any still out when the endpoint goes are freed with it.
+struct Loans
+{
+  std::mutex mutex;
+  std::set<void *> out;
+};
+
 struct PublisherImpl : EventSource, EndpointImpl<rmw_publisher_t>
 {
+  Loans loans;
   MessageLayout layout;                 // the caller's type support (C or C++)
   std::atomic<int64_t> next_sequence{1};  // publication sequence numbers
   std::mutex history_mutex;             // TRANSIENT_LOCAL: the last `depth` samples
@@ -106,6 +116,7 @@ struct PublisherImpl : EventSource, EndpointImpl<rmw_publisher_t>
 struct SubscriptionImpl : EventSource, EndpointImpl<rmw_subscription_t>
 {
   Callback on_new_message;
+  Loans loans;
   std::mutex filter_mutex;
   bool has_filter = false;
   rmw_subscription_content_filter_options_t filter{};

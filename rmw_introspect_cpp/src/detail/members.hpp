@@ -7,14 +7,17 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <string>
 
+#include "rosidl_runtime_c/message_initialization.h"
 #include "rosidl_runtime_c/string.h"
 #include "rosidl_runtime_c/string_functions.h"
 #include "rosidl_runtime_c/u16string.h"
 #include "rosidl_runtime_c/u16string_functions.h"
 #include "rosidl_typesupport_introspection_c/field_types.h"
 #include "rosidl_typesupport_introspection_c/message_introspection.h"
+#include "rosidl_runtime_cpp/message_initialization.hpp"
 #include "rosidl_typesupport_introspection_cpp/message_introspection.hpp"
 
 namespace rmw_introspect
@@ -139,6 +142,64 @@ template<typename Types>
 inline bool is_fixed_array(const typename Types::Member & m)
 {
   return m.is_array_ && m.array_size_ > 0u && !m.is_upper_bound_;
+}
+
+/// A plain type (rmw_fastrtps_cpp's "plain"/bounded-size notion): fixed size, made of
+/// primitives, fixed arrays and plain messages only - no string, no sequence.
+template<typename Types>
+bool is_plain(const typename Types::Members * members)
+{
+  for (uint32_t i = 0; i < members->member_count_; ++i) {
+    const typename Types::Member & m = members->members_[i];
+    if (m.type_id_ == rosidl_typesupport_introspection_c__ROS_TYPE_STRING ||
+      m.type_id_ == rosidl_typesupport_introspection_c__ROS_TYPE_WSTRING ||
+      (m.is_array_ && !is_fixed_array<Types>(m)))
+    {
+      return false;
+    }
+    if (m.type_id_ == rosidl_typesupport_introspection_c__ROS_TYPE_MESSAGE &&
+      (m.members_ == nullptr || m.members_->data == nullptr ||
+      !is_plain<Types>(static_cast<const typename Types::Members *>(m.members_->data))))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// A new, initialised message of a type (C: __init()ed; C++: constructed); NULL when out of
+/// memory. destroy_message finalises and frees it.
+inline void * create_message(const void * members_ptr, bool is_cpp)
+{
+  const size_t size = is_cpp ?
+    static_cast<const CppTypes::Members *>(members_ptr)->size_of_ :
+    static_cast<const CTypes::Members *>(members_ptr)->size_of_;
+  void * memory = ::operator new(std::max<size_t>(size, 1u),
+      std::align_val_t(alignof(std::max_align_t)), std::nothrow);
+  if (memory == nullptr) {
+    return nullptr;
+  }
+  if (is_cpp) {
+    static_cast<const CppTypes::Members *>(members_ptr)->init_function(
+      memory, rosidl_runtime_cpp::MessageInitialization::ALL);
+  } else {
+    static_cast<const CTypes::Members *>(members_ptr)->init_function(
+      memory, ROSIDL_RUNTIME_C_MSG_INIT_ALL);
+  }
+  return memory;
+}
+
+inline void destroy_message(const void * members_ptr, bool is_cpp, void * message)
+{
+  if (message == nullptr) {
+    return;
+  }
+  if (is_cpp) {
+    static_cast<const CppTypes::Members *>(members_ptr)->fini_function(message);
+  } else {
+    static_cast<const CTypes::Members *>(members_ptr)->fini_function(message);
+  }
+  ::operator delete(message, std::align_val_t(alignof(std::max_align_t)));
 }
 
 }  // namespace members

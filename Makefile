@@ -29,7 +29,7 @@ asan: bootstrap
 
 ## conformance: the official RMW API suite (test_rmw_implementation) on the middleware; needs
 ## RMW_CONFORMANCE_SRC=<dir with rmw_implementation and osrf_testing_tools_cpp checkouts>,
-## see docs/conformance.md. CONFORMANCE_ARGS passes options (e.g. --details, --baseline-memcheck)
+## see README.md, "Conformance". CONFORMANCE_ARGS passes options (e.g. --details, --baseline-memcheck)
 conformance: bootstrap
 	$(VENV)/bin/python scripts/conformance/run.py $(CONFORMANCE_ARGS)
 

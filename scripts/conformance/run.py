@@ -3,8 +3,8 @@
 
     RMW_CONFORMANCE_SRC=/path/with/both/checkouts .venv/bin/python scripts/conformance/run.py
 
-The sources are the user's upstream checkouts (see docs/conformance.md for the `git clone` lines);
-nothing upstream is kept in this repository. Steps:
+The sources are the user's upstream checkouts (see README.md, "Conformance", for the
+`git clone` lines); nothing upstream is kept in this repository. Steps:
 
 1. build osrf_testing_tools_cpp (memory tools) and the 16 gtest binaries of
    test_rmw_implementation out of the repository, into
@@ -90,7 +90,7 @@ def find_sources(src: Path) -> tuple[Path, Path]:
         missing.append("osrf/osrf_testing_tools_cpp (tag 2.0.0): */osrf_testing_tools_cpp/src/memory_tools")
     if missing:
         raise SetupError(f"not found under {src}: " + "; ".join(missing)
-                         + " (see docs/conformance.md for how to get them)")
+                         + " (see README.md, \"Conformance\", for how to get them)")
     return tests[0].resolve(), tools[0].resolve()
 
 
@@ -429,7 +429,7 @@ def main(argv: list[str] | None = None) -> int:
         if not args.src:
             raise SetupError("set RMW_CONFORMANCE_SRC (or --src) to the directory holding the "
                              "rmw_implementation and osrf_testing_tools_cpp checkouts; "
-                             "see docs/conformance.md")
+                             "see README.md, \"Conformance\"")
         test_dir, tools_dir = find_sources(Path(args.src).expanduser().resolve())
         prefix, is_venv = ros_prefix(args.venv)
         python = args.venv / "bin" / "python" if is_venv else Path(sys.executable)

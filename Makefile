@@ -2,7 +2,7 @@
 VENV ?= $(CURDIR)/.venv
 export VENV
 
-.PHONY: example test test-fast typecheck fuzz lint bootstrap bench asan clean
+.PHONY: example test test-fast typecheck fuzz lint bootstrap bench asan conformance clean
 
 bootstrap:
 	scripts/bootstrap.sh
@@ -38,6 +38,12 @@ bench: bootstrap
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap
 	scripts/asan-e2e.sh
+
+## conformance: the official RMW API suite (test_rmw_implementation) on the middleware; needs
+## RMW_CONFORMANCE_SRC=<dir with rmw_implementation and osrf_testing_tools_cpp checkouts>,
+## see README.md, "Conformance". CONFORMANCE_ARGS passes options (e.g. --details, --baseline-memcheck)
+conformance: bootstrap
+	$(VENV)/bin/python scripts/conformance/run.py $(CONFORMANCE_ARGS)
 
 clean:
 	rm -rf $(VENV) build .pytest_cache

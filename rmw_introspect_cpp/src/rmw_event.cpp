@@ -1,7 +1,9 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// QoS events: initialised for every type a DDS middleware supports; they never fire.
+// QoS events: initialised for every type a DDS middleware supports; they never fire, but for
+// the matched events with in-process delivery.
 
 #include "rmw/event.h"
+#include "rmw/events_statuses/matched.h"
 #include "rmw/rmw.h"
 
 #include "detail/common.hpp"
@@ -41,6 +43,11 @@ bool is_publisher_event(rmw_event_type_t type)
     default:
       return false;
   }
+}
+
+bool is_matched_event(rmw_event_type_t type)
+{
+  return type == RMW_EVENT_PUBLICATION_MATCHED || type == RMW_EVENT_SUBSCRIPTION_MATCHED;
 }
 
 rmw_ret_t init_event(
@@ -96,6 +103,13 @@ rmw_ret_t rmw_take_event(const rmw_event_t * event_handle, void * event_info, bo
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
+  // Matched events, with in-process delivery: the status of this process's matching, its
+  // changes since the last take (taken even when nothing changed, as rmw_fastrtps_cpp does).
+  auto * source = static_cast<EventSource *>(event_handle->data);
+  if (is_matched_event(event_handle->event_type) && source->delivered.load()) {
+    *static_cast<rmw_matched_status_t *>(event_info) = source->matched.take();
+    *taken = true;
+  }
   return RMW_RET_OK;
 }
 
@@ -109,6 +123,9 @@ rmw_ret_t rmw_event_set_callback(
     return RMW_RET_INVALID_ARGUMENT;
   }
   source->event_callbacks[event->event_type].set(callback, user_data);
+  if (callback != nullptr && is_matched_event(event->event_type) && source->matched.unread.load()) {
+    source->event_callbacks[event->event_type].notify(1u);  // changes before the callback came
+  }
   return RMW_RET_OK;
 }
 

@@ -1,5 +1,6 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Publishers: recorded on creation; publishing accepts and drops.
+// Publishers: recorded on creation; publishing accepts and drops (or, with in-process
+// delivery, hands the message to the matching subscriptions of this process).
 
 #include <cstring>
 #include <memory>
@@ -10,31 +11,16 @@
 #include "rmw/get_network_flow_endpoints.h"
 #include "rmw/rmw.h"
 
+#include "detail/cdr.hpp"
 #include "detail/common.hpp"
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/recorder.hpp"
+#include "detail/delivery.hpp"
 #include "detail/runtime.hpp"
 
 using rmw_introspect::kIdentifier;
 using rmw_introspect::PublisherImpl;
-
-namespace
-{
-size_t count_local(const std::string & topic, rmw_introspect::EndpointKind kind)
-{
-  size_t count = 0;
-  rmw_introspect::Runtime::instance().recorder().visit(
-    [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
-      for (const auto & e : endpoints) {
-        if (e.alive && e.kind == kind && e.name == topic) {
-          ++count;
-        }
-      }
-    });
-  return count;
-}
-}  // namespace
 
 extern "C"
 {
@@ -67,8 +53,13 @@ rmw_publisher_t * rmw_create_publisher(
   impl->is_publisher = true;
   impl->handle.topic_name = impl->name.c_str();
   impl->handle.options = *publisher_options;
-  impl->handle.can_loan_messages = false;
+  impl->layout = rmw_introspect::message_layout(impl->type);
+  const bool delivery = rmw_introspect::Runtime::instance().config().delivery;
+  impl->handle.can_loan_messages = delivery && rmw_introspect::can_loan(impl->layout);
   rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Publisher);
+  if (delivery) {
+    rmw_introspect::Runtime::instance().delivery().add(impl.get());
+  }
   return &impl.release()->handle;
 }
 
@@ -77,6 +68,10 @@ rmw_ret_t rmw_destroy_publisher(rmw_node_t * node, rmw_publisher_t * publisher)
   RMWI_CHECK_HANDLE(node);
   RMWI_CHECK_HANDLE(publisher);
   std::unique_ptr<PublisherImpl> impl(static_cast<PublisherImpl *>(publisher->data));
+  if (impl->delivered.load()) {
+    rmw_introspect::Runtime::instance().delivery().remove(impl.get());
+  }
+  rmw_introspect::free_loans(impl->loans, impl->layout);
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Publisher, impl->name, impl->node);
   return RMW_RET_OK;
@@ -89,8 +84,21 @@ rmw_ret_t rmw_publish(
   (void)allocation;
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;  // accepted and dropped: nothing leaves the process
+  rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
+  runtime.on_activity();
+  auto * impl = static_cast<PublisherImpl *>(publisher->data);
+  if (!impl->delivered.load()) {
+    return RMW_RET_OK;  // accepted and dropped: nothing leaves the process
+  }
+  // In-process delivery: to the matching subscriptions of this process, as CDR.
+  std::vector<uint8_t> data;
+  std::string error;
+  if (!rmw_introspect::cdr_serialize(impl->layout, ros_message, &data, &error)) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("cannot serialize the message: %s", error.c_str());
+    return RMW_RET_ERROR;
+  }
+  runtime.delivery().publish(*impl, ros_message, data.data(), data.size());
+  return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_publish_serialized_message(
@@ -100,7 +108,13 @@ rmw_ret_t rmw_publish_serialized_message(
   (void)allocation;
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
+  rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
+  runtime.on_activity();
+  auto * impl = static_cast<PublisherImpl *>(publisher->data);
+  if (impl->delivered.load() && serialized_message->buffer != nullptr) {
+    runtime.delivery().publish(
+      *impl, nullptr, serialized_message->buffer, serialized_message->buffer_length);
+  }
   return RMW_RET_OK;
 }
 
@@ -109,14 +123,15 @@ rmw_ret_t rmw_borrow_loaned_message(
   void ** ros_message)
 {
   RMWI_CHECK_HANDLE(publisher);
+  RMWI_CHECK_CAN_LOAN(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(type_support, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   if (*ros_message != nullptr) {
     RMW_SET_ERROR_MSG("ros_message argument must point to a null pointer");
     return RMW_RET_INVALID_ARGUMENT;
   }
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  return rmw_introspect::borrow_loaned_message(
+    *static_cast<PublisherImpl *>(publisher->data), ros_message);
 }
 
 rmw_ret_t rmw_publish_loaned_message(
@@ -124,18 +139,21 @@ rmw_ret_t rmw_publish_loaned_message(
 {
   (void)allocation;
   RMWI_CHECK_HANDLE(publisher);
+  RMWI_CHECK_CAN_LOAN(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  rmw_introspect::Runtime::instance().on_activity();
+  return rmw_introspect::publish_loaned_message(
+    *static_cast<PublisherImpl *>(publisher->data), ros_message);
 }
 
 rmw_ret_t rmw_return_loaned_message_from_publisher(
   const rmw_publisher_t * publisher, void * loaned_message)
 {
   RMWI_CHECK_HANDLE(publisher);
+  RMWI_CHECK_CAN_LOAN(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  auto * impl = static_cast<PublisherImpl *>(publisher->data);
+  return rmw_introspect::return_loaned_message(impl->loans, impl->layout, loaned_message);
 }
 
 rmw_ret_t rmw_publisher_count_matched_subscriptions(
@@ -144,7 +162,8 @@ rmw_ret_t rmw_publisher_count_matched_subscriptions(
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(subscription_count, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<const PublisherImpl *>(publisher->data);
-  *subscription_count = count_local(impl->name, rmw_introspect::EndpointKind::Subscription);
+  *subscription_count = rmw_introspect::count_matched(
+    rmw_introspect::EndpointKind::Subscription, impl->name, impl->type.name, impl->actual_qos);
   rmw_introspect::Runtime::instance().on_activity();
   return RMW_RET_OK;
 }
@@ -153,7 +172,7 @@ rmw_ret_t rmw_publisher_get_actual_qos(const rmw_publisher_t * publisher, rmw_qo
 {
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
-  *qos = static_cast<const PublisherImpl *>(publisher->data)->qos;
+  *qos = static_cast<const PublisherImpl *>(publisher->data)->actual_qos;
   return RMW_RET_OK;
 }
 
@@ -196,16 +215,17 @@ rmw_ret_t rmw_init_publisher_allocation(
   const rosidl_runtime_c__Sequence__bound * message_bounds,
   rmw_publisher_allocation_t * allocation)
 {
-  (void)message_bounds;  // NULL = unbounded
-  RMW_CHECK_ARGUMENT_FOR_NULL(type_support, RMW_RET_INVALID_ARGUMENT);
-  RMW_CHECK_ARGUMENT_FOR_NULL(allocation, RMW_RET_INVALID_ARGUMENT);
+  // Unsupported whatever the arguments, like rmw_fastrtps_cpp (the suite probes with NULLs).
+  (void)type_support;
+  (void)message_bounds;
+  (void)allocation;
   RMW_SET_ERROR_MSG("publisher allocations are not supported");
   return RMW_RET_UNSUPPORTED;
 }
 
 rmw_ret_t rmw_fini_publisher_allocation(rmw_publisher_allocation_t * allocation)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(allocation, RMW_RET_INVALID_ARGUMENT);
+  (void)allocation;
   RMW_SET_ERROR_MSG("publisher allocations are not supported");
   return RMW_RET_UNSUPPORTED;
 }

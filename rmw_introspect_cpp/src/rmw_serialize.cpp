@@ -1,11 +1,16 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Serialization: not provided (nothing is ever put on a wire); arguments are still checked.
+// Serialization: plain little-endian CDR through the introspection type supports (detail/cdr),
+// the format rmw_fastrtps_cpp writes; rmw_get_serialized_message_size is not provided.
 
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include "rmw/dynamic_message_type_support.h"
 #include "rmw/rmw.h"
+#include "rmw/serialized_message.h"
 
+#include "detail/cdr.hpp"
 #include "detail/common.hpp"
 #include "detail/typesupport.hpp"
 
@@ -16,9 +21,11 @@ rmw_ret_t rmw_get_serialized_message_size(
   const rosidl_message_type_support_t * type_support,
   const rosidl_runtime_c__Sequence__bound * message_bounds, size_t * size)
 {
-  (void)message_bounds;  // NULL = unbounded
-  RMW_CHECK_ARGUMENT_FOR_NULL(type_support, RMW_RET_INVALID_ARGUMENT);
-  RMW_CHECK_ARGUMENT_FOR_NULL(size, RMW_RET_INVALID_ARGUMENT);
+  // Unsupported whatever the arguments, like rmw_fastrtps_cpp: test_rmw_implementation asks
+  // with NULL arguments to find out whether the function is implemented.
+  (void)type_support;
+  (void)message_bounds;
+  (void)size;
   RMW_SET_ERROR_MSG("rmw_get_serialized_message_size is not supported");
   return RMW_RET_UNSUPPORTED;
 }
@@ -36,8 +43,22 @@ rmw_ret_t rmw_serialize(
     RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("%s", error.c_str());
     return RMW_RET_ERROR;
   }
-  RMW_SET_ERROR_MSG("rmw_introspect_cpp records entities only: serialization is not supported");
-  return RMW_RET_UNSUPPORTED;
+  std::vector<uint8_t> data;
+  if (!rmw_introspect::cdr_serialize(
+      rmw_introspect::message_layout(type), ros_message, &data, &error))
+  {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("cannot serialize: %s", error.c_str());
+    return RMW_RET_ERROR;
+  }
+  if (serialized_message->buffer_capacity < data.size()) {
+    const rmw_ret_t ret = rmw_serialized_message_resize(serialized_message, data.size());
+    if (ret != RMW_RET_OK) {
+      return ret;  // the message's allocator failed (error set)
+    }
+  }
+  std::memcpy(serialized_message->buffer, data.data(), data.size());
+  serialized_message->buffer_length = data.size();
+  return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_deserialize(
@@ -53,8 +74,14 @@ rmw_ret_t rmw_deserialize(
     RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("%s", error.c_str());
     return RMW_RET_ERROR;
   }
-  RMW_SET_ERROR_MSG("rmw_introspect_cpp records entities only: deserialization is not supported");
-  return RMW_RET_UNSUPPORTED;
+  if (!rmw_introspect::cdr_deserialize(
+      rmw_introspect::message_layout(type), serialized_message->buffer,
+      serialized_message->buffer_length, ros_message, &error))
+  {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("cannot deserialize: %s", error.c_str());
+    return RMW_RET_ERROR;
+  }
+  return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_serialization_support_init(

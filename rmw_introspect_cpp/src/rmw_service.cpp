@@ -1,15 +1,19 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Service servers: recorded on creation; no request ever arrives.
+// Service servers: recorded on creation; no request arrives unless in-process delivery is on.
 
 #include <memory>
 #include <new>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "rmw/rmw.h"
 
+#include "detail/cdr.hpp"
 #include "detail/common.hpp"
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
+#include "detail/delivery.hpp"
 #include "detail/runtime.hpp"
 #include "detail/recorder.hpp"
 
@@ -36,7 +40,11 @@ rmw_service_t * rmw_create_service(
     return nullptr;
   }
   impl->handle.service_name = impl->name.c_str();
+  rmw_introspect::service_layouts(impl->type, &impl->request_layout, &impl->response_layout);
   rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Service);
+  if (rmw_introspect::Runtime::instance().config().delivery) {
+    rmw_introspect::Runtime::instance().delivery().add(impl.get());
+  }
   return &impl.release()->handle;
 }
 
@@ -45,6 +53,9 @@ rmw_ret_t rmw_destroy_service(rmw_node_t * node, rmw_service_t * service)
   RMWI_CHECK_HANDLE(node);
   RMWI_CHECK_HANDLE(service);
   std::unique_ptr<ServiceImpl> impl(static_cast<ServiceImpl *>(service->data));
+  if (rmw_introspect::Runtime::instance().config().delivery) {
+    rmw_introspect::Runtime::instance().delivery().remove(impl.get());
+  }
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Service, impl->name, impl->node);
   return RMW_RET_OK;
@@ -58,9 +69,9 @@ rmw_ret_t rmw_take_request(
   RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_request, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;
+  return rmw_introspect::take_request(
+    *static_cast<ServiceImpl *>(service->data), request_header, ros_request, taken);
 }
 
 rmw_ret_t rmw_send_response(
@@ -69,8 +80,22 @@ rmw_ret_t rmw_send_response(
   RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_response, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;  // dropped
+  rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
+  runtime.on_activity();
+  if (!runtime.config().delivery) {
+    return RMW_RET_OK;  // dropped
+  }
+  // In-process delivery: back to the client of this process that asked, if it is still there
+  // (RMW_RET_OK either way, as rmw_fastrtps_cpp answers).
+  auto * impl = static_cast<ServiceImpl *>(service->data);
+  std::vector<uint8_t> data;
+  std::string error;
+  if (!rmw_introspect::cdr_serialize(impl->response_layout, ros_response, &data, &error)) {
+    RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("cannot serialize the response: %s", error.c_str());
+    return RMW_RET_ERROR;
+  }
+  runtime.delivery().send_response(*impl, *request_header, std::move(data));
+  return RMW_RET_OK;
 }
 
 rmw_ret_t rmw_service_request_subscription_get_actual_qos(
@@ -78,7 +103,8 @@ rmw_ret_t rmw_service_request_subscription_get_actual_qos(
 {
   RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
-  *qos = static_cast<const ServiceImpl *>(service->data)->qos;
+  *qos = rmw_introspect::service_actual_qos(
+    static_cast<const ServiceImpl *>(service->data)->qos, rmw_introspect::QosSide::kReader);
   return RMW_RET_OK;
 }
 
@@ -87,7 +113,8 @@ rmw_ret_t rmw_service_response_publisher_get_actual_qos(
 {
   RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
-  *qos = static_cast<const ServiceImpl *>(service->data)->qos;
+  *qos = rmw_introspect::service_actual_qos(
+    static_cast<const ServiceImpl *>(service->data)->qos, rmw_introspect::QosSide::kWriter);
   return RMW_RET_OK;
 }
 

@@ -1,5 +1,5 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Subscriptions: recorded on creation; nothing is ever received.
+// Subscriptions: recorded on creation; nothing is received unless in-process delivery is on.
 
 #include <cstring>
 #include <memory>
@@ -15,6 +15,9 @@
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/recorder.hpp"
+#include "detail/content_filter.hpp"
+#include "detail/delivery.hpp"
+#include "detail/log.hpp"
 #include "detail/runtime.hpp"
 
 using rmw_introspect::kIdentifier;
@@ -62,8 +65,10 @@ rmw_subscription_t * rmw_create_subscription(
   impl->handle.topic_name = impl->name.c_str();
   impl->handle.options = *subscription_options;
   impl->handle.options.content_filter_options = nullptr;  // not owned by us
-  impl->handle.can_loan_messages = false;
   impl->handle.is_cft_enabled = false;
+  impl->layout = rmw_introspect::message_layout(impl->type);
+  impl->handle.can_loan_messages = rmw_introspect::Runtime::instance().config().delivery &&
+    rmw_introspect::can_loan(impl->layout);
   if (subscription_options->content_filter_options != nullptr &&
     subscription_options->content_filter_options->filter_expression != nullptr)
   {
@@ -74,6 +79,9 @@ rmw_subscription_t * rmw_create_subscription(
     }
   }
   rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Subscription);
+  if (rmw_introspect::Runtime::instance().config().delivery) {
+    rmw_introspect::Runtime::instance().delivery().add(impl.get());
+  }
   return &impl.release()->handle;
 }
 
@@ -82,6 +90,10 @@ rmw_ret_t rmw_destroy_subscription(rmw_node_t * node, rmw_subscription_t * subsc
   RMWI_CHECK_HANDLE(node);
   RMWI_CHECK_HANDLE(subscription);
   std::unique_ptr<SubscriptionImpl> impl(static_cast<SubscriptionImpl *>(subscription->data));
+  if (impl->delivered.load()) {
+    rmw_introspect::Runtime::instance().delivery().remove(impl.get());
+  }
+  rmw_introspect::free_loans(impl->loans, impl->layout);
   if (impl->has_filter) {
     rcutils_allocator_t allocator = rcutils_get_default_allocator();
     rmw_introspect::ignore_result(
@@ -98,17 +110,8 @@ rmw_ret_t rmw_subscription_count_matched_publishers(
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(publisher_count, RMW_RET_INVALID_ARGUMENT);
   const auto * impl = static_cast<const SubscriptionImpl *>(subscription->data);
-  size_t count = 0;
-  rmw_introspect::Runtime::instance().recorder().visit(
-    [&](const auto &, const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
-      for (const auto & e : endpoints) {
-        if (e.alive && e.kind == rmw_introspect::EndpointKind::Publisher &&
-        e.name == impl->name)
-        {
-          ++count;
-        }
-      }
-    });
+  size_t count = rmw_introspect::count_matched(
+    rmw_introspect::EndpointKind::Publisher, impl->name, impl->type.name, impl->actual_qos);
   // With RMW_INTROSPECT_SERVER_AVAILABLE=1 every server a client waits for is "there". An
   // action server is there for rcl_action_server_is_available() only when its feedback and
   // status publishers are matched too, so those two topics count the simulated server.
@@ -127,7 +130,7 @@ rmw_ret_t rmw_subscription_get_actual_qos(
 {
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(qos, RMW_RET_INVALID_ARGUMENT);
-  *qos = static_cast<const SubscriptionImpl *>(subscription->data)->qos;
+  *qos = static_cast<const SubscriptionImpl *>(subscription->data)->actual_qos;
   return RMW_RET_OK;
 }
 
@@ -143,6 +146,7 @@ rmw_ret_t rmw_subscription_set_content_filter(
     rmw_introspect::ignore_result(
       rmw_subscription_content_filter_options_fini(&impl->filter, &allocator));
     impl->has_filter = false;
+    impl->compiled_filter.reset();
     subscription->is_cft_enabled = false;
   }
   if (options->filter_expression == nullptr || options->filter_expression[0] == '\0') {
@@ -156,6 +160,22 @@ rmw_ret_t rmw_subscription_set_content_filter(
   }
   impl->has_filter = true;
   subscription->is_cft_enabled = true;
+  if (rmw_introspect::Runtime::instance().config().delivery) {
+    // Filtering applies to in-process delivery. An expression that does not compile (a
+    // syntax this filter does not know) lets everything through rather than failing a
+    // subscription the node expects to have.
+    std::vector<std::string> parameters;
+    for (size_t i = 0; i < impl->filter.expression_parameters.size; ++i) {
+      parameters.emplace_back(impl->filter.expression_parameters.data[i]);
+    }
+    std::string error;
+    impl->compiled_filter = rmw_introspect::ContentFilter::compile(
+      impl->layout, impl->filter.filter_expression, parameters, &error);
+    if (!impl->compiled_filter) {
+      rmw_introspect::verbose_log(
+        "content filter of %s not applied: %s", impl->name.c_str(), error.c_str());
+    }
+  }
   return RMW_RET_OK;
 }
 
@@ -174,7 +194,13 @@ rmw_ret_t rmw_subscription_get_content_filter(
     RMW_SET_ERROR_MSG("this subscription has no content filter");
     return RMW_RET_ERROR;
   }
-  return rmw_subscription_content_filter_options_copy(&impl->filter, allocator, options);
+  // `options` is an output the caller has not necessarily initialised (the suite passes an
+  // uninitialised struct): never _copy()/_set() into it, they finalize it first and would free
+  // garbage. Fill it from zero, as rmw_fastrtps_cpp does with _init().
+  *options = rmw_get_zero_initialized_content_filter_options();
+  return rmw_subscription_content_filter_options_init(
+    impl->filter.filter_expression, impl->filter.expression_parameters.size,
+    const_cast<const char **>(impl->filter.expression_parameters.data), allocator, options);
 }
 
 rmw_ret_t rmw_subscription_get_network_flow_endpoints(
@@ -201,16 +227,17 @@ rmw_ret_t rmw_init_subscription_allocation(
   const rosidl_runtime_c__Sequence__bound * message_bounds,
   rmw_subscription_allocation_t * allocation)
 {
+  // Unsupported whatever the arguments, like rmw_fastrtps_cpp (the suite probes with NULLs).
+  (void)type_support;
   (void)message_bounds;
-  RMW_CHECK_ARGUMENT_FOR_NULL(type_support, RMW_RET_INVALID_ARGUMENT);
-  RMW_CHECK_ARGUMENT_FOR_NULL(allocation, RMW_RET_INVALID_ARGUMENT);
+  (void)allocation;
   RMW_SET_ERROR_MSG("subscription allocations are not supported");
   return RMW_RET_UNSUPPORTED;
 }
 
 rmw_ret_t rmw_fini_subscription_allocation(rmw_subscription_allocation_t * allocation)
 {
-  RMW_CHECK_ARGUMENT_FOR_NULL(allocation, RMW_RET_INVALID_ARGUMENT);
+  (void)allocation;
   RMW_SET_ERROR_MSG("subscription allocations are not supported");
   return RMW_RET_UNSUPPORTED;
 }
@@ -223,9 +250,9 @@ rmw_ret_t rmw_take(
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;
+  return rmw_introspect::take_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), ros_message, taken, nullptr);
 }
 
 rmw_ret_t rmw_take_with_info(
@@ -237,9 +264,9 @@ rmw_ret_t rmw_take_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
-  *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;
+  return rmw_introspect::take_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), ros_message, taken, message_info);
 }
 
 rmw_ret_t rmw_take_sequence(
@@ -268,6 +295,21 @@ rmw_ret_t rmw_take_sequence(
   message_sequence->size = 0u;
   message_info_sequence->size = 0u;
   rmw_introspect::Runtime::instance().on_activity();
+  auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
+  for (size_t i = 0; i < count; ++i) {
+    bool one = false;
+    const rmw_ret_t ret = rmw_introspect::take_message(
+      *impl, message_sequence->data[i], &one, &message_info_sequence->data[i]);
+    if (ret != RMW_RET_OK) {
+      return ret;
+    }
+    if (!one) {
+      break;
+    }
+    ++*taken;
+    message_sequence->size = *taken;
+    message_info_sequence->size = *taken;
+  }
   return RMW_RET_OK;
 }
 
@@ -279,9 +321,9 @@ rmw_ret_t rmw_take_serialized_message(
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;
+  return rmw_introspect::take_serialized_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), serialized_message, taken, nullptr);
 }
 
 rmw_ret_t rmw_take_serialized_message_with_info(
@@ -293,9 +335,10 @@ rmw_ret_t rmw_take_serialized_message_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
-  *taken = false;
   rmw_introspect::Runtime::instance().on_activity();
-  return RMW_RET_OK;
+  return rmw_introspect::take_serialized_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), serialized_message, taken,
+    message_info);
 }
 
 rmw_ret_t rmw_take_loaned_message(
@@ -304,10 +347,12 @@ rmw_ret_t rmw_take_loaned_message(
 {
   (void)allocation;
   RMWI_CHECK_HANDLE(subscription);
+  RMWI_CHECK_CAN_LOAN(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  rmw_introspect::Runtime::instance().on_activity();
+  return rmw_introspect::take_loaned_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), loaned_message, taken, nullptr);
 }
 
 rmw_ret_t rmw_take_loaned_message_with_info(
@@ -316,20 +361,23 @@ rmw_ret_t rmw_take_loaned_message_with_info(
 {
   (void)allocation;
   RMWI_CHECK_HANDLE(subscription);
+  RMWI_CHECK_CAN_LOAN(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  rmw_introspect::Runtime::instance().on_activity();
+  return rmw_introspect::take_loaned_message(
+    *static_cast<SubscriptionImpl *>(subscription->data), loaned_message, taken, message_info);
 }
 
 rmw_ret_t rmw_return_loaned_message_from_subscription(
   const rmw_subscription_t * subscription, void * loaned_message)
 {
   RMWI_CHECK_HANDLE(subscription);
+  RMWI_CHECK_CAN_LOAN(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("Loaning is not supported");
-  return RMW_RET_UNSUPPORTED;
+  auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
+  return rmw_introspect::return_loaned_message(impl->loans, impl->layout, loaned_message);
 }
 
 rmw_ret_t rmw_take_dynamic_message(

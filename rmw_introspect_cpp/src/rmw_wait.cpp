@@ -1,6 +1,6 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Wait sets and rmw_wait: blocks until a guard condition of the set is triggered or the
-// timeout expires; subscriptions, services, clients and events are never ready.
+// Wait sets and rmw_wait: blocks until a guard condition of the set is triggered, an entry has
+// something to take (in-process delivery only) or the timeout expires.
 
 #include <cstdint>
 #include <memory>
@@ -9,6 +9,7 @@
 #include "rmw/rmw.h"
 
 #include "detail/common.hpp"
+#include "detail/delivery.hpp"
 #include "detail/handles.hpp"
 #include "detail/runtime.hpp"
 #include "detail/wait_hub.hpp"
@@ -33,17 +34,6 @@ bool any_triggered(const rmw_guard_conditions_t * gcs)
     }
   }
   return false;
-}
-
-template<typename T>
-void clear_all(T ** entries, size_t count)
-{
-  if (entries == nullptr) {
-    return;
-  }
-  for (size_t i = 0; i < count; ++i) {
-    entries[i] = nullptr;
-  }
 }
 
 // The timeout in ns: negative = forever (NULL, RMW_DURATION_INFINITE and other huge values
@@ -80,7 +70,9 @@ rmw_wait_set_t * rmw_create_wait_set(rmw_context_t * context, size_t max_conditi
 
 rmw_ret_t rmw_destroy_wait_set(rmw_wait_set_t * wait_set)
 {
-  RMWI_CHECK_HANDLE(wait_set);
+  // NULL is RMW_RET_ERROR, as in rmw_fastrtps_cpp and test_rmw_implementation.
+  RMWI_CHECK_HANDLE_OR(
+    wait_set, data, RMW_RET_ERROR, RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   delete static_cast<WaitSetImpl *>(wait_set->data);
   return RMW_RET_OK;
 }
@@ -96,8 +88,9 @@ rmw_ret_t rmw_wait(
   // Once the context is shut down (rmw_shutdown wakes every waiter), waits return at once:
   // an executor woken by its SIGINT guard condition just before the shutdown must not go
   // back to sleep forever.
-  auto ready = [ws, guard_conditions]() {
+  auto ready = [ws, guard_conditions, subscriptions, services, clients, events]() {
       return any_triggered(guard_conditions) ||
+             rmw_introspect::any_ready(subscriptions, services, clients, events) ||
              (ws->context != nullptr && ws->context->is_shutdown.load());
     };
   // Blocks, or in the warp jumps virtual time by the timeout and returns at once.
@@ -115,17 +108,9 @@ rmw_ret_t rmw_wait(
       }
     }
   }
-  if (subscriptions != nullptr) {
-    clear_all(subscriptions->subscribers, subscriptions->subscriber_count);
-  }
-  if (services != nullptr) {
-    clear_all(services->services, services->service_count);
-  }
-  if (clients != nullptr) {
-    clear_all(clients->clients, clients->client_count);
-  }
-  if (events != nullptr) {
-    clear_all(events->events, events->event_count);
+  // Subscriptions, services, clients and events are ready only with in-process delivery.
+  if (rmw_introspect::keep_ready(subscriptions, services, clients, events)) {
+    any_ready = true;
   }
   return any_ready ? RMW_RET_OK : RMW_RET_TIMEOUT;
 }

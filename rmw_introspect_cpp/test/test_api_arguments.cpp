@@ -2,6 +2,10 @@
 // Argument checking of every rmw_* entry point: NULL for each pointer argument gives
 // RMW_RET_INVALID_ARGUMENT with an error message set (NULL + error for functions returning
 // pointers); a handle of another implementation gives RMW_RET_INCORRECT_RMW_IMPLEMENTATION.
+// Exceptions, where test_rmw_implementation and rmw_fastrtps_cpp agree against rmw.h:
+// rmw_service_server_is_available and rmw_destroy_wait_set answer NULL with RMW_RET_ERROR;
+// the loan functions answer RMW_RET_UNSUPPORTED right after the handle checks; the allocation
+// functions and rmw_get_serialized_message_size answer RMW_RET_UNSUPPORTED before any check.
 
 #include <gtest/gtest.h>
 
@@ -21,6 +25,9 @@
 #include "rcutils/types/string_array.h"
 
 #include "api_fixture.hpp"
+
+#define EXPECT_UNSUPPORTED(expr) EXPECT_RET_WITH_ERROR(RMW_RET_UNSUPPORTED, expr)
+#define EXPECT_ERROR(expr) EXPECT_RET_WITH_ERROR(RMW_RET_ERROR, expr)
 
 namespace
 {
@@ -154,19 +161,24 @@ TEST_F(ApiArgs, publisher_operations)
   EXPECT_INVALID(rmw_publish_serialized_message(publisher, nullptr, nullptr));
   EXPECT_FOREIGN(rmw_publish_serialized_message(&foreign_publisher, &serialized, nullptr));
 
+  // Loans: handle checks, then "cannot loan" before the other arguments (rmw_fastrtps_cpp).
+  ASSERT_FALSE(publisher->can_loan_messages);
   void * loan = nullptr;
   EXPECT_INVALID(rmw_borrow_loaned_message(nullptr, msg_ts, &loan));
-  EXPECT_INVALID(rmw_borrow_loaned_message(publisher, nullptr, &loan));
-  EXPECT_INVALID(rmw_borrow_loaned_message(publisher, msg_ts, nullptr));
   EXPECT_FOREIGN(rmw_borrow_loaned_message(&foreign_publisher, msg_ts, &loan));
-  EXPECT_RET_WITH_ERROR(RMW_RET_UNSUPPORTED, rmw_borrow_loaned_message(publisher, msg_ts, &loan));
+  EXPECT_UNSUPPORTED(rmw_borrow_loaned_message(publisher, nullptr, &loan));
+  EXPECT_UNSUPPORTED(rmw_borrow_loaned_message(publisher, msg_ts, nullptr));
+  EXPECT_UNSUPPORTED(rmw_borrow_loaned_message(publisher, msg_ts, &loan));
+  EXPECT_EQ(nullptr, loan);
   int dummy = 0;
   EXPECT_INVALID(rmw_publish_loaned_message(nullptr, &dummy, nullptr));
-  EXPECT_INVALID(rmw_publish_loaned_message(publisher, nullptr, nullptr));
   EXPECT_FOREIGN(rmw_publish_loaned_message(&foreign_publisher, &dummy, nullptr));
+  EXPECT_UNSUPPORTED(rmw_publish_loaned_message(publisher, nullptr, nullptr));
+  EXPECT_UNSUPPORTED(rmw_publish_loaned_message(publisher, &dummy, nullptr));
   EXPECT_INVALID(rmw_return_loaned_message_from_publisher(nullptr, &dummy));
-  EXPECT_INVALID(rmw_return_loaned_message_from_publisher(publisher, nullptr));
   EXPECT_FOREIGN(rmw_return_loaned_message_from_publisher(&foreign_publisher, &dummy));
+  EXPECT_UNSUPPORTED(rmw_return_loaned_message_from_publisher(publisher, nullptr));
+  EXPECT_UNSUPPORTED(rmw_return_loaned_message_from_publisher(publisher, &dummy));
 
   size_t count = 0;
   EXPECT_INVALID(rmw_publisher_count_matched_subscriptions(nullptr, &count));
@@ -195,10 +207,14 @@ TEST_F(ApiArgs, publisher_operations)
   EXPECT_INVALID(rmw_get_gid_for_publisher(publisher, nullptr));
   EXPECT_FOREIGN(rmw_get_gid_for_publisher(&foreign_publisher, &gid));
 
+  // Unsupported before any argument check: the suite probes with NULLs.
   rmw_publisher_allocation_t allocation;
-  EXPECT_INVALID(rmw_init_publisher_allocation(nullptr, nullptr, &allocation));
-  EXPECT_INVALID(rmw_init_publisher_allocation(msg_ts, nullptr, nullptr));
-  EXPECT_INVALID(rmw_fini_publisher_allocation(nullptr));
+  EXPECT_UNSUPPORTED(rmw_init_publisher_allocation(nullptr, nullptr, nullptr));
+  EXPECT_UNSUPPORTED(rmw_init_publisher_allocation(nullptr, nullptr, &allocation));
+  EXPECT_UNSUPPORTED(rmw_init_publisher_allocation(msg_ts, nullptr, nullptr));
+  EXPECT_UNSUPPORTED(rmw_init_publisher_allocation(msg_ts, nullptr, &allocation));
+  EXPECT_UNSUPPORTED(rmw_fini_publisher_allocation(nullptr));
+  EXPECT_UNSUPPORTED(rmw_fini_publisher_allocation(&allocation));
 
   rmw_event_t event = rmw_get_zero_initialized_event();
   EXPECT_INVALID(rmw_publisher_event_init(nullptr, publisher, RMW_EVENT_LIVELINESS_LOST));
@@ -259,10 +275,14 @@ TEST_F(ApiArgs, subscription_operations)
   EXPECT_FOREIGN(
     rmw_subscription_set_on_new_message_callback(&foreign_subscription, nullptr, nullptr));
 
+  // Unsupported before any argument check: the suite probes with NULLs.
   rmw_subscription_allocation_t allocation;
-  EXPECT_INVALID(rmw_init_subscription_allocation(nullptr, nullptr, &allocation));
-  EXPECT_INVALID(rmw_init_subscription_allocation(msg_ts, nullptr, nullptr));
-  EXPECT_INVALID(rmw_fini_subscription_allocation(nullptr));
+  EXPECT_UNSUPPORTED(rmw_init_subscription_allocation(nullptr, nullptr, nullptr));
+  EXPECT_UNSUPPORTED(rmw_init_subscription_allocation(nullptr, nullptr, &allocation));
+  EXPECT_UNSUPPORTED(rmw_init_subscription_allocation(msg_ts, nullptr, nullptr));
+  EXPECT_UNSUPPORTED(rmw_init_subscription_allocation(msg_ts, nullptr, &allocation));
+  EXPECT_UNSUPPORTED(rmw_fini_subscription_allocation(nullptr));
+  EXPECT_UNSUPPORTED(rmw_fini_subscription_allocation(&allocation));
 
   rmw_event_t event = rmw_get_zero_initialized_event();
   EXPECT_INVALID(rmw_subscription_event_init(nullptr, subscription, RMW_EVENT_MESSAGE_LOST));
@@ -323,21 +343,33 @@ TEST_F(ApiArgs, take)
     rmw_take_serialized_message_with_info(
       &foreign_subscription, &serialized, &taken, &info, nullptr));
 
+  // Loans: handle checks, then "cannot loan" before the other arguments (rmw_fastrtps_cpp;
+  // test_rmw_implementation returns a NULL loan to a subscription that cannot loan and
+  // expects RMW_RET_UNSUPPORTED).
+  ASSERT_FALSE(subscription->can_loan_messages);
   void * loan = nullptr;
   EXPECT_INVALID(rmw_take_loaned_message(nullptr, &loan, &taken, nullptr));
-  EXPECT_INVALID(rmw_take_loaned_message(subscription, nullptr, &taken, nullptr));
-  EXPECT_INVALID(rmw_take_loaned_message(subscription, &loan, nullptr, nullptr));
   EXPECT_FOREIGN(rmw_take_loaned_message(&foreign_subscription, &loan, &taken, nullptr));
+  EXPECT_UNSUPPORTED(rmw_take_loaned_message(subscription, nullptr, &taken, nullptr));
+  EXPECT_UNSUPPORTED(rmw_take_loaned_message(subscription, &loan, nullptr, nullptr));
+  EXPECT_UNSUPPORTED(rmw_take_loaned_message(subscription, &loan, &taken, nullptr));
   EXPECT_INVALID(rmw_take_loaned_message_with_info(nullptr, &loan, &taken, &info, nullptr));
-  EXPECT_INVALID(rmw_take_loaned_message_with_info(subscription, nullptr, &taken, &info, nullptr));
-  EXPECT_INVALID(rmw_take_loaned_message_with_info(subscription, &loan, nullptr, &info, nullptr));
-  EXPECT_INVALID(rmw_take_loaned_message_with_info(subscription, &loan, &taken, nullptr, nullptr));
   EXPECT_FOREIGN(
     rmw_take_loaned_message_with_info(&foreign_subscription, &loan, &taken, &info, nullptr));
+  EXPECT_UNSUPPORTED(
+    rmw_take_loaned_message_with_info(subscription, nullptr, &taken, &info, nullptr));
+  EXPECT_UNSUPPORTED(
+    rmw_take_loaned_message_with_info(subscription, &loan, nullptr, &info, nullptr));
+  EXPECT_UNSUPPORTED(
+    rmw_take_loaned_message_with_info(subscription, &loan, &taken, nullptr, nullptr));
+  EXPECT_UNSUPPORTED(
+    rmw_take_loaned_message_with_info(subscription, &loan, &taken, &info, nullptr));
+  EXPECT_EQ(nullptr, loan);
   int dummy = 0;
   EXPECT_INVALID(rmw_return_loaned_message_from_subscription(nullptr, &dummy));
-  EXPECT_INVALID(rmw_return_loaned_message_from_subscription(subscription, nullptr));
   EXPECT_FOREIGN(rmw_return_loaned_message_from_subscription(&foreign_subscription, &dummy));
+  EXPECT_UNSUPPORTED(rmw_return_loaned_message_from_subscription(subscription, nullptr));
+  EXPECT_UNSUPPORTED(rmw_return_loaned_message_from_subscription(subscription, &dummy));
 
   rosidl_dynamic_typesupport_dynamic_data_t * dyn =
     reinterpret_cast<rosidl_dynamic_typesupport_dynamic_data_t *>(&dummy);
@@ -432,10 +464,12 @@ TEST_F(ApiArgs, client)
   EXPECT_INVALID(rmw_get_gid_for_client(nullptr, &gid));
   EXPECT_INVALID(rmw_get_gid_for_client(client, nullptr));
   EXPECT_FOREIGN(rmw_get_gid_for_client(&foreign_client, &gid));
+  // RMW_RET_ERROR for NULL here (rmw_fastrtps_cpp, test_client.cpp), not INVALID_ARGUMENT.
   bool available = false;
-  EXPECT_INVALID(rmw_service_server_is_available(nullptr, client, &available));
-  EXPECT_INVALID(rmw_service_server_is_available(node, nullptr, &available));
-  EXPECT_INVALID(rmw_service_server_is_available(node, client, nullptr));
+  EXPECT_ERROR(rmw_service_server_is_available(nullptr, client, &available));
+  EXPECT_ERROR(rmw_service_server_is_available(node, nullptr, &available));
+  EXPECT_ERROR(rmw_service_server_is_available(node, client, nullptr));
+  EXPECT_ERROR(rmw_service_server_is_available(nullptr, nullptr, nullptr));
   EXPECT_FOREIGN(rmw_service_server_is_available(&foreign_node, client, &available));
   EXPECT_FOREIGN(rmw_service_server_is_available(node, &foreign_client, &available));
 }
@@ -451,7 +485,7 @@ TEST_F(ApiArgs, guard_conditions_wait_sets_events)
 
   EXPECT_NULL_WITH_ERROR(rmw_create_wait_set(nullptr, 1));
   EXPECT_NULL_WITH_ERROR(rmw_create_wait_set(&foreign_context, 1));
-  EXPECT_INVALID(rmw_destroy_wait_set(nullptr));
+  EXPECT_ERROR(rmw_destroy_wait_set(nullptr));  // RMW_RET_ERROR: test_wait_set.cpp
   EXPECT_FOREIGN(rmw_destroy_wait_set(&foreign_wait_set));
   rmw_time_t timeout{0, 0};
   EXPECT_INVALID(rmw_wait(nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, &timeout));
@@ -536,6 +570,12 @@ TEST_F(ApiArgs, graph)
     EXPECT_INVALID(fn(node, &alloc, nullptr, false, &infos));
     EXPECT_INVALID(fn(node, &alloc, "/chatter", false, nullptr));
     EXPECT_FOREIGN(fn(&foreign_node, &alloc, "/chatter", false, &infos));
+    // An output array that is not zero-initialized (test_graph_api.cpp).
+    rmw_topic_endpoint_info_array_t used = rmw_get_zero_initialized_topic_endpoint_info_array();
+    ASSERT_EQ(RMW_RET_OK, rmw_topic_endpoint_info_array_init_with_size(&used, 1u, &alloc));
+    EXPECT_INVALID(fn(node, &alloc, "/chatter", false, &used));
+    EXPECT_EQ(1u, used.size);  // untouched
+    EXPECT_EQ(RMW_RET_OK, rmw_topic_endpoint_info_array_fini(&used, &alloc));
   }
   using Count = rmw_ret_t (*)(const rmw_node_t *, const char *, size_t *);
   size_t count = 0;
@@ -579,9 +619,12 @@ TEST_F(ApiArgs, gids_qos_serialization)
   EXPECT_INVALID(rmw_deserialize(nullptr, msg_ts, &msg));
   EXPECT_INVALID(rmw_deserialize(&serialized, nullptr, &msg));
   EXPECT_INVALID(rmw_deserialize(&serialized, msg_ts, nullptr));
+  // Unsupported before any argument check: the suite probes with NULLs.
   size_t size = 0;
-  EXPECT_INVALID(rmw_get_serialized_message_size(nullptr, nullptr, &size));
-  EXPECT_INVALID(rmw_get_serialized_message_size(msg_ts, nullptr, nullptr));
+  EXPECT_UNSUPPORTED(rmw_get_serialized_message_size(nullptr, nullptr, nullptr));
+  EXPECT_UNSUPPORTED(rmw_get_serialized_message_size(nullptr, nullptr, &size));
+  EXPECT_UNSUPPORTED(rmw_get_serialized_message_size(msg_ts, nullptr, nullptr));
+  EXPECT_UNSUPPORTED(rmw_get_serialized_message_size(msg_ts, nullptr, &size));
   std_msgs__msg__String__fini(&msg);
   rcutils_allocator_t alloc = rcutils_get_default_allocator();
   rosidl_dynamic_typesupport_serialization_support_t support;

@@ -14,13 +14,17 @@
 #include <string>
 
 #include "rcutils/types/string_array.h"
+#include "rmw/time.h"
 #include "rmw/get_node_info_and_types.h"
 #include "rmw/get_service_names_and_types.h"
 #include "rmw/get_topic_endpoint_info.h"
 #include "rmw/get_topic_names_and_types.h"
+#include "rmw/events_statuses/matched.h"
 #include "rmw/names_and_types.h"
+#include "rmw/serialized_message.h"
 #include "rmw/subscription_content_filter_options.h"
 #include "rmw/topic_endpoint_info_array.h"
+#include "rosidl_runtime_c/string_functions.h"
 #include "rosidl_typesupport_cpp/message_type_support.hpp"
 #include "std_msgs/msg/string.hpp"
 #include "test_msgs/action/fibonacci.h"
@@ -64,6 +68,12 @@ std::set<std::string> names_of(const rmw_names_and_types_t & nt)
   }
   return out;
 }
+bool is_infinite(const rmw_time_t & t)
+{
+  const rmw_time_t infinite = RMW_DURATION_INFINITE;
+  return t.sec == infinite.sec && t.nsec == infinite.nsec;
+}
+
 }  // namespace
 
 using ApiBehaviour = ApiFixture;
@@ -231,7 +241,8 @@ TEST_F(ApiBehaviour, gids_requests_takes_qos)
   EXPECT_EQ(RMW_RET_OK, rmw_service_server_is_available(node, client, &available));
   EXPECT_TRUE(available);
 
-  // Actual QoS = requested QoS, BEST_AVAILABLE included.
+  // Actual QoS: concrete policies kept as requested, BEST_AVAILABLE resolved (a publisher
+  // makes it TRANSIENT_LOCAL), what was set kept.
   rmw_qos_profile_t requested = rmw_qos_profile_sensor_data;
   requested.durability = RMW_QOS_POLICY_DURABILITY_BEST_AVAILABLE;
   requested.deadline = {1, 500};
@@ -242,12 +253,13 @@ TEST_F(ApiBehaviour, gids_requests_takes_qos)
   EXPECT_EQ(requested.history, actual.history);
   EXPECT_EQ(requested.depth, actual.depth);
   EXPECT_EQ(requested.reliability, actual.reliability);
-  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_BEST_AVAILABLE, actual.durability);
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL, actual.durability);
   EXPECT_EQ(1u, actual.deadline.sec);
   EXPECT_EQ(500u, actual.deadline.nsec);
   EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, pub));
   ASSERT_EQ(RMW_RET_OK, rmw_service_request_subscription_get_actual_qos(service, &actual));
   EXPECT_EQ(rmw_qos_profile_services_default.depth, actual.depth);
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_RELIABLE, actual.reliability);
 
   // Content filter round trip.
   rmw_subscription_content_filter_options_t filter =
@@ -265,6 +277,268 @@ TEST_F(ApiBehaviour, gids_requests_takes_qos)
   EXPECT_STREQ("data = %0", got.filter_expression);
   EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&got, &alloc));
   EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&filter, &alloc));
+}
+
+TEST_F(ApiBehaviour, content_filter_is_read_into_an_uninitialised_struct)
+{
+  // test_subscription.cpp passes an uninitialised struct: nothing in it may be freed.
+  rmw_subscription_content_filter_options_t got;
+  std::memset(&got, 0xa5, sizeof(got));
+  rcutils_allocator_t alloc = rcutils_get_default_allocator();
+  rmw_reset_error();
+  EXPECT_EQ(RMW_RET_ERROR, rmw_subscription_get_content_filter(subscription, &alloc, &got));
+  EXPECT_TRUE(rmw_error_is_set());  // no filter set yet
+  rmw_reset_error();
+
+  rmw_subscription_content_filter_options_t filter =
+    rmw_get_zero_initialized_content_filter_options();
+  const char * params[] = {"3.14159", "'x'"};
+  ASSERT_EQ(
+    RMW_RET_OK, rmw_subscription_content_filter_options_init(
+      "float32_value = %0 OR data = %1", 2, params, &alloc, &filter));
+  rmw_subscription_options_t options = rmw_get_default_subscription_options();
+  options.content_filter_options = &filter;
+  rmw_subscription_t * sub = rmw_create_subscription(node, msg_ts, "/filtered", &qos, &options);
+  ASSERT_NE(nullptr, sub) << rmw_get_error_string().str;
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&filter, &alloc));
+  EXPECT_TRUE(sub->is_cft_enabled);
+
+  std::memset(&got, 0xa5, sizeof(got));
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_get_content_filter(sub, &alloc, &got));
+  EXPECT_STREQ("float32_value = %0 OR data = %1", got.filter_expression);
+  ASSERT_EQ(2u, got.expression_parameters.size);
+  EXPECT_STREQ("3.14159", got.expression_parameters.data[0]);
+  EXPECT_STREQ("'x'", got.expression_parameters.data[1]);
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&got, &alloc));
+
+  // No parameters: the output's parameter array is empty, not garbage.
+  rmw_subscription_content_filter_options_t plain =
+    rmw_get_zero_initialized_content_filter_options();
+  ASSERT_EQ(
+    RMW_RET_OK,
+    rmw_subscription_content_filter_options_init("data = 'y'", 0, nullptr, &alloc, &plain));
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_set_content_filter(sub, &plain));
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&plain, &alloc));
+  std::memset(&got, 0xa5, sizeof(got));
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_get_content_filter(sub, &alloc, &got));
+  EXPECT_STREQ("data = 'y'", got.filter_expression);
+  EXPECT_EQ(0u, got.expression_parameters.size);
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&got, &alloc));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_subscription(node, sub));
+}
+
+TEST_F(ApiBehaviour, actual_qos_is_resolved_and_the_capture_keeps_the_request)
+{
+  // test_publisher.cpp:246-252, test_subscription.cpp:254-262: what was left to the
+  // middleware comes back concrete, as rmw_fastrtps_cpp resolves it.
+  const rmw_qos_profile_t sysdef = rmw_qos_profile_system_default;
+  rmw_publisher_t * pub = rmw_create_publisher(node, msg_ts, "/sysdef", &sysdef, &pub_options);
+  ASSERT_NE(nullptr, pub);
+  rmw_qos_profile_t actual = rmw_qos_profile_unknown;
+  ASSERT_EQ(RMW_RET_OK, rmw_publisher_get_actual_qos(pub, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_HISTORY_KEEP_LAST, actual.history);
+  EXPECT_EQ(1u, actual.depth);
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_RELIABLE, actual.reliability);  // DataWriter default
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL, actual.durability);
+  EXPECT_EQ(RMW_QOS_POLICY_LIVELINESS_AUTOMATIC, actual.liveliness);
+  EXPECT_TRUE(is_infinite(actual.deadline));
+  EXPECT_TRUE(is_infinite(actual.lifespan));
+  EXPECT_TRUE(is_infinite(actual.liveliness_lease_duration));
+
+  rmw_subscription_t * sub =
+    rmw_create_subscription(node, msg_ts, "/sysdef", &sysdef, &sub_options);
+  ASSERT_NE(nullptr, sub);
+  actual = rmw_qos_profile_unknown;
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_get_actual_qos(sub, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_HISTORY_KEEP_LAST, actual.history);
+  EXPECT_EQ(1u, actual.depth);
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT, actual.reliability);  // DataReader default
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_VOLATILE, actual.durability);
+  EXPECT_EQ(RMW_QOS_POLICY_LIVELINESS_AUTOMATIC, actual.liveliness);
+  // Resolved this way the two match, as on Fast DDS.
+  size_t count = 0;
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(1u, count);
+
+  // A depth that was asked for stays; so does a concrete policy.
+  rmw_qos_profile_t some = sysdef;
+  some.depth = 7;
+  some.reliability = RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
+  rmw_publisher_t * pub7 = rmw_create_publisher(node, msg_ts, "/sysdef7", &some, &pub_options);
+  ASSERT_NE(nullptr, pub7);
+  ASSERT_EQ(RMW_RET_OK, rmw_publisher_get_actual_qos(pub7, &actual));
+  EXPECT_EQ(7u, actual.depth);
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT, actual.reliability);
+
+  // BEST_AVAILABLE (rmw_dds_common rules): a subscription follows the publishers already there
+  // (the one here: BEST_EFFORT, TRANSIENT_LOCAL as resolved), a publisher is RELIABLE +
+  // TRANSIENT_LOCAL.
+  const rmw_qos_profile_t best = rmw_qos_profile_best_available;
+  rmw_subscription_t * best_sub =
+    rmw_create_subscription(node, msg_ts, "/sysdef7", &best, &sub_options);
+  ASSERT_NE(nullptr, best_sub);
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_get_actual_qos(best_sub, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT, actual.reliability);
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL, actual.durability);
+  EXPECT_EQ(RMW_QOS_POLICY_LIVELINESS_AUTOMATIC, actual.liveliness);
+  EXPECT_TRUE(is_infinite(actual.deadline));  // the publisher's (infinite) is the largest
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_count_matched_publishers(best_sub, &count));
+  EXPECT_EQ(1u, count);
+  rmw_publisher_t * best_pub =
+    rmw_create_publisher(node, msg_ts, "/best_alone", &best, &pub_options);
+  ASSERT_NE(nullptr, best_pub);
+  ASSERT_EQ(RMW_RET_OK, rmw_publisher_get_actual_qos(best_pub, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_RELIABLE, actual.reliability);
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL, actual.durability);
+  EXPECT_EQ(RMW_QOS_POLICY_LIVELINESS_AUTOMATIC, actual.liveliness);
+
+  // Services and clients: requests are written by the client and read by the service.
+  rmw_client_t * cli = rmw_create_client(node, srv_ts, "/sysdef_srv", &sysdef);
+  ASSERT_NE(nullptr, cli);
+  rmw_service_t * srv = rmw_create_service(node, srv_ts, "/sysdef_srv", &sysdef);
+  ASSERT_NE(nullptr, srv);
+  ASSERT_EQ(RMW_RET_OK, rmw_client_request_publisher_get_actual_qos(cli, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_RELIABLE, actual.reliability);
+  EXPECT_EQ(RMW_QOS_POLICY_HISTORY_KEEP_LAST, actual.history);
+  ASSERT_EQ(RMW_RET_OK, rmw_client_response_subscription_get_actual_qos(cli, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT, actual.reliability);
+  ASSERT_EQ(RMW_RET_OK, rmw_service_request_subscription_get_actual_qos(srv, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_VOLATILE, actual.durability);
+  ASSERT_EQ(RMW_RET_OK, rmw_service_response_publisher_get_actual_qos(srv, &actual));
+  EXPECT_EQ(RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL, actual.durability);
+
+  // The graph and the capture keep what the node asked for.
+  rcutils_allocator_t alloc = rcutils_get_default_allocator();
+  rmw_topic_endpoint_info_array_t infos = rmw_get_zero_initialized_topic_endpoint_info_array();
+  ASSERT_EQ(RMW_RET_OK, rmw_get_publishers_info_by_topic(node, &alloc, "/sysdef", false, &infos));
+  ASSERT_EQ(1u, infos.size);
+  EXPECT_EQ(RMW_QOS_POLICY_RELIABILITY_SYSTEM_DEFAULT, infos.info_array[0].qos_profile.reliability);
+  EXPECT_EQ(RMW_RET_OK, rmw_topic_endpoint_info_array_fini(&infos, &alloc));
+  std::remove(capture_path().c_str());
+  ASSERT_EQ(RMW_RET_OK, rmw_shutdown(&context));
+  const std::string text = read_file(capture_path());
+  const size_t at = text.find("\"name\": \"/sysdef\"");
+  ASSERT_NE(std::string::npos, at) << text;
+  const size_t next = text.find("\"seq\":", at);
+  const std::string entry = text.substr(at, next - at);
+  EXPECT_NE(std::string::npos, entry.find("\"reliability\": \"SYSTEM_DEFAULT\"")) << entry;
+  EXPECT_NE(std::string::npos, entry.find("\"durability\": \"SYSTEM_DEFAULT\"")) << entry;
+  EXPECT_NE(std::string::npos, entry.find("\"history\": \"SYSTEM_DEFAULT\"")) << entry;
+  unlink(capture_path().c_str());
+
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_service(node, srv));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_client(node, cli));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, best_pub));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_subscription(node, best_sub));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, pub7));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_subscription(node, sub));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, pub));
+}
+
+TEST_F(ApiBehaviour, matched_counts_follow_qos_compatibility_and_type)
+{
+  // test_publisher.cpp:413, test_subscription.cpp:424: BEST_EFFORT publisher, RELIABLE
+  // subscription in one process: no match on either side.
+  rmw_qos_profile_t best_effort = rmw_qos_profile_default;
+  best_effort.reliability = RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
+  rmw_qos_profile_t reliable = rmw_qos_profile_default;
+  rmw_publisher_t * pub = rmw_create_publisher(node, msg_ts, "/m", &best_effort, &pub_options);
+  ASSERT_NE(nullptr, pub);
+  rmw_subscription_t * rsub = rmw_create_subscription(node, msg_ts, "/m", &reliable, &sub_options);
+  ASSERT_NE(nullptr, rsub);
+  size_t count = 9;
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(0u, count);
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_count_matched_publishers(rsub, &count));
+  EXPECT_EQ(0u, count);
+  // ... still both in the graph.
+  EXPECT_EQ(RMW_RET_OK, rmw_count_subscribers(node, "/m", &count));
+  EXPECT_EQ(1u, count);
+
+  // A BEST_EFFORT subscription matches.
+  rmw_subscription_t * bsub =
+    rmw_create_subscription(node, msg_ts, "/m", &best_effort, &sub_options);
+  ASSERT_NE(nullptr, bsub);
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(1u, count);
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_count_matched_publishers(bsub, &count));
+  EXPECT_EQ(1u, count);
+
+  // Other incompatibilities: a deadline the publisher does not offer, TRANSIENT_LOCAL asked of
+  // a VOLATILE publisher.
+  rmw_qos_profile_t deadline = best_effort;
+  deadline.deadline = {1, 0};
+  rmw_subscription_t * dsub = rmw_create_subscription(node, msg_ts, "/m", &deadline, &sub_options);
+  ASSERT_NE(nullptr, dsub);
+  rmw_qos_profile_t latched = best_effort;
+  latched.durability = RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL;
+  rmw_subscription_t * lsub = rmw_create_subscription(node, msg_ts, "/m", &latched, &sub_options);
+  ASSERT_NE(nullptr, lsub);
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(1u, count);
+
+  // Another type on the same topic name does not match either.
+  const rosidl_message_type_support_t * other_ts =
+    ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, action, Fibonacci_FeedbackMessage);
+  rmw_subscription_t * tsub =
+    rmw_create_subscription(node, other_ts, "/m", &best_effort, &sub_options);
+  ASSERT_NE(nullptr, tsub);
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(1u, count);
+  EXPECT_EQ(RMW_RET_OK, rmw_subscription_count_matched_publishers(tsub, &count));
+  EXPECT_EQ(0u, count);
+
+  for (rmw_subscription_t * s : {rsub, bsub, dsub, lsub, tsub}) {
+    EXPECT_EQ(RMW_RET_OK, rmw_destroy_subscription(node, s));
+  }
+  EXPECT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(pub, &count));
+  EXPECT_EQ(0u, count);
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, pub));
+}
+
+TEST_F(ApiBehaviour, without_delivery_nothing_arrives_but_serialization_works)
+{
+  // RMW_INTROSPECT_DELIVERY is off by default: publishing drops, nothing is ever ready.
+  std_msgs__msg__String msg;
+  std_msgs__msg__String__init(&msg);
+  ASSERT_TRUE(rosidl_runtime_c__String__assign(&msg.data, "round trip"));
+  ASSERT_EQ(RMW_RET_OK, rmw_publish(publisher, &msg, nullptr));
+  std_msgs__msg__String out;
+  std_msgs__msg__String__init(&out);
+  bool taken = true;
+  ASSERT_EQ(RMW_RET_OK, rmw_take(subscription, &out, &taken, nullptr));
+  EXPECT_FALSE(taken);
+  void * storage[1] = {subscription->data};
+  rmw_subscriptions_t subs{1, storage};
+  rmw_time_t timeout{0, 10000000};
+  EXPECT_EQ(
+    RMW_RET_TIMEOUT, rmw_wait(&subs, nullptr, nullptr, nullptr, nullptr, wait_set, &timeout));
+  EXPECT_EQ(nullptr, storage[0]);
+  rmw_event_t matched = rmw_get_zero_initialized_event();
+  ASSERT_EQ(RMW_RET_OK, rmw_publisher_event_init(&matched, publisher, RMW_EVENT_PUBLICATION_MATCHED));
+  rmw_matched_status_t status{};
+  EXPECT_EQ(RMW_RET_OK, rmw_take_event(&matched, &status, &taken));
+  EXPECT_FALSE(taken);
+  EXPECT_EQ(RMW_RET_OK, rmw_event_fini(&matched));
+
+  // rmw_serialize / rmw_deserialize: CDR through the type support, C or C++.
+  rcutils_allocator_t alloc = rcutils_get_default_allocator();
+  rmw_serialized_message_t bytes = rmw_get_zero_initialized_serialized_message();
+  ASSERT_EQ(RMW_RET_OK, rmw_serialized_message_init(&bytes, 0u, &alloc));
+  ASSERT_EQ(RMW_RET_OK, rmw_serialize(&msg, msg_ts, &bytes));
+  EXPECT_EQ(4u + 4u + 11u, bytes.buffer_length);  // header, length, "round trip\0"
+  ASSERT_EQ(RMW_RET_OK, rmw_deserialize(&bytes, msg_ts, &out));
+  EXPECT_STREQ("round trip", out.data.data);
+  std_msgs::msg::String cpp;
+  const rosidl_message_type_support_t * cpp_ts =
+    rosidl_typesupport_cpp::get_message_type_support_handle<std_msgs::msg::String>();
+  ASSERT_EQ(RMW_RET_OK, rmw_deserialize(&bytes, cpp_ts, &cpp));
+  EXPECT_EQ("round trip", cpp.data);
+  bytes.buffer_length = 6;  // truncated
+  EXPECT_RET_WITH_ERROR(RMW_RET_ERROR, rmw_deserialize(&bytes, msg_ts, &out));
+  EXPECT_EQ(RMW_RET_OK, rmw_serialized_message_fini(&bytes));
+  std_msgs__msg__String__fini(&out);
+  std_msgs__msg__String__fini(&msg);
 }
 
 TEST_F(ApiBehaviour, cpp_and_action_type_supports_are_recorded)

@@ -38,4 +38,14 @@ inline void ignore_result(T) {}
 #define RMWI_CHECK_HANDLE_RETURN_NULL(handle) \
   RMWI_CHECK_HANDLE_OR(handle, data, nullptr, nullptr)
 
+/// The loan entry points, after the handle checks and before their other arguments (like
+/// rmw_fastrtps_cpp, which test_rmw_implementation follows): RMW_RET_UNSUPPORTED when the
+/// publisher or subscription cannot loan (ours can only with in-process delivery, for plain
+/// types).
+#define RMWI_CHECK_CAN_LOAN(handle) \
+  if (!(handle)->can_loan_messages) { \
+    RMW_SET_ERROR_MSG("Loaning is not supported"); \
+    return RMW_RET_UNSUPPORTED; \
+  }
+
 #endif  // DETAIL__COMMON_HPP_

@@ -82,6 +82,7 @@ Config Config::from_environment(long pid)
   config.auto_export = parse_flag(std::getenv("RMW_INTROSPECT_AUTO_EXPORT"), true);
   config.verbose = parse_flag(std::getenv("RMW_INTROSPECT_VERBOSE"), false);
   config.server_available = parse_flag(std::getenv("RMW_INTROSPECT_SERVER_AVAILABLE"), true);
+  config.delivery = parse_flag(std::getenv("RMW_INTROSPECT_DELIVERY"), false);
   return config;
 }
 

@@ -21,6 +21,7 @@ struct Config
   bool auto_export = true;        // RMW_INTROSPECT_AUTO_EXPORT
   bool verbose = false;           // RMW_INTROSPECT_VERBOSE
   bool server_available = true;   // RMW_INTROSPECT_SERVER_AVAILABLE
+  bool delivery = false;          // RMW_INTROSPECT_DELIVERY: in-process delivery
   int64_t horizon_ms = 0;         // RMW_INTROSPECT_HORIZON_MS (0: virtual time off)
   int64_t warp_budget_ms = 3000;  // RMW_INTROSPECT_WARP_BUDGET_MS
   /// One line per value that was out of range or not a number (kept at its default);

@@ -6,8 +6,10 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "rmw/error_handling.h"
+#include "rmw/time.h"
 #include "rmw/types.h"
 #include "rmw/validate_full_topic_name.h"
 
@@ -78,10 +80,87 @@ std::unique_ptr<Impl> new_endpoint(
   return impl;
 }
 
+/// The side of the DDS entity that carries an endpoint's topic: a client writes requests, a
+/// service reads them.
+inline QosSide topic_side(EndpointKind kind)
+{
+  return kind == EndpointKind::Publisher || kind == EndpointKind::Client ?
+         QosSide::kWriter : QosSide::kReader;
+}
+
+/// The actual QoS of a service's or client's request or response entity (`side`).
+inline rmw_qos_profile_t service_actual_qos(const rmw_qos_profile_t & requested, QosSide side)
+{
+  rmw_qos_profile_t qos = requested;
+  resolve_best_available_for_service(&qos);
+  return resolve_system_defaults(qos, side);
+}
+
+/// The actual QoS of an endpoint about to be recorded, as a real middleware resolves it at
+/// creation: BEST_AVAILABLE from the actual QoS of the endpoints now on the other side of the
+/// topic (publishers and subscriptions), then what is left to the middleware (system defaults).
+/// The capture keeps the requested QoS.
+inline rmw_qos_profile_t resolve_actual_qos(
+  EndpointKind kind, const std::string & name, const rmw_qos_profile_t & requested)
+{
+  if (kind == EndpointKind::Service || kind == EndpointKind::Client) {
+    return service_actual_qos(requested, topic_side(kind));
+  }
+  rmw_qos_profile_t qos = requested;
+  const bool best_available =
+    qos.reliability == RMW_QOS_POLICY_RELIABILITY_BEST_AVAILABLE ||
+    qos.durability == RMW_QOS_POLICY_DURABILITY_BEST_AVAILABLE ||
+    qos.liveliness == RMW_QOS_POLICY_LIVELINESS_BEST_AVAILABLE ||
+    rmw_time_equal(qos.deadline, RMW_QOS_DEADLINE_BEST_AVAILABLE) ||
+    rmw_time_equal(qos.liveliness_lease_duration, RMW_QOS_LIVELINESS_LEASE_DURATION_BEST_AVAILABLE);
+  if (best_available) {
+    const EndpointKind peer_kind = kind == EndpointKind::Publisher ?
+      EndpointKind::Subscription : EndpointKind::Publisher;
+    std::vector<rmw_qos_profile_t> peers;
+    Runtime::instance().recorder().visit(
+      [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
+        for (const auto & e : endpoints) {
+          if (e.alive && e.kind == peer_kind && e.name == name) {
+            peers.push_back(e.actual_qos);
+          }
+        }
+      });
+    if (kind == EndpointKind::Publisher) {
+      resolve_best_available_for_publisher(&qos, peers.data(), peers.size());
+    } else {
+      resolve_best_available_for_subscription(&qos, peers.data(), peers.size());
+    }
+  }
+  return resolve_system_defaults(qos, topic_side(kind));
+}
+
+/// How many endpoints of `peer_kind` (Subscription for a publisher, Publisher for a
+/// subscription) in this process match an endpoint on `topic` of `type` with `actual_qos`: the
+/// same topic name and type, and QoS without an incompatibility (rmw_qos_profile_check_compatible
+/// semantics, on both sides' actual QoS). Allocates nothing.
+inline size_t count_matched(
+  EndpointKind peer_kind, const std::string & topic, const std::string & type,
+  const rmw_qos_profile_t & actual_qos)
+{
+  size_t count = 0;
+  Runtime::instance().recorder().visit(
+    [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
+      for (const auto & e : endpoints) {
+        if (!e.alive || e.kind != peer_kind || e.name != topic || e.type != type) {
+          continue;
+        }
+        const bool match = peer_kind == EndpointKind::Subscription ?
+          qos_match(actual_qos, e.actual_qos) : qos_match(e.actual_qos, actual_qos);
+        count += match ? 1u : 0u;
+      }
+    });
+  return count;
+}
+
 /// Record an endpoint of `node` and return its record id (0 when the node is unknown).
 inline uint64_t record_endpoint(
   EndpointKind kind, const NodeImpl * node, const std::string & name, const ResolvedType & type,
-  const rmw_qos_profile_t & qos, const Gid & gid)
+  const rmw_qos_profile_t & qos, const rmw_qos_profile_t & actual_qos, const Gid & gid)
 {
   EndpointRecord record;
   record.kind = kind;
@@ -91,6 +170,7 @@ inline uint64_t record_endpoint(
   record.type_hash = type.type_hash;
   record.typesupport = type.typesupport;
   record.qos = qos;
+  record.actual_qos = actual_qos;
   record.gid = gid;
   Runtime & runtime = Runtime::instance();
   record.created = runtime.creation_time();
@@ -103,11 +183,13 @@ inline uint64_t record_endpoint(
   return id;
 }
 
-/// Record a fully made endpoint (see new_endpoint).
+/// Record a fully made endpoint (see new_endpoint), its actual QoS resolved now.
 template<typename Impl>
 void record(Impl & impl, EndpointKind kind)
 {
-  impl.record_id = record_endpoint(kind, impl.node, impl.name, impl.type, impl.qos, impl.gid);
+  impl.actual_qos = resolve_actual_qos(kind, impl.name, impl.qos);
+  impl.record_id = record_endpoint(
+    kind, impl.node, impl.name, impl.type, impl.qos, impl.actual_qos, impl.gid);
 }
 
 inline void forget_endpoint(

@@ -4,7 +4,10 @@
 
 #include <atomic>
 #include <cstdint>
+#include <deque>
+#include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 
 #include "rmw/event.h"
@@ -13,6 +16,9 @@
 #include "rmw/subscription_content_filter_options.h"
 #include "rmw/types.h"
 
+#include "detail/cdr.hpp"
+#include "detail/content_filter.hpp"
+#include "detail/inbox.hpp"
 #include "detail/recorder.hpp"
 #include "detail/typesupport.hpp"
 #include "detail/wait_hub.hpp"
@@ -27,7 +33,8 @@ struct ContextImpl
   std::atomic<size_t> node_count{0};
 };
 
-/// A stored "on new data" / event callback. Never called: nothing ever arrives.
+/// A stored "on new data" / event callback. Called only with in-process delivery
+/// (RMW_INTROSPECT_DELIVERY=1): new messages, requests, responses, matched changes.
 class Callback
 {
 public:
@@ -36,6 +43,14 @@ public:
     std::lock_guard<std::mutex> lock(mutex_);
     callback_ = cb;
     user_data_ = data;
+  }
+  /// Call it (if set) with `count` new events.
+  void notify(size_t count)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (callback_ != nullptr) {
+      callback_(user_data_, count);
+    }
   }
 
 private:
@@ -49,6 +64,8 @@ struct EventSource
 {
   bool is_publisher = false;
   Callback event_callbacks[RMW_EVENT_INVALID];
+  MatchedState matched;  // PUBLICATION_MATCHED / SUBSCRIPTION_MATCHED (delivery only)
+  std::atomic<bool> delivered{false};  // registered with the Delivery: events are live
 };
 
 struct GuardConditionImpl
@@ -77,31 +94,56 @@ struct EndpointImpl
   uint64_t record_id = 0;
   const NodeImpl * node = nullptr;
   ResolvedType type;
-  rmw_qos_profile_t qos{};
+  rmw_qos_profile_t qos{};         // as requested (recorded as such)
+  rmw_qos_profile_t actual_qos{};  // as a middleware resolves it (see endpoint_common.hpp)
   Gid gid{};
+};
+
+/// Messages loaned out (in-process delivery, plain types): made by the middleware, the
+/// caller's until returned; any still out when the endpoint goes are freed with it.
+struct Loans
+{
+  std::mutex mutex;
+  std::set<void *> out;
 };
 
 struct PublisherImpl : EventSource, EndpointImpl<rmw_publisher_t>
 {
+  Loans loans;
+  MessageLayout layout;                 // the caller's type support (C or C++)
+  std::atomic<int64_t> next_sequence{1};  // publication sequence numbers
+  std::mutex history_mutex;             // TRANSIENT_LOCAL: the last `depth` samples
+  std::deque<Sample> history;
 };
 
 struct SubscriptionImpl : EventSource, EndpointImpl<rmw_subscription_t>
 {
   Callback on_new_message;
+  Loans loans;
   std::mutex filter_mutex;
   bool has_filter = false;
   rmw_subscription_content_filter_options_t filter{};
+  std::unique_ptr<ContentFilter> compiled_filter;  // NULL: the expression did not compile
+  MessageLayout layout;
+  Inbox inbox;
+  std::atomic<int64_t> next_reception{1};
 };
 
 struct ServiceImpl : EndpointImpl<rmw_service_t>
 {
   Callback on_new_request;
+  MessageLayout request_layout;
+  MessageLayout response_layout;
+  Inbox requests;
 };
 
 struct ClientImpl : EndpointImpl<rmw_client_t>
 {
   std::atomic<int64_t> next_sequence{1};
   Callback on_new_response;
+  MessageLayout request_layout;
+  MessageLayout response_layout;
+  Inbox responses;
 };
 
 struct WaitSetImpl

@@ -224,4 +224,172 @@ rmw_ret_t check_qos_compatible(
   return RMW_RET_OK;
 }
 
+namespace
+{
+
+bool time_equal(const rmw_time_t & a, const rmw_time_t & b)
+{
+  return a.sec == b.sec && a.nsec == b.nsec;
+}
+
+const rmw_time_t kInfinite = RMW_DURATION_INFINITE;
+const rmw_time_t kDeadlineDefault = RMW_QOS_DEADLINE_DEFAULT;
+const rmw_time_t kDeadlineBestAvailable = RMW_QOS_DEADLINE_BEST_AVAILABLE;
+const rmw_time_t kLeaseDefault = RMW_QOS_LIVELINESS_LEASE_DURATION_DEFAULT;
+const rmw_time_t kLeaseBestAvailable = RMW_QOS_LIVELINESS_LEASE_DURATION_BEST_AVAILABLE;
+
+rmw_time_t unset_is_infinite(const rmw_time_t & t)
+{
+  return time_unset(t) ? kInfinite : t;
+}
+
+}  // namespace
+
+rmw_qos_profile_t resolve_system_defaults(const rmw_qos_profile_t & requested, QosSide side)
+{
+  rmw_qos_profile_t actual = requested;
+  if (actual.history == RMW_QOS_POLICY_HISTORY_SYSTEM_DEFAULT) {
+    actual.history = RMW_QOS_POLICY_HISTORY_KEEP_LAST;
+  }
+  if (actual.depth == RMW_QOS_POLICY_DEPTH_SYSTEM_DEFAULT) {
+    actual.depth = 1u;
+  }
+  if (actual.reliability == RMW_QOS_POLICY_RELIABILITY_SYSTEM_DEFAULT) {
+    actual.reliability = side == QosSide::kWriter ?
+      RMW_QOS_POLICY_RELIABILITY_RELIABLE : RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
+  }
+  if (actual.durability == RMW_QOS_POLICY_DURABILITY_SYSTEM_DEFAULT) {
+    actual.durability = side == QosSide::kWriter ?
+      RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL : RMW_QOS_POLICY_DURABILITY_VOLATILE;
+  }
+  if (actual.liveliness == RMW_QOS_POLICY_LIVELINESS_SYSTEM_DEFAULT) {
+    actual.liveliness = RMW_QOS_POLICY_LIVELINESS_AUTOMATIC;
+  }
+  actual.deadline = unset_is_infinite(actual.deadline);
+  actual.lifespan = unset_is_infinite(actual.lifespan);
+  actual.liveliness_lease_duration = unset_is_infinite(actual.liveliness_lease_duration);
+  return actual;
+}
+
+void resolve_best_available_for_publisher(
+  rmw_qos_profile_t * qos, const rmw_qos_profile_t * subscriptions, size_t count)
+{
+  bool any_manual_by_topic = false;
+  bool default_deadline = true;
+  rmw_time_t smallest_deadline = kInfinite;
+  bool default_lease = true;
+  rmw_time_t smallest_lease = kInfinite;
+  for (size_t i = 0; i < count; ++i) {
+    const rmw_qos_profile_t & sub = subscriptions[i];
+    any_manual_by_topic |= sub.liveliness == RMW_QOS_POLICY_LIVELINESS_MANUAL_BY_TOPIC;
+    if (!time_equal(sub.deadline, kDeadlineDefault)) {
+      default_deadline = false;
+      if (time_less(sub.deadline, smallest_deadline)) {
+        smallest_deadline = sub.deadline;
+      }
+    }
+    if (!time_equal(sub.liveliness_lease_duration, kLeaseDefault)) {
+      default_lease = false;
+      if (time_less(sub.liveliness_lease_duration, smallest_lease)) {
+        smallest_lease = sub.liveliness_lease_duration;
+      }
+    }
+  }
+  if (qos->reliability == RMW_QOS_POLICY_RELIABILITY_BEST_AVAILABLE) {
+    qos->reliability = RMW_QOS_POLICY_RELIABILITY_RELIABLE;
+  }
+  if (qos->durability == RMW_QOS_POLICY_DURABILITY_BEST_AVAILABLE) {
+    qos->durability = RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL;
+  }
+  if (qos->liveliness == RMW_QOS_POLICY_LIVELINESS_BEST_AVAILABLE) {
+    qos->liveliness = any_manual_by_topic ?
+      RMW_QOS_POLICY_LIVELINESS_MANUAL_BY_TOPIC : RMW_QOS_POLICY_LIVELINESS_AUTOMATIC;
+  }
+  if (time_equal(qos->deadline, kDeadlineBestAvailable)) {
+    qos->deadline = default_deadline ? kDeadlineDefault : smallest_deadline;
+  }
+  if (time_equal(qos->liveliness_lease_duration, kLeaseBestAvailable)) {
+    qos->liveliness_lease_duration =
+      default_lease ? kLeaseDefault : smallest_lease;
+  }
+}
+
+void resolve_best_available_for_subscription(
+  rmw_qos_profile_t * qos, const rmw_qos_profile_t * publishers, size_t count)
+{
+  size_t reliable = 0;
+  size_t transient_local = 0;
+  size_t manual_by_topic = 0;
+  bool default_deadline = true;
+  rmw_time_t largest_deadline = {0u, 0u};
+  bool default_lease = true;
+  rmw_time_t largest_lease = {0u, 0u};
+  for (size_t i = 0; i < count; ++i) {
+    const rmw_qos_profile_t & pub = publishers[i];
+    reliable += pub.reliability == RMW_QOS_POLICY_RELIABILITY_RELIABLE;
+    transient_local += pub.durability == RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL;
+    manual_by_topic += pub.liveliness == RMW_QOS_POLICY_LIVELINESS_MANUAL_BY_TOPIC;
+    if (!time_equal(pub.deadline, kDeadlineDefault)) {
+      default_deadline = false;
+      if (time_less(largest_deadline, pub.deadline)) {
+        largest_deadline = pub.deadline;
+      }
+    }
+    if (!time_equal(pub.liveliness_lease_duration, kLeaseDefault)) {
+      default_lease = false;
+      if (time_less(largest_lease, pub.liveliness_lease_duration)) {
+        largest_lease = pub.liveliness_lease_duration;
+      }
+    }
+  }
+  if (qos->reliability == RMW_QOS_POLICY_RELIABILITY_BEST_AVAILABLE) {
+    qos->reliability = reliable == count ?
+      RMW_QOS_POLICY_RELIABILITY_RELIABLE : RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
+  }
+  if (qos->durability == RMW_QOS_POLICY_DURABILITY_BEST_AVAILABLE) {
+    qos->durability = transient_local == count ?
+      RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL : RMW_QOS_POLICY_DURABILITY_VOLATILE;
+  }
+  if (qos->liveliness == RMW_QOS_POLICY_LIVELINESS_BEST_AVAILABLE) {
+    qos->liveliness = manual_by_topic == count ?
+      RMW_QOS_POLICY_LIVELINESS_MANUAL_BY_TOPIC : RMW_QOS_POLICY_LIVELINESS_AUTOMATIC;
+  }
+  if (time_equal(qos->deadline, kDeadlineBestAvailable)) {
+    qos->deadline = default_deadline ? kDeadlineDefault : largest_deadline;
+  }
+  if (time_equal(qos->liveliness_lease_duration, kLeaseBestAvailable)) {
+    qos->liveliness_lease_duration =
+      default_lease ? kLeaseDefault : largest_lease;
+  }
+}
+
+void resolve_best_available_for_service(rmw_qos_profile_t * qos)
+{
+  if (qos->reliability == RMW_QOS_POLICY_RELIABILITY_BEST_AVAILABLE) {
+    qos->reliability = RMW_QOS_POLICY_RELIABILITY_RELIABLE;
+  }
+  if (qos->durability == RMW_QOS_POLICY_DURABILITY_BEST_AVAILABLE) {
+    qos->durability = RMW_QOS_POLICY_DURABILITY_VOLATILE;
+  }
+  if (qos->liveliness == RMW_QOS_POLICY_LIVELINESS_BEST_AVAILABLE) {
+    qos->liveliness = RMW_QOS_POLICY_LIVELINESS_AUTOMATIC;
+  }
+  if (time_equal(qos->deadline, kDeadlineBestAvailable)) {
+    qos->deadline = kDeadlineDefault;
+  }
+  if (time_equal(qos->liveliness_lease_duration, kLeaseBestAvailable)) {
+    qos->liveliness_lease_duration = kLeaseDefault;
+  }
+}
+
+bool qos_match(const rmw_qos_profile_t & publisher, const rmw_qos_profile_t & subscription)
+{
+  rmw_qos_compatibility_type_t compatibility = RMW_QOS_COMPATIBILITY_OK;
+  // No reason buffer: only the error rules run their course, nothing is formatted.
+  if (check_qos_compatible(publisher, subscription, &compatibility, nullptr, 0u) != RMW_RET_OK) {
+    return false;
+  }
+  return compatibility != RMW_QOS_COMPATIBILITY_ERROR;
+}
+
 }  // namespace rmw_introspect

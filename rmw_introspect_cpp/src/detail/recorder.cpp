@@ -195,12 +195,4 @@ uint64_t Recorder::generation() const
   return generation_;
 }
 
-void Recorder::visit(
-  const std::function<void(
-    const std::vector<NodeRecord> &, const std::vector<EndpointRecord> &)> & fn) const
-{
-  std::lock_guard<std::mutex> lock(mutex_);
-  fn(nodes_, endpoints_);
-}
-
 }  // namespace rmw_introspect

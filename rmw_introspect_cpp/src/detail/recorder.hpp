@@ -56,7 +56,8 @@ struct EndpointRecord
   std::string type;
   std::string type_hash;
   std::string typesupport;
-  rmw_qos_profile_t qos{};
+  rmw_qos_profile_t qos{};         // as requested: what the capture reports
+  rmw_qos_profile_t actual_qos{};  // as resolved (rmw_*_get_actual_qos): what matching uses
   Gid gid{};
   CreationTime created;
   bool destroyed = false;  // destroyed while the process was running (reported)
@@ -108,10 +109,16 @@ public:
   RecorderSnapshot snapshot(bool mark_teardown = false) const;
   uint64_t generation() const;
 
-  /// Run `fn(nodes, endpoints)` under the lock (for graph queries that only read).
-  void visit(
-    const std::function<void(
-      const std::vector<NodeRecord> &, const std::vector<EndpointRecord> &)> & fn) const;
+  /// Run `fn(nodes, endpoints)` under the lock (for graph queries that only read). A template,
+  /// not a std::function: a matched count must not allocate (test_rmw_implementation checks
+  /// rmw_publisher_count_matched_subscriptions under osrf_testing_tools_cpp's memory checks).
+  template<typename Fn>
+  void visit(Fn && fn) const
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    fn(static_cast<const std::vector<NodeRecord> &>(nodes_),
+      static_cast<const std::vector<EndpointRecord> &>(endpoints_));
+  }
 
   Gid new_gid();
 

@@ -11,6 +11,7 @@
 
 #include "detail/clock.hpp"
 #include "detail/config.hpp"
+#include "detail/delivery.hpp"
 #include "detail/graph_guards.hpp"
 #include "detail/recorder.hpp"
 #include "detail/session.hpp"
@@ -32,6 +33,9 @@ struct ContextImpl;
 ///   4. Runtime::session_mutex_  the Session; the monitor thread sleeps on session_cv_
 ///   5. Recorder's mutex         a leaf: its change listener (-> session) runs after release
 /// Per-entity mutexes (stored callbacks, a subscription's content filter) are leaves too.
+/// Delivery's mutex is taken with none of the above held and takes only per-entity ones (a
+/// content filter, then an inbox or a matched status); the waiters are woken and the "new
+/// data" callbacks called after it is released. rmw_wait reads readiness from atomics.
 class Runtime
 {
 public:
@@ -47,6 +51,8 @@ public:
   Recorder & recorder() {return recorder_;}
   WaitHub & wait_hub() {return wait_hub_;}
   GraphGuards & graph_guards() {return graph_guards_;}
+  /// In-process delivery (RMW_INTROSPECT_DELIVERY=1): who receives what this process sends.
+  Delivery & delivery() {return delivery_;}
 
   /// Trigger the graph guard condition of every live node (a local graph change).
   void notify_graph_change();
@@ -107,6 +113,7 @@ private:
   VirtualClock virtual_clock_;
   Recorder recorder_;
   WaitHub wait_hub_;
+  Delivery delivery_;
   GraphGuards graph_guards_;
   std::vector<std::string> argv_;  // read at rmw_init (immutable after)
 

@@ -161,4 +161,30 @@ bool resolve_service_type(
            rosidl_typesupport_introspection_cpp::ServiceMembers>(type_support, out, error, &found);
 }
 
+MessageLayout message_layout(const ResolvedType & type)
+{
+  MessageLayout layout;
+  layout.members = type.members;
+  layout.is_cpp = type.is_cpp;
+  return layout;
+}
+
+void service_layouts(const ResolvedType & type, MessageLayout * request, MessageLayout * response)
+{
+  request->is_cpp = response->is_cpp = type.is_cpp;
+  if (type.members == nullptr) {
+    request->members = response->members = nullptr;
+  } else if (type.is_cpp) {
+    const auto * m =
+      static_cast<const rosidl_typesupport_introspection_cpp::ServiceMembers *>(type.members);
+    request->members = m->request_members_;
+    response->members = m->response_members_;
+  } else {
+    const auto * m = static_cast<const rosidl_typesupport_introspection_c__ServiceMembers *>(
+      type.members);
+    request->members = m->request_members_;
+    response->members = m->response_members_;
+  }
+}
+
 }  // namespace rmw_introspect

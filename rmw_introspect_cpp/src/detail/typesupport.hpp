@@ -25,6 +25,19 @@ struct ResolvedType
   const rosidl_message_type_support_t * introspection_message = nullptr;
 };
 
+/// A message type as the introspection type support describes it: its MessageMembers, C
+/// (rosidl_typesupport_introspection_c) or C++ (rosidl_typesupport_introspection_cpp).
+struct MessageLayout
+{
+  const void * members = nullptr;
+  bool is_cpp = false;
+};
+
+/// The layout of a resolved message type.
+MessageLayout message_layout(const ResolvedType & type);
+/// The request and response layouts of a resolved service type.
+void service_layouts(const ResolvedType & type, MessageLayout * request, MessageLayout * response);
+
 /// "pkg__msg" / "pkg::msg" / "pkg__action" + "X" -> "pkg/msg/X" ...
 std::string type_name_from_namespace(const char * type_namespace, const char * type_name);
 

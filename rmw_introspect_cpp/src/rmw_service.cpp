@@ -1,5 +1,7 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Service servers: recorded on creation; no request ever arrives.
+// Service servers: recorded on creation; no request of another process ever arrives. The
+// middleware's own requests to the nodes' services (parameters, lifecycle: detail/injector)
+// are taken and answered here.
 
 #include <memory>
 #include <new>
@@ -37,6 +39,7 @@ rmw_service_t * rmw_create_service(
   }
   impl->handle.service_name = impl->name.c_str();
   rmw_introspect::record(*impl, rmw_introspect::EndpointKind::Service);
+  rmw_introspect::Runtime::instance().injector().add_service(impl.get());
   return &impl.release()->handle;
 }
 
@@ -45,6 +48,7 @@ rmw_ret_t rmw_destroy_service(rmw_node_t * node, rmw_service_t * service)
   RMWI_CHECK_HANDLE(node);
   RMWI_CHECK_HANDLE(service);
   std::unique_ptr<ServiceImpl> impl(static_cast<ServiceImpl *>(service->data));
+  rmw_introspect::Runtime::instance().injector().remove_service(impl.get());
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Service, impl->name, impl->node);
   return RMW_RET_OK;
@@ -59,7 +63,13 @@ rmw_ret_t rmw_take_request(
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_request, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   *taken = false;
-  rmw_introspect::Runtime::instance().on_activity();
+  auto & runtime = rmw_introspect::Runtime::instance();
+  if (runtime.injector().take(
+      static_cast<ServiceImpl *>(service->data), request_header, ros_request, taken))
+  {
+    return RMW_RET_OK;  // the middleware's own request: no activity of the node
+  }
+  runtime.on_activity();
   return RMW_RET_OK;
 }
 
@@ -69,7 +79,13 @@ rmw_ret_t rmw_send_response(
   RMWI_CHECK_HANDLE(service);
   RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_response, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
+  auto & runtime = rmw_introspect::Runtime::instance();
+  if (runtime.injector().answer(
+      static_cast<ServiceImpl *>(service->data), request_header, ros_response))
+  {
+    return RMW_RET_OK;  // the answer to the middleware's own request: read, no activity
+  }
+  runtime.on_activity();
   return RMW_RET_OK;  // dropped
 }
 

@@ -1,6 +1,7 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 // Wait sets and rmw_wait: blocks until a guard condition of the set is triggered or the
-// timeout expires; subscriptions, services, clients and events are never ready.
+// timeout expires; subscriptions, clients and events are never ready, services only with a
+// request of the middleware's own (detail/injector).
 
 #include <cstdint>
 #include <memory>
@@ -10,6 +11,7 @@
 
 #include "detail/common.hpp"
 #include "detail/handles.hpp"
+#include "detail/injector.hpp"
 #include "detail/runtime.hpp"
 #include "detail/wait_hub.hpp"
 
@@ -29,6 +31,34 @@ bool any_triggered(const rmw_guard_conditions_t * gcs)
   for (size_t i = 0; i < gcs->guard_condition_count; ++i) {
     auto * impl = static_cast<GuardConditionImpl *>(gcs->guard_conditions[i]);
     if (impl != nullptr && impl->gc.triggered.load()) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// rcl stores each service's `data` (our ServiceImpl) in the array. Marks them served.
+void mark_served(const rmw_services_t * services)
+{
+  if (services == nullptr) {
+    return;
+  }
+  for (size_t i = 0; i < services->service_count; ++i) {
+    auto * impl = static_cast<rmw_introspect::ServiceImpl *>(services->services[i]);
+    if (impl != nullptr) {
+      impl->in_wait_set.store(true);
+    }
+  }
+}
+
+bool any_request(const rmw_services_t * services)
+{
+  if (services == nullptr) {
+    return false;
+  }
+  for (size_t i = 0; i < services->service_count; ++i) {
+    auto * impl = static_cast<const rmw_introspect::ServiceImpl *>(services->services[i]);
+    if (impl != nullptr && rmw_introspect::Injector::ready(impl)) {
       return true;
     }
   }
@@ -96,8 +126,9 @@ rmw_ret_t rmw_wait(
   // Once the context is shut down (rmw_shutdown wakes every waiter), waits return at once:
   // an executor woken by its SIGINT guard condition just before the shutdown must not go
   // back to sleep forever.
-  auto ready = [ws, guard_conditions]() {
-      return any_triggered(guard_conditions) ||
+  mark_served(services);
+  auto ready = [ws, guard_conditions, services]() {
+      return any_triggered(guard_conditions) || any_request(services) ||
              (ws->context != nullptr && ws->context->is_shutdown.load());
     };
   // Blocks, or in the warp jumps virtual time by the timeout and returns at once.
@@ -119,7 +150,14 @@ rmw_ret_t rmw_wait(
     clear_all(subscriptions->subscribers, subscriptions->subscriber_count);
   }
   if (services != nullptr) {
-    clear_all(services->services, services->service_count);
+    for (size_t i = 0; i < services->service_count; ++i) {
+      auto * impl = static_cast<const rmw_introspect::ServiceImpl *>(services->services[i]);
+      if (impl != nullptr && rmw_introspect::Injector::ready(impl)) {
+        any_ready = true;
+      } else {
+        services->services[i] = nullptr;
+      }
+    }
   }
   if (clients != nullptr) {
     clear_all(clients->clients, clients->client_count);

@@ -326,6 +326,8 @@ void Session::fill_header(const char * state, CaptureHeader * header) const
   header->warp_ms = ns_to_ms(warp_ns_);
   header->horizon_reached = horizon_reached_;
   header->warp_budget_exhausted = budget_exhausted_;
+  header->probe_state = probe_state();
+  header->answer_timeout_ms = settings_.answer_timeout_ms;
   header->has_ended = std::strcmp(state, "exit") == 0 || std::strcmp(state, "shutdown") == 0;
   header->ended_before_settle = phase_ != Phase::kDone;
 }

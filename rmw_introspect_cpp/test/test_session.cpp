@@ -559,8 +559,37 @@ TEST(SessionProbe, a_process_that_never_waited_is_not_probed)
   session.on_activity();
   session.on_activity();
   clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kStartProbe, session.poll().action);
+  Session::Step step = session.poll();
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  EXPECT_EQ(clock.now + 250 * kMs, step.deadline_ns);  // time to start waiting
+  session.on_activity();
+  session.on_activity();
+  clock.advance_ms(250);
   EXPECT_EQ(Session::Action::kSettle, session.poll().action);
   EXPECT_STREQ("skipped", session.probe_state());
+}
+
+TEST(SessionProbe, an_executor_that_starts_waiting_after_an_activity_settle_is_probed)
+{
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  Session session{clock, virtual_clock, probe_settings()};
+  session.start();
+  session.on_change();
+  session.on_activity();
+  session.on_activity();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kStartProbe, session.poll().action);
+  clock.advance_ms(5);
+  session.on_wait_entered();
+  const uint64_t token = session.enter_wait();
+  // Quiet since the last change and a thread waiting: the settle rule holds, ask now.
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_done();
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  EXPECT_STREQ("done", session.probe_state());
+  session.leave_wait(token);
 }
 
 TEST(SessionProbe, off_without_the_setting)

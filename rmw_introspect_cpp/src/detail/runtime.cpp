@@ -133,9 +133,15 @@ void Runtime::leave_wait(uint64_t token)
 void Runtime::note_wait_entered()
 {
   // Once for ever_waited; during the warp every time (it breaks the warp's quiet).
-  if (!ever_waited_.exchange(true) || warping_.load()) {
-    std::lock_guard<std::mutex> lock(session_mutex_);
-    session_.on_wait_entered();
+  const bool first = !ever_waited_.exchange(true);
+  if (first || warping_.load()) {
+    {
+      std::lock_guard<std::mutex> lock(session_mutex_);
+      session_.on_wait_entered();
+    }
+    if (first) {
+      session_cv_.notify_all();  // a probing that waits for the first wait goes on
+    }
   }
 }
 

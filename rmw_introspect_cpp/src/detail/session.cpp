@@ -14,6 +14,9 @@ constexpr int64_t kSnapshotDelayNs = 20 * 1000 * 1000;
 constexpr int64_t kNsPerMs = 1000 * 1000;
 // Activity calls after the last change that make a process that never waits "in its loop".
 constexpr uint64_t kSettlingActivity = 2;
+// A process that settled by activity before any wait gets this long to start waiting (an
+// executor starting to spin right after a burst of publishes) before the probing is skipped.
+constexpr int64_t kFirstWaitGraceNs = 250 * 1000 * 1000;
 
 void propose(int64_t when, bool * has_deadline, int64_t * deadline)
 {
@@ -173,9 +176,12 @@ Session::Step Session::poll()
     {
       mark_settled(now);
       step.has_deadline = false;
-      if (phase_ == Phase::kSettling && settings_.probe && ever_waited_) {
+      if (phase_ == Phase::kSettling && settings_.probe) {
         phase_ = Phase::kProbing;
         probed_ = true;
+        probe_started_ns_ = now;
+        // Settled by activity before any wait: the first request waits for a settle by wait.
+        probe_settle_first_ = !ever_waited_;
         step.action = Action::kStartProbe;
         return step;
       }
@@ -224,6 +230,16 @@ void Session::after_first_settle(int64_t now, Step * step)
 
 bool Session::poll_probing(int64_t now, Step * step)
 {
+  if (!ever_waited_ && !probe_done_) {
+    // No executor has waited yet: nobody could take a request.
+    const int64_t give_up = probe_started_ns_ + kFirstWaitGraceNs;
+    if (now < give_up) {
+      propose(give_up, &step->has_deadline, &step->deadline_ns);
+      return false;
+    }
+    probe_skipped_ = true;
+    probe_done_ = true;
+  }
   if (probe_in_flight_) {
     const int64_t deadline = probe_sent_ns_ + settings_.answer_timeout_ms * kNsPerMs;
     if (now >= deadline) {
@@ -287,7 +303,7 @@ const char * Session::probe_state() const
   if (phase_ == Phase::kProbing) {
     return "running";
   }
-  return probed_ ? "done" : "skipped";
+  return probed_ && !probe_skipped_ ? "done" : "skipped";
 }
 
 const char * Session::progress_state() const

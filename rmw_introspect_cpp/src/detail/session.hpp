@@ -18,13 +18,15 @@ namespace rmw_introspect
 /// 1. settling: settled when no node/endpoint changed for settle_ms AND either a thread is
 ///    blocked in rmw_wait that entered it after the last change ("wait"), or at least two
 ///    activity calls (publish, take, graph queries, ...) came after it ("activity").
-/// 1b. probing (Settings::probe, and some thread ever entered rmw_wait): a "probing" snapshot
+/// 1b. probing (Settings::probe): a "probing" snapshot
 ///    is written, then the middleware asks the nodes' own services, one request at a time
 ///    (the Runtime's ProbeDriver): kProbe = send the next request now; the answer (or no
 ///    answer within answer_timeout_ms: kProbeTimeout) breaks the quiet; a request that
 ///    changes the node (a lifecycle transition) is followed by a settle (the rule of 1)
 ///    before the next one, a query by the next request at once. When nothing is left to ask,
-///    the process settles once more and goes on as after 1.
+///    the process settles once more and goes on as after 1. A process that settled by
+///    activity and never entered rmw_wait gets 250 ms to start waiting, then the probing is
+///    skipped (nothing could take a request).
 /// 2. With horizon 0 that settle is final. Otherwise a "warping" snapshot is written and
 ///    finite waits with nothing ready jump virtual time (try_jump) until the node's virtual
 ///    age would pass the horizon or the real-time budget is spent.
@@ -103,7 +105,7 @@ public:
   void probe_done();
   bool probing() const {return phase_ == Phase::kProbing;}
   /// "off" (nothing to ask), "pending" (not settled yet), "running", "done", "skipped"
-  /// (no thread ever entered rmw_wait: no executor could take a request).
+  /// (no thread entered rmw_wait within 250 ms of the settle: no executor to ask).
   const char * probe_state() const;
 
   /// A capture is being written out of turn (rmw_shutdown, process exit).
@@ -166,6 +168,8 @@ private:
   bool budget_exhausted_ = false;
   // Probing.
   bool probed_ = false;            // the probing phase was entered
+  bool probe_skipped_ = false;     // ... and left: no thread ever waited
+  int64_t probe_started_ns_ = 0;
   bool probe_in_flight_ = false;
   int64_t probe_sent_ns_ = 0;
   bool probe_settle_first_ = false;

@@ -239,6 +239,13 @@ def diagnose_unsettled(partial: Any) -> str:
         )
     if not partial.raw_nodes:
         return "It initialised ROS 2 but created no node yet. Raise `timeout` if it is only slow to start."
+    if partial.state == "probing":
+        return (
+            f"It settled after {partial.time_to_settle_ms or 0:.0f} ms, then never finished answering the "
+            "middleware's questions (its parameter services, or a lifecycle transition that never settled). "
+            "Set `lifecycle: none` or `parameters: false` on the target to capture it without them, or raise "
+            "`timeout` if a transition is only slow."
+        )
     if partial.state == "warping":
         vt = partial.virtual_time
         age = f" (virtual age {vt.virtual_elapsed_ms / 1000:.3g} s)" if vt is not None else ""

@@ -355,7 +355,7 @@ class Capture:
     @property
     def settled_once(self) -> bool:
         """The process settled at least once: what it had then, and created later, is valid."""
-        if self.state in ("warping", "settled"):
+        if self.state in ("probing", "warping", "settled"):
             return True
         return self.state in ("exit", "shutdown") and self.time_to_settle_ms is not None
 

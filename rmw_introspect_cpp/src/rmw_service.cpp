@@ -1,5 +1,7 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Service servers: recorded on creation; no request arrives unless in-process delivery is on.
+// Service servers: recorded on creation; requests arrive only from the middleware itself
+// (parameters, lifecycle: detail/injector) or, with in-process delivery, from clients of the
+// same process.
 
 #include <memory>
 #include <new>
@@ -45,6 +47,7 @@ rmw_service_t * rmw_create_service(
   if (rmw_introspect::Runtime::instance().config().delivery) {
     rmw_introspect::Runtime::instance().delivery().add(impl.get());
   }
+  rmw_introspect::Runtime::instance().injector().add_service(impl.get());
   return &impl.release()->handle;
 }
 
@@ -56,6 +59,7 @@ rmw_ret_t rmw_destroy_service(rmw_node_t * node, rmw_service_t * service)
   if (rmw_introspect::Runtime::instance().config().delivery) {
     rmw_introspect::Runtime::instance().delivery().remove(impl.get());
   }
+  rmw_introspect::Runtime::instance().injector().remove_service(impl.get());
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Service, impl->name, impl->node);
   return RMW_RET_OK;
@@ -69,9 +73,13 @@ rmw_ret_t rmw_take_request(
   RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_request, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
-  return rmw_introspect::take_request(
-    *static_cast<ServiceImpl *>(service->data), request_header, ros_request, taken);
+  auto & runtime = rmw_introspect::Runtime::instance();
+  auto * impl = static_cast<ServiceImpl *>(service->data);
+  if (runtime.injector().take(impl, request_header, ros_request, taken)) {
+    return RMW_RET_OK;  // the middleware's own request: no activity of the node
+  }
+  runtime.on_activity();
+  return rmw_introspect::take_request(*impl, request_header, ros_request, taken);
 }
 
 rmw_ret_t rmw_send_response(
@@ -81,13 +89,16 @@ rmw_ret_t rmw_send_response(
   RMW_CHECK_ARGUMENT_FOR_NULL(request_header, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_response, RMW_RET_INVALID_ARGUMENT);
   rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
+  auto * impl = static_cast<ServiceImpl *>(service->data);
+  if (runtime.injector().answer(impl, request_header, ros_response)) {
+    return RMW_RET_OK;  // the answer to the middleware's own request: read, no activity
+  }
   runtime.on_activity();
   if (!runtime.config().delivery) {
     return RMW_RET_OK;  // dropped
   }
   // In-process delivery: back to the client of this process that asked, if it is still there
   // (RMW_RET_OK either way, as rmw_fastrtps_cpp answers).
-  auto * impl = static_cast<ServiceImpl *>(service->data);
   std::vector<uint8_t> data;
   std::string error;
   if (!rmw_introspect::cdr_serialize(impl->response_layout, ros_response, &data, &error)) {

@@ -1,6 +1,7 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 // Wait sets and rmw_wait: blocks until a guard condition of the set is triggered, an entry has
-// something to take (in-process delivery only) or the timeout expires.
+// something to take (a request of the middleware's own: detail/injector; anything else only
+// with in-process delivery) or the timeout expires.
 
 #include <cstdint>
 #include <memory>
@@ -11,6 +12,7 @@
 #include "detail/common.hpp"
 #include "detail/delivery.hpp"
 #include "detail/handles.hpp"
+#include "detail/injector.hpp"
 #include "detail/runtime.hpp"
 #include "detail/wait_hub.hpp"
 
@@ -34,6 +36,20 @@ bool any_triggered(const rmw_guard_conditions_t * gcs)
     }
   }
   return false;
+}
+
+// rcl stores each service's `data` (our ServiceImpl) in the array. Marks them served.
+void mark_served(const rmw_services_t * services)
+{
+  if (services == nullptr) {
+    return;
+  }
+  for (size_t i = 0; i < services->service_count; ++i) {
+    auto * impl = static_cast<rmw_introspect::ServiceImpl *>(services->services[i]);
+    if (impl != nullptr) {
+      impl->in_wait_set.store(true);
+    }
+  }
 }
 
 // The timeout in ns: negative = forever (NULL, RMW_DURATION_INFINITE and other huge values
@@ -88,6 +104,7 @@ rmw_ret_t rmw_wait(
   // Once the context is shut down (rmw_shutdown wakes every waiter), waits return at once:
   // an executor woken by its SIGINT guard condition just before the shutdown must not go
   // back to sleep forever.
+  mark_served(services);
   auto ready = [ws, guard_conditions, subscriptions, services, clients, events]() {
       return any_triggered(guard_conditions) ||
              rmw_introspect::any_ready(subscriptions, services, clients, events) ||

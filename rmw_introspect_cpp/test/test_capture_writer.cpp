@@ -6,7 +6,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -100,6 +102,7 @@ TEST(CaptureWriter, json_exact)
   const std::string expected = R"({
   "format": "rmw_introspect_capture",
   "format_version": 1,
+  "format_minor": 1,
   "rmw_implementation": "rmw_introspect_cpp",
   "pid": 4242,
   "argv": ["/usr/bin/python3", "talker.py"],
@@ -119,6 +122,14 @@ TEST(CaptureWriter, json_exact)
     "horizon_reached": false,
     "warp_budget_exhausted": false
   },
+  "probe": {
+    "state": "off",
+    "parameters": false,
+    "lifecycle": "none",
+    "answer_timeout_ms": 0,
+    "requests": 0,
+    "unanswered": 0
+  },
   "nodes": [
     {
       "id": 1,
@@ -130,7 +141,10 @@ TEST(CaptureWriter, json_exact)
       "destroyed": false,
       "in_teardown": false,
       "created_virtual_ms": 0.500,
-      "created_real_ms": 0.500
+      "created_real_ms": 0.500,
+      "parameters": null,
+      "parameters_error": null,
+      "lifecycle": null
     }
   ],
   "endpoints": [
@@ -157,7 +171,8 @@ TEST(CaptureWriter, json_exact)
       "destroyed": false,
       "in_teardown": false,
       "created_virtual_ms": 3000.250,
-      "created_real_ms": 30.125
+      "created_real_ms": 30.125,
+      "created_in": null
     },
     {
       "seq": 3,
@@ -182,12 +197,192 @@ TEST(CaptureWriter, json_exact)
       "destroyed": true,
       "in_teardown": false,
       "created_virtual_ms": 3000.250,
-      "created_real_ms": 30.125
+      "created_real_ms": 30.125,
+      "created_in": null
     }
   ]
 }
 )";
   EXPECT_EQ(expected, rmw_introspect::render_capture_json(header(), sample()));
+}
+
+TEST(CaptureWriter, parameters_lifecycle_and_created_in)
+{
+  rmw_introspect::Recorder recorder;
+  const uint64_t n = recorder.add_node("lc", "/", "/", {0.5, 0.5});
+  rmw_introspect::NodeProbe probe;
+  probe.has_parameters = true;
+  rmw_introspect::ParameterRecord p;
+  p.name = "gain";
+  p.descriptor_type = rmw_introspect::kParameterDouble;
+  p.value.type = rmw_introspect::kParameterDouble;
+  p.value.double_value = 1.0;
+  p.read_only = true;
+  p.description = "loop gain";
+  p.has_floating_point_range = true;
+  p.floating_point_range = {0.0, 2.5, 0.1};
+  probe.parameters.push_back(p);
+  p = rmw_introspect::ParameterRecord();
+  p.name = "ids";
+  p.value.type = rmw_introspect::kParameterIntegerArray;
+  p.value.integer_array_value = {1, -2};
+  p.has_integer_range = true;
+  p.integer_range = {-5, 5, 1};
+  p.declared_in = "configure";
+  probe.parameters.push_back(p);
+  p = rmw_introspect::ParameterRecord();
+  p.name = "unset";
+  p.descriptor_type = rmw_introspect::kParameterString;
+  p.dynamic_typing = true;
+  probe.parameters.push_back(p);
+  p = rmw_introspect::ParameterRecord();
+  p.name = "odd";
+  p.value.type = rmw_introspect::kParameterDoubleArray;
+  p.value.double_array_value = {0.1, std::numeric_limits<double>::quiet_NaN(), -HUGE_VAL, 1e300};
+  probe.parameters.push_back(p);
+  p = rmw_introspect::ParameterRecord();
+  p.name = "bytes";
+  p.value.type = rmw_introspect::kParameterByteArray;
+  p.value.byte_array_value = {0, 255};
+  probe.parameters.push_back(p);
+  probe.has_lifecycle = true;
+  probe.lifecycle.target = "active";
+  probe.lifecycle.initial_state = "unconfigured";
+  probe.lifecycle.state = "inactive";
+  rmw_introspect::LifecycleTransitionRecord t;
+  t.id = 1;
+  t.label = "configure";
+  t.result = rmw_introspect::LifecycleTransitionRecord::Result::kSuccess;
+  probe.lifecycle.transitions.push_back(t);
+  t.id = 3;
+  t.label = "activate";
+  t.result = rmw_introspect::LifecycleTransitionRecord::Result::kFailure;
+  probe.lifecycle.transitions.push_back(t);
+  probe.lifecycle.error = "transition activate of /lc failed";
+  recorder.set_node_probe(n, probe);
+  recorder.set_node_transition(n, "configure");
+  rmw_introspect::EndpointRecord e;
+  e.kind = rmw_introspect::EndpointKind::Publisher;
+  e.node_id = n;
+  e.name = "/lc_chatter";
+  e.type = "std_msgs/msg/String";
+  recorder.add_endpoint(e);
+  CaptureHeader h = header();
+  h.probe_state = "done";
+  h.probe_parameters = true;
+  h.probe_lifecycle = "active";
+  h.answer_timeout_ms = 5000;
+  h.probe_requests = 12;
+  const std::string text = rmw_introspect::render_capture_json(h, recorder.snapshot());
+  const std::string expected_node = R"(      "parameters": [
+        {
+          "name": "gain",
+          "type": "double",
+          "value": 1.0,
+          "read_only": true,
+          "dynamic_typing": false,
+          "description": "loop gain",
+          "additional_constraints": "",
+          "integer_range": null,
+          "floating_point_range": {
+            "from_value": 0.0,
+            "to_value": 2.5,
+            "step": 0.1
+          },
+          "declared_in": null
+        },
+        {
+          "name": "ids",
+          "type": "integer_array",
+          "value": [1, -2],
+          "read_only": false,
+          "dynamic_typing": false,
+          "description": "",
+          "additional_constraints": "",
+          "integer_range": {
+            "from_value": -5,
+            "to_value": 5,
+            "step": 1
+          },
+          "floating_point_range": null,
+          "declared_in": "configure"
+        },
+        {
+          "name": "unset",
+          "type": "string",
+          "value": null,
+          "read_only": false,
+          "dynamic_typing": true,
+          "description": "",
+          "additional_constraints": "",
+          "integer_range": null,
+          "floating_point_range": null,
+          "declared_in": null
+        },
+        {
+          "name": "odd",
+          "type": "double_array",
+          "value": [0.1, "nan", "-inf", 1e+300],
+          "read_only": false,
+          "dynamic_typing": false,
+          "description": "",
+          "additional_constraints": "",
+          "integer_range": null,
+          "floating_point_range": null,
+          "declared_in": null
+        },
+        {
+          "name": "bytes",
+          "type": "byte_array",
+          "value": [0, 255],
+          "read_only": false,
+          "dynamic_typing": false,
+          "description": "",
+          "additional_constraints": "",
+          "integer_range": null,
+          "floating_point_range": null,
+          "declared_in": null
+        }
+      ],
+      "parameters_error": null,
+      "lifecycle": {
+        "target": "active",
+        "initial_state": "unconfigured",
+        "state": "inactive",
+        "transitions": [
+          {
+            "id": 1,
+            "label": "configure",
+            "result": "success",
+            "success": true
+          },
+          {
+            "id": 3,
+            "label": "activate",
+            "result": "failure",
+            "success": false
+          }
+        ],
+        "error": "transition activate of /lc failed"
+      }
+    }
+)";
+  EXPECT_NE(std::string::npos, text.find(expected_node)) << text;
+  EXPECT_NE(std::string::npos, text.find("      \"created_in\": \"configure\"\n")) << text;
+  EXPECT_NE(std::string::npos, text.find(R"(  "probe": {
+    "state": "done",
+    "parameters": true,
+    "lifecycle": "active",
+    "answer_timeout_ms": 5000,
+    "requests": 12,
+    "unanswered": 0
+  },
+)")) << text;
+  // YAML: the same tree.
+  const std::string yaml = rmw_introspect::render_capture_yaml(h, recorder.snapshot());
+  EXPECT_NE(std::string::npos, yaml.find("  parameters:\n  - name: \"gain\"\n    type: \"double\"\n    value: 1.0\n")) << yaml;
+  EXPECT_NE(std::string::npos, yaml.find("    value:\n    - 1\n    - -2\n")) << yaml;
+  EXPECT_NE(std::string::npos, yaml.find("    transitions:\n    - id: 1\n      label: \"configure\"\n")) << yaml;
 }
 
 TEST(CaptureWriter, json_null_time_to_settle_and_empty_lists)

@@ -415,3 +415,215 @@ TEST(SessionHorizon, settling_past_the_horizon_skips_the_warp)
   EXPECT_TRUE(header.horizon_reached);
   EXPECT_EQ(0u, header.jumps);
 }
+
+// ------------------------------------------------------------------ probing (issue 10)
+namespace
+{
+Session::Settings probe_settings(int64_t horizon_ms = 0)
+{
+  Session::Settings s = settings(horizon_ms);
+  s.probe = true;
+  s.answer_timeout_ms = 5000;
+  return s;
+}
+
+class ProbeTest : public ::testing::Test
+{
+protected:
+  // Settle once with a thread blocked in rmw_wait: the probing starts.
+  void settle_into_probing()
+  {
+    session.start();
+    session.on_change();
+    session.on_wait_entered();
+    token = session.enter_wait();
+    clock.advance_ms(10);
+    ASSERT_EQ(Session::Action::kStartProbe, session.poll().action);
+    EXPECT_TRUE(session.probing());
+    EXPECT_STREQ("probing", session.progress_state());
+    EXPECT_STREQ("running", session.probe_state());
+  }
+
+  // The answering thread goes back to rmw_wait.
+  void back_to_wait()
+  {
+    session.leave_wait(token);
+    token = session.enter_wait();
+  }
+
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  Session session{clock, virtual_clock, probe_settings()};
+  uint64_t token = 0;
+};
+}  // namespace
+
+TEST_F(ProbeTest, queries_follow_each_other_and_the_end_needs_a_settle)
+{
+  settle_into_probing();
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_sent();
+  Session::Step step = session.poll();
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  ASSERT_TRUE(step.has_deadline);
+  EXPECT_EQ(clock.now + 5000 * kMs, step.deadline_ns);  // the answer timeout
+  clock.advance_ms(1);
+  session.probe_answered(false);  // a query: the next request goes at once
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_sent();
+  session.probe_answered(false);
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_done();
+  // The answer broke the quiet: a new wait and settle_ms of quiet.
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  back_to_wait();
+  step = session.poll();
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  EXPECT_EQ(clock.now + 10 * kMs, step.deadline_ns);
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  EXPECT_FALSE(session.probing());
+  EXPECT_STREQ("done", session.probe_state());
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_DOUBLE_EQ(21.0, header.time_to_settle_ms);
+  EXPECT_FALSE(header.ended_before_settle);
+  session.leave_wait(token);
+}
+
+TEST_F(ProbeTest, a_transition_is_followed_by_a_settle_with_its_new_entities)
+{
+  settle_into_probing();
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_sent();
+  clock.advance_ms(2);
+  session.on_change();  // on_configure creates a publisher
+  session.probe_answered(true);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  back_to_wait();
+  clock.advance_ms(9);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  clock.advance_ms(1);
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_done();
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);  // still quiet
+  session.leave_wait(token);
+}
+
+TEST_F(ProbeTest, no_answer_in_time)
+{
+  settle_into_probing();
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_sent();
+  clock.advance_ms(4999);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  clock.advance_ms(1);
+  EXPECT_EQ(Session::Action::kProbeTimeout, session.poll().action);
+  // A late answer changes nothing; the next request waits for a settle.
+  session.probe_answered(false);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  back_to_wait();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_done();
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  session.leave_wait(token);
+}
+
+TEST_F(ProbeTest, progress_snapshots_while_probing_say_probing_and_exit_is_before_settle)
+{
+  settle_into_probing();
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_sent();
+  session.on_change();
+  clock.advance_ms(20);
+  EXPECT_EQ(Session::Action::kWriteRunning, session.poll().action);
+  EXPECT_STREQ("probing", session.progress_state());
+  session.begin_exit();
+  CaptureHeader header;
+  session.fill_header("exit", &header);
+  EXPECT_TRUE(header.has_ended);
+  EXPECT_TRUE(header.ended_before_settle);
+  EXPECT_TRUE(header.has_time_to_settle);  // settled once
+  session.leave_wait(token);
+}
+
+TEST(SessionProbe, a_process_that_never_waited_is_not_probed)
+{
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  Session session{clock, virtual_clock, probe_settings()};
+  EXPECT_STREQ("pending", session.probe_state());
+  session.start();
+  session.on_change();
+  session.on_activity();
+  session.on_activity();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kStartProbe, session.poll().action);
+  Session::Step step = session.poll();
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  EXPECT_EQ(clock.now + 250 * kMs, step.deadline_ns);  // time to start waiting
+  session.on_activity();
+  session.on_activity();
+  clock.advance_ms(250);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  EXPECT_STREQ("skipped", session.probe_state());
+}
+
+TEST(SessionProbe, an_executor_that_starts_waiting_after_an_activity_settle_is_probed)
+{
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  Session session{clock, virtual_clock, probe_settings()};
+  session.start();
+  session.on_change();
+  session.on_activity();
+  session.on_activity();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kStartProbe, session.poll().action);
+  clock.advance_ms(5);
+  session.on_wait_entered();
+  const uint64_t token = session.enter_wait();
+  // Quiet since the last change and a thread waiting: the settle rule holds, ask now.
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_done();
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  EXPECT_STREQ("done", session.probe_state());
+  session.leave_wait(token);
+}
+
+TEST(SessionProbe, off_without_the_setting)
+{
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  Session session{clock, virtual_clock, settings()};
+  EXPECT_STREQ("off", session.probe_state());
+  session.start();
+  session.on_wait_entered();
+  const uint64_t token = session.enter_wait();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  EXPECT_STREQ("off", session.probe_state());
+  session.leave_wait(token);
+}
+
+TEST(SessionProbe, the_warp_comes_after_the_probing)
+{
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  Session session{clock, virtual_clock, probe_settings(10000)};
+  session.start();
+  session.on_wait_entered();
+  uint64_t token = session.enter_wait();
+  clock.advance_ms(10);
+  ASSERT_EQ(Session::Action::kStartProbe, session.poll().action);
+  EXPECT_FALSE(session.try_jump(session.virtual_now_ns() + 1000 * kMs));  // no warp yet
+  ASSERT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_done();
+  ASSERT_EQ(Session::Action::kStartWarp, session.poll().action);
+  EXPECT_TRUE(session.warping());
+  EXPECT_STREQ("warping", session.progress_state());
+  EXPECT_STREQ("done", session.probe_state());
+  EXPECT_TRUE(session.try_jump(session.virtual_now_ns() + 1000 * kMs));
+  session.leave_wait(token);
+}

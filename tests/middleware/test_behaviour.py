@@ -103,7 +103,11 @@ def test_server_available_0_keeps_the_client_waiting(run):
     h.assert_capture(result.capture, [node("flag_client")],
                      infra(n) + [ep("client", n, "/set_flag", "std_srvs/srv/SetBool")])
     assert result.capture["settled_by"] == "activity"
-    assert result.capture["ever_waited"] is False
+    # Its spin_once(timeout_sec=0) between the attempts polls rmw_wait (issue 10): enough for
+    # the middleware to read the node's parameters through those polls after the settle.
+    assert result.capture["ever_waited"] is True
+    assert [p["name"] for p in result.capture["nodes"][0]["parameters"]] == [
+        "use_sim_time", "start_type_description_service"]
 
 
 def test_verbose_logs_each_entity(run):

@@ -6,6 +6,8 @@
 
 #include <cerrno>
 #include <cinttypes>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -26,7 +28,7 @@ namespace
 // A minimal ordered document tree, emitted as JSON or YAML.
 struct Value
 {
-  enum class Kind { Null, Bool, Int, Double, String, Array, Object };
+  enum class Kind { Null, Bool, Int, Double, Real, String, Array, Object };
   Kind kind = Kind::Null;
   bool b = false;
   int64_t i = 0;
@@ -39,6 +41,9 @@ struct Value
   static Value boolean(bool v) {Value x; x.kind = Kind::Bool; x.b = v; return x;}
   static Value integer(int64_t v) {Value x; x.kind = Kind::Int; x.i = v; return x;}
   static Value number(double v) {Value x; x.kind = Kind::Double; x.d = v; return x;}
+  /// A double written exactly (shortest round trip; a JSON number with a '.' or an exponent;
+  /// NaN and infinities as the strings "nan", "inf", "-inf").
+  static Value real(double v) {Value x; x.kind = Kind::Real; x.d = v; return x;}
   static Value string(std::string v) {Value x; x.kind = Kind::String; x.s = std::move(v); return x;}
   static Value array() {Value x; x.kind = Kind::Array; return x;}
   static Value object() {Value x; x.kind = Kind::Object; return x;}
@@ -114,6 +119,28 @@ std::string quote(const std::string & in)
   return out;
 }
 
+std::string exact_double(double d)
+{
+  if (std::isnan(d)) {
+    return "\"nan\"";
+  }
+  if (std::isinf(d)) {
+    return d > 0 ? "\"inf\"" : "\"-inf\"";
+  }
+  char buf[64];
+  for (int precision = 15; precision <= 17; ++precision) {
+    snprintf(buf, sizeof(buf), "%.*g", precision, d);
+    if (std::strtod(buf, nullptr) == d) {
+      break;
+    }
+  }
+  std::string out(buf);
+  if (out.find_first_of(".e") == std::string::npos) {
+    out += ".0";  // stays a floating point number for the reader
+  }
+  return out;
+}
+
 std::string scalar(const Value & v)
 {
   char buf[64];
@@ -126,6 +153,7 @@ std::string scalar(const Value & v)
     case Value::Kind::Double:
       snprintf(buf, sizeof(buf), "%.3f", v.d);
       return buf;
+    case Value::Kind::Real: return exact_double(v.d);
     case Value::Kind::String: return quote(v.s);
     default: return "";
   }
@@ -236,11 +264,133 @@ Value qos_value(const rmw_qos_profile_t & qos)
   return v;
 }
 
+Value optional_string(const std::string & s)
+{
+  return s.empty() ? Value::null() : Value::string(s);
+}
+
+Value parameter_value(const ParameterValue & v)
+{
+  Value array = Value::array();
+  switch (v.type) {
+    case kParameterBool: return Value::boolean(v.bool_value);
+    case kParameterInteger: return Value::integer(v.integer_value);
+    case kParameterDouble: return Value::real(v.double_value);
+    case kParameterString: return Value::string(v.string_value);
+    case kParameterByteArray:
+      for (uint8_t b : v.byte_array_value) {array.push(Value::integer(b));}
+      return array;
+    case kParameterBoolArray:
+      for (bool b : v.bool_array_value) {array.push(Value::boolean(b));}
+      return array;
+    case kParameterIntegerArray:
+      for (int64_t i : v.integer_array_value) {array.push(Value::integer(i));}
+      return array;
+    case kParameterDoubleArray:
+      for (double d : v.double_array_value) {array.push(Value::real(d));}
+      return array;
+    case kParameterStringArray:
+      for (const auto & s : v.string_array_value) {array.push(Value::string(s));}
+      return array;
+    default:
+      return Value::null();
+  }
+}
+
+Value parameter(const ParameterRecord & p)
+{
+  Value v = Value::object();
+  v.add("name", Value::string(p.name));
+  const char * type = parameter_type_name(p.type());
+  v.add("type", type != nullptr ? Value::string(type) : Value::null());
+  v.add("value", parameter_value(p.value));
+  v.add("read_only", Value::boolean(p.read_only));
+  v.add("dynamic_typing", Value::boolean(p.dynamic_typing));
+  v.add("description", Value::string(p.description));
+  v.add("additional_constraints", Value::string(p.additional_constraints));
+  if (p.has_integer_range) {
+    Value range = Value::object();
+    range.add("from_value", Value::integer(p.integer_range.from_value));
+    range.add("to_value", Value::integer(p.integer_range.to_value));
+    range.add("step", Value::integer(static_cast<int64_t>(p.integer_range.step)));
+    v.add("integer_range", std::move(range));
+  } else {
+    v.add("integer_range", Value::null());
+  }
+  if (p.has_floating_point_range) {
+    Value range = Value::object();
+    range.add("from_value", Value::real(p.floating_point_range.from_value));
+    range.add("to_value", Value::real(p.floating_point_range.to_value));
+    range.add("step", Value::real(p.floating_point_range.step));
+    v.add("floating_point_range", std::move(range));
+  } else {
+    v.add("floating_point_range", Value::null());
+  }
+  v.add("declared_in", optional_string(p.declared_in));
+  return v;
+}
+
+const char * transition_result(LifecycleTransitionRecord::Result result)
+{
+  switch (result) {
+    case LifecycleTransitionRecord::Result::kSuccess: return "success";
+    case LifecycleTransitionRecord::Result::kFailure: return "failure";
+    case LifecycleTransitionRecord::Result::kNoAnswer: return "no_answer";
+    case LifecycleTransitionRecord::Result::kPending: return "pending";
+  }
+  return "pending";
+}
+
+Value lifecycle(const LifecycleRecord & lc)
+{
+  Value v = Value::object();
+  v.add("target", Value::string(lc.target));
+  v.add("initial_state", optional_string(lc.initial_state));
+  v.add("state", optional_string(lc.state));
+  Value transitions = Value::array();
+  for (const auto & t : lc.transitions) {
+    Value tv = Value::object();
+    tv.add("id", Value::integer(t.id));
+    tv.add("label", Value::string(t.label));
+    tv.add("result", Value::string(transition_result(t.result)));
+    tv.add(
+      "success",
+      t.result == LifecycleTransitionRecord::Result::kSuccess ? Value::boolean(true) :
+      t.result == LifecycleTransitionRecord::Result::kFailure ? Value::boolean(false) :
+      Value::null());
+    transitions.push(std::move(tv));
+  }
+  v.add("transitions", std::move(transitions));
+  v.add("error", optional_string(lc.error));
+  return v;
+}
+
+// The node's "parameters", "parameters_error" and "lifecycle".
+void add_probe_fields(const NodeRecord & n, Value & node)
+{
+  const NodeProbe * probe = n.probe.get();
+  if (probe != nullptr && probe->has_parameters) {
+    Value parameters = Value::array();
+    for (const auto & p : probe->parameters) {
+      parameters.push(parameter(p));
+    }
+    node.add("parameters", std::move(parameters));
+  } else {
+    node.add("parameters", Value::null());
+  }
+  node.add(
+    "parameters_error", probe != nullptr ? optional_string(probe->parameters_error) : Value::null());
+  node.add(
+    "lifecycle",
+    probe != nullptr && probe->has_lifecycle ? lifecycle(probe->lifecycle) : Value::null());
+}
+
 Value build_document(const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
   Value doc = Value::object();
   doc.add("format", Value::string("rmw_introspect_capture"));
   doc.add("format_version", Value::integer(1));
+  doc.add("format_minor", Value::integer(1));
   doc.add("rmw_implementation", Value::string("rmw_introspect_cpp"));
   doc.add("pid", Value::integer(header.pid));
   Value argv = Value::array();
@@ -267,6 +417,14 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
   time.add("horizon_reached", Value::boolean(header.horizon_reached));
   time.add("warp_budget_exhausted", Value::boolean(header.warp_budget_exhausted));
   doc.add("time", std::move(time));
+  Value probe = Value::object();
+  probe.add("state", Value::string(header.probe_state));
+  probe.add("parameters", Value::boolean(header.probe_parameters));
+  probe.add("lifecycle", Value::string(header.probe_lifecycle));
+  probe.add("answer_timeout_ms", Value::integer(header.answer_timeout_ms));
+  probe.add("requests", Value::integer(static_cast<int64_t>(header.probe_requests)));
+  probe.add("unanswered", Value::integer(static_cast<int64_t>(header.probe_unanswered)));
+  doc.add("probe", std::move(probe));
   if (header.has_ended) {
     Value ended = Value::object();
     ended.add("before_settle", Value::boolean(header.ended_before_settle));
@@ -285,6 +443,7 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     node.add("in_teardown", Value::boolean(n.in_teardown));
     node.add("created_virtual_ms", Value::number(n.created.virtual_ms));
     node.add("created_real_ms", Value::number(n.created.real_ms));
+    add_probe_fields(n, node);
     nodes.push(std::move(node));
   }
   doc.add("nodes", std::move(nodes));
@@ -304,6 +463,7 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     ep.add("in_teardown", Value::boolean(e.in_teardown));
     ep.add("created_virtual_ms", Value::number(e.created.virtual_ms));
     ep.add("created_real_ms", Value::number(e.created.real_ms));
+    ep.add("created_in", optional_string(e.created_in));
     endpoints.push(std::move(ep));
   }
   doc.add("endpoints", std::move(endpoints));
@@ -322,7 +482,7 @@ std::string render_capture_json(const CaptureHeader & header, const RecorderSnap
 
 std::string render_capture_yaml(const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
-  std::string out = "# rmw_introspect capture (format_version 1)\n";
+  std::string out = "# rmw_introspect capture (format_version 1, format_minor 1)\n";
   emit_yaml_object(build_document(header, snapshot), 0, out);
   return out;
 }

@@ -17,7 +17,7 @@ struct CaptureHeader
 {
   long pid = 0;
   std::vector<std::string> argv;
-  std::string state = "running";  // running | warping | settled | shutdown | exit
+  std::string state = "running";  // running | probing | warping | settled | shutdown | exit
   int settle_ms = 10;
   bool has_time_to_settle = false;
   double time_to_settle_ms = 0.0;
@@ -33,6 +33,13 @@ struct CaptureHeader
   double warp_ms = 0.0;
   bool horizon_reached = false;
   bool warp_budget_exhausted = false;
+  // "probe": asking the nodes' own services (parameters, lifecycle)
+  std::string probe_state = "off";  // off | pending | running | done | skipped
+  bool probe_parameters = false;
+  std::string probe_lifecycle = "none";
+  int64_t answer_timeout_ms = 0;
+  uint64_t probe_requests = 0;
+  uint64_t probe_unanswered = 0;
   // "ended": only in the captures written as the process ends (exit, shutdown)
   bool has_ended = false;
   bool ended_before_settle = false;

@@ -83,6 +83,25 @@ Config Config::from_environment(long pid)
   config.verbose = parse_flag(std::getenv("RMW_INTROSPECT_VERBOSE"), false);
   config.server_available = parse_flag(std::getenv("RMW_INTROSPECT_SERVER_AVAILABLE"), true);
   config.delivery = parse_flag(std::getenv("RMW_INTROSPECT_DELIVERY"), false);
+  config.probe.parameters = parse_flag(std::getenv("RMW_INTROSPECT_PARAMETERS"), true);
+  const char * lifecycle = std::getenv("RMW_INTROSPECT_LIFECYCLE");
+  if (lifecycle != nullptr && lifecycle[0] != '\0' &&
+    !parse_lifecycle_target(lifecycle, &config.probe.lifecycle))
+  {
+    config.warnings.push_back(
+      std::string("RMW_INTROSPECT_LIFECYCLE=") + lifecycle +
+      " is not one of active, inactive, unconfigured, none: using " +
+      lifecycle_target_name(config.probe.lifecycle));
+  }
+  int64_t answer_timeout_ms = config.answer_timeout_ms;
+  parse_ms("RMW_INTROSPECT_ANSWER_TIMEOUT_MS", &answer_timeout_ms, &config.warnings);
+  if (answer_timeout_ms == 0) {
+    config.warnings.push_back(
+      "RMW_INTROSPECT_ANSWER_TIMEOUT_MS=0 leaves a node no time to answer: using " +
+      std::to_string(config.answer_timeout_ms));
+  } else {
+    config.answer_timeout_ms = answer_timeout_ms;
+  }
   return config;
 }
 

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "detail/prober.hpp"
+
 namespace rmw_introspect
 {
 
@@ -24,6 +26,10 @@ struct Config
   bool delivery = false;          // RMW_INTROSPECT_DELIVERY: in-process delivery
   int64_t horizon_ms = 0;         // RMW_INTROSPECT_HORIZON_MS (0: virtual time off)
   int64_t warp_budget_ms = 3000;  // RMW_INTROSPECT_WARP_BUDGET_MS
+  /// RMW_INTROSPECT_PARAMETERS (read the nodes' parameters), RMW_INTROSPECT_LIFECYCLE (drive
+  /// lifecycle nodes to this state).
+  ProbeSettings probe;
+  int64_t answer_timeout_ms = 5000;  // RMW_INTROSPECT_ANSWER_TIMEOUT_MS
   /// One line per value that was out of range or not a number (kept at its default);
   /// the Runtime prints them on stderr.
   std::vector<std::string> warnings;

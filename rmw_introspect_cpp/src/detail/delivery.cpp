@@ -18,6 +18,7 @@
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/identifier.hpp"
+#include "detail/injector.hpp"
 #include "detail/members.hpp"
 #include "detail/qos.hpp"
 #include "detail/runtime.hpp"
@@ -559,6 +560,17 @@ void free_loans(Loans & loans, const MessageLayout & layout)
   }
 }
 
+// A service has something to take: a request of a client of the process (delivery) or one of
+// the middleware's own (parameters, lifecycle: Injector), which needs no delivery.
+namespace
+{
+bool has_request(const ServiceImpl * service)
+{
+  return service != nullptr &&
+         (service->requests.count.load() > 0u || Injector::ready(service));
+}
+}  // namespace
+
 bool any_ready(
   const rmw_subscriptions_t * subscriptions, const rmw_services_t * services,
   const rmw_clients_t * clients, const rmw_events_t * events)
@@ -574,7 +586,7 @@ bool any_ready(
   if (services != nullptr) {
     for (size_t i = 0; i < services->service_count; ++i) {
       const auto * s = static_cast<const ServiceImpl *>(services->services[i]);
-      if (s != nullptr && s->requests.count.load() > 0u) {
+      if (has_request(s)) {
         return true;
       }
     }
@@ -625,7 +637,7 @@ bool keep_ready(
   if (services != nullptr && services->services != nullptr) {
     for (size_t i = 0; i < services->service_count; ++i) {
       const auto * s = static_cast<const ServiceImpl *>(services->services[i]);
-      keep(&services->services[i], s != nullptr && s->requests.count.load() > 0u);
+      keep(&services->services[i], has_request(s));
     }
   }
   if (clients != nullptr && clients->clients != nullptr) {

@@ -88,7 +88,8 @@ rmw_ret_t return_loaned_message(Loans & loans, const MessageLayout & layout, voi
 /// Free the loans still out (the endpoint is being destroyed).
 void free_loans(Loans & loans, const MessageLayout & layout);
 
-/// rmw_wait: whether any entry of these arrays has something to take (reads atomics only).
+/// rmw_wait: whether any entry of these arrays has something to take (reads atomics only;
+/// a service also counts a request of the middleware's own, which needs no delivery).
 bool any_ready(
   const rmw_subscriptions_t * subscriptions, const rmw_services_t * services,
   const rmw_clients_t * clients, const rmw_events_t * events);

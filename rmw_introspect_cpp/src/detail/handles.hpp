@@ -135,6 +135,11 @@ struct ServiceImpl : EndpointImpl<rmw_service_t>
   MessageLayout request_layout;
   MessageLayout response_layout;
   Inbox requests;
+  /// A request of the middleware's own (Injector) waits to be taken: rmw_wait reports the
+  /// service ready. Set and cleared under the Injector's mutex (and the wait hub's lock).
+  std::atomic<bool> injected_ready{false};
+  /// The service was in the wait set of some rmw_wait: an executor serves it.
+  std::atomic<bool> in_wait_set{false};
 };
 
 struct ClientImpl : EndpointImpl<rmw_client_t>

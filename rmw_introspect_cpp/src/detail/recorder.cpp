@@ -138,6 +138,7 @@ uint64_t Recorder::add_endpoint(EndpointRecord record)
     record.node_name = node.name;
     record.node_namespace = node.namespace_;
     record.node_fqn = node.fqn;
+    record.created_in = node.transition;
     record.seq = ++seq_;
     last_creation_event_ = ++event_;
     record.id = endpoints_.size() + 1;
@@ -167,6 +168,27 @@ bool Recorder::destroy_endpoint(uint64_t endpoint_id, bool teardown)
     ++generation_;
   }
   notify();
+  return true;
+}
+
+bool Recorder::set_node_probe(uint64_t node_id, const NodeProbe & probe)
+{
+  auto copy = std::make_shared<const NodeProbe>(probe);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (node_id == 0 || node_id > nodes_.size()) {
+    return false;
+  }
+  nodes_[node_id - 1].probe = std::move(copy);
+  return true;
+}
+
+bool Recorder::set_node_transition(uint64_t node_id, const std::string & label)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (node_id == 0 || node_id > nodes_.size()) {
+    return false;
+  }
+  nodes_[node_id - 1].transition = label;
   return true;
 }
 

@@ -5,11 +5,14 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
 #include "rmw/types.h"
+
+#include "detail/node_probe.hpp"
 
 namespace rmw_introspect
 {
@@ -41,6 +44,10 @@ struct NodeRecord
   bool alive = true;       // not destroyed at all, teardown included (graph queries)
   uint64_t destroyed_event = 0;  // place of the destruction in the event sequence
   bool in_teardown = false;      // destroyed in the final run of destructions (snapshot)
+  /// What the middleware learnt from the node's own services (NULL: not asked).
+  std::shared_ptr<const NodeProbe> probe;
+  /// The lifecycle transition the middleware drove on it last ("" = none).
+  std::string transition;
 };
 
 struct EndpointRecord
@@ -64,6 +71,9 @@ struct EndpointRecord
   bool alive = true;       // not destroyed at all, teardown included (graph queries)
   uint64_t destroyed_event = 0;  // place of the destruction in the event sequence
   bool in_teardown = false;      // destroyed in the final run of destructions (snapshot)
+  /// The lifecycle transition the middleware had driven last on its node when it was
+  /// created ("configure", "activate"; "" = none).
+  std::string created_in;
 };
 
 /// A consistent copy of everything recorded, for writers and graph queries.
@@ -102,6 +112,13 @@ public:
   /// Returns 0 when the node is unknown.
   uint64_t add_endpoint(EndpointRecord record);
   bool destroy_endpoint(uint64_t endpoint_id, bool teardown = false);
+
+  /// Keep what the middleware learnt from node `node_id`'s own services. Not a change of
+  /// the graph (no listener call): the next capture written carries it.
+  bool set_node_probe(uint64_t node_id, const NodeProbe & probe);
+  /// The middleware drives lifecycle transition `label` on node `node_id`: the endpoints
+  /// the node creates from now on record it as their created_in. Not a change either.
+  bool set_node_transition(uint64_t node_id, const std::string & label);
 
   /// With `mark_teardown` (captures written as the process ends): the entities destroyed in
   /// the trailing run of destructions - the longest suffix of the creation/destruction event

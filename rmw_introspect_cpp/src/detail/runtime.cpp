@@ -32,18 +32,22 @@ Session::Settings session_settings(const Config & config)
   settings.settle_ms = config.settle_ms;
   settings.horizon_ms = config.horizon_ms;
   settings.warp_budget_ms = config.warp_budget_ms;
+  settings.probe = config.probe.enabled();
+  settings.answer_timeout_ms = config.answer_timeout_ms;
   return settings;
 }
 }  // namespace
 
 Runtime::Runtime()
 : config_(Config::from_environment(static_cast<long>(getpid()))),
+  probe_driver_(config_.probe, recorder_, injector_),
   session_(clock_, virtual_clock_, session_settings(config_))
 {
   for (const auto & warning : config_.warnings) {
     std::fprintf(stderr, "[rmw_introspect] warning: %s\n", warning.c_str());
   }
   recorder_.set_change_listener([this]() {on_change();});
+  injector_.set_answer_listener([this](bool changes_node) {on_probe_answer(changes_node);});
 }
 
 void Runtime::notify_graph_change()
@@ -73,6 +77,42 @@ void Runtime::on_change()
   session_cv_.notify_all();
 }
 
+void Runtime::on_probe_answer(bool changes_node)
+{
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    session_.probe_answered(changes_node);
+  }
+  session_cv_.notify_all();
+}
+
+void Runtime::probe_step()
+{
+  const bool sent = probe_driver_.step(
+    wait_hub_, [this]() {
+      std::lock_guard<std::mutex> lock(session_mutex_);
+      session_.probe_sent();
+    });
+  probe_requests_.store(probe_driver_.requests());
+  probe_unanswered_.store(probe_driver_.unanswered());
+  if (!sent) {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    session_.probe_done();
+  }
+  if (config_.verbose) {
+    std::fprintf(
+      stderr, "[rmw_introspect] %s\n", sent ? "sent a request to a node's own service" :
+      "asked every node: probing done");
+  }
+}
+
+void Runtime::probe_timeout()
+{
+  probe_driver_.timeout(config_.answer_timeout_ms);
+  probe_requests_.store(probe_driver_.requests());
+  probe_unanswered_.store(probe_driver_.unanswered());
+}
+
 uint64_t Runtime::enter_wait()
 {
   uint64_t token = 0;
@@ -93,9 +133,15 @@ void Runtime::leave_wait(uint64_t token)
 void Runtime::note_wait_entered()
 {
   // Once for ever_waited; during the warp every time (it breaks the warp's quiet).
-  if (!ever_waited_.exchange(true) || warping_.load()) {
-    std::lock_guard<std::mutex> lock(session_mutex_);
-    session_.on_wait_entered();
+  const bool first = !ever_waited_.exchange(true);
+  if (first || warping_.load()) {
+    {
+      std::lock_guard<std::mutex> lock(session_mutex_);
+      session_.on_wait_entered();
+    }
+    if (first) {
+      session_cv_.notify_all();  // a probing that waits for the first wait goes on
+    }
   }
 }
 
@@ -136,6 +182,16 @@ void Runtime::monitor_loop()
         case Session::Action::kSettle:
           write_capture("settled");
           exit_if_asked(header.time_to_settle_ms);
+          break;
+        case Session::Action::kStartProbe:
+          // A valid capture so far (a node may exit or crash in a transition).
+          write_capture("probing");
+          break;
+        case Session::Action::kProbe:
+          probe_step();
+          break;
+        case Session::Action::kProbeTimeout:
+          probe_timeout();
           break;
         case Session::Action::kStartWarp:
           // A valid capture so far (the node may exit or crash during the warp), then wake
@@ -225,6 +281,10 @@ void Runtime::write_capture(const char * state)
     }
     session_.fill_header(state, &header);
   }
+  header.probe_parameters = config_.probe.parameters;
+  header.probe_lifecycle = lifecycle_target_name(config_.probe.lifecycle);
+  header.probe_requests = probe_requests_.load();
+  header.probe_unanswered = probe_unanswered_.load();
   header.pid = static_cast<long>(getpid());
   header.argv = argv_;
   header.state = state;

@@ -13,6 +13,8 @@
 #include "detail/config.hpp"
 #include "detail/delivery.hpp"
 #include "detail/graph_guards.hpp"
+#include "detail/injector.hpp"
+#include "detail/probe_driver.hpp"
 #include "detail/recorder.hpp"
 #include "detail/session.hpp"
 #include "detail/wait_hub.hpp"
@@ -23,15 +25,18 @@ namespace rmw_introspect
 struct ContextImpl;
 
 /// Everything this process's middleware keeps beyond the handles rcl holds: configuration,
-/// recorder, session (settle) with its monitor thread, wait hub and graph guard conditions.
+/// recorder, session (settle) with its monitor thread, wait hub, graph guard conditions, and
+/// the injector + probe driver that ask the nodes' own services after the first settle.
 /// One object per process, reached through instance() by the rmw_* entry points.
 ///
 /// Lock order: a thread holding one of these mutexes takes only those further down the list.
 ///   1. Runtime::write_mutex_    serializes capture writes (held while rendering one)
 ///   2. GraphGuards' mutex       trigger_all() triggers through the wait hub
-///   3. WaitHub's mutex          rmw_wait registers a blocked thread with the session under it
-///   4. Runtime::session_mutex_  the Session; the monitor thread sleeps on session_cv_
-///   5. Recorder's mutex         a leaf: its change listener (-> session) runs after release
+///   3. Injector's mutex         release() makes a request ready through the wait hub; its
+///                               answer listener (-> session) runs after release
+///   4. WaitHub's mutex          rmw_wait registers a blocked thread with the session under it
+///   5. Runtime::session_mutex_  the Session; the monitor thread sleeps on session_cv_
+///   6. Recorder's mutex         a leaf: its change listener (-> session) runs after release
 /// Per-entity mutexes (stored callbacks, a subscription's content filter) are leaves too.
 /// Delivery's mutex is taken with none of the above held and takes only per-entity ones (a
 /// content filter, then an inbox or a matched status); the waiters are woken and the "new
@@ -53,6 +58,8 @@ public:
   GraphGuards & graph_guards() {return graph_guards_;}
   /// In-process delivery (RMW_INTROSPECT_DELIVERY=1): who receives what this process sends.
   Delivery & delivery() {return delivery_;}
+  /// The middleware's own requests to the nodes' services (parameters, lifecycle).
+  Injector & injector() {return injector_;}
 
   /// Trigger the graph guard condition of every live node (a local graph change).
   void notify_graph_change();
@@ -101,6 +108,11 @@ private:
   template<typename ReadyFn>
   bool try_jump(ReadyFn & ready, int64_t target_ns);
   void on_change();
+  /// The injector got the answer to the request in flight (or it failed).
+  void on_probe_answer(bool changes_node);
+  /// The monitor's kProbe / kProbeTimeout (no lock held).
+  void probe_step();
+  void probe_timeout();
   void monitor_loop();
   /// Write the capture with `state` (no-op with AUTO_EXPORT=0 or before rmw_init; once the
   /// exit capture is being written, nothing else replaces it).
@@ -115,6 +127,10 @@ private:
   WaitHub wait_hub_;
   Delivery delivery_;
   GraphGuards graph_guards_;
+  Injector injector_;
+  ProbeDriver probe_driver_;  // the monitor thread's only
+  std::atomic<uint64_t> probe_requests_{0};
+  std::atomic<uint64_t> probe_unanswered_{0};
   std::vector<std::string> argv_;  // read at rmw_init (immutable after)
 
   std::mutex write_mutex_;

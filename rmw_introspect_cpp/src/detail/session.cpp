@@ -14,6 +14,9 @@ constexpr int64_t kSnapshotDelayNs = 20 * 1000 * 1000;
 constexpr int64_t kNsPerMs = 1000 * 1000;
 // Activity calls after the last change that make a process that never waits "in its loop".
 constexpr uint64_t kSettlingActivity = 2;
+// A process that settled by activity before any wait gets this long to start waiting (an
+// executor starting to spin right after a burst of publishes) before the probing is skipped.
+constexpr int64_t kFirstWaitGraceNs = 250 * 1000 * 1000;
 
 void propose(int64_t when, bool * has_deadline, int64_t * deadline)
 {
@@ -162,28 +165,29 @@ Session::Step Session::poll()
       propose(std::min(budget_end, horizon_at), &step.has_deadline, &step.deadline_ns);
     }
   }
-  const bool in_warp = phase_ == Phase::kWarping || phase_ == Phase::kFinalSettling;
-  if ((in_warp || settled_generation_ != generation_) &&
-    quiet_settled(now, &step.has_deadline, &step.deadline_ns))
-  {
-    settled_generation_ = generation_;
-    written_generation_ = generation_;
-    has_settled_ = true;
-    time_to_settle_ns_ = now - t0_ns_;
-    step.has_deadline = false;
-    if (phase_ == Phase::kSettling && horizon_ns > 0) {
-      if (now + virtual_clock_.offset_ns() - t0_ns_ < horizon_ns) {
-        phase_ = Phase::kWarping;
-        warp_start_ns_ = now;
-        break_quiet(now);  // the warp must see settle_ms without a jump before it ends
-        step.action = Action::kStartWarp;
+  if (phase_ == Phase::kProbing) {
+    if (poll_probing(now, &step)) {
+      return step;
+    }
+  } else {
+    const bool in_warp = phase_ == Phase::kWarping || phase_ == Phase::kFinalSettling;
+    if ((in_warp || settled_generation_ != generation_) &&
+      quiet_settled(now, &step.has_deadline, &step.deadline_ns))
+    {
+      mark_settled(now);
+      step.has_deadline = false;
+      if (phase_ == Phase::kSettling && settings_.probe) {
+        phase_ = Phase::kProbing;
+        probed_ = true;
+        probe_started_ns_ = now;
+        // Settled by activity before any wait: the first request waits for a settle by wait.
+        probe_settle_first_ = !ever_waited_;
+        step.action = Action::kStartProbe;
         return step;
       }
-      horizon_reached_ = true;  // settling took longer than the horizon
+      after_first_settle(now, &step);
+      return step;
     }
-    phase_ = Phase::kDone;
-    step.action = Action::kSettle;
-    return step;
   }
   if (written_generation_ != generation_) {
     const int64_t snapshot_at = last_change_ns_ + kSnapshotDelayNs;
@@ -198,8 +202,115 @@ Session::Step Session::poll()
   return step;
 }
 
+void Session::mark_settled(int64_t now)
+{
+  settled_generation_ = generation_;
+  written_generation_ = generation_;
+  has_settled_ = true;
+  time_to_settle_ns_ = now - t0_ns_;
+}
+
+void Session::after_first_settle(int64_t now, Step * step)
+{
+  step->has_deadline = false;
+  const int64_t horizon_ns = settings_.horizon_ms * kNsPerMs;
+  if ((phase_ == Phase::kSettling || phase_ == Phase::kProbing) && horizon_ns > 0) {
+    if (now + virtual_clock_.offset_ns() - t0_ns_ < horizon_ns) {
+      phase_ = Phase::kWarping;
+      warp_start_ns_ = now;
+      break_quiet(now);  // the warp must see settle_ms without a jump before it ends
+      step->action = Action::kStartWarp;
+      return;
+    }
+    horizon_reached_ = true;  // settling took longer than the horizon
+  }
+  phase_ = Phase::kDone;
+  step->action = Action::kSettle;
+}
+
+bool Session::poll_probing(int64_t now, Step * step)
+{
+  if (!ever_waited_ && !probe_done_) {
+    // No executor has waited yet: nobody could take a request.
+    const int64_t give_up = probe_started_ns_ + kFirstWaitGraceNs;
+    if (now < give_up) {
+      propose(give_up, &step->has_deadline, &step->deadline_ns);
+      return false;
+    }
+    probe_skipped_ = true;
+    probe_done_ = true;
+  }
+  if (probe_in_flight_) {
+    const int64_t deadline = probe_sent_ns_ + settings_.answer_timeout_ms * kNsPerMs;
+    if (now >= deadline) {
+      probe_in_flight_ = false;
+      probe_settle_first_ = true;  // the node may still be busy with it
+      break_quiet(now);
+      step->action = Action::kProbeTimeout;
+      step->has_deadline = false;
+      return true;
+    }
+    propose(deadline, &step->has_deadline, &step->deadline_ns);
+    return false;
+  }
+  if (probe_done_) {
+    if (quiet_settled(now, &step->has_deadline, &step->deadline_ns)) {
+      mark_settled(now);
+      after_first_settle(now, step);
+      return true;
+    }
+    return false;
+  }
+  if (!probe_settle_first_ || quiet_settled(now, &step->has_deadline, &step->deadline_ns)) {
+    step->action = Action::kProbe;
+    step->has_deadline = false;
+    return true;
+  }
+  return false;
+}
+
+void Session::probe_sent()
+{
+  probe_in_flight_ = true;
+  probe_sent_ns_ = clock_.now_ns();
+}
+
+void Session::probe_answered(bool settle_first)
+{
+  if (!probe_in_flight_) {
+    return;  // late: its timeout was already reported
+  }
+  probe_in_flight_ = false;
+  probe_settle_first_ = settle_first;
+  // The answering thread goes back to its wait after this: the settles count from here.
+  break_quiet(clock_.now_ns());
+}
+
+void Session::probe_done()
+{
+  probe_done_ = true;
+  probe_in_flight_ = false;
+}
+
+const char * Session::probe_state() const
+{
+  if (!settings_.probe) {
+    return "off";
+  }
+  if (phase_ == Phase::kSettling) {
+    return "pending";
+  }
+  if (phase_ == Phase::kProbing) {
+    return "running";
+  }
+  return probed_ && !probe_skipped_ ? "done" : "skipped";
+}
+
 const char * Session::progress_state() const
 {
+  if (phase_ == Phase::kProbing) {
+    return "probing";
+  }
   return phase_ == Phase::kWarping || phase_ == Phase::kFinalSettling ? "warping" : "running";
 }
 
@@ -231,6 +342,8 @@ void Session::fill_header(const char * state, CaptureHeader * header) const
   header->warp_ms = ns_to_ms(warp_ns_);
   header->horizon_reached = horizon_reached_;
   header->warp_budget_exhausted = budget_exhausted_;
+  header->probe_state = probe_state();
+  header->answer_timeout_ms = settings_.answer_timeout_ms;
   header->has_ended = std::strcmp(state, "exit") == 0 || std::strcmp(state, "shutdown") == 0;
   header->ended_before_settle = phase_ != Phase::kDone;
 }

@@ -18,6 +18,15 @@ namespace rmw_introspect
 /// 1. settling: settled when no node/endpoint changed for settle_ms AND either a thread is
 ///    blocked in rmw_wait that entered it after the last change ("wait"), or at least two
 ///    activity calls (publish, take, graph queries, ...) came after it ("activity").
+/// 1b. probing (Settings::probe): a "probing" snapshot
+///    is written, then the middleware asks the nodes' own services, one request at a time
+///    (the Runtime's ProbeDriver): kProbe = send the next request now; the answer (or no
+///    answer within answer_timeout_ms: kProbeTimeout) breaks the quiet; a request that
+///    changes the node (a lifecycle transition) is followed by a settle (the rule of 1)
+///    before the next one, a query by the next request at once. When nothing is left to ask,
+///    the process settles once more and goes on as after 1. A process that settled by
+///    activity and never entered rmw_wait gets 250 ms to start waiting, then the probing is
+///    skipped (nothing could take a request).
 /// 2. With horizon 0 that settle is final. Otherwise a "warping" snapshot is written and
 ///    finite waits with nothing ready jump virtual time (try_jump) until the node's virtual
 ///    age would pass the horizon or the real-time budget is spent.
@@ -33,6 +42,8 @@ public:
     int settle_ms = 10;
     int64_t horizon_ms = 0;
     int64_t warp_budget_ms = 3000;
+    bool probe = false;               // ask the nodes' services after the first settle
+    int64_t answer_timeout_ms = 5000;  // real time a node has to answer one request
   };
 
   Session(const Clock & clock, VirtualClock & virtual_clock, const Settings & settings);
@@ -69,6 +80,9 @@ public:
     kWriteRunning,  // write a progress snapshot now (progress_state())
     kStartWarp,     // settled once: write "warping" now and wake the waiters to jump
     kSettle,        // settled for good: write "settled" now
+    kStartProbe,    // settled once: write "probing" now (then kProbe follows)
+    kProbe,         // send the next request now: then probe_sent(), or probe_done()
+    kProbeTimeout,  // the request in flight got no answer in time (then kProbe follows)
   };
   struct Step
   {
@@ -78,8 +92,21 @@ public:
   };
   /// What the monitor has to do now; the write it asks for is counted as done.
   Step poll();
-  /// "running" before the first settle and after the final one, "warping" in between.
+  /// "running" before the first settle and after the final one, "probing" or "warping" in
+  /// between.
   const char * progress_state() const;
+
+  /// Probing: a request is about to reach the node (call it before the node can see it).
+  void probe_sent();
+  /// Probing: the answer to the request in flight came. `settle_first`: the node changed
+  /// (a transition); it must settle again before the next request.
+  void probe_answered(bool settle_first);
+  /// Probing: nothing (more) to ask.
+  void probe_done();
+  bool probing() const {return phase_ == Phase::kProbing;}
+  /// "off" (nothing to ask), "pending" (not settled yet), "running", "done", "skipped"
+  /// (no thread entered rmw_wait within 250 ms of the settle: no executor to ask).
+  const char * probe_state() const;
 
   /// A capture is being written out of turn (rmw_shutdown, process exit).
   void note_written() {written_generation_ = generation_;}
@@ -97,11 +124,17 @@ public:
   double virtual_age_ms() const;
 
 private:
-  enum class Phase { kSettling, kWarping, kFinalSettling, kDone };
+  enum class Phase { kSettling, kProbing, kWarping, kFinalSettling, kDone };
 
   /// A change for the quiet rule: entity change, jump, warp start.
   void break_quiet(int64_t now);
   void end_warp();
+  /// A settle is written now (time to settle, generations).
+  void mark_settled(int64_t now);
+  /// After the first settle (and the probing): start the warp or settle for good.
+  void after_first_settle(int64_t now, Step * step);
+  /// poll() in the probing phase: true when `step` has an action.
+  bool poll_probing(int64_t now, Step * step);
   /// The settle rule at `now`: true when settled; else may set `deadline`.
   bool quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline);
 
@@ -133,6 +166,14 @@ private:
   int64_t warp_ns_ = 0;
   bool horizon_reached_ = false;
   bool budget_exhausted_ = false;
+  // Probing.
+  bool probed_ = false;            // the probing phase was entered
+  bool probe_skipped_ = false;     // ... and left: no thread ever waited
+  int64_t probe_started_ns_ = 0;
+  bool probe_in_flight_ = false;
+  int64_t probe_sent_ns_ = 0;
+  bool probe_settle_first_ = false;
+  bool probe_done_ = false;
 };
 
 }  // namespace rmw_introspect

@@ -10,15 +10,7 @@
 namespace rmw_introspect
 {
 
-/// How one message type lies in memory: its introspection members, C
-/// (rosidl_typesupport_introspection_c__MessageMembers: rosidl_runtime_c strings and
-/// sequences, what rclpy and rcl use) or C++ (rosidl_typesupport_introspection_cpp::
-/// MessageMembers: std::string, std::vector, std::array, what rclcpp uses).
-struct MessageLayout
-{
-  const void * members = nullptr;
-  bool is_cpp = false;
-};
+// MessageLayout (typesupport.hpp): a message type's C or C++ introspection members.
 
 /// The request and response layouts of a service type resolved by resolve_service_type.
 /// False (and `error`) when the service members are missing either.

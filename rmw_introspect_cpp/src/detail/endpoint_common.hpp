@@ -90,6 +90,7 @@ inline uint64_t record_endpoint(
   record.type = type.name;
   record.type_hash = type.type_hash;
   record.typesupport = type.typesupport;
+  record.types = type.descriptions;
   record.qos = qos;
   record.gid = gid;
   Runtime & runtime = Runtime::instance();

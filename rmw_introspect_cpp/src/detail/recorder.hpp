@@ -11,6 +11,8 @@
 
 #include "rmw/types.h"
 
+#include "detail/type_description.hpp"
+
 namespace rmw_introspect
 {
 
@@ -56,6 +58,7 @@ struct EndpointRecord
   std::string type;
   std::string type_hash;
   std::string typesupport;
+  TypeDescriptionsPtr types;  // the capture's `types` table is made of these (may be null)
   rmw_qos_profile_t qos{};
   Gid gid{};
   CreationTime created;

@@ -35,6 +35,7 @@ import yaml
 
 from ..errors import CaptureFormatError
 from . import qos as qos_module
+from . import types as type_model
 from .vocabulary import ACTION_HASHED_PARTS, ACTION_SERVICES, ACTION_TOPICS, KIND_TO_LIST, LISTS
 
 FORMAT = "rmw_introspect_capture"
@@ -273,6 +274,10 @@ class Capture:
     other_processes: list[OtherProcess] = field(default_factory=list)
     #: the target created no ROS node itself: this capture is of the one ROS process it started
     from_child: OtherProcess | None = None
+    #: every interface type the process used, nested ones included, by name (``model.types``);
+    #: ``has_types`` is False for captures of middleware versions that did not record them
+    types: dict[str, type_model.TypeDescription] = field(default_factory=dict)
+    has_types: bool = False
 
     # ---------------------------------------------------------------- building
     @classmethod
@@ -428,6 +433,12 @@ class Capture:
             for fqn in sorted(self.nodes)
         }
 
+    def to_contract_types(self) -> dict[str, type_model.TypeDescription]:
+        """The ``types:`` section of a contract: the descriptions the contract view's interfaces
+        need (their types, an action's parts, everything they nest), by name."""
+        return type_model.for_interfaces(
+            self.types, ((list_name, i.type) for node in self for list_name, i in node.interfaces()))
+
     def summary(self) -> str:
         """A short human-readable listing (used in error messages)."""
         lines = [f"state: {self.state}; {len(self.nodes)} node(s)"]
@@ -529,6 +540,11 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
         except (KeyError, TypeError, ValueError) as exc:
             raise CaptureFormatError(path, f"{where}: missing or malformed field {exc}") from None
 
+    try:
+        types = type_model.from_capture(data.get("types"))
+    except ValueError as exc:
+        raise CaptureFormatError(path, str(exc)) from None
+
     capture = Capture(
         nodes=build_view(raw_nodes, endpoints, include_infrastructure=include_infrastructure),
         raw_nodes=raw_nodes,
@@ -549,6 +565,8 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
         include_infrastructure=include_infrastructure,
         path=path,
         raw=data,
+        types=types,
+        has_types=data.get("types") is not None,
     )
     return capture
 

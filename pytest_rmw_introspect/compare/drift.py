@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from ..model import qos
+from ..model import types as type_model
 from ..model.vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS, TOPIC_LISTS, Severity
 from .options import ComparisonOptions
 
@@ -115,6 +116,7 @@ RULES: dict[str, Rule] = _rules(
     Rule("QOS_LIFESPAN_EXTENDED", _S, "publisher lifespan extended or unset"),
     Rule("QOS_LIFESPAN_NO_EFFECT", _S, "subscription lifespan changed (a publisher-only policy)"),
     Rule("QOS_NAMESPACE_CONVENTIONS_CHANGED", _B, "avoid_ros_namespace_conventions changed"),
+    Rule("TYPE_DESCRIPTION_MISSING", _S, "the contract's types: section lacks a type the interface uses"),
 )
 
 
@@ -125,12 +127,21 @@ def compare(
     expected_nodes: Mapping | None,
     actual_nodes: Mapping | None,
     options: ComparisonOptions | None = None,
+    *,
+    expected_types: Mapping[str, type_model.TypeDescription] | None = None,
+    actual_types: Mapping[str, type_model.TypeDescription] | None = None,
+    require_types: bool = False,
 ) -> list[DriftItem]:
     """Classified differences between the contract's nodes and the captured nodes.
 
     Both sides are ``nodes`` mappings of contracts (design.md section 2); QoS may be in contract
     form or explicit. Missing lists or keys are tolerated: a key absent on either side of an
     interface (e.g. no ``type_hash`` in a hand-written contract) is not compared.
+    ``expected_types`` / ``actual_types``: the type descriptions of each side (a contract's
+    ``types:`` section, a capture's table; None: not stated). ``require_types``
+    (``include_types``): an interface whose types the expected side does not describe, while
+    the actual side does, is drift (``TYPE_DESCRIPTION_MISSING``), so that updating the golden
+    writes them.
     Items come most severe first, then by node, kind, name and change.
     """
     # Imported here, not at the top: deepdiff costs ~0.1-0.2 s and only comparing needs it (the
@@ -152,6 +163,7 @@ def compare(
         threshold_to_diff_deeper=0,
     )
     items = _translate(diff, expected, actual)
+    items += _type_items(expected, actual, expected_types, actual_types, require_types)
 
     def wanted(item: DriftItem) -> bool:
         if options.allow_extra and item.change == "added":
@@ -283,6 +295,33 @@ def _translate(diff: DeepDiff, expected: _Index, actual: _Index) -> list[DriftIt
             attributes.discard("qos.depth")
         for attribute in attributes:
             items.append(_change_item(node, kind, key, attribute, old, new))
+    return items
+
+
+def _type_items(
+    expected: _Index,
+    actual: _Index,
+    expected_types: Mapping[str, type_model.TypeDescription] | None,
+    actual_types: Mapping[str, type_model.TypeDescription] | None,
+    require_types: bool,
+) -> list[DriftItem]:
+    """Items about the type descriptions of the interfaces both sides have with one type name."""
+    items: list[DriftItem] = []
+    for node, kinds in expected.items():
+        for kind, interfaces in kinds.items():
+            for key, interface in interfaces.items():
+                other = actual.get(node, {}).get(kind, {}).get(key)
+                type_name = interface.original.get("type")
+                if other is None or not type_name or other.original.get("type") != type_name:
+                    continue
+                roots = type_model.interface_roots(kind, type_name)
+                if require_types and actual_types is not None:
+                    missing = [n for n in type_model.closure(actual_types, roots) if n not in (expected_types or {})]
+                    if missing:
+                        items.append(_item(
+                            node, kind, key, "types", None, missing, "TYPE_DESCRIPTION_MISSING",
+                            f"the contract's types: section does not describe {', '.join(missing)} "
+                            "(include_types is on): updating the golden writes it"))
     return items
 
 

@@ -10,7 +10,8 @@ from typing import Any
 import pytest
 from type_tables import describe
 
-from pytest_rmw_introspect.errors import CaptureFormatError
+from pytest_rmw_introspect.errors import CaptureFormatError, ContractError
+from pytest_rmw_introspect.model import contract as contract_module
 from pytest_rmw_introspect.model import types as type_model
 from pytest_rmw_introspect.model.capture import Capture
 from pytest_rmw_introspect.model.types import Constant, Field, MessageType, ServiceType
@@ -218,3 +219,87 @@ def test_closure_order_roots_first_then_depth_first():
         "a/action/B_SendGoal", "a/action/B_GetResult", "a/action/B_FeedbackMessage"]
     assert type_model.interface_roots("subscriptions", "a/msg/B") == ["a/msg/B"]
 
+
+# ---------------------------------------------------------------------------- contract section
+
+CONTRACT = """\
+# header comment
+contract_version: 1
+options:
+  include_types: true
+nodes:
+  /n:
+    publishers:
+      - name: /scan
+        type: sensor_msgs/msg/LaserScan
+"""
+
+
+def test_section_round_trips_and_is_deterministic():
+    table = describe(*RICH)
+    text = type_model.render_section(table)
+    assert text.startswith("# Generated with include_types")
+    assert type_model.render_section(dict(reversed(list(table.items())))) == text  # sorted by name
+    loaded = contract_module.loads(CONTRACT + "\n" + text)
+    assert loaded.types == {name: table[name] for name in sorted(table)}
+    # service entries name their parts; message lines are .msg lines
+    assert "  action_msgs/srv/CancelGoal:\n    request: action_msgs/srv/CancelGoal_Request\n" in text
+    assert ("  test_msgs/msg/Strings:\n    fields:\n      - string string_value\n" in text)
+    assert "      - string<=22 bounded_string_value\n" in text
+    assert "    constants:\n      - string STRING_CONST=\"Hello world!\"\n" in text
+    assert "  builtin_interfaces/msg/Time:\n    fields:\n      - int32 sec\n      - uint32 nanosec\n    constants: []\n" in text
+
+
+def test_unknown_constants_are_left_out_and_read_back_as_unknown():
+    table = {"pkg/msg/Idl": MessageType("pkg/msg/Idl", (Field("x", "int32"),), None)}
+    text = type_model.render_section(table)
+    assert "constants" not in text
+    assert contract_module.loads(CONTRACT + text).types == table
+
+
+def test_replace_section_appends_then_replaces_in_place():
+    table = describe("sensor_msgs/msg/LaserScan")
+    first = type_model.replace_section(CONTRACT, table)
+    assert first.startswith(CONTRACT + "\n# Generated with include_types")
+    assert type_model.replace_section(first, table) == first  # regenerating changes no byte
+    trailer = "\n# a key after the section\nextra: 1\n"
+    with_trailer = first + trailer
+    smaller = describe("std_msgs/msg/Header")
+    replaced = type_model.replace_section(with_trailer, smaller)
+    assert replaced == CONTRACT + "\n" + type_model.render_section(smaller) + trailer
+    assert type_model.replace_section("", {}) == type_model.render_section({})
+    assert "types: {}" in type_model.render_section({})
+
+
+def test_a_section_above_nodes_is_replaced_where_it_is():
+    table = describe("std_msgs/msg/Header")
+    text = "contract_version: 1\ntypes:\n  x/msg/Y:\n    fields:\n      - int8 a\nnodes: {}\n"
+    replaced = type_model.replace_section(text, table)
+    assert replaced == "contract_version: 1\n" + type_model.render_section(table) + "nodes: {}\n"
+
+
+def test_contracts_without_a_section_have_none():
+    assert contract_module.loads(CONTRACT).types is None
+    assert contract_module.loads(CONTRACT + "types:\n").types == {}
+
+
+@pytest.mark.parametrize("section, location, reason", [
+    ("types: [1]\n", "types", "is not of type"),
+    ("types:\n  notatype:\n    fields: []\n", "types.notatype", "is not an interface type"),
+    ("types:\n  a/msg/B: 3\n", "types.a/msg/B", "is not of type"),
+    ("types:\n  a/msg/B:\n    constants: []\n", "types.a/msg/B.fields", "a message needs its `fields`"),
+    ("types:\n  a/msg/B:\n    fields:\n      - int8 x\n      - bad\n", "types.a/msg/B.fields[1]",
+     "is not a field line"),
+    ("types:\n  a/msg/B:\n    fields:\n      - int8 x\n      - int16 x\n", "types.a/msg/B.fields", "appears twice"),
+    ("types:\n  a/msg/B:\n    fields: []\n    constants:\n      - int8 X\n", "types.a/msg/B.constants[0]",
+     "is not a constant line"),
+    ("types:\n  a/srv/B:\n    request: a/srv/B_Request\n", "types.a/srv/B.response", "needs its response"),
+    ("types:\n  a/srv/B:\n    request: a/srv/B_Request\n    response: a/srv/B_Response\n    fields: []\n",
+     "types.a/srv/B", "not both"),
+    ("types:\n  a/msg/B:\n    fields: []\n    comment: x\n", "types.a/msg/B", "unknown key 'comment'"),
+])
+def test_section_errors_name_the_place(section, location, reason):
+    with pytest.raises(ContractError) as info:
+        contract_module.loads(CONTRACT + section)
+    assert info.value.location == location and reason in info.value.reason, (info.value.location, info.value.reason)
+    assert info.value.line is not None

@@ -58,3 +58,27 @@ def test_ini_include_types_makes_a_contract_without_the_section_drift(project):
     # the section, once there, is kept up to date without the option
     project.pytester.makeini("[pytest]\n")
     project.run().assert_outcomes(passed=1)
+
+
+def test_a_changed_type_is_reported_field_by_field_under_its_interface(project):
+    project.test(MARKER_TEST)
+    project.run("--update-golden").assert_outcomes(passed=1)
+    # the golden as if written from an older std_msgs: another hash, a wide string
+    golden = project.read("contracts/talker.yaml")
+    edited = golden.replace("type_hash: RIHS01_df668c74", "type_hash: RIHS01_00000000").replace(
+        "      - string data\n", "      - wstring data\n")
+    project.write("contracts/talker.yaml", edited)
+    result = project.run()
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines([
+        "*Interface drift of script */talker.py against contracts/talker.yaml: 2 changes (2 breaking, 0 risky, 0 safe)",
+        "*BREAKING (2)",
+        "*  /talker",
+        "*    publisher /chatter",
+        "*      [[]TYPE_HASH_CHANGED[]] message definition of std_msgs/msg/String changed; the types: section shows how "
+        "(1 field-level change listed under this interface)*",
+        "*      [[]TYPE_FIELD_RETYPED[]] std_msgs/msg/String: field `data` wstring -> string: the field's wire "
+        "representation changes",
+    ])
+    project.run("--update-golden").assert_outcomes(passed=1)
+    assert project.read("contracts/talker.yaml") == golden

@@ -149,19 +149,15 @@ const rosidl_runtime_c__type_description__TypeSource * find_source(
   return nullptr;
 }
 
-/// The definition source of `type_name`: in `sources`, else in its package's library.
+/// The definition source of `type_name`: in `sources`, else in its package's library (an
+/// "implicit" entry in `sources` is final: the library holds the same).
 const rosidl_runtime_c__type_description__TypeSource * find_definition(
   const Sources * sources, const std::string & type_name)
 {
   const auto * found = find_source(sources, type_name);
-  if (found == nullptr || as_string(found->encoding) == "implicit") {
-    const Sources * own = nullptr;
-    if (sources_from_library(type_name, &own)) {
-      const auto * in_library = find_source(own, type_name);
-      if (in_library != nullptr) {
-        found = in_library;
-      }
-    }
+  const Sources * own = nullptr;
+  if (found == nullptr && sources_from_library(type_name, &own)) {
+    found = find_source(own, type_name);
   }
   return found;
 }

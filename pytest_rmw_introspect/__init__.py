@@ -50,6 +50,7 @@ if TYPE_CHECKING:
     from .model.capture import Capture, Endpoint, Interface, Node, RawNode, VirtualTime
     from .model.contract import Contract
     from .model.contract import load as load_contract
+    from .model.types import Constant, Field, MessageType, ServiceType
     from .model.vocabulary import Severity
     from .plugin.assertions import check_compatible
     from .run.runner import capture
@@ -74,6 +75,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     "VirtualTime": ("model.capture", "VirtualTime"),
     "Contract": ("model.contract", "Contract"),
     "load_contract": ("model.contract", "load"),
+    **{name: ("model.types", name) for name in ("Constant", "Field", "MessageType", "ServiceType")},
     "Severity": ("model.vocabulary", "Severity"),
     "check_compatible": ("plugin.assertions", "check_compatible"),
     "capture": ("run.runner", "capture"),
@@ -102,18 +104,22 @@ __all__ = [
     "CaptureFormatError",
     "CompatItem",
     "ComparisonOptions",
+    "Constant",
     "Contract",
     "ContractError",
     "DiffResult",
     "DriftItem",
     "Endpoint",
     "ExecutableNotFound",
+    "Field",
     "Interface",
+    "MessageType",
     "NoNodeCreated",
     "Node",
     "RawNode",
     "RmwIntrospectError",
     "Severity",
+    "ServiceType",
     "SetupError",
     "SystemResult",
     "TargetConfigError",

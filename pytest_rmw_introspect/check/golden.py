@@ -34,6 +34,7 @@ from filelock import FileLock, Timeout
 
 from ..errors import ContractError, GoldenWriteError
 from ..model import contract as contract_module
+from ..model import types as type_model
 from ..model.paths import relative_or_absolute, shown
 from ..run.target import TargetSpec
 
@@ -109,16 +110,21 @@ def write_text(path: str | Path, text: str, *, timeout: float = LOCK_TIMEOUT) ->
 
 
 def update(path: str | Path, nodes: Mapping[str, Any], *, new_header: str | None = None,
+           types: Mapping[str, type_model.TypeDescription] | None = None,
            timeout: float = LOCK_TIMEOUT) -> str | None:
     """Write the golden at ``path`` with ``nodes``; return ``CREATED``, ``UPDATED`` or None
     (nothing to change). A new file starts with ``new_header`` (default: the plain contract
     header). Entries the golden spells differently but equivalently keep their spelling
     (``contract.preserve_spelling``); a broken golden is replaced, keeping its header when it
-    can be found."""
+    can be found. ``types``: the ``types:`` section to write (``types.replace_section``);
+    None leaves the file's section, if any, as it is."""
     path = Path(path)
     existed = path.exists()
 
     def new_text(old: str | None) -> str:
+        return with_types(nodes_text(old), types)
+
+    def nodes_text(old: str | None) -> str:
         wanted = nodes
         if old:
             try:
@@ -145,6 +151,11 @@ def update_with(path: str | Path, new_text: Callable[[str | None], str], *,
     if not _write_locked(path, new_text, timeout):
         return None
     return UPDATED if existed else CREATED
+
+
+def with_types(text: str, types: Mapping[str, type_model.TypeDescription] | None) -> str:
+    """``text`` with its ``types:`` section replaced by ``types`` (None: unchanged)."""
+    return text if types is None else type_model.replace_section(text, types)
 
 
 # ---------------------------------------------------------------------------- new contracts

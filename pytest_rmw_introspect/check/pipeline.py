@@ -34,6 +34,7 @@ from ..compare.options import ComparisonOptions, resolve
 from ..compare.system import CompatItem
 from ..errors import RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
+from ..model import types as type_model
 from ..model.capture import Capture
 from ..model.contract import Contract
 from ..model.locate import LineIndex, line_index
@@ -172,9 +173,18 @@ class CheckResult:
         return self.capture.to_contract_nodes(with_type_hash=not opts.ignore_type_hash,
                                               with_qos=not opts.ignores_all_qos)
 
+    def golden_types(self) -> dict[str, type_model.TypeDescription] | None:
+        """The ``types:`` section to write with the golden: when ``include_types`` is on or the
+        contract already has one (and the capture recorded types); None leaves it alone."""
+        assert self.capture is not None, "no capture to accept"
+        keeps = self.contract is not None and self.contract.types is not None
+        if not self.capture.has_types or not (self.options.include_types or keeps):
+            return None
+        return self.capture.to_contract_types()
+
     def update(self, *, new_header: str | None = None) -> str | None:
         """Write the golden (``golden.update``): ``created``, ``updated`` or None."""
-        return golden.update(self.path, self.golden_nodes(), new_header=new_header)
+        return golden.update(self.path, self.golden_nodes(), new_header=new_header, types=self.golden_types())
 
     def title(self) -> str:
         return f"Interface drift of {self.spec.describe()}" if self.spec is not None else "Interface drift"
@@ -212,7 +222,10 @@ def compare(prepared: Prepared, capture: Capture) -> CheckResult:
     result = CheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
                          spec=prepared.spec, options=prepared.options, capture=capture)
     if prepared.contract is not None:
-        result.items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)
+        result.items = drift.compare(
+            prepared.contract.nodes, capture.to_contract_nodes(), prepared.options,
+            expected_types=prepared.contract.types, actual_types=capture.types if capture.has_types else None,
+            require_types=prepared.options.include_types)
         result.compared = True
     return result
 
@@ -304,7 +317,8 @@ def diff_contracts(
 
     ``options``: a :class:`ComparisonOptions`, a mapping of option values, or layers stacked on
     top of the old contract's ``options:`` block. ``include_infrastructure`` has no effect
-    (both files already list what they list). Raises :class:`ContractError`.
+    (both files already list what they list). When both files have a ``types:`` section, a
+    changed type is reported field by field. Raises :class:`ContractError`.
     """
     old_shown, new_shown = display(old_path), display(new_path)
     old = contract_module.load(old_path)
@@ -317,7 +331,7 @@ def diff_contracts(
         else:
             layers = options or ()
         opts = Layers(strong_options=layers).options(old, shown=old_shown)
-    items = drift.compare(old.nodes, new.nodes, opts)  # compare expands QoS
+    items = drift.compare(old.nodes, new.nodes, opts, expected_types=old.types, actual_types=new.types)
     return DiffResult(old, new, old_shown, new_shown, opts, items)
 
 

@@ -82,7 +82,7 @@ def accept_command(args: argparse.Namespace, contract: str, command: list[str] |
         for value in getattr(args, key, None) or ():
             words += [flag, value]
     for key, flag in (("ignore_type_hash", "--ignore-type-hash"), ("allow_extra", "--allow-extra"),
-                      ("include_infrastructure", "--include-ros-infra")):
+                      ("include_infrastructure", "--include-ros-infra"), ("include_types", "--include-types")):
         if getattr(args, key, None):
             words.append(flag)
     words.append(contract)

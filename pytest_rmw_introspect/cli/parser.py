@@ -196,7 +196,7 @@ def _add_target(parser: argparse.ArgumentParser) -> None:
                    "(default 10; 0 turns virtual time off)")
 
 
-def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True) -> None:
+def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True, types: bool = True) -> None:
     g = parser.add_argument_group("comparison options (override the contract's options: block)")
     g.add_argument("--fail-on", choices=FAIL_ON,
                    help="least severe drift that fails (exit 1); default: the contract's, else any")
@@ -205,6 +205,10 @@ def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True) -> None
                    help="QoS fields not to compare: comma-separated (depth,history) or 'all'")
     g.add_argument("--allow-extra", action="store_true", default=None,
                    help="interfaces and nodes the contract does not list are not drift")
+    if types:
+        g.add_argument("--include-types", action="store_true", default=None,
+                       help="keep a types: section in the contract (written by --update) so that a changed "
+                       "type hash is reported field by field")
     if infra:
         g.add_argument("--include-ros-infra", dest="include_infrastructure", action="store_true", default=None,
                        help="also capture and compare /rosout, /parameter_events, parameter and lifecycle services")
@@ -261,7 +265,7 @@ def build_parser() -> argparse.ArgumentParser:
                          epilog=_DIFF_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     dif.add_argument("old", metavar="OLD", help="the contract as it was")
     dif.add_argument("new", metavar="NEW", help="the contract as it is now")
-    _add_compare(dif, infra=False)
+    _add_compare(dif, infra=False, types=False)
     _add_format(dif)
 
     ini = sub.add_parser("init", help="write a contract for every executable of a package",
@@ -353,4 +357,5 @@ def compare_from_args(args: argparse.Namespace) -> dict[str, Any]:
         "ignore_qos": args.ignore_qos,
         "allow_extra": args.allow_extra,
         "include_infrastructure": getattr(args, "include_infrastructure", None),
+        "include_types": getattr(args, "include_types", None),
     }

@@ -8,13 +8,16 @@ The rule table, with the reasoning behind each severity, is docs/drift-rules.md.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from ..model import qos
+from ..model import types as type_model
 from ..model.vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS, TOPIC_LISTS, Severity
+from . import type_drift
 from .options import ComparisonOptions
 
 if TYPE_CHECKING:
@@ -26,7 +29,7 @@ class DriftItem:
     node: str  # fully qualified node name
     kind: str  # one of LISTS, or "node"
     name: str  # interface name (node fqn for kind == "node")
-    change: str  # "added" | "removed" | "renamed" | "type" | "type_hash" | "qos.<field>"
+    change: str  # "added" | "removed" | "renamed" | "type" | "type_hash" | "qos.<field>" | "type:<type name>" | "types"
     old: Any  # contract side (None for added)
     new: Any  # capture side (None for removed)
     rule: str  # stable rule id, see RULES
@@ -119,7 +122,12 @@ RULES: dict[str, Rule] = _rules(
     Rule("QOS_LIFESPAN_EXTENDED", _S, "publisher lifespan extended or unset"),
     Rule("QOS_LIFESPAN_NO_EFFECT", _S, "subscription lifespan changed (a publisher-only policy)"),
     Rule("QOS_NAMESPACE_CONVENTIONS_CHANGED", _B, "avoid_ros_namespace_conventions changed"),
+    Rule("TYPE_DESCRIPTION_MISSING", _S, "the contract's types: section lacks a type the interface uses"),
+    *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in type_drift.RULES.items()),
 )
+
+#: ``DriftItem.change`` of a field-level item: the prefix, then the type it is about
+TYPE_CHANGE_PREFIX = "type:"
 
 
 # --------------------------------------------------------------------------- comparison
@@ -129,12 +137,24 @@ def compare(
     expected_nodes: Mapping | None,
     actual_nodes: Mapping | None,
     options: ComparisonOptions | None = None,
+    *,
+    expected_types: Mapping[str, type_model.TypeDescription] | None = None,
+    actual_types: Mapping[str, type_model.TypeDescription] | None = None,
+    require_types: bool = False,
 ) -> list[DriftItem]:
     """Classified differences between the contract's nodes and the captured nodes.
 
     Both sides are ``nodes`` mappings of contracts (design.md section 2); QoS may be in contract
     form or explicit. Missing lists or keys are tolerated: a key absent on either side of an
     interface (e.g. no ``type_hash`` in a hand-written contract) is not compared.
+    ``expected_types`` / ``actual_types``: the type descriptions of each side (a contract's
+    ``types:`` section, a capture's table; None: not stated). When both describe the types of
+    an interface present on both sides with one type name, every difference in them is an item
+    of that interface (``compare.type_drift``: fields, constants, nested types included), and
+    its ``TYPE_HASH_CHANGED`` message says whether the descriptions explain it. ``require_types``
+    (``include_types``): an interface whose types the expected side does not describe, while
+    the actual side does, is drift (``TYPE_DESCRIPTION_MISSING``), so that updating the golden
+    writes them.
     Items come most severe first, then by node, kind, name and change.
     """
     # Imported here, not at the top: deepdiff costs ~0.1-0.2 s and only comparing needs it (the
@@ -156,6 +176,7 @@ def compare(
         threshold_to_diff_deeper=0,
     )
     items = _translate(diff, expected, actual)
+    items = _with_type_items(items, expected, actual, expected_types, actual_types, require_types)
 
     def wanted(item: DriftItem) -> bool:
         if options.allow_extra and item.change == "added":
@@ -331,6 +352,51 @@ def _translate(diff: DeepDiff, expected: _Index, actual: _Index) -> list[DriftIt
         for attribute in attributes:
             items.append(_change_item(node, kind, key, attribute, old, new))
     return items
+
+
+def _with_type_items(
+    items: list[DriftItem],
+    expected: _Index,
+    actual: _Index,
+    expected_types: Mapping[str, type_model.TypeDescription] | None,
+    actual_types: Mapping[str, type_model.TypeDescription] | None,
+    require_types: bool,
+) -> list[DriftItem]:
+    """``items`` plus what the type descriptions say about the interfaces both sides have with
+    one type name; a ``TYPE_HASH_CHANGED`` message says whether the descriptions explain it."""
+    out = list(items)
+    hash_items = {(i.node, i.kind, i.name): n for n, i in enumerate(out) if i.rule == "TYPE_HASH_CHANGED"}
+    for node, kinds in expected.items():
+        for kind, interfaces in kinds.items():
+            for key, interface in interfaces.items():
+                other = actual.get(node, {}).get(kind, {}).get(key)
+                type_name = interface.original.get("type")
+                if other is None or not type_name or other.original.get("type") != type_name:
+                    continue
+                roots = type_model.interface_roots(kind, type_name)
+                if require_types and actual_types is not None:
+                    missing = [n for n in type_model.closure(actual_types, roots) if n not in (expected_types or {})]
+                    if missing:
+                        out.append(_item(
+                            node, kind, key, "types", None, missing, "TYPE_DESCRIPTION_MISSING",
+                            f"the contract's types: section does not describe {', '.join(missing)} "
+                            "(include_types is on): updating the golden writes it"))
+                if expected_types is None or actual_types is None:
+                    continue
+                described = all(r in expected_types and r in actual_types for r in roots)
+                changes = type_drift.compare_tables(expected_types, actual_types, roots) if described else []
+                out += [_item(node, kind, key, TYPE_CHANGE_PREFIX + c.type_name, c.old, c.new, c.rule, c.message)
+                        for c in changes]
+                index = hash_items.get((node, kind, key))
+                if index is not None and described:
+                    hash_item = out[index]
+                    explained = (f"; the types: section shows how ({len(changes)} field-level "
+                                 f"change{'s' if len(changes) != 1 else ''} listed under this interface)"
+                                 if changes else
+                                 "; the recorded type descriptions show no difference (a change they do not "
+                                 "hold, or a types: section older than the type hash)")
+                    out[index] = dataclasses.replace(hash_item, message=hash_item.message + explained)
+    return out
 
 
 def _node_presence_items(node: str, expected: _Index, actual: _Index) -> list[DriftItem]:
@@ -517,11 +583,16 @@ _CHANGE_ORDER = {
 
 
 def _sort_key(item: DriftItem) -> tuple:
+    if item.change.startswith(TYPE_CHANGE_PREFIX) or item.change == "types":
+        # right after the interface's type hash, in the order they were found (the interface's
+        # own type first, then what it nests; fields in declaration order): sorted() is stable
+        change_key: tuple = (_CHANGE_ORDER["type_hash"], 1, "")
+    else:
+        change_key = (_CHANGE_ORDER.get(item.change, len(_CHANGE_ORDER)), 0, item.change)
     return (
         -item.severity,
         item.node,
         _KIND_ORDER.get(item.kind, len(_KIND_ORDER)),
         item.name,
-        _CHANGE_ORDER.get(item.change, len(_CHANGE_ORDER)),
-        item.change,
+        *change_key,
     )

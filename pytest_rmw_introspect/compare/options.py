@@ -15,6 +15,11 @@ option                     meaning                          default
 ``fail_on``                ``any``, ``risky`` or            ``any``
                            ``breaking``: the least severe
                            drift that fails the test
+``include_types``          keep a ``types:`` section in     ``false``
+                           the contract (written by
+                           ``--update-golden``): changed
+                           type hashes are explained field
+                           by field
 =========================  ===============================  ===================================
 
 Each can be set, from strongest to weakest: as a keyword argument of the
@@ -32,7 +37,7 @@ from ..errors import RmwIntrospectError
 from ..model.qos import FIELDS as QOS_FIELDS
 from ..model.vocabulary import FAIL_ON, Severity, parse_threshold
 
-OPTION_KEYS = ("ignore_type_hash", "ignore_qos", "allow_extra", "include_infrastructure", "fail_on")
+OPTION_KEYS = ("ignore_type_hash", "ignore_qos", "allow_extra", "include_infrastructure", "fail_on", "include_types")
 _TRUE = ("1", "true", "yes", "on", "all")
 _FALSE = ("0", "false", "no", "off", "")
 
@@ -51,6 +56,10 @@ class ComparisonOptions:
     allow_extra: bool = False  # the contract is a minimum: additions are not drift
     include_infrastructure: bool = False
     fail_on: str = "any"
+    #: the contract keeps a generated ``types:`` section (docs/design.md section 2): written by
+    #: --update-golden, its absence is drift. A contract that has one is compared with it and
+    #: keeps it up to date whatever this says.
+    include_types: bool = False
 
     def threshold(self) -> Severity:
         """The least severity that fails (``fail_on``)."""

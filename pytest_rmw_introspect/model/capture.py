@@ -33,6 +33,7 @@ from typing import Any
 
 from ..errors import CaptureFormatError
 from . import qos as qos_module
+from . import types as type_model
 from . import untrusted
 from .vocabulary import ACTION_HASHED_PARTS, ACTION_SERVICES, ACTION_TOPICS, KIND_TO_LIST, LISTS
 
@@ -272,6 +273,10 @@ class Capture:
     other_processes: list[OtherProcess] = field(default_factory=list)
     #: the target created no ROS node itself: this capture is of the one ROS process it started
     from_child: OtherProcess | None = None
+    #: every interface type the process used, nested ones included, by name (``model.types``);
+    #: ``has_types`` is False for captures of middleware versions that did not record them
+    types: dict[str, type_model.TypeDescription] = field(default_factory=dict)
+    has_types: bool = False
 
     # ---------------------------------------------------------------- building
     @classmethod
@@ -432,6 +437,12 @@ class Capture:
             for fqn in sorted(self.nodes)
         }
 
+    def to_contract_types(self) -> dict[str, type_model.TypeDescription]:
+        """The ``types:`` section of a contract: the descriptions the contract view's interfaces
+        need (their types, an action's parts, everything they nest), by name."""
+        return type_model.for_interfaces(
+            self.types, ((list_name, i.type) for node in self for list_name, i in node.interfaces()))
+
     def summary(self) -> str:
         """A short human-readable listing (used in error messages)."""
         lines = [f"state: {self.state}; {len(self.nodes)} node(s)"]
@@ -545,6 +556,11 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
         _require(data.get(key) is None or isinstance(data.get(key), str), path, f"`{key}` is not a string")
     _require(data.get("ever_waited") is None or isinstance(data.get("ever_waited"), bool), path,
              "`ever_waited` is not true or false")
+    try:
+        types = type_model.from_capture(data.get("types"))
+    except ValueError as exc:
+        raise CaptureFormatError(path, str(exc)) from None
+
     capture = Capture(
         nodes=build_view(raw_nodes, endpoints, include_infrastructure=include_infrastructure),
         raw_nodes=raw_nodes,
@@ -565,6 +581,8 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
         include_infrastructure=include_infrastructure,
         path=path,
         raw=data,
+        types=types,
+        has_types=data.get("types") is not None,
     )
     return capture
 

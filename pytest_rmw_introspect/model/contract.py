@@ -43,6 +43,7 @@ import yaml
 
 from ..errors import ContractError
 from . import qos as qos_module
+from . import types as type_model
 from . import untrusted
 from .vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS
 
@@ -73,6 +74,8 @@ class Contract:
     options: dict[str, Any] = field(default_factory=dict)
     contract_version: int = CONTRACT_VERSION
     text: str = ""
+    #: the generated ``types:`` section (``model.types``); None when the file has none
+    types: dict[str, type_model.TypeDescription] | None = None
 
     def expanded_nodes(self) -> dict[str, dict[str, list[dict[str, Any]]]]:
         """``nodes`` with every topic QoS expanded to all fields (``qos.expand``)."""
@@ -230,6 +233,13 @@ def loads(text: str, *, path: str | Path | None = None) -> Contract:
         raise error
     nodes = normalize_nodes(data.get("nodes") or {})
     _check_semantics(root, nodes, path)
+    types = None
+    if type_model.SECTION_KEY in data:
+        try:
+            types = type_model.from_contract(data[type_model.SECTION_KEY])
+        except type_model.SectionError as exc:
+            raise ContractError(path, format_location(exc.location), exc.reason,
+                                line=_line(root, exc.location)) from None
     return Contract(
         path=path,
         nodes=nodes,
@@ -237,6 +247,7 @@ def loads(text: str, *, path: str | Path | None = None) -> Contract:
         options=dict(data.get("options") or {}),
         contract_version=int(data["contract_version"]),
         text=text,
+        types=types,
     )
 
 

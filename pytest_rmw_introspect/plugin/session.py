@@ -125,6 +125,13 @@ def addoption(parser: pytest.Parser) -> None:
         default=None,
         help="also compare /rosout, /parameter_events, parameter and lifecycle services",
     )
+    group.addoption(
+        "--rmw-introspect-include-types",
+        action="store_true",
+        default=None,
+        help="keep a types: section in contracts (written by --update-golden) so that a changed "
+        "type hash is reported field by field",
+    )
     group.addoption("--rmw-introspect-timeout", type=float, default=None, metavar="SECONDS",
                     help="default time a target gets to settle (default 20)")
     group.addoption("--rmw-introspect-settle", type=float, default=None, metavar="SECONDS",
@@ -147,6 +154,8 @@ def addoption(parser: pytest.Parser) -> None:
     parser.addini("rmw_introspect_allow_extra", "interfaces the contract does not list are not drift",
                   type="bool", default=False)
     parser.addini("rmw_introspect_include_infrastructure", "compare infrastructure endpoints too",
+                  type="bool", default=False)
+    parser.addini("rmw_introspect_include_types", "keep a types: section in contracts (field-level type drift)",
                   type="bool", default=False)
     parser.addini("rmw_introspect_fail_on", "least severe drift that fails: " + " | ".join(FAIL_ON), default="any")
     parser.addini("rmw_introspect_timeout", "default target timeout in seconds", default="")
@@ -179,6 +188,7 @@ def configure(config: pytest.Config) -> SessionState:
         "allow_extra": config.getini("rmw_introspect_allow_extra"),
         "include_infrastructure": config.getini("rmw_introspect_include_infrastructure"),
         "fail_on": config.getini("rmw_introspect_fail_on") or None,
+        "include_types": config.getini("rmw_introspect_include_types"),
     }
     cli_raw = {
         "ignore_type_hash": config.getoption("rmw_introspect_ignore_type_hash", None),
@@ -186,6 +196,7 @@ def configure(config: pytest.Config) -> SessionState:
         "allow_extra": config.getoption("rmw_introspect_allow_extra", None),
         "include_infrastructure": config.getoption("rmw_introspect_include_infrastructure", None),
         "fail_on": config.getoption("rmw_introspect_fail_on", None),
+        "include_types": config.getoption("rmw_introspect_include_types", None),
     }
     try:
         ini_options = parse_layer(ini_raw, "ini file")

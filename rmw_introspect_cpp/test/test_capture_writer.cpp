@@ -11,6 +11,7 @@
 #include <limits>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <string>
 
 #include "rmw/qos_profiles.h"
@@ -200,7 +201,8 @@ TEST(CaptureWriter, json_exact)
       "created_real_ms": 30.125,
       "created_in": null
     }
-  ]
+  ],
+  "types": {}
 }
 )";
   EXPECT_EQ(expected, rmw_introspect::render_capture_json(header(), sample()));
@@ -393,7 +395,149 @@ TEST(CaptureWriter, json_null_time_to_settle_and_empty_lists)
   const std::string text = rmw_introspect::render_capture_json(h, RecorderSnapshot{});
   EXPECT_NE(std::string::npos, text.find("\"time_to_settle_ms\": null,"));
   EXPECT_NE(std::string::npos, text.find("\"nodes\": [],"));
-  EXPECT_NE(std::string::npos, text.find("\"endpoints\": []\n"));
+  EXPECT_NE(std::string::npos, text.find("\"endpoints\": [],\n"));
+  EXPECT_NE(std::string::npos, text.find("\"types\": {}\n}"));
+}
+
+namespace
+{
+// Two endpoint types that share a nested type, as describe_*_type makes them.
+RecorderSnapshot sample_with_types()
+{
+  using rmw_introspect::FieldArray;
+  using rmw_introspect::TypeDescription;
+  using rmw_introspect::TypeDescriptions;
+  TypeDescription point;
+  point.name = "pkg/msg/Point";
+  point.fields = {{"x", "float64", FieldArray::None, 0, 0}, {"y", "float64", FieldArray::None, 0, 0}};
+  point.constants_known = true;
+  TypeDescription path;
+  path.name = "pkg/msg/Path";
+  path.fields = {
+    {"points", "pkg/msg/Point", FieldArray::Bounded, 100, 0},
+    {"names", "string", FieldArray::Fixed, 2, 8},
+    {"tags", "wstring", FieldArray::Unbounded, 0, 0}};
+  path.constants_known = true;
+  path.constants = {{"MAX", "uint8", "100"}};
+  TypeDescription service;
+  service.name = "pkg/srv/Plan";
+  service.is_service = true;
+  service.constants_known = true;
+  service.request = "pkg/srv/Plan_Request";
+  service.response = "pkg/srv/Plan_Response";
+  TypeDescription request;
+  request.name = "pkg/srv/Plan_Request";
+  request.fields = {{"goal", "pkg/msg/Point", FieldArray::None, 0, 0}};  // constants unknown
+  TypeDescription response;
+  response.name = "pkg/srv/Plan_Response";
+  response.fields = {{"path", "pkg/msg/Path", FieldArray::None, 0, 0}};
+  response.constants_known = true;
+
+  rmw_introspect::Recorder recorder;
+  const uint64_t n = recorder.add_node("planner", "/", "/");
+  rmw_introspect::EndpointRecord e;
+  e.node_id = n;
+  e.kind = rmw_introspect::EndpointKind::Publisher;
+  e.name = "/path";
+  e.type = "pkg/msg/Path";
+  e.types = std::make_shared<const TypeDescriptions>(TypeDescriptions{path, point});
+  e.qos = rmw_qos_profile_default;
+  recorder.add_endpoint(e);
+  e.kind = rmw_introspect::EndpointKind::Service;
+  e.name = "/plan";
+  e.type = "pkg/srv/Plan";
+  e.types = std::make_shared<const TypeDescriptions>(
+    TypeDescriptions{service, request, point, response, path});
+  recorder.add_endpoint(e);
+  e.name = "/undescribed";
+  e.types = nullptr;
+  recorder.add_endpoint(e);
+  return recorder.snapshot();
+}
+}  // namespace
+
+TEST(CaptureWriter, types_table_once_per_type_sorted_by_name)
+{
+  const std::string text = rmw_introspect::render_capture_json(header(), sample_with_types());
+  const std::string expected = R"(  "types": {
+    "pkg/msg/Path": {
+      "kind": "message",
+      "fields": [
+        {
+          "name": "points",
+          "type": "pkg/msg/Point",
+          "array": "bounded",
+          "array_size": 100
+        },
+        {
+          "name": "names",
+          "type": "string",
+          "array": "fixed",
+          "array_size": 2,
+          "string_bound": 8
+        },
+        {
+          "name": "tags",
+          "type": "wstring",
+          "array": "unbounded"
+        }
+      ],
+      "constants": [
+        {
+          "name": "MAX",
+          "type": "uint8",
+          "value": "100"
+        }
+      ]
+    },
+    "pkg/msg/Point": {
+      "kind": "message",
+      "fields": [
+        {
+          "name": "x",
+          "type": "float64"
+        },
+        {
+          "name": "y",
+          "type": "float64"
+        }
+      ],
+      "constants": []
+    },
+    "pkg/srv/Plan": {
+      "kind": "service",
+      "request": "pkg/srv/Plan_Request",
+      "response": "pkg/srv/Plan_Response"
+    },
+    "pkg/srv/Plan_Request": {
+      "kind": "message",
+      "fields": [
+        {
+          "name": "goal",
+          "type": "pkg/msg/Point"
+        }
+      ]
+    },
+    "pkg/srv/Plan_Response": {
+      "kind": "message",
+      "fields": [
+        {
+          "name": "path",
+          "type": "pkg/msg/Path"
+        }
+      ],
+      "constants": []
+    }
+  }
+}
+)";
+  ASSERT_NE(std::string::npos, text.find("  \"types\": {"));
+  EXPECT_EQ(expected, text.substr(text.find("  \"types\": {")));
+  // YAML: the same table, keys as plain scalars
+  const std::string yaml = rmw_introspect::render_capture_yaml(header(), sample_with_types());
+  EXPECT_NE(
+    std::string::npos,
+    yaml.find("\ntypes:\n  pkg/msg/Path:\n    kind: \"message\"\n    fields:\n    - name: \"points\"\n"));
 }
 
 TEST(CaptureWriter, invalid_utf8_is_replaced)

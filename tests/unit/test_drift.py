@@ -271,8 +271,11 @@ def test_qos_rules(kind, field, old, new, rule, severity):
 
 
 def test_every_rule_has_a_test_row():
+    from test_type_drift import TESTED_RULES as TYPE_DESCRIPTION_RULES  # rules of the types: section
+
     tested = {row[2] for row in PRESENCE_ROWS} | {row[4] for row in QOS_ROWS} | {
-        "NODE_ADDED", "NODE_REMOVED", "TYPE_CHANGED", "TYPE_HASH_CHANGED"} | set(RENAME_RULES.values())
+        "NODE_ADDED", "NODE_REMOVED", "TYPE_CHANGED", "TYPE_HASH_CHANGED"} | set(RENAME_RULES.values()) \
+        | TYPE_DESCRIPTION_RULES
     assert tested == set(drift.RULES)
 
 

@@ -143,3 +143,24 @@ def test_a_lock_held_too_long_is_a_golden_write_error(tmp_path):
     with FileLock(str(golden._lock_path(path))):  # another process writing the same golden
         with pytest.raises(GoldenWriteError, match="held its lock"):
             golden.update(path, NODES, timeout=0.05)
+
+
+def test_update_writes_replaces_and_leaves_alone_the_types_section(tmp_path):
+    from pytest_rmw_introspect.model.types import Field, MessageType
+
+    string = {"std_msgs/msg/String": MessageType("std_msgs/msg/String", (Field("data", "string"),), ())}
+    path = tmp_path / "c.yaml"
+    assert golden.update(path, NODES, types=string) == golden.CREATED
+    text = path.read_text()
+    assert text.endswith("\n# Generated with include_types: the definitions behind the type hashes above, so that a\n"
+                         "# changed hash is reported field by field. Rewritten by --update-golden.\n"
+                         "types:\n  std_msgs/msg/String:\n    fields:\n      - string data\n    constants: []\n")
+    assert contract.load(path).types == string
+    assert golden.update(path, NODES, types=string) is None  # byte-identical
+    wide = {"std_msgs/msg/String": MessageType("std_msgs/msg/String", (Field("data", "wstring"),), ())}
+    changed = {"/talker": {"publishers": [dict(NODES["/talker"]["publishers"][0], name="/chat")]}}
+    assert golden.update(path, changed, types=wide) == golden.UPDATED
+    assert contract.load(path).types == wide and "/chat\n" in path.read_text()
+    # types=None: the section stays as it is
+    assert golden.update(path, NODES) == golden.UPDATED
+    assert contract.load(path).types == wide and "/chatter\n" in path.read_text()

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -385,6 +386,67 @@ void add_probe_fields(const NodeRecord & n, Value & node)
     probe != nullptr && probe->has_lifecycle ? lifecycle(probe->lifecycle) : Value::null());
 }
 
+Value type_value(const TypeDescription & type)
+{
+  Value v = Value::object();
+  if (type.is_service) {
+    v.add("kind", Value::string("service"));
+    v.add("request", Value::string(type.request));
+    v.add("response", Value::string(type.response));
+    return v;
+  }
+  v.add("kind", Value::string("message"));
+  Value fields = Value::array();
+  for (const auto & f : type.fields) {
+    Value field = Value::object();
+    field.add("name", Value::string(f.name));
+    field.add("type", Value::string(f.type));
+    if (f.array != FieldArray::None) {
+      field.add("array", Value::string(field_array_to_string(f.array)));
+      if (f.array != FieldArray::Unbounded) {
+        field.add("array_size", Value::integer(static_cast<int64_t>(f.array_size)));
+      }
+    }
+    if (f.string_bound > 0) {
+      field.add("string_bound", Value::integer(static_cast<int64_t>(f.string_bound)));
+    }
+    fields.push(std::move(field));
+  }
+  v.add("fields", std::move(fields));
+  if (type.constants_known) {
+    Value constants = Value::array();
+    for (const auto & c : type.constants) {
+      Value constant = Value::object();
+      constant.add("name", Value::string(c.name));
+      constant.add("type", Value::string(c.type));
+      constant.add("value", Value::string(c.value));
+      constants.push(std::move(constant));
+    }
+    v.add("constants", std::move(constants));
+  }
+  return v;
+}
+
+// The `types` table: every type the endpoints refer to, nested ones included, each once,
+// by name.
+Value types_value(const RecorderSnapshot & snapshot)
+{
+  std::map<std::string, const TypeDescription *> types;
+  for (const auto & e : snapshot.endpoints) {
+    if (!e.types) {
+      continue;
+    }
+    for (const auto & type : *e.types) {
+      types.emplace(type.name, &type);
+    }
+  }
+  Value table = Value::object();
+  for (const auto & entry : types) {
+    table.add(entry.first, type_value(*entry.second));
+  }
+  return table;
+}
+
 Value build_document(const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
   Value doc = Value::object();
@@ -467,6 +529,7 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     endpoints.push(std::move(ep));
   }
   doc.add("endpoints", std::move(endpoints));
+  doc.add("types", types_value(snapshot));
   return doc;
 }
 

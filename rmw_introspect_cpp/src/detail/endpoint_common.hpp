@@ -169,6 +169,7 @@ inline uint64_t record_endpoint(
   record.type = type.name;
   record.type_hash = type.type_hash;
   record.typesupport = type.typesupport;
+  record.types = type.descriptions;
   record.qos = qos;
   record.actual_qos = actual_qos;
   record.gid = gid;

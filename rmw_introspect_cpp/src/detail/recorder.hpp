@@ -13,6 +13,7 @@
 #include "rmw/types.h"
 
 #include "detail/node_probe.hpp"
+#include "detail/type_description.hpp"
 
 namespace rmw_introspect
 {
@@ -63,6 +64,7 @@ struct EndpointRecord
   std::string type;
   std::string type_hash;
   std::string typesupport;
+  TypeDescriptionsPtr types;  // the capture's `types` table is made of these (may be null)
   rmw_qos_profile_t qos{};         // as requested: what the capture reports
   rmw_qos_profile_t actual_qos{};  // as resolved (rmw_*_get_actual_qos): what matching uses
   Gid gid{};

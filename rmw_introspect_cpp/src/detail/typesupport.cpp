@@ -140,6 +140,12 @@ bool resolve(const HandleT * type_support, ResolvedType * out, std::string * err
 
 }  // namespace
 
+const rosidl_message_type_support_t * lookup_message_type_support(
+  const rosidl_message_type_support_t * handle, const char * identifier)
+{
+  return handle != nullptr && identifier != nullptr ? lookup(handle, identifier) : nullptr;
+}
+
 bool resolve_message_type(
   const rosidl_message_type_support_t * type_support, ResolvedType * out, std::string * error)
 {
@@ -150,6 +156,7 @@ bool resolve_message_type(
     return false;
   }
   out->introspection_message = found;
+  out->descriptions = describe_message_type(found, out->is_cpp);
   return true;
 }
 
@@ -157,8 +164,13 @@ bool resolve_service_type(
   const rosidl_service_type_support_t * type_support, ResolvedType * out, std::string * error)
 {
   const rosidl_service_type_support_t * found = nullptr;
-  return resolve<rosidl_typesupport_introspection_c__ServiceMembers,
-           rosidl_typesupport_introspection_cpp::ServiceMembers>(type_support, out, error, &found);
+  if (!resolve<rosidl_typesupport_introspection_c__ServiceMembers,
+    rosidl_typesupport_introspection_cpp::ServiceMembers>(type_support, out, error, &found))
+  {
+    return false;
+  }
+  out->descriptions = describe_service_type(found, out->is_cpp);
+  return true;
 }
 
 MessageLayout message_layout(const ResolvedType & type)

@@ -8,6 +8,8 @@
 #include "rosidl_runtime_c/service_type_support_struct.h"
 #include "rosidl_runtime_c/type_hash.h"
 
+#include "detail/type_description.hpp"
+
 namespace rmw_introspect
 {
 
@@ -23,6 +25,9 @@ struct ResolvedType
   bool is_cpp = false;      // resolved through the C++ introspection type support
   const void * members = nullptr;  // introspection MessageMembers / ServiceMembers
   const rosidl_message_type_support_t * introspection_message = nullptr;
+  /// The type and every type it refers to (type_description.hpp); shared by the endpoints
+  /// and the capture's `types` table.
+  TypeDescriptionsPtr descriptions;
 };
 
 /// A message type as the introspection type support describes it: its MessageMembers, C
@@ -44,10 +49,16 @@ std::string type_name_from_namespace(const char * type_namespace, const char * t
 /// "RIHS01_" + 64 lowercase hex digits; empty for a NULL hash or an unknown version.
 std::string format_type_hash(const rosidl_type_hash_t * hash);
 
+/// The type support `identifier` reached from `handle` through its own dispatch function
+/// (`handle` itself when it is that type support); nullptr when there is none. Any rcutils
+/// error a failed lookup leaves behind is cleared.
+const rosidl_message_type_support_t * lookup_message_type_support(
+  const rosidl_message_type_support_t * handle, const char * identifier);
+
 /// Resolve a message type support handle (C or C++, dispatching or introspection) through
 /// the handle's own `func(handle, identifier)`. Any rcutils error a failed lookup leaves
 /// behind is cleared. Returns false (and fills `error`) when neither introspection type
-/// support can be reached.
+/// support can be reached. Fills `descriptions` (describe_message_type).
 bool resolve_message_type(
   const rosidl_message_type_support_t * type_support, ResolvedType * out, std::string * error);
 

@@ -94,11 +94,6 @@ rmw_ret_t rmw_destroy_subscription(rmw_node_t * node, rmw_subscription_t * subsc
     rmw_introspect::Runtime::instance().delivery().remove(impl.get());
   }
   rmw_introspect::free_loans(impl->loans, impl->layout);
-  if (impl->has_filter) {
-    rcutils_allocator_t allocator = rcutils_get_default_allocator();
-    rmw_introspect::ignore_result(
-      rmw_subscription_content_filter_options_fini(&impl->filter, &allocator));
-  }
   rmw_introspect::forget_endpoint(
     impl->record_id, rmw_introspect::EndpointKind::Subscription, impl->name, impl->node);
   return RMW_RET_OK;
@@ -140,43 +135,13 @@ rmw_ret_t rmw_subscription_set_content_filter(
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(options, RMW_RET_INVALID_ARGUMENT);
   auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
-  std::lock_guard<std::mutex> lock(impl->filter_mutex);
-  rcutils_allocator_t allocator = rcutils_get_default_allocator();
-  if (impl->has_filter) {
-    rmw_introspect::ignore_result(
-      rmw_subscription_content_filter_options_fini(&impl->filter, &allocator));
-    impl->has_filter = false;
-    impl->compiled_filter.reset();
-    subscription->is_cft_enabled = false;
-  }
-  if (options->filter_expression == nullptr || options->filter_expression[0] == '\0') {
-    return RMW_RET_OK;  // an empty expression resets the filter
-  }
-  impl->filter = rmw_get_zero_initialized_content_filter_options();
-  const rmw_ret_t ret = rmw_subscription_content_filter_options_copy(
-    options, &allocator, &impl->filter);
-  if (ret != RMW_RET_OK) {
-    return ret;
-  }
-  impl->has_filter = true;
-  subscription->is_cft_enabled = true;
-  if (rmw_introspect::Runtime::instance().config().delivery) {
-    // Filtering applies to in-process delivery. An expression that does not compile (a
-    // syntax this filter does not know) lets everything through rather than failing a
-    // subscription the node expects to have.
-    std::vector<std::string> parameters;
-    for (size_t i = 0; i < impl->filter.expression_parameters.size; ++i) {
-      parameters.emplace_back(impl->filter.expression_parameters.data[i]);
-    }
-    std::string error;
-    impl->compiled_filter = rmw_introspect::ContentFilter::compile(
-      impl->layout, impl->filter.filter_expression, parameters, &error);
-    if (!impl->compiled_filter) {
-      rmw_introspect::verbose_log(
-        "content filter of %s not applied: %s", impl->name.c_str(), error.c_str());
-    }
-  }
-  return RMW_RET_OK;
+  // Filtering applies to in-process delivery only: without it the options are just kept.
+  const bool compile = rmw_introspect::Runtime::instance().config().delivery;
+  bool enabled = false;
+  const rmw_ret_t ret = impl->filter.set(
+    *options, compile ? &impl->layout : nullptr, impl->name, &enabled);
+  subscription->is_cft_enabled = enabled;
+  return ret;
 }
 
 rmw_ret_t rmw_subscription_get_content_filter(
@@ -188,19 +153,7 @@ rmw_ret_t rmw_subscription_get_content_filter(
   RCUTILS_CHECK_ALLOCATOR_WITH_MSG(
     allocator, "allocator argument is invalid", return RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(options, RMW_RET_INVALID_ARGUMENT);
-  auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
-  std::lock_guard<std::mutex> lock(impl->filter_mutex);
-  if (!impl->has_filter) {
-    RMW_SET_ERROR_MSG("this subscription has no content filter");
-    return RMW_RET_ERROR;
-  }
-  // `options` is an output the caller has not necessarily initialised (the suite passes an
-  // uninitialised struct): never _copy()/_set() into it, they finalize it first and would free
-  // garbage. Fill it from zero, as rmw_fastrtps_cpp does with _init().
-  *options = rmw_get_zero_initialized_content_filter_options();
-  return rmw_subscription_content_filter_options_init(
-    impl->filter.filter_expression, impl->filter.expression_parameters.size,
-    const_cast<const char **>(impl->filter.expression_parameters.data), allocator, options);
+  return static_cast<SubscriptionImpl *>(subscription->data)->filter.get(allocator, options);
 }
 
 rmw_ret_t rmw_subscription_get_network_flow_endpoints(

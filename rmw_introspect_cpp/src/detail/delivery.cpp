@@ -93,24 +93,23 @@ bool passes_filter(
   SubscriptionImpl & subscription, const PublisherImpl * publisher, const void * ros_message,
   const uint8_t * data, size_t size)
 {
-  std::lock_guard<std::mutex> lock(subscription.filter_mutex);
-  if (!subscription.has_filter || !subscription.compiled_filter) {
-    return true;  // no filter, or one that did not compile: everything passes
-  }
-  if (ros_message != nullptr && publisher != nullptr &&
-    publisher->layout.members == subscription.layout.members)
-  {
-    return subscription.compiled_filter->matches(ros_message);
-  }
-  TemporaryMessage message(subscription.layout);
-  if (message.get() == nullptr) {
-    return true;
-  }
-  std::string error;
-  if (!cdr_deserialize(subscription.layout, data, size, message.get(), &error)) {
-    return true;
-  }
-  return subscription.compiled_filter->matches(message.get());
+  return subscription.filter.passes(
+    [&](const ContentFilter & filter) {
+      if (ros_message != nullptr && publisher != nullptr &&
+      publisher->layout.members == subscription.layout.members)
+      {
+        return filter.matches(ros_message);
+      }
+      TemporaryMessage message(subscription.layout);
+      if (message.get() == nullptr) {
+        return true;
+      }
+      std::string error;
+      if (!cdr_deserialize(subscription.layout, data, size, message.get(), &error)) {
+        return true;
+      }
+      return filter.matches(message.get());
+    });
 }
 
 void deliver(SubscriptionImpl & subscription, const Sample & sample)

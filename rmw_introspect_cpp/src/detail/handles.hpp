@@ -17,9 +17,9 @@
 #include "rmw/types.h"
 
 #include "detail/cdr.hpp"
-#include "detail/content_filter.hpp"
 #include "detail/inbox.hpp"
 #include "detail/recorder.hpp"
+#include "detail/subscription_filter.hpp"
 #include "detail/typesupport.hpp"
 #include "detail/wait_hub.hpp"
 
@@ -120,10 +120,7 @@ struct SubscriptionImpl : EventSource, EndpointImpl<rmw_subscription_t>
 {
   Callback on_new_message;
   Loans loans;
-  std::mutex filter_mutex;
-  bool has_filter = false;
-  rmw_subscription_content_filter_options_t filter{};
-  std::unique_ptr<ContentFilter> compiled_filter;  // NULL: the expression did not compile
+  SubscriptionFilter filter;  // content filter: options, and compiled with delivery
   MessageLayout layout;
   Inbox inbox;
   std::atomic<int64_t> next_reception{1};

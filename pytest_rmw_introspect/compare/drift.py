@@ -167,9 +167,10 @@ def compare(
     actual = _index(actual_nodes)
     _drop_one_sided_keys(expected, actual)
 
+    expected_differing, actual_differing = _differing(expected, actual)
     diff = DeepDiff(
-        _comparable(expected),
-        _comparable(actual),
+        expected_differing,
+        actual_differing,
         view="tree",
         # compare every level however different: the default reports a whole mapping as
         # changed when few keys are shared, which would hide the per-interface changes
@@ -309,14 +310,34 @@ def _drop_one_sided_keys(expected: _Index, actual: _Index) -> None:
                     other.compared.pop(attribute, None)
 
 
-def _comparable(index: _Index) -> dict:
-    return {
-        node: {
-            kind: {key: interface.compared for key, interface in interfaces.items()}
-            for kind, interfaces in kinds.items()
-        }
-        for node, kinds in index.items()
-    }
+def _differing(expected: _Index, actual: _Index) -> tuple[dict, dict]:
+    """Both sides as plain data for DeepDiff, without the interfaces that compare equal: they
+    cannot produce an item, and leaving them out keeps a diff of large contracts linear in
+    what changed rather than in their size (DeepDiff copies a path object per level)."""
+    left: dict = {}
+    right: dict = {}
+    for node in _union(expected, actual):
+        if node not in expected or node not in actual:
+            (left if node in expected else right)[node] = _plain((expected if node in expected else actual)[node])
+            continue
+        left[node], right[node] = {}, {}
+        for kind in _union(expected[node], actual[node]):
+            mine, theirs = expected[node].get(kind, {}), actual[node].get(kind, {})
+            left[node][kind] = {k: i.compared for k, i in mine.items()
+                                if k not in theirs or theirs[k].compared != i.compared}
+            right[node][kind] = {k: i.compared for k, i in theirs.items()
+                                 if k not in mine or mine[k].compared != i.compared}
+    return left, right
+
+
+def _union(first: Mapping[str, Any], second: Mapping[str, Any]) -> list[str]:
+    """The keys of both, in order (DeepDiff reports in the order it meets them)."""
+    return list(first) + [key for key in second if key not in first]
+
+
+def _plain(kinds: Mapping[str, Mapping[str, _Interface]]) -> dict:
+    return {kind: {key: interface.compared for key, interface in interfaces.items()}
+            for kind, interfaces in kinds.items()}
 
 
 def _translate(diff: DeepDiff, expected: _Index, actual: _Index) -> list[DriftItem]:

@@ -157,8 +157,7 @@ def _schema_error(root: yaml.Node | None, data: Any, path: Path | None) -> Contr
     # capture without a contract never needs it.
     import jsonschema
 
-    validator = jsonschema.Draft7Validator(schema())
-    errors = list(validator.iter_errors(data))
+    errors = list(_validator().iter_errors(data))
     if not errors:
         return None
     best = jsonschema.exceptions.best_match(errors)
@@ -170,6 +169,34 @@ def _schema_error(root: yaml.Node | None, data: Any, path: Path | None) -> Contr
     if more > 0:
         reason += f" (and {more} more problem{'s' if more > 1 else ''} in the file)"
     return ContractError(path, format_location(location) or None, reason, line=_line(root, location))
+
+
+@functools.lru_cache(maxsize=1)
+def _validator() -> Any:
+    import jsonschema
+
+    return jsonschema.Draft7Validator(_inline_refs(schema()))
+
+
+def _inline_refs(document: dict[str, Any]) -> dict[str, Any]:
+    """The schema with every local ``$ref`` replaced by the definition it names (a recursive one
+    stays a reference). jsonschema resolves a ``$ref`` anew each time it meets one: once per
+    interface of a contract, most of the validation time of a large one."""
+    definitions = document.get("definitions", {})
+
+    def inline(value: Any, expanding: tuple[str, ...]) -> Any:
+        if isinstance(value, list):
+            return [inline(v, expanding) for v in value]
+        if not isinstance(value, dict):
+            return value
+        ref = value.get("$ref")
+        if isinstance(ref, str) and ref.startswith("#/definitions/"):
+            name = ref[len("#/definitions/"):]
+            if name in definitions and name not in expanding and len(value) == 1:
+                return inline(definitions[name], expanding + (name,))
+        return {k: inline(v, expanding) for k, v in value.items()}
+
+    return inline(document, ())
 
 
 def _schema_reason(error: Any) -> str:

@@ -339,3 +339,27 @@ def test_scalar_quoting():
     assert contract._scalar("x,y") == "'x,y'"
     assert contract._scalar(True) == "true"
     assert contract._scalar(10) == "10"
+
+
+def test_inlined_schema_reports_what_the_schema_itself_reports():
+    """The loader validates with the schema's references inlined (speed); both must agree."""
+    from pytest_rmw_introspect.model import contract as contract_module
+
+    original = jsonschema.Draft7Validator(contract_module.schema())
+    inlined = contract_module._validator()
+    assert '"$ref": "#/definitions/' not in json.dumps(inlined.schema)
+    hash_ = "RIHS01_" + "ab" * 32
+    documents = [
+        {"contract_version": 1, "nodes": {"/talker": {"publishers": [
+            {"name": "/chatter", "type": "std_msgs/msg/String", "type_hash": hash_, "qos": {"depth": 10}}]}}},
+        {"contract_version": 1, "nodes": {"talker": {}}},
+        {"contract_version": 2, "nodes": {}},
+        {"contract_version": 1, "nodes": {"/t": {"publishers": [{"name": "chatter", "type": "String"}]}}},
+        {"contract_version": 1, "nodes": {"/t": {"publishers": [{"name": "/c", "type": "a/msg/B",
+                                                                  "qos": {"reliability": "SOMETIMES"}}]}}},
+        {"contract_version": 1, "nodes": {"/t": {"services": []}}, "extra": 1},
+    ]
+    for document in documents:
+        expected = sorted((list(e.absolute_path), e.validator, e.message) for e in original.iter_errors(document))
+        got = sorted((list(e.absolute_path), e.validator, e.message) for e in inlined.iter_errors(document))
+        assert got == expected, document

@@ -14,7 +14,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from ..model import qos
+from ..model import qos, untrusted
 from ..model import types as type_model
 from ..model.vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS, TOPIC_LISTS, Severity
 from . import type_drift
@@ -163,20 +163,22 @@ def compare(
 
     options = options or ComparisonOptions()
     ignored_qos = _ignored_qos_fields(options.ignore_qos)
-    expected = _index(expected_nodes)
-    actual = _index(actual_nodes)
-    _drop_one_sided_keys(expected, actual)
+    # Indexing and diffing make many objects and no cycles (see untrusted.gc_paused).
+    with untrusted.gc_paused():
+        expected = _index(expected_nodes)
+        actual = _index(actual_nodes)
+        _drop_one_sided_keys(expected, actual)
 
-    expected_differing, actual_differing = _differing(expected, actual)
-    diff = DeepDiff(
-        expected_differing,
-        actual_differing,
-        view="tree",
-        # compare every level however different: the default reports a whole mapping as
-        # changed when few keys are shared, which would hide the per-interface changes
-        threshold_to_diff_deeper=0,
-    )
-    items = _translate(diff, expected, actual)
+        expected_differing, actual_differing = _differing(expected, actual)
+        diff = DeepDiff(
+            expected_differing,
+            actual_differing,
+            view="tree",
+            # compare every level however different: the default reports a whole mapping as
+            # changed when few keys are shared, which would hide the per-interface changes
+            threshold_to_diff_deeper=0,
+        )
+        items = _translate(diff, expected, actual)
     items = _with_type_items(items, expected, actual, expected_types, actual_types, require_types)
 
     def wanted(item: DriftItem) -> bool:

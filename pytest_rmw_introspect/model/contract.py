@@ -249,7 +249,11 @@ def load(path: str | Path) -> Contract:
 
 def loads(text: str, *, path: str | Path | None = None) -> Contract:
     """Parse and validate contract text; ``path`` is used in messages."""
-    path = Path(path) if path is not None else None
+    with untrusted.gc_paused():
+        return _loads(text, Path(path) if path is not None else None)
+
+
+def _loads(text: str, path: Path | None) -> Contract:
     root, data = _compose(text, path)
     if data is None:
         raise ContractError(path, None, "the file is empty; it needs at least `contract_version: 1` and `nodes:`")

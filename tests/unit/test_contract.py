@@ -363,3 +363,23 @@ def test_inlined_schema_reports_what_the_schema_itself_reports():
         expected = sorted((list(e.absolute_path), e.validator, e.message) for e in original.iter_errors(document))
         got = sorted((list(e.absolute_path), e.validator, e.message) for e in inlined.iter_errors(document))
         assert got == expected, document
+
+
+def test_gc_paused_restores_the_collector_even_on_errors():
+    import gc
+
+    from pytest_rmw_introspect.model import untrusted
+
+    assert gc.isenabled()
+    with pytest.raises(ContractError):
+        with untrusted.gc_paused():
+            assert not gc.isenabled()
+            loads("contract_version: 1\nnodes: {talker: {}}\n")
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        with untrusted.gc_paused():
+            pass
+        assert not gc.isenabled()  # a caller's own choice is kept
+    finally:
+        gc.enable()

@@ -20,7 +20,7 @@ import subprocess
 import threading
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import IO
+from typing import IO, Protocol
 
 #: seconds granted after SIGINT and after SIGTERM before the next, harder signal
 SIGINT_GRACE = 2.0
@@ -40,11 +40,30 @@ def _load_libc() -> ctypes.CDLL | None:
 _LIBC = _load_libc()
 
 
-def _die_with_parent(parent: int) -> None:  # runs in the child between fork and exec
+def die_with_parent(parent: int) -> None:
+    """Arm the parent-death signal SIGKILL in this process, or end it at once if ``parent`` (the
+    process that forked it) is already gone. Runs in a child between fork and exec."""
     if _LIBC is not None:
         _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
     if os.getppid() != parent:  # the runner died before the signal was armed
         os._exit(1)
+
+
+class Handle(Protocol):
+    """A started target as :func:`stop` and :func:`reap_group` use it: a ``subprocess.Popen`` (cold
+    start) or a ``warm.WarmChild`` (forked by a warm start server). ``pid`` is also the id of the
+    target's process group."""
+
+    pid: int
+
+    @property
+    def returncode(self) -> int | None: ...
+
+    def poll(self) -> int | None: ...
+
+    def wait(self, timeout: float | None = None) -> int: ...
+
+    def send_signal(self, sig: int) -> None: ...
 
 
 class OutputTail:
@@ -101,11 +120,11 @@ def start(argv: Sequence[str], *, env: Mapping[str, str], cwd: Path | None) -> s
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         start_new_session=True,
-        preexec_fn=functools.partial(_die_with_parent, os.getpid()),
+        preexec_fn=functools.partial(die_with_parent, os.getpid()),
     )
 
 
-def _signal_group(proc: subprocess.Popen[bytes], sig: int) -> None:
+def _signal_group(proc: Handle, sig: int) -> None:
     try:
         os.killpg(proc.pid, sig)
     except (ProcessLookupError, PermissionError):
@@ -115,7 +134,7 @@ def _signal_group(proc: subprocess.Popen[bytes], sig: int) -> None:
             pass
 
 
-def stop(proc: subprocess.Popen[bytes], sigint_grace: float | None = None,
+def stop(proc: Handle, sigint_grace: float | None = None,
          sigterm_grace: float | None = None) -> int:
     """Stop ``proc`` (started by :func:`start`): SIGINT, SIGTERM, SIGKILL to its group, after
     the grace periods given (default: ``SIGINT_GRACE``, ``SIGTERM_GRACE`` as they are now)."""
@@ -131,11 +150,10 @@ def stop(proc: subprocess.Popen[bytes], sigint_grace: float | None = None,
             continue
     if proc.poll() is None:
         _signal_group(proc, signal.SIGKILL)
-        proc.wait()
-    return proc.returncode
+    return proc.wait()
 
 
-def reap_group(proc: subprocess.Popen[bytes]) -> None:
+def reap_group(proc: Handle) -> None:
     """Kill what the target left behind in its own process group (its children). Children that
     started a session of their own (daemons, ``setsid``) are out of reach: see the README."""
     try:

@@ -37,6 +37,7 @@ LOCAL_IMPORTS = {
     ("model.contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a contract needs it",
     ("compare.drift", "deepdiff"): "deepdiff costs 0.1-0.2 s; only comparing needs it",
     ("cli", "pytest_rmw_introspect.cli"): "`--help` and usage errors answer without the pipeline",
+    ("cli", "pytest_rmw_introspect.run"): "`--help` and usage errors answer without the warm start client (~30 ms)",
 }
 
 

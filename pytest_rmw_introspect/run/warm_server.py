@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import builtins
 import ctypes
+import gc
 import importlib
 import importlib.machinery
 import json
@@ -340,6 +341,7 @@ class Server:
                 stream.flush()
             except (OSError, ValueError):
                 pass
+        gc.freeze()  # the child's collections leave the server's objects (and their pages) alone
         try:
             pid = self.lttng.fork()
         except OSError as exc:

@@ -60,6 +60,9 @@ from .target import TargetSpec, build_argv
 _WORKDIR_PREFIX = "rmw_introspect_"
 #: a working directory left by a runner that was killed is removed by the next run after this long
 _STALE_AFTER_S = 600.0
+#: a runner sweeps stale working directories at its first capture and then at most this often
+_SWEEP_EVERY_S = 60.0
+_last_sweep = -_SWEEP_EVERY_S
 #: the middleware substitutes the process id: every ROS process of the target writes its own file
 _OUTPUT_PATTERN = "capture.<pid>.json"
 _MISSING_MODULE = re.compile(r"ModuleNotFoundError: No module named '([^']+)'")
@@ -254,7 +257,10 @@ def run(
     if keep_files is None:
         keep_files = os.environ.get("RMW_INTROSPECT_KEEP_FILES", "") not in ("", "0", "false")
 
-    sweep_stale_workdirs()
+    global _last_sweep
+    if time.monotonic() - _last_sweep > _SWEEP_EVERY_S:  # a listing of the temporary directory: not per capture
+        _last_sweep = time.monotonic()
+        sweep_stale_workdirs()
     workdir = Path(tempfile.mkdtemp(prefix=f"{_WORKDIR_PREFIX}{os.getpid()}_"))
     env = environment(spec, Path(library), ros, workdir / _OUTPUT_PATTERN)
     describe = spec.describe()

@@ -103,17 +103,19 @@ def prepare(
     shown: str | None = None,
     allow_missing: bool = False,
     no_target: Callable[[Contract | None, str], str] = _default_no_target,
+    loaded: Contract | None = None,
 ) -> Prepared:
     """Load the contract and resolve its options and target (raises an RmwIntrospectError).
 
     ``allow_missing``: a contract file that does not exist is ``contract=None`` instead of a
     :class:`ContractError`. ``no_target(contract, shown)`` words the error raised when no layer
-    names a target.
+    names a target. ``loaded``: the contract, loaded from ``contract_path`` already (a contract
+    item loads it when it is collected).
     """
     path = Path(contract_path)
     shown = shown or display(path)
-    contract = None
-    if path.exists() or not allow_missing:
+    contract = loaded
+    if contract is None and (path.exists() or not allow_missing):
         contract = contract_module.load(path)
     options = layers.options(contract, shown=shown)
     spec = layers.target(contract, path=path, shown=shown)

@@ -76,7 +76,7 @@ class ContractFile(pytest.File):
             yield ContractItem.from_parent(self, name="invalid", load_error=exc)
             return
         name = ",".join(sorted(loaded.nodes)) or "no-nodes"
-        yield ContractItem.from_parent(self, name=name, node_names=sorted(loaded.nodes))
+        yield ContractItem.from_parent(self, name=name, node_names=sorted(loaded.nodes), loaded=loaded)
 
 
 def _no_target(contract: Contract | None, shown: str) -> str:
@@ -93,10 +93,11 @@ class ContractItem(pytest.Item):
     """Captures the contract's target and compares it with the contract."""
 
     def __init__(self, *, load_error: RmwIntrospectError | None = None, node_names: list[str] | None = None,
-                 **kwargs: Any) -> None:
+                 loaded: Contract | None = None, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.load_error = load_error
         self.node_names = node_names or []
+        self.loaded = loaded  # read at collection: not parsed a second time to run
 
     def runtest(self) -> None:
         if self.load_error is not None:
@@ -105,7 +106,8 @@ class ContractItem(pytest.Item):
         error: RmwIntrospectError | None = None
         try:
             prepared = pipeline.prepare(self.path, layers=session_state.layers(),
-                                        shown=session_state.display(self.path), no_target=_no_target)
+                                        shown=session_state.display(self.path), no_target=_no_target,
+                                        loaded=self.loaded)
             capture = pipeline.run_capture(prepared, library=session_state.library(), ros=session_state.ros())
         except RmwIntrospectError as exc:
             error = exc

@@ -64,6 +64,7 @@ PRELOAD_MODULES = (
     "std_msgs.msg",
 )
 #: type supports every node loads when it creates its parameter and type-description services
+#: (and the most common message package's)
 PRELOAD_TYPES = (
     "rcl_interfaces/msg/ParameterEvent",
     "rcl_interfaces/msg/Log",
@@ -74,6 +75,7 @@ PRELOAD_TYPES = (
     "rcl_interfaces/srv/SetParameters",
     "rcl_interfaces/srv/SetParametersAtomically",
     "type_description_interfaces/srv/GetTypeDescription",
+    "std_msgs/msg/String",  # loads std_msgs' C type support: the package most nodes use
 )
 MAX_MESSAGE = 1 << 20
 SPAWN_FDS = 4  # reply socket, stdin, stdout, stderr

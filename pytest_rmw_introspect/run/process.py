@@ -4,7 +4,7 @@ output kept as a bounded tail, stopped with escalating signals.
 * The child gets the parent-death signal SIGKILL (``prctl(PR_SET_PDEATHSIG)``): when the runner
   dies (SIGKILL, a CI job cancelled, an xdist worker killed), a hung target dies with it instead
   of being reparented to init.
-* stdout and stderr are read by threads into :class:`OutputTail` buffers of a fixed size: a
+* stdout and stderr are read by one thread into :class:`OutputTail` buffers of a fixed size: a
   target logging in a loop cannot fill the disk (only the tail is ever shown).
 * :func:`stop`: SIGINT, SIGTERM, then SIGKILL to the whole group, with short grace periods.
 """
@@ -15,6 +15,7 @@ import ctypes
 import ctypes.util
 import functools
 import os
+import selectors
 import signal
 import subprocess
 import threading
@@ -67,16 +68,26 @@ class Handle(Protocol):
 
 
 class OutputTail:
-    """The last ``limit`` bytes a pipe delivered, read by a daemon thread until EOF."""
+    """The last ``limit`` bytes a pipe delivered, read by a daemon thread until EOF (its own, or
+    one shared with other pipes: :func:`read_tails`)."""
 
-    def __init__(self, pipe: IO[bytes], limit: int = TAIL_BYTES) -> None:
+    def __init__(self, pipe: IO[bytes], limit: int = TAIL_BYTES, *, start: bool = True) -> None:
         self._pipe = pipe
         self._limit = limit
         self._data = bytearray()
         self._total = 0
         self._lock = threading.Lock()
-        self._thread = threading.Thread(target=self._drain, name="rmw-introspect-output", daemon=True)
-        self._thread.start()
+        self._thread: threading.Thread | None = None
+        if start:
+            self._thread = threading.Thread(target=self._drain, name="rmw-introspect-output", daemon=True)
+            self._thread.start()
+
+    def _feed(self, chunk: bytes) -> None:
+        with self._lock:
+            self._total += len(chunk)
+            self._data += chunk
+            if len(self._data) > 2 * self._limit:
+                del self._data[: len(self._data) - self._limit]
 
     def _drain(self) -> None:
         fd = self._pipe.fileno()
@@ -85,11 +96,7 @@ class OutputTail:
                 chunk = os.read(fd, 65536)
                 if not chunk:
                     break
-                with self._lock:
-                    self._total += len(chunk)
-                    self._data += chunk
-                    if len(self._data) > 2 * self._limit:
-                        del self._data[: len(self._data) - self._limit]
+                self._feed(chunk)
         except OSError:
             pass
         finally:
@@ -97,7 +104,8 @@ class OutputTail:
 
     def finish(self, timeout: float = 1.0) -> None:
         """Wait (briefly) for EOF: a daemonised grandchild may hold the pipe open for ever."""
-        self._thread.join(timeout)
+        if self._thread is not None:
+            self._thread.join(timeout)
 
     @property
     def total_bytes(self) -> int:
@@ -107,6 +115,37 @@ class OutputTail:
         with self._lock:
             data = bytes(self._data[-self._limit:])
         return data.decode("utf-8", errors="replace")
+
+    @classmethod
+    def read_together(cls, *pipes: IO[bytes], limit: int = TAIL_BYTES) -> list[OutputTail]:
+        """Tails of several pipes (a target's stdout and stderr) read by one daemon thread."""
+        tails = [cls(pipe, limit, start=False) for pipe in pipes]
+        thread = threading.Thread(target=cls._drain_all, args=(tails,), name="rmw-introspect-output", daemon=True)
+        for tail in tails:
+            tail._thread = thread
+        thread.start()
+        return tails
+
+    @staticmethod
+    def _drain_all(tails: list[OutputTail]) -> None:
+        with selectors.DefaultSelector() as selector:
+            for tail in tails:
+                selector.register(tail._pipe.fileno(), selectors.EVENT_READ, tail)
+            try:
+                while selector.get_map():
+                    for key, _events in selector.select():
+                        try:
+                            chunk = os.read(key.fd, 65536)
+                        except OSError:
+                            chunk = b""
+                        if chunk:
+                            key.data._feed(chunk)
+                        else:
+                            selector.unregister(key.fd)
+                            key.data._pipe.close()
+            finally:
+                for key in list(selector.get_map().values()):
+                    key.data._pipe.close()
 
 
 def start(argv: Sequence[str], *, env: Mapping[str, str], cwd: Path | None) -> subprocess.Popen[bytes]:

@@ -194,7 +194,7 @@ class _Ended:
 
 def _wait(proc: process.Handle, stdout: IO[bytes], stderr: IO[bytes], timeout: float) -> _Ended:
     """Wait for the target (stopping it after ``timeout``), then kill what is left of its group."""
-    stdout_tail, stderr_tail = process.OutputTail(stdout), process.OutputTail(stderr)
+    stdout_tail, stderr_tail = process.OutputTail.read_together(stdout, stderr)
     timed_out = False
     try:
         returncode = proc.wait(timeout)

@@ -57,6 +57,8 @@ KEY_NAMES = frozenset({
 KEY_PREFIXES = ("PYTHON", "LD_", "RCUTILS_", "LC_", "OPENBLAS_", "OMP_", "MKL_", "NUMPY_", "NPY_", "GOTO_")
 #: at most this many servers per process (the least recently used one is closed)
 MAX_SERVERS = 4
+#: a server that ended this often (killed, or by a target) is not started again for its key
+MAX_DEATHS = 3
 #: seconds a server may take to import everything and say it is ready
 READY_TIMEOUT = 60.0
 #: seconds a capture waits for a server that is still starting (it usually is ready in ~0.3 s,
@@ -436,6 +438,7 @@ class Pool:
     def __init__(self) -> None:
         self._servers: dict[tuple[Any, ...], WarmServer] = {}
         self._broken: dict[tuple[Any, ...], str] = {}
+        self._deaths: dict[tuple[Any, ...], int] = {}
         self._lock = threading.Lock()
         self._owner = os.getpid()
         #: why this process starts every target cold (None: Python targets start warm)
@@ -462,8 +465,11 @@ class Pool:
                 return broken
             server = self._servers.pop(key, None)
             if server is not None and not server.alive():
+                self._deaths[key] = self._deaths.get(key, 0) + 1
                 if server.failure is not None:
                     self._broken[key] = server.failure
+                elif self._deaths[key] >= MAX_DEATHS:
+                    self._broken[key] = f"the warm start server ended {self._deaths[key]} times"
                 server.close(0.5)
                 server = None
                 if key in self._broken:
@@ -507,6 +513,7 @@ class Pool:
             servers = list(self._servers.values()) if os.getpid() == self._owner else []
             self._servers.clear()
             self._broken.clear()
+            self._deaths.clear()
         for server in servers:
             server.close()
 

@@ -141,13 +141,26 @@ def test_the_server_learns_the_message_packages_targets_use():
 
 
 def test_a_server_that_dies_during_a_capture_is_replaced_by_a_cold_start():
-    server = w.server_for()
-    cap = capture(script=str(w.WARM_NODES / "warm_kills_server.py"))
+    env = {"LC_RMWI_TEST": "killed once"}  # a server of this test's own (LC_* is part of the key)
+    server = w.server_for({"env": env})
+    cap = capture(script=str(w.WARM_NODES / "warm_kills_server.py"), env=env)
     assert (cap.started, cap.start_note) == ("cold", "the warm start server ended during the capture")
     assert cap.node_names == ["/survivor"]
     assert w.wait_gone([server.pid], 5.0) == []
     # the next capture gets a new server
-    assert w.server_for() is not server
+    assert w.server_for({"env": env}) is not server
+    assert capture(script=TALKER, env=env).started == "warm"
+
+
+def test_a_server_that_keeps_dying_is_not_started_again():
+    env = {"LC_RMWI_TEST": "killed often"}
+    for _ in range(warm.MAX_DEATHS):
+        w.server_for({"env": env})
+        cap = capture(script=str(w.WARM_NODES / "warm_kills_server.py"), env=env)
+        assert cap.start_note == "the warm start server ended during the capture"
+    cap = capture(script=TALKER, env=env)
+    assert (cap.started, cap.start_note) == ("cold", f"the warm start server ended {warm.MAX_DEATHS} times")
+    assert capture(script=TALKER).started == "warm"  # other environments are not affected
 
 
 # ---------------------------------------------------------------------------- nothing left behind

@@ -2,7 +2,8 @@
 every end-to-end test node both ways (issue 12): the same nodes and endpoints in the same order
 (names, types, type hashes, type supports, QoS, destruction), the same contract view, command
 line, state, exit status and notes; for targets that fail, the same error, status and last line
-of stderr. Fields that measure time or name the process (pid) are left out.
+of stderr; what the middleware asked the nodes (parameters, lifecycle states, the probe) and the
+type descriptions (``types``) too. Fields that measure time or name the process (pid) are left out.
 
 A few programs' outcome depends on timing under load (a program that ends by itself right when
 its final settle expires is captured ``settled`` or ``exit``; a node whose parameter events come
@@ -12,6 +13,7 @@ warm: a pair that differs is captured again, up to ``ATTEMPTS`` pairs, before th
 
 from __future__ import annotations
 
+import copy
 import os
 import stat
 import sys
@@ -66,6 +68,28 @@ def test_cold_and_warm_captures_are_identical(options):
         assert warm["started"] == "cold" and warm["start_note"] == "a compiled executable"
     elif warm["error"] != "NoNodeCreated" or warm["started"] is not None:
         assert warm["started"] == "warm", warm.get("start_note")
+
+
+def test_the_comparison_covers_parameters_lifecycle_and_types():
+    """What the middleware learns after the first settle (parameters, lifecycle states, the
+    probe) and the type descriptions are part of what cold and warm must agree on: present in
+    what is compared, and a difference there is a difference."""
+    cold, warm = _assert_equivalent({"script": str(w.NODES / "lc_managed.py")})
+    assert warm["started"] == "warm"
+    compared = w.comparable(warm)["capture"]
+    (node,) = compared["entities"]["nodes"]
+    assert {p["name"] for p in node["parameters"]} >= {"use_sim_time", "start_type_description_service"}
+    assert node["lifecycle"]["state"] == "active" and len(node["lifecycle"]["transitions"]) == 2
+    assert compared["rest"]["probe"]["state"] == "done"
+    assert "lifecycle_msgs/msg/TransitionEvent" in compared["rest"]["types"]
+    assert any("created_in" in e for e in compared["entities"]["endpoints"])
+    for change in (lambda c: c["entities"]["nodes"][0]["parameters"].pop(),
+                   lambda c: c["entities"]["nodes"][0]["lifecycle"].update(state="inactive"),
+                   lambda c: c["rest"]["types"].popitem(),
+                   lambda c: c["rest"]["probe"].update(requests=0)):
+        changed = w.comparable(copy.deepcopy(warm))
+        change(changed["capture"])
+        assert changed != w.comparable(cold)
 
 
 # ---------------------------------------------------------------------------- process facts

@@ -211,3 +211,49 @@ def test_shutdown_ends_the_servers():
     assert w.wait_gone([server.pid], 5.0) == []
     assert warm.POOL.servers() == []
     assert os.getpid() != server.pid
+
+
+# ---------------------------------------------------------------------------- settings after the fork
+
+_PROBE_SETTINGS = {"RMW_INTROSPECT_PARAMETERS": "0", "RMW_INTROSPECT_LIFECYCLE": "inactive",
+                   "RMW_INTROSPECT_ANSWER_TIMEOUT_MS": "1234"}
+
+
+def test_the_probe_settings_are_read_after_the_fork_too():
+    """RMW_INTROSPECT_PARAMETERS, _LIFECYCLE and _ANSWER_TIMEOUT_MS are no part of the server's
+    key: targets with different values share the server, and each child reads its own."""
+    server = w.server_for()
+    lifecycle = str(w.NODES / "lc_managed.py")
+    default = capture(script=lifecycle)
+    cold, warm_result = w.cold_and_warm({"script": lifecycle, "env": _PROBE_SETTINGS})
+    assert w.server_for({"env": _PROBE_SETTINGS}) is server
+    assert (default.started, warm_result["started"]) == ("warm", "warm")
+    assert w.comparable(warm_result) == w.comparable(cold)
+    probe = warm_result["capture"]["rest"]["probe"]
+    assert (probe["parameters"], probe["lifecycle"], probe["answer_timeout_ms"]) == (False, "inactive", 1234)
+    assert default.raw["probe"]["lifecycle"] == "active" and default.raw["probe"]["parameters"] is True
+    (node,) = warm_result["capture"]["entities"]["nodes"]
+    assert node["lifecycle"]["state"] == "inactive" and node["parameters"] is None
+
+
+def test_a_process_forked_before_rmw_init_reads_its_own_configuration(library, tmp_path):
+    """The middleware makes its runtime on first use; a warm start server may reach it before it
+    forks (a ROS log line at import reads the time through the middleware). The child's runtime
+    must still be made from the child's environment, after the fork."""
+    import rmwi_helpers as h
+
+    parent_output, child_output = tmp_path / "parent.json", tmp_path / "child.json"
+    child_env = {"CHILD_RMW_INTROSPECT_OUTPUT": str(child_output), "CHILD_RMW_INTROSPECT_SETTLE_MS": "37",
+                 **{f"CHILD_{k}": v for k, v in _PROBE_SETTINGS.items()}}
+    result = h.run_on_middleware(library, [sys.executable, str(w.WARM_NODES / "warm_fork_before_init.py")],
+                                 tmp_path, output=parent_output, settle_ms=500, env=child_env)
+    assert result.returncode == 0, result
+    child_pid = int(result.stdout.split()[1])
+    assert "status 0" in result.stdout, result
+    assert not parent_output.exists()  # the parent never initialized: it writes nothing
+    cap = h.load_capture(child_output)
+    assert cap is not None and cap["pid"] == child_pid and cap["state"] == "settled"
+    assert cap["settle_ms"] == 37
+    assert (cap["probe"]["parameters"], cap["probe"]["lifecycle"], cap["probe"]["answer_timeout_ms"]) == (
+        False, "inactive", 1234)
+    assert [n["fqn"] for n in cap["nodes"]] == ["/forked_talker"]

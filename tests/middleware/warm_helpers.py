@@ -45,8 +45,10 @@ def scrub(value: Any) -> Any:
 
 def interface(cap: Capture | None) -> dict[str, Any] | None:
     """What a capture says about the program: every node and endpoint as created (names, types,
-    type hashes, type supports, QoS, creation order, destruction), the contract view with
-    infrastructure, the command line and the notes."""
+    type hashes, type supports, QoS, creation order, destruction, ``created_in``), each node's
+    ``parameters``, ``parameters_error`` and ``lifecycle``, the contract view with
+    infrastructure, the command line, the notes and the rest of the document (``types``,
+    ``probe``, state, settle)."""
     if cap is None:
         return None
     raw = scrub(dict(cap.raw))

@@ -88,6 +88,16 @@ def pytest_runtest_call(item: pytest.Item) -> Generator[None, Any, Any]:
     return result
 
 
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> None:
+    """The next contract item's capture starts now, beside this item (``capture_ahead``): a
+    session or xdist worker keeps up to two captures going, whose waiting overlaps."""
+    if isinstance(nextitem, items.ContractItem) and not item.config.option.collectonly:
+        session_state = item.config.stash.get(session_module.SESSION, None)
+        if session_state is not None and session_state.capture_ahead:
+            nextitem.capture_ahead()
+
+
 def pytest_collection_finish(session: pytest.Session) -> None:
     """When this session (or xdist worker) will capture targets, start the warm start server now,
     in the background: it imports rclpy while the first tests are set up."""

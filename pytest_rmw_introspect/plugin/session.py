@@ -34,6 +34,8 @@ class SessionState:
     golden: golden_module.GoldenSession
     invocation_dir: Path
     rootdir: Path
+    #: contract items start their capture while the item before them runs (``items.ContractItem.capture_ahead``)
+    capture_ahead: bool = True
     _ros: RosEnvironment | None = None
     _library: Path | None = None
     _setup_error: SetupError | None = None
@@ -143,6 +145,9 @@ def addoption(parser: pytest.Parser) -> None:
                     help="start every target as a new process, never forked from the warm start server "
                     "(default: Python targets start warm)")
 
+    group.addoption("--rmw-introspect-no-capture-ahead", action="store_true", default=False,
+                    help="capture each contract item's target only when the item runs (default: "
+                    "the next contract item's capture starts while the current one runs)")
     group.addoption(
         "--rmw-introspect-contracts",
         default=None,
@@ -164,6 +169,8 @@ def addoption(parser: pytest.Parser) -> None:
     parser.addini("rmw_introspect_timeout", "default target timeout in seconds", default="")
     parser.addini("rmw_introspect_settle", "default target settle time in seconds", default="")
     parser.addini("rmw_introspect_horizon", "default target virtual-time horizon in seconds (0: off)", default="")
+    parser.addini("rmw_introspect_capture_ahead", "start the next contract item's capture while the current "
+                  "one runs (false: one capture at a time)", type="bool", default=True)
     parser.addini("rmw_introspect_cold_start", "start every target as a new process (no warm starts)",
                   type="bool", default=False)
 
@@ -228,6 +235,8 @@ def configure(config: pytest.Config) -> SessionState:
         golden=golden_module.GoldenSession(enabled=update),
         invocation_dir=Path(config.invocation_params.dir),
         rootdir=Path(config.rootpath),
+        capture_ahead=bool(config.getini("rmw_introspect_capture_ahead"))
+        and not config.getoption("rmw_introspect_no_capture_ahead", False),
     )
 
 

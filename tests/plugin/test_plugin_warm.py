@@ -1,6 +1,7 @@
 """Warm starts in pytest sessions (issue 12): captures start warm, one server per session or
-xdist worker; the option and ini value ask for cold starts; no server or target outlives the
-session, also when pytest is interrupted or an xdist worker is killed."""
+xdist worker; the option and ini value ask for cold starts; the next contract item captures
+ahead; no server or target outlives the session, also when pytest is interrupted or terminated
+or an xdist worker is killed."""
 
 from __future__ import annotations
 
@@ -131,17 +132,83 @@ def _parent(pid: int) -> int:
         return int(next(line for line in f if line.startswith("PPid:")).split()[1])
 
 
+#: the slow node sleeps this long before it initializes ROS: a capture of it takes at least this
+SLOW = 2.0
+
+
+def _slow_contracts(project) -> None:
+    for name in ("first", "second", "third"):
+        project.write(f"contracts/{name}.interfaces.yaml", f"""\
+            contract_version: 1
+            target:
+              script: {WARM_NODES / 'warm_slow_start.py'}
+              settle: 0.02
+              env: {{WARM_TIMES_FILE: {project.path / 'times.txt'}, WARM_NODE_NAME: {name}, WARM_SLEEP: '{SLOW}'}}
+            nodes: {{}}
+        """)
+
+
+def _starts(project) -> list[float]:
+    lines = [line.split() for line in project.read("times.txt").splitlines()]
+    return [float(t) for _name, _start, t in sorted(lines, key=lambda parts: parts[0])]
+
+
+@pytest.mark.parametrize("ahead", [True, False], ids=["ahead", "one-at-a-time"])
+def test_the_next_contract_item_captures_while_the_current_one_runs(project, ahead):
+    _slow_contracts(project)
+    result = project.run("--update-golden", *([] if ahead else ["--rmw-introspect-no-capture-ahead"]))
+    result.assert_outcomes(passed=3)
+    first, second, third = _starts(project)
+    if ahead:  # second's capture started with first's item, before first's could have ended
+        assert abs(second - first) < SLOW
+    else:
+        assert second - first >= SLOW and third - second >= SLOW
+    # the captures are the items' own: each contract got its node
+    for name in ("first", "second", "third"):
+        assert f"/{name}:" in project.read(f"contracts/{name}.interfaces.yaml")
+    project.run().assert_outcomes(passed=3)  # and they match again, captured ahead
+
+
+def test_capture_ahead_is_an_ini_value_too(project):
+    _slow_contracts(project)
+    project.pytester.makeini("[pytest]\nrmw_introspect_capture_ahead = false\n")
+    project.run("--update-golden").assert_outcomes(passed=3)
+    first, second, third = _starts(project)
+    assert second - first >= SLOW and third - second >= SLOW
+
+
 @pytest.mark.parametrize("workers", [[], ["-n", "2"]], ids=["serial", "xdist"])
-def test_nothing_outlives_an_interrupted_pytest(project, workers):
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_nothing_outlives_an_interrupted_pytest(project, workers, sig):
     project.test(HANGING_TEST)
     proc = _start_pytest(project, *workers)
     try:
         target, server = _wait_for_target(project, proc)
         runner = _parent(server)
         assert runner != os.getpid() and _alive(runner)
-        os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C: the terminal signals the whole foreground group
+        # SIGINT: Ctrl-C, the terminal signals the whole foreground group; SIGTERM: a CI job's
+        # runner stopping the job's process group
+        os.killpg(proc.pid, sig)
         proc.wait(60)
         assert _gone([target, server]) == []
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+@pytest.mark.parametrize("workers", [[], ["-n", "2"]], ids=["serial", "xdist"])
+def test_nothing_outlives_pytest_terminated_alone(project, workers):
+    """SIGTERM to the pytest process only (not its group): its xdist workers, their servers and
+    the targets end with it."""
+    project.test(HANGING_TEST)
+    proc = _start_pytest(project, *workers)
+    try:
+        target, server = _wait_for_target(project, proc)
+        runner = _parent(server)
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(60)
+        assert _gone([target, server, runner]) == []
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)

@@ -30,6 +30,7 @@ import atexit
 import functools
 import json
 import os
+import queue
 import re
 import select
 import signal
@@ -39,7 +40,7 @@ import sys
 import tempfile
 import threading
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
@@ -300,6 +301,46 @@ class WarmChild:
 # ---------------------------------------------------------------------------------- the server
 
 
+class _Launcher:
+    """Starts server processes from a thread that lives as long as this process. A server's
+    parent-death signal fires when the *thread* that forked it ends: a server started by a
+    capture running in a short-lived thread (a contract item capturing ahead, a system capture's
+    thread pool) would die with that thread. The main thread starts servers itself; any other
+    thread hands the start to this launcher's daemon thread (which ends only with the process)."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._jobs: queue.SimpleQueue[tuple[Callable[[], Any], queue.SimpleQueue[tuple[bool, Any]]]] | None = None
+
+    def call(self, job: Callable[[], Any]) -> Any:
+        if threading.current_thread() is threading.main_thread():
+            return job()
+        with self._lock:
+            if self._jobs is None:
+                self._jobs = queue.SimpleQueue()
+                threading.Thread(target=self._serve, args=(self._jobs,), name="rmw-introspect warm launcher",
+                                 daemon=True).start()
+            jobs = self._jobs
+        answer: queue.SimpleQueue[tuple[bool, Any]] = queue.SimpleQueue()
+        jobs.put((job, answer))
+        ok, value = answer.get()
+        if not ok:
+            raise value
+        return value
+
+    @staticmethod
+    def _serve(jobs: queue.SimpleQueue[tuple[Callable[[], Any], queue.SimpleQueue[tuple[bool, Any]]]]) -> None:
+        while True:
+            job, answer = jobs.get()
+            try:
+                answer.put((True, job()))
+            except BaseException as exc:  # noqa: BLE001  # raised again in the calling thread
+                answer.put((False, exc))
+
+
+_LAUNCHER = _Launcher()
+
+
 class WarmServer:
     """One server process and its control socket, seen from the runner."""
 
@@ -312,12 +353,13 @@ class WarmServer:
         self.info: dict[str, Any] | None = None
         self.failure: str | None = None
         try:
-            self.proc = subprocess.Popen(
+            self.proc = _LAUNCHER.call(functools.partial(
+                subprocess.Popen,
                 server_command(theirs.fileno(), self.python),
                 env=dict(env), cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=self.log,
                 pass_fds=(theirs.fileno(),), start_new_session=True,
                 preexec_fn=functools.partial(process.die_with_parent, os.getpid()),
-            )
+            ))
         except OSError as exc:
             self.control.close()
             self.log.close()

@@ -257,3 +257,20 @@ def test_a_process_forked_before_rmw_init_reads_its_own_configuration(library, t
     assert (cap["probe"]["parameters"], cap["probe"]["lifecycle"], cap["probe"]["answer_timeout_ms"]) == (
         False, "inactive", 1234)
     assert [n["fqn"] for n in cap["nodes"]] == ["/forked_talker"]
+
+
+def test_a_server_started_by_a_short_lived_thread_outlives_it():
+    """A contract item capturing ahead (or a system capture's thread pool) may be the first to
+    need a server: the server must not die with that thread (its parent-death signal follows the
+    thread that forked it)."""
+    import threading
+
+    env = {"LC_RMWI_TEST": "started by a thread"}
+    started: dict = {}
+    thread = threading.Thread(target=lambda: started.update(server=w.server_for({"env": env})))
+    thread.start()
+    thread.join()
+    server = started["server"]
+    assert w.wait_gone([server.pid], 1.0) == [server.pid]  # still alive after the thread ended
+    assert server.alive() and w.server_for({"env": env}) is server
+    assert capture(script=TALKER, env=env).started == "warm"

@@ -97,7 +97,10 @@ def _indent(text: str, prefix: str = "    ") -> str:
 
 
 class TargetError(RmwIntrospectError):
-    """The target could not be captured. ``target`` describes it (a short string)."""
+    """The target could not be captured. ``target`` describes it (a short string); ``started``
+    says how the runner had started it (``"warm"``, ``"cold"``; None when it never started)."""
+
+    started: str | None = None
 
     def __init__(self, message: str, *, target: str | None = None) -> None:
         self.target = target

@@ -30,7 +30,6 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-from filelock import FileLock, Timeout
 
 from ..errors import ContractError, GoldenWriteError
 from ..model import contract as contract_module
@@ -74,6 +73,8 @@ def _write_locked(path: Path, new_text: Callable[[str | None], str], timeout: fl
     Text is handled with LF line endings; a file that used CRLF gets CRLF back. Raises
     GoldenWriteError."""
     target = path.resolve() if path.is_symlink() else path  # write through a link, keep the link
+    from filelock import FileLock, Timeout
+
     try:
         with FileLock(str(_lock_path(target)), timeout=timeout):
             old_bytes = target.read_bytes() if target.exists() else None

@@ -54,7 +54,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 130
     # The commands pull in the whole pipeline (deepdiff, jsonschema, ...): imported only once
     # the arguments are valid, so `--help` and usage errors answer in a fraction of the time.
+    from ..run import warm
     from . import commands, init
+
+    if args.command == "capture" or len(getattr(args, "contracts", ())) < 2:
+        # a warm start server pays for itself from the second capture of a run on
+        warm.POOL.disable("a run with one capture starts it cold (a warm start server pays off from the second)")
 
     try:
         if args.command == "capture":
@@ -77,6 +82,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Terminated:
         print("rmw-introspect: terminated", file=sys.stderr)
         return EXIT_TERMINATED
+    finally:
+        warm.shutdown()  # the servers end with the run, whatever way it ends
 
 
 __all__ = ["main"]

@@ -194,6 +194,8 @@ def _add_target(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--horizon", type=float, metavar="SECONDS",
                    help="seconds of the node's virtual life the capture observes: timers fire at once "
                    "(default 10; 0 turns virtual time off)")
+    g.add_argument("--cold-start", action="store_true", default=None,
+                   help="start the target as a new process, never forked from the warm start server")
 
 
 def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True, types: bool = True) -> None:
@@ -319,7 +321,7 @@ def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dic
     """The target options given on the command line (a TargetSpec mapping)."""
     target: dict[str, Any] = {}
     for key in ("package", "executable", "script", "module", "entry_point", "namespace", "node_name", "params_file", "cwd",
-                "settle", "timeout", "horizon"):
+                "settle", "timeout", "horizon", "cold_start"):
         value = getattr(args, key, None)
         if value is not None:
             target[key] = value

@@ -277,6 +277,12 @@ class Capture:
     #: ``has_types`` is False for captures of middleware versions that did not record them
     types: dict[str, type_model.TypeDescription] = field(default_factory=dict)
     has_types: bool = False
+    #: how the runner started the target: "warm" (forked from a warm start server that had
+    #: imported rclpy already) or "cold" (a new process); None for a capture read from a file
+    started: str | None = None
+    #: why a target was started cold (a compiled executable, ``cold_start`` asked for it, the
+    #: server still starting, ...); None when it started warm
+    start_note: str | None = None
 
     # ---------------------------------------------------------------- building
     @classmethod
@@ -328,6 +334,7 @@ class Capture:
             self.returncode, self.stderr, self.wall_time, self.command,
         )
         other.other_processes, other.from_child = self.other_processes, self.from_child
+        other.started, other.start_note, other.argv = self.started, self.start_note, self.argv
         return other
 
     # ---------------------------------------------------------------- queries
@@ -445,7 +452,8 @@ class Capture:
 
     def summary(self) -> str:
         """A short human-readable listing (used in error messages)."""
-        lines = [f"state: {self.state}; {len(self.nodes)} node(s)"]
+        lines = [f"state: {self.state}; {len(self.nodes)} node(s)"
+                 + (f"; started {self.started}" if self.started else "")]
         vt = self.virtual_time
         if vt is not None and vt.enabled:
             lines.append(

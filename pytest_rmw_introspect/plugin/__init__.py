@@ -20,7 +20,7 @@ that says what to do; they are never internal errors.
 
 Precedence of comparison options: marker > contract ``options:`` > command line > ini.
 Precedence of target options: marker > contract ``target:`` > command line > ini
-(``timeout``/``settle``/``horizon`` only on the command line and in the ini file).
+(``timeout``/``settle``/``horizon``/``cold_start`` only on the command line and in the ini file).
 """
 
 from __future__ import annotations
@@ -31,8 +31,10 @@ from typing import Any
 
 import pytest
 
-from ..errors import RmwIntrospectError
+from ..errors import RmwIntrospectError, SetupError
+from ..run import runner, warm
 from . import items, marker, session, system_marker
+from . import session as session_module
 from .fixtures import interfaces, rmw_capture, rmw_introspect_library, rmw_introspect_marker_check, rmw_introspect_ros
 from .system_marker import rmw_introspect_system_marker_check, system_capture
 
@@ -84,6 +86,41 @@ def pytest_runtest_call(item: pytest.Item) -> Generator[None, Any, Any]:
     if system_st is not None and system_st.capture is not None:
         system_marker.check(item, system_st, session.state(item.config))
     return result
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> None:
+    """The next contract item's capture starts now, beside this item (``capture_ahead``): a
+    session or xdist worker keeps up to two captures going, whose waiting overlaps."""
+    if isinstance(nextitem, items.ContractItem) and not item.config.option.collectonly:
+        session_state = item.config.stash.get(session_module.SESSION, None)
+        if session_state is not None and session_state.capture_ahead:
+            nextitem.capture_ahead()
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    """When this session (or xdist worker) will capture targets, start the warm start server now,
+    in the background: it imports rclpy while the first tests are set up."""
+    config = session.config
+    if config.option.collectonly or not any(
+        isinstance(item, items.ContractItem) or item.get_closest_marker(marker.MARKER) is not None
+        for item in session.items
+    ):
+        return
+    session_state = config.stash.get(session_module.SESSION, None)
+    if session_state is None:
+        return
+    try:
+        spec = session_state.layers().target()
+        if spec.cold_start:
+            return
+        runner.warm_up(spec, library=session_state.library(), ros=session_state.ros())
+    except (SetupError, RmwIntrospectError):
+        pass  # the tests themselves report it
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    warm.shutdown()
 
 
 def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.File | None:

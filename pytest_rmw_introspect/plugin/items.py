@@ -27,15 +27,17 @@ terminal summary, and the drift is attached as the ``rmw_introspect_drift`` user
 from __future__ import annotations
 
 import fnmatch
-from collections.abc import Iterator
+import threading
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 
 from ..check import pipeline
-from ..errors import RmwIntrospectError
+from ..errors import RmwIntrospectError, SetupError
 from ..model import contract as contract_module
+from ..model.capture import Capture
 from ..model.contract import Contract
 from . import verdict
 from .session import state
@@ -89,6 +91,34 @@ def _no_target(contract: Contract | None, shown: str) -> str:
     )
 
 
+class _Ahead:
+    """A capture started before its item runs, in a daemon thread of its own (a thread that
+    ends with the process: nothing waits for it when pytest stops early; a cold target dies
+    with its thread, a warm one with its server)."""
+
+    def __init__(self, work: Callable[[], tuple[pipeline.Prepared, Capture]]) -> None:
+        self._work = work
+        self._done = threading.Event()
+        self._result: tuple[pipeline.Prepared, Capture] | None = None
+        self._error: BaseException | None = None
+        threading.Thread(target=self._run, name="rmw-introspect capture ahead", daemon=True).start()
+
+    def _run(self) -> None:
+        try:
+            self._result = self._work()
+        except BaseException as exc:  # noqa: BLE001  # handed to the item, which raises it
+            self._error = exc
+        finally:
+            self._done.set()
+
+    def result(self) -> tuple[pipeline.Prepared, Capture]:
+        self._done.wait()
+        if self._error is not None:
+            raise self._error
+        assert self._result is not None
+        return self._result
+
+
 class ContractItem(pytest.Item):
     """Captures the contract's target and compares it with the contract."""
 
@@ -98,16 +128,36 @@ class ContractItem(pytest.Item):
         self.load_error = load_error
         self.node_names = node_names or []
         self.loaded = loaded  # read at collection: not parsed again when the item runs
+        self._ahead: _Ahead | None = None
+
+    def capture_ahead(self) -> None:
+        """Start this item's capture now, while the item before it runs (the plugin calls this
+        for the next item of a session or xdist worker): a capture is mostly waiting (settle
+        periods, nodes that sleep), so two of them overlap. The capture is the same one
+        :meth:`runtest` would take; only its start is earlier."""
+        if self._ahead is not None or self.load_error is not None:
+            return
+        session_state = state(self.config)
+        try:  # found once per session, on this thread: the capture's thread only uses them
+            session_state.library()
+        except SetupError:
+            return  # runtest reports it
+        self._ahead = _Ahead(self._capture)
+
+    def _capture(self) -> tuple[pipeline.Prepared, Capture]:
+        session_state = state(self.config)
+        prepared = pipeline.prepare(self.path, layers=session_state.layers(), shown=session_state.display(self.path),
+                                    no_target=_no_target, loaded=self.loaded)
+        return prepared, pipeline.run_capture(prepared, library=session_state.library(), ros=session_state.ros())
 
     def runtest(self) -> None:
         if self.load_error is not None:
             pytest.fail(str(self.load_error), pytrace=False)
         session_state = state(self.config)
+        ahead, self._ahead = self._ahead, None
         error: RmwIntrospectError | None = None
         try:
-            prepared = pipeline.prepare(self.path, layers=session_state.layers(), shown=session_state.display(self.path),
-                                        no_target=_no_target, loaded=self.loaded)
-            capture = pipeline.run_capture(prepared, library=session_state.library(), ros=session_state.ros())
+            prepared, capture = ahead.result() if ahead is not None else self._capture()
         except RmwIntrospectError as exc:
             error = exc
         if error is not None:  # failed outside the except block: no chained exception in the report

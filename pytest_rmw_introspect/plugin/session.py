@@ -34,6 +34,8 @@ class SessionState:
     golden: golden_module.GoldenSession
     invocation_dir: Path
     rootdir: Path
+    #: contract items start their capture while the item before them runs (``items.ContractItem.capture_ahead``)
+    capture_ahead: bool = True
     _ros: RosEnvironment | None = None
     _library: Path | None = None
     _setup_error: SetupError | None = None
@@ -139,7 +141,13 @@ def addoption(parser: pytest.Parser) -> None:
     group.addoption("--rmw-introspect-horizon", type=float, default=None, metavar="SECONDS",
                     help="default virtual-time horizon of targets: seconds of a node's life a capture "
                     "observes, timers firing at once (default 10; 0 turns virtual time off)")
+    group.addoption("--rmw-introspect-cold-start", action="store_true", default=None,
+                    help="start every target as a new process, never forked from the warm start server "
+                    "(default: Python targets start warm)")
 
+    group.addoption("--rmw-introspect-no-capture-ahead", action="store_true", default=False,
+                    help="capture each contract item's target only when the item runs (default: "
+                    "the next contract item's capture starts while the current one runs)")
     group.addoption(
         "--rmw-introspect-contracts",
         default=None,
@@ -161,6 +169,10 @@ def addoption(parser: pytest.Parser) -> None:
     parser.addini("rmw_introspect_timeout", "default target timeout in seconds", default="")
     parser.addini("rmw_introspect_settle", "default target settle time in seconds", default="")
     parser.addini("rmw_introspect_horizon", "default target virtual-time horizon in seconds (0: off)", default="")
+    parser.addini("rmw_introspect_capture_ahead", "start the next contract item's capture while the current "
+                  "one runs (false: one capture at a time)", type="bool", default=True)
+    parser.addini("rmw_introspect_cold_start", "start every target as a new process (no warm starts)",
+                  type="bool", default=False)
 
 
 def _ini_float(config: pytest.Config, name: str) -> float | None:
@@ -206,6 +218,9 @@ def configure(config: pytest.Config) -> SessionState:
 
     ini_target = {key: _ini_float(config, f"rmw_introspect_{key}") for key in SESSION_TARGET_KEYS}
     cli_target = {key: config.getoption(f"rmw_introspect_{key}", None) for key in SESSION_TARGET_KEYS}
+    # cold starts: only ever switched on by these layers (a contract or marker may say false)
+    ini_target["cold_start"] = True if config.getini("rmw_introspect_cold_start") else None
+    cli_target["cold_start"] = True if config.getoption("rmw_introspect_cold_start", None) else None
     try:
         TargetSpec.from_mapping(ini_target, source="ini file").merged(cli_target, source="command line")
     except TargetConfigError as exc:
@@ -220,6 +235,8 @@ def configure(config: pytest.Config) -> SessionState:
         golden=golden_module.GoldenSession(enabled=update),
         invocation_dir=Path(config.invocation_params.dir),
         rootdir=Path(config.rootpath),
+        capture_ahead=bool(config.getini("rmw_introspect_capture_ahead"))
+        and not config.getoption("rmw_introspect_no_capture_ahead", False),
     )
 
 

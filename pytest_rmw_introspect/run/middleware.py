@@ -20,8 +20,6 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from filelock import FileLock
-
 from ..errors import SetupError
 from . import ros_env
 
@@ -161,6 +159,10 @@ def resolve_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path |
     dest = root / f"{ros.distro}-{key}"
     library = dest / "install" / "lib" / LIBRARY_FILE
     stamp = dest / "complete"
+    if stamp.exists() and library.is_file():  # built already: no lock needed to read it
+        return MiddlewareLibrary(library, "built")
+    from filelock import FileLock
+
     root.mkdir(parents=True, exist_ok=True)
     with FileLock(str(root / f"{ros.distro}-{key}.lock")):
         if not (stamp.exists() and library.is_file()):

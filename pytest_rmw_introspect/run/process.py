@@ -4,7 +4,7 @@ output kept as a bounded tail, stopped with escalating signals.
 * The child gets the parent-death signal SIGKILL (``prctl(PR_SET_PDEATHSIG)``): when the runner
   dies (SIGKILL, a CI job cancelled, an xdist worker killed), a hung target dies with it instead
   of being reparented to init.
-* stdout and stderr are read by threads into :class:`OutputTail` buffers of a fixed size: a
+* stdout and stderr are read by one thread into :class:`OutputTail` buffers of a fixed size: a
   target logging in a loop cannot fill the disk (only the tail is ever shown).
 * :func:`stop`: SIGINT, SIGTERM, then SIGKILL to the whole group, with short grace periods.
 """
@@ -15,12 +15,13 @@ import ctypes
 import ctypes.util
 import functools
 import os
+import selectors
 import signal
 import subprocess
 import threading
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import IO
+from typing import IO, Protocol
 
 #: seconds granted after SIGINT and after SIGTERM before the next, harder signal
 SIGINT_GRACE = 2.0
@@ -40,24 +41,53 @@ def _load_libc() -> ctypes.CDLL | None:
 _LIBC = _load_libc()
 
 
-def _die_with_parent(parent: int) -> None:  # runs in the child between fork and exec
+def die_with_parent(parent: int) -> None:
+    """Arm the parent-death signal SIGKILL in this process, or end it at once if ``parent`` (the
+    process that forked it) is already gone. Runs in a child between fork and exec."""
     if _LIBC is not None:
         _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
     if os.getppid() != parent:  # the runner died before the signal was armed
         os._exit(1)
 
 
-class OutputTail:
-    """The last ``limit`` bytes a pipe delivered, read by a daemon thread until EOF."""
+class Handle(Protocol):
+    """A started target as :func:`stop` and :func:`reap_group` use it: a ``subprocess.Popen`` (cold
+    start) or a ``warm.WarmChild`` (forked by a warm start server). ``pid`` is also the id of the
+    target's process group."""
 
-    def __init__(self, pipe: IO[bytes], limit: int = TAIL_BYTES) -> None:
+    pid: int
+
+    @property
+    def returncode(self) -> int | None: ...
+
+    def poll(self) -> int | None: ...
+
+    def wait(self, timeout: float | None = None) -> int: ...
+
+    def send_signal(self, sig: int) -> None: ...
+
+
+class OutputTail:
+    """The last ``limit`` bytes a pipe delivered, read by a daemon thread until EOF (its own, or
+    one shared with other pipes: :func:`read_tails`)."""
+
+    def __init__(self, pipe: IO[bytes], limit: int = TAIL_BYTES, *, start: bool = True) -> None:
         self._pipe = pipe
         self._limit = limit
         self._data = bytearray()
         self._total = 0
         self._lock = threading.Lock()
-        self._thread = threading.Thread(target=self._drain, name="rmw-introspect-output", daemon=True)
-        self._thread.start()
+        self._thread: threading.Thread | None = None
+        if start:
+            self._thread = threading.Thread(target=self._drain, name="rmw-introspect-output", daemon=True)
+            self._thread.start()
+
+    def _feed(self, chunk: bytes) -> None:
+        with self._lock:
+            self._total += len(chunk)
+            self._data += chunk
+            if len(self._data) > 2 * self._limit:
+                del self._data[: len(self._data) - self._limit]
 
     def _drain(self) -> None:
         fd = self._pipe.fileno()
@@ -66,11 +96,7 @@ class OutputTail:
                 chunk = os.read(fd, 65536)
                 if not chunk:
                     break
-                with self._lock:
-                    self._total += len(chunk)
-                    self._data += chunk
-                    if len(self._data) > 2 * self._limit:
-                        del self._data[: len(self._data) - self._limit]
+                self._feed(chunk)
         except OSError:
             pass
         finally:
@@ -78,7 +104,8 @@ class OutputTail:
 
     def finish(self, timeout: float = 1.0) -> None:
         """Wait (briefly) for EOF: a daemonised grandchild may hold the pipe open for ever."""
-        self._thread.join(timeout)
+        if self._thread is not None:
+            self._thread.join(timeout)
 
     @property
     def total_bytes(self) -> int:
@@ -88,6 +115,37 @@ class OutputTail:
         with self._lock:
             data = bytes(self._data[-self._limit:])
         return data.decode("utf-8", errors="replace")
+
+    @classmethod
+    def read_together(cls, *pipes: IO[bytes], limit: int = TAIL_BYTES) -> list[OutputTail]:
+        """Tails of several pipes (a target's stdout and stderr) read by one daemon thread."""
+        tails = [cls(pipe, limit, start=False) for pipe in pipes]
+        thread = threading.Thread(target=cls._drain_all, args=(tails,), name="rmw-introspect-output", daemon=True)
+        for tail in tails:
+            tail._thread = thread
+        thread.start()
+        return tails
+
+    @staticmethod
+    def _drain_all(tails: list[OutputTail]) -> None:
+        with selectors.DefaultSelector() as selector:
+            for tail in tails:
+                selector.register(tail._pipe.fileno(), selectors.EVENT_READ, tail)
+            try:
+                while selector.get_map():
+                    for key, _events in selector.select():
+                        try:
+                            chunk = os.read(key.fd, 65536)
+                        except OSError:
+                            chunk = b""
+                        if chunk:
+                            key.data._feed(chunk)
+                        else:
+                            selector.unregister(key.fd)
+                            key.data._pipe.close()
+            finally:
+                for key in list(selector.get_map().values()):
+                    key.data._pipe.close()
 
 
 def start(argv: Sequence[str], *, env: Mapping[str, str], cwd: Path | None) -> subprocess.Popen[bytes]:
@@ -101,11 +159,11 @@ def start(argv: Sequence[str], *, env: Mapping[str, str], cwd: Path | None) -> s
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         start_new_session=True,
-        preexec_fn=functools.partial(_die_with_parent, os.getpid()),
+        preexec_fn=functools.partial(die_with_parent, os.getpid()),
     )
 
 
-def _signal_group(proc: subprocess.Popen[bytes], sig: int) -> None:
+def _signal_group(proc: Handle, sig: int) -> None:
     try:
         os.killpg(proc.pid, sig)
     except (ProcessLookupError, PermissionError):
@@ -115,7 +173,7 @@ def _signal_group(proc: subprocess.Popen[bytes], sig: int) -> None:
             pass
 
 
-def stop(proc: subprocess.Popen[bytes], sigint_grace: float | None = None,
+def stop(proc: Handle, sigint_grace: float | None = None,
          sigterm_grace: float | None = None) -> int:
     """Stop ``proc`` (started by :func:`start`): SIGINT, SIGTERM, SIGKILL to its group, after
     the grace periods given (default: ``SIGINT_GRACE``, ``SIGTERM_GRACE`` as they are now)."""
@@ -131,11 +189,10 @@ def stop(proc: subprocess.Popen[bytes], sigint_grace: float | None = None,
             continue
     if proc.poll() is None:
         _signal_group(proc, signal.SIGKILL)
-        proc.wait()
-    return proc.returncode
+    return proc.wait()
 
 
-def reap_group(proc: subprocess.Popen[bytes]) -> None:
+def reap_group(proc: Handle) -> None:
     """Kill what the target left behind in its own process group (its children). Children that
     started a session of their own (daemons, ``setsid``) are out of reach: see the README."""
     try:

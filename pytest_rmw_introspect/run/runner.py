@@ -40,30 +40,35 @@ import subprocess
 import tempfile
 import time
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 from ..errors import (
     CaptureFormatError,
     ExecutableNotFound,
     NoNodeCreated,
+    TargetError,
     TargetExited,
     TargetTimeout,
 )
 from ..model.capture import Capture, OtherProcess
-from . import middleware, process, ros_env
+from . import middleware, process, ros_env, warm
 from .target import TargetSpec, build_argv, module_main_hint
 
 #: where a capture run's files go: ``<tempdir>/rmw_introspect_<runner pid>_<random>/``
 _WORKDIR_PREFIX = "rmw_introspect_"
 #: a working directory left by a runner that was killed is removed by the next run after this long
 _STALE_AFTER_S = 600.0
+#: a runner sweeps stale working directories at its first capture and then at most this often
+_SWEEP_EVERY_S = 60.0
+_last_sweep = -_SWEEP_EVERY_S
 #: the middleware substitutes the process id: every ROS process of the target writes its own file
 _OUTPUT_PATTERN = "capture.<pid>.json"
 _MISSING_MODULE = re.compile(r"ModuleNotFoundError: No module named '([^']+)'")
 
 
-def stop(proc: subprocess.Popen[bytes], sigint_grace: float | None = None,
+def stop(proc: process.Handle, sigint_grace: float | None = None,
          sigterm_grace: float | None = None) -> int:
     """Stop a target process: SIGINT, SIGTERM, SIGKILL to its group (``process.stop``)."""
     return process.stop(proc, sigint_grace, sigterm_grace)
@@ -134,6 +139,96 @@ def environment(
     return env
 
 
+@dataclass
+class _Started:
+    proc: process.Handle
+    stdout: IO[bytes]
+    stderr: IO[bytes]
+    how: str  # "warm" or "cold"
+    note: str | None  # why it started cold
+    #: a warm child's command line as a cold start's /proc/self/cmdline would read
+    cmdline: list[str] | None = None
+
+
+def _start(spec: TargetSpec, argv: list[str], env: dict[str, str], python: str | None,
+           warm_wait: float, cold_note: str | None = None) -> _Started:
+    """Start the target: forked from a warm start server when it can be, else a new process."""
+    describe = spec.describe()
+    note = cold_note
+    if note is None:
+        note = "cold_start asked for it" if spec.cold_start else None
+    if note is None:
+        how = warm.plan(argv, env, python)
+        if isinstance(how, warm.Plan):
+            cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
+            server = warm.POOL.server(env, cwd, python, wait=warm_wait)
+            if isinstance(server, warm.WarmServer):
+                try:
+                    child = server.spawn(how, env=env, cwd=cwd)
+                    return _Started(child, child.stdout, child.stderr, "warm", None, list(how.orig_argv))
+                except warm.WarmStartFailed as exc:
+                    note = str(exc)
+            else:
+                note = server
+        else:
+            note = how
+    try:
+        proc = process.start(argv, env=env, cwd=spec.cwd)
+    except OSError as exc:
+        raise ExecutableNotFound(
+            f"Cannot start the target {describe}: {exc.strerror or exc} ({argv[0]}).",
+            target=describe,
+            searched=[argv[0]],
+        ) from None
+    assert proc.stdout is not None and proc.stderr is not None
+    return _Started(proc, proc.stdout, proc.stderr, "cold", note)
+
+
+@dataclass
+class _Ended:
+    returncode: int
+    timed_out: bool
+    stdout: str
+    stderr: str
+
+
+def _wait(proc: process.Handle, stdout: IO[bytes], stderr: IO[bytes], timeout: float) -> _Ended:
+    """Wait for the target (stopping it after ``timeout``), then kill what is left of its group."""
+    stdout_tail, stderr_tail = process.OutputTail.read_together(stdout, stderr)
+    timed_out = False
+    try:
+        returncode = proc.wait(timeout)
+    except subprocess.TimeoutExpired:
+        timed_out = True
+        returncode = stop(proc)
+    except BaseException:  # KeyboardInterrupt (or SIGTERM, see cli) while waiting: do not leave it behind
+        stop(proc, 0.5, 0.5)
+        raise
+    finally:
+        process.reap_group(proc)
+        if isinstance(proc, warm.WarmChild):
+            proc.release()
+        stdout_tail.finish()
+        stderr_tail.finish()
+    return _Ended(returncode, timed_out, stdout_tail.text(), stderr_tail.text())
+
+
+def warm_up(spec: TargetSpec | None = None, *, library: str | Path | None = None, ros: Any = None,
+            wait: float = 0.0, python: str | None = None) -> str | None:
+    """Start the warm start server for targets like ``spec`` (default: a target with no `env` of
+    its own, in the current directory) ahead of their captures, waiting up to ``wait`` seconds
+    for it to be ready. Returns None when it is ready, else why not (still starting, or why it
+    cannot be)."""
+    spec = spec or TargetSpec()
+    ros = ros or ros_env.detect()
+    if library is None:
+        library = middleware.ensure_library(ros)
+    env = environment(spec, Path(library), ros, Path(tempfile.gettempdir()) / _OUTPUT_PATTERN)
+    cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
+    server = warm.POOL.server(env, cwd, python, wait=wait)
+    return None if isinstance(server, warm.WarmServer) else server
+
+
 def run(
     spec: TargetSpec,
     *,
@@ -142,12 +237,15 @@ def run(
     include_infrastructure: bool = False,
     keep_files: bool | None = None,
     python: str | None = None,
+    warm_wait: float | None = None,
 ) -> Capture:
     """Run ``spec`` on the middleware and return its capture (raises a TargetError subclass).
 
     ``library``: the middleware library (default: ``middleware.ensure_library``); ``ros``: the
     ROS environment (default: ``ros_env.detect()``); ``keep_files``: keep the temporary
-    capture and stderr files (default: the ``RMW_INTROSPECT_KEEP_FILES`` variable).
+    capture and stderr files (default: the ``RMW_INTROSPECT_KEEP_FILES`` variable);
+    ``warm_wait``: seconds to wait for a warm start server that is still starting before the
+    target is started cold instead (default ``warm.DEFAULT_WAIT``).
     """
     spec.validate()
     ros = ros or ros_env.detect()
@@ -159,7 +257,10 @@ def run(
     if keep_files is None:
         keep_files = os.environ.get("RMW_INTROSPECT_KEEP_FILES", "") not in ("", "0", "false")
 
-    sweep_stale_workdirs()
+    global _last_sweep
+    if time.monotonic() - _last_sweep > _SWEEP_EVERY_S:  # a listing of the temporary directory: not per capture
+        _last_sweep = time.monotonic()
+        sweep_stale_workdirs()
     workdir = Path(tempfile.mkdtemp(prefix=f"{_WORKDIR_PREFIX}{os.getpid()}_"))
     env = environment(spec, Path(library), ros, workdir / _OUTPUT_PATTERN)
     describe = spec.describe()
@@ -169,47 +270,37 @@ def run(
         shutil.rmtree(workdir, ignore_errors=True)
         raise ExecutableNotFound(f"Working directory {cwd} of target {describe} does not exist.", target=describe)
 
+    if warm_wait is None:
+        warm_wait = warm.DEFAULT_WAIT
     started = time.monotonic()
     try:
-        try:
-            proc = process.start(argv, env=env, cwd=cwd)
-        except OSError as exc:
-            raise ExecutableNotFound(
-                f"Cannot start the target {describe}: {exc.strerror or exc} ({argv[0]}).",
-                target=describe,
-                searched=[argv[0]],
-            ) from None
-        assert proc.stdout is not None and proc.stderr is not None
-        stdout_tail, stderr_tail = process.OutputTail(proc.stdout), process.OutputTail(proc.stderr)
-        timed_out = False
-        try:
-            returncode = proc.wait(timeout)
-        except subprocess.TimeoutExpired:
-            timed_out = True
-            returncode = stop(proc)
-        except BaseException:  # KeyboardInterrupt (or SIGTERM, see cli) while waiting: do not leave it behind
-            stop(proc, 0.5, 0.5)
-            raise
-        finally:
-            process.reap_group(proc)
-            stdout_tail.finish()
-            stderr_tail.finish()
+        start = _start(spec, argv, env, python, warm_wait)
+        ended = _wait(start.proc, start.stdout, start.stderr, timeout)
+        if isinstance(start.proc, warm.WarmChild) and start.proc.server_lost:
+            # the server died under the target (which died with it): run the target again, cold
+            for leftover in workdir.iterdir():
+                leftover.unlink()
+            start = _start(spec, argv, env, python, warm_wait,
+                           cold_note="the warm start server ended during the capture")
+            ended = _wait(start.proc, start.stdout, start.stderr, timeout)
+        returncode, stderr = ended.returncode, ended.stderr
         wall = time.monotonic() - started
-        stderr = stderr_tail.text()
         if keep_files:
             (workdir / "stderr.txt").write_text(stderr, encoding="utf-8")
-            (workdir / "stdout.txt").write_text(stdout_tail.text(), encoding="utf-8")
+            (workdir / "stdout.txt").write_text(ended.stdout, encoding="utf-8")
 
-        output, others, from_child = _outputs(workdir, proc.pid, include_infrastructure)
-        if timed_out:
-            raise TargetTimeout(describe, timeout, _try_load(output, include_infrastructure), stderr, argv)
+        output, others, from_child = _outputs(workdir, start.proc.pid, include_infrastructure)
+        if ended.timed_out:
+            raise _tag(TargetTimeout(describe, timeout, _mark(_try_load(output, include_infrastructure), start),
+                                     stderr, argv), start)
         captured = _try_load(output, include_infrastructure) if returncode != 0 else None
         if returncode != 0 and (captured is None or not captured.settled_once):
-            raise TargetExited(describe, returncode, stderr, captured, argv, hint=_missing_module_hint(stderr))
+            raise _tag(TargetExited(describe, returncode, stderr, _mark(captured, start), argv,
+                                    hint=_missing_module_hint(stderr)), start)
         no_node_hint = module_main_hint(spec.module, _module_origin(argv[0], spec, cwd)) if spec.module else None
         if captured is None:
             if not output.exists():
-                raise NoNodeCreated(
+                raise _tag(NoNodeCreated(
                     describe,
                     stderr,
                     None,
@@ -217,10 +308,11 @@ def run(
                     detail="it exited with status 0 and wrote no capture: it never initialised ROS 2, "
                     "or it did not run on the recording middleware",
                     hint=no_node_hint,
-                )
+                ), start)
             captured = Capture.load(output, include_infrastructure=include_infrastructure)
+        _mark(captured, start)
         if not captured.raw_nodes:
-            raise NoNodeCreated(describe, stderr, captured, argv, hint=no_node_hint)
+            raise _tag(NoNodeCreated(describe, stderr, captured, argv, hint=no_node_hint), start)
         captured.returncode = returncode
         captured.stderr = stderr
         captured.wall_time = wall
@@ -228,10 +320,36 @@ def run(
         captured.path = output if keep_files else None
         captured.other_processes = others
         captured.from_child = from_child
+        _learn(captured, env, spec, python)
         return captured
     finally:
         if not keep_files:
             shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _tag(exc: TargetError, start: _Started) -> TargetError:
+    exc.started = start.how
+    return exc
+
+
+def _mark(captured: Capture | None, start: _Started) -> Capture | None:
+    """Record how the target was started. A warm child's command line (``/proc/self/cmdline``,
+    which the middleware reads for ``argv``) is the server's: the capture gets the one a cold
+    start would have had."""
+    if captured is not None:
+        captured.started, captured.start_note = start.how, start.note
+        if start.cmdline is not None:
+            captured.argv = list(start.cmdline)
+    return captured
+
+
+def _learn(captured: Capture, env: Mapping[str, str], spec: TargetSpec, python: str | None) -> None:
+    """Tell the warm start server for targets like this one which message types they use."""
+    type_names = sorted({e.type for e in captured.raw_endpoints if e.type})
+    if not type_names:
+        return
+    cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
+    warm.POOL.learn(env, cwd, type_names, python)
 
 
 def _describe_process(path: Path, include_infrastructure: bool) -> OtherProcess:

@@ -28,6 +28,8 @@ The same keys are accepted everywhere (the capture API, a contract's ``target`` 
                    settle, the middleware advances the ROS clock through every timed wait up
                    to this age, so timers fire at once (``RMW_INTROSPECT_HORIZON_MS``;
                    default 10, ``0`` turns virtual time off)
+``cold_start``     ``true``: always start a new interpreter, never fork a Python target from
+                   the warm start server (``run.warm``); default false
 =================  ==========================================================================
 
 Exactly one of ``package``+``executable``, ``command``, ``script``, ``module`` names the
@@ -80,6 +82,7 @@ TARGET_KEYS = (
     "settle",
     "timeout",
     "horizon",
+    "cold_start",
 )
 
 
@@ -104,6 +107,7 @@ class TargetSpec:
     settle: float | None = None
     timeout: float | None = None
     horizon: float | None = None
+    cold_start: bool | None = None
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -296,6 +300,10 @@ def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
         if not isinstance(value, Mapping):
             raise _fail(source, key, "a mapping of variable names to strings", value)
         return {str(k): _env_value(v) for k, v in value.items()}
+    if key == "cold_start":
+        if not isinstance(value, bool):
+            raise _fail(source, key, "true or false", value)
+        return value
     if key in ("settle", "timeout", "horizon"):
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             raise _fail(source, key, "a number of seconds", value)

@@ -39,6 +39,11 @@ LOCAL_IMPORTS = {
     ("compare.drift", "deepdiff"): "deepdiff costs 0.1-0.2 s; only comparing needs it",
     ("cli", "pytest_rmw_introspect.cli"): "`--help` and usage errors answer without the pipeline",
     ("cli", "pytest_rmw_introspect.cli.validate"): "`validate` (a pre-commit hook) loads only the contract reader",
+    ("cli", "pytest_rmw_introspect.run"): "`--help` and usage errors answer without the warm start client (~30 ms)",
+    ("run.ros_env", "importlib"): "importlib.metadata (+ email) costs ~10 ms; only a venv without the "
+                                   "ros-<distro>-rclpy dist-info needs the scan of installed distributions",
+    ("run.middleware", "filelock"): "filelock (+ logging) costs ~15 ms; only building the middleware needs it",
+    ("check.golden", "filelock"): "filelock (+ logging) costs ~15 ms; only writing a file needs it",
 }
 
 

@@ -124,3 +124,13 @@ def test_system_activation_selects_by_name_and_adds_the_install_prefix(tmp_path)
     assert env["LD_LIBRARY_PATH"].split(":")[0] == str(install.resolve() / "lib")
     # preloaded as well: virtual time needs the library's rcutils clocks to win over librcutils'
     assert env["LD_PRELOAD"].split()[0] == str(lib.resolve())
+
+
+def test_the_wheels_distro_is_read_from_the_meta_packages_dist_info(tmp_path, monkeypatch):
+    prefix = make_wheels_prefix(tmp_path / "venv")
+    site = prefix / "lib" / PYVER / "site-packages"
+    (site / "ros_rclpy-9.0.0.dist-info").mkdir()  # the real wheel: no distro in its name
+    (site / "ros_kilted_rclpy-9.0.0.dist-info").mkdir()
+    monkeypatch.setattr(sys, "prefix", str(prefix))
+    monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
+    assert ros_env.detect().distro == "kilted"

@@ -466,3 +466,17 @@ def test_a_hung_target_dies_with_its_runner(tmp_path, ros, library):
             break
         assert time.monotonic() < deadline, "the target outlived its runner"
         time.sleep(0.05)
+
+
+def test_one_thread_reads_the_tails_of_both_pipes():
+    (r1, w1), (r2, w2) = os.pipe(), os.pipe()
+    out, err = process.OutputTail.read_together(os.fdopen(r1, "rb"), os.fdopen(r2, "rb"), limit=10)
+    os.write(w1, b"0123456789abcdef" * 4)
+    os.write(w2, b"error line\n")
+    os.close(w2)
+    os.write(w1, b"THE END")
+    os.close(w1)
+    out.finish(5)
+    err.finish(5)
+    assert out.text() == "cdefTHE END"[-10:] and out.total_bytes == 71
+    assert err.text() == "error line\n"[-10:] and err.total_bytes == 11

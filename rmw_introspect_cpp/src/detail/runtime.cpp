@@ -4,10 +4,13 @@
 #include <pthread.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
+#include <new>
 #include <string>
 #include <thread>
 
@@ -18,9 +21,42 @@
 namespace rmw_introspect
 {
 
+namespace
+{
+// The process's runtime (leaked on purpose, see the declaration), made on first use.
+std::atomic<Runtime *> g_runtime{nullptr};
+std::atomic<bool> g_started{false};  // rmw_init reached this process's runtime
+std::mutex g_make_mutex;
+
+// A process forked before any rmw_init (a warm start server's child) makes its own runtime on
+// first use, reading the configuration from the environment it has by then: a runtime the parent
+// made (say, rcutils_steady_time_now reached it) holds the parent's pid, output path and settings.
+// A runtime that was initialized stays: a node that forks keeps its middleware as before.
+void before_fork() {g_make_mutex.lock();}
+void after_fork_parent() {g_make_mutex.unlock();}
+void after_fork_child()
+{
+  new (&g_make_mutex) std::mutex();  // the parent's lock state is not the child's to keep
+  if (!g_started.load()) {
+    g_runtime.store(nullptr);
+  }
+}
+}  // namespace
+
 Runtime & Runtime::instance()
 {
-  static Runtime * runtime = new Runtime();  // leaked on purpose, see the declaration
+  Runtime * runtime = g_runtime.load(std::memory_order_acquire);
+  if (runtime != nullptr) {
+    return *runtime;
+  }
+  std::lock_guard<std::mutex> lock(g_make_mutex);
+  runtime = g_runtime.load(std::memory_order_acquire);
+  if (runtime == nullptr) {
+    static const int registered = pthread_atfork(before_fork, after_fork_parent, after_fork_child);
+    (void)registered;
+    runtime = new Runtime();
+    g_runtime.store(runtime, std::memory_order_release);
+  }
   return *runtime;
 }
 
@@ -62,6 +98,7 @@ void Runtime::on_init()
     if (!session_.start()) {
       return;
     }
+    g_started.store(true);
     argv_ = read_process_argv();
   }
   std::atexit([]() {Runtime::instance().on_process_exit();});

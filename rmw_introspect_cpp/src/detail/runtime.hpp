@@ -46,6 +46,8 @@ class Runtime
 public:
   /// The process-wide runtime, made on first use and never destroyed: atexit handlers, the
   /// monitor thread and waits still running in other threads use it while the process exits.
+  /// A process forked before its parent's rmw_init (a warm start server's child) makes its own
+  /// on first use, so the configuration is read from the child's environment, after the fork.
   static Runtime & instance();
 
   Runtime(const Runtime &) = delete;

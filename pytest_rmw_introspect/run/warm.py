@@ -1,0 +1,571 @@
+"""Warm starts: Python targets forked from a server that has imported rclpy already.
+
+Starting Python, importing rclpy and creating the first ``rclpy.node.Node`` (which imports numpy
+and the parameter and type-description service types) is most of a capture's time, and the same
+for every target. A warm start server (:mod:`.warm_server`) pays it once per interpreter and
+import-relevant environment: the runner asks it to fork a child per capture, and the child becomes
+the target (see the server's module for what the child sets up). This module is the runner's side:
+
+* :func:`plan` decides whether a command can start warm: ``python SCRIPT``, ``python -m MODULE``
+  and executables whose ``#!`` line names this same interpreter (an ament Python executable, a
+  console script) can; compiled programs, other interpreters, interpreter options and anything
+  else start cold, and the reason is kept (``Capture.start_note``);
+* :func:`server_key` is the part of the environment that changes what a process imports or how
+  (``PYTHON*``, ``LD_*``, ``AMENT_PREFIX_PATH``, locale, ...): one server per key, and targets whose
+  environment differs there get (or start) another server;
+* :class:`Pool` keeps the servers of this process (a pytest session, an xdist worker, one CLI run),
+  started in the background: a capture that finds its server still starting runs cold;
+* :class:`WarmChild` is the forked target as the runner sees it: it behaves like the
+  ``subprocess.Popen`` of a cold start (pid = process group, ``poll``, ``wait``, ``send_signal``), so
+  timeouts and the SIGINT → SIGTERM → SIGKILL escalation of :mod:`.process` apply unchanged.
+
+No process is left behind: a server has the parent-death signal SIGKILL tied to the runner, its
+children have it tied to the server, and a server exits (killing its children's groups) as soon as
+its control socket closes: at :func:`shutdown`, at the end of the runner process, or when it dies.
+"""
+
+from __future__ import annotations
+
+import atexit
+import functools
+import json
+import os
+import queue
+import re
+import select
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO, Any
+
+from . import process
+
+#: exact names of environment variables a server is keyed on (besides the prefixes below)
+KEY_NAMES = frozenset({
+    "AMENT_PREFIX_PATH", "RMW_IMPLEMENTATION", "_ROS_WHEELS_BOOTSTRAP_COMPLETE",
+    "LANG", "LANGUAGE", "TZ", "HOME", "TMPDIR",
+})
+#: prefixes of environment variables a server is keyed on: the interpreter's own (``PYTHON*``),
+#: the dynamic loader's (``LD_PRELOAD``, ``LD_LIBRARY_PATH``, ...), ROS logging set-up, locale,
+#: and numpy's BLAS threads
+KEY_PREFIXES = ("PYTHON", "LD_", "RCUTILS_", "LC_", "OPENBLAS_", "OMP_", "MKL_", "NUMPY_", "NPY_", "GOTO_")
+#: at most this many servers per process (the least recently used one is closed)
+MAX_SERVERS = 4
+#: a server that ended this often (killed, or by a target) is not started again for its key
+MAX_DEATHS = 3
+#: seconds a server may take to import everything and say it is ready
+READY_TIMEOUT = 60.0
+#: seconds a capture waits for a server that is still starting (it usually is ready in ~0.3 s,
+#: less than a cold start takes) before it starts its target cold instead
+DEFAULT_WAIT = 3.0
+#: seconds the server may take to answer a spawn request with the child's pid
+SPAWN_TIMEOUT = 10.0
+_BOOTSTRAP = (
+    "import sys\n"
+    "sys.path.insert(0, {package_parent!r})\n"
+    "from pytest_rmw_introspect.run import warm_server as _w\n"
+    "del sys.path[0]\n"
+    "_job = _w.main(int(sys.argv[1]))\n"
+    "if _job is not None:\n"
+    "    _w.run(_job)\n"
+)
+_PACKAGE_PARENT = str(Path(__file__).resolve().parents[2])
+_ZIP_MAGIC = b"PK\x03\x04"
+_PYTHON_NAME = re.compile(r"python[0-9.]*")
+_ELF_MAGIC = b"\x7fELF"
+
+
+class WarmStartFailed(Exception):
+    """The server could not start the target (it died, or refused): the runner starts it cold."""
+
+
+# ---------------------------------------------------------------------------------- the plan
+
+
+@dataclass(frozen=True)
+class Plan:
+    """How a command starts warm: what the child runs and the ``sys`` values a cold start has."""
+
+    kind: str  # "script" or "module"
+    target: str  # the script (as in argv) or the module name
+    argv: tuple[str, ...]  # sys.argv
+    orig_argv: tuple[str, ...]  # sys.orig_argv
+    executable: str  # sys.executable
+
+
+def same_interpreter(path: str, python: str | None = None) -> bool:
+    """Whether ``path`` starts this interpreter with this environment's prefix: the same file, in
+    the same directory (a venv's ``python``/``python3``; not the base interpreter a venv links to)."""
+    python = os.path.abspath(python or sys.executable)
+    candidate = os.path.abspath(path)
+    if candidate == python:
+        return True
+    return (os.path.dirname(candidate) == os.path.dirname(python)
+            and os.path.realpath(candidate) == os.path.realpath(python))
+
+
+def _python_command(interpreter: str, args: Sequence[str], shown: str) -> Plan | str:
+    """``interpreter args...`` (the interpreter already known to be this one) as a plan, or why not."""
+    if not args:
+        return "no script or module to run"
+    if args[0] == "-m" and len(args) >= 2 and args[1] and not args[1].startswith("-"):
+        return Plan("module", args[1], ("-m", *args[2:]), (shown, *args), interpreter)
+    if args[0].startswith("-"):
+        return f"interpreter option {args[0]!r}"
+    script = args[0]
+    if os.path.isdir(script):
+        return "the script is a directory"
+    try:
+        with open(script, "rb") as f:
+            head = f.read(4)
+    except OSError as exc:
+        return f"cannot read the script ({exc.strerror})"
+    if head == _ZIP_MAGIC or (len(head) == 4 and head[2:4] == b"\r\n"):
+        return "the script is a zip archive or compiled Python"
+    return Plan("script", script, tuple(args), (shown, *args), interpreter)
+
+
+def _shebang(path: str) -> tuple[bytes, list[str]] | None:
+    try:
+        with open(path, "rb") as f:
+            head = f.read(256)
+    except OSError:
+        return None
+    if not head.startswith(b"#!"):
+        return head[:4], []
+    line = head[2:].split(b"\n", 1)[0].decode("utf-8", "replace").strip()
+    return b"#!", line.split()
+
+
+def plan(argv: Sequence[str], env: Mapping[str, str], python: str | None = None) -> Plan | str:
+    """How ``argv`` (a target's full command) starts warm with the interpreter ``python``
+    (default: this one), or the reason it starts cold."""
+    if not hasattr(os, "fork") or not hasattr(socket, "send_fds") or sys.platform != "linux":
+        return "warm starts need Linux"
+    if not argv:
+        return "empty command"
+    program = argv[0]
+    if same_interpreter(program, python):
+        return _python_command(os.path.abspath(program), list(argv[1:]), program)
+    if _PYTHON_NAME.fullmatch(os.path.basename(program)):
+        return f"another Python interpreter ({program})"
+    found = _shebang(program)
+    if found is None:
+        return f"cannot read {program}"
+    magic, words = found
+    if magic == _ELF_MAGIC:
+        return "a compiled executable"
+    if not words:
+        return "not a Python program (no #! line)"
+    interpreter, options = words[0], words[1:]
+    shown = interpreter
+    if os.path.basename(interpreter) == "env" and len(options) == 1 and not options[0].startswith("-"):
+        shown = options[0]
+        resolved = _which(shown, env.get("PATH", ""))
+        if resolved is None:
+            return f"its #! line names {shown}, which is not on PATH"
+        interpreter, options = resolved, []
+    if options:
+        return f"its #! line passes options to the interpreter ({' '.join(options)})"
+    if not same_interpreter(interpreter, python):
+        return f"its #! line names another interpreter ({interpreter})"
+    # the kernel runs `interpreter program args...`
+    result = _python_command(os.path.abspath(interpreter), [program, *argv[1:]], shown)
+    return result
+
+
+def _which(name: str, path: str) -> str | None:
+    for directory in path.split(os.pathsep):
+        candidate = os.path.join(directory or ".", name)
+        if os.path.isfile(candidate) and os.access(candidate, os.X_OK):
+            return candidate
+    return None
+
+
+# ---------------------------------------------------------------------------------- keys
+
+
+def server_environment(env: Mapping[str, str]) -> dict[str, str]:
+    """The variables of a target's environment that a server is started with and keyed on."""
+    return {k: v for k, v in env.items() if k in KEY_NAMES or k.startswith(KEY_PREFIXES)}
+
+
+def server_key(env: Mapping[str, str], cwd: str, python: str | None = None) -> tuple[Any, ...]:
+    """Targets with equal keys can share a server."""
+    keyed = server_environment(env)
+    relative = any(p and not os.path.isabs(p) for p in keyed.get("PYTHONPATH", "").split(os.pathsep))
+    # relative PYTHONPATH entries are made absolute against the working directory at start-up
+    return (os.path.abspath(python or sys.executable), tuple(sorted(keyed.items())), cwd if relative else None)
+
+
+def server_command(fd: int, python: str | None = None) -> list[str]:
+    return [python or sys.executable, "-c", _BOOTSTRAP.format(package_parent=_PACKAGE_PARENT), str(fd)]
+
+
+def _umask() -> int:
+    try:
+        with open("/proc/self/status", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+# ---------------------------------------------------------------------------------- the child
+
+
+class WarmChild:
+    """A target forked by a server, with the parts of ``subprocess.Popen`` the runner uses."""
+
+    def __init__(self, pid: int, reply: socket.socket, args: Sequence[str],
+                 stdout: IO[bytes], stderr: IO[bytes]) -> None:
+        self.pid = pid
+        self.args = list(args)
+        self.stdout: IO[bytes] = stdout
+        self.stderr: IO[bytes] = stderr
+        self.returncode: int | None = None
+        #: the server died while the child ran (the child died with it): start the target cold
+        self.server_lost = False
+        self._reply: socket.socket | None = reply
+        self._lock = threading.Lock()
+
+    def _receive(self, timeout: float | None) -> None:
+        with self._lock:
+            if self.returncode is not None or self._reply is None:
+                return
+            ready, _, _ = select.select([self._reply], [], [], timeout)
+            if not ready:
+                return
+            try:
+                data = self._reply.recv(65536)
+            except OSError:
+                data = b""
+            if not data:
+                self.server_lost = True
+                self.returncode = -signal.SIGKILL
+                return
+            try:
+                message = json.loads(data)
+                self.returncode = int(message["returncode"])
+            except (ValueError, KeyError, TypeError):
+                self.server_lost = True
+                self.returncode = -signal.SIGKILL
+
+    def poll(self) -> int | None:
+        self._receive(0)
+        return self.returncode
+
+    def wait(self, timeout: float | None = None) -> int:
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while self.returncode is None:
+            remaining = None if deadline is None else deadline - time.monotonic()
+            if remaining is not None and remaining <= 0:
+                raise subprocess.TimeoutExpired(self.args, timeout or 0.0)
+            self._receive(remaining)
+        return self.returncode
+
+    def send_signal(self, sig: int) -> None:
+        # the server reaps the child only after release(): until then its pid cannot be reused
+        if self.poll() is None:
+            try:
+                os.kill(self.pid, sig)
+            except ProcessLookupError:
+                pass
+
+    def kill(self) -> None:
+        self.send_signal(signal.SIGKILL)
+
+    def terminate(self) -> None:
+        self.send_signal(signal.SIGTERM)
+
+    def release(self) -> None:
+        """The runner is done with the child (and its group): the server may reap it (or, if it
+        still runs, kills its group)."""
+        with self._lock:
+            if self._reply is not None:
+                self._reply.close()
+                self._reply = None
+
+
+# ---------------------------------------------------------------------------------- the server
+
+
+class _Launcher:
+    """Starts server processes from a thread that lives as long as this process. A server's
+    parent-death signal fires when the *thread* that forked it ends: a server started by a
+    capture running in a short-lived thread (a contract item capturing ahead, a system capture's
+    thread pool) would die with that thread. The main thread starts servers itself; any other
+    thread hands the start to this launcher's daemon thread (which ends only with the process)."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._jobs: queue.SimpleQueue[tuple[Callable[[], Any], queue.SimpleQueue[tuple[bool, Any]]]] | None = None
+
+    def call(self, job: Callable[[], Any]) -> Any:
+        if threading.current_thread() is threading.main_thread():
+            return job()
+        with self._lock:
+            if self._jobs is None:
+                self._jobs = queue.SimpleQueue()
+                threading.Thread(target=self._serve, args=(self._jobs,), name="rmw-introspect warm launcher",
+                                 daemon=True).start()
+            jobs = self._jobs
+        answer: queue.SimpleQueue[tuple[bool, Any]] = queue.SimpleQueue()
+        jobs.put((job, answer))
+        ok, value = answer.get()
+        if not ok:
+            raise value
+        return value
+
+    @staticmethod
+    def _serve(jobs: queue.SimpleQueue[tuple[Callable[[], Any], queue.SimpleQueue[tuple[bool, Any]]]]) -> None:
+        while True:
+            job, answer = jobs.get()
+            try:
+                answer.put((True, job()))
+            except BaseException as exc:  # noqa: BLE001  # raised again in the calling thread
+                answer.put((False, exc))
+
+
+_LAUNCHER = _Launcher()
+
+
+class WarmServer:
+    """One server process and its control socket, seen from the runner."""
+
+    def __init__(self, env: Mapping[str, str], cwd: str, python: str | None = None) -> None:
+        self.python = python or sys.executable
+        self.started_at = time.monotonic()
+        self.log = tempfile.TemporaryFile(prefix="rmw_introspect_warm_")
+        self.control, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        self._lock = threading.Lock()
+        self.info: dict[str, Any] | None = None
+        self.failure: str | None = None
+        try:
+            self.proc = _LAUNCHER.call(functools.partial(
+                subprocess.Popen,
+                server_command(theirs.fileno(), self.python),
+                env=dict(env), cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=self.log,
+                pass_fds=(theirs.fileno(),), start_new_session=True,
+                preexec_fn=functools.partial(process.die_with_parent, os.getpid()),
+            ))
+        except OSError as exc:
+            self.control.close()
+            self.log.close()
+            raise WarmStartFailed(f"cannot start a warm start server: {exc}") from None
+        finally:
+            theirs.close()
+
+    @property
+    def pid(self) -> int:
+        return self.proc.pid
+
+    def log_tail(self, limit: int = 2000) -> str:
+        try:
+            self.log.seek(0)
+            return self.log.read().decode("utf-8", "replace")[-limit:]
+        except (OSError, ValueError):
+            return ""
+
+    def wait_ready(self, timeout: float | None) -> bool:
+        """Whether the server is ready (waiting up to ``timeout`` seconds for it; 0: just look)."""
+        with self._lock:
+            if self.info is not None:
+                return True
+            if self.failure is not None:
+                return False
+            deadline = None if timeout is None else time.monotonic() + timeout
+            while True:
+                remaining = None if deadline is None else max(0.0, deadline - time.monotonic())
+                ready, _, _ = select.select([self.control], [], [], remaining)
+                if ready:
+                    break
+                if remaining == 0.0 or (deadline is not None and time.monotonic() >= deadline):
+                    if time.monotonic() - self.started_at > READY_TIMEOUT:
+                        self.failure = f"the warm start server was not ready after {READY_TIMEOUT:g} s"
+                    return False
+            try:
+                data = self.control.recv(65536)
+                info = json.loads(data) if data else None
+            except (OSError, ValueError):
+                info = None
+            if not isinstance(info, dict) or not info.get("ready"):
+                self.proc.poll()
+                self.failure = ("the warm start server ended before it was ready"
+                                + (f" (status {self.proc.returncode})" if self.proc.returncode is not None else "")
+                                + (": " + self.log_tail().strip() if self.log_tail().strip() else ""))
+                return False
+            self.info = info
+            return True
+
+    def alive(self) -> bool:
+        return self.failure is None and self.proc.poll() is None
+
+    def spawn(self, plan: Plan, *, env: Mapping[str, str], cwd: str) -> WarmChild:
+        """Fork the target; raises :class:`WarmStartFailed` (the runner then starts it cold)."""
+        mine, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        out_r, out_w = os.pipe()
+        err_r, err_w = os.pipe()
+        stdin = os.open(os.devnull, os.O_RDONLY | os.O_CLOEXEC)
+        request = {
+            "op": "spawn", "kind": plan.kind, "target": plan.target, "argv": list(plan.argv),
+            "orig_argv": list(plan.orig_argv), "executable": plan.executable,
+            "env": dict(env), "cwd": cwd, "umask": _umask(),
+        }
+        try:
+            try:
+                socket.send_fds(self.control, [json.dumps(request).encode()],
+                                [theirs.fileno(), stdin, out_w, err_w])
+            except OSError as exc:
+                raise WarmStartFailed(f"the warm start server is gone ({exc})") from None
+            finally:
+                for fd in (stdin, out_w, err_w):
+                    os.close(fd)
+                theirs.close()
+            ready, _, _ = select.select([mine], [], [], SPAWN_TIMEOUT)
+            data = mine.recv(65536) if ready else b""
+            try:
+                answer = json.loads(data) if data else {}
+            except ValueError:
+                answer = {}
+            if "pid" not in answer:
+                raise WarmStartFailed(answer.get("error") or "the warm start server did not start the target")
+        except BaseException:
+            mine.close()
+            os.close(out_r)
+            os.close(err_r)
+            raise
+        return WarmChild(int(answer["pid"]), mine, [*plan.orig_argv],
+                         os.fdopen(out_r, "rb", buffering=0), os.fdopen(err_r, "rb", buffering=0))
+
+    def learn(self, type_names: Sequence[str]) -> None:
+        """Ask the server to import these types' packages (and type supports) for later targets."""
+        if not type_names or not self.alive():
+            return
+        try:
+            self.control.send(json.dumps({"op": "preload", "types": sorted(type_names)}).encode())
+        except OSError:
+            pass
+
+    def close(self, timeout: float = 2.0) -> None:
+        """End the server: it kills what it still runs, then exits."""
+        try:
+            self.control.close()
+        finally:
+            try:
+                self.proc.wait(timeout)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+            self.log.close()
+
+
+# ---------------------------------------------------------------------------------- the pool
+
+
+class Pool:
+    """The warm start servers of this process, by :func:`server_key`."""
+
+    def __init__(self) -> None:
+        self._servers: dict[tuple[Any, ...], WarmServer] = {}
+        self._broken: dict[tuple[Any, ...], str] = {}
+        self._deaths: dict[tuple[Any, ...], int] = {}
+        self._lock = threading.Lock()
+        self._owner = os.getpid()
+        #: why this process starts every target cold (None: Python targets start warm)
+        self.disabled: str | None = None
+
+    def disable(self, reason: str) -> None:
+        """Start every target of this process cold, for ``reason`` (a run with one capture: a
+        server only pays off from the second)."""
+        self.disabled = reason
+
+    def server(self, env: Mapping[str, str], cwd: str, python: str | None = None, *,
+               wait: float = 0.0) -> WarmServer | str:
+        """The ready server for targets with environment ``env``, or why there is none (yet):
+        a server not started yet is started in the background and this capture runs cold, unless
+        ``wait`` gives it that many seconds to become ready."""
+        key = server_key(env, cwd, python)
+        with self._lock:
+            if self.disabled is not None:
+                return self.disabled
+            if os.getpid() != self._owner:  # a forked copy of the runner: its parent owns the servers
+                return "the runner process was forked"
+            broken = self._broken.get(key)
+            if broken is not None:
+                return broken
+            server = self._servers.pop(key, None)
+            if server is not None and not server.alive():
+                self._deaths[key] = self._deaths.get(key, 0) + 1
+                if server.failure is not None:
+                    self._broken[key] = server.failure
+                elif self._deaths[key] >= MAX_DEATHS:
+                    self._broken[key] = f"the warm start server ended {self._deaths[key]} times"
+                server.close(0.5)
+                server = None
+                if key in self._broken:
+                    return self._broken[key]
+            if server is None:
+                try:
+                    server = WarmServer(server_environment(env), cwd, python)
+                except WarmStartFailed as exc:
+                    self._broken[key] = str(exc)
+                    return str(exc)
+                while len(self._servers) >= MAX_SERVERS:
+                    oldest = next(iter(self._servers))
+                    self._servers.pop(oldest).close(0.5)
+            self._servers[key] = server  # most recently used last
+        if server.wait_ready(wait):
+            return server
+        if server.failure is not None:
+            with self._lock:
+                self._broken[key] = server.failure
+                if self._servers.get(key) is server:
+                    del self._servers[key]
+            server.close(0.5)
+            return server.failure
+        return "the warm start server is still starting"
+
+    def learn(self, env: Mapping[str, str], cwd: str, type_names: Sequence[str], python: str | None = None) -> None:
+        """Tell the server for targets with environment ``env`` (if there is one, started or
+        starting) the message types a target used: it imports their packages for the next ones."""
+        with self._lock:
+            server = self._servers.get(server_key(env, cwd, python))
+        if server is not None:
+            server.learn(type_names)
+
+    def servers(self) -> list[WarmServer]:
+        with self._lock:
+            return list(self._servers.values())
+
+    def close(self) -> None:
+        """End every server of this process (and what they still run)."""
+        with self._lock:
+            servers = list(self._servers.values()) if os.getpid() == self._owner else []
+            self._servers.clear()
+            self._broken.clear()
+            self._deaths.clear()
+        for server in servers:
+            server.close()
+
+
+POOL = Pool()
+
+
+def shutdown() -> None:
+    """End this process's warm start servers (also done at interpreter exit)."""
+    POOL.close()
+
+
+atexit.register(shutdown)

@@ -1,0 +1,514 @@
+"""The warm start server: a Python process that has imported rclpy, ``rclpy.node``, numpy and
+common message packages once, and forks one child per capture that becomes the target.
+
+It runs as ``python -c BOOTSTRAP FD`` (``warm.server_command``) with the middleware preloaded
+and the import-relevant part of the targets' environment (``warm.server_key``), talking to its
+runner over FD, a ``SOCK_SEQPACKET`` Unix socket (one JSON message per packet):
+
+* server → runner, once: ``{"ready": true, "pid": ..., "preloaded": [...]}`` after the imports;
+* runner → server: ``{"op": "spawn", ...}`` with four file descriptors (SCM_RIGHTS): a reply
+  socket of this capture and the child's stdin, stdout and stderr. The server forks; on the
+  reply socket it answers ``{"pid": N}``, later ``{"returncode": RC}`` when the child ended
+  (``-SIG`` for a signal, like ``subprocess``). The child stays unreaped (a zombie, so its
+  pid and process group id cannot be reused) until the runner closes the reply socket; a reply
+  socket closed while the child still runs means the runner gave up: the child's group is killed;
+* runner → server: ``{"op": "preload", "types": [...]}``: message packages (and their type
+  supports) later targets will probably use, imported while the server is idle;
+* end of file on FD (the runner closed it or died): every child's group is killed, the server exits.
+
+The child (:meth:`Server.become_target`) does what a cold start would have done: a session and
+process group of its own (``setsid``), the parent-death signal SIGKILL (tied to the server, which
+is itself tied to the runner: when the runner dies, both die), the three standard streams, the
+signal dispositions and mask the interpreter started with, the target's environment, working
+directory and umask, ``sys.argv``/``sys.orig_argv``/``sys.path``/``sys.executable``, a fresh
+``__main__`` module, then returns a :class:`Job` that the bootstrap runs at the top level (so
+``SystemExit``, an uncaught exception, ``KeyboardInterrupt``, ``atexit`` handlers and the
+interpreter's finalization behave as in a process of its own). The middleware reads its
+settings (``RMW_INTROSPECT_OUTPUT``, ...) when the target first uses it, after the fork: the
+server imports ROS but never calls ``rclpy.init()`` or anything else that reaches the middleware.
+
+Only the standard library is imported at module level; the ROS modules are imported by
+:func:`main` through ``importlib`` (they are what this process exists for).
+"""
+
+from __future__ import annotations
+
+import builtins
+import ctypes
+import gc
+import importlib
+import importlib.machinery
+import inspect
+import json
+import os
+import runpy
+import selectors
+import signal
+import socket
+import sys
+import time
+import types
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+#: imported before the server says it is ready: what every rclpy node needs
+#: (``rclpy.node.Node()`` imports the parameter and type-description services, and numpy)
+PRELOAD_MODULES = (
+    "rclpy",
+    "rclpy.node",
+    "rclpy.executors",
+    "rclpy.qos",
+    "rclpy.action",
+    "rclpy.lifecycle",
+    "numpy",
+    "std_msgs.msg",
+)
+#: type supports every node loads when it creates its parameter and type-description services
+#: (and the most common message package's)
+PRELOAD_TYPES = (
+    "rcl_interfaces/msg/ParameterEvent",
+    "rcl_interfaces/msg/Log",
+    "rcl_interfaces/srv/DescribeParameters",
+    "rcl_interfaces/srv/GetParameterTypes",
+    "rcl_interfaces/srv/GetParameters",
+    "rcl_interfaces/srv/ListParameters",
+    "rcl_interfaces/srv/SetParameters",
+    "rcl_interfaces/srv/SetParametersAtomically",
+    "type_description_interfaces/srv/GetTypeDescription",
+    "std_msgs/msg/String",  # loads std_msgs' C type support: the package most nodes use
+)
+MAX_MESSAGE = 1 << 20
+SPAWN_FDS = 4  # reply socket, stdin, stdout, stderr
+_PR_SET_PDEATHSIG = 1
+#: frames of this module and of the bootstrap (``-c``) are not the target's: tracebacks skip them
+_OWN_FILES = frozenset({__file__, "<string>"})
+
+
+def _libc() -> ctypes.CDLL | None:
+    try:
+        return ctypes.CDLL("libc.so.6", use_errno=True)
+    except OSError:
+        return None
+
+
+_LIBC = _libc()
+
+
+# ------------------------------------------------------------------------------------ imports
+
+
+def type_module(type_name: str) -> tuple[str, str] | None:
+    """``pkg/msg/Name`` → (``pkg.msg``, ``Name``); action parts (``X_SendGoal``) → the action ``X``."""
+    parts = type_name.split("/")
+    if len(parts) != 3 or not all(p.isidentifier() for p in parts) or parts[1] not in ("msg", "srv", "action"):
+        return None
+    name = parts[2]
+    if parts[1] == "action":
+        for suffix in ("_SendGoal", "_GetResult", "_FeedbackMessage", "_Feedback", "_Goal", "_Result"):
+            if name.endswith(suffix):
+                name = name[: -len(suffix)]
+                break
+    return f"{parts[0]}.{parts[1]}", name
+
+
+def preload(modules: Iterable[str] = (), type_names: Iterable[str] = ()) -> list[str]:
+    """Import ``modules`` and the message packages of ``type_names`` with their C type supports
+    (what rclpy loads when a node first creates an endpoint of that type). Failures are ignored:
+    a module this server cannot import is imported (or not) by the target itself. Returns the
+    modules imported."""
+    done: list[str] = []
+    for name in modules:
+        try:
+            importlib.import_module(name)
+            done.append(name)
+        except Exception:  # noqa: BLE001  # the target will meet the same error, in its own process
+            pass
+    for type_name in type_names:
+        found = type_module(type_name)
+        if found is None:
+            continue
+        module_name, class_name = found
+        try:
+            module = importlib.import_module(module_name)
+            cls = getattr(module, class_name)
+            for part in (cls, getattr(cls, "Request", None), getattr(cls, "Response", None)):
+                if part is not None:
+                    type(part).__import_type_support__()
+            if module_name not in done:
+                done.append(module_name)
+        except Exception:  # noqa: BLE001
+            pass
+    index_module_files()
+    return done
+
+
+def index_module_files() -> None:
+    """Fill :mod:`inspect`'s module-by-file cache for every module imported so far, as the
+    first log call of a node does: rclpy's logger finds its caller with
+    ``inspect.getframeinfo``, whose ``getmodule`` resolves the real path of every loaded
+    module's file (hundreds of ``lstat`` calls, 20-60 ms) once per process. Done in the server,
+    a forked target inherits the cache and resolves only the modules it imports itself; the
+    cache maps files to module names, the same in the child as here."""
+    try:
+        inspect.getframeinfo(sys._getframe())  # findsource → getmodule: the cache
+    except Exception:  # noqa: BLE001  # a cache: without it the target only pays the cost itself
+        pass
+
+
+# ------------------------------------------------------------------------------------ fork
+
+
+class _LttngFork:
+    """lttng-ust (loaded by librcl's tracepoints) runs two listener threads from the moment it is
+    loaded. A fork must go through its fork hooks (what ``liblttng-ust-fork.so`` does for
+    programs that preload it): they take lttng's locks before the fork and give the child its
+    own listener threads, as a freshly started process has."""
+
+    def __init__(self) -> None:
+        self.before: Callable[[Any], Any] | None = None
+        self.after_parent: Callable[[Any], Any] | None = None
+        self.after_child: Callable[[Any], Any] | None = None
+        try:
+            with open("/proc/self/maps", encoding="utf-8", errors="replace") as maps:
+                paths = {line.split()[-1] for line in maps if "liblttng-ust" in line and "/" in line}
+        except OSError:
+            return
+        for path in sorted(paths):
+            base = os.path.basename(path)
+            if not base.startswith("liblttng-ust") or base.startswith(("liblttng-ust-tracepoint", "liblttng-ust-fork")):
+                continue
+            try:
+                lib = ctypes.CDLL(path, mode=os.RTLD_NOLOAD | os.RTLD_LOCAL)
+            except OSError:
+                continue
+            for prefix in ("lttng_ust_", "ust_"):  # lttng-ust 2.13 / 2.12
+                try:
+                    self.before = getattr(lib, prefix + "before_fork")
+                    self.after_parent = getattr(lib, prefix + "after_fork_parent")
+                    self.after_child = getattr(lib, prefix + "after_fork_child")
+                    return
+                except AttributeError:
+                    continue
+
+    def fork(self) -> int:
+        sigset = ctypes.create_string_buffer(256)  # sigset_t (128 bytes on Linux), saved by lttng
+        if self.before is not None:
+            self.before(sigset)
+        try:
+            pid = os.fork()
+        except BaseException:
+            if self.after_parent is not None:
+                self.after_parent(sigset)
+            raise
+        if pid == 0:
+            if self.after_child is not None:
+                self.after_child(sigset)
+        elif self.after_parent is not None:
+            self.after_parent(sigset)
+        return pid
+
+
+# ------------------------------------------------------------------------------------ the job
+
+
+@dataclass
+class Job:
+    """What the child runs at the top level of the interpreter: a script file or a module."""
+
+    kind: str  # "script" or "module"
+    target: str  # the script's path as a cold start sees it in argv, or the module name
+
+
+def _main_module(file: str | None) -> types.ModuleType:
+    """A fresh ``__main__`` with the attributes the interpreter gives a script's (or ``-m``'s, which
+    runpy fills in)."""
+    main = types.ModuleType("__main__")
+    main.__dict__.update(__builtins__=builtins, __annotations__={}, __spec__=None,
+                         __package__=None, __cached__=None)
+    if file is not None:
+        main.__file__ = file
+        main.__loader__ = importlib.machinery.SourceFileLoader("__main__", file)
+    return main
+
+
+def _trim(tb: types.TracebackType | None) -> types.TracebackType | None:
+    while tb is not None and tb.tb_frame.f_code.co_filename in _OWN_FILES:
+        tb = tb.tb_next
+    return tb
+
+
+def _excepthook(exc_type: type[BaseException], exc: BaseException, tb: types.TracebackType | None) -> None:
+    """An uncaught exception of the target, printed as a cold start prints it (without the frames
+    of the bootstrap and this module, which a cold start does not have)."""
+    trimmed = _trim(tb)
+    if isinstance(exc, BaseException):
+        exc = exc.with_traceback(trimmed)  # the display reads the exception's own traceback
+    sys.__excepthook__(exc_type, exc, trimmed)
+
+
+def run(job: Job) -> None:
+    """Run the target in this (forked) process, at the top level of the bootstrap."""
+    if job.kind == "module":
+        # runpy._run_module_as_main is what `python -m` itself calls
+        runpy._run_module_as_main(job.target, alter_argv=True)  # type: ignore[attr-defined]
+        return
+    try:
+        with open(job.target, "rb") as f:
+            source = f.read()
+    except OSError as exc:
+        print(f"{sys.executable}: can't open file {job.target!r}: [Errno {exc.errno}] {exc.strerror}",
+              file=sys.stderr)
+        raise SystemExit(2) from None
+    filename = job.target if os.path.isabs(job.target) else os.path.join(os.getcwd(), job.target)
+    code = compile(source, filename, "exec", dont_inherit=True)
+    exec(code, sys.modules["__main__"].__dict__)  # noqa: S102  # the target, as `python script` runs it
+
+
+# ------------------------------------------------------------------------------------ server
+
+
+@dataclass
+class _Child:
+    pid: int
+    reply: socket.socket | None
+    reported: bool = False
+
+
+@dataclass
+class Server:
+    """The serve loop (single-threaded: it forks from it)."""
+
+    control: socket.socket
+    base_path: list[str]
+    selector: selectors.BaseSelector = field(default_factory=selectors.DefaultSelector)
+    children: dict[int, _Child] = field(default_factory=dict)
+    lttng: _LttngFork = field(default_factory=_LttngFork)
+    learned: set[str] = field(default_factory=set)
+    pid_at_start: int = field(default_factory=os.getpid)
+
+    def __post_init__(self) -> None:
+        valid = sorted(signal.valid_signals())
+        self.initial_signals = {sig: signal.getsignal(sig) for sig in valid
+                                if sig not in (signal.SIGKILL, signal.SIGSTOP)}
+        self.initial_mask = signal.pthread_sigmask(signal.SIG_BLOCK, [])
+        self.wake_r, self.wake_w = os.pipe()
+        os.set_blocking(self.wake_r, False)
+        os.set_blocking(self.wake_w, False)
+        signal.set_wakeup_fd(self.wake_w)
+        signal.signal(signal.SIGCHLD, lambda signum, frame: None)
+        self.selector.register(self.control, selectors.EVENT_READ, None)
+        self.selector.register(self.wake_r, selectors.EVENT_READ, None)
+
+    # ---------------------------------------------------------------- loop
+    def serve(self) -> Job | None:
+        """Serve until the runner goes away (returns None) or, in a forked child, return its job."""
+        try:
+            while True:
+                for key, _events in self.selector.select():
+                    if key.fileobj is self.control:
+                        outcome = self._on_control()
+                        if outcome is False:
+                            return None
+                        if isinstance(outcome, Job):
+                            return outcome
+                    elif key.fileobj == self.wake_r:
+                        try:
+                            while os.read(self.wake_r, 512):
+                                pass
+                        except BlockingIOError:
+                            pass
+                    else:
+                        self._on_reply(key.data)
+                self._collect()
+        finally:
+            if os.getpid() == self.pid_at_start:
+                self._kill_all()
+
+    def _on_control(self) -> Job | bool:
+        try:
+            data, fds, _flags, _addr = socket.recv_fds(self.control, MAX_MESSAGE, SPAWN_FDS)
+        except (ConnectionResetError, OSError):
+            return False
+        if not data:
+            for fd in fds:
+                os.close(fd)
+            return False  # the runner closed its end or died
+        try:
+            request = json.loads(data)
+            op = request.get("op")
+        except (ValueError, AttributeError):
+            op, request = None, {}
+        if op == "spawn" and len(fds) == SPAWN_FDS:
+            return self._spawn(request, fds)
+        for fd in fds:
+            os.close(fd)
+        if op == "preload":
+            types_ = [t for t in request.get("types", []) if isinstance(t, str) and t not in self.learned]
+            self.learned.update(types_)
+            preload((), types_)
+        elif op == "shutdown":
+            return False
+        return True
+
+    def _spawn(self, request: Mapping[str, Any], fds: list[int]) -> Job | bool:
+        reply = socket.socket(fileno=fds[0])
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        gc.freeze()  # the child's collections leave the server's objects (and their pages) alone
+        try:
+            pid = self.lttng.fork()
+        except OSError as exc:
+            _send(reply, {"error": f"fork failed: {exc}"})
+            reply.close()
+            for fd in fds[1:]:
+                os.close(fd)
+            return True
+        if pid == 0:
+            return self.become_target(request, reply, fds[1:])
+        for fd in fds[1:]:
+            os.close(fd)
+        child = _Child(pid, reply)
+        self.children[pid] = child
+        self.selector.register(reply, selectors.EVENT_READ, child)
+        _send(reply, {"pid": pid})
+        return True
+
+    def _on_reply(self, child: _Child) -> None:
+        """The runner closed the reply socket of ``child``: it is done with it (or gave up)."""
+        assert child.reply is not None
+        try:
+            data = child.reply.recv(MAX_MESSAGE)
+        except OSError:
+            data = b""
+        if data:
+            return  # nothing is expected from the runner on this socket
+        self.selector.unregister(child.reply)
+        child.reply.close()
+        child.reply = None
+        if not child.reported:
+            _kill_group(child.pid)
+
+    def _collect(self) -> None:
+        """Report children that ended (without reaping them while the runner may still signal
+        them) and reap those the runner is done with."""
+        for pid, child in list(self.children.items()):
+            if child.reply is None:
+                try:
+                    done, _status = os.waitpid(pid, os.WNOHANG)
+                except ChildProcessError:
+                    done = pid
+                if done:
+                    del self.children[pid]
+                continue
+            if child.reported:
+                continue
+            try:
+                info = os.waitid(os.P_PID, pid, os.WEXITED | os.WNOHANG | os.WNOWAIT)
+            except ChildProcessError:
+                info = None
+            if info is None:
+                continue
+            returncode = info.si_status if info.si_code == os.CLD_EXITED else -info.si_status
+            child.reported = True
+            _send(child.reply, {"returncode": returncode})
+
+    def _kill_all(self) -> None:
+        for pid in list(self.children):
+            _kill_group(pid)
+        for pid in list(self.children):
+            try:
+                os.waitpid(pid, 0)
+            except ChildProcessError:
+                pass
+        self.children.clear()
+
+    # ---------------------------------------------------------------- in the child
+    def become_target(self, request: Mapping[str, Any], reply: socket.socket, stdio: list[int]) -> Job | bool:
+        """In the forked child: become the process a cold start of the target would be."""
+        server = os.getppid()
+        try:
+            os.setsid()
+            if _LIBC is not None:
+                _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+            if os.getppid() != server:  # the server died before the signal was armed
+                os._exit(1)
+            signal.set_wakeup_fd(-1)
+            self.selector.close()
+            for sock in (self.control, reply, *(c.reply for c in self.children.values() if c.reply)):
+                sock.close()
+            self.children.clear()
+            os.close(self.wake_r)
+            os.close(self.wake_w)
+            for target_fd, fd in enumerate(stdio):
+                os.dup2(fd, target_fd)
+                os.close(fd)
+            for sig, handler in self.initial_signals.items():
+                if signal.getsignal(sig) is not handler and handler is not None:
+                    signal.signal(sig, handler)
+            signal.pthread_sigmask(signal.SIG_SETMASK, self.initial_mask)
+            self._set_up(request)
+        except BaseException as exc:  # noqa: BLE001  # never return into the server's loop
+            try:
+                os.write(2, f"rmw-introspect warm start: cannot set up the target: {exc!r}\n".encode())
+            finally:
+                os._exit(127)
+        return Job(kind=str(request["kind"]), target=str(request["target"]))
+
+    def _set_up(self, request: Mapping[str, Any]) -> None:
+        env = request["env"]
+        os.environ.clear()
+        os.environ.update(env)
+        os.chdir(request["cwd"])
+        os.umask(int(request["umask"]))
+        sys.argv = list(request["argv"])
+        sys.orig_argv = list(request["orig_argv"])
+        if request.get("executable"):
+            sys.executable = str(request["executable"])
+        kind, target = request["kind"], request["target"]
+        if kind == "script":
+            file = target if os.path.isabs(target) else os.path.join(os.getcwd(), target)
+            path0 = os.path.dirname(os.path.realpath(target))
+            main = _main_module(file)
+        else:
+            path0 = os.getcwd()
+            main = _main_module(None)
+        sys.path[:] = ([] if sys.flags.safe_path else [path0]) + self.base_path
+        sys.modules["__main__"] = main
+        sys.excepthook = _excepthook
+        numpy_random = sys.modules.get("numpy.random")
+        if numpy_random is not None:  # a fresh process seeds numpy's global generator afresh
+            numpy_random.seed()
+
+
+def _send(sock: socket.socket | None, message: Mapping[str, Any]) -> None:
+    if sock is None:
+        return
+    try:
+        sock.send(json.dumps(message).encode())
+    except OSError:
+        pass
+
+
+def _kill_group(pid: int) -> None:
+    for kill in (os.killpg, os.kill):
+        try:
+            kill(pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+
+
+def main(fd: int) -> Job | None:
+    """The server: import what targets need, say ready on ``fd``, serve. Returns None when it
+    should exit, or in a forked child the job to run."""
+    started = time.monotonic()
+    control = socket.socket(fileno=fd)
+    base_path = sys.path[:] if sys.flags.safe_path else sys.path[1:]
+    done = preload(PRELOAD_MODULES, PRELOAD_TYPES)
+    server = Server(control, base_path)
+    _send(control, {"ready": True, "pid": os.getpid(), "preloaded": done, "lttng_fork_hooks": server.lttng.before is not None,
+                    "seconds": round(time.monotonic() - started, 3)})
+    return server.serve()

@@ -1,0 +1,95 @@
+"""`rmw-introspect check` of several contracts forks their targets from one warm start server,
+which ends with the run; a run with one capture starts it cold; `--cold-start` asks for cold."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+WARM_PID = Path(__file__).resolve().parents[1] / "middleware" / "nodes_warm" / "warm_pid.py"
+CLI = Path(sys.executable).parent / "rmw-introspect"
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat", encoding="ascii") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except (FileNotFoundError, IndexError):
+        return False
+
+
+def _contracts(tmp_path: Path, pids: Path, names: list[str]) -> list[str]:
+    out = []
+    for name in names:
+        contract = tmp_path / f"{name}.interfaces.yaml"
+        contract.write_text(textwrap.dedent(f"""\
+            contract_version: 1
+            target:
+              script: {WARM_PID}
+              settle: 0.02
+              env: {{WARM_PID_FILE: {pids}, WARM_NODE_NAME: {name}}}
+            nodes: {{}}
+        """))
+        out.append(str(contract))
+    return out
+
+
+def _parents(pids: Path) -> list[int]:
+    return [int(line.split()[1]) for line in pids.read_text().splitlines()]
+
+
+def test_several_contracts_share_one_server_that_ends_with_the_run(tmp_path, middleware_library, monkeypatch):
+    monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(middleware_library))
+    pids = tmp_path / "pids.txt"
+    run = subprocess.run([str(CLI), "check", *_contracts(tmp_path, pids, ["first", "second", "third"])],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 1, run.stderr  # drift: the contracts list no node
+    parents = set(_parents(pids))
+    assert len(parents) == 1  # one warm start server forked all three targets
+    (server,) = parents
+    deadline = time.monotonic() + 5
+    while _alive(server) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not _alive(server)  # it ended with the run
+
+
+def test_one_capture_and_cold_start_start_cold(tmp_path, middleware_library, monkeypatch):
+    monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(middleware_library))
+    pids = tmp_path / "pids.txt"
+    contracts = _contracts(tmp_path, pids, ["only", "one", "two"])
+    single = subprocess.Popen([str(CLI), "check", contracts[0]], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    single.communicate(timeout=120)
+    cold = subprocess.Popen([str(CLI), "check", "--cold-start", *contracts[1:]], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    cold.communicate(timeout=120)
+    # a cold start's parent is the CLI process itself
+    assert _parents(pids) == [single.pid, cold.pid, cold.pid]
+
+
+def test_a_terminated_run_leaves_no_server_or_target(tmp_path, middleware_library, monkeypatch):
+    monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(middleware_library))
+    pids = tmp_path / "pids.txt"
+    contracts = _contracts(tmp_path, pids, ["hangs", "later"])
+    text = Path(contracts[0]).read_text().replace("WARM_NODE_NAME: hangs", "WARM_NODE_NAME: hangs, WARM_HANG: '1'")
+    Path(contracts[0]).write_text(text)
+    proc = subprocess.Popen([str(CLI), "check", *contracts], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        deadline = time.monotonic() + 60
+        while not (pids.exists() and pids.read_text().strip()) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        target, server = (int(x) for x in pids.read_text().split()[:2])
+        assert server != proc.pid
+        proc.terminate()
+        _out, err = proc.communicate(timeout=30)
+        assert proc.returncode == 143, err
+        deadline = time.monotonic() + 10
+        while (_alive(target) or _alive(server)) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not _alive(target) and not _alive(server)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()

@@ -1,0 +1,121 @@
+"""Helpers of the warm start tests: capture a target cold and warm, and what a comparison looks at."""
+
+from __future__ import annotations
+
+import os
+import re
+import time
+from pathlib import Path
+from typing import Any
+
+from pytest_rmw_introspect.errors import TargetError
+from pytest_rmw_introspect.model.capture import Capture
+from pytest_rmw_introspect.run import middleware, ros_env, runner, warm
+from pytest_rmw_introspect.run.target import TargetSpec
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+NODES = HERE / "nodes"
+PLUGIN_NODES = REPO / "tests" / "plugin" / "nodes"
+WARM_NODES = HERE / "nodes_warm"
+EXAMPLES = "rmw_introspect_examples"
+
+#: capture fields that measure time or name the process: they differ between any two runs
+VOLATILE = frozenset({"pid", "argv", "time_to_settle_ms", "elapsed_ms", "created_virtual_ms", "created_real_ms",
+                      "time", "activity_calls"})
+
+
+def example_executables() -> list[str]:
+    ros = ros_env.detect()
+    for prefix in ros.ament_prefixes:
+        lib = Path(prefix) / "lib" / EXAMPLES
+        if lib.is_dir():
+            return sorted(p.name for p in lib.iterdir() if p.is_file() and os.access(p, os.X_OK))
+    return []
+
+
+def scrub(value: Any) -> Any:
+    """A capture document without the fields that differ between any two runs."""
+    if isinstance(value, dict):
+        return {k: scrub(v) for k, v in value.items() if k not in VOLATILE}
+    if isinstance(value, list):
+        return [scrub(v) for v in value]
+    return value
+
+
+def interface(cap: Capture | None) -> dict[str, Any] | None:
+    """What a capture says about the program: every node and endpoint as created (names, types,
+    type hashes, type supports, QoS, creation order, destruction, ``created_in``), each node's
+    ``parameters``, ``parameters_error`` and ``lifecycle``, the contract view with
+    infrastructure, the command line, the notes and the rest of the document (``types``,
+    ``probe``, state, settle)."""
+    if cap is None:
+        return None
+    raw = scrub(dict(cap.raw))
+    entities = {"nodes": raw.pop("nodes", []), "endpoints": raw.pop("endpoints", [])}
+    return {
+        "entities": entities,
+        "contract": cap.with_infrastructure(True).to_contract_nodes(),
+        "argv": list(cap.argv),
+        "rest": raw,  # state, settle_ms, settled_by, ever_waited, ended, future fields
+        "notes": [re.sub(r"\d+(\.\d+)?", "#", note) for note in cap.notes()],  # numbers measure time
+    }
+
+
+def outcome(spec: TargetSpec, **kwargs: Any) -> dict[str, Any]:
+    """The outcome of a capture as data: the capture's :func:`interface`, or the error's kind,
+    status, the last line of stderr and the partial capture's interface. ``started`` says how."""
+    t0 = time.monotonic()
+    try:
+        cap = runner.run(spec, **kwargs)
+    except TargetError as exc:
+        partial = getattr(exc, "partial", None)
+        stderr = (getattr(exc, "stderr_tail", "") or "").strip().splitlines()
+        return {"error": type(exc).__name__, "status": getattr(exc, "status", None),
+                "stderr_last": stderr[-1] if stderr else "", "capture": interface(partial),
+                "started": exc.started, "wall": time.monotonic() - t0}
+    return {"error": None, "returncode": cap.returncode, "capture": interface(cap), "started": cap.started,
+            "start_note": cap.start_note, "wall": time.monotonic() - t0, "pid": cap.pid}
+
+
+def comparable(result: dict[str, Any]) -> dict[str, Any]:
+    return {k: v for k, v in result.items() if k not in ("started", "start_note", "wall", "pid")}
+
+
+def cold_and_warm(spec_options: dict[str, Any], base_dir: Path | None = None) -> tuple[dict, dict]:
+    """Capture the target cold, then warm (waiting for the server), with the same options."""
+    spec = TargetSpec.from_mapping(spec_options, base_dir=base_dir)
+    cold = outcome(spec.merged({"cold_start": True}))
+    warm_result = outcome(spec, warm_wait=60.0)
+    return cold, warm_result
+
+
+def server_for(spec_options: dict[str, Any] | None = None) -> warm.WarmServer:
+    """The (ready) warm start server for targets with these options."""
+    spec = TargetSpec.from_mapping(spec_options or {})
+    reason = runner.warm_up(spec, wait=60.0)
+    assert reason is None, reason
+    library = middleware.ensure_library()
+    env = runner.environment(spec, Path(library), ros_env.detect(), Path("/unused"))
+    server = warm.POOL.server(env, str(spec.cwd or os.getcwd()), wait=60.0)
+    assert isinstance(server, warm.WarmServer), server
+    return server
+
+
+def alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat", encoding="ascii") as f:
+            state = f.read().rsplit(")", 1)[1].split()[0]
+    except (FileNotFoundError, IndexError):
+        return False
+    return state != "Z"
+
+
+def wait_gone(pids: list[int], timeout: float = 10.0) -> list[int]:
+    """The pids still alive (not zombies) after up to ``timeout`` seconds."""
+    deadline = time.monotonic() + timeout
+    while True:
+        left = [p for p in pids if alive(p)]
+        if not left or time.monotonic() > deadline:
+            return left
+        time.sleep(0.05)

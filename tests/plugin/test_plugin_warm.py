@@ -1,0 +1,230 @@
+"""Warm starts in pytest sessions (issue 12): captures start warm, one server per session or
+xdist worker; the option and ini value ask for cold starts; the next contract item captures
+ahead; no server or target outlives the session, also when pytest is interrupted or terminated
+or an xdist worker is killed."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+WARM_NODES = Path(__file__).resolve().parents[1] / "middleware" / "nodes_warm"
+
+#: each test records how it was started and which servers its process had (for the outer test)
+RECORDING_TESTS = """
+import os
+from pytest_rmw_introspect.run import warm
+
+def record(cap):
+    servers = " ".join(str(s.pid) for s in warm.POOL.servers())
+    with open("record.txt", "a") as f:
+        f.write(f"{os.getpid()} {cap.started} {cap.start_note} servers={servers}\\n")
+
+@pytest.mark.parametrize("ns", ["/a", "/b", "/c", "/d"])
+def test_capture(ns, rmw_capture):
+    cap = rmw_capture(script=NODES + "/talker.py", namespace=ns, settle=0.02)
+    assert cap.node_names == [ns + "/talker"]
+    record(cap)
+
+@pytest.mark.interfaces("contracts/talker.yaml", script=NODES + "/talker.py", settle=0.02)
+def test_marker(interfaces):
+    record(interfaces)
+"""
+
+
+def _records(project) -> list[list[str]]:
+    return [line.split(" ", 2) for line in project.read("record.txt").splitlines()]
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat", encoding="ascii") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except (FileNotFoundError, IndexError):
+        return False
+
+
+def _gone(pids, timeout: float = 10.0) -> list[int]:
+    deadline = time.monotonic() + timeout
+    while any(_alive(p) for p in pids) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return [p for p in pids if _alive(p)]
+
+
+def _server_pids(records) -> set[int]:
+    return {int(p) for r in records for p in r[2].split("servers=")[1].split()}
+
+
+@pytest.mark.parametrize("workers", [[], ["-n", "2"]], ids=["serial", "xdist"])
+def test_captures_start_warm_and_the_servers_end_with_the_session(project, workers):
+    project.test(RECORDING_TESTS)
+    result = project.run("--update-golden", *workers)
+    result.assert_outcomes(passed=5)
+    records = _records(project)
+    assert len(records) == 5
+    assert all(how == "warm" for _pid, how, _rest in records), records
+    per_process: dict[str, set[int]] = {}
+    for pid, _how, rest in records:
+        per_process.setdefault(pid, set()).update(int(p) for p in rest.split("servers=")[1].split())
+    assert all(len(servers) == 1 for servers in per_process.values()), per_process  # one per worker
+    assert _gone(_server_pids(records)) == []
+
+
+@pytest.mark.parametrize("how", ["option", "ini"])
+def test_cold_starts_on_request(project, how):
+    project.test(RECORDING_TESTS)
+    if how == "ini":
+        project.pytester.makeini("[pytest]\nrmw_introspect_cold_start = true\n")
+    result = project.run("--update-golden", *(["--rmw-introspect-cold-start"] if how == "option" else []))
+    result.assert_outcomes(passed=5)
+    records = _records(project)
+    assert {(how_, rest.split(" servers=")[0]) for _pid, how_, rest in records} == {
+        ("cold", "cold_start asked for it")}
+    assert _server_pids(records) == set()  # no server was started at all
+
+
+def test_a_marker_can_ask_for_a_cold_start(project):
+    project.test("""
+        @pytest.mark.interfaces("contracts/talker.yaml", script=NODES + "/talker.py", cold_start=True)
+        def test_marker(interfaces):
+            assert (interfaces.started, interfaces.start_note) == ("cold", "cold_start asked for it")
+
+        def test_fixture(rmw_capture):
+            assert rmw_capture(script=NODES + "/talker.py").started == "warm"
+    """)
+    project.run("--update-golden").assert_outcomes(passed=2)
+
+
+HANGING_TEST = f"""
+def test_hangs(rmw_capture):
+    rmw_capture(script={str(WARM_NODES / 'warm_pid.py')!r}, timeout=120,
+                env={{"WARM_PID_FILE": "pids.txt", "WARM_HANG": "1"}})
+"""
+
+
+def _start_pytest(project, *args: str) -> subprocess.Popen:
+    env = dict(os.environ)
+    return subprocess.Popen([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-q", *args],
+                            cwd=project.path, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            start_new_session=True)
+
+
+def _wait_for_target(project, proc: subprocess.Popen) -> tuple[int, int]:
+    pids = project.path / "pids.txt"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        if pids.exists() and pids.read_text().strip():
+            target, server = pids.read_text().split()[:2]
+            return int(target), int(server)
+        assert proc.poll() is None, proc.communicate()[0].decode(errors="replace")
+        time.sleep(0.05)
+    raise AssertionError("the target never started")
+
+
+def _parent(pid: int) -> int:
+    with open(f"/proc/{pid}/status", encoding="ascii") as f:
+        return int(next(line for line in f if line.startswith("PPid:")).split()[1])
+
+
+#: the slow node sleeps this long before it initializes ROS: a capture of it takes at least this
+SLOW = 2.0
+
+
+def _slow_contracts(project) -> None:
+    for name in ("first", "second", "third"):
+        project.write(f"contracts/{name}.interfaces.yaml", f"""\
+            contract_version: 1
+            target:
+              script: {WARM_NODES / 'warm_slow_start.py'}
+              settle: 0.02
+              env: {{WARM_TIMES_FILE: {project.path / 'times.txt'}, WARM_NODE_NAME: {name}, WARM_SLEEP: '{SLOW}'}}
+            nodes: {{}}
+        """)
+
+
+def _starts(project) -> list[float]:
+    lines = [line.split() for line in project.read("times.txt").splitlines()]
+    return [float(t) for _name, _start, t in sorted(lines, key=lambda parts: parts[0])]
+
+
+@pytest.mark.parametrize("ahead", [True, False], ids=["ahead", "one-at-a-time"])
+def test_the_next_contract_item_captures_while_the_current_one_runs(project, ahead):
+    _slow_contracts(project)
+    result = project.run("--update-golden", *([] if ahead else ["--rmw-introspect-no-capture-ahead"]))
+    result.assert_outcomes(passed=3)
+    first, second, third = _starts(project)
+    if ahead:  # second's capture started with first's item, before first's could have ended
+        assert abs(second - first) < SLOW
+    else:
+        assert second - first >= SLOW and third - second >= SLOW
+    # the captures are the items' own: each contract got its node
+    for name in ("first", "second", "third"):
+        assert f"/{name}:" in project.read(f"contracts/{name}.interfaces.yaml")
+    project.run().assert_outcomes(passed=3)  # and they match again, captured ahead
+
+
+def test_capture_ahead_is_an_ini_value_too(project):
+    _slow_contracts(project)
+    project.pytester.makeini("[pytest]\nrmw_introspect_capture_ahead = false\n")
+    project.run("--update-golden").assert_outcomes(passed=3)
+    first, second, third = _starts(project)
+    assert second - first >= SLOW and third - second >= SLOW
+
+
+@pytest.mark.parametrize("workers", [[], ["-n", "2"]], ids=["serial", "xdist"])
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_nothing_outlives_an_interrupted_pytest(project, workers, sig):
+    project.test(HANGING_TEST)
+    proc = _start_pytest(project, *workers)
+    try:
+        target, server = _wait_for_target(project, proc)
+        runner = _parent(server)
+        assert runner != os.getpid() and _alive(runner)
+        # SIGINT: Ctrl-C, the terminal signals the whole foreground group; SIGTERM: a CI job's
+        # runner stopping the job's process group
+        os.killpg(proc.pid, sig)
+        proc.wait(60)
+        assert _gone([target, server]) == []
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+@pytest.mark.parametrize("workers", [[], ["-n", "2"]], ids=["serial", "xdist"])
+def test_nothing_outlives_pytest_terminated_alone(project, workers):
+    """SIGTERM to the pytest process only (not its group): its xdist workers, their servers and
+    the targets end with it."""
+    project.test(HANGING_TEST)
+    proc = _start_pytest(project, *workers)
+    try:
+        target, server = _wait_for_target(project, proc)
+        runner = _parent(server)
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(60)
+        assert _gone([target, server, runner]) == []
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+def test_nothing_outlives_a_killed_xdist_worker(project):
+    project.test(HANGING_TEST)
+    proc = _start_pytest(project, "-n", "2")
+    try:
+        target, server = _wait_for_target(project, proc)
+        worker = _parent(server)
+        assert worker != proc.pid
+        os.kill(worker, signal.SIGKILL)
+        assert _gone([target, server]) == []
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()

@@ -56,6 +56,7 @@ from .vocabulary import (
     LOGGER_SERVICES,
     PARAMETER_SERVICES,
     PARAMETERS,
+    TRANSITION_FROM_STATE,
 )
 
 FORMAT = "rmw_introspect_capture"
@@ -487,6 +488,21 @@ class Capture:
             if node.lifecycle is not None and node.lifecycle.error:
                 notes.append(f"lifecycle: {node.lifecycle.error}")
         return notes
+
+    def failed_transitions(self) -> list[tuple[str, str, str, str]]:
+        """The lifecycle transitions the middleware drove that did not succeed: ``(node, transition,
+        what was recorded, the state the node stays in)`` per node (the driving stops there)."""
+        out = []
+        for node in self:
+            lifecycle = node.lifecycle
+            failed = lifecycle.failed_transition if lifecycle is not None else None
+            if lifecycle is None or failed is None:
+                continue
+            recorded = lifecycle.error or f"change_state {failed.result}"
+            prefix = f"transition {failed.label} of {node.fqn} failed: "
+            out.append((node.fqn, failed.label, recorded.removeprefix(prefix),
+                        TRANSITION_FROM_STATE.get(failed.label, "none")))
+        return out
 
     def endpoints(self, *, include_destroyed: bool = False) -> list[Endpoint]:
         """All raw endpoints (infrastructure included), by creation order."""

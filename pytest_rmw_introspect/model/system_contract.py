@@ -9,7 +9,7 @@
       file: robot.launch.xml         # (or `path: launch/robot.launch.xml`, relative to this file)
       arguments: {use_lidar: "true"}
       allow_unsupported: false       # true: capture what the launch reader supports, note the rest
-    target: {timeout: 30}            # optional: settle, timeout, horizon, env for every process
+    target: {timeout: 30}            # optional: settle, timeout, horizon, lifecycle, read_parameters, env
     options: {fail_on: any, system_fail_on: breaking}
     processes:                       # every process the launch file starts, in launch order
       - package: my_robot_bringup

@@ -134,8 +134,10 @@ LIFECYCLE_UNKNOWN = "unknown"
 #: leaves them alone). The default is ``active``.
 LIFECYCLE_TARGETS: tuple[str, ...] = ("active", "inactive", "unconfigured", "none")
 DEFAULT_LIFECYCLE_TARGET = "active"
-#: The transitions the middleware drives, in order; a parameter's ``declared_in`` is one of them.
-LIFECYCLE_TRANSITIONS: tuple[str, ...] = ("configure", "activate")
+#: The transitions the middleware drives, in order, each with the state it starts from; a
+#: parameter's ``declared_in`` is one of them.
+TRANSITION_FROM_STATE: dict[str, str] = {"configure": "unconfigured", "activate": "inactive"}
+LIFECYCLE_TRANSITIONS: tuple[str, ...] = tuple(TRANSITION_FROM_STATE)
 
 
 class Severity(enum.IntEnum):

@@ -6,7 +6,13 @@ captures never collide, not even under pytest-xdist), ``RMW_INTROSPECT_EXIT=1`` 
 middleware ends the process with status 0 as soon as its interfaces settled) and
 ``RMW_INTROSPECT_SETTLE_MS`` from the target's ``settle`` and ``RMW_INTROSPECT_HORIZON_MS``
 from its ``horizon`` (virtual time: after the first settle the middleware advances the node's
-clock through every timed wait, up to that age, then settles again).
+clock through every timed wait, up to that age, then settles again), ``RMW_INTROSPECT_LIFECYCLE``
+from its ``lifecycle`` and ``RMW_INTROSPECT_PARAMETERS`` from its ``read_parameters`` (after the
+first settle the middleware reads every node's parameters and drives lifecycle nodes).
+
+A lifecycle node whose transition failed (its callback returned FAILURE or ERROR, or raised)
+is a :class:`~pytest_rmw_introspect.errors.LifecycleTransitionFailed`: the capture would show
+the node in a state the target did not ask for.
 
 What counts as a capture:
 
@@ -46,6 +52,7 @@ from typing import Any
 from ..errors import (
     CaptureFormatError,
     ExecutableNotFound,
+    LifecycleTransitionFailed,
     NoNodeCreated,
     TargetExited,
     TargetTimeout,
@@ -130,6 +137,8 @@ def environment(
     env["RMW_INTROSPECT_AUTO_EXPORT"] = "1"
     env["RMW_INTROSPECT_SETTLE_MS"] = str(max(0, round(spec.effective_settle() * 1000)))
     env["RMW_INTROSPECT_HORIZON_MS"] = str(max(0, round(spec.effective_horizon() * 1000)))
+    env["RMW_INTROSPECT_LIFECYCLE"] = spec.effective_lifecycle()
+    env["RMW_INTROSPECT_PARAMETERS"] = "1" if spec.effective_read_parameters() else "0"
     env.setdefault("PYTHONUNBUFFERED", "1")
     return env
 
@@ -228,6 +237,10 @@ def run(
         captured.path = output if keep_files else None
         captured.other_processes = others
         captured.from_child = from_child
+        failures = captured.failed_transitions()
+        if failures:
+            raise LifecycleTransitionFailed(describe, failures, wanted=spec.effective_lifecycle(), partial=captured,
+                                            stderr_tail=stderr, argv=argv)
         return captured
     finally:
         if not keep_files:

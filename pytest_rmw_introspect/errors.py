@@ -262,13 +262,16 @@ class LifecycleTransitionFailed(_WithPartialCapture):
         parts = []
         for node, transition, recorded, _instead in self.failures:
             parts.append(
-                f"{where}lifecycle node {node} of the target {target} failed its {transition} transition "
-                f"({recorded}), so it cannot be captured {wanted} as the target asks (`lifecycle: {wanted}`)."
+                f"{where}lifecycle node {node} of the target {target} failed its {transition} transition: "
+                f"{recorded}. It cannot be captured {wanted} as the target asks (`lifecycle: {wanted}`)."
             )
         _node, first_transition, _recorded, first_instead = self.failures[0]
         block = f"the `target:` block of {contract}" if contract else "the target options"
+        stderr_note = ("its stderr is below" if self.stderr_tail else
+                       "it wrote nothing to stderr; rclpy turns an exception raised in a transition callback "
+                       "into ERROR without logging it")
         parts.append(
-            f"What to do: fix the node's on_{first_transition} (its stderr is below), or capture it in the state "
+            f"What to do: fix the node's on_{first_transition} ({stderr_note}), or capture it in the state "
             f"it does reach: set `lifecycle: {first_instead}` in {block} (marker keyword lifecycle=\"{first_instead}\", "
             f"--lifecycle {first_instead}, --rmw-introspect-lifecycle {first_instead}), or `lifecycle: none` to "
             "leave lifecycle nodes alone."

@@ -407,8 +407,7 @@ def _with_type_items(
 
 
 def _node_presence_items(node: str, expected: _Index, actual: _Index) -> list[DriftItem]:
-    """A node added or removed, followed by each of its interfaces (its parameters come from
-    :func:`_parameter_and_lifecycle_items`)."""
+    """A node added or removed, followed by each of its interfaces."""
     change, side = ("added", actual) if node in actual else ("removed", expected)
     node_entry = {kind: [i.original for i in side[node][kind].values()] for kind in LISTS}
     items = [_presence_item(node, "node", node, change, node_entry)]
@@ -420,20 +419,16 @@ def _node_presence_items(node: str, expected: _Index, actual: _Index) -> list[Dr
 
 def _parameter_and_lifecycle_items(expected_nodes: Mapping, actual_nodes: Mapping,
                                    options: ComparisonOptions) -> list[DriftItem]:
-    """``compare.parameter_drift`` on every node: parameters and lifecycle of the nodes both
-    sides have, and the parameters of a node added or removed."""
-    changes: list[tuple[str, parameter_drift.Change]] = []
-    for node in sorted(set(expected_nodes) | set(actual_nodes)):
-        old, new = expected_nodes.get(node), actual_nodes.get(node)
-        if old is not None and new is not None:
-            changes += [(node, c) for c in parameter_drift.compare_lifecycle(node, old, new)]
-            changes += [(node, c) for c in parameter_drift.compare_parameters(node, old, new, options)]
-        elif options.ignore_parameters is not True:
-            side, judge = (old, parameter_drift.removed) if new is None else (new, parameter_drift.added)
-            for entry in (side or {}).get(PARAMETERS) or []:
-                if not options.ignores_parameter(str(entry.get("name"))):
-                    changes.append((node, judge(str(entry.get("name")), entry)))
-    return [_item(node, c.kind, c.name, c.change, c.old, c.new, c.rule, c.message) for node, c in changes]
+    """``compare.parameter_drift`` on the nodes both sides have. The parameters of a node added
+    or removed are not items of their own: they have no peers, and setting them goes with
+    launching the node (consequences of a bigger change are not separate drift)."""
+    items = []
+    for node in sorted(set(expected_nodes) & set(actual_nodes)):
+        old, new = expected_nodes[node] or {}, actual_nodes[node] or {}
+        changes = [*parameter_drift.compare_lifecycle(node, old, new),
+                   *parameter_drift.compare_parameters(node, old, new, options)]
+        items += [_item(node, c.kind, c.name, c.change, c.old, c.new, c.rule, c.message) for c in changes]
+    return items
 
 
 _PRESENCE_MESSAGES: dict[str, str] = {

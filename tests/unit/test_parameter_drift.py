@@ -121,11 +121,9 @@ def test_no_rename_across_types_or_when_ambiguous():
     assert sorted(i.rule for i in items) == ["PARAM_ADDED", "PARAM_REMOVED"]
 
 
-def test_parameters_of_added_and_removed_nodes_are_judged():
-    items = compare({}, {"/n": node(p("frame", "string", None))})
-    assert [(i.kind, i.rule) for i in items] == [("parameters", "PARAM_ADDED_WITHOUT_VALUE"), ("node", "NODE_ADDED")]
-    items = compare({"/n": node(p())}, {})
-    assert {(i.kind, i.rule) for i in items} == {("node", "NODE_REMOVED"), ("parameters", "PARAM_REMOVED")}
+def test_parameters_of_added_and_removed_nodes_go_with_the_node():
+    assert [i.rule for i in compare({}, {"/n": node(p("frame", "string", None), lifecycle="active")})] == ["NODE_ADDED"]
+    assert [i.rule for i in compare({"/n": node(p())}, {})] == ["NODE_REMOVED"]
 
 
 def test_parameters_not_stated_are_not_compared():

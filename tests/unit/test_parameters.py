@@ -382,3 +382,27 @@ def test_preserve_spelling_keeps_a_left_out_default_value_and_adds_missing_param
 ])
 def test_same_value(a, b, same):
     assert parameter_model.same_value(a, b) is same
+
+
+# ---------------------------------------------------------------------------- NoDL export
+
+
+def test_nodl_export_has_parameters_in_nodl_spelling_and_the_lifecycle_base(params_node, managed):
+    from pytest_rmw_introspect.cli.formats import nodl_documents
+
+    text = nodl_documents(params_node.capture(), raw=False)
+    assert "# parameter blob (byte_array) left out: NoDL v2 has no such type\n" in text
+    (doc,) = yaml.safe_load_all(text)
+    assert "base" not in doc
+    params = doc["parameters"]
+    assert params["count"] == {"type": "int", "default_value": 64, "description": "how many"}
+    assert params["ids"]["type"] == "int_array"
+    assert params["frame"] == {"type": "string", "default_value": "odom", "description": "TF frame", "read_only": True}
+    assert params["gain"]["additional_constraints"] == "tuned on the robot"
+    assert params["typed_only"] == {"type": "string"}
+    assert "use_sim_time" not in params and "blob" not in params
+    raw = next(yaml.safe_load_all(nodl_documents(params_node.capture(), raw=True)))
+    assert "use_sim_time" in raw["parameters"]  # raw: the infrastructure ones too
+    (managed_doc,) = yaml.safe_load_all(nodl_documents(managed.capture(), raw=False))
+    assert managed_doc["base"] == "lifecycle_node"
+    assert list(managed_doc)[:3] == ["nodl_version", "base", "parameters"]

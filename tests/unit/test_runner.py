@@ -322,8 +322,8 @@ def test_a_failed_lifecycle_transition_fails_the_capture_and_says_what_to_do(tmp
                                "FAILURE or ERROR, or raised); state now unconfigured", "unconfigured")]
     text = str(error)
     assert "lifecycle node /fake of the target script" in text
-    assert "failed its configure transition (change_state answered success=false" in text
-    assert "cannot be captured active as the target asks (`lifecycle: active`)" in text
+    assert "failed its configure transition: change_state answered success=false" in text
+    assert "state now unconfigured. It cannot be captured active as the target asks (`lifecycle: active`)" in text
     assert "fix the node's on_configure" in text and "set `lifecycle: unconfigured` in the target options" in text
     assert "RuntimeError: cannot configure" in text  # its stderr
     assert error.partial is not None and error.partial["/fake"].lifecycle.state == "unconfigured"

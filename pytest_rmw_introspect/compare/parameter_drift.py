@@ -299,12 +299,16 @@ def keep_ignored(expected_nodes: Mapping[str, Any] | None, actual_nodes: Mapping
     """``actual_nodes`` (what a golden is written from) with the ignored parameters as the
     contract has them: ``ignore_parameters: true`` keeps the node's ``parameters`` as written
     (none when it has none), ignored names keep their entries (or are left out), and
-    ``ignore_parameter_values`` keeps the written ``default_value`` (or leaves it out)."""
+    ``ignore_parameter_values`` keeps the written ``default_value`` (or leaves it out). A node
+    whose parameters the capture could not read keeps the contract's too (the capture does not
+    say they are gone; ``PARAMS_NOT_READ`` stays until they can be read or are ignored)."""
     out: dict[str, Any] = {}
     for fqn, node in actual_nodes.items():
         node = dict(node)
         old_node = (expected_nodes or {}).get(fqn) or {}
-        if options.ignore_parameters is True:
+        if PARAMETERS not in node and PARAMETERS in old_node:
+            node[PARAMETERS] = [dict(e) for e in old_node[PARAMETERS]]
+        elif options.ignore_parameters is True:
             node.pop(PARAMETERS, None)
             if PARAMETERS in old_node:
                 node[PARAMETERS] = [dict(e) for e in old_node[PARAMETERS]]

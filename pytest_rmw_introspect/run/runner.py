@@ -310,7 +310,8 @@ def capture(
     Give the target as keyword arguments (the keys of :mod:`pytest_rmw_introspect.run.target`:
     ``package``/``executable``, ``command``, ``script``, ``module``, ``arguments``,
     ``namespace``, ``node_name``, ``remappings``, ``parameters``, ``params_file``, ``env``,
-    ``cwd``, ``settle``, ``timeout``), as a mapping, or as a :class:`TargetSpec`; keyword
+    ``cwd``, ``settle``, ``timeout``, ``horizon``, ``lifecycle``, ``read_parameters``), as a
+    mapping, or as a :class:`TargetSpec`; keyword
     arguments override the mapping. Relative paths are relative to ``base_dir`` (default:
     the current directory).
 
@@ -319,7 +320,9 @@ def capture(
     '/robot1/chatter'
 
     Raises :class:`~pytest_rmw_introspect.errors.SetupError` when ROS 2 or the middleware is
-    missing and a :class:`~pytest_rmw_introspect.errors.TargetError` when the target fails.
+    missing and a :class:`~pytest_rmw_introspect.errors.TargetError` when the target fails (a
+    :class:`~pytest_rmw_introspect.errors.LifecycleTransitionFailed` when a lifecycle node
+    fails a transition the capture drives).
     """
     base = Path(base_dir) if base_dir is not None else Path.cwd()
     if isinstance(target, TargetSpec):

@@ -254,6 +254,11 @@ def test_golden_keeps_ignored_parameters_as_the_contract_has_them():
     assert "parameters" not in everything["/new"]
 
 
+def test_golden_keeps_parameters_the_capture_could_not_read():
+    contract = {"/n": node(p())}
+    assert parameter_drift.keep_ignored(contract, {"/n": dict(EMPTY_LISTS)}, ComparisonOptions()) == contract
+
+
 def test_gains_lists_what_an_update_adds():
     assert parameter_drift.gains({"/n": dict(EMPTY_LISTS), "/m": node()},
                                  {"/n": node(lifecycle="active"), "/m": node(), "/new": node()}) == [

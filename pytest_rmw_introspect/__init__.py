@@ -39,6 +39,7 @@ if TYPE_CHECKING:
         CaptureFormatError,
         ContractError,
         ExecutableNotFound,
+        LifecycleTransitionFailed,
         NoNodeCreated,
         RmwIntrospectError,
         SetupError,
@@ -50,6 +51,7 @@ if TYPE_CHECKING:
     from .model.capture import Capture, Endpoint, Interface, Node, RawNode, VirtualTime
     from .model.contract import Contract
     from .model.contract import load as load_contract
+    from .model.parameters import Lifecycle, Parameter, ParameterRange, Probe, Transition
     from .model.types import Constant, Field, MessageType, ServiceType
     from .model.vocabulary import Severity
     from .plugin.assertions import check_compatible
@@ -75,13 +77,15 @@ _LAZY: dict[str, tuple[str, str]] = {
     "VirtualTime": ("model.capture", "VirtualTime"),
     "Contract": ("model.contract", "Contract"),
     "load_contract": ("model.contract", "load"),
+    **{name: ("model.parameters", name) for name in ("Lifecycle", "Parameter", "ParameterRange", "Probe", "Transition")},
     **{name: ("model.types", name) for name in ("Constant", "Field", "MessageType", "ServiceType")},
     "Severity": ("model.vocabulary", "Severity"),
     "check_compatible": ("plugin.assertions", "check_compatible"),
     "capture": ("run.runner", "capture"),
     "TargetSpec": ("run.target", "TargetSpec"),
     **{name: ("errors", name) for name in (
-        "CaptureFormatError", "ContractError", "ExecutableNotFound", "NoNodeCreated", "RmwIntrospectError",
+        "CaptureFormatError", "ContractError", "ExecutableNotFound", "LifecycleTransitionFailed", "NoNodeCreated",
+        "RmwIntrospectError",
         "SetupError", "TargetConfigError", "TargetError", "TargetExited", "TargetTimeout")},
 }
 
@@ -113,9 +117,14 @@ __all__ = [
     "ExecutableNotFound",
     "Field",
     "Interface",
+    "Lifecycle",
+    "LifecycleTransitionFailed",
     "MessageType",
     "NoNodeCreated",
     "Node",
+    "Parameter",
+    "ParameterRange",
+    "Probe",
     "RawNode",
     "RmwIntrospectError",
     "Severity",
@@ -127,6 +136,7 @@ __all__ = [
     "TargetExited",
     "TargetSpec",
     "TargetTimeout",
+    "Transition",
     "VirtualTime",
     "__version__",
     "capture",

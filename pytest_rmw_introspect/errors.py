@@ -15,7 +15,8 @@ Hierarchy::
         ├── ExecutableNotFound  package/executable/script not found
         ├── TargetExited        the process exited non-zero before settling
         ├── NoNodeCreated       the process created no ROS node
-        └── TargetTimeout       the process never settled within the timeout
+        ├── TargetTimeout       the process never settled within the timeout
+        └── LifecycleTransitionFailed  a lifecycle node's transition failed or raised
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ __all__ = [
     "CaptureFormatError",
     "ContractError",
     "ExecutableNotFound",
+    "LifecycleTransitionFailed",
     "NoNodeCreated",
     "RmwIntrospectError",
     "SetupError",
@@ -233,6 +235,64 @@ class TargetTimeout(_WithPartialCapture):
         super().__init__("\n".join(parts), target=target)
 
 
+class LifecycleTransitionFailed(_WithPartialCapture):
+    """A lifecycle node of the target failed a transition the middleware drove (its callback
+    returned FAILURE or ERROR, raised, or never answered): the capture shows it in a state the
+    target did not ask for, so it is not compared.
+
+    ``failures``: ``(node, transition, what the middleware recorded, the state to capture it in
+    instead)`` per failed node; ``contract``: the contract being checked, when there is one.
+    """
+
+    def __init__(
+        self,
+        target: str,
+        failures: Sequence[tuple[str, str, str, str]],
+        *,
+        wanted: str,
+        partial: Any = None,
+        stderr_tail: str = "",
+        argv: Sequence[str] = (),
+        contract: str | None = None,
+    ) -> None:
+        self.failures = [(node, transition, recorded, instead) for node, transition, recorded, instead in failures]
+        self.wanted = wanted
+        self.partial = partial
+        self.stderr_tail = _tail(stderr_tail)
+        self.argv = list(argv)
+        self.contract = contract
+        where = f"{contract}: " if contract else ""
+        parts = []
+        for node, transition, recorded, _instead in self.failures:
+            parts.append(
+                f"{where}lifecycle node {node} of the target {target} failed its {transition} transition: "
+                f"{recorded}. It cannot be captured {wanted} as the target asks (`lifecycle: {wanted}`)."
+            )
+        _node, first_transition, _recorded, first_instead = self.failures[0]
+        block = f"the `target:` block of {contract}" if contract else "the target options"
+        stderr_note = ("its stderr is below" if self.stderr_tail else
+                       "it wrote nothing to stderr; rclpy turns an exception raised in a transition callback "
+                       "into ERROR without logging it")
+        parts.append(
+            f"What to do: fix the node's on_{first_transition} ({stderr_note}), or capture it in the state "
+            f"it does reach: set `lifecycle: {first_instead}` in {block} (marker keyword lifecycle=\"{first_instead}\", "
+            f"--lifecycle {first_instead}, --rmw-introspect-lifecycle {first_instead}), or `lifecycle: none` to "
+            "leave lifecycle nodes alone."
+        )
+        if self.argv:
+            parts.append("Command: " + " ".join(self.argv))
+        if self.stderr_tail:
+            parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
+        parts.append(self._partial_summary())
+        self._target = target
+        super().__init__("\n".join(parts), target=target)
+
+    def naming_contract(self, contract: str) -> LifecycleTransitionFailed:
+        """The same error, saying which contract was being checked."""
+        return LifecycleTransitionFailed(self._target, self.failures, wanted=self.wanted, partial=self.partial,
+                                         stderr_tail=self.stderr_tail, argv=self.argv, contract=contract)
+
+
 def diagnose_unsettled(partial: Any) -> str:
     """Why a capture did not settle, told from the last snapshot the middleware wrote, and what to do."""
     if partial is None:
@@ -246,7 +306,7 @@ def diagnose_unsettled(partial: Any) -> str:
         return (
             f"It settled after {partial.time_to_settle_ms or 0:.0f} ms, then never finished answering the "
             "middleware's questions (its parameter services, or a lifecycle transition that never settled). "
-            "Set `lifecycle: none` or `parameters: false` on the target to capture it without them, or raise "
+            "Set `lifecycle: none` or `read_parameters: false` on the target to capture it without them, or raise "
             "`timeout` if a transition is only slow."
         )
     if partial.state == "warping":

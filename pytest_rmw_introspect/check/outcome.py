@@ -57,6 +57,8 @@ class Checked(Protocol):
     @property
     def drifted(self) -> bool: ...
     @property
+    def gains(self) -> list[str]: ...
+    @property
     def failed(self) -> bool: ...
     def to_json(self) -> list[dict[str, Any]]: ...
     def render_text(self, accept_command: str | None = None) -> str: ...
@@ -104,11 +106,14 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None) 
             + textwrap.indent(result.capture.summary(), "  "),
             json=items,
         )
-    if not result.items:
+    gains = result.gains
+    if not result.items and not (update and gains):
         nodes = ", ".join(sorted(result.contract.nodes)) or "no nodes"
-        return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes})")
+        hint = (f"; it does not state {', '.join(gains)} yet: {accept_command} adds them"
+                if gains and accept_command else "")
+        return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}){hint}")
     if update and result.drifted:
-        text = result.render_text()
+        text = result.render_text() if result.items else f"{result.shown}: adds {', '.join(gains)}\n"
         return Outcome(Verdict.WRITE, text, report=text, json=items)
     # a system check can find problems without drift: nothing to accept then
     text = result.render_text(accept_command=accept_command if result.drifted else None)

@@ -21,18 +21,19 @@ anything; :func:`check_system` runs the system check over contract files.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeAlias
 
-from ..compare import drift, report, system
+from ..compare import drift, parameter_drift, report, system
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions, resolve
 from ..compare.system import CompatItem
-from ..errors import RmwIntrospectError, TargetConfigError
+from ..errors import LifecycleTransitionFailed, RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
 from ..model import types as type_model
 from ..model.capture import Capture
@@ -124,7 +125,15 @@ def prepare(
     spec = layers.target(contract, path=path, shown=shown)
     if spec.kind is None:
         raise TargetConfigError(no_target(contract, shown))
-    return Prepared(path=path, shown=shown, contract=contract, spec=spec, options=options)
+    return Prepared(path=path, shown=shown, contract=contract, spec=spec, options=read_as_asked(spec, options))
+
+
+def read_as_asked(spec: TargetSpec, options: ComparisonOptions) -> ComparisonOptions:
+    """``options`` for a capture of ``spec``: parameters a target does not read
+    (``read_parameters: false``) cannot be compared, and stay as the contract has them."""
+    if spec.effective_read_parameters():
+        return options
+    return dataclasses.replace(options, ignore_parameters=True)
 
 
 # ---------------------------------------------------------------------------- result
@@ -159,7 +168,17 @@ class CheckResult:
 
     @property
     def drifted(self) -> bool:
-        return bool(self.items)
+        """The golden differs from what updating would write: drift, or sections the contract
+        does not state yet (:attr:`gains`)."""
+        return bool(self.items) or bool(self.gains)
+
+    @property
+    def gains(self) -> list[str]:
+        """What updating would add to a contract that matches but does not state it yet (the
+        parameters and lifecycle states of nodes written before they were recorded)."""
+        if self.contract is None or self.capture is None or self.error is not None:
+            return []
+        return parameter_drift.gains(self.contract.nodes, self.golden_nodes())
 
     @property
     def failed(self) -> bool:
@@ -167,11 +186,13 @@ class CheckResult:
         return self.error is not None or self.missing or report.fails(self.items, self.threshold)
 
     def golden_nodes(self) -> dict[str, Any]:
-        """The ``nodes`` to write when accepting the capture as the new contract."""
+        """The ``nodes`` to write when accepting the capture as the new contract (ignored
+        parameters as the contract has them)."""
         assert self.capture is not None, "no capture to accept"
         opts = self.options
-        return self.capture.to_contract_nodes(with_type_hash=not opts.ignore_type_hash,
-                                              with_qos=not opts.ignores_all_qos)
+        nodes = self.capture.to_contract_nodes(with_type_hash=not opts.ignore_type_hash,
+                                               with_qos=not opts.ignores_all_qos)
+        return parameter_drift.keep_ignored(self.contract.nodes if self.contract is not None else None, nodes, opts)
 
     def golden_types(self) -> dict[str, type_model.TypeDescription] | None:
         """The ``types:`` section to write with the golden: when ``include_types`` is on or the
@@ -232,9 +253,13 @@ def compare(prepared: Prepared, capture: Capture) -> CheckResult:
 
 def run_capture(prepared: Prepared, *, library: str | Path | None = None,
                 ros: RosEnvironment | None = None) -> Capture:
-    """Capture the prepared target (raises a TargetError)."""
-    return runner.run(prepared.spec, library=library, ros=ros,
-                      include_infrastructure=prepared.options.include_infrastructure)
+    """Capture the prepared target (raises a TargetError; a failed lifecycle transition names
+    the contract)."""
+    try:
+        return runner.run(prepared.spec, library=library, ros=ros,
+                          include_infrastructure=prepared.options.include_infrastructure)
+    except LifecycleTransitionFailed as exc:
+        raise exc.naming_contract(prepared.shown) from None
 
 
 def run(prepared: Prepared, *, library: str | Path | None = None, ros: RosEnvironment | None = None) -> CheckResult:

@@ -3,7 +3,7 @@
 The same steps as ``pipeline`` for a node contract, and the same option layers
 (``pipeline.Layers``): load the system contract (``model.system_contract``), resolve its
 ``launch:`` block, the process-wide target options (``settle``, ``timeout``, ``horizon``,
-``env``) and the comparison options, capture every process (``run.system.capture_system``),
+``lifecycle``, ``read_parameters``, ``env``) and the comparison options, capture every process (``run.system.capture_system``),
 then
 
 * compare the system's nodes with the contract's ``nodes`` (``compare.drift``: the drift rules
@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import drift, report
+from ..compare import drift, parameter_drift, report
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions
@@ -45,7 +45,7 @@ from ..run.ros_env import RosEnvironment
 from ..run.system import LaunchSpec, SystemCapture
 from ..run.target import TargetSpec
 from . import golden
-from .pipeline import Layers, OptionLayer
+from .pipeline import Layers, OptionLayer, read_as_asked
 
 #: the system rules fail on this unless ``system_fail_on`` says otherwise (as ``compat``)
 DEFAULT_SYSTEM_FAIL_ON = "breaking"
@@ -120,7 +120,8 @@ def prepare(
     env = ros() if callable(ros) else ros
     spec = run_system.resolve_launch(block, base_dir=base, source=source,
                                      prefixes=run_system.ament_prefixes(env))
-    return SystemPrepared(path=path, shown=shown, contract=contract, launch=spec, target=target, options=options,
+    return SystemPrepared(path=path, shown=shown, contract=contract, launch=spec, target=target,
+                          options=read_as_asked(target, options),
                           system_threshold=system_threshold(contract, system_fail_on))
 
 
@@ -174,7 +175,14 @@ class SystemCheckResult:
 
     @property
     def drifted(self) -> bool:
-        return bool(self.drift_items)
+        return bool(self.drift_items) or bool(self.gains)
+
+    @property
+    def gains(self) -> list[str]:
+        """What updating would add to a contract that does not state it yet (``parameter_drift.gains``)."""
+        if self.contract is None or self.capture is None or self.error is not None:
+            return []
+        return parameter_drift.gains(self.contract.nodes, self.golden_nodes())
 
     @property
     def failed(self) -> bool:
@@ -193,8 +201,10 @@ class SystemCheckResult:
 
     def golden_nodes(self) -> dict[str, Any]:
         assert self.capture is not None, "no capture to accept"
-        return self.capture.to_contract_nodes(with_type_hash=not self.options.ignore_type_hash,
-                                              with_qos=not self.options.ignores_all_qos)
+        nodes = self.capture.to_contract_nodes(with_type_hash=not self.options.ignore_type_hash,
+                                               with_qos=not self.options.ignores_all_qos)
+        return parameter_drift.keep_ignored(self.contract.nodes if self.contract is not None else None, nodes,
+                                            self.options)
 
     def new_text(self, old: str | None) -> str:
         """The system contract to write, given the current text (None: a new file)."""

@@ -74,10 +74,13 @@ def accept_command(args: argparse.Namespace, contract: str, command: list[str] |
     """`rmw-introspect check --update [the target and comparison flags given] CONTRACT`."""
     words = ["rmw-introspect", "check", "--update"]
     for key in ("package", "executable", "script", "module", "entry_point", "namespace", "node_name", "params_file", "cwd",
-                "settle", "timeout", "horizon", "fail_on", "ignore_qos"):
+                "settle", "timeout", "horizon", "lifecycle", "fail_on", "ignore_qos", "ignore_parameters",
+                "ignore_parameter_values"):
         value = getattr(args, key, None)
         if value is not None:
             words += [f"--{key.replace('_', '-')}", str(value)]
+    if getattr(args, "read_parameters", None) is not None:
+        words.append("--read-parameters" if args.read_parameters else "--no-read-parameters")
     for key, flag in (("arguments", "--arg"), ("remap", "--remap"), ("param", "--param"), ("env", "--env")):
         for value in getattr(args, key, None) or ():
             words += [flag, value]

@@ -9,7 +9,7 @@ from typing import Any
 import yaml
 
 from .._version import __version__
-from ..model.vocabulary import FAIL_ON
+from ..model.vocabulary import FAIL_ON, LIFECYCLE_TARGETS
 from . import system_options
 
 EXIT_OK, EXIT_DRIFT, EXIT_ERROR = 0, 1, 2
@@ -74,8 +74,13 @@ comments, target and options above it) and creates missing ones (with a `target:
 the target options given here); it is refused when the CI environment variable is set.
 
 --format json prints one JSON array with an object per drift item: contract, node, kind
-(publishers, subscriptions, service_servers, service_clients, action_servers, action_clients
-or node), name, change, rule, severity (SAFE, RISKY, BREAKING), old, new, message.
+(publishers, subscriptions, service_servers, service_clients, action_servers, action_clients,
+parameters or node), name, change, rule, severity (SAFE, RISKY, BREAKING), old, new, message.
+
+Parameters and lifecycle: a capture reads every node's parameters and drives lifecycle nodes
+to --lifecycle (default active). A contract node without `parameters:` does not compare them;
+--update adds them to contracts that match but do not state them yet. A lifecycle transition
+that fails is an error (exit 2) naming the node, the transition and what to set instead.
 
 exit status: 0 all contracts match (or drift below --fail-on), 1 drift at or above --fail-on,
 2 errors (missing/malformed contract, no target, target failure, ROS 2/middleware missing).
@@ -88,14 +93,22 @@ formats:
         `nodes:` block. Save it with -o NAME.interfaces.yaml and check it with
         `rmw-introspect check` or by running pytest next to it.
   json  the contract's `nodes` mapping as JSON.
-  nodl  one NoDL v2 document per node (nodl_version: 2; publishers, subscriptions,
-        service_servers, service_clients, action_servers, action_clients with name, type
-        and qos for topics), as a YAML stream; a `# node: /fqn` comment names the node of
-        each document (NoDL documents do not name their node).
+  nodl  one NoDL v2 document per node (nodl_version: 2; `base: lifecycle_node` for a
+        lifecycle node; parameters keyed by name with type, default_value, description,
+        read_only, additional_constraints; publishers, subscriptions, service_servers,
+        service_clients, action_servers, action_clients with name, type and qos for
+        topics), as a YAML stream; a `# node: /fqn` comment names the node of each
+        document (NoDL documents do not name their node).
+
+parameters and lifecycle:
+  every node's parameters are read through its own parameter services (--no-read-parameters
+  to skip), lifecycle nodes are driven to --lifecycle (default active) first; the contract's
+  nodes list their `parameters:` and a lifecycle node its `lifecycle:` state.
 
 endpoints:
   default               infrastructure endpoints (/rosout, /parameter_events, parameter,
-                        type description, logger and lifecycle services) are left out; the
+                        type description, logger and lifecycle services) and parameters
+                        (use_sim_time, start_type_description_service) are left out; the
                         services and topics of an action are grouped into one action entry.
   --include-ros-infra   keeps the infrastructure endpoints (the yaml contract then gets
                         `options: {include_infrastructure: true}`); actions stay grouped.
@@ -196,6 +209,11 @@ def _add_target(parser: argparse.ArgumentParser) -> None:
                    "(default 10; 0 turns virtual time off)")
     g.add_argument("--cold-start", action="store_true", default=None,
                    help="start the target as a new process, never forked from the warm start server")
+    g.add_argument("--lifecycle", choices=LIFECYCLE_TARGETS,
+                   help="drive lifecycle (managed) nodes to this state before the capture: active (configure, "
+                   "activate; the default), inactive (configure), unconfigured, none (leave them alone)")
+    g.add_argument("--read-parameters", action=argparse.BooleanOptionalAction, default=None,
+                   help="read every node's parameters through its own parameter services (default: yes)")
 
 
 def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True, types: bool = True) -> None:
@@ -207,6 +225,11 @@ def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True, types: 
                    help="QoS fields not to compare: comma-separated (depth,history) or 'all'")
     g.add_argument("--allow-extra", action="store_true", default=None,
                    help="interfaces and nodes the contract does not list are not drift")
+    g.add_argument("--ignore-parameters", metavar="PATTERNS",
+                   help="parameters not to compare: comma-separated names or fnmatch patterns "
+                   "(qos_overrides.*), or 'all'")
+    g.add_argument("--ignore-parameter-values", metavar="PATTERNS",
+                   help="parameters whose default values are not compared: names or patterns, or 'all'")
     if types:
         g.add_argument("--include-types", action="store_true", default=None,
                        help="keep a types: section in the contract (written by --update) so that a changed "
@@ -321,7 +344,7 @@ def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dic
     """The target options given on the command line (a TargetSpec mapping)."""
     target: dict[str, Any] = {}
     for key in ("package", "executable", "script", "module", "entry_point", "namespace", "node_name", "params_file", "cwd",
-                "settle", "timeout", "horizon", "cold_start"):
+                "settle", "timeout", "horizon", "cold_start", "lifecycle", "read_parameters"):
         value = getattr(args, key, None)
         if value is not None:
             target[key] = value
@@ -360,4 +383,6 @@ def compare_from_args(args: argparse.Namespace) -> dict[str, Any]:
         "allow_extra": args.allow_extra,
         "include_infrastructure": getattr(args, "include_infrastructure", None),
         "include_types": getattr(args, "include_types", None),
+        "ignore_parameters": args.ignore_parameters,
+        "ignore_parameter_values": args.ignore_parameter_values,
     }

@@ -78,7 +78,7 @@ def _process_target(args: argparse.Namespace, command: list[str] | None) -> dict
     if extra:
         flags = ", ".join("-- COMMAND" if k == "command" else f"--{k.replace('_', '-')}" for k in extra)
         raise UsageError(f"with a launch file the launch file says what runs: {flags} cannot be given "
-                         f"(only --settle, --timeout, --horizon, --env, for every process)")
+                         f"(only --settle, --timeout, --horizon, --lifecycle, --[no-]read-parameters, --env, for every process)")
     return target
 
 

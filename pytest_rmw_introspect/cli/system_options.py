@@ -15,7 +15,8 @@ a system (a launch file: every process it starts is captured, in parallel):
   --launch FILE                        an XML, YAML or Python launch file, or a record.json of dump_launch
   --launch-package P --launch-file F   a launch file of a package, found like `ros2 launch P F`
 With a launch file, `capture` writes a system contract (NAME.system.yaml) and the target
-options apply to every process (--settle, --timeout, --horizon, --env only).
+options apply to every process (--settle, --timeout, --horizon, --lifecycle, --[no-]read-parameters,
+--env only).
 """
 
 GRAPH_EPILOG = """\

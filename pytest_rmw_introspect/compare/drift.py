@@ -3,7 +3,9 @@
 The structural diff is DeepDiff's; this module prepares both sides so that equal interfaces
 compare equal (QoS expanded, interfaces keyed by name) and then judges every difference from the
 side of the node's peers: publishers and servers *offer*, subscriptions and clients *request*.
-The rule table, with the reasoning behind each severity, is docs/drift-rules.md.
+Parameters and lifecycle states are judged in ``compare.parameter_drift`` (from the side of
+whoever sets the parameters and drives the node). The rule table, with the reasoning behind each
+severity, is docs/drift-rules.md.
 """
 
 from __future__ import annotations
@@ -16,8 +18,8 @@ from typing import TYPE_CHECKING, Any
 
 from ..model import qos, untrusted
 from ..model import types as type_model
-from ..model.vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS, TOPIC_LISTS, Severity
-from . import type_drift
+from ..model.vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS, PARAMETERS, TOPIC_LISTS, Severity
+from . import parameter_drift, type_drift
 from .options import ComparisonOptions
 
 if TYPE_CHECKING:
@@ -27,9 +29,11 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class DriftItem:
     node: str  # fully qualified node name
-    kind: str  # one of LISTS, or "node"
-    name: str  # interface name (node fqn for kind == "node")
-    change: str  # "added" | "removed" | "renamed" | "type" | "type_hash" | "qos.<field>" | "type:<type name>" | "types"
+    kind: str  # one of LISTS, "parameters", or "node"
+    name: str  # interface or parameter name (node fqn for kind == "node")
+    # "added" | "removed" | "renamed" | "type" | "type_hash" | "qos.<field>" | "type:<type name>" | "types";
+    # a parameter's attribute (parameter_drift.ATTRIBUTES); "lifecycle" or "parameters" (kind "node")
+    change: str
     old: Any  # contract side (None for added)
     new: Any  # capture side (None for removed)
     rule: str  # stable rule id, see RULES
@@ -124,6 +128,7 @@ RULES: dict[str, Rule] = _rules(
     Rule("QOS_NAMESPACE_CONVENTIONS_CHANGED", _B, "avoid_ros_namespace_conventions changed"),
     Rule("TYPE_DESCRIPTION_MISSING", _S, "the contract's types: section lacks a type the interface uses"),
     *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in type_drift.RULES.items()),
+    *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in parameter_drift.RULES.items()),
 )
 
 #: ``DriftItem.change`` of a field-level item: the prefix, then the type it is about
@@ -180,6 +185,7 @@ def compare(
         )
         items = _translate(diff, expected, actual)
     items = _with_type_items(items, expected, actual, expected_types, actual_types, require_types)
+    items += _parameter_and_lifecycle_items(expected_nodes or {}, actual_nodes or {}, options)
 
     def wanted(item: DriftItem) -> bool:
         if options.allow_extra and item.change == "added":
@@ -196,7 +202,7 @@ def compare(
 _RENAME_RULE = {
     "publishers": "PUB_RENAMED", "subscriptions": "SUB_RENAMED", "service_servers": "SERVICE_SERVER_RENAMED",
     "service_clients": "SERVICE_CLIENT_RENAMED", "action_servers": "ACTION_SERVER_RENAMED",
-    "action_clients": "ACTION_CLIENT_RENAMED",
+    "action_clients": "ACTION_CLIENT_RENAMED", PARAMETERS: "PARAM_RENAMED",
 }
 _RENAME_EFFECT = {
     "publishers": "subscribers of {old} stop receiving data",
@@ -205,6 +211,7 @@ _RENAME_EFFECT = {
     "service_clients": "the node no longer calls the server of {old}",
     "action_servers": "action clients of {old} get no answer",
     "action_clients": "the node no longer sends goals to {old}",
+    PARAMETERS: "launch files, parameter files and -p overrides of {old} are silently ignored",
 }
 
 
@@ -433,6 +440,20 @@ def _node_presence_items(node: str, expected: _Index, actual: _Index) -> list[Dr
     return items
 
 
+def _parameter_and_lifecycle_items(expected_nodes: Mapping, actual_nodes: Mapping,
+                                   options: ComparisonOptions) -> list[DriftItem]:
+    """``compare.parameter_drift`` on the nodes both sides have. The parameters of a node added
+    or removed are not items of their own: they have no peers, and setting them goes with
+    launching the node (consequences of a bigger change are not separate drift)."""
+    items = []
+    for node in sorted(set(expected_nodes) & set(actual_nodes)):
+        old, new = expected_nodes[node] or {}, actual_nodes[node] or {}
+        changes = [*parameter_drift.compare_lifecycle(node, old, new),
+                   *parameter_drift.compare_parameters(node, old, new, options)]
+        items += [_item(node, c.kind, c.name, c.change, c.old, c.new, c.rule, c.message) for c in changes]
+    return items
+
+
 _PRESENCE_MESSAGES: dict[str, str] = {
     "NODE_REMOVED": "node removed: anything addressing {name} by name (parameters, remappings, "
     "launch files) breaks",
@@ -596,11 +617,12 @@ def _qos_item(node: str, kind: str, key: str, field_name: str, old: Any, new: An
 
 # --------------------------------------------------------------------------- ordering
 
-_KIND_ORDER = {kind: index for index, kind in enumerate(("node", *LISTS))}
+_KIND_ORDER = {kind: index for index, kind in enumerate(("node", *LISTS, PARAMETERS))}
 _CHANGE_ORDER = {
     change: index
     for index, change in enumerate(
-        ("added", "removed", "renamed", "type", "type_hash", *(f"qos.{f}" for f in qos.FIELDS))
+        ("added", "removed", "renamed", parameter_drift.LIFECYCLE_CHANGE, PARAMETERS, "type", "type_hash",
+         *(f"qos.{f}" for f in qos.FIELDS), *(a for a in parameter_drift.ATTRIBUTES if a != "type"))
     )
 }
 

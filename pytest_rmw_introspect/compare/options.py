@@ -20,7 +20,19 @@ option                     meaning                          default
                            ``--update-golden``): changed
                            type hashes are explained field
                            by field
+``ignore_parameters``      ``true`` (no parameter is        ``[]``
+                           compared) or a list of name
+                           patterns (``fnmatch`` globs:
+                           ``qos_overrides.*``) of
+                           parameters not to compare
+``ignore_parameter_values`` ``true`` or a list of name      ``[]``
+                           patterns: their default values
+                           are not compared (the rest of
+                           each parameter is)
 =========================  ===============================  ===================================
+
+Ignored parameters are left as the contract has them when ``--update-golden`` rewrites it (a
+new contract does not get them).
 
 Each can be set, from strongest to weakest: as a keyword argument of the
 ``interfaces`` marker, in the contract's ``options:`` block, on the command line
@@ -29,6 +41,7 @@ Each can be set, from strongest to weakest: as a keyword argument of the
 
 from __future__ import annotations
 
+import fnmatch
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -37,7 +50,10 @@ from ..errors import RmwIntrospectError
 from ..model.qos import FIELDS as QOS_FIELDS
 from ..model.vocabulary import FAIL_ON, Severity, parse_threshold
 
-OPTION_KEYS = ("ignore_type_hash", "ignore_qos", "allow_extra", "include_infrastructure", "fail_on", "include_types")
+OPTION_KEYS = ("ignore_type_hash", "ignore_qos", "allow_extra", "include_infrastructure", "fail_on", "include_types",
+               "ignore_parameters", "ignore_parameter_values")
+#: options that take ``true`` or a list of parameter name patterns
+PATTERN_OPTIONS = ("ignore_parameters", "ignore_parameter_values")
 _TRUE = ("1", "true", "yes", "on", "all")
 _FALSE = ("0", "false", "no", "off", "")
 
@@ -60,6 +76,18 @@ class ComparisonOptions:
     #: --update-golden, its absence is drift. A contract that has one is compared with it and
     #: keeps it up to date whatever this says.
     include_types: bool = False
+    #: True: parameters are not compared at all; else the name patterns of those not compared
+    ignore_parameters: frozenset[str] | bool = frozenset()
+    #: True: no parameter's default value is compared; else the name patterns whose values are not
+    ignore_parameter_values: frozenset[str] | bool = frozenset()
+
+    def ignores_parameter(self, name: str) -> bool:
+        """Whether the parameter ``name`` is not compared at all (``ignore_parameters``)."""
+        return _matches(self.ignore_parameters, name)
+
+    def ignores_parameter_value(self, name: str) -> bool:
+        """Whether the default value of the parameter ``name`` is not compared."""
+        return _matches(self.ignore_parameter_values, name)
 
     def threshold(self) -> Severity:
         """The least severity that fails (``fail_on``)."""
@@ -78,7 +106,9 @@ def _bool(value: Any, key: str, source: str) -> bool:
     raise OptionError(f"{source}: `{key}` must be true or false, got {value!r}")
 
 
-def _ignore_qos(value: Any, source: str) -> frozenset[str] | bool:
+def _all_none_or_words(value: Any) -> Any:
+    """``true`` / ``all`` → True, ``false`` / ``none`` / empty → an empty set, one string of
+    words separated by commas or spaces → the list of words; anything else as it is."""
     if isinstance(value, bool):
         return True if value else frozenset()
     if isinstance(value, str):
@@ -87,7 +117,14 @@ def _ignore_qos(value: Any, source: str) -> frozenset[str] | bool:
             return True
         if text in _FALSE or text == "none":
             return frozenset()
-        value = [v.strip() for v in value.replace(" ", ",").split(",") if v.strip()]
+        return [v.strip() for v in value.replace(" ", ",").split(",") if v.strip()]
+    return value
+
+
+def _ignore_qos(value: Any, source: str) -> frozenset[str] | bool:
+    value = _all_none_or_words(value)
+    if value is True:
+        return True
     if isinstance(value, (list, tuple, set, frozenset)):
         fields = frozenset(str(v) for v in value)
         unknown = sorted(fields - set(QOS_FIELDS))
@@ -98,6 +135,24 @@ def _ignore_qos(value: Any, source: str) -> frozenset[str] | bool:
             )
         return fields
     raise OptionError(f"{source}: `ignore_qos` must be true/false or a list of QoS fields, got {value!r}")
+
+
+def _matches(patterns: frozenset[str] | bool, name: str) -> bool:
+    if patterns is True or patterns is False:
+        return bool(patterns)
+    return any(fnmatch.fnmatchcase(name, pattern) for pattern in patterns)
+
+
+def _patterns(value: Any, key: str, source: str) -> frozenset[str] | bool:
+    """``true`` / ``all`` (everything), ``false`` / ``none`` (nothing), or name patterns: a list,
+    or one string with patterns separated by commas or spaces."""
+    value = _all_none_or_words(value)
+    if value is True:
+        return True
+    if isinstance(value, (list, tuple, set, frozenset)) and all(isinstance(v, str) and v.strip() for v in value):
+        return frozenset(v.strip() for v in value)
+    raise OptionError(f"{source}: `{key}` must be true/false or a list of parameter names or patterns "
+                      f"(fnmatch globs such as qos_overrides.*), got {value!r}")
 
 
 def _fail_on(value: Any, source: str) -> str:
@@ -112,6 +167,8 @@ def parse_one(key: str, value: Any, source: str) -> Any:
         return _ignore_qos(value, source)
     if key == "fail_on":
         return _fail_on(value, source)
+    if key in PATTERN_OPTIONS:
+        return _patterns(value, key, source)
     if key in OPTION_KEYS:
         return _bool(value, key, source)
     raise OptionError(f"{source}: unknown option {key!r}; known: {', '.join(OPTION_KEYS)}")

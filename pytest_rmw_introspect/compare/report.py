@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from ..model import qos
-from ..model.vocabulary import LABELS, THRESHOLD_WORDS, Severity
+from ..model.parameters import format_value
+from ..model.vocabulary import LABELS, PARAMETERS, THRESHOLD_WORDS, Severity
 from .drift import DriftItem
 from .system import CompatItem
 
@@ -49,9 +51,19 @@ def _short_hash(value: Any) -> str:
     return str(value)
 
 
-def _entry_details(kind: str, entry: Any) -> str:
+def _parameter_details(entry: Mapping[str, Any]) -> str:
+    details = [str(entry.get("type") or "no type")]
+    if "default_value" in entry:
+        details.append(f"default {format_value(entry['default_value'])}")
+    details += [flag.replace("_", " ") for flag in ("read_only", "dynamic_typing") if entry.get(flag)]
+    return f" (was: {', '.join(details)})"
+
+
+def _entry_details(kind: str, entry: Any, change: str) -> str:
     if kind == "node" or not isinstance(entry, Mapping):
         return ""
+    if kind == PARAMETERS:  # an added parameter's message already says its type and default
+        return _parameter_details(entry) if change == "removed" else ""
     details = []
     if entry.get("qos") is not None:
         try:
@@ -64,7 +76,7 @@ def _entry_details(kind: str, entry: Any) -> str:
 def _drift_line(item: DriftItem) -> str:
     line = f"[{item.rule}] {item.message}"
     if item.change in ("added", "removed"):
-        line += _entry_details(item.kind, item.new if item.change == "added" else item.old)
+        line += _entry_details(item.kind, item.new if item.change == "added" else item.old, item.change)
     elif item.change == "type_hash" and isinstance(item.old, str) and isinstance(item.new, str):
         line += f" ({_short_hash(item.old)} -> {_short_hash(item.new)})"
     return line
@@ -107,6 +119,18 @@ def render_text(
     return "\n".join(lines) + "\n"
 
 
+def _plain(value: Any) -> Any:
+    """``value`` as strict JSON can hold it: NaN and infinities (parameter values) as the strings
+    the capture file uses (``nan``, ``inf``, ``-inf``)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    if isinstance(value, Mapping):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    return value
+
+
 def to_json(items: Iterable[DriftItem]) -> list[dict[str, Any]]:
     """Plain dicts for machines; ``severity`` as its name ("BREAKING", "RISKY", "SAFE")."""
     return [
@@ -117,8 +141,8 @@ def to_json(items: Iterable[DriftItem]) -> list[dict[str, Any]]:
             "change": item.change,
             "rule": item.rule,
             "severity": item.severity.name,
-            "old": item.old,
-            "new": item.new,
+            "old": _plain(item.old),
+            "new": _plain(item.new),
             "message": item.message,
         }
         for item in items

@@ -13,7 +13,12 @@ servers, service clients, action servers, action clients), where
 * destroyed nodes and endpoints are left out (they stay in ``raw_*``), except those destroyed
   in the run of destructions that ended the program (``in_teardown``: alive until its own
   final teardown),
-* hidden names (a segment starting with ``_``) are kept.
+* hidden names (a segment starting with ``_``) are kept,
+
+and each node has its ``parameters`` (as its own parameter services answered the middleware;
+the ones the client library declares by itself, ``use_sim_time`` and the like, left out unless
+``include_infrastructure``; None when they were not read) and, for a lifecycle node, its
+``lifecycle`` record (how the middleware drove it and the state it reached).
 
 ``Capture.to_contract_nodes()`` gives the ``nodes`` mapping of a contract
 (docs/design.md section 2).
@@ -32,36 +37,32 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CaptureFormatError
+from . import parameters as parameter_model
 from . import qos as qos_module
 from . import types as type_model
 from . import untrusted
-from .vocabulary import ACTION_HASHED_PARTS, ACTION_SERVICES, ACTION_TOPICS, KIND_TO_LIST, LISTS
+from .parameters import Lifecycle, Parameter, Probe
+from .vocabulary import (
+    ACTION_HASHED_PARTS,
+    ACTION_SERVICES,
+    ACTION_TOPICS,
+    INFRASTRUCTURE_TOPICS,
+    KIND_TO_LIST,
+    LIFECYCLE,
+    LIFECYCLE_SERVICES,
+    LIFECYCLE_TOPICS,
+    LIFECYCLE_UNKNOWN,
+    LISTS,
+    LOGGER_SERVICES,
+    PARAMETER_SERVICES,
+    PARAMETERS,
+    TRANSITION_FROM_STATE,
+)
 
 FORMAT = "rmw_introspect_capture"
 FORMAT_VERSIONS = (1,)
 
-PARAMETER_SERVICES = (
-    "describe_parameters",
-    "get_parameter_types",
-    "get_parameters",
-    "list_parameters",
-    "set_parameters",
-    "set_parameters_atomically",
-    "get_type_description",
-)
-LIFECYCLE_SERVICES = (
-    "change_state",
-    "get_state",
-    "get_available_states",
-    "get_available_transitions",
-    "get_transition_graph",
-)
-LIFECYCLE_TOPICS = ("transition_event",)
-#: per-node services of enable_logger_service (rclcpp NodeOptions, rclpy Node(enable_logger_service=True))
-LOGGER_SERVICES = ("get_logger_levels", "set_logger_levels")
-
 SIM_CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
-
 
 
 # ---------------------------------------------------------------------- raw records
@@ -83,6 +84,13 @@ class RawNode:
     #: the node's virtual and real age (ms since the first rmw_init) when it was created
     created_virtual_ms: float | None = None
     created_real_ms: float | None = None
+    #: every parameter as the node's own services answered (None: not read, see
+    #: ``parameters_error``), in the order the node listed them
+    parameters: tuple[Parameter, ...] | None = None
+    #: why a node with parameter services has no ``parameters``
+    parameters_error: str | None = None
+    #: how the middleware drove a lifecycle node (None: not a lifecycle node)
+    lifecycle: Lifecycle | None = None
 
     @property
     def alive(self) -> bool:
@@ -111,6 +119,10 @@ class Endpoint:
     in_teardown: bool = False
     created_virtual_ms: float | None = None
     created_real_ms: float | None = None
+    #: the lifecycle transition the middleware had last driven on the node when the endpoint was
+    #: created (``configure``, ``activate``); None: created at start-up (or by a node that
+    #: drives itself)
+    created_in: str | None = None
 
     @property
     def alive(self) -> bool:
@@ -159,6 +171,11 @@ class Interface:
         """The raw rmw QoS of the (first) underlying endpoint."""
         return self.endpoints[0].qos if self.endpoints else None
 
+    @property
+    def created_in(self) -> str | None:
+        """The lifecycle transition that created the (first) underlying endpoint, or None."""
+        return self.endpoints[0].created_in if self.endpoints else None
+
     def to_contract(self, *, with_type_hash: bool = True, with_qos: bool = True) -> dict[str, Any]:
         entry: dict[str, Any] = {"name": self.name, "type": self.type}
         if with_type_hash and self.type_hash:
@@ -183,6 +200,28 @@ class Node:
     action_clients: list[Interface] = field(default_factory=list)
     raw: tuple[RawNode, ...] = ()
     endpoints: tuple[Endpoint, ...] = ()
+    #: the node's parameters (infrastructure ones left out unless ``include_infrastructure``),
+    #: sorted by name; None when they were not read (no parameter services, a C node, target
+    #: option ``read_parameters: false``, or see ``parameters_error``)
+    parameters: list[Parameter] | None = None
+    parameters_error: str | None = None
+    #: how the middleware drove it, when it is a lifecycle (managed) node
+    lifecycle: Lifecycle | None = None
+
+    @property
+    def lifecycle_state(self) -> str | None:
+        """The state a lifecycle node was captured in (``unknown`` when it was not read: target
+        ``lifecycle: none``); None for a node that is not a lifecycle node."""
+        if self.lifecycle is None:
+            return None
+        return self.lifecycle.state or LIFECYCLE_UNKNOWN
+
+    def parameter(self, name: str) -> Parameter | None:
+        """The parameter ``name`` (None when the node has none of that name, or none read)."""
+        for p in self.parameters or ():
+            if p.name == name:
+                return p
+        return None
 
     @property
     def uses_sim_time(self) -> bool:
@@ -206,14 +245,21 @@ class Node:
                 return entry
         return None
 
-    def to_contract(self, *, with_type_hash: bool = True, with_qos: bool = True) -> dict[str, list[dict[str, Any]]]:
-        return {
-            list_name: [
+    def to_contract(self, *, with_type_hash: bool = True, with_qos: bool = True,
+                    with_parameters: bool = True) -> dict[str, Any]:
+        """The node's contract entry: ``lifecycle`` (a lifecycle node), the six lists, and
+        ``parameters`` when they were read (and ``with_parameters``)."""
+        out: dict[str, Any] = {}
+        if self.lifecycle_state is not None:
+            out[LIFECYCLE] = self.lifecycle_state
+        for list_name in LISTS:
+            out[list_name] = [
                 i.to_contract(with_type_hash=with_type_hash, with_qos=with_qos)
                 for i in sorted(getattr(self, list_name), key=lambda i: i.name)
             ]
-            for list_name in LISTS
-        }
+        if with_parameters and self.parameters is not None:
+            out[PARAMETERS] = [p.to_contract() for p in sorted(self.parameters, key=lambda p: p.name)]
+        return out
 
 
 # ---------------------------------------------------------------------- the capture
@@ -283,6 +329,11 @@ class Capture:
     #: why a target was started cold (a compiled executable, ``cold_start`` asked for it, the
     #: server still starting, ...); None when it started warm
     start_note: str | None = None
+    #: the additive revision of ``format_version`` (1: parameters, lifecycle, probe, created_in)
+    format_minor: int = 0
+    #: what the middleware asked the nodes' own services after the first settle (None: a capture
+    #: of a middleware version that did not)
+    probe: Probe | None = None
 
     # ---------------------------------------------------------------- building
     @classmethod
@@ -431,16 +482,45 @@ class Capture:
                     f"node {node.fqn} uses sim time (use_sim_time): its ROS clock waits for /clock, which never "
                     "arrives in a capture, so its ROS-time timers never fire"
                 )
+        probe = self.probe
+        if probe is not None and probe.state == "skipped":
+            notes.append(
+                "no thread ever waited in an executor, so the middleware could not ask the nodes' own "
+                "services: parameters were not read and lifecycle nodes were not driven"
+            )
+        for node in self:
+            if node.parameters_error:
+                notes.append(f"the parameters of node {node.fqn} could not be read ({node.parameters_error}); "
+                             "they are not compared")
+            if node.lifecycle is not None and node.lifecycle.error:
+                notes.append(f"lifecycle: {node.lifecycle.error}")
         return notes
+
+    def failed_transitions(self) -> list[tuple[str, str, str, str]]:
+        """The lifecycle transitions the middleware drove that did not succeed: ``(node, transition,
+        what was recorded, the state the node stays in)`` per node (the driving stops there)."""
+        out = []
+        for node in self:
+            lifecycle = node.lifecycle
+            failed = lifecycle.failed_transition if lifecycle is not None else None
+            if lifecycle is None or failed is None:
+                continue
+            recorded = lifecycle.error or f"change_state {failed.result}"
+            prefix = f"transition {failed.label} of {node.fqn} failed: "
+            out.append((node.fqn, failed.label, recorded.removeprefix(prefix),
+                        TRANSITION_FROM_STATE.get(failed.label, "none")))
+        return out
 
     def endpoints(self, *, include_destroyed: bool = False) -> list[Endpoint]:
         """All raw endpoints (infrastructure included), by creation order."""
         return [e for e in self.raw_endpoints if include_destroyed or not e.destroyed]
 
-    def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> dict[str, dict[str, list[dict[str, Any]]]]:
+    def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True,
+                          with_parameters: bool = True) -> dict[str, dict[str, Any]]:
         """The ``nodes`` mapping of a contract (sorted; see docs/design.md section 2)."""
         return {
-            fqn: self.nodes[fqn].to_contract(with_type_hash=with_type_hash, with_qos=with_qos)
+            fqn: self.nodes[fqn].to_contract(with_type_hash=with_type_hash, with_qos=with_qos,
+                                             with_parameters=with_parameters)
             for fqn in sorted(self.nodes)
         }
 
@@ -462,9 +542,14 @@ class Capture:
             )
         lines += [f"note: {note}" for note in self.notes()]
         for node in self:
-            lines.append(node.fqn)
+            state = f" (lifecycle node, {node.lifecycle_state})" if node.lifecycle_state else ""
+            lines.append(node.fqn + state)
             for list_name, entry in node.interfaces():
-                lines.append(f"  {list_name}: {entry.name} [{entry.type}]")
+                created = f" (created in {entry.created_in})" if entry.created_in else ""
+                lines.append(f"  {list_name}: {entry.name} [{entry.type}]{created}")
+            for param in node.parameters or ():
+                lines.append(f"  parameter: {param.name} [{param.type}] = "
+                             f"{parameter_model.format_value(param.value)}")
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -518,6 +603,9 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
                     in_teardown=bool(n.get("in_teardown", False)),
                     created_virtual_ms=_optional_float(n.get("created_virtual_ms")),
                     created_real_ms=_optional_float(n.get("created_real_ms")),
+                    parameters=_node_parameters(n, where, path),
+                    parameters_error=_optional_str(n, "parameters_error", where, path),
+                    lifecycle=_node_lifecycle(n, where, path),
                 )
             )
         except (KeyError, TypeError, ValueError, OverflowError) as exc:
@@ -549,6 +637,7 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
                     in_teardown=bool(e.get("in_teardown", False)),
                     created_virtual_ms=_optional_float(e.get("created_virtual_ms")),
                     created_real_ms=_optional_float(e.get("created_real_ms")),
+                    created_in=_optional_str(e, "created_in", where, path),
                 )
             )
         except (KeyError, TypeError, ValueError, OverflowError) as exc:
@@ -566,8 +655,12 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
              "`ever_waited` is not true or false")
     try:
         types = type_model.from_capture(data.get("types"))
+        probe = parameter_model.probe_from_capture(data.get("probe"))
     except ValueError as exc:
         raise CaptureFormatError(path, str(exc)) from None
+    minor = data.get("format_minor", 0)
+    _require(isinstance(minor, int) and not isinstance(minor, bool) and minor >= 0, path,
+             "`format_minor` is not a non-negative integer")
 
     capture = Capture(
         nodes=build_view(raw_nodes, endpoints, include_infrastructure=include_infrastructure),
@@ -591,8 +684,30 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
         raw=data,
         types=types,
         has_types=data.get("types") is not None,
+        format_minor=minor,
+        probe=probe,
     )
     return capture
+
+
+def _node_parameters(n: Mapping[str, Any], where: str, path: Path | None) -> tuple[Parameter, ...] | None:
+    try:
+        return parameter_model.parameters_from_capture(n.get("parameters"), f"{where}.parameters")
+    except ValueError as exc:
+        raise CaptureFormatError(path, str(exc)) from None
+
+
+def _node_lifecycle(n: Mapping[str, Any], where: str, path: Path | None) -> Lifecycle | None:
+    try:
+        return parameter_model.lifecycle_from_capture(n.get("lifecycle"), f"{where}.lifecycle")
+    except ValueError as exc:
+        raise CaptureFormatError(path, str(exc)) from None
+
+
+def _optional_str(record: Mapping[str, Any], key: str, where: str, path: Path | None) -> str | None:
+    value = record.get(key)
+    _require(value is None or isinstance(value, str), path, f"{where}.{key} is not a string")
+    return value
 
 
 def _optional_float(value: Any) -> float | None:
@@ -624,9 +739,10 @@ def _fqn(namespace: str, name: str) -> str:
 def is_infrastructure(endpoint: Endpoint, node_fqn: str) -> bool:
     """Whether ``endpoint`` of the node ``node_fqn`` is one the ROS client library adds by itself."""
     name, kind = endpoint.name, endpoint.kind
-    if name == "/rosout" and kind == "publisher":
+    rosout, parameter_events = INFRASTRUCTURE_TOPICS
+    if name == rosout and kind == "publisher":
         return True
-    if name == "/parameter_events" and kind in ("publisher", "subscription"):
+    if name == parameter_events and kind in ("publisher", "subscription"):
         return True
     prefix = node_fqn.rstrip("/") + "/"
     if not name.startswith(prefix):
@@ -690,6 +806,19 @@ def _group_actions(eps: list[Endpoint], server: bool) -> tuple[list[Interface], 
     return actions, remaining
 
 
+def _add_parameters(node: Node, raw_node: RawNode, include_infrastructure: bool) -> None:
+    """The parameters of ``raw_node`` into ``node`` (two raw nodes of one name: the union, the
+    first one's entry winning), sorted by name."""
+    if raw_node.parameters is None:
+        if raw_node.parameters_error and not node.parameters_error:
+            node.parameters_error = raw_node.parameters_error
+        return
+    have = {p.name for p in node.parameters or ()}
+    wanted = [p for p in raw_node.parameters
+              if (include_infrastructure or not p.infrastructure) and p.name not in have]
+    node.parameters = sorted([*(node.parameters or ()), *wanted], key=lambda p: p.name)
+
+
 def _contract_qos(raw: Mapping[str, Any]) -> dict[str, Any]:
     return qos_module.from_capture(raw)
 
@@ -707,9 +836,12 @@ def build_view(
     for n in sorted(live_nodes, key=lambda n: n.seq):
         node = nodes.get(n.fqn)
         if node is None:
-            nodes[n.fqn] = Node(fqn=n.fqn, name=n.name, namespace=n.namespace, raw=(n,))
+            node = nodes[n.fqn] = Node(fqn=n.fqn, name=n.name, namespace=n.namespace, raw=(n,))
         else:  # two nodes of the same name in one process: one contract entry
             node.raw = node.raw + (n,)
+        _add_parameters(node, n, include_infrastructure)
+        if n.lifecycle is not None and node.lifecycle is None:
+            node.lifecycle = n.lifecycle
 
     per_node: dict[str, list[Endpoint]] = {fqn: [] for fqn in nodes}
     for e in sorted(endpoints, key=lambda e: e.seq):

@@ -8,16 +8,21 @@ A contract (docs/design.md section 2) is YAML::
     options: {...}     # optional
     nodes:
       /talker:
+        lifecycle: active   # a lifecycle node only: the state it is described in
         publishers: [...]
         ...
+        parameters: [...]   # optional: left out, they are not compared
 
 Loading reports every problem a person can make with the file, the place inside it
 (``nodes./talker.publishers[0].qos.reliability``), the line when known, and the reason:
 YAML syntax errors, schema violations (``schema/contract.schema.json``), bad QoS values,
-duplicate YAML keys and duplicate interface names.
+duplicate YAML keys, duplicate interface and parameter names, parameter values that do not fit
+their type.
 
-Writing is deterministic: nodes sorted by name, entries sorted by ``name``, keys in the order
-``name, type, type_hash, qos``, the six lists always present, QoS on one line in field order.
+Writing is deterministic: nodes sorted by name, ``lifecycle`` first, entries sorted by
+``name``, keys in the order ``name, type, type_hash, qos``, the six lists always present, QoS
+on one line in field order, then ``parameters`` when the node states them (sorted by name, keys
+in ``parameters.ENTRY_KEYS`` order, values and ranges on one line).
 ``dump(load(x))`` of a file this module wrote is byte-identical.
 
 Updating a file (``update_text``) keeps everything *above* the top-level ``nodes:`` key
@@ -42,10 +47,11 @@ from typing import Any
 import yaml
 
 from ..errors import ContractError
+from . import parameters as parameter_model
 from . import qos as qos_module
 from . import types as type_model
 from . import untrusted
-from .vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS
+from .vocabulary import ACTION_HASHED_PARTS, LABELS, LIFECYCLE, LISTS, PARAMETERS
 
 CONTRACT_VERSION = 1
 ENTRY_KEYS = ("name", "type", "type_hash", "qos")
@@ -66,10 +72,11 @@ def schema() -> dict[str, Any]:
 @dataclass
 class Contract:
     """A loaded contract. ``nodes`` is as written (QoS spellings kept), normalised so that
-    every node has the six lists; :meth:`expanded_nodes` gives QoS as explicit fields."""
+    every node has the six lists (and ``parameters`` / ``lifecycle`` when it states them);
+    :meth:`expanded_nodes` gives QoS as explicit fields."""
 
     path: Path | None
-    nodes: dict[str, dict[str, list[dict[str, Any]]]]
+    nodes: dict[str, dict[str, Any]]
     target: dict[str, Any] | None = None
     options: dict[str, Any] = field(default_factory=dict)
     contract_version: int = CONTRACT_VERSION
@@ -77,12 +84,12 @@ class Contract:
     #: the generated ``types:`` section (``model.types``); None when the file has none
     types: dict[str, type_model.TypeDescription] | None = None
 
-    def expanded_nodes(self) -> dict[str, dict[str, list[dict[str, Any]]]]:
+    def expanded_nodes(self) -> dict[str, dict[str, Any]]:
         """``nodes`` with every topic QoS expanded to all fields (``qos.expand``)."""
 
-        out: dict[str, dict[str, list[dict[str, Any]]]] = {}
+        out: dict[str, dict[str, Any]] = {}
         for fqn, node in self.nodes.items():
-            out[fqn] = {}
+            out[fqn] = {k: node[k] for k in (LIFECYCLE, PARAMETERS) if k in node}
             for list_name in LISTS:
                 entries = []
                 for entry in node[list_name]:
@@ -231,6 +238,9 @@ def _schema_reason(error: Any) -> str:
         expected = " or ".join(expected) if isinstance(expected, list) else expected
         if list(error.absolute_path) == ["nodes"] and error.instance is None:
             return "`nodes:` is empty; write `nodes: {}` for a contract without nodes (fill it with --update-golden)"
+        if error.absolute_path and error.absolute_path[-1] == PARAMETERS and error.instance is None:
+            return ("`parameters:` is empty; write `parameters: []` for a node without parameters, or leave the "
+                    "key out not to compare them")
         return f"{instance!r} is not of type {expected}"
     return error.message
 
@@ -282,16 +292,38 @@ def _loads(text: str, path: Path | None) -> Contract:
     )
 
 
-def normalize_nodes(nodes: Mapping[str, Any]) -> dict[str, dict[str, list[dict[str, Any]]]]:
-    """Every node with the six lists (a list left out or ``null`` is empty)."""
-    out: dict[str, dict[str, list[dict[str, Any]]]] = {}
+def normalize_nodes(nodes: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+    """Every node with the six lists (a list left out or ``null`` is empty), its ``lifecycle``
+    state when it states one, and its ``parameters`` when it states them (left out: not stated,
+    not compared)."""
+    out: dict[str, dict[str, Any]] = {}
     for fqn, node in nodes.items():
         node = node or {}
-        out[fqn] = {list_name: [dict(e) for e in (node.get(list_name) or [])] for list_name in LISTS}
+        entry: dict[str, Any] = {}
+        if node.get(LIFECYCLE) is not None:
+            entry[LIFECYCLE] = node[LIFECYCLE]
+        for list_name in LISTS:
+            entry[list_name] = [dict(e) for e in (node.get(list_name) or [])]
+        if node.get(PARAMETERS) is not None:
+            entry[PARAMETERS] = [dict(e) for e in node[PARAMETERS]]
+        out[fqn] = entry
     return out
 
 
+def check_parameters(root: yaml.Node | None, nodes: Mapping[str, Any], path: Path | None) -> None:
+    """What the schema cannot say about the nodes' ``parameters`` (``parameters.check_contract_parameters``:
+    unique names, values of the stated type); raises ContractError with the place and line."""
+    for fqn, node in nodes.items():
+        try:
+            parameter_model.check_contract_parameters(node.get(PARAMETERS) or [])
+        except parameter_model.EntryProblem as problem:
+            where = ["nodes", fqn, PARAMETERS, *problem.location]
+            raise ContractError(path, format_location(where), f"{problem.reason} (node {fqn})",
+                                line=_line(root, where)) from None
+
+
 def _check_semantics(root: yaml.Node | None, nodes: Mapping[str, Any], path: Path | None) -> None:
+    check_parameters(root, nodes, path)
 
     for fqn, node in nodes.items():
         for list_name in LISTS:
@@ -347,6 +379,42 @@ def _qos_text(value: Any) -> str:
     return "{" + ", ".join(f"{k}: {_scalar(value[k])}" for k in keys) + "}"
 
 
+def _float_text(value: float) -> str:
+    """A float YAML 1.1 reads back as a float (PyYAML wants a '.' in the mantissa: ``1.0e+300``)."""
+    if math.isinf(value) or math.isnan(value):
+        return yaml.safe_dump(value).splitlines()[0]
+    text = repr(value)
+    if "e" in text and "." not in text.split("e")[0]:
+        mantissa, exponent = text.split("e")
+        text = f"{mantissa}.0e{exponent}"
+    return text
+
+
+def _value_text(value: Any) -> str:
+    """A parameter value or range on one line (flow style)."""
+    if isinstance(value, float):
+        return _float_text(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_value_text(v) for v in value) + "]"
+    if isinstance(value, Mapping):
+        return "{" + ", ".join(f"{k}: {_value_text(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, str) and not all(c.isprintable() for c in value):
+        return json.dumps(value, ensure_ascii=False)  # a double-quoted YAML scalar, on one line
+    return _scalar(value)
+
+
+def _parameter_lines(entry: Mapping[str, Any], indent: str) -> list[str]:
+    order = parameter_model.ENTRY_KEYS
+    keys = [k for k in order if k in entry] + sorted(k for k in entry if k not in order)
+    lines = []
+    for n, key in enumerate(keys):
+        value = entry[key]
+        if key in ("integer_range", "floating_point_range") and isinstance(value, Mapping):
+            value = {k: value[k] for k in parameter_model.RANGE_KEYS if k in value}
+        lines.append(f"{indent}{'- ' if n == 0 else '  '}{key}: {_value_text(value)}")
+    return lines
+
+
 def _entry_lines(entry: Mapping[str, Any], indent: str) -> list[str]:
     keys = [k for k in ENTRY_KEYS if k in entry] + sorted(k for k in entry if k not in ENTRY_KEYS)
     lines: list[str] = []
@@ -373,14 +441,22 @@ def dump_nodes(nodes: Mapping[str, Any]) -> str:
     lines = ["nodes:"]
     for fqn in sorted(nodes):
         lines.append(f"  {_scalar(fqn)}:")
+        node = nodes[fqn]
+        if LIFECYCLE in node:
+            lines.append(f"    {LIFECYCLE}: {_scalar(node[LIFECYCLE])}")
         for list_name in LISTS:
-            entries = sorted(nodes[fqn][list_name], key=lambda e: str(e.get("name", "")))
+            entries = sorted(node[list_name], key=lambda e: str(e.get("name", "")))
             if not entries:
                 lines.append(f"    {list_name}: []")
                 continue
             lines.append(f"    {list_name}:")
             for entry in entries:
                 lines.extend(_entry_lines(entry, "      "))
+        if PARAMETERS in node:
+            params = sorted(node[PARAMETERS], key=lambda e: str(e.get("name", "")))
+            lines.append(f"    {PARAMETERS}:" + ("" if params else " []"))
+            for param in params:
+                lines.extend(_parameter_lines(param, "      "))
     return "\n".join(lines) + "\n"
 
 
@@ -441,7 +517,8 @@ def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]
 
     For an entry present in both: a QoS written as a profile name (or with fewer fields) that
     expands to the captured QoS is kept as written; a ``type_hash`` or ``qos`` the contract
-    leaves out (not compared) stays left out. New entries are taken as captured.
+    leaves out (not compared) stays left out, and so does a parameter's ``default_value``.
+    New entries are taken as captured (a node that did not state its parameters gets them).
     """
 
     old_nodes = normalize_nodes(old_nodes)
@@ -450,6 +527,11 @@ def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]
         old_node = old_nodes.get(fqn)
         if old_node is None:
             continue
+        old_params = {e.get("name"): e for e in old_node.get(PARAMETERS) or []}
+        for i, entry in enumerate(node.get(PARAMETERS) or []):
+            old = old_params.get(entry.get("name"))
+            if old is not None and "default_value" not in old and "default_value" in entry:
+                node[PARAMETERS][i] = {k: v for k, v in entry.items() if k != "default_value"}
         for list_name in LISTS:
             old_by_name = {e.get("name"): e for e in old_node[list_name]}
             for i, entry in enumerate(node[list_name]):

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import yaml
 
-from .vocabulary import LISTS
+from .vocabulary import LISTS, PARAMETERS
 
-#: (node, list name or "node", interface name) → 1-based line
+#: (node, list name, "parameters" or "node", interface or parameter name) → 1-based line
 LineIndex = dict[tuple[str, str, str], int]
 
 
@@ -25,8 +25,8 @@ def _child(mapping: yaml.Node, key: str) -> yaml.Node | None:
 
 
 def line_index(text: str) -> LineIndex:
-    """The lines of every node and interface entry of a contract's text (empty when the text
-    does not parse: annotations then point at the file)."""
+    """The lines of every node, interface and parameter entry of a contract's text (empty when
+    the text does not parse: annotations then point at the file)."""
     try:
         root = yaml.compose(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
     except yaml.YAMLError:
@@ -40,7 +40,7 @@ def line_index(text: str) -> LineIndex:
         if fqn is None:
             continue
         index[(fqn, "node", fqn)] = key.start_mark.line + 1
-        for list_name in LISTS:
+        for list_name in (*LISTS, PARAMETERS):
             entries = _child(node, list_name)
             if not isinstance(entries, yaml.SequenceNode):
                 continue

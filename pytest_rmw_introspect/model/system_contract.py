@@ -9,7 +9,7 @@
       file: robot.launch.xml         # (or `path: launch/robot.launch.xml`, relative to this file)
       arguments: {use_lidar: "true"}
       allow_unsupported: false       # true: capture what the launch reader supports, note the rest
-    target: {timeout: 30}            # optional: settle, timeout, horizon, env for every process
+    target: {timeout: 30}            # optional: settle, timeout, horizon, lifecycle, read_parameters, env
     options: {fail_on: any, system_fail_on: breaking}
     processes:                       # every process the launch file starts, in launch order
       - package: my_robot_bringup
@@ -51,7 +51,7 @@ from .vocabulary import FAIL_ON, LABELS, LISTS
 SYSTEM_VERSION = 1
 SUFFIX = ".system.yaml"
 #: target options that apply to every process of a system
-SYSTEM_TARGET_KEYS = ("settle", "timeout", "horizon", "env")
+SYSTEM_TARGET_KEYS = ("settle", "timeout", "horizon", "lifecycle", "read_parameters", "env")
 PROCESS_KEYS = ("package", "executable", "name", "nodes")
 
 DEFAULT_HEADER = (
@@ -137,7 +137,7 @@ class SystemContract:
     path: Path | None
     launch: dict[str, Any]
     processes: list[dict[str, Any]]
-    nodes: dict[str, dict[str, list[dict[str, Any]]]]
+    nodes: dict[str, dict[str, Any]]
     target: dict[str, Any] | None = None
     options: dict[str, Any] = field(default_factory=dict)
     text: str = ""
@@ -228,6 +228,7 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                     except ValueError as exc:
                         raise ContractError(path, contract_module.format_location(location + ["qos"]), str(exc),
                                             line=_where(root, location + ["qos"])) from None
+    contract_module.check_parameters(root, nodes, path)
     processes = [dict(p) for p in data.get("processes") or []]
     for i, process in enumerate(processes):
         for fqn in process.get("nodes") or []:

@@ -1,9 +1,11 @@
 """The words every layer shares, defined once: interface lists, their labels, action parts,
-severities and the ``fail_on`` thresholds.
+what the client libraries add by themselves (infrastructure endpoints and parameters),
+parameter types and lifecycle states, severities and the ``fail_on`` thresholds.
 
-A node's interface is six lists (the NoDL v2 names). The middleware records four raw endpoint
-kinds; actions are grouped from their services and topics. Drift and system checks rate what
-they find with a :class:`Severity`; ``fail_on`` names the least severe one that fails.
+A node's interface is six lists (the NoDL v2 names) plus its parameters and, for a managed
+node, the lifecycle state it is described in. The middleware records four raw endpoint kinds;
+actions are grouped from their services and topics. Drift and system checks rate what they find
+with a :class:`Severity`; ``fail_on`` names the least severe one that fails.
 """
 
 from __future__ import annotations
@@ -31,9 +33,15 @@ PROVIDER_OF: dict[str, str] = {
     "action_clients": "action_servers",
 }
 
+#: A node's parameters in a contract (beside the six lists; drift items of kind ``parameters``).
+PARAMETERS = "parameters"
+#: A managed node's lifecycle state in a contract (a key of the node, drift of kind ``node``).
+LIFECYCLE = "lifecycle"
+
 #: Singular words for people, per list (and ``node`` for drift of a whole node).
 LABELS: dict[str, str] = {
     "node": "node",
+    PARAMETERS: "parameter",
     "publishers": "publisher",
     "subscriptions": "subscription",
     "service_servers": "service server",
@@ -60,6 +68,76 @@ ACTION_HASHED_PARTS: dict[str, str] = {
     "get_result": "result",
     "feedback": "feedback",
 }
+
+
+# ---------------------------------------------------------------------- infrastructure
+# What rcl, rclpy and rclcpp create by themselves in every node: left out of contracts unless
+# ``include_infrastructure`` (model/capture.py filters with these).
+
+#: Topics every node uses: ``/rosout`` (its log publisher), ``/parameter_events``.
+INFRASTRUCTURE_TOPICS: tuple[str, ...] = ("/rosout", "/parameter_events")
+#: ``<node>/<service>``: the parameter services and (Jazzy) the type description service.
+PARAMETER_SERVICES: tuple[str, ...] = (
+    "describe_parameters",
+    "get_parameter_types",
+    "get_parameters",
+    "list_parameters",
+    "set_parameters",
+    "set_parameters_atomically",
+    "get_type_description",
+)
+#: ``<node>/<service>`` and ``<node>/<topic>`` of a lifecycle (managed) node.
+LIFECYCLE_SERVICES: tuple[str, ...] = (
+    "change_state",
+    "get_state",
+    "get_available_states",
+    "get_available_transitions",
+    "get_transition_graph",
+)
+LIFECYCLE_TOPICS: tuple[str, ...] = ("transition_event",)
+#: per-node services of enable_logger_service (rclcpp NodeOptions, rclpy Node(enable_logger_service=True))
+LOGGER_SERVICES: tuple[str, ...] = ("get_logger_levels", "set_logger_levels")
+#: Parameters the client libraries declare in every node (rclpy and rclcpp: ``use_sim_time``,
+#: ``start_type_description_service``).
+INFRASTRUCTURE_PARAMETERS: frozenset[str] = frozenset({"use_sim_time", "start_type_description_service"})
+#: rclcpp's QoS overrides of the infrastructure topics (and of ``/clock``, which its time source
+#: subscribes to with ``use_sim_time``): ``qos_overrides./parameter_events.publisher.depth``, ...
+#: A node's ``qos_overrides.*`` parameters of its own topics are part of its interface.
+INFRASTRUCTURE_PARAMETER_PREFIXES: tuple[str, ...] = tuple(
+    f"qos_overrides.{topic}." for topic in (*INFRASTRUCTURE_TOPICS, "/clock"))
+
+
+def is_infrastructure_parameter(name: str) -> bool:
+    """Whether the parameter ``name`` is one the client library declares by itself."""
+    return name in INFRASTRUCTURE_PARAMETERS or name.startswith(INFRASTRUCTURE_PARAMETER_PREFIXES)
+
+
+# ---------------------------------------------------------------------- parameters and lifecycle
+
+#: Parameter types, NoDL spellings (rcl_interfaces ParameterType without the PARAMETER_ prefix).
+PARAMETER_TYPES: tuple[str, ...] = (
+    "bool",
+    "integer",
+    "double",
+    "string",
+    "byte_array",
+    "bool_array",
+    "integer_array",
+    "double_array",
+    "string_array",
+)
+#: The primary lifecycle states (``lifecycle_msgs/msg/State`` labels), in the order a node is
+#: brought up; ``unknown``: a managed node whose state was not read (target ``lifecycle: none``).
+LIFECYCLE_STATES: tuple[str, ...] = ("unconfigured", "inactive", "active", "finalized")
+LIFECYCLE_UNKNOWN = "unknown"
+#: The target option ``lifecycle``: how far the middleware drives managed nodes (``none``: it
+#: leaves them alone). The default is ``active``.
+LIFECYCLE_TARGETS: tuple[str, ...] = ("active", "inactive", "unconfigured", "none")
+DEFAULT_LIFECYCLE_TARGET = "active"
+#: The transitions the middleware drives, in order, each with the state it starts from; a
+#: parameter's ``declared_in`` is one of them.
+TRANSITION_FROM_STATE: dict[str, str] = {"configure": "unconfigured", "activate": "inactive"}
+LIFECYCLE_TRANSITIONS: tuple[str, ...] = tuple(TRANSITION_FROM_STATE)
 
 
 class Severity(enum.IntEnum):

@@ -20,7 +20,8 @@ that says what to do; they are never internal errors.
 
 Precedence of comparison options: marker > contract ``options:`` > command line > ini.
 Precedence of target options: marker > contract ``target:`` > command line > ini
-(``timeout``/``settle``/``horizon``/``cold_start`` only on the command line and in the ini file).
+(``timeout``/``settle``/``horizon``/``cold_start``/``lifecycle``/``read_parameters`` only on the command line
+and in the ini file).
 """
 
 from __future__ import annotations

@@ -15,13 +15,14 @@ from ..check.pipeline import Layers, OptionLayer, TargetLayer
 from ..compare.options import OptionError, parse_layer
 from ..errors import SetupError, TargetConfigError
 from ..model.paths import shown
-from ..model.vocabulary import FAIL_ON
+from ..model.vocabulary import FAIL_ON, LIFECYCLE_TARGETS
 from ..run import middleware, ros_env
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
 
-#: target options that have a command-line option and an ini value
-SESSION_TARGET_KEYS = ("timeout", "settle", "horizon")
+#: target options that have a command-line option and an ini value (seconds, then the others)
+SECONDS_TARGET_KEYS = ("timeout", "settle", "horizon")
+SESSION_TARGET_KEYS = (*SECONDS_TARGET_KEYS, "lifecycle", "read_parameters")
 
 
 @dataclass
@@ -144,6 +145,23 @@ def addoption(parser: pytest.Parser) -> None:
     group.addoption("--rmw-introspect-cold-start", action="store_true", default=None,
                     help="start every target as a new process, never forked from the warm start server "
                     "(default: Python targets start warm)")
+    group.addoption("--rmw-introspect-lifecycle", choices=LIFECYCLE_TARGETS, default=None,
+                    help="default state lifecycle (managed) nodes are driven to before the capture "
+                    "(default active; none leaves them alone)")
+    group.addoption("--rmw-introspect-read-parameters", choices=("true", "false"), default=None,
+                    help="default of reading every node's parameters through its parameter services (default true)")
+    group.addoption(
+        "--rmw-introspect-ignore-parameters",
+        default=None,
+        metavar="PATTERNS",
+        help="parameters not to compare: comma-separated names or fnmatch patterns (qos_overrides.*), or 'all'",
+    )
+    group.addoption(
+        "--rmw-introspect-ignore-parameter-values",
+        default=None,
+        metavar="PATTERNS",
+        help="parameters whose default values are not compared: names or patterns, or 'all'",
+    )
 
     group.addoption("--rmw-introspect-no-capture-ahead", action="store_true", default=False,
                     help="capture each contract item's target only when the item runs (default: "
@@ -173,6 +191,15 @@ def addoption(parser: pytest.Parser) -> None:
                   "one runs (false: one capture at a time)", type="bool", default=True)
     parser.addini("rmw_introspect_cold_start", "start every target as a new process (no warm starts)",
                   type="bool", default=False)
+    parser.addini("rmw_introspect_lifecycle", "default state lifecycle nodes are driven to: "
+                  + " | ".join(LIFECYCLE_TARGETS), default="")
+    parser.addini("rmw_introspect_read_parameters", "read the nodes' parameters (true | false; default true)",
+                  default="")
+    parser.addini("rmw_introspect_ignore_parameters", "parameters not to compare (names or patterns, or 'all')",
+                  type="args", default=[])
+    parser.addini("rmw_introspect_ignore_parameter_values",
+                  "parameters whose default values are not compared (names or patterns, or 'all')",
+                  type="args", default=[])
 
 
 def _ini_float(config: pytest.Config, name: str) -> float | None:
@@ -185,6 +212,17 @@ def _ini_float(config: pytest.Config, name: str) -> float | None:
         raise pytest.UsageError(f"ini option {name} = {raw!r} is not a number of seconds") from None
 
 
+def _ini_text(config: pytest.Config, name: str) -> str | None:
+    """A string ini value (validated with the target options); None when not set."""
+    return str(config.getini(name) or "").strip() or None
+
+
+def _ini_args(config: pytest.Config, name: str) -> Any:
+    """An ini value of type ``args``: one word as it is (``all``), several as a list, None when not set."""
+    words = config.getini(name)
+    return (words[0] if len(words) == 1 else list(words)) if words else None
+
+
 def configure(config: pytest.Config) -> SessionState:
     """Read and validate this session's options (a bad value is a ``pytest.UsageError``)."""
     update = bool(config.getoption("update_golden", False))
@@ -193,14 +231,15 @@ def configure(config: pytest.Config) -> SessionState:
         if refusal:
             raise pytest.UsageError(refusal)
 
-    ini_qos = config.getini("rmw_introspect_ignore_qos")
     ini_raw = {
         "ignore_type_hash": config.getini("rmw_introspect_ignore_type_hash"),
-        "ignore_qos": (ini_qos[0] if len(ini_qos) == 1 else list(ini_qos)) if ini_qos else None,
+        "ignore_qos": _ini_args(config, "rmw_introspect_ignore_qos"),
         "allow_extra": config.getini("rmw_introspect_allow_extra"),
         "include_infrastructure": config.getini("rmw_introspect_include_infrastructure"),
         "fail_on": config.getini("rmw_introspect_fail_on") or None,
         "include_types": config.getini("rmw_introspect_include_types"),
+        "ignore_parameters": _ini_args(config, "rmw_introspect_ignore_parameters"),
+        "ignore_parameter_values": _ini_args(config, "rmw_introspect_ignore_parameter_values"),
     }
     cli_raw = {
         "ignore_type_hash": config.getoption("rmw_introspect_ignore_type_hash", None),
@@ -209,6 +248,8 @@ def configure(config: pytest.Config) -> SessionState:
         "include_infrastructure": config.getoption("rmw_introspect_include_infrastructure", None),
         "fail_on": config.getoption("rmw_introspect_fail_on", None),
         "include_types": config.getoption("rmw_introspect_include_types", None),
+        "ignore_parameters": config.getoption("rmw_introspect_ignore_parameters", None),
+        "ignore_parameter_values": config.getoption("rmw_introspect_ignore_parameter_values", None),
     }
     try:
         ini_options = parse_layer(ini_raw, "ini file")
@@ -216,7 +257,8 @@ def configure(config: pytest.Config) -> SessionState:
     except OptionError as exc:
         raise pytest.UsageError(str(exc)) from None
 
-    ini_target = {key: _ini_float(config, f"rmw_introspect_{key}") for key in SESSION_TARGET_KEYS}
+    ini_target: dict[str, Any] = {key: _ini_float(config, f"rmw_introspect_{key}") for key in SECONDS_TARGET_KEYS}
+    ini_target.update({key: _ini_text(config, f"rmw_introspect_{key}") for key in ("lifecycle", "read_parameters")})
     cli_target = {key: config.getoption(f"rmw_introspect_{key}", None) for key in SESSION_TARGET_KEYS}
     # cold starts: only ever switched on by these layers (a contract or marker may say false)
     ini_target["cold_start"] = True if config.getini("rmw_introspect_cold_start") else None

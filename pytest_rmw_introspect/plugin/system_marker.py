@@ -9,8 +9,8 @@ and ``*.system.yaml`` files collected as test items.
 
 The marker's first argument is the system contract (relative to the test file); keyword
 arguments: ``launch_arguments`` (on top of the contract's ``launch: arguments``), the
-process-wide target options (``settle``, ``timeout``, ``horizon``, ``env``), the comparison
-options and ``system_fail_on``. Every process of the launch file is captured when the test sets
+process-wide target options (``settle``, ``timeout``, ``horizon``, ``lifecycle``, ``read_parameters``,
+``env``), the comparison options and ``system_fail_on``. Every process of the launch file is captured when the test sets
 up; after the test body the system is compared with the contract and the system rules run
 (``check.system_pipeline``), with the same outcomes as an ``interfaces`` test:
 ``--update-golden`` writes the contract, drift or system problems at or above their thresholds

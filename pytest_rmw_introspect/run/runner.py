@@ -6,7 +6,13 @@ captures never collide, not even under pytest-xdist), ``RMW_INTROSPECT_EXIT=1`` 
 middleware ends the process with status 0 as soon as its interfaces settled) and
 ``RMW_INTROSPECT_SETTLE_MS`` from the target's ``settle`` and ``RMW_INTROSPECT_HORIZON_MS``
 from its ``horizon`` (virtual time: after the first settle the middleware advances the node's
-clock through every timed wait, up to that age, then settles again).
+clock through every timed wait, up to that age, then settles again), ``RMW_INTROSPECT_LIFECYCLE``
+from its ``lifecycle`` and ``RMW_INTROSPECT_PARAMETERS`` from its ``read_parameters`` (after the
+first settle the middleware reads every node's parameters and drives lifecycle nodes).
+
+A lifecycle node whose transition failed (its callback returned FAILURE or ERROR, or raised)
+is a :class:`~pytest_rmw_introspect.errors.LifecycleTransitionFailed`: the capture would show
+the node in a state the target did not ask for.
 
 What counts as a capture:
 
@@ -47,6 +53,7 @@ from typing import IO, Any
 from ..errors import (
     CaptureFormatError,
     ExecutableNotFound,
+    LifecycleTransitionFailed,
     NoNodeCreated,
     TargetError,
     TargetExited,
@@ -135,6 +142,8 @@ def environment(
     env["RMW_INTROSPECT_AUTO_EXPORT"] = "1"
     env["RMW_INTROSPECT_SETTLE_MS"] = str(max(0, round(spec.effective_settle() * 1000)))
     env["RMW_INTROSPECT_HORIZON_MS"] = str(max(0, round(spec.effective_horizon() * 1000)))
+    env["RMW_INTROSPECT_LIFECYCLE"] = spec.effective_lifecycle()
+    env["RMW_INTROSPECT_PARAMETERS"] = "1" if spec.effective_read_parameters() else "0"
     env.setdefault("PYTHONUNBUFFERED", "1")
     return env
 
@@ -320,6 +329,10 @@ def run(
         captured.path = output if keep_files else None
         captured.other_processes = others
         captured.from_child = from_child
+        failures = captured.failed_transitions()
+        if failures:
+            raise _tag(LifecycleTransitionFailed(describe, failures, wanted=spec.effective_lifecycle(),
+                                                 partial=captured, stderr_tail=stderr, argv=argv), start)
         _learn(captured, env, spec, python)
         return captured
     finally:
@@ -415,7 +428,8 @@ def capture(
     Give the target as keyword arguments (the keys of :mod:`pytest_rmw_introspect.run.target`:
     ``package``/``executable``, ``command``, ``script``, ``module``, ``arguments``,
     ``namespace``, ``node_name``, ``remappings``, ``parameters``, ``params_file``, ``env``,
-    ``cwd``, ``settle``, ``timeout``), as a mapping, or as a :class:`TargetSpec`; keyword
+    ``cwd``, ``settle``, ``timeout``, ``horizon``, ``lifecycle``, ``read_parameters``), as a
+    mapping, or as a :class:`TargetSpec`; keyword
     arguments override the mapping. Relative paths are relative to ``base_dir`` (default:
     the current directory).
 
@@ -424,7 +438,9 @@ def capture(
     '/robot1/chatter'
 
     Raises :class:`~pytest_rmw_introspect.errors.SetupError` when ROS 2 or the middleware is
-    missing and a :class:`~pytest_rmw_introspect.errors.TargetError` when the target fails.
+    missing and a :class:`~pytest_rmw_introspect.errors.TargetError` when the target fails (a
+    :class:`~pytest_rmw_introspect.errors.LifecycleTransitionFailed` when a lifecycle node
+    fails a transition the capture drives).
     """
     base = Path(base_dir) if base_dir is not None else Path.cwd()
     if isinstance(target, TargetSpec):

@@ -29,6 +29,7 @@ from typing import Any
 from ..errors import NoNodeCreated, TargetConfigError, TargetError
 from ..model.capture import Capture
 from ..model.paths import shown
+from ..model.vocabulary import LIFECYCLE, PARAMETERS
 from . import launch_reader, middleware, ros_env, runner
 from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter
 from .target import TargetSpec
@@ -135,15 +136,23 @@ class SystemCapture:
     processes: list[ProcessCapture]
 
     def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> dict[str, Any]:
-        """All nodes of the system (a node name held by several processes: the union)."""
-        merged: dict[str, dict[str, list[dict[str, Any]]]] = {}
+        """All nodes of the system (a node name held by several processes: the union of their
+        interfaces and parameters, the first one's lifecycle state)."""
+        merged: dict[str, dict[str, Any]] = {}
         for process in self.processes:
             for fqn, node in process.contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos).items():
-                into = merged.setdefault(fqn, {k: [] for k in node})
-                for list_name, entries in node.items():
-                    for entry in entries:
-                        if entry not in into.setdefault(list_name, []):
-                            into[list_name].append(entry)
+                into = merged.setdefault(fqn, {})
+                for key, value in node.items():
+                    if key == LIFECYCLE:
+                        into.setdefault(key, value)
+                    elif key == PARAMETERS:
+                        have = {e["name"] for e in into.setdefault(key, [])}
+                        into[key] = sorted([*into[key], *(e for e in value if e["name"] not in have)],
+                                           key=lambda e: e["name"])
+                    else:
+                        for entry in value:
+                            if entry not in into.setdefault(key, []):
+                                into[key].append(entry)
         return {fqn: merged[fqn] for fqn in sorted(merged)}
 
     def process_entries(self) -> list[dict[str, Any]]:
@@ -201,7 +210,7 @@ def labels(processes: Sequence[tuple[str | None, str]]) -> list[str]:
 
 def process_spec(node: LaunchedNode, base: TargetSpec, params_dir: Path) -> TargetSpec:
     """The target of one launched process: the launch file's command line on top of the
-    system's process-wide options (``base``: settle, timeout, horizon, env)."""
+    system's process-wide options (``base``: settle, timeout, horizon, lifecycle, read_parameters, env)."""
     counter = [0]
 
     def params_file(parameter: Parameter) -> Path:
@@ -221,7 +230,8 @@ def process_spec(node: LaunchedNode, base: TargetSpec, params_dir: Path) -> Targ
                        arguments=[*node.arguments, *node.ros_argument_list(params_file)])
     else:
         options["command"] = [node.executable, *node.arguments, *node.ros_argument_list(params_file)]
-    spec = TargetSpec(settle=base.settle, timeout=base.timeout, horizon=base.horizon)
+    spec = TargetSpec(settle=base.settle, timeout=base.timeout, horizon=base.horizon, lifecycle=base.lifecycle,
+                      read_parameters=base.read_parameters)
     return spec.merged(options, source=f"launch file {node.where}")
 
 

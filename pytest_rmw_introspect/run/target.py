@@ -30,6 +30,12 @@ The same keys are accepted everywhere (the capture API, a contract's ``target`` 
                    default 10, ``0`` turns virtual time off)
 ``cold_start``     ``true``: always start a new interpreter, never fork a Python target from
                    the warm start server (``run.warm``); default false
+``lifecycle``      how far the middleware drives lifecycle (managed) nodes after the first
+                   settle: ``active`` (configure, activate; the default), ``inactive``,
+                   ``unconfigured``, ``none`` (leave them alone) (``RMW_INTROSPECT_LIFECYCLE``)
+``read_parameters`` read every node's parameters through its own parameter services (default
+                   true; ``RMW_INTROSPECT_PARAMETERS``). Not ``parameters``: that key holds
+                   the ``-p`` values given to the node
 =================  ==========================================================================
 
 Exactly one of ``package``+``executable``, ``command``, ``script``, ``module`` names the
@@ -54,6 +60,7 @@ from typing import Any
 import yaml
 
 from ..errors import ExecutableNotFound, TargetConfigError
+from ..model.vocabulary import DEFAULT_LIFECYCLE_TARGET, LIFECYCLE_TARGETS
 
 DEFAULT_TIMEOUT = 20.0
 DEFAULT_SETTLE = 0.1
@@ -83,6 +90,8 @@ TARGET_KEYS = (
     "timeout",
     "horizon",
     "cold_start",
+    "lifecycle",
+    "read_parameters",
 )
 
 
@@ -108,6 +117,8 @@ class TargetSpec:
     timeout: float | None = None
     horizon: float | None = None
     cold_start: bool | None = None
+    lifecycle: str | None = None
+    read_parameters: bool | None = None
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -187,6 +198,12 @@ class TargetSpec:
 
     def effective_horizon(self) -> float:
         return DEFAULT_HORIZON if self.horizon is None else self.horizon
+
+    def effective_lifecycle(self) -> str:
+        return DEFAULT_LIFECYCLE_TARGET if self.lifecycle is None else self.lifecycle
+
+    def effective_read_parameters(self) -> bool:
+        return True if self.read_parameters is None else self.read_parameters
 
     def validate(self) -> None:
         """Raise :class:`TargetConfigError` unless exactly one way of running is chosen."""
@@ -293,6 +310,9 @@ def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
     if key == "remappings":
         return _remappings(value, source)
     if key == "parameters":
+        if isinstance(value, bool):
+            raise _fail(source, key, "a mapping of parameter names to values (the -p values given to the node; "
+                        "`read_parameters: false` stops reading the node's parameters)", value)
         if not isinstance(value, Mapping) or not all(isinstance(k, str) for k in value):
             raise _fail(source, key, "a mapping of parameter names to values", value)
         return dict(value)
@@ -310,6 +330,16 @@ def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
         if not 0 <= value <= MAX_SECONDS:
             raise _fail(source, key, f"a number of seconds from 0 to {MAX_SECONDS:g}", value)
         return float(value)
+    if key == "lifecycle":
+        if not isinstance(value, str) or value.strip().lower() not in LIFECYCLE_TARGETS:
+            raise _fail(source, key, f"one of {', '.join(LIFECYCLE_TARGETS)}", value)
+        return value.strip().lower()
+    if key == "read_parameters":
+        if isinstance(value, str) and value.strip().lower() in ("true", "false", "1", "0", "yes", "no", "on", "off"):
+            return value.strip().lower() in ("true", "1", "yes", "on")
+        if not isinstance(value, bool):
+            raise _fail(source, key, "true or false", value)
+        return value
     raise AssertionError(key)  # pragma: no cover
 
 

@@ -7,7 +7,7 @@ import shutil
 import sys
 
 import yaml
-from cli_helpers import NODES, STRING_HASH
+from cli_helpers import NODES, STRING_HASH, TALKER_PARAMETERS
 
 from pytest_rmw_introspect.model import contract as contract_module
 
@@ -24,7 +24,7 @@ nodes:
     service_clients: []
     action_servers: []
     action_clients: []
-"""
+""" + TALKER_PARAMETERS
 
 
 def test_capture_yaml_to_a_file_is_a_contract_with_a_relative_target_that_checks(cli):

@@ -22,9 +22,12 @@ def test_check_reports_drift_with_exit_1_and_the_accept_command(cli):
     assert result.returncode == 1, result
     out = result.stdout
     assert out.startswith(f"Interface drift of script {NODES / 'talker.py'} against talker.interfaces.yaml: "
-                          "2 changes (1 breaking, 0 risky, 1 safe)\nResult: FAIL (fail on: any)\n")
+                          "3 changes (1 breaking, 1 risky, 1 safe)\nResult: FAIL (fail on: any)\n")
     assert "[QOS_RELIABILITY_WEAKENED] publisher offers weaker reliability RELIABLE -> BEST_EFFORT" in out
     assert "[QOS_DEPTH_INCREASED] depth 3 -> 10" in out
+    # the contract lists the parameter's value under its target; -p changed it
+    assert ("    parameter reliability\n      [PARAM_DEFAULT_CHANGED] default value 'reliable' -> 'best_effort'"
+            in out)
     assert ("To accept these changes as the new contract, run:\n"
             "  rmw-introspect check --update --param reliability:=best_effort talker.interfaces.yaml\n") in out
 
@@ -57,6 +60,8 @@ def test_check_json_has_one_object_per_drift_item(cli):
 def test_command_line_target_options_override_the_contract_target(cli):
     # the contract describes the talker run with depth 5 on /speech; its target block does not say so
     contract = talker_contract(target=TALKER, depth=5).replace("/chatter", "/speech")
+    contract = contract.replace("      - name: depth\n        type: integer\n        default_value: 10\n",
+                                "      - name: depth\n        type: integer\n        default_value: 5\n")
     cli.write("talker.interfaces.yaml", contract)
     assert cli("check", "talker.interfaces.yaml").returncode == 1
     result = cli("check", "talker.interfaces.yaml", "--param", "depth:=5", "--remap", "chatter:=speech")
@@ -71,9 +76,12 @@ def test_comparison_flags(cli):
     drift = cli("check", "--format", "json", "talker.interfaces.yaml")
     assert drift.returncode == 1, drift
     assert {item["rule"] for item in json.loads(drift.stdout)} == {
-        "SUB_ADDED", "TYPE_HASH_CHANGED", "QOS_DEPTH_INCREASED"}, drift.stdout
-    quiet = cli("check", "talker.interfaces.yaml", "--allow-extra", "--ignore-type-hash", "--ignore-qos", "depth")
+        "SUB_ADDED", "TYPE_HASH_CHANGED", "QOS_DEPTH_INCREASED", "PARAM_DEFAULT_CHANGED"}, drift.stdout
+    quiet = cli("check", "talker.interfaces.yaml", "--allow-extra", "--ignore-type-hash", "--ignore-qos", "depth",
+                "--ignore-parameter-values", "listen")
     assert quiet.returncode == 0, quiet
+    assert cli("check", "talker.interfaces.yaml", "--allow-extra", "--ignore-type-hash", "--ignore-qos", "depth",
+               "--ignore-parameters", "lis*,other").returncode == 0
 
 
 def test_check_update_rewrites_the_drifted_contract_and_keeps_its_header(cli):

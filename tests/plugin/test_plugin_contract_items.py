@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from test_plugin_golden import TALKER_PARAMETERS
+
 STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
 
 
@@ -22,6 +24,7 @@ def talker(project, *, depth: int = 10, header: str = "", target: str | None = N
         "    service_clients: []\n"
         "    action_servers: []\n"
         "    action_clients: []\n"
+        + TALKER_PARAMETERS
     )
 
 

@@ -3,6 +3,28 @@
 from __future__ import annotations
 
 STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+#: the parameters of nodes/talker.py with their defaults, as a golden lists them
+TALKER_PARAMETERS = """\
+    parameters:
+      - name: depth
+        type: integer
+        default_value: 10
+      - name: durability
+        type: string
+        default_value: volatile
+      - name: listen
+        type: string
+        default_value: ''
+      - name: msg_type
+        type: string
+        default_value: String
+      - name: reliability
+        type: string
+        default_value: reliable
+      - name: topic
+        type: string
+        default_value: chatter
+"""
 
 TALKER_TEST = """
 @pytest.mark.interfaces("contracts/talker.yaml", script=NODES + "/talker.py")
@@ -26,7 +48,7 @@ nodes:
     service_clients: []
     action_servers: []
     action_clients: []
-"""
+""" + TALKER_PARAMETERS
 
 
 def test_missing_golden_fails_with_the_command_that_creates_it(project):

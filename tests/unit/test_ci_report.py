@@ -123,3 +123,27 @@ def test_line_index_of_a_contract():
     assert line_of(index, "/talker", "publishers", "/missing") == 3  # the node's line
     assert line_of(index, "/nobody", "node", "/nobody") is None
     assert line_index("nodes: [unclosed") == {}
+
+
+def test_parameter_drift_in_markdown_and_github_annotations_on_the_parameter_line():
+    text = """contract_version: 1
+nodes:
+  /cam:
+    lifecycle: active
+    publishers: []
+    parameters:
+      - name: rate
+        type: double
+        default_value: 10.0
+"""
+    old = loads(text)
+    new = {"/cam": {"lifecycle": "inactive", "parameters": [{"name": "rate", "type": "double", "default_value": 5.0}]}}
+    items = compare(old.nodes, new)
+    outcome = ContractOutcome(contract="cam.interfaces.yaml", items=items, nodes=["/cam"], lines=line_index(text))
+    markdown = ci_report.drift_markdown([outcome])
+    assert "- `/cam` parameter `rate`: `PARAM_DEFAULT_CHANGED` default value 10.0 -> 5.0" in markdown
+    assert "- `/cam`: `LIFECYCLE_STATE_CHANGED` the contract describes /cam active" in markdown
+    github = ci_report.drift_github([outcome]).splitlines()
+    assert github[0].startswith("::error file=cam.interfaces.yaml,line=3,title=LIFECYCLE_STATE_CHANGED (RISKY)::")
+    assert github[1].startswith("::error file=cam.interfaces.yaml,line=7,title=PARAM_DEFAULT_CHANGED (RISKY)::"
+                                "/cam parameter rate: default value 10.0 -> 5.0")

@@ -23,7 +23,7 @@ import pytest
 from pytest_rmw_introspect import cli
 from pytest_rmw_introspect.errors import CaptureFormatError, ContractError, TargetConfigError
 from pytest_rmw_introspect.model.capture import Capture
-from pytest_rmw_introspect.model.contract import loads
+from pytest_rmw_introspect.model.contract import loads, render
 from pytest_rmw_introspect.run.target import TargetSpec, ros_arguments
 
 CASES = int(os.environ.get("RMWI_FUZZ_CASES", "150"))
@@ -56,6 +56,16 @@ nodes:
       - name: /fib
         type: test_msgs/action/Fibonacci
         type_hash: {send_goal: RIHS01_0000000000000000000000000000000000000000000000000000000000000000}
+    parameters:
+      - name: rate
+        type: double
+        default_value: 10.0
+        read_only: true
+        floating_point_range: {from_value: 0.0, to_value: .inf, step: 0.0}
+      - {name: ids, type: integer_array, default_value: [1, 2], integer_range: {from_value: 0, to_value: 9, step: 1}}
+  /managed:
+    lifecycle: active
+    parameters: [{name: topic, type: string, default_value: status, declared_in: configure}]
 """
 
 
@@ -254,14 +264,29 @@ def test_fuzzed_parameters_are_accepted_or_refused_with_a_target_config_error():
 CAPTURE = {
     "format": "rmw_introspect_capture", "format_version": 1, "rmw_implementation": "rmw_introspect_cpp",
     "pid": 1, "argv": ["x"], "state": "settled", "settle_ms": 10, "time_to_settle_ms": 1.0, "elapsed_ms": 1.0,
-    "nodes": [{"id": 1, "seq": 1, "name": "t", "namespace": "/", "fqn": "/t", "enclave": "/", "destroyed": False}],
+    "format_minor": 1,
+    "probe": {"state": "done", "parameters": True, "lifecycle": "active", "answer_timeout_ms": 5000, "requests": 5,
+              "unanswered": 0},
+    "nodes": [{"id": 1, "seq": 1, "name": "t", "namespace": "/", "fqn": "/t", "enclave": "/", "destroyed": False,
+               "parameters": [
+                   {"name": "rate", "type": "double", "value": 1.5, "read_only": False, "dynamic_typing": False,
+                    "description": "Hz", "additional_constraints": "", "integer_range": None,
+                    "floating_point_range": {"from_value": 0.0, "to_value": "inf", "step": 0.0}, "declared_in": None},
+                   {"name": "ids", "type": "integer_array", "value": [1, 2], "read_only": True,
+                    "dynamic_typing": False, "description": "", "additional_constraints": "",
+                    "integer_range": {"from_value": 0, "to_value": 9, "step": 1}, "floating_point_range": None,
+                    "declared_in": "configure"}],
+               "parameters_error": None,
+               "lifecycle": {"target": "active", "initial_state": "unconfigured", "state": "active",
+                             "transitions": [{"id": 1, "label": "configure", "result": "success", "success": True}],
+                             "error": None}}],
     "endpoints": [
         {"seq": 2, "kind": "publisher", "node_id": 1, "node": "/t", "name": "/c", "type": "std_msgs/msg/String",
          "type_hash": None, "typesupport": "rosidl_typesupport_c",
          "qos": {"history": "KEEP_LAST", "depth": 7, "reliability": "RELIABLE", "durability": "VOLATILE",
                  "liveliness": "SYSTEM_DEFAULT", "deadline_ns": 0, "lifespan_ns": 0,
                  "liveliness_lease_duration_ns": 0, "avoid_ros_namespace_conventions": False},
-         "destroyed": False},
+         "destroyed": False, "created_in": "configure"},
         {"seq": 3, "kind": "service", "node_id": 1, "node": "/t", "name": "/f/_action/send_goal",
          "type": "test_msgs/action/Fibonacci_SendGoal", "type_hash": None, "qos": {}, "destroyed": False},
     ],
@@ -303,4 +328,4 @@ def test_mutated_capture_documents_parse_or_fail_with_a_capture_format_error():
                 continue
             capture.summary()
             capture.notes()
-            capture.to_contract_nodes()
+            render(capture.to_contract_nodes())

@@ -206,3 +206,36 @@ def test_fails_with_real_items(items):
                                                          allow_extra=True))
     assert [i.rule for i in only_safe] == ["PUB_REMOVED"]
     assert report.fails(only_safe, Severity.BREAKING)
+
+
+# --------------------------------------------------------------------------- parameters and lifecycle
+
+PARAM_OLD = {"/cam": {"lifecycle": "active", "parameters": [
+    {"name": "rate", "type": "double", "default_value": 10.0},
+    {"name": "frame", "type": "string", "default_value": "cam", "read_only": True},
+    {"name": "gain", "type": "double", "default_value": float("nan")}]}}
+PARAM_NEW = {"/cam": {"lifecycle": "inactive", "parameters": [
+    {"name": "rate", "type": "integer", "default_value": 10},
+    {"name": "gain", "type": "double", "default_value": float("inf")},
+    {"name": "exposure", "type": "double", "default_value": 0.5, "floating_point_range": {
+        "from_value": 0.0, "to_value": 1.0, "step": 0.0}}]}}
+
+
+def test_parameter_and_lifecycle_drift_in_the_text_report():
+    text = report.render_text(compare(PARAM_OLD, PARAM_NEW), contract_path="cam.interfaces.yaml")
+    assert "    [LIFECYCLE_STATE_CHANGED] the contract describes /cam active, the capture reached inactive" in text
+    assert "    parameter frame\n      [PARAM_REMOVED] parameter removed: launch files, parameter files and -p " \
+           "overrides that set frame are silently ignored, and `ros2 param set` of it fails (was: string, " \
+           "default 'cam', read only)" in text
+    assert "    parameter rate\n      [PARAM_TYPE_CHANGED] type changed from double to integer" in text
+    assert "      [PARAM_DEFAULT_CHANGED] default value .nan -> .inf" in text
+    assert "      [PARAM_ADDED] new parameter exposure (double, default 0.5): nothing sets it yet" in text
+    assert text.index("BREAKING (2)") < text.index("RISKY (2)") < text.index("SAFE (1)")
+
+
+def test_parameter_values_are_strict_json():
+    data = report.to_json(compare(PARAM_OLD, PARAM_NEW))
+    text = json.dumps(data, allow_nan=False)  # no NaN / Infinity tokens
+    gain = next(i for i in data if i["name"] == "gain")
+    assert (gain["old"], gain["new"]) == ("nan", "inf")
+    assert json.loads(text)[0]["severity"] == "BREAKING"

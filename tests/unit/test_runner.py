@@ -17,6 +17,7 @@ import pytest
 
 from pytest_rmw_introspect.errors import (
     ExecutableNotFound,
+    LifecycleTransitionFailed,
     NoNodeCreated,
     TargetConfigError,
     TargetExited,
@@ -278,6 +279,65 @@ def test_horizon_reaches_the_middleware(tmp_path, ros, library):
     assert run(tmp_path, ros, library, body, horizon=2.5).node_names == ["/fake"]
     off = "assert os.environ['RMW_INTROSPECT_HORIZON_MS'] == '0'\nwrite()\n"
     assert run(tmp_path, ros, library, off, horizon=0).node_names == ["/fake"]
+
+
+# ---------------------------------------------------------------------------- parameters and lifecycle
+
+
+def test_lifecycle_and_parameter_options_reach_the_middleware(tmp_path, ros, library):
+    defaults = """
+    assert os.environ['RMW_INTROSPECT_LIFECYCLE'] == 'active', os.environ['RMW_INTROSPECT_LIFECYCLE']
+    assert os.environ['RMW_INTROSPECT_PARAMETERS'] == '1'
+    write()
+    """
+    assert run(tmp_path, ros, library, defaults).node_names == ["/fake"]
+    chosen = """
+    assert os.environ['RMW_INTROSPECT_LIFECYCLE'] == 'unconfigured'
+    assert os.environ['RMW_INTROSPECT_PARAMETERS'] == '0'
+    write()
+    """
+    assert run(tmp_path, ros, library, chosen, lifecycle="unconfigured", read_parameters=False).node_names == ["/fake"]
+
+
+FAILED_CONFIGURE = {
+    "target": "active", "initial_state": "unconfigured", "state": "unconfigured",
+    "transitions": [{"id": 1, "label": "configure", "result": "failure", "success": False}],
+    "error": "transition configure of /fake failed: change_state answered success=false (the callback returned "
+             "FAILURE or ERROR, or raised); state now unconfigured",
+}
+
+
+def test_a_failed_lifecycle_transition_fails_the_capture_and_says_what_to_do(tmp_path, ros, library):
+    body = f"""
+    doc = json.loads(CAPTURE)
+    doc['nodes'][0]['lifecycle'] = {FAILED_CONFIGURE!r}
+    CAPTURE = json.dumps(doc)
+    print('RuntimeError: cannot configure', file=sys.stderr)
+    write(format_minor=1)
+    """
+    with pytest.raises(LifecycleTransitionFailed) as info:
+        run(tmp_path, ros, library, body)
+    error = info.value
+    assert error.failures == [("/fake", "configure", "change_state answered success=false (the callback returned "
+                               "FAILURE or ERROR, or raised); state now unconfigured", "unconfigured")]
+    text = str(error)
+    assert "lifecycle node /fake of the target script" in text
+    assert "failed its configure transition: change_state answered success=false" in text
+    assert "state now unconfigured. It cannot be captured active as the target asks (`lifecycle: active`)" in text
+    assert "fix the node's on_configure" in text and "set `lifecycle: unconfigured` in the target options" in text
+    assert "RuntimeError: cannot configure" in text  # its stderr
+    assert error.partial is not None and error.partial["/fake"].lifecycle.state == "unconfigured"
+    named = error.naming_contract("contracts/fake.interfaces.yaml")
+    assert str(named).startswith("contracts/fake.interfaces.yaml: lifecycle node /fake")
+    assert "in the `target:` block of contracts/fake.interfaces.yaml" in str(named)
+
+
+def test_a_capture_stuck_probing_says_how_to_capture_without_it(tmp_path, ros, library):
+    body = "write(state='probing', ever_waited=True)\nwhile True:\n    time.sleep(0.05)\n"
+    with pytest.raises(TargetTimeout) as info:
+        run(tmp_path, ros, library, body, timeout=0.5)
+    assert "never finished answering the middleware's questions" in str(info.value)
+    assert "`lifecycle: none` or `read_parameters: false`" in str(info.value)
 
 
 def test_exit_after_settling_is_a_capture_with_a_note(tmp_path, ros, library):

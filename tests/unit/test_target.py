@@ -257,6 +257,10 @@ def test_unknown_key_is_reported_with_the_source():
         ({"parameters": ["a"]}, "`parameters` must be a mapping"),
         ({"command": {"a": 1}}, "`command` must be a list of strings"),
         ({"package": ""}, "`package` must be a non-empty string"),
+        ({"lifecycle": "configured"}, "`lifecycle` must be one of active, inactive, unconfigured, none, got 'configured'"),
+        ({"lifecycle": True}, "`lifecycle` must be one of active"),
+        ({"read_parameters": "maybe"}, "`read_parameters` must be true or false, got 'maybe'"),
+        ({"parameters": False}, "`read_parameters: false` stops reading the node's parameters"),
     ],
 )
 def test_bad_option_values(options, message):
@@ -367,3 +371,12 @@ def test_a_module_with_main_but_no_main_block_gets_a_hint(tmp_path):
     assert target.module_main_hint("pkg_a.runs", tmp_path / "pkg_a" / "runs.py") is None
     assert target.module_main_hint("pkg_a.missing", tmp_path / "pkg_a" / "missing.py") is None
     assert target.module_main_hint("pkg_a.missing", None) is None
+
+
+def test_lifecycle_and_read_parameters_defaults_and_layers():
+    spec = TargetSpec.from_mapping({"module": "m"})
+    assert spec.effective_lifecycle() == "active" and spec.effective_read_parameters() is True
+    spec = merge(({"lifecycle": "inactive", "read_parameters": "false"}, None, "ini file"),
+                 ({"module": "m", "lifecycle": "NONE"}, None, "contract"))
+    assert (spec.lifecycle, spec.read_parameters) == ("none", False)
+    assert spec.to_mapping() == {"module": "m", "lifecycle": "none", "read_parameters": False}

@@ -6,18 +6,16 @@ Always: the lifecycle services ``lifecycle_talker/{change_state, get_state, ...}
 topic ``lifecycle_talker/transition_event`` (infrastructure, left out of contracts unless
 ``include_infrastructure`` is set).
 
-Interfaces created in transition callbacks exist only once the transition has happened, and a
-capture records only what exists: an unconfigured ``lifecycle_talker`` has no
-``lifecycle_chatter`` publisher at all. A lifecycle manager normally drives the transitions;
-for a capture (or a quick try without a manager) set the parameter ``autostart`` to ``true``
-and the executable configures and activates the node itself at start-up::
+Like any managed node it waits, unconfigured, for a lifecycle manager to configure and activate
+it. A capture needs no manager: after the node settles, the recording middleware calls its
+``change_state`` service itself (configure, then activate; the target option ``lifecycle``),
+so the contract describes the active node.
 
-    lib/rmw_introspect_examples/lifecycle_talker --ros-args -p autostart:=true
-
-Parameter: ``autostart`` (bool, ``false``).
+Parameter: ``period`` (double, seconds between messages, 0.5).
 """
 
 import rclpy
+from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.executors import ExternalShutdownException
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from std_msgs.msg import String
@@ -27,14 +25,15 @@ class LifecycleTalker(LifecycleNode):
 
     def __init__(self, **kwargs):
         super().__init__('lifecycle_talker', **kwargs)
-        self.autostart = self.declare_parameter('autostart', False).value
+        self._period = self.declare_parameter('period', 0.5, ParameterDescriptor(
+            description='seconds between messages while active')).value
         self._publisher = None
         self._timer = None
         self._count = 0
 
     def on_configure(self, state):
         self._publisher = self.create_lifecycle_publisher(String, 'lifecycle_chatter', 10)
-        self._timer = self.create_timer(0.5, self._on_timer)
+        self._timer = self.create_timer(self._period, self._on_timer)
         self.get_logger().info('configured')
         return TransitionCallbackReturn.SUCCESS
 
@@ -74,9 +73,6 @@ def main(args=None):
     rclpy.init(args=args)
     node = LifecycleTalker()
     try:
-        if node.autostart:
-            node.trigger_configure()
-            node.trigger_activate()
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass

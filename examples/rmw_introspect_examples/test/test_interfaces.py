@@ -68,8 +68,10 @@ def test_fibonacci_action_client(interfaces):
 
 @pytest.mark.interfaces('../contracts/lifecycle_talker.interfaces.yaml')
 def test_lifecycle_talker_once_active(interfaces):
-    # the publisher only exists after on_configure: the contract's target sets autostart
-    assert [p.name for p in interfaces['/lifecycle_talker'].publishers] == ['/lifecycle_chatter']
+    # the publisher only exists after on_configure: the middleware configured and activated it
+    node = interfaces['/lifecycle_talker']
+    assert node.lifecycle_state == 'active'
+    assert [(p.name, p.created_in) for p in node.publishers] == [('/lifecycle_chatter', 'configure')]
 
 
 @pytest.mark.interfaces('../contracts/relay.interfaces.yaml')

@@ -31,7 +31,7 @@ NODES = {
     'map_server': ([], 'Published a 100x100 map'),
     'motor_enable_server': ([], 'motors enabled'),
     'fibonacci_server': ([], 'Computing 10 Fibonacci numbers'),
-    'lifecycle_talker': (['--ros-args', '-p', 'autostart:=true'], 'activated'),
+    'lifecycle_talker': ([], 'activated'),  # by the lifecycle manager below
     'relay': ([], 'relaying chatter'),
     'battery_monitor': ([], 'calibrated: publishing battery state'),
     'watchdog': ([], 'grace period over: watching heartbeat'),
@@ -46,6 +46,12 @@ CLIENTS = {
     # a generous deadline: a dozen processes start at once on a small machine
     'motor_deadline_client': (['--ros-args', '-p', 'deadline:=30.0'], 'success=True: motors'),
     'self_test': ([], 'self test done: '),
+}
+#: clients that are not executables of the package: (command, text their output must contain)
+HELPERS = {
+    # a managed node waits for a lifecycle manager: this one configures and activates it
+    'lifecycle_manager': ([sys.executable, str(Path(__file__).parent / 'lifecycle_manager.py'), '/lifecycle_talker'],
+                          '/lifecycle_talker is active'),
 }
 #: how long all of them get to start, discover each other and print their line
 DEADLINE = 60.0
@@ -81,14 +87,17 @@ def processes(tmp_path_factory):
         started[name] = (subprocess.Popen(
             [str(executable), *args], env=env, stdout=log.open('w'),
             stderr=subprocess.STDOUT), log)
+    for name, (command, _) in HELPERS.items():
+        log = logs / f'{name}.log'
+        started[name] = (subprocess.Popen(command, env=env, stdout=log.open('w'), stderr=subprocess.STDOUT), log)
     # Starting a dozen Python processes at once takes seconds on a small machine: wait until
     # every node printed its line and every client exited (or the deadline), stopping none
     # before, since they depend on each other.
-    expected = {**NODES, **CLIENTS}
+    expected = {**NODES, **CLIENTS, **HELPERS}
     deadline = time.monotonic() + DEADLINE
     while time.monotonic() < deadline:
         if all(expected[name][1] in log.read_text() for name, (_, log) in started.items()) and \
-                all(started[name][0].poll() is not None for name in CLIENTS):
+                all(started[name][0].poll() is not None for name in (*CLIENTS, *HELPERS)):
             break
         time.sleep(0.2)
     yield started
@@ -122,7 +131,7 @@ def test_node_runs_and_stops_cleanly(processes, name):
     assert NODES[name][1] in output, f'{name} did not print {NODES[name][1]!r}:\n{output}'
 
 
-@pytest.mark.parametrize('name', sorted(CLIENTS))
+@pytest.mark.parametrize('name', sorted([*CLIENTS, *HELPERS]))
 def test_client_gets_its_answer_and_exits(processes, name):
     process, log = processes[name]
     if process.poll() is None:
@@ -130,5 +139,6 @@ def test_client_gets_its_answer_and_exits(processes, name):
         pytest.fail(f'{name} had no answer within {DEADLINE} s:\n{log.read_text()}')
     status = process.returncode
     output = log.read_text()
+    expected = {**CLIENTS, **HELPERS}[name][1]
     assert status == 0, f'{name} exited with status {status}:\n{output}'
-    assert CLIENTS[name][1] in output, f'{name} did not print {CLIENTS[name][1]!r}:\n{output}'
+    assert expected in output, f'{name} did not print {expected!r}:\n{output}'

@@ -199,7 +199,8 @@ def _inline_refs(document: dict[str, Any]) -> dict[str, Any]:
         ref = value.get("$ref")
         if isinstance(ref, str) and ref.startswith("#/definitions/"):
             name = ref[len("#/definitions/"):]
-            if name in definitions and name not in expanding and len(value) == 1:
+            # Draft 7 ignores the keywords beside a $ref (a description): the definition replaces all.
+            if name in definitions and name not in expanding:
                 return inline(definitions[name], expanding + (name,))
         return {k: inline(v, expanding) for k, v in value.items()}
 

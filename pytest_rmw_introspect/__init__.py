@@ -42,6 +42,7 @@ if TYPE_CHECKING:
         NoNodeCreated,
         RmwIntrospectError,
         SetupError,
+        StimulusFailed,
         TargetConfigError,
         TargetError,
         TargetExited,
@@ -82,7 +83,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     "TargetSpec": ("run.target", "TargetSpec"),
     **{name: ("errors", name) for name in (
         "CaptureFormatError", "ContractError", "ExecutableNotFound", "NoNodeCreated", "RmwIntrospectError",
-        "SetupError", "TargetConfigError", "TargetError", "TargetExited", "TargetTimeout")},
+        "SetupError", "StimulusFailed", "TargetConfigError", "TargetError", "TargetExited", "TargetTimeout")},
 }
 
 
@@ -121,6 +122,7 @@ __all__ = [
     "Severity",
     "ServiceType",
     "SetupError",
+    "StimulusFailed",
     "SystemResult",
     "TargetConfigError",
     "TargetError",

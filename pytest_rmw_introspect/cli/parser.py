@@ -194,6 +194,11 @@ def _add_target(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--horizon", type=float, metavar="SECONDS",
                    help="seconds of the node's virtual life the capture observes: timers fire at once "
                    "(default 10; 0 turns virtual time off)")
+    g.add_argument("--stimulus", dest="stimuli", action="append", metavar="NAME",
+                   help="after the node settled, give each subscription of this fully resolved topic name one "
+                   "default-constructed message, or call each service of this name with a default request, and "
+                   "capture what the node creates in response (repeatable; off by default: the node acts on "
+                   "that input)")
 
 
 def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True, types: bool = True) -> None:
@@ -325,6 +330,8 @@ def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dic
             target[key] = value
     if args.arguments:
         target["arguments"] = list(args.arguments)
+    if getattr(args, "stimuli", None):
+        target["stimuli"] = list(args.stimuli)
     if command:
         target["command"] = list(command)
     remaps = _pairs(args.remap, ":=", "--remap", "FROM:=TO")

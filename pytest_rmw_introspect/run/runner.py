@@ -6,7 +6,10 @@ captures never collide, not even under pytest-xdist), ``RMW_INTROSPECT_EXIT=1`` 
 middleware ends the process with status 0 as soon as its interfaces settled) and
 ``RMW_INTROSPECT_SETTLE_MS`` from the target's ``settle`` and ``RMW_INTROSPECT_HORIZON_MS``
 from its ``horizon`` (virtual time: after the first settle the middleware advances the node's
-clock through every timed wait, up to that age, then settles again).
+clock through every timed wait, up to that age, then settles again), and
+``RMW_INTROSPECT_STIMULI`` from its ``stimuli`` when it has any (a stimulus that matches
+nothing, is not taken or answered, or after which the process fails is a
+:class:`~pytest_rmw_introspect.errors.StimulusFailed`).
 
 What counts as a capture:
 
@@ -47,6 +50,7 @@ from ..errors import (
     CaptureFormatError,
     ExecutableNotFound,
     NoNodeCreated,
+    StimulusFailed,
     TargetExited,
     TargetTimeout,
 )
@@ -130,6 +134,8 @@ def environment(
     env["RMW_INTROSPECT_AUTO_EXPORT"] = "1"
     env["RMW_INTROSPECT_SETTLE_MS"] = str(max(0, round(spec.effective_settle() * 1000)))
     env["RMW_INTROSPECT_HORIZON_MS"] = str(max(0, round(spec.effective_horizon() * 1000)))
+    if spec.stimuli:
+        env["RMW_INTROSPECT_STIMULI"] = ",".join(spec.stimuli)
     env.setdefault("PYTHONUNBUFFERED", "1")
     return env
 
@@ -228,10 +234,55 @@ def run(
         captured.path = output if keep_files else None
         captured.other_processes = others
         captured.from_child = from_child
+        if spec.stimuli:
+            problems = stimulus_problems(captured.raw, returncode)
+            if problems:
+                raise StimulusFailed(describe, problems, captured, stderr, argv)
         return captured
     finally:
         if not keep_files:
             shutil.rmtree(workdir, ignore_errors=True)
+
+
+def stimulus_problems(raw: Mapping[str, Any], returncode: int | None) -> list[str]:
+    """What went wrong with the stimuli a capture document records (``stimuli``), one line each
+    for people; empty when every name reached its subscriptions and services and the process
+    did not fail after them. ``returncode``: the process's exit status."""
+    records = raw.get("stimuli")
+    if not isinstance(records, list):
+        return []
+    problems: list[str] = []
+    last: str | None = None  # the last delivery made (or in flight)
+    settled = raw.get("state") == "settled"
+    for record in records:
+        if not isinstance(record, Mapping):
+            continue
+        name, state, error = record.get("name"), record.get("state"), record.get("error")
+        if state == "no_match":
+            problems.append(str(error or f"no subscription or service named {name}"))
+        elif state == "skipped":
+            problems.append(f"{name}: {error or 'not delivered'}")
+        elif state == "pending" and not settled:
+            problems.append(f"{name}: not delivered: the process ended before its turn")
+        for target in record.get("targets") or ():
+            if not isinstance(target, Mapping):
+                continue
+            result = target.get("result")
+            where = f"the {target.get('kind')} {name} of {target.get('node')}"
+            if result in ("not_taken", "no_answer", "failed"):
+                problems.append(f"{name} ({target.get('kind')} of {target.get('node')}): {target.get('error') or result}")
+            elif result in ("taken", "answered") or (result == "pending" and not settled):
+                last = where
+    ended = raw.get("ended")
+    ended_early = isinstance(ended, Mapping) and bool(ended.get("before_settle"))
+    if returncode not in (None, 0) and last is not None and (ended_early or not settled):
+        how = f"was killed by signal {-returncode}" if returncode < 0 else f"exited with status {returncode}"
+        problems.append(
+            f"the process {how} after the middleware delivered a stimulus (the last: a default message or "
+            f"request to {last}): a default-constructed message is input the node acts on (an empty image, "
+            "a zero command, an empty frame id); make the node cope with it, or leave the stimulus out"
+        )
+    return problems
 
 
 def _describe_process(path: Path, include_infrastructure: bool) -> OtherProcess:
@@ -297,7 +348,7 @@ def capture(
     Give the target as keyword arguments (the keys of :mod:`pytest_rmw_introspect.run.target`:
     ``package``/``executable``, ``command``, ``script``, ``module``, ``arguments``,
     ``namespace``, ``node_name``, ``remappings``, ``parameters``, ``params_file``, ``env``,
-    ``cwd``, ``settle``, ``timeout``), as a mapping, or as a :class:`TargetSpec`; keyword
+    ``cwd``, ``settle``, ``timeout``, ``horizon``, ``stimuli``), as a mapping, or as a :class:`TargetSpec`; keyword
     arguments override the mapping. Relative paths are relative to ``base_dir`` (default:
     the current directory).
 

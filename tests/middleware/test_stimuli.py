@@ -2,7 +2,7 @@
 hands one default-constructed message to each named subscription (rmw_take*) and one default
 request to each named service (rmw_take_request; its answer is discarded), each followed by a
 settle, so that what a node creates in response is captured. Real rclpy nodes on the raw
-middleware."""
+middleware, then through the Python runner (`capture(stimuli=...)`)."""
 
 import re
 
@@ -10,6 +10,9 @@ import pytest
 import rmwi_helpers as h
 from rmwi_helpers import ep, node
 from rmwi_helpers import rclpy_node_infrastructure as infra
+
+import pytest_rmw_introspect
+from pytest_rmw_introspect.errors import StimulusFailed, TargetConfigError
 
 CAMERA = "/camera_proc"
 
@@ -159,3 +162,44 @@ def test_bad_names_are_warned_about_and_left_out(run):
     assert "'/chatter' is named twice: it is stimulated once" in result.stderr
     [only] = result.capture["stimuli"]
     assert only["name"] == "/chatter" and only["state"] == "no_match"  # the talker publishes it
+
+
+# ----------------------------------------------------------------------------- Python runner
+def node_script(name):
+    return str(h.NODES / name)
+
+
+def test_runner_capture_with_stimuli():
+    cap = pytest_rmw_introspect.capture(script=node_script("stim_camera.py"), stimuli=["/camera_info", "/calibrate"])
+    camera = cap[CAMERA]
+    # The runner's default horizon (10 s) lets the report timer the reaction started fire.
+    assert [p.name for p in camera.publishers] == ["/calibration_report", "/calibration_status", "/image_rect"]
+    assert [c.name for c in camera.service_clients] == ["/save_calibration"]
+    assert [s["name"] for s in cap.raw["stimuli"]] == ["/camera_info", "/calibrate"]
+    without = pytest_rmw_introspect.capture(script=node_script("stim_camera.py"))
+    assert [p.name for p in without[CAMERA].publishers] == []
+    assert without.raw["stimuli"] == []
+
+
+def test_runner_fails_clearly_on_stimuli_that_did_not_work():
+    with pytest.raises(StimulusFailed) as failed:
+        pytest_rmw_introspect.capture(script=node_script("stim_unspun.py"), stimuli="/nothing /ignored /heard")
+    message = str(failed.value)
+    assert message.startswith(f"The stimuli of the target script {node_script('stim_unspun.py')} did not work out:\n")
+    assert "  - no subscription or service named /nothing in this process" in message
+    assert ("  - /ignored (subscription of /idle): no executor takes from the subscription /ignored (it was never "
+            "in a wait set)") in message
+    assert failed.value.partial is not None and "/echo" in [p.name for p in failed.value.partial["/spun"].publishers]
+    assert len(failed.value.problems) == 2
+
+    with pytest.raises(StimulusFailed) as crashed:
+        pytest_rmw_introspect.capture(script=node_script("stim_crash.py"), stimuli=["/image"])
+    message = str(crashed.value)
+    assert ("the process exited with status 1 after the middleware delivered a stimulus (the last: a default "
+            "message or request to the subscription /image of /fragile)") in message
+    assert "IndexError" in message  # the stderr tail
+
+
+def test_runner_refuses_names_that_are_not_fully_resolved():
+    with pytest.raises(TargetConfigError, match=r"`stimuli`: 'camera_info' is not a fully resolved"):
+        pytest_rmw_introspect.capture(script=node_script("stim_camera.py"), stimuli=["camera_info"])

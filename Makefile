@@ -34,6 +34,7 @@ lint: bootstrap
 bench: bootstrap
 	$(VENV)/bin/python bench/bench_time_to_capture.py
 	$(VENV)/bin/python bench/bench_virtual_time.py
+	$(VENV)/bin/python bench/bench_parameters_lifecycle.py
 
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap

@@ -143,6 +143,16 @@ def test_names_that_match_nothing_or_no_executor_are_reported_and_the_rest_deliv
     assert created_in(result.capture)["/echo"] == "stimulus:/heard"
 
 
+def test_a_process_that_never_waits_gets_no_stimulus_and_the_capture_says_why(run):
+    result = run(h.python_node("vt_old_school.py"), env={"RMW_INTROSPECT_STIMULI": "/topic_in"})
+    h.assert_settled_process(result)
+    assert result.capture["probe"]["state"] == "skipped"
+    assert result.capture["stimuli"] == [stimulus(
+        "/topic_in", state="skipped",
+        error="not delivered: no thread of the process ever waited in rmw_wait (no executor spins), so nothing "
+              "could take it")]
+
+
 def test_a_node_that_cannot_cope_with_a_default_message_ends_and_says_so(run):
     result = run(h.python_node("stim_crash.py"), env={"RMW_INTROSPECT_STIMULI": "/image"})
     assert result.returncode == 1, str(result)

@@ -35,6 +35,7 @@ bench: bootstrap
 	$(VENV)/bin/python bench/bench_time_to_capture.py
 	$(VENV)/bin/python bench/bench_virtual_time.py
 	$(VENV)/bin/python bench/bench_warm_start.py
+	$(VENV)/bin/python bench/bench_parameters_lifecycle.py
 
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap

@@ -43,6 +43,7 @@ if TYPE_CHECKING:
         NoNodeCreated,
         RmwIntrospectError,
         SetupError,
+        StimulusFailed,
         TargetConfigError,
         TargetError,
         TargetExited,
@@ -85,8 +86,8 @@ _LAZY: dict[str, tuple[str, str]] = {
     "TargetSpec": ("run.target", "TargetSpec"),
     **{name: ("errors", name) for name in (
         "CaptureFormatError", "ContractError", "ExecutableNotFound", "LifecycleTransitionFailed", "NoNodeCreated",
-        "RmwIntrospectError",
-        "SetupError", "TargetConfigError", "TargetError", "TargetExited", "TargetTimeout")},
+        "RmwIntrospectError", "SetupError", "StimulusFailed", "TargetConfigError", "TargetError", "TargetExited",
+        "TargetTimeout")},
 }
 
 
@@ -130,6 +131,7 @@ __all__ = [
     "Severity",
     "ServiceType",
     "SetupError",
+    "StimulusFailed",
     "SystemResult",
     "TargetConfigError",
     "TargetError",

@@ -16,7 +16,9 @@ Hierarchy::
         ├── TargetExited        the process exited non-zero before settling
         ├── NoNodeCreated       the process created no ROS node
         ├── TargetTimeout       the process never settled within the timeout
-        └── LifecycleTransitionFailed  a lifecycle node's transition failed or raised
+        ├── LifecycleTransitionFailed  a lifecycle node's transition failed or raised
+        └── StimulusFailed      a stimulus (target option ``stimuli``) matched nothing, was not
+                                taken or answered, or the node ended after one
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ __all__ = [
     "NoNodeCreated",
     "RmwIntrospectError",
     "SetupError",
+    "StimulusFailed",
     "TargetConfigError",
     "TargetError",
     "TargetExited",
@@ -135,6 +138,18 @@ class ExecutableNotFound(TargetError):
 
 class _WithPartialCapture(TargetError):
     partial: Any  # capture.Capture | None
+    argv: list[str]
+    stderr_tail: str
+
+    def _process_details(self) -> list[str]:
+        """The command, the tail of its stderr (if any) and what was captured."""
+        parts = []
+        if self.argv:
+            parts.append("Command: " + " ".join(self.argv))
+        if self.stderr_tail:
+            parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
+        parts.append(self._partial_summary())
+        return parts
 
     def _partial_summary(self) -> str:
         if self.partial is None:
@@ -227,12 +242,29 @@ class TargetTimeout(_WithPartialCapture):
         self.stderr_tail = _tail(stderr_tail)
         self.argv = list(argv)
         parts = [f"The target {target} did not settle within {timeout:g} s and was stopped. {diagnose_unsettled(partial)}"]
-        if self.argv:
-            parts.append("Command: " + " ".join(self.argv))
-        if self.stderr_tail:
-            parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
-        parts.append(self._partial_summary())
-        super().__init__("\n".join(parts), target=target)
+        super().__init__("\n".join(parts + self._process_details()), target=target)
+
+
+class StimulusFailed(_WithPartialCapture):
+    """A stimulus of the target (option ``stimuli``) did not do what it was asked to: a name matched
+    no subscription or service, a delivery was not taken or answered, or the process ended with an
+    error after the middleware had delivered one. ``problems``: one line each; ``partial``: the capture."""
+
+    def __init__(
+        self,
+        target: str,
+        problems: Sequence[str],
+        partial: Any = None,
+        stderr_tail: str = "",
+        argv: Sequence[str] = (),
+    ) -> None:
+        self.problems = list(problems)
+        self.partial = partial
+        self.stderr_tail = _tail(stderr_tail)
+        self.argv = list(argv)
+        parts = [f"The stimuli of the target {target} did not work out:"]
+        parts += [_indent("- " + problem) for problem in self.problems]
+        super().__init__("\n".join(parts + self._process_details()), target=target)
 
 
 class LifecycleTransitionFailed(_WithPartialCapture):

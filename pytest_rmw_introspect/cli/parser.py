@@ -214,6 +214,11 @@ def _add_target(parser: argparse.ArgumentParser) -> None:
                    "activate; the default), inactive (configure), unconfigured, none (leave them alone)")
     g.add_argument("--read-parameters", action=argparse.BooleanOptionalAction, default=None,
                    help="read every node's parameters through its own parameter services (default: yes)")
+    g.add_argument("--stimulus", dest="stimuli", action="append", metavar="NAME",
+                   help="after the node settled, give each subscription of this fully resolved topic name one "
+                   "default-constructed message, or call each service of this name with a default request, and "
+                   "capture what the node creates in response (repeatable; off by default: the node acts on "
+                   "that input)")
 
 
 def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True, types: bool = True) -> None:
@@ -350,6 +355,8 @@ def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dic
             target[key] = value
     if args.arguments:
         target["arguments"] = list(args.arguments)
+    if getattr(args, "stimuli", None):
+        target["stimuli"] = list(args.stimuli)
     if command:
         target["command"] = list(command)
     remaps = _pairs(args.remap, ":=", "--remap", "FROM:=TO")

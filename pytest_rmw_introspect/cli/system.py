@@ -76,7 +76,8 @@ def _process_target(args: argparse.Namespace, command: list[str] | None) -> dict
     target = target_from_args(args, command)
     extra = sorted(k for k in target if k not in system_contract.SYSTEM_TARGET_KEYS)
     if extra:
-        flags = ", ".join("-- COMMAND" if k == "command" else f"--{k.replace('_', '-')}" for k in extra)
+        spelled = {"command": "-- COMMAND", "stimuli": "--stimulus"}
+        flags = ", ".join(spelled.get(k, f"--{k.replace('_', '-')}") for k in extra)
         raise UsageError(f"with a launch file the launch file says what runs: {flags} cannot be given "
                          f"(only --settle, --timeout, --horizon, --lifecycle, --[no-]read-parameters, --env, for every process)")
     return target

@@ -12,7 +12,9 @@ first settle the middleware reads every node's parameters and drives lifecycle n
 
 A lifecycle node whose transition failed (its callback returned FAILURE or ERROR, or raised)
 is a :class:`~pytest_rmw_introspect.errors.LifecycleTransitionFailed`: the capture would show
-the node in a state the target did not ask for.
+the node in a state the target did not ask for. ``RMW_INTROSPECT_STIMULI`` comes from its
+``stimuli`` when it has any (a stimulus that matches nothing, is not taken or answered, or
+after which the process fails is a :class:`~pytest_rmw_introspect.errors.StimulusFailed`).
 
 What counts as a capture:
 
@@ -55,6 +57,7 @@ from ..errors import (
     ExecutableNotFound,
     LifecycleTransitionFailed,
     NoNodeCreated,
+    StimulusFailed,
     TargetError,
     TargetExited,
     TargetTimeout,
@@ -144,6 +147,8 @@ def environment(
     env["RMW_INTROSPECT_HORIZON_MS"] = str(max(0, round(spec.effective_horizon() * 1000)))
     env["RMW_INTROSPECT_LIFECYCLE"] = spec.effective_lifecycle()
     env["RMW_INTROSPECT_PARAMETERS"] = "1" if spec.effective_read_parameters() else "0"
+    if spec.stimuli:
+        env["RMW_INTROSPECT_STIMULI"] = ",".join(spec.stimuli)
     env.setdefault("PYTHONUNBUFFERED", "1")
     return env
 
@@ -333,6 +338,10 @@ def run(
         if failures:
             raise _tag(LifecycleTransitionFailed(describe, failures, wanted=spec.effective_lifecycle(),
                                                  partial=captured, stderr_tail=stderr, argv=argv), start)
+        if spec.stimuli:
+            problems = stimulus_problems(captured.raw, returncode)
+            if problems:
+                raise _tag(StimulusFailed(describe, problems, captured, stderr, argv), start)
         _learn(captured, env, spec, python)
         return captured
     finally:
@@ -363,6 +372,47 @@ def _learn(captured: Capture, env: Mapping[str, str], spec: TargetSpec, python: 
         return
     cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
     warm.POOL.learn(env, cwd, type_names, python)
+
+
+def stimulus_problems(raw: Mapping[str, Any], returncode: int | None) -> list[str]:
+    """What went wrong with the stimuli a capture document records (``stimuli``), one line each
+    for people; empty when every name reached its subscriptions and services and the process
+    did not fail after them. ``returncode``: the process's exit status."""
+    records = raw.get("stimuli")
+    if not isinstance(records, list):
+        return []
+    problems: list[str] = []
+    last: str | None = None  # the last delivery made (or in flight)
+    settled = raw.get("state") == "settled"
+    for record in records:
+        if not isinstance(record, Mapping):
+            continue
+        name, state, error = record.get("name"), record.get("state"), record.get("error")
+        if state == "no_match":
+            problems.append(str(error or f"no subscription or service named {name}"))
+        elif state == "skipped":
+            problems.append(f"{name}: {error or 'not delivered'}")
+        elif state == "pending" and not settled:
+            problems.append(f"{name}: not delivered: the process ended before its turn")
+        for target in record.get("targets") or ():
+            if not isinstance(target, Mapping):
+                continue
+            result = target.get("result")
+            where = f"the {target.get('kind')} {name} of {target.get('node')}"
+            if result in ("not_taken", "no_answer", "failed"):
+                problems.append(f"{name} ({target.get('kind')} of {target.get('node')}): {target.get('error') or result}")
+            elif result in ("taken", "answered") or (result == "pending" and not settled):
+                last = where
+    ended = raw.get("ended")
+    ended_early = isinstance(ended, Mapping) and bool(ended.get("before_settle"))
+    if returncode not in (None, 0) and last is not None and (ended_early or not settled):
+        how = f"was killed by signal {-returncode}" if returncode < 0 else f"exited with status {returncode}"
+        problems.append(
+            f"the process {how} after the middleware delivered a stimulus (the last: a default message or "
+            f"request to {last}): a default-constructed message is input the node acts on (an empty image, "
+            "a zero command, an empty frame id); make the node cope with it, or leave the stimulus out"
+        )
+    return problems
 
 
 def _describe_process(path: Path, include_infrastructure: bool) -> OtherProcess:
@@ -428,7 +478,7 @@ def capture(
     Give the target as keyword arguments (the keys of :mod:`pytest_rmw_introspect.run.target`:
     ``package``/``executable``, ``command``, ``script``, ``module``, ``arguments``,
     ``namespace``, ``node_name``, ``remappings``, ``parameters``, ``params_file``, ``env``,
-    ``cwd``, ``settle``, ``timeout``, ``horizon``, ``lifecycle``, ``read_parameters``), as a
+    ``cwd``, ``settle``, ``timeout``, ``horizon``, ``lifecycle``, ``read_parameters``, ``stimuli``), as a
     mapping, or as a :class:`TargetSpec`; keyword
     arguments override the mapping. Relative paths are relative to ``base_dir`` (default:
     the current directory).

@@ -36,6 +36,12 @@ The same keys are accepted everywhere (the capture API, a contract's ``target`` 
 ``read_parameters`` read every node's parameters through its own parameter services (default
                    true; ``RMW_INTROSPECT_PARAMETERS``). Not ``parameters``: that key holds
                    the ``-p`` values given to the node
+``stimuli``        fully resolved topic or service names (a list, or one string of names
+                   separated by commas or spaces): after the node settled, each subscription
+                   of such a name gets one default-constructed message and each service one
+                   default request, then the node settles again, so that interfaces it
+                   creates in response are captured (``RMW_INTROSPECT_STIMULI``; off by
+                   default: a default message is input the node acts on)
 =================  ==========================================================================
 
 Exactly one of ``package``+``executable``, ``command``, ``script``, ``module`` names the
@@ -92,6 +98,7 @@ TARGET_KEYS = (
     "cold_start",
     "lifecycle",
     "read_parameters",
+    "stimuli",
 )
 
 
@@ -119,6 +126,7 @@ class TargetSpec:
     cold_start: bool | None = None
     lifecycle: str | None = None
     read_parameters: bool | None = None
+    stimuli: tuple[str, ...] = ()
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -282,6 +290,29 @@ def _str_list(value: Any, source: str, key: str) -> tuple[str, ...]:
     raise _fail(source, key, "a list of strings", value)
 
 
+#: a fully qualified ROS name: `/` then tokens of letters, digits and `_`, none starting with a digit
+_FULL_NAME = re.compile(r"^(/[A-Za-z_][A-Za-z0-9_]*)+$")
+
+
+def _stimuli(value: Any, source: str) -> tuple[str, ...]:
+    if isinstance(value, str):
+        names = [n for n in re.split(r"[,\s]+", value) if n]
+    elif isinstance(value, (list, tuple)) and all(isinstance(v, str) for v in value):
+        names = [n.strip() for n in value]
+    else:
+        raise _fail(source, "stimuli", "a list of topic or service names", value)
+    unique: list[str] = []
+    for name in names:
+        if not _FULL_NAME.match(name):
+            raise TargetConfigError(
+                f"{source}: `stimuli`: {name!r} is not a fully resolved topic or service name; write it as the "
+                "capture shows it, with its namespace (`/camera_info`, `/robot1/reset`; no `~`, no relative names)"
+            )
+        if name not in unique:
+            unique.append(name)
+    return tuple(unique)
+
+
 _ENTRY_POINT = re.compile(r"^[A-Za-z_][\w]*(\.[A-Za-z_][\w]*)*:[A-Za-z_][\w]*(\.[A-Za-z_][\w]*)*$")
 
 
@@ -324,6 +355,8 @@ def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
         if not isinstance(value, bool):
             raise _fail(source, key, "true or false", value)
         return value
+    if key == "stimuli":
+        return _stimuli(value, source)
     if key in ("settle", "timeout", "horizon"):
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             raise _fail(source, key, "a number of seconds", value)

@@ -1,5 +1,6 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// Subscriptions: recorded on creation; nothing is received unless in-process delivery is on.
+// Subscriptions: recorded on creation; nothing is received unless in-process delivery is on,
+// except the middleware's own stimuli (RMW_INTROSPECT_STIMULI: detail/injector).
 
 #include <cstring>
 #include <memory>
@@ -29,6 +30,35 @@ bool ends_with(const std::string & s, const char * suffix)
 {
   const size_t n = std::strlen(suffix);
   return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
+}
+
+// rmw_take / rmw_take_with_info after their argument checks: a stimulus of the middleware's
+// own first (not the node's activity), then what in-process delivery brought.
+rmw_ret_t take_one(
+  const rmw_subscription_t * subscription, void * ros_message, bool * taken,
+  rmw_message_info_t * info)
+{
+  auto & runtime = rmw_introspect::Runtime::instance();
+  auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
+  if (runtime.injector().take_message(impl, ros_message, taken, info)) {
+    return RMW_RET_OK;
+  }
+  runtime.on_activity();
+  return rmw_introspect::take_message(*impl, ros_message, taken, info);
+}
+
+// The same for the serialized takes.
+rmw_ret_t take_one_serialized(
+  const rmw_subscription_t * subscription, rmw_serialized_message_t * serialized_message,
+  bool * taken, rmw_message_info_t * info)
+{
+  auto & runtime = rmw_introspect::Runtime::instance();
+  auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
+  if (runtime.injector().take_serialized(impl, serialized_message, taken, info)) {
+    return RMW_RET_OK;
+  }
+  runtime.on_activity();
+  return rmw_introspect::take_serialized_message(*impl, serialized_message, taken, info);
 }
 }  // namespace
 
@@ -82,6 +112,9 @@ rmw_subscription_t * rmw_create_subscription(
   if (rmw_introspect::Runtime::instance().config().delivery) {
     rmw_introspect::Runtime::instance().delivery().add(impl.get());
   }
+  if (!rmw_introspect::Runtime::instance().config().stimuli.empty()) {
+    rmw_introspect::Runtime::instance().injector().add_subscription(impl.get());
+  }
   return &impl.release()->handle;
 }
 
@@ -92,6 +125,9 @@ rmw_ret_t rmw_destroy_subscription(rmw_node_t * node, rmw_subscription_t * subsc
   std::unique_ptr<SubscriptionImpl> impl(static_cast<SubscriptionImpl *>(subscription->data));
   if (impl->delivered.load()) {
     rmw_introspect::Runtime::instance().delivery().remove(impl.get());
+  }
+  if (!rmw_introspect::Runtime::instance().config().stimuli.empty()) {
+    rmw_introspect::Runtime::instance().injector().remove_subscription(impl.get());
   }
   rmw_introspect::free_loans(impl->loans, impl->layout);
   rmw_introspect::forget_endpoint(
@@ -203,9 +239,7 @@ rmw_ret_t rmw_take(
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
-  return rmw_introspect::take_message(
-    *static_cast<SubscriptionImpl *>(subscription->data), ros_message, taken, nullptr);
+  return take_one(subscription, ros_message, taken, nullptr);
 }
 
 rmw_ret_t rmw_take_with_info(
@@ -217,9 +251,7 @@ rmw_ret_t rmw_take_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
-  return rmw_introspect::take_message(
-    *static_cast<SubscriptionImpl *>(subscription->data), ros_message, taken, message_info);
+  return take_one(subscription, ros_message, taken, message_info);
 }
 
 rmw_ret_t rmw_take_sequence(
@@ -247,8 +279,19 @@ rmw_ret_t rmw_take_sequence(
   *taken = 0u;
   message_sequence->size = 0u;
   message_info_sequence->size = 0u;
-  rmw_introspect::Runtime::instance().on_activity();
+  auto & runtime = rmw_introspect::Runtime::instance();
   auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
+  bool stimulus_taken = false;
+  if (runtime.injector().take_message(
+      impl, message_sequence->data[0], &stimulus_taken, &message_info_sequence->data[0]))
+  {
+    // A stimulus of the middleware's own, alone in the sequence: no activity of the node.
+    *taken = stimulus_taken ? 1u : 0u;
+    message_sequence->size = *taken;
+    message_info_sequence->size = *taken;
+    return RMW_RET_OK;
+  }
+  runtime.on_activity();
   for (size_t i = 0; i < count; ++i) {
     bool one = false;
     const rmw_ret_t ret = rmw_introspect::take_message(
@@ -274,9 +317,7 @@ rmw_ret_t rmw_take_serialized_message(
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
-  return rmw_introspect::take_serialized_message(
-    *static_cast<SubscriptionImpl *>(subscription->data), serialized_message, taken, nullptr);
+  return take_one_serialized(subscription, serialized_message, taken, nullptr);
 }
 
 rmw_ret_t rmw_take_serialized_message_with_info(
@@ -288,10 +329,7 @@ rmw_ret_t rmw_take_serialized_message_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
-  return rmw_introspect::take_serialized_message(
-    *static_cast<SubscriptionImpl *>(subscription->data), serialized_message, taken,
-    message_info);
+  return take_one_serialized(subscription, serialized_message, taken, message_info);
 }
 
 rmw_ret_t rmw_take_loaned_message(

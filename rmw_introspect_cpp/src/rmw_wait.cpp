@@ -1,7 +1,7 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 // Wait sets and rmw_wait: blocks until a guard condition of the set is triggered, an entry has
-// something to take (a request of the middleware's own: detail/injector; anything else only
-// with in-process delivery) or the timeout expires.
+// something to take (a request or stimulus of the middleware's own: detail/injector; anything
+// else only with in-process delivery) or the timeout expires.
 
 #include <cstdint>
 #include <memory>
@@ -38,16 +38,24 @@ bool any_triggered(const rmw_guard_conditions_t * gcs)
   return false;
 }
 
-// rcl stores each service's `data` (our ServiceImpl) in the array. Marks them served.
-void mark_served(const rmw_services_t * services)
+// rcl stores each service's and subscription's `data` (our ServiceImpl, SubscriptionImpl) in
+// the arrays. Marks them served: an executor takes from them (the Injector asks only those).
+void mark_served(const rmw_services_t * services, const rmw_subscriptions_t * subscriptions)
 {
-  if (services == nullptr) {
-    return;
+  if (services != nullptr) {
+    for (size_t i = 0; i < services->service_count; ++i) {
+      auto * impl = static_cast<rmw_introspect::ServiceImpl *>(services->services[i]);
+      if (impl != nullptr) {
+        impl->in_wait_set.store(true);
+      }
+    }
   }
-  for (size_t i = 0; i < services->service_count; ++i) {
-    auto * impl = static_cast<rmw_introspect::ServiceImpl *>(services->services[i]);
-    if (impl != nullptr) {
-      impl->in_wait_set.store(true);
+  if (subscriptions != nullptr) {
+    for (size_t i = 0; i < subscriptions->subscriber_count; ++i) {
+      auto * impl = static_cast<rmw_introspect::SubscriptionImpl *>(subscriptions->subscribers[i]);
+      if (impl != nullptr && !impl->in_wait_set.load(std::memory_order_relaxed)) {
+        impl->in_wait_set.store(true);
+      }
     }
   }
 }
@@ -104,7 +112,7 @@ rmw_ret_t rmw_wait(
   // Once the context is shut down (rmw_shutdown wakes every waiter), waits return at once:
   // an executor woken by its SIGINT guard condition just before the shutdown must not go
   // back to sleep forever.
-  mark_served(services);
+  mark_served(services, subscriptions);
   auto ready = [ws, guard_conditions, subscriptions, services, clients, events]() {
       return any_triggered(guard_conditions) ||
              rmw_introspect::any_ready(subscriptions, services, clients, events) ||
@@ -125,7 +133,8 @@ rmw_ret_t rmw_wait(
       }
     }
   }
-  // Subscriptions, services, clients and events are ready only with in-process delivery.
+  // Subscriptions, services, clients and events are ready only with in-process delivery, or
+  // with a request or stimulus of the middleware's own (detail/injector).
   if (rmw_introspect::keep_ready(subscriptions, services, clients, events)) {
     any_ready = true;
   }

@@ -103,7 +103,7 @@ TEST(CaptureWriter, json_exact)
   const std::string expected = R"({
   "format": "rmw_introspect_capture",
   "format_version": 1,
-  "format_minor": 1,
+  "format_minor": 2,
   "rmw_implementation": "rmw_introspect_cpp",
   "pid": 4242,
   "argv": ["/usr/bin/python3", "talker.py"],
@@ -131,6 +131,7 @@ TEST(CaptureWriter, json_exact)
     "requests": 0,
     "unanswered": 0
   },
+  "stimuli": [],
   "nodes": [
     {
       "id": 1,
@@ -385,6 +386,62 @@ TEST(CaptureWriter, parameters_lifecycle_and_created_in)
   EXPECT_NE(std::string::npos, yaml.find("  parameters:\n  - name: \"gain\"\n    type: \"double\"\n    value: 1.0\n")) << yaml;
   EXPECT_NE(std::string::npos, yaml.find("    value:\n    - 1\n    - -2\n")) << yaml;
   EXPECT_NE(std::string::npos, yaml.find("    transitions:\n    - id: 1\n      label: \"configure\"\n")) << yaml;
+}
+
+TEST(CaptureWriter, stimuli_and_what_their_nodes_created_after_them)
+{
+  rmw_introspect::Recorder recorder;
+  const uint64_t n = recorder.add_node("cam", "/", "/", {0.5, 0.5});
+  recorder.set_cause(rmw_introspect::stimulus_label("/camera_info"));
+  rmw_introspect::EndpointRecord e;
+  e.kind = rmw_introspect::EndpointKind::Publisher;
+  e.node_id = n;
+  e.name = "/image";
+  e.type = "sensor_msgs/msg/Image";
+  recorder.add_endpoint(e);
+  CaptureHeader h = header();
+  rmw_introspect::StimulusRecord taken;
+  taken.name = "/camera_info";
+  taken.state = rmw_introspect::StimulusRecord::State::kDone;
+  rmw_introspect::StimulusTargetRecord target;
+  target.kind = rmw_introspect::EndpointKind::Subscription;
+  target.node = "/cam";
+  target.type = "sensor_msgs/msg/CameraInfo";
+  target.result = rmw_introspect::StimulusTargetRecord::Result::kTaken;
+  taken.targets.push_back(target);
+  rmw_introspect::StimulusRecord missing;
+  missing.name = "/nothing";
+  missing.state = rmw_introspect::StimulusRecord::State::kNoMatch;
+  missing.error = "no subscription or service named /nothing";
+  h.stimuli = {taken, missing};
+  const std::string text = rmw_introspect::render_capture_json(h, recorder.snapshot());
+  EXPECT_NE(std::string::npos, text.find(R"(  "stimuli": [
+    {
+      "name": "/camera_info",
+      "state": "done",
+      "targets": [
+        {
+          "kind": "subscription",
+          "node": "/cam",
+          "type": "sensor_msgs/msg/CameraInfo",
+          "result": "taken",
+          "error": null
+        }
+      ],
+      "error": null
+    },
+    {
+      "name": "/nothing",
+      "state": "no_match",
+      "targets": [],
+      "error": "no subscription or service named /nothing"
+    }
+  ],
+  "nodes": [)")) << text;
+  EXPECT_NE(std::string::npos, text.find("      \"created_in\": \"stimulus:/camera_info\"\n")) << text;
+  const std::string yaml = rmw_introspect::render_capture_yaml(h, recorder.snapshot());
+  EXPECT_NE(std::string::npos, yaml.find("stimuli:\n- name: \"/camera_info\"\n  state: \"done\"\n"))
+    << yaml;
 }
 
 TEST(CaptureWriter, json_null_time_to_settle_and_empty_lists)

@@ -210,3 +210,25 @@ TEST(Recorder, creation_times_are_kept)
   EXPECT_DOUBLE_EQ(4000.0, snap.endpoints[0].created.virtual_ms);
   EXPECT_DOUBLE_EQ(13.0, snap.endpoints[0].created.real_ms);
 }
+
+TEST(Recorder, created_in_is_the_stimulus_while_it_lasts_then_the_node_transition)
+{
+  Recorder recorder;
+  const uint64_t lc = recorder.add_node("lc", "/", "/");
+  const uint64_t other = recorder.add_node("other", "/", "/");
+  recorder.set_node_transition(lc, "activate");
+  const uint64_t before = recorder.add_endpoint(endpoint(EndpointKind::Publisher, lc, "/a"));
+  recorder.set_cause("stimulus:/camera_info");
+  // Whatever node the process creates it on, it is the reaction to the stimulus.
+  const uint64_t on_lc = recorder.add_endpoint(endpoint(EndpointKind::Publisher, lc, "/b"));
+  const uint64_t on_other = recorder.add_endpoint(endpoint(EndpointKind::Client, other, "/c"));
+  recorder.set_cause("");
+  const uint64_t after = recorder.add_endpoint(endpoint(EndpointKind::Publisher, lc, "/d"));
+  const uint64_t plain = recorder.add_endpoint(endpoint(EndpointKind::Publisher, other, "/e"));
+  const auto snapshot = recorder.snapshot();
+  EXPECT_EQ(snapshot.endpoints[before - 1].created_in, "activate");
+  EXPECT_EQ(snapshot.endpoints[on_lc - 1].created_in, "stimulus:/camera_info");
+  EXPECT_EQ(snapshot.endpoints[on_other - 1].created_in, "stimulus:/camera_info");
+  EXPECT_EQ(snapshot.endpoints[after - 1].created_in, "activate");
+  EXPECT_EQ(snapshot.endpoints[plain - 1].created_in, "");
+}

@@ -19,6 +19,7 @@ from pytest_rmw_introspect.errors import (
     ExecutableNotFound,
     LifecycleTransitionFailed,
     NoNodeCreated,
+    StimulusFailed,
     TargetConfigError,
     TargetExited,
     TargetTimeout,
@@ -266,6 +267,85 @@ def test_activation_environment_for_wheels(tmp_path, library):
     assert env["RMW_INTROSPECT_HORIZON_MS"] == "10000"  # virtual time is on by default
     assert env["RMW_INTROSPECT_EXIT"] == "1"
     assert env["RMW_INTROSPECT_VERBOSE"] == "1"
+
+
+def test_stimuli_reach_the_middleware_only_when_given(tmp_path, library):
+    ros = RosEnvironment(kind="wheels", prefix=tmp_path, distro="jazzy", ament_prefixes=(tmp_path,),
+                         library_dirs=(tmp_path / "lib",))
+    base = {"PATH": os.environ["PATH"]}
+    spec = TargetSpec.from_mapping({"module": "m", "stimuli": ["/camera_info", "/calibrate"]})
+    env = runner.environment(spec, library, ros, tmp_path / "c.json", base=base)
+    assert env["RMW_INTROSPECT_STIMULI"] == "/camera_info,/calibrate"
+    off = runner.environment(TargetSpec.from_mapping({"module": "m"}), library, ros, tmp_path / "c.json", base=base)
+    assert "RMW_INTROSPECT_STIMULI" not in off
+
+
+def stimulus(name, state="done", error=None, *targets):
+    return {"name": name, "state": state, "targets": list(targets), "error": error}
+
+
+def delivered(result, error=None, kind="subscription", node="/fake"):
+    return {"kind": kind, "node": node, "type": "std_msgs/msg/String", "result": result, "error": error}
+
+
+def test_stimuli_that_worked_are_no_problem():
+    raw = {"state": "settled", "stimuli": [stimulus("/cmd", "done", None, delivered("taken")),
+                                           stimulus("/srv", "done", None, delivered("answered", kind="service"))]}
+    assert runner.stimulus_problems(raw, 0) == []
+    assert runner.stimulus_problems({"state": "settled"}, 0) == []  # an older middleware
+    assert runner.stimulus_problems({"state": "settled", "stimuli": "junk"}, 0) == []
+
+
+def test_stimulus_problems_are_one_line_each_for_people():
+    raw = {"state": "settled", "stimuli": [
+        stimulus("/nothing", "no_match", "no subscription or service named /nothing in this process (...)"),
+        stimulus("/cmd", "done", None, delivered("not_taken", "the subscription /cmd of /fake did not take the "
+                                                              "message within 5000 ms")),
+        stimulus("/srv", "done", None, delivered("no_answer", "no answer from /srv of /fake within 5000 ms",
+                                                 kind="service")),
+        stimulus("/gone", "done", None, delivered("failed", None)),
+        stimulus("/late", "skipped", "not delivered: no thread of the process ever waited in rmw_wait"),
+    ]}
+    assert runner.stimulus_problems(raw, 0) == [
+        "no subscription or service named /nothing in this process (...)",
+        "/cmd (subscription of /fake): the subscription /cmd of /fake did not take the message within 5000 ms",
+        "/srv (service of /fake): no answer from /srv of /fake within 5000 ms",
+        "/gone (subscription of /fake): failed",
+        "/late: not delivered: no thread of the process ever waited in rmw_wait",
+    ]
+
+
+def test_a_process_that_fails_after_a_stimulus_is_a_problem_and_one_that_ended_before_its_turn_too():
+    crashed = {"state": "exit", "ended": {"before_settle": True},
+               "stimuli": [stimulus("/image", "done", None, delivered("pending", node="/fragile")),
+                           stimulus("/next", "pending")]}
+    first, second = runner.stimulus_problems(crashed, -11)
+    assert first == "/next: not delivered: the process ended before its turn"
+    assert second.startswith("the process was killed by signal 11 after the middleware delivered a stimulus (the "
+                             "last: a default message or request to the subscription /image of /fragile)")
+    # A failure after the final settle, or with nothing delivered, is not the stimuli's.
+    settled = {"state": "settled", "stimuli": [stimulus("/image", "done", None, delivered("taken"))]}
+    assert runner.stimulus_problems(settled, 1) == []
+    unreached = {"state": "exit", "ended": {"before_settle": True}, "stimuli": [stimulus("/x", "no_match", "no sub")]}
+    assert runner.stimulus_problems(unreached, 1) == ["no sub"]
+
+
+def test_the_runner_raises_stimulus_failed_with_the_capture(tmp_path, ros, library):
+    body = """
+    assert os.environ['RMW_INTROSPECT_STIMULI'] == '/nothing'
+    write(stimuli=[{'name': '/nothing', 'state': 'no_match', 'targets': [], 'error': 'no subscription or service named /nothing'}])
+    """
+    with pytest.raises(StimulusFailed) as info:
+        run(tmp_path, ros, library, body, stimuli=["/nothing"])
+    assert info.value.problems == ["no subscription or service named /nothing"]
+    assert info.value.partial is not None and info.value.partial.node_names == ["/fake"]
+    message = str(info.value)
+    assert message.startswith("The stimuli of the target script ")
+    assert "did not work out:\n    - no subscription or service named /nothing\n" in message
+    assert "Captured so far:" in message
+    # The same capture without stimuli asked for is simply a capture.
+    plain = "write(stimuli=[{'name': '/nothing', 'state': 'no_match', 'targets': [], 'error': 'x'}])\n"
+    assert run(tmp_path, ros, library, plain).node_names == ["/fake"]
 
 
 # ---------------------------------------------------------------------------- virtual time

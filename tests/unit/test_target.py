@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -301,6 +302,34 @@ def test_defaults_and_describe():
     assert TargetSpec.from_mapping({"module": "m", "horizon": 0}).effective_horizon() == 0.0
     assert spec.describe() == "`ros2 run 'a b'`"
     assert TargetSpec.from_mapping({"module": "x.y"}).describe() == "module x.y"
+
+
+def test_stimuli_are_fully_resolved_names_once_each_in_order():
+    spec = TargetSpec.from_mapping({"module": "m", "stimuli": ["/camera_info", "/reset", "/camera_info"]})
+    assert spec.stimuli == ("/camera_info", "/reset")
+    # One string: names separated by commas or spaces (the CLI, an ini-like contract value).
+    assert TargetSpec.from_mapping({"module": "m", "stimuli": "/a, /b/_action/send_goal /c"}).stimuli == (
+        "/a", "/b/_action/send_goal", "/c")
+    assert TargetSpec.from_mapping({"module": "m"}).stimuli == ()
+    # A stronger layer replaces the list, an empty one turns them off.
+    layered = merge(({"module": "m", "stimuli": ["/a"]}, None, "contract"), ({"stimuli": []}, None, "marker"))
+    assert layered.stimuli == ()
+    assert TargetSpec.from_mapping({"module": "m", "stimuli": ["/a"]}).to_mapping() == {"module": "m", "stimuli": ["/a"]}
+
+
+@pytest.mark.parametrize("value, message", [
+    (["camera_info"], "`stimuli`: 'camera_info' is not a fully resolved topic or service name"),
+    (["~/reset"], "'~/reset' is not a fully resolved"),
+    (["/9lives"], "'/9lives' is not a fully resolved"),
+    (["/a/"], "'/a/' is not a fully resolved"),
+    ("/a,,/b//c", "'/b//c' is not a fully resolved"),
+    ([1], "`stimuli` must be a list of topic or service names"),
+    ({"/a": 1}, "`stimuli` must be a list of topic or service names"),
+])
+def test_bad_stimuli_are_refused_with_the_name(value, message):
+    with pytest.raises(TargetConfigError, match=re.escape(message)) as info:
+        TargetSpec.from_mapping({"module": "m", "stimuli": value}, source="contract c.yaml: target")
+    assert str(info.value).startswith("contract c.yaml: target: ")
 
 
 def test_to_mapping_round_trips():

@@ -447,12 +447,36 @@ Value types_value(const RecorderSnapshot & snapshot)
   return table;
 }
 
+Value stimuli_value(const std::vector<StimulusRecord> & stimuli)
+{
+  Value list = Value::array();
+  for (const auto & record : stimuli) {
+    Value v = Value::object();
+    v.add("name", Value::string(record.name));
+    v.add("state", Value::string(stimulus_state_name(record.state)));
+    Value targets = Value::array();
+    for (const auto & t : record.targets) {
+      Value tv = Value::object();
+      tv.add("kind", Value::string(endpoint_kind_to_string(t.kind)));
+      tv.add("node", Value::string(t.node));
+      tv.add("type", Value::string(t.type));
+      tv.add("result", Value::string(stimulus_result_name(t.result)));
+      tv.add("error", optional_string(t.error));
+      targets.push(std::move(tv));
+    }
+    v.add("targets", std::move(targets));
+    v.add("error", optional_string(record.error));
+    list.push(std::move(v));
+  }
+  return list;
+}
+
 Value build_document(const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
   Value doc = Value::object();
   doc.add("format", Value::string("rmw_introspect_capture"));
   doc.add("format_version", Value::integer(1));
-  doc.add("format_minor", Value::integer(1));
+  doc.add("format_minor", Value::integer(2));
   doc.add("rmw_implementation", Value::string("rmw_introspect_cpp"));
   doc.add("pid", Value::integer(header.pid));
   Value argv = Value::array();
@@ -487,6 +511,7 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
   probe.add("requests", Value::integer(static_cast<int64_t>(header.probe_requests)));
   probe.add("unanswered", Value::integer(static_cast<int64_t>(header.probe_unanswered)));
   doc.add("probe", std::move(probe));
+  doc.add("stimuli", stimuli_value(header.stimuli));
   if (header.has_ended) {
     Value ended = Value::object();
     ended.add("before_settle", Value::boolean(header.ended_before_settle));
@@ -545,7 +570,7 @@ std::string render_capture_json(const CaptureHeader & header, const RecorderSnap
 
 std::string render_capture_yaml(const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
-  std::string out = "# rmw_introspect capture (format_version 1, format_minor 1)\n";
+  std::string out = "# rmw_introspect capture (format_version 1, format_minor 2)\n";
   emit_yaml_object(build_document(header, snapshot), 0, out);
   return out;
 }

@@ -8,6 +8,7 @@
 
 #include "detail/config.hpp"
 #include "detail/recorder.hpp"
+#include "detail/stimuli.hpp"
 
 namespace rmw_introspect
 {
@@ -40,6 +41,8 @@ struct CaptureHeader
   int64_t answer_timeout_ms = 0;
   uint64_t probe_requests = 0;
   uint64_t probe_unanswered = 0;
+  // "stimuli": RMW_INTROSPECT_STIMULI, in the order given, and what each came to
+  std::vector<StimulusRecord> stimuli;
   // "ended": only in the captures written as the process ends (exit, shutdown)
   bool has_ended = false;
   bool ended_before_settle = false;

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "detail/stimuli.hpp"
+
 namespace rmw_introspect
 {
 
@@ -102,6 +104,7 @@ Config Config::from_environment(long pid)
   } else {
     config.answer_timeout_ms = answer_timeout_ms;
   }
+  config.stimuli = parse_stimuli(std::getenv("RMW_INTROSPECT_STIMULI"), &config.warnings);
   return config;
 }
 

@@ -30,6 +30,9 @@ struct Config
   /// lifecycle nodes to this state).
   ProbeSettings probe;
   int64_t answer_timeout_ms = 5000;  // RMW_INTROSPECT_ANSWER_TIMEOUT_MS
+  /// RMW_INTROSPECT_STIMULI: topic and service names that get one default message or request
+  /// after the probing (stimuli.hpp); empty = off.
+  std::vector<std::string> stimuli;
   /// One line per value that was out of range or not a number (kept at its default);
   /// the Runtime prints them on stderr.
   std::vector<std::string> warnings;

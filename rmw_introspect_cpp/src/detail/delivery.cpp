@@ -516,7 +516,7 @@ rmw_ret_t take_loaned_message(
   rmw_message_info_t * info)
 {
   *taken = false;
-  if (subscription.inbox.count.load() == 0u) {
+  if (subscription.inbox.count.load() == 0u && !Injector::ready(&subscription)) {
     return RMW_RET_OK;
   }
   void * message = lend(subscription.loans, subscription.layout);
@@ -524,7 +524,10 @@ rmw_ret_t take_loaned_message(
     RMW_SET_ERROR_MSG("failed to allocate a loaned message");
     return RMW_RET_BAD_ALLOC;
   }
-  const rmw_ret_t ret = take_message(subscription, message, taken, info);
+  // A stimulus of the middleware's own first, then what the process sent.
+  const rmw_ret_t ret =
+    Runtime::instance().injector().take_message(&subscription, message, taken, info) ?
+    RMW_RET_OK : take_message(subscription, message, taken, info);
   if (ret != RMW_RET_OK || !*taken) {
     rmw_introspect::ignore_result(
       return_loaned_message(subscription.loans, subscription.layout, message));
@@ -560,13 +563,21 @@ void free_loans(Loans & loans, const MessageLayout & layout)
 }
 
 // A service has something to take: a request of a client of the process (delivery) or one of
-// the middleware's own (parameters, lifecycle: Injector), which needs no delivery.
+// the middleware's own (parameters, lifecycle, stimuli: Injector), which needs no delivery.
 namespace
 {
 bool has_request(const ServiceImpl * service)
 {
   return service != nullptr &&
          (service->requests.count.load() > 0u || Injector::ready(service));
+}
+
+// A subscription has something to take: a message of a publisher of the process (delivery)
+// or a stimulus of the middleware's own (Injector), which needs no delivery.
+bool has_message(const SubscriptionImpl * subscription)
+{
+  return subscription != nullptr &&
+         (subscription->inbox.count.load() > 0u || Injector::ready(subscription));
 }
 }  // namespace
 
@@ -577,7 +588,7 @@ bool any_ready(
   if (subscriptions != nullptr) {
     for (size_t i = 0; i < subscriptions->subscriber_count; ++i) {
       const auto * s = static_cast<const SubscriptionImpl *>(subscriptions->subscribers[i]);
-      if (s != nullptr && s->inbox.count.load() > 0u) {
+      if (has_message(s)) {
         return true;
       }
     }
@@ -630,7 +641,7 @@ bool keep_ready(
   if (subscriptions != nullptr && subscriptions->subscribers != nullptr) {
     for (size_t i = 0; i < subscriptions->subscriber_count; ++i) {
       const auto * s = static_cast<const SubscriptionImpl *>(subscriptions->subscribers[i]);
-      keep(&subscriptions->subscribers[i], s != nullptr && s->inbox.count.load() > 0u);
+      keep(&subscriptions->subscribers[i], has_message(s));
     }
   }
   if (services != nullptr && services->services != nullptr) {

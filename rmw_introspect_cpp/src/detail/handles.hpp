@@ -124,6 +124,12 @@ struct SubscriptionImpl : EventSource, EndpointImpl<rmw_subscription_t>
   MessageLayout layout;
   Inbox inbox;
   std::atomic<int64_t> next_reception{1};
+  /// A stimulus of the middleware's own (Injector, RMW_INTROSPECT_STIMULI) waits to be
+  /// taken: rmw_wait reports the subscription ready. Set and cleared under the Injector's
+  /// mutex (and the wait hub's lock).
+  std::atomic<bool> injected_ready{false};
+  /// The subscription was in the wait set of some rmw_wait: an executor takes from it.
+  std::atomic<bool> in_wait_set{false};
 };
 
 struct ServiceImpl : EndpointImpl<rmw_service_t>

@@ -1,12 +1,18 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 #include "detail/injector.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "rcutils/time.h"
+#include "rmw/serialized_message.h"
 
+#include "detail/cdr.hpp"
+#include "detail/identifier.hpp"
+#include "detail/members.hpp"
 #include "detail/message_walker.hpp"
 
 namespace rmw_introspect
@@ -54,6 +60,43 @@ void Injector::remove_service(ServiceImpl * service)
   }
 }
 
+void Injector::add_subscription(SubscriptionImpl * subscription)
+{
+  if (subscription == nullptr) {
+    return;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  subscriptions_[subscription->record_id] = subscription;
+}
+
+void Injector::remove_subscription(SubscriptionImpl * subscription)
+{
+  if (subscription == nullptr) {
+    return;
+  }
+  bool notify_due = false;
+  bool changes_node = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = subscriptions_.find(subscription->record_id);
+    if (it == subscriptions_.end() || it->second != subscription) {
+      return;
+    }
+    subscriptions_.erase(it);
+    subscription->injected_ready.store(false);
+    if (in_flight_.subscription_id == subscription->record_id &&
+      in_flight_.state == State::kReady)
+    {
+      changes_node = in_flight_.changes_node;
+      notify_due = fail_locked(
+        "the subscription " + subscription->name + " was destroyed before it took the message");
+    }
+  }
+  if (notify_due) {
+    notify(changes_node);
+  }
+}
+
 void Injector::set_answer_listener(std::function<void(bool)> listener)
 {
   std::lock_guard<std::mutex> lock(listener_mutex_);
@@ -78,6 +121,92 @@ ServiceImpl * Injector::service_locked(uint64_t id) const
   return it != services_.end() ? it->second : nullptr;
 }
 
+SubscriptionImpl * Injector::subscription_locked(uint64_t id) const
+{
+  const auto it = subscriptions_.find(id);
+  return it != subscriptions_.end() ? it->second : nullptr;
+}
+
+void Injector::clear_ready_locked()
+{
+  if (in_flight_.state != State::kReady) {
+    return;
+  }
+  if (in_flight_.subscription_id != 0) {
+    if (SubscriptionImpl * old = subscription_locked(in_flight_.subscription_id)) {
+      old->injected_ready.store(false);
+    }
+  } else if (ServiceImpl * old = service_locked(in_flight_.service_id)) {
+    old->injected_ready.store(false);
+  }
+}
+
+namespace
+{
+// One default-constructed message of `layout` (its init function), as CDR.
+bool default_message_cdr(
+  const MessageLayout & layout, std::vector<uint8_t> * out, std::string * error)
+{
+  if (layout.members == nullptr) {
+    *error = "its type support has no introspection members";
+    return false;
+  }
+  void * message = members::create_message(layout.members, layout.is_cpp);
+  if (message == nullptr) {
+    *error = "out of memory";
+    return false;
+  }
+  const bool ok = cdr_serialize(layout, message, out, error);
+  members::destroy_message(layout.members, layout.is_cpp, message);
+  return ok;
+}
+}  // namespace
+
+bool Injector::prepare_stimulus(EndpointKind kind, uint64_t endpoint_id, std::string * error)
+{
+  std::string why;
+  std::lock_guard<std::mutex> lock(mutex_);
+  InFlight staged;
+  staged.stimulus = true;
+  staged.changes_node = true;  // the node reacts: it settles again before the next one
+  if (kind == EndpointKind::Subscription) {
+    SubscriptionImpl * subscription = subscription_locked(endpoint_id);
+    if (subscription == nullptr) {
+      why = "the subscription is gone";
+    } else if (!subscription->in_wait_set.load()) {
+      why = "no executor takes from the subscription " + subscription->name +
+        " (it was never in a wait set)";
+    } else if (!default_message_cdr(subscription->layout, &staged.stimulus_cdr, &why)) {
+      why = "cannot build a default " + subscription->type.name + " message: " + why;
+    }
+    staged.subscription_id = endpoint_id;
+  } else if (kind == EndpointKind::Service) {
+    ServiceImpl * service = service_locked(endpoint_id);
+    MessageLayout request_layout, response_layout;
+    if (service == nullptr) {
+      why = "the service is gone";
+    } else if (!service->in_wait_set.load()) {
+      why = "no executor serves " + service->name + " (it was never in a wait set)";
+    } else if (!service_message_layouts(service->type, &request_layout, &response_layout, &why) ||
+      !default_message_cdr(request_layout, &staged.stimulus_cdr, &why))
+    {
+      why = "cannot build a default " + service->type.name + " request: " + why;
+    }
+    staged.service_id = endpoint_id;
+  } else {
+    why = "only subscriptions and services take stimuli";
+  }
+  if (!why.empty()) {
+    if (error != nullptr) {*error = why;}
+    return false;
+  }
+  clear_ready_locked();
+  staged.state = State::kStaged;
+  staged.sequence = next_sequence_++;
+  in_flight_ = std::move(staged);
+  return true;
+}
+
 bool Injector::prepare(
   uint64_t service_id, const DynValue & request, bool changes_node, std::string * error)
 {
@@ -93,12 +222,8 @@ bool Injector::prepare(
     }
     return false;
   }
-  if (in_flight_.state == State::kReady) {
-    // An earlier request nobody took: it is not the node's to take any more.
-    if (ServiceImpl * old = service_locked(in_flight_.service_id)) {
-      old->injected_ready.store(false);
-    }
-  }
+  // An earlier request nobody took: it is not the node's to take any more.
+  clear_ready_locked();
   in_flight_ = InFlight();
   in_flight_.state = State::kStaged;
   in_flight_.service_id = service_id;
@@ -112,6 +237,15 @@ void Injector::release(WaitHub & hub)
 {
   std::lock_guard<std::mutex> lock(mutex_);
   if (in_flight_.state != State::kStaged) {
+    return;
+  }
+  if (in_flight_.subscription_id != 0) {
+    SubscriptionImpl * subscription = subscription_locked(in_flight_.subscription_id);
+    if (subscription == nullptr) {
+      return;  // destroyed in between; withdraw ends it
+    }
+    in_flight_.state = State::kReady;
+    hub.update_and_wake([subscription]() {subscription->injected_ready.store(true);});
     return;
   }
   ServiceImpl * service = service_locked(in_flight_.service_id);
@@ -142,9 +276,14 @@ bool Injector::take(
     }
     MessageLayout request_layout, response_layout;
     std::string error;
-    if (!service_message_layouts(service->type, &request_layout, &response_layout, &error) ||
-      !write_message(request_layout, in_flight_.request, ros_request, &error))
-    {
+    const bool built =
+      service_message_layouts(service->type, &request_layout, &response_layout, &error) &&
+      (in_flight_.stimulus ?
+      cdr_deserialize(
+        request_layout, in_flight_.stimulus_cdr.data(), in_flight_.stimulus_cdr.size(),
+        ros_request, &error) :
+      write_message(request_layout, in_flight_.request, ros_request, &error));
+    if (!built) {
       *taken = false;
       changes_node = in_flight_.changes_node;
       notify_due = fail_locked(
@@ -184,7 +323,9 @@ bool Injector::answer(
     }
     MessageLayout request_layout, response_layout;
     std::string error;
-    if (!service_message_layouts(service->type, &request_layout, &response_layout, &error) ||
+    if (in_flight_.stimulus) {
+      in_flight_.state = State::kAnswered;  // a stimulus's answer is discarded unread
+    } else if (!service_message_layouts(service->type, &request_layout, &response_layout, &error) ||
       !read_message(response_layout, ros_response, &in_flight_.response, &error))
     {
       fail_locked("cannot read the response of " + service->name + ": " + error);
@@ -195,6 +336,92 @@ bool Injector::answer(
   }
   notify(changes_node);
   return true;
+}
+
+template<typename WriteFn>
+bool Injector::take_stimulus(
+  SubscriptionImpl * subscription, bool * taken, rmw_message_info_t * info, WriteFn write)
+{
+  if (!subscription->injected_ready.load()) {
+    return false;
+  }
+  bool notify_due = false;
+  const bool changes_node = true;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!subscription->injected_ready.exchange(false)) {
+      *taken = false;  // another thread took it first
+      return true;
+    }
+    if (in_flight_.state != State::kReady ||
+      in_flight_.subscription_id != subscription->record_id)
+    {
+      *taken = false;
+      return true;
+    }
+    std::string error;
+    if (!write(in_flight_.stimulus_cdr, &error)) {
+      *taken = false;
+      notify_due = fail_locked(
+        "cannot hand the message over to " + subscription->name + " (" +
+        subscription->type.name + "): " + error);
+    } else {
+      if (info != nullptr) {
+        std::memset(info, 0, sizeof(*info));
+        info->publisher_gid.implementation_identifier = kIdentifier;
+        std::memcpy(
+          info->publisher_gid.data, writer_gid().data(),
+          std::min(sizeof(info->publisher_gid.data), writer_gid().size()));
+        rcutils_time_point_value_t now = 0;
+        if (rcutils_system_time_now(&now) == RCUTILS_RET_OK) {
+          info->source_timestamp = now;
+          info->received_timestamp = now;
+        }
+        info->publication_sequence_number = static_cast<uint64_t>(in_flight_.sequence);
+        info->reception_sequence_number = static_cast<uint64_t>(in_flight_.sequence);
+        info->from_intra_process = false;
+      }
+      // Taking it is the whole delivery: the stimulus has its outcome.
+      in_flight_.state = State::kAnswered;
+      in_flight_.response = DynValue();
+      *taken = true;
+      notify_due = true;
+    }
+  }
+  if (notify_due) {
+    notify(changes_node);
+  }
+  return true;
+}
+
+bool Injector::take_message(
+  SubscriptionImpl * subscription, void * ros_message, bool * taken, rmw_message_info_t * info)
+{
+  return take_stimulus(
+    subscription, taken, info,
+    [subscription, ros_message](const std::vector<uint8_t> & cdr, std::string * error) {
+      return cdr_deserialize(subscription->layout, cdr.data(), cdr.size(), ros_message, error);
+    });
+}
+
+bool Injector::take_serialized(
+  SubscriptionImpl * subscription, rmw_serialized_message_t * serialized_message, bool * taken,
+  rmw_message_info_t * info)
+{
+  return take_stimulus(
+    subscription, taken, info,
+    [serialized_message](const std::vector<uint8_t> & cdr, std::string * error) {
+      if (serialized_message->buffer_capacity < cdr.size() &&
+      rmw_serialized_message_resize(serialized_message, cdr.size()) != RMW_RET_OK)
+      {
+        rcutils_reset_error();
+        *error = "cannot resize the serialized message";
+        return false;
+      }
+      std::memcpy(serialized_message->buffer, cdr.data(), cdr.size());
+      serialized_message->buffer_length = cdr.size();
+      return true;
+    });
 }
 
 bool Injector::fail_locked(const std::string & error)
@@ -228,7 +455,11 @@ Injector::Outcome Injector::withdraw(DynValue * answer, std::string * error)
     return ended;
   }
   std::lock_guard<std::mutex> lock(mutex_);
-  if (ServiceImpl * service = service_locked(in_flight_.service_id)) {
+  if (in_flight_.subscription_id != 0) {
+    if (SubscriptionImpl * subscription = subscription_locked(in_flight_.subscription_id)) {
+      subscription->injected_ready.store(false);
+    }
+  } else if (ServiceImpl * service = service_locked(in_flight_.service_id)) {
     service->injected_ready.store(false);
   }
   in_flight_ = InFlight();

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <new>
 #include <string>
 
@@ -167,8 +168,10 @@ bool is_plain(const typename Types::Members * members)
   return true;
 }
 
-/// A new, initialised message of a type (C: __init()ed; C++: constructed); NULL when out of
-/// memory. destroy_message finalises and frees it.
+/// A new, initialised message of a type (C: zeroed, then __init()ed, as the generated
+/// __create() does: a C __init() sets only the fields with a default value, strings and
+/// sequences, and leaves other numbers and fixed arrays as the memory was; C++: constructed,
+/// which zeroes them); NULL when out of memory. destroy_message finalises and frees it.
 inline void * create_message(const void * members_ptr, bool is_cpp)
 {
   const size_t size = is_cpp ?
@@ -179,6 +182,7 @@ inline void * create_message(const void * members_ptr, bool is_cpp)
   if (memory == nullptr) {
     return nullptr;
   }
+  std::memset(memory, 0, std::max<size_t>(size, 1u));
   if (is_cpp) {
     static_cast<const CppTypes::Members *>(members_ptr)->init_function(
       memory, rosidl_runtime_cpp::MessageInitialization::ALL);

@@ -138,7 +138,7 @@ uint64_t Recorder::add_endpoint(EndpointRecord record)
     record.node_name = node.name;
     record.node_namespace = node.namespace_;
     record.node_fqn = node.fqn;
-    record.created_in = node.transition;
+    record.created_in = cause_.empty() ? node.transition : cause_;
     record.seq = ++seq_;
     last_creation_event_ = ++event_;
     record.id = endpoints_.size() + 1;
@@ -190,6 +190,12 @@ bool Recorder::set_node_transition(uint64_t node_id, const std::string & label)
   }
   nodes_[node_id - 1].transition = label;
   return true;
+}
+
+void Recorder::set_cause(const std::string & label)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  cause_ = label;
 }
 
 RecorderSnapshot Recorder::snapshot(bool mark_teardown) const

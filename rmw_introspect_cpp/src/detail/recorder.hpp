@@ -73,8 +73,9 @@ struct EndpointRecord
   bool alive = true;       // not destroyed at all, teardown included (graph queries)
   uint64_t destroyed_event = 0;  // place of the destruction in the event sequence
   bool in_teardown = false;      // destroyed in the final run of destructions (snapshot)
-  /// The lifecycle transition the middleware had driven last on its node when it was
-  /// created ("configure", "activate"; "" = none).
+  /// What the middleware was doing when it was created: the stimulus it was delivering
+  /// ("stimulus:/camera_info", until the process settled again), else the lifecycle
+  /// transition it had driven last on its node ("configure", "activate"); "" = none.
   std::string created_in;
 };
 
@@ -121,6 +122,10 @@ public:
   /// The middleware drives lifecycle transition `label` on node `node_id`: the endpoints
   /// the node creates from now on record it as their created_in. Not a change either.
   bool set_node_transition(uint64_t node_id, const std::string & label);
+  /// The middleware is delivering stimulus `label` to the process ("" = nothing): endpoints
+  /// created meanwhile, on any node, record it as their created_in (before their node's
+  /// transition). Not a change either.
+  void set_cause(const std::string & label);
 
   /// With `mark_teardown` (captures written as the process ends): the entities destroyed in
   /// the trailing run of destructions - the longest suffix of the creation/destruction event
@@ -152,6 +157,7 @@ private:
   uint64_t last_creation_event_ = 0;
   uint64_t generation_ = 0;
   uint64_t gid_counter_ = 0;
+  std::string cause_;  // set_cause
   std::array<uint8_t, 8> gid_prefix_{};
   std::mutex listener_mutex_;
   std::function<void()> listener_;

@@ -68,7 +68,8 @@ Session::Settings session_settings(const Config & config)
   settings.settle_ms = config.settle_ms;
   settings.horizon_ms = config.horizon_ms;
   settings.warp_budget_ms = config.warp_budget_ms;
-  settings.probe = config.probe.enabled();
+  // The stimuli follow the probing, in the same phase: either turns it on.
+  settings.probe = config.probe.enabled() || !config.stimuli.empty();
   settings.answer_timeout_ms = config.answer_timeout_ms;
   return settings;
 }
@@ -76,13 +77,17 @@ Session::Settings session_settings(const Config & config)
 
 Runtime::Runtime()
 : config_(Config::from_environment(static_cast<long>(getpid()))),
-  probe_driver_(config_.probe, recorder_, injector_),
+  probe_driver_(config_.probe, config_.stimuli, recorder_, injector_),
   session_(clock_, virtual_clock_, session_settings(config_))
 {
   for (const auto & warning : config_.warnings) {
     std::fprintf(stderr, "[rmw_introspect] warning: %s\n", warning.c_str());
   }
   recorder_.set_change_listener([this]() {on_change();});
+  {
+    std::lock_guard<std::mutex> lock(stimuli_mutex_);
+    stimuli_ = probe_driver_.stimuli();  // every name pending
+  }
   injector_.set_answer_listener([this](bool changes_node) {on_probe_answer(changes_node);});
 }
 
@@ -132,6 +137,7 @@ void Runtime::probe_step()
     });
   probe_requests_.store(probe_driver_.requests());
   probe_unanswered_.store(probe_driver_.unanswered());
+  publish_stimuli();
   if (!sent) {
     std::lock_guard<std::mutex> lock(session_mutex_);
     session_.probe_done();
@@ -148,6 +154,16 @@ void Runtime::probe_timeout()
   probe_driver_.timeout(config_.answer_timeout_ms);
   probe_requests_.store(probe_driver_.requests());
   probe_unanswered_.store(probe_driver_.unanswered());
+  publish_stimuli();
+}
+
+void Runtime::publish_stimuli()
+{
+  if (config_.stimuli.empty()) {
+    return;
+  }
+  std::lock_guard<std::mutex> lock(stimuli_mutex_);
+  stimuli_ = probe_driver_.stimuli();
 }
 
 uint64_t Runtime::enter_wait()
@@ -214,7 +230,16 @@ void Runtime::monitor_loop()
       CaptureHeader header;
       session_.fill_header("settled", &header);
       const char * progress = session_.progress_state();
+      const bool probe_skipped = std::strcmp(session_.probe_state(), "skipped") == 0;
       lock.unlock();
+      if (probe_skipped && !config_.stimuli.empty() &&
+        (step.action == Session::Action::kSettle || step.action == Session::Action::kStartWarp))
+      {
+        probe_driver_.skip(
+          "not delivered: no thread of the process ever waited in rmw_wait (no executor spins), "
+          "so nothing could take it");
+        publish_stimuli();
+      }
       switch (step.action) {
         case Session::Action::kSettle:
           write_capture("settled");
@@ -322,6 +347,10 @@ void Runtime::write_capture(const char * state)
   header.probe_lifecycle = lifecycle_target_name(config_.probe.lifecycle);
   header.probe_requests = probe_requests_.load();
   header.probe_unanswered = probe_unanswered_.load();
+  {
+    std::lock_guard<std::mutex> lock(stimuli_mutex_);
+    header.stimuli = stimuli_;
+  }
   header.pid = static_cast<long>(getpid());
   header.argv = argv_;
   header.state = state;

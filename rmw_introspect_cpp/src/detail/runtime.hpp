@@ -26,7 +26,8 @@ struct ContextImpl;
 
 /// Everything this process's middleware keeps beyond the handles rcl holds: configuration,
 /// recorder, session (settle) with its monitor thread, wait hub, graph guard conditions, and
-/// the injector + probe driver that ask the nodes' own services after the first settle.
+/// the injector + probe driver that ask the nodes' own services after the first settle and
+/// deliver the stimuli (RMW_INTROSPECT_STIMULI).
 /// One object per process, reached through instance() by the rmw_* entry points.
 ///
 /// Lock order: a thread holding one of these mutexes takes only those further down the list.
@@ -37,7 +38,8 @@ struct ContextImpl;
 ///   4. WaitHub's mutex          rmw_wait registers a blocked thread with the session under it
 ///   5. Runtime::session_mutex_  the Session; the monitor thread sleeps on session_cv_
 ///   6. Recorder's mutex         a leaf: its change listener (-> session) runs after release
-/// Per-entity mutexes (stored callbacks, a subscription's content filter) are leaves too.
+/// Per-entity mutexes (stored callbacks, a subscription's content filter) and stimuli_mutex_
+/// are leaves too.
 /// Delivery's mutex is taken with none of the above held and takes only per-entity ones (a
 /// content filter, then an inbox or a matched status); the waiters are woken and the "new
 /// data" callbacks called after it is released. rmw_wait reads readiness from atomics.
@@ -115,6 +117,8 @@ private:
   /// The monitor's kProbe / kProbeTimeout (no lock held).
   void probe_step();
   void probe_timeout();
+  /// Copy what the stimuli came to for the captures (monitor thread).
+  void publish_stimuli();
   void monitor_loop();
   /// Write the capture with `state` (no-op with AUTO_EXPORT=0 or before rmw_init; once the
   /// exit capture is being written, nothing else replaces it).
@@ -133,6 +137,8 @@ private:
   ProbeDriver probe_driver_;  // the monitor thread's only
   std::atomic<uint64_t> probe_requests_{0};
   std::atomic<uint64_t> probe_unanswered_{0};
+  std::mutex stimuli_mutex_;  // a leaf: guards stimuli_
+  std::vector<StimulusRecord> stimuli_;  // the ProbeDriver's, as last published
   std::vector<std::string> argv_;  // read at rmw_init (immutable after)
 
   std::mutex write_mutex_;

@@ -6,8 +6,9 @@ Every figure is measured in this run, on this machine (medians, ms; the rows are
 ``--reps`` rounds, so that a shared machine's load weighs on all of them alike). The targets are two rclpy
 nodes the benchmark writes, captured through the public API, ``pytest_rmw_introspect.capture(...)``,
 exactly as the plugin and the CLI run a target (default options: settle 0.1 s, virtual-time
-horizon 10 s); the middleware's injection is switched off through the target's environment
-(``RMW_INTROSPECT_PARAMETERS=0``, ``RMW_INTROSPECT_LIFECYCLE=none``), everything else is equal.
+horizon 10 s); the middleware's injection is switched off
+(target options ``read_parameters: false`` and ``lifecycle: none``, which the runner passes as
+``RMW_INTROSPECT_PARAMETERS=0`` and ``RMW_INTROSPECT_LIFECYCLE=none``), everything else is equal.
 
 Rows:
 - a parameter-heavy node: 135 parameters of all nine types (15 each; ranges, descriptions,
@@ -94,8 +95,9 @@ rclpy.init()
 rclpy.spin(Managed())
 """
 
-PARAMETERS_OFF = {"RMW_INTROSPECT_PARAMETERS": "0"}
-LIFECYCLE_OFF = {"RMW_INTROSPECT_LIFECYCLE": "none"}
+# target options the runner turns into RMW_INTROSPECT_PARAMETERS=0 / RMW_INTROSPECT_LIFECYCLE=none
+PARAMETERS_OFF = {"read_parameters": False}
+LIFECYCLE_OFF = {"lifecycle": "none"}
 
 
 def the_node(cap: Any, fqn: str) -> dict[str, Any]:
@@ -153,13 +155,13 @@ def main() -> int:
             "params_on": (f"{total} parameters, read (default)",
                           lambda: captured(parameters_read("/many_parameters", total), **params)),
             "params_off": (f"{total} parameters, not read (PARAMETERS=0)",
-                           lambda: captured(parameters_not_read("/many_parameters"), env=PARAMETERS_OFF, **params)),
+                           lambda: captured(parameters_not_read("/many_parameters"), **PARAMETERS_OFF, **params)),
             "lc_on": ("lifecycle node, driven to active + parameters (default)",
                       lambda: captured(lifecycle("active", True), **managed)),
             "lc_params": ("lifecycle node, left alone + parameters (LIFECYCLE=none)",
-                          lambda: captured(lifecycle(None, True), env=LIFECYCLE_OFF, **managed)),
+                          lambda: captured(lifecycle(None, True), **LIFECYCLE_OFF, **managed)),
             "lc_off": ("lifecycle node, not asked (PARAMETERS=0, LIFECYCLE=none)",
-                       lambda: captured(lifecycle(None, False), env={**PARAMETERS_OFF, **LIFECYCLE_OFF}, **managed)),
+                       lambda: captured(lifecycle(None, False), **PARAMETERS_OFF, **LIFECYCLE_OFF, **managed)),
         }
         for _, measure in measures.values():
             measure()  # warm-up: page cache, Python bytecode, the middleware build

@@ -207,7 +207,7 @@ def assert_capture(capture: dict, nodes: list[dict], endpoints: list[dict], stat
     assert got_nodes == nodes
     got = [{k: e[k] for k in ENDPOINT_KEYS} for e in capture["endpoints"]]
     for i, (g, x) in enumerate(zip(got, endpoints, strict=False)):
-        assert g == x, f"endpoint #{i} differs"
+        assert g == x, f"endpoint #{i} differs: {g} != {x}"
     assert len(got) == len(endpoints), [(e["kind"], e["name"]) for e in got]
     # One counter over nodes and endpoints, in creation order; node ids match node names.
     seqs = sorted([n["seq"] for n in capture["nodes"]] + [e["seq"] for e in capture["endpoints"]])

@@ -96,9 +96,18 @@ def test_multithreaded_executor_with_two_callback_groups(run):
     result = vt_run(run, h.python_node("vt_mt_groups.py"))
     assert_warped_capture(result, 4000)
     n = "/vt_mt"
-    h.assert_capture(result.capture, [node("vt_mt")], infra(n) + [
-        ep("publisher", n, "/from_group_a", "std_msgs/msg/String"),
-        ep("subscription", n, "/from_group_b", "std_msgs/msg/String")])
+    user = [ep("publisher", n, "/from_group_a", "std_msgs/msg/String"),
+            ep("subscription", n, "/from_group_b", "std_msgs/msg/String")]
+    # The two callbacks run on two executor threads: while the 2 s callback is still on its
+    # way to create_publisher, the other thread's wait may already jump to 4 s, so the two
+    # creations can come in either order (a known limit of the warp, see the stop note);
+    # each still happens at or after its own timer's virtual deadline.
+    endpoints = result.capture["endpoints"]
+    if endpoints[-1]["name"] == "/from_group_a":
+        user.reverse()
+    h.assert_capture(result.capture, [node("vt_mt")], infra(n) + user)
+    created = {e["name"]: e["created_virtual_ms"] for e in endpoints[-2:]}
+    assert created["/from_group_a"] >= 2000 and created["/from_group_b"] >= 4000, created
 
 
 def test_old_school_loop_settles_by_activity(run):

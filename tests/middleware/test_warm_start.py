@@ -220,13 +220,16 @@ _PROBE_SETTINGS = {"RMW_INTROSPECT_PARAMETERS": "0", "RMW_INTROSPECT_LIFECYCLE":
 
 
 def test_the_probe_settings_are_read_after_the_fork_too():
-    """RMW_INTROSPECT_PARAMETERS, _LIFECYCLE and _ANSWER_TIMEOUT_MS are no part of the server's
-    key: targets with different values share the server, and each child reads its own."""
+    """RMW_INTROSPECT_PARAMETERS, _LIFECYCLE (the runner sets them from the target options
+    `read_parameters` and `lifecycle`) and _ANSWER_TIMEOUT_MS (target env) are no part of the
+    server's key: targets with different values share the server, and each child reads its own."""
     server = w.server_for()
     lifecycle = str(w.NODES / "lc_managed.py")
     default = capture(script=lifecycle)
-    cold, warm_result = w.cold_and_warm({"script": lifecycle, "env": _PROBE_SETTINGS})
-    assert w.server_for({"env": _PROBE_SETTINGS}) is server
+    options = {"script": lifecycle, "read_parameters": False, "lifecycle": "inactive",
+               "env": {"RMW_INTROSPECT_ANSWER_TIMEOUT_MS": "1234"}}
+    cold, warm_result = w.cold_and_warm(options)
+    assert w.server_for({k: v for k, v in options.items() if k != "script"}) is server
     assert (default.started, warm_result["started"]) == ("warm", "warm")
     assert w.comparable(warm_result) == w.comparable(cold)
     probe = warm_result["capture"]["rest"]["probe"]

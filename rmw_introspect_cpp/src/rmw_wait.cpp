@@ -109,10 +109,10 @@ rmw_ret_t rmw_wait(
   RMWI_CHECK_HANDLE(wait_set);
 
   const auto * ws = static_cast<const WaitSetImpl *>(wait_set->data);
+  mark_served(services, subscriptions);
   // Once the context is shut down (rmw_shutdown wakes every waiter), waits return at once:
   // an executor woken by its SIGINT guard condition just before the shutdown must not go
   // back to sleep forever.
-  mark_served(services, subscriptions);
   auto ready = [ws, guard_conditions, subscriptions, services, clients, events]() {
       return any_triggered(guard_conditions) ||
              rmw_introspect::any_ready(subscriptions, services, clients, events) ||

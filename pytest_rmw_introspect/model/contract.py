@@ -50,7 +50,7 @@ from ..errors import ContractError
 from . import parameters as parameter_model
 from . import qos as qos_module
 from . import types as type_model
-from . import untrusted
+from . import untrusted, yaml_blocks
 from .vocabulary import ACTION_HASHED_PARTS, LABELS, LIFECYCLE, LISTS, PARAMETERS
 
 CONTRACT_VERSION = 1
@@ -471,32 +471,15 @@ def render(nodes: Mapping[str, Any], header: str = DEFAULT_HEADER) -> str:
 def split_text(text: str) -> tuple[str, str] | None:
     """``(header, trailer)`` around the top-level ``nodes`` block of ``text``, or None when the
     file has no block-style top-level ``nodes`` key."""
-    try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.YAMLError:
+    block = yaml_blocks.top_level_block(text, "nodes")
+    if block is None:
         return None
-    if not isinstance(root, yaml.MappingNode) or root.flow_style:
-        return None
-    lines = text.splitlines(keepends=True)
-    pairs = root.value
-    for idx, (k, _v) in enumerate(pairs):
-        if isinstance(k, yaml.ScalarNode) and k.value == "nodes":
-            if k.start_mark.column != 0:
-                return None
-            header = "".join(lines[: k.start_mark.line])
-            trailer = ""
-            if idx + 1 < len(pairs):
-                start = pairs[idx + 1][0].start_mark.line
-                # take the comment lines directly above the next key along with it
-                while start > k.start_mark.line + 1 and (
-                    lines[start - 1].startswith("#") or not lines[start - 1].strip()
-                ):
-                    start -= 1
-                trailer = "".join(lines[start:])
-            if header and not header.endswith("\n"):
-                header += "\n"
-            return header, trailer
-    return None
+    lines, first, end = block
+    header = "".join(lines[:first])
+    trailer = "".join(lines[end:])  # with the comment lines directly above the next key
+    if header and not header.endswith("\n"):
+        header += "\n"
+    return header, trailer
 
 
 def update_text(old_text: str, nodes: Mapping[str, Any]) -> str:

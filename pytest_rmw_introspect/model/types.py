@@ -41,6 +41,7 @@ from typing import Any
 
 import yaml
 
+from . import yaml_blocks
 from .vocabulary import ACTION_LISTS
 
 #: ``kind`` values of the capture table
@@ -386,27 +387,13 @@ def render_section(table: Mapping[str, TypeDescription]) -> str:
 def _section_span(text: str) -> tuple[int, int] | None:
     """Line numbers ``[start, end)`` of the top-level ``types`` block of ``text`` (with the
     comment lines directly above its key), or None when there is none."""
-    try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.YAMLError:
+    block = yaml_blocks.top_level_block(text, SECTION_KEY)
+    if block is None:
         return None
-    if not isinstance(root, yaml.MappingNode) or root.flow_style:
-        return None
-    lines = text.splitlines(keepends=True)
-    pairs = root.value
-    for index, (key, _value) in enumerate(pairs):
-        if not (isinstance(key, yaml.ScalarNode) and key.value == SECTION_KEY and key.start_mark.column == 0):
-            continue
-        start = key.start_mark.line
-        while start > 0 and lines[start - 1].startswith("#"):
-            start -= 1
-        end = len(lines)
-        if index + 1 < len(pairs):
-            end = pairs[index + 1][0].start_mark.line
-            while end > key.start_mark.line + 1 and (lines[end - 1].startswith("#") or not lines[end - 1].strip()):
-                end -= 1
-        return start, end
-    return None
+    lines, start, end = block
+    while start > 0 and lines[start - 1].startswith("#"):
+        start -= 1
+    return start, end
 
 
 def replace_section(text: str, table: Mapping[str, TypeDescription]) -> str:

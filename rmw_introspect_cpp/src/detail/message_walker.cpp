@@ -569,27 +569,11 @@ bool service_message_layouts(
     if (error != nullptr) {*error = "no service members";}
     return false;
   }
-  const void * req = nullptr;
-  const void * res = nullptr;
-  if (service.is_cpp) {
-    const auto * s = static_cast<const rosidl_typesupport_introspection_cpp::ServiceMembers *>(
-      service.members);
-    req = s->request_members_;
-    res = s->response_members_;
-  } else {
-    const auto * s = static_cast<const rosidl_typesupport_introspection_c__ServiceMembers *>(
-      service.members);
-    req = s->request_members_;
-    res = s->response_members_;
-  }
-  if (req == nullptr || res == nullptr) {
+  service_layouts(service, request, response);
+  if (request->members == nullptr || response->members == nullptr) {
     if (error != nullptr) {*error = "service without request or response members";}
     return false;
   }
-  request->members = req;
-  request->is_cpp = service.is_cpp;
-  response->members = res;
-  response->is_cpp = service.is_cpp;
   return true;
 }
 

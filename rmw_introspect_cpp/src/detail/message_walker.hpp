@@ -12,8 +12,8 @@ namespace rmw_introspect
 
 // MessageLayout (typesupport.hpp): a message type's C or C++ introspection members.
 
-/// The request and response layouts of a service type resolved by resolve_service_type.
-/// False (and `error`) when the service members are missing either.
+/// service_layouts (typesupport.hpp), checked: false (and `error`) when the service type has
+/// no members or they lack the request or the response.
 bool service_message_layouts(
   const ResolvedType & service, MessageLayout * request, MessageLayout * response,
   std::string * error);

@@ -458,7 +458,7 @@ protected:
 };
 }  // namespace
 
-TEST_F(ProbeTest, queries_follow_each_other_and_the_end_needs_a_settle)
+TEST_F(ProbeTest, queries_follow_each_other_and_need_no_second_settle)
 {
   settle_into_probing();
   EXPECT_EQ(Session::Action::kProbe, session.poll().action);
@@ -474,20 +474,38 @@ TEST_F(ProbeTest, queries_follow_each_other_and_the_end_needs_a_settle)
   session.probe_answered(false);
   EXPECT_EQ(Session::Action::kProbe, session.poll().action);
   session.probe_done();
-  // The answer broke the quiet: a new wait and settle_ms of quiet.
-  EXPECT_EQ(Session::Action::kNone, session.poll().action);
-  back_to_wait();
-  step = session.poll();
-  EXPECT_EQ(Session::Action::kNone, step.action);
-  EXPECT_EQ(clock.now + 10 * kMs, step.deadline_ns);
-  clock.advance_ms(10);
+  // Reads run none of the node's code and nothing was created: the settle that started the
+  // probing holds, the capture is settled at once.
   EXPECT_EQ(Session::Action::kSettle, session.poll().action);
   EXPECT_FALSE(session.probing());
   EXPECT_STREQ("done", session.probe_state());
   CaptureHeader header;
   session.fill_header("settled", &header);
-  EXPECT_DOUBLE_EQ(21.0, header.time_to_settle_ms);
+  EXPECT_DOUBLE_EQ(11.0, header.time_to_settle_ms);
   EXPECT_FALSE(header.ended_before_settle);
+  session.leave_wait(token);
+}
+
+TEST_F(ProbeTest, an_entity_created_while_reading_needs_a_settle_at_the_end)
+{
+  settle_into_probing();
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_sent();
+  clock.advance_ms(1);
+  session.on_change();  // another thread of the node creates a publisher meanwhile
+  session.probe_answered(false);
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_done();
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  back_to_wait();
+  const Session::Step step = session.poll();
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  EXPECT_EQ(clock.now + 10 * kMs, step.deadline_ns);
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_DOUBLE_EQ(21.0, header.time_to_settle_ms);
   session.leave_wait(token);
 }
 
@@ -507,6 +525,26 @@ TEST_F(ProbeTest, a_transition_is_followed_by_a_settle_with_its_new_entities)
   EXPECT_EQ(Session::Action::kProbe, session.poll().action);
   session.probe_done();
   EXPECT_EQ(Session::Action::kSettle, session.poll().action);  // still quiet
+  session.leave_wait(token);
+}
+
+TEST_F(ProbeTest, the_end_after_a_transition_waits_for_a_settle)
+{
+  settle_into_probing();
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_sent();
+  session.probe_answered(true);  // on_activate ran the node's code
+  back_to_wait();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_sent();
+  session.probe_answered(false);  // parameters read again after driving
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_done();
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  back_to_wait();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
   session.leave_wait(token);
 }
 

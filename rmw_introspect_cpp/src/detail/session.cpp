@@ -245,6 +245,7 @@ bool Session::poll_probing(int64_t now, Step * step)
     if (now >= deadline) {
       probe_in_flight_ = false;
       probe_settle_first_ = true;  // the node may still be busy with it
+      probe_changed_node_ = true;
       break_quiet(now);
       step->action = Action::kProbeTimeout;
       step->has_deadline = false;
@@ -254,7 +255,10 @@ bool Session::poll_probing(int64_t now, Step * step)
     return false;
   }
   if (probe_done_) {
-    if (quiet_settled(now, &step->has_deadline, &step->deadline_ns)) {
+    // Only parameters were read and nothing was created meanwhile: the settle that started
+    // the probing still holds (a read runs no code of the node's), so no second one.
+    const bool unchanged = !probe_changed_node_ && settled_generation_ == generation_;
+    if (unchanged || quiet_settled(now, &step->has_deadline, &step->deadline_ns)) {
       mark_settled(now);
       after_first_settle(now, step);
       return true;
@@ -282,6 +286,7 @@ void Session::probe_answered(bool settle_first)
   }
   probe_in_flight_ = false;
   probe_settle_first_ = settle_first;
+  probe_changed_node_ = probe_changed_node_ || settle_first;
   // The answering thread goes back to its wait after this: the settles count from here.
   break_quiet(clock_.now_ns());
 }

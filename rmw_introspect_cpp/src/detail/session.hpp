@@ -174,6 +174,9 @@ private:
   int64_t probe_sent_ns_ = 0;
   bool probe_settle_first_ = false;
   bool probe_done_ = false;
+  // An answer that runs the node's own code (a transition, a stimulus) or a timeout: the node
+  // may have changed, so the end of the probing waits for a settle. Reads need none.
+  bool probe_changed_node_ = false;
 };
 
 }  // namespace rmw_introspect

@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+import argparse
 import signal
 import sys
 import threading
@@ -52,27 +53,17 @@ def main(argv: Sequence[str] | None = None) -> int:
             return cmd_validate(args)
         except KeyboardInterrupt:
             return 130
-    # The commands pull in the whole pipeline (deepdiff, jsonschema, ...): imported only once
-    # the arguments are valid, so `--help` and usage errors answer in a fraction of the time.
+    # Each command imports what it needs once the arguments are valid (`--help` and usage errors
+    # answer in a fraction of the time); `capture` never loads the comparison pipeline
+    # (deepdiff, jsonschema, ...) nor, without a launch file, the system pipeline.
     from ..run import warm
-    from . import commands, init
 
     if args.command == "capture" or len(getattr(args, "contracts", ())) < 2:
         # a warm start server pays for itself from the second capture of a run on
         warm.POOL.disable("a run with one capture starts it cold (a warm start server pays off from the second)")
 
     try:
-        if args.command == "capture":
-            return commands.cmd_capture(args, command)
-        if args.command == "check":
-            return commands.cmd_check(args, command)
-        if args.command == "diff":
-            return commands.cmd_diff(args)
-        if args.command == "init":
-            return init.cmd_init(args)
-        if args.command == "graph":
-            return commands.cmd_graph(args)
-        return commands.cmd_compat(args)
+        return _run_command(args, command)
     except (RmwIntrospectError, UsageError, ValueError) as exc:
         print(f"rmw-introspect: {exc}", file=sys.stderr)
         return EXIT_ERROR
@@ -84,6 +75,26 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_TERMINATED
     finally:
         warm.shutdown()  # the servers end with the run, whatever way it ends
+
+
+def _run_command(args: argparse.Namespace, command: list[str] | None) -> int:
+    if args.command == "capture":
+        from .capture import cmd_capture
+
+        return cmd_capture(args, command)
+    if args.command == "init":
+        from .init import cmd_init
+
+        return cmd_init(args)
+    from . import commands
+
+    if args.command == "check":
+        return commands.cmd_check(args, command)
+    if args.command == "diff":
+        return commands.cmd_diff(args)
+    if args.command == "graph":
+        return commands.cmd_graph(args)
+    return commands.cmd_compat(args)
 
 
 __all__ = ["main"]

@@ -1,7 +1,7 @@
-"""The four commands of ``rmw-introspect``. Each goes through the same pipeline as the pytest
-plugin (``check.pipeline`` and ``check.outcome``), so a contract checks the same way from
-both and the reports are the same text; this module only turns outcomes into output and an
-exit status."""
+"""The commands of ``rmw-introspect`` that check contracts: check, diff, compat, graph (capture
+is ``capture``, init is ``init``). Each goes through the same pipeline as the pytest plugin
+(``check.pipeline`` and ``check.outcome``), so a contract checks the same way from both and
+the reports are the same text; this module only turns outcomes into output and an exit status."""
 
 from __future__ import annotations
 
@@ -15,59 +15,11 @@ from typing import Any
 from ..check import golden, pipeline
 from ..check.outcome import Verdict, decide
 from ..compare import ci_report
-from ..errors import GoldenWriteError, TargetError
+from ..errors import GoldenWriteError
 from ..model.contract import Contract
-from ..run import middleware, ros_env, runner
-from ..run.ros_env import RosEnvironment
-from ..run.target import TargetSpec
-from . import formats, system
+from . import system
 from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, UsageError, compare_from_args, target_from_args
-
-
-class Setup:
-    """ROS environment and middleware library, found on first use (only when a target runs)."""
-
-    def __init__(self) -> None:
-        self._ros: RosEnvironment | None = None
-        self._library: Path | None = None
-
-    def ros(self) -> RosEnvironment:
-        if self._ros is None:
-            self._ros = ros_env.detect()
-        return self._ros
-
-    def library(self) -> Path:
-        if self._library is None:
-            self._library = Path(middleware.ensure_library(self.ros()))
-        return self._library
-
-
-def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
-    if system.wants_launch(args):
-        setup_ = Setup()
-        return system.cmd_capture(args, command, setup_.ros, setup_.library)
-    system.launch_block(args)  # launch options without a launch file are a usage error
-    cwd = Path.cwd()
-    target = target_from_args(args, command)
-    spec = TargetSpec.from_mapping(target, base_dir=cwd, source="command line")
-    if spec.kind is None:
-        raise UsageError("no target: give --package P --executable E, --script FILE, --module M, "
-                         "--entry-point MOD:FUNC or -- COMMAND ARGS...")
-    setup = Setup()
-    include = bool(args.include_infrastructure or args.raw)
-    try:
-        cap = runner.run(spec, library=setup.library(), ros=setup.ros(), include_infrastructure=include)
-    except TargetError as exc:
-        partial = getattr(exc, "partial", None)
-        if not args.partial or partial is None:
-            raise
-        reason = str(exc).splitlines()[0]
-        formats.emit(formats.capture_text(partial, args, spec, cwd, partial_reason=reason), args.output)
-        raise
-    for note in cap.notes():
-        print(f"note: {note}", file=sys.stderr)
-    formats.emit(formats.capture_text(cap, args, spec, cwd), args.output)
-    return EXIT_OK
+from .ros_setup import Setup
 
 
 def accept_command(args: argparse.Namespace, contract: str, command: list[str] | None) -> str:

@@ -9,9 +9,6 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-import yaml
-
-from ..check import golden
 from ..model import qos as qos_module
 from ..model.capture import Capture
 from ..model.parameters import Parameter
@@ -92,6 +89,8 @@ def nodl_documents(cap: Capture, *, raw: bool) -> str:
                 parameters[node.fqn] = node.parameters
             if node.lifecycle is not None:
                 lifecycle.add(node.fqn)
+    import yaml  # ~20 ms: imported once a capture is there to print (start-up without it)
+
     for fqn, node_lists in items:
         doc: dict[str, Any] = {"nodl_version": 2}
         if fqn in lifecycle:
@@ -113,10 +112,15 @@ def capture_text(cap: Capture, args: argparse.Namespace, spec: TargetSpec, cwd: 
         return nodl_documents(cap, raw=args.raw)
     if args.raw:
         raw = dict(cap.raw)
-        return (json.dumps(raw, indent=2) if args.format == "json"
-                else yaml.safe_dump(raw, sort_keys=False, default_flow_style=False))
+        if args.format == "json":
+            return json.dumps(raw, indent=2)
+        import yaml  # ~20 ms: imported once a capture is there to print (start-up without it)
+
+        return yaml.safe_dump(raw, sort_keys=False, default_flow_style=False)
     if args.format == "json":
         return json.dumps(cap.to_contract_nodes(), indent=2)
+    from ..check import golden  # the contract writer: once a capture is there to print
+
     base = Path(args.output).absolute().parent if args.output else cwd
     text = golden.new_contract_text(cap.to_contract_nodes(), spec=spec, base=base,
                                     include_infrastructure=bool(args.include_infrastructure),
@@ -133,5 +137,7 @@ def emit(text: str, output: str | None) -> None:
     if output is None:
         sys.stdout.write(text)
         return
+    from ..check import golden
+
     golden.write_text(output, text)  # raises GoldenWriteError: a message, exit status 2
     print(f"wrote {output}", file=sys.stderr)

@@ -16,8 +16,8 @@ from ..check import golden
 from ..errors import RmwIntrospectError
 from ..run import runner
 from ..run.target import TargetSpec, package_executables
-from .commands import Setup
 from .parser import EXIT_ERROR, EXIT_OK, UsageError
+from .ros_setup import Setup
 
 _CMAKE_WIRING = """\
   if(BUILD_TESTING)

@@ -6,8 +6,6 @@ import argparse
 from collections.abc import Sequence
 from typing import Any
 
-import yaml
-
 from .._version import __version__
 from ..model.vocabulary import FAIL_ON, LIFECYCLE_TARGETS
 from . import system_options
@@ -363,7 +361,10 @@ def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dic
     if remaps:
         target["remappings"] = dict(remaps)
     params = {}
-    for name, text in _pairs(args.param, ":=", "--param", "NAME:=VALUE"):
+    pairs = _pairs(args.param, ":=", "--param", "NAME:=VALUE")
+    if pairs:
+        import yaml  # ~20 ms: only --param values need it
+    for name, text in pairs:
         try:
             params[name] = yaml.safe_load(text) if text.strip() else ""
         except yaml.YAMLError as exc:

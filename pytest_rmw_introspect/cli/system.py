@@ -21,12 +21,8 @@ from ..run import system as run_system
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
 from . import formats
+from .launch_options import launch_arguments, launch_block, wants_launch
 from .parser import EXIT_DRIFT, EXIT_OK, UsageError, compare_from_args, target_from_args
-
-
-def wants_launch(args: argparse.Namespace) -> bool:
-    return bool(getattr(args, "launch", None) or getattr(args, "launch_package", None)
-                or getattr(args, "launch_file", None))
 
 
 def is_system(path: Path, args: argparse.Namespace | None = None) -> bool:
@@ -35,41 +31,6 @@ def is_system(path: Path, args: argparse.Namespace | None = None) -> bool:
     if path.exists():
         return system_contract.is_system_contract(path)
     return path.name.endswith(system_contract.SUFFIX) or (args is not None and wants_launch(args))
-
-
-def launch_arguments(args: argparse.Namespace) -> dict[str, str]:
-    """``--launch-arg NAME:=VALUE`` options as a mapping."""
-    arguments = {}
-    for value in getattr(args, "launch_arg", None) or ():
-        name, found, text = value.partition(":=")
-        if not found or not name:
-            raise UsageError(f"--launch-arg {value!r} is not of the form NAME:=VALUE")
-        arguments[name] = text
-    return arguments
-
-
-def launch_block(args: argparse.Namespace) -> dict[str, Any] | None:
-    """The ``launch:`` block the command line gives (None: none)."""
-    if not wants_launch(args):
-        if getattr(args, "launch_arg", None) or getattr(args, "allow_unsupported", None):
-            raise UsageError("--launch-arg and --allow-unsupported need a launch file: --launch FILE or "
-                             "--launch-package P --launch-file F (or, for `check`, a system contract)")
-        return None
-    block: dict[str, Any] = {}
-    if args.launch:
-        if args.launch_package or args.launch_file:
-            raise UsageError("give --launch FILE or --launch-package P --launch-file F, not both")
-        block["path"] = args.launch
-    else:
-        if not (args.launch_package and args.launch_file):
-            raise UsageError("--launch-package and --launch-file go together")
-        block.update(package=args.launch_package, file=args.launch_file)
-    arguments = launch_arguments(args)
-    if arguments:
-        block["arguments"] = arguments
-    if args.allow_unsupported:
-        block["allow_unsupported"] = True
-    return block
 
 
 def _process_target(args: argparse.Namespace, command: list[str] | None) -> dict[str, Any]:

@@ -39,8 +39,6 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-import yaml
-
 from . import yaml_blocks
 from .vocabulary import ACTION_LISTS
 
@@ -345,6 +343,8 @@ def for_interfaces(table: Mapping[str, TypeDescription], interfaces: Iterable[tu
 
 def _scalar(text: str) -> str:
     """A YAML plain scalar when that reads back as the same string, else quoted."""
+    import yaml  # ~20 ms: only writing a `types:` section needs it
+
     dumped = yaml.safe_dump(text, default_flow_style=True, width=math.inf, allow_unicode=True)
     dumped = dumped.rstrip("\n").removesuffix("\n...")
     if any(c in dumped for c in ",[]{}") and not dumped.startswith(("'", '"')):

@@ -25,9 +25,10 @@ import stat
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import yaml
+if TYPE_CHECKING:
+    import yaml
 
 #: the largest file read (a contract of 100k endpoints is about 7 MB)
 MAX_FILE_BYTES = 64 * 1024 * 1024
@@ -36,8 +37,19 @@ MAX_DEPTH = 64
 #: the most values a document may expand to through aliases
 MAX_VALUES = 2_000_000
 
-#: libyaml's loader when PyYAML was built with it, else the pure-Python one
-LOADER: type = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+#: the loader class; None: libyaml's when PyYAML was built with it, else the pure-Python one
+LOADER: type | None = None
+
+
+def _loader(loader: type | None) -> type:
+    import yaml  # ~20 ms: imported on first use, so `rmw-introspect capture` starts without it
+
+    if loader is not None:
+        return loader
+    if LOADER is not None:
+        return LOADER
+    fastest: type = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+    return fastest
 
 
 @dataclass
@@ -101,7 +113,9 @@ def compose_yaml(text: str, loader: type | None = None) -> yaml.Node | None:
 
 
 def _compose_yaml(text: str, loader: type | None) -> yaml.Node | None:
-    loader_class = loader or LOADER
+    import yaml
+
+    loader_class = _loader(loader)
     try:
         parser = loader_class(text)
     except yaml.YAMLError as exc:  # the pure reader refuses control characters at once
@@ -123,7 +137,9 @@ def construct(root: yaml.Node, loader: type | None = None) -> Any:
 
 
 def _construct(root: yaml.Node, loader: type | None) -> Any:
-    loader_class = loader or LOADER
+    import yaml
+
+    loader_class = _loader(loader)
     constructor = loader_class("")
     try:
         return constructor.construct_document(root)
@@ -136,6 +152,8 @@ def _construct(root: yaml.Node, loader: type | None) -> Any:
 
 
 def _yaml_error(exc: yaml.YAMLError) -> InputError:
+    import yaml
+
     if isinstance(exc, yaml.MarkedYAMLError):
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark is not None else None
@@ -154,6 +172,8 @@ _STR_TAG = "tag:yaml.org,2002:str"
 def check_tree(root: yaml.Node, *, max_depth: int = MAX_DEPTH, max_values: int = MAX_VALUES) -> None:
     """Keys are unique strings, nesting and expanded size are bounded (iterative: no recursion,
     and each node, however many aliases point at it, is looked at once)."""
+    import yaml
+
     expanded: dict[int, int] = {}  # node id → number of values it expands to
     stack: list[tuple[yaml.Node, tuple[Any, ...], bool]] = [(root, (), False)]
     on_path: set[int] = set()
@@ -196,6 +216,8 @@ def check_tree(root: yaml.Node, *, max_depth: int = MAX_DEPTH, max_values: int =
 
 
 def _children(node: yaml.Node) -> list[yaml.Node]:
+    import yaml
+
     if isinstance(node, yaml.MappingNode):
         return [v for _k, v in node.value]
     if isinstance(node, yaml.SequenceNode):

@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import shutil
+import stat
 import subprocess
 import sys
 from dataclasses import dataclass
@@ -54,15 +56,50 @@ def cache_root() -> Path:
     return Path(base) / "pytest-rmw-introspect"
 
 
-def sources_hash(src: Path) -> str:
-    """Hash of every file of the package that affects the build (tests and docs excluded)."""
-    digest = hashlib.sha256()
+def _build_inputs(src: Path) -> list[tuple[Path, os.stat_result]]:
+    """Every file of the package that affects the build (tests and docs excluded), sorted."""
+    inputs = []
     for path in sorted(src.rglob("*")):
         rel = path.relative_to(src)
-        if not path.is_file() or rel.parts[0] in {"test", "build"} or "__pycache__" in rel.parts:
+        if rel.parts[0] in {"test", "build"} or "__pycache__" in rel.parts:
             continue
-        digest.update(str(rel).encode() + b"\0" + path.read_bytes() + b"\0")
-    return digest.hexdigest()
+        info = path.stat()
+        if stat.S_ISREG(info.st_mode):
+            inputs.append((rel, info))
+    return inputs
+
+
+def sources_hash(src: Path, memo_dir: Path | None = None) -> str:
+    """Hash of the contents of every file of the package that affects the build. Reading and
+    hashing them is most of the time a run needs to find its (already built) library, so the
+    hash is remembered in ``memo_dir`` under the files' names, sizes and modification times:
+    a file changed in any way a build could see changes those too."""
+    inputs = _build_inputs(src)
+    memo: Path | None = None
+    if memo_dir is not None:
+        listing = hashlib.sha256(str(src.resolve()).encode())
+        for rel, info in inputs:
+            listing.update(f"\0{rel}\0{info.st_size}\0{info.st_mtime_ns}\0{info.st_ino}".encode())
+        memo = memo_dir / f"sources-{listing.hexdigest()[:32]}"
+        try:
+            remembered = memo.read_text(encoding="ascii").strip()
+            if re.fullmatch(r"[0-9a-f]{64}", remembered):
+                return remembered
+        except (OSError, UnicodeDecodeError):
+            pass
+    digest = hashlib.sha256()
+    for rel, _info in inputs:
+        digest.update(str(rel).encode() + b"\0" + (src / rel).read_bytes() + b"\0")
+    hexdigest = digest.hexdigest()
+    if memo is not None:
+        try:  # a cache: a run that cannot write it only hashes again next time
+            memo_dir.mkdir(parents=True, exist_ok=True)  # type: ignore[union-attr]
+            partial = memo.with_name(f"{memo.name}.{os.getpid()}.tmp")
+            partial.write_text(hexdigest + "\n", encoding="ascii")
+            os.replace(partial, memo)
+        except OSError:
+            pass
+    return hexdigest
 
 
 def find_installed(ros: ros_env.RosEnvironment) -> Path | None:
@@ -152,10 +189,10 @@ def resolve_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path |
         return MiddlewareLibrary(installed, "installed")
 
     src = source_dir()
-    key = hashlib.sha256(
-        f"{sources_hash(src)}|{ros.distro}|{ros.prefix}".encode()
-    ).hexdigest()[:16]
     root = Path(cache_dir) if cache_dir else cache_root()
+    key = hashlib.sha256(
+        f"{sources_hash(src, memo_dir=root)}|{ros.distro}|{ros.prefix}".encode()
+    ).hexdigest()[:16]
     dest = root / f"{ros.distro}-{key}"
     library = dest / "install" / "lib" / LIBRARY_FILE
     stamp = dest / "complete"

@@ -12,7 +12,6 @@ output kept as a bounded tail, stopped with escalating signals.
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import functools
 import os
 import selectors
@@ -32,10 +31,14 @@ _PR_SET_PDEATHSIG = 1
 
 
 def _load_libc() -> ctypes.CDLL | None:
-    try:
-        return ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
-    except OSError:
-        return None
+    # glibc's name, else the C library the interpreter itself is linked with (ctypes.util's
+    # find_library would cost ~15 ms of imports and an `ldconfig -p` at every start)
+    for name in ("libc.so.6", None):
+        try:
+            return ctypes.CDLL(name, use_errno=True)
+        except OSError:
+            continue
+    return None
 
 
 _LIBC = _load_libc()

@@ -59,11 +59,8 @@ import shutil
 import sys
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
-from importlib import metadata
 from pathlib import Path
 from typing import Any
-
-import yaml
 
 from ..errors import ExecutableNotFound, TargetConfigError
 from ..model.vocabulary import DEFAULT_LIFECYCLE_TARGET, LIFECYCLE_TARGETS
@@ -454,6 +451,8 @@ def yaml_value(value: Any) -> str:
     if isinstance(value, (bytes, bytearray)):
         return "[" + ", ".join(str(b) for b in value) + "]"
     if isinstance(value, str):
+        import yaml  # ~20 ms: only a string parameter value needs it
+
         dumped = yaml.safe_dump(value, default_flow_style=True, width=math.inf, allow_unicode=True)
         dumped = dumped.strip()
         if dumped.endswith("\n..."):
@@ -550,6 +549,8 @@ def package_executables(package: str, prefixes: Sequence[Path], python_path: Seq
             if lib_dir.is_dir():
                 return sorted(p.name for p in lib_dir.iterdir() if p.is_file() and os.access(p, os.X_OK))
             return []
+    from importlib import metadata  # ~15 ms (+ email): only a package without an ament index needs it
+
     wanted = _normalized(package)
     for dist in metadata.distributions(path=list(python_path) or sys.path):
         if _normalized(dist.metadata["Name"] or "") == wanted:
@@ -632,6 +633,8 @@ def _normalized(name: str) -> str:
 def console_script(package: str, executable: str, path: Sequence[str]) -> str | None:
     """The ``console_scripts`` entry point ``executable`` of the distribution named ``package``
     (``-``/``_`` and case ignored) found on ``path``, as ``module:function``; None if none."""
+    from importlib import metadata  # ~15 ms (+ email): only console scripts need it
+
     wanted = _normalized(package)
     for dist in metadata.distributions(path=list(path)):
         if _normalized(dist.metadata["Name"] or "") != wanted:

@@ -42,6 +42,20 @@ LOCAL_IMPORTS = {
     ("cli", "pytest_rmw_introspect.run"): "`--help` and usage errors answer without the warm start client (~30 ms)",
     ("run.ros_env", "importlib"): "importlib.metadata (+ email) costs ~10 ms; only a venv without the "
                                    "ros-<distro>-rclpy dist-info needs the scan of installed distributions",
+    ("run.target", "importlib"): "importlib.metadata (+ email) costs ~15 ms; only console scripts and packages "
+                                 "without an ament index need the scan of installed distributions",
+    ("cli", "pytest_rmw_introspect.cli.capture"): "`capture` starts without the comparison pipeline",
+    ("cli", "pytest_rmw_introspect.cli.init"): "`init` imports what it needs when it runs",
+    ("cli.capture", "pytest_rmw_introspect.cli"): "the system pipeline and launch readers (~25 ms) only for "
+                                                  "`capture --launch`",
+    ("model.untrusted", "yaml"): "PyYAML costs ~20 ms; `rmw-introspect capture` reads JSON captures only",
+    ("model.yaml_blocks", "yaml"): "PyYAML costs ~20 ms; only writing a contract needs it",
+    ("model.types", "yaml"): "PyYAML costs ~20 ms; only writing a `types:` section needs it",
+    ("run.target", "yaml"): "PyYAML costs ~20 ms; only a string parameter value on the command line needs it",
+    ("cli.parser", "yaml"): "PyYAML costs ~20 ms; only --param values need it",
+    ("cli.formats", "yaml"): "PyYAML costs ~20 ms; `capture` starts without it, it prints with it",
+    ("cli.formats", "pytest_rmw_introspect.check"): "the contract writer (~25 ms with PyYAML): `capture` "
+                                                    "starts without it, it prints with it",
     ("run.middleware", "filelock"): "filelock (+ logging) costs ~15 ms; only building the middleware needs it",
     ("check.golden", "filelock"): "filelock (+ logging) costs ~15 ms; only writing a file needs it",
 }

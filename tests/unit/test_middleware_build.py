@@ -52,6 +52,33 @@ def test_sources_hash_follows_build_inputs_and_ignores_tests(tmp_path):
     assert middleware.sources_hash(src) != before
 
 
+def test_sources_hash_is_remembered_under_names_sizes_and_times(tmp_path):
+    src = tmp_path / "src"
+    shutil.copytree(middleware.source_dir(), src, ignore=shutil.ignore_patterns("build", "test"))
+    memo_dir = tmp_path / "cache"
+    plain = middleware.sources_hash(src)
+    assert middleware.sources_hash(src, memo_dir=memo_dir) == plain
+    memos = list(memo_dir.glob("sources-*"))
+    assert len(memos) == 1 and memos[0].read_text().strip() == plain
+    # the remembered value is what a second run returns (without reading the files)
+    memos[0].write_text("f" * 64 + "\n")
+    assert middleware.sources_hash(src, memo_dir=memo_dir) == "f" * 64
+    # a damaged memo is hashed again and rewritten
+    memos[0].write_text("not a hash")
+    assert middleware.sources_hash(src, memo_dir=memo_dir) == plain
+    assert memos[0].read_text().strip() == plain
+    # an edited file has another size or time: another memo, the new contents' hash
+    cmake = src / "CMakeLists.txt"
+    cmake.write_text(cmake.read_text() + "\n# changed\n")
+    changed = middleware.sources_hash(src, memo_dir=memo_dir)
+    assert changed != plain and changed == middleware.sources_hash(src)
+    assert len(list(memo_dir.glob("sources-*"))) == 2
+    # an unwritable cache only costs the hashing
+    blocked = tmp_path / "blocked"
+    blocked.write_text("a file where the cache directory should be")
+    assert middleware.sources_hash(src, memo_dir=blocked) == changed
+
+
 def test_missing_build_tools_are_named_with_how_to_install_them(monkeypatch):
     monkeypatch.setattr(shutil, "which", lambda name: None)
     with pytest.raises(SetupError) as info:

@@ -34,7 +34,7 @@ import pytest
 
 from ..errors import RmwIntrospectError, SetupError
 from ..run import runner, warm
-from . import items, marker, session, system_marker
+from . import items, lookahead, marker, session, system_marker
 from . import session as session_module
 from .fixtures import interfaces, rmw_capture, rmw_introspect_library, rmw_introspect_marker_check, rmw_introspect_ros
 from .system_marker import rmw_introspect_system_marker_check, system_capture
@@ -91,12 +91,16 @@ def pytest_runtest_call(item: pytest.Item) -> Generator[None, Any, Any]:
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> None:
-    """The next contract item's capture starts now, beside this item (``capture_ahead``): a
-    session or xdist worker keeps up to two captures going, whose waiting overlaps."""
-    if isinstance(nextitem, items.ContractItem) and not item.config.option.collectonly:
-        session_state = item.config.stash.get(session_module.SESSION, None)
-        if session_state is not None and session_state.capture_ahead:
-            nextitem.capture_ahead()
+    """The captures of the next contract items (``capture_ahead`` of them) start now, beside this
+    item: a session or xdist worker keeps several captures going, whose waiting overlaps."""
+    if nextitem is None or item.config.option.collectonly:
+        return
+    session_state = item.config.stash.get(session_module.SESSION, None)
+    if session_state is None or session_state.capture_ahead <= 0:
+        return
+    for upcoming in lookahead.upcoming(item, nextitem, session_state.capture_ahead):
+        if isinstance(upcoming, items.ContractItem):
+            upcoming.capture_ahead()
 
 
 def pytest_collection_finish(session: pytest.Session) -> None:

@@ -23,6 +23,10 @@ from ..run.target import TargetSpec
 #: target options that have a command-line option and an ini value (seconds, then the others)
 SECONDS_TARGET_KEYS = ("timeout", "settle", "horizon")
 SESSION_TARGET_KEYS = (*SECONDS_TARGET_KEYS, "lifecycle", "read_parameters")
+#: contract items whose capture starts while the current item runs (a capture is mostly waiting:
+#: settle periods, nodes that sleep; bench/bench_warm_start.py measured the count)
+DEFAULT_CAPTURE_AHEAD = 3
+MAX_CAPTURE_AHEAD = 64
 
 
 @dataclass
@@ -35,8 +39,9 @@ class SessionState:
     golden: golden_module.GoldenSession
     invocation_dir: Path
     rootdir: Path
-    #: contract items start their capture while the item before them runs (``items.ContractItem.capture_ahead``)
-    capture_ahead: bool = True
+    #: how many contract items ahead of the running one have their capture started already
+    #: (``items.ContractItem.capture_ahead``); 0: each item captures when it runs
+    capture_ahead: int = DEFAULT_CAPTURE_AHEAD
     _ros: RosEnvironment | None = None
     _library: Path | None = None
     _setup_error: SetupError | None = None
@@ -163,9 +168,11 @@ def addoption(parser: pytest.Parser) -> None:
         help="parameters whose default values are not compared: names or patterns, or 'all'",
     )
 
+    group.addoption("--rmw-introspect-capture-ahead", default=None, metavar="N",
+                    help="how many of the next contract items start their capture while the current one "
+                    f"runs (default {DEFAULT_CAPTURE_AHEAD}; 0: one capture at a time)")
     group.addoption("--rmw-introspect-no-capture-ahead", action="store_true", default=False,
-                    help="capture each contract item's target only when the item runs (default: "
-                    "the next contract item's capture starts while the current one runs)")
+                    help="capture each contract item's target only when the item runs (--rmw-introspect-capture-ahead 0)")
     group.addoption(
         "--rmw-introspect-contracts",
         default=None,
@@ -187,8 +194,9 @@ def addoption(parser: pytest.Parser) -> None:
     parser.addini("rmw_introspect_timeout", "default target timeout in seconds", default="")
     parser.addini("rmw_introspect_settle", "default target settle time in seconds", default="")
     parser.addini("rmw_introspect_horizon", "default target virtual-time horizon in seconds (0: off)", default="")
-    parser.addini("rmw_introspect_capture_ahead", "start the next contract item's capture while the current "
-                  "one runs (false: one capture at a time)", type="bool", default=True)
+    parser.addini("rmw_introspect_capture_ahead", "how many of the next contract items start their capture while "
+                  f"the current one runs (default {DEFAULT_CAPTURE_AHEAD}; true: the default; false or 0: one "
+                  "capture at a time)", default="")
     parser.addini("rmw_introspect_cold_start", "start every target as a new process (no warm starts)",
                   type="bool", default=False)
     parser.addini("rmw_introspect_lifecycle", "default state lifecycle nodes are driven to: "
@@ -215,6 +223,34 @@ def _ini_float(config: pytest.Config, name: str) -> float | None:
 def _ini_text(config: pytest.Config, name: str) -> str | None:
     """A string ini value (validated with the target options); None when not set."""
     return str(config.getini(name) or "").strip() or None
+
+
+def capture_ahead_count(raw: Any, where: str) -> int:
+    """``--rmw-introspect-capture-ahead`` / ini ``rmw_introspect_capture_ahead``: a count of items,
+    or true (the default count) / false (0)."""
+    text = str(raw).strip().lower()
+    if text in ("", "true", "yes", "on"):
+        return DEFAULT_CAPTURE_AHEAD
+    if text in ("false", "no", "off"):
+        return 0
+    try:
+        count = int(text)
+    except ValueError:
+        count = -1
+    if not 0 <= count <= MAX_CAPTURE_AHEAD:
+        raise pytest.UsageError(f"{where} = {raw!r}: give how many of the next contract items capture ahead, "
+                                f"0 to {MAX_CAPTURE_AHEAD} (0 or false: one capture at a time; "
+                                f"true: the default, {DEFAULT_CAPTURE_AHEAD})")
+    return count
+
+
+def _capture_ahead(config: pytest.Config) -> int:
+    if config.getoption("rmw_introspect_no_capture_ahead", False):
+        return 0
+    cli = config.getoption("rmw_introspect_capture_ahead", None)
+    if cli is not None:
+        return capture_ahead_count(cli, "--rmw-introspect-capture-ahead")
+    return capture_ahead_count(config.getini("rmw_introspect_capture_ahead"), "ini option rmw_introspect_capture_ahead")
 
 
 def _ini_args(config: pytest.Config, name: str) -> Any:
@@ -277,8 +313,7 @@ def configure(config: pytest.Config) -> SessionState:
         golden=golden_module.GoldenSession(enabled=update),
         invocation_dir=Path(config.invocation_params.dir),
         rootdir=Path(config.rootpath),
-        capture_ahead=bool(config.getini("rmw_introspect_capture_ahead"))
-        and not config.getoption("rmw_introspect_no_capture_ahead", False),
+        capture_ahead=_capture_ahead(config),
     )
 
 

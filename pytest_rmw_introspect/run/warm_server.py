@@ -143,6 +143,20 @@ def preload(modules: Iterable[str] = (), type_names: Iterable[str] = ()) -> list
     return done
 
 
+#: the BLAS thread-count variables numpy's OpenBLAS reads when it is loaded
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
+
+
+def single_threaded_blas() -> None:
+    """Load numpy's OpenBLAS without its thread pool, unless the targets' environment sizes it.
+    The pool's threads spin while they wait for work, and OpenBLAS stops and restarts them around
+    every fork: a few percent of every warm capture's CPU, in the server and each child. The
+    variable is only this process's: a child gets the target's environment (``_set_up``), and
+    a target that sets one of these variables gets a server of its own that keeps it."""
+    if not any(name in os.environ for name in BLAS_THREAD_VARIABLES):
+        os.environ["OPENBLAS_NUM_THREADS"] = "1"
+
+
 def index_module_files() -> None:
     """Fill :mod:`inspect`'s module-by-file cache for every module imported so far, as the
     first log call of a node does: rclpy's logger finds its caller with
@@ -507,6 +521,7 @@ def main(fd: int) -> Job | None:
     started = time.monotonic()
     control = socket.socket(fileno=fd)
     base_path = sys.path[:] if sys.flags.safe_path else sys.path[1:]
+    single_threaded_blas()
     done = preload(PRELOAD_MODULES, PRELOAD_TYPES)
     server = Server(control, base_path)
     _send(control, {"ready": True, "pid": os.getpid(), "preloaded": done, "lttng_fork_hooks": server.lttng.before is not None,

@@ -153,14 +153,18 @@ def _starts(project) -> list[float]:
     return [float(t) for _name, _start, t in sorted(lines, key=lambda parts: parts[0])]
 
 
-@pytest.mark.parametrize("ahead", [True, False], ids=["ahead", "one-at-a-time"])
-def test_the_next_contract_item_captures_while_the_current_one_runs(project, ahead):
+@pytest.mark.parametrize(("options", "ahead"), [([], 3), (["--rmw-introspect-capture-ahead", "1"], 1),
+                                              (["--rmw-introspect-no-capture-ahead"], 0)],
+                         ids=["default", "one-ahead", "one-at-a-time"])
+def test_the_next_contract_items_capture_while_the_current_one_runs(project, options, ahead):
     _slow_contracts(project)
-    result = project.run("--update-golden", *([] if ahead else ["--rmw-introspect-no-capture-ahead"]))
+    result = project.run("--update-golden", *options)
     result.assert_outcomes(passed=3)
     first, second, third = _starts(project)
-    if ahead:  # second's capture started with first's item, before first's could have ended
-        assert abs(second - first) < SLOW
+    if ahead >= 2:  # every capture started with first's item, before first's could have ended
+        assert abs(second - first) < SLOW and abs(third - first) < SLOW
+    elif ahead == 1:  # second's with first's item, third's with second's
+        assert abs(second - first) < SLOW and third - first >= SLOW
     else:
         assert second - first >= SLOW and third - second >= SLOW
     # the captures are the items' own: each contract got its node
@@ -175,6 +179,14 @@ def test_capture_ahead_is_an_ini_value_too(project):
     project.run("--update-golden").assert_outcomes(passed=3)
     first, second, third = _starts(project)
     assert second - first >= SLOW and third - second >= SLOW
+
+
+def test_a_bad_capture_ahead_count_is_a_usage_error(project):
+    _slow_contracts(project)
+    project.pytester.makeini("[pytest]\nrmw_introspect_capture_ahead = many\n")
+    result = project.run()
+    assert result.ret == pytest.ExitCode.USAGE_ERROR
+    result.stderr.fnmatch_lines(["*ini option rmw_introspect_capture_ahead = 'many'*0 to 64*"])
 
 
 @pytest.mark.parametrize("workers", [[], ["-n", "2"]], ids=["serial", "xdist"])

@@ -46,6 +46,7 @@ FACTS = {
     "builtins": type(__builtins__).__name__,
     "annotations": "__annotations__" in globals(),
     "env": os.environ.get("WARM_FACT", "unset"),
+    "blas_threads_env": os.environ.get("OPENBLAS_NUM_THREADS", "unset"),  # the server's own setting stays its own
     "rmw_vars": sorted(k for k in os.environ if k.startswith("RMW_INTROSPECT_") and k != "RMW_INTROSPECT_OUTPUT"),
     "cwd": os.getcwd(),
     "stdin": os.readlink("/proc/self/fd/0"),

@@ -139,8 +139,27 @@ def preload(modules: Iterable[str] = (), type_names: Iterable[str] = ()) -> list
                 done.append(module_name)
         except Exception:  # noqa: BLE001
             pass
+    for package in sorted({name.split(".")[0] for name in done if name.endswith((".msg", ".srv", ".action"))}):
+        load_introspection(package)
     index_module_files()
     return done
+
+
+_INTROSPECTION_LOADED: set[str] = set()
+
+
+def load_introspection(package: str) -> None:
+    """Load ``package``'s C introspection type support library, which the middleware opens (through
+    the package's C type support) for every type it describes: opened here once, a forked target
+    finds it mapped and relocated instead of loading it again. Found the way the type support
+    finds it (the dynamic loader's search path); a package without one is left alone."""
+    if package in _INTROSPECTION_LOADED:
+        return
+    _INTROSPECTION_LOADED.add(package)
+    try:
+        ctypes.CDLL(f"lib{package}__rosidl_typesupport_introspection_c.so", mode=os.RTLD_LAZY | os.RTLD_LOCAL)
+    except OSError:
+        pass
 
 
 #: the BLAS thread-count variables numpy's OpenBLAS reads when it is loaded

@@ -27,6 +27,10 @@ _OPTIONS = {"hanging_node.py": {"timeout": 3},
             # creates its publisher 0.3 s of *real* time (a thread's time.sleep) after start: with
             # the default settle both captures may end before or after it, whichever way started
             "guard_wake.py": {"settle": 1.0}}
+#: capture fields that depend on timing alone for a target, left out of its comparison: a 1 kHz
+#: timer keeps running in real time after the warp, so at its final settle its executor is as
+#: likely inside rmw_wait ("wait") as in the callback ("activity"), cold or warm alike
+_TIMING_FIELDS = {"vt_1khz.py": ("settled_by",)}
 
 
 def _targets() -> list[tuple[str, dict]]:
@@ -47,12 +51,22 @@ TARGETS = _targets()
 ATTEMPTS = 3
 
 
+def _comparable(result: dict, options: dict) -> dict:
+    out = w.comparable(result)
+    timing = _TIMING_FIELDS.get(Path(str(options.get("script", ""))).name, ())
+    if timing and out.get("capture") is not None:
+        out = copy.deepcopy(out)
+        for field in timing:
+            out["capture"]["rest"].pop(field, None)
+    return out
+
+
 def _assert_equivalent(options: dict, base_dir: Path | None = None) -> tuple[dict, dict]:
     for _ in range(ATTEMPTS):
         cold, warm = w.cold_and_warm(options, base_dir)
-        if w.comparable(cold) == w.comparable(warm):
+        if _comparable(cold, options) == _comparable(warm, options):
             break
-    assert w.comparable(warm) == w.comparable(cold)
+    assert _comparable(warm, options) == _comparable(cold, options)
     return cold, warm
 
 

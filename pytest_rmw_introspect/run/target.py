@@ -347,7 +347,9 @@ def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
     if key == "env":
         if not isinstance(value, Mapping):
             raise _fail(source, key, "a mapping of variable names to strings", value)
-        return {str(k): _env_value(v) for k, v in value.items()}
+        env = {str(k): _env_value(v) for k, v in value.items()}
+        _refuse_runner_variables(env, source)
+        return env
     if key == "cold_start":
         if not isinstance(value, bool):
             raise _fail(source, key, "true or false", value)
@@ -371,6 +373,35 @@ def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
             raise _fail(source, key, "true or false", value)
         return value
     raise AssertionError(key)  # pragma: no cover
+
+
+#: middleware variables the runner sets for every capture from the target options (an `env:`
+#: entry would be overwritten without a word): the option to use instead, or None (no option)
+RUNNER_VARIABLES = {
+    "RMW_INTROSPECT_SETTLE_MS": "settle (seconds)",
+    "RMW_INTROSPECT_HORIZON_MS": "horizon (seconds)",
+    "RMW_INTROSPECT_LIFECYCLE": "lifecycle",
+    "RMW_INTROSPECT_PARAMETERS": "read_parameters",
+    "RMW_INTROSPECT_STIMULI": "stimuli",
+    "RMW_INTROSPECT_OUTPUT": None,
+    "RMW_INTROSPECT_FORMAT": None,
+    "RMW_INTROSPECT_EXIT": None,
+    "RMW_INTROSPECT_AUTO_EXPORT": None,
+}
+
+
+def _refuse_runner_variables(env: Mapping[str, str], source: str) -> None:
+    owned = [name for name in env if name in RUNNER_VARIABLES]
+    if not owned:
+        return
+    reasons = []
+    for name in owned:
+        option = RUNNER_VARIABLES[name]
+        reasons.append(f"{name}: set the target option `{option}` instead" if option else
+                       f"{name}: the runner sets it for every capture (where the capture goes, its format, "
+                       "ending the target once it settled); remove it")
+    raise TargetConfigError(f"{source}: `env` sets middleware variables the runner owns, which would be "
+                            "overwritten:\n  " + "\n  ".join(reasons))
 
 
 def _env_value(v: Any) -> str:

@@ -25,6 +25,7 @@ from pytest_rmw_introspect.errors import (
     TargetTimeout,
 )
 from pytest_rmw_introspect.run import process, runner
+from pytest_rmw_introspect.run import target as target_module
 from pytest_rmw_introspect.run.ros_env import RosEnvironment
 from pytest_rmw_introspect.run.target import TargetSpec
 
@@ -620,3 +621,10 @@ def test_one_thread_reads_the_tails_of_both_pipes():
     err.finish(5)
     assert out.text() == "cdefTHE END"[-10:] and out.total_bytes == 71
     assert err.text() == "error line\n"[-10:] and err.total_bytes == 11
+
+
+def test_the_variables_a_target_env_may_not_set_are_those_the_runner_sets(tmp_path, ros, library):
+    spec = TargetSpec.from_mapping({"module": "m", "stimuli": ["/x"]})
+    env = runner.environment(spec, library, ros, tmp_path / "c.json", base={"PATH": os.environ["PATH"]})
+    owned = {name for name in env if name.startswith("RMW_INTROSPECT_")}
+    assert owned == set(target_module.RUNNER_VARIABLES)

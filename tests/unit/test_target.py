@@ -409,3 +409,21 @@ def test_lifecycle_and_read_parameters_defaults_and_layers():
                  ({"module": "m", "lifecycle": "NONE"}, None, "contract"))
     assert (spec.lifecycle, spec.read_parameters) == ("none", False)
     assert spec.to_mapping() == {"module": "m", "lifecycle": "none", "read_parameters": False}
+
+
+def test_env_entries_the_runner_owns_are_refused_with_the_option_to_use():
+    with pytest.raises(TargetConfigError) as info:
+        TargetSpec.from_mapping({"script": "node.py", "env": {"RMW_INTROSPECT_SETTLE_MS": "500", "MY_VAR": "1",
+                                                              "RMW_INTROSPECT_OUTPUT": "/tmp/x.json"}},
+                                source="contract contracts/node.interfaces.yaml")
+    message = str(info.value)
+    assert message.startswith("contract contracts/node.interfaces.yaml: `env` sets middleware variables the runner owns")
+    assert "RMW_INTROSPECT_SETTLE_MS: set the target option `settle (seconds)` instead" in message
+    assert "RMW_INTROSPECT_OUTPUT: the runner sets it for every capture" in message
+    assert "MY_VAR" not in message
+
+
+def test_other_middleware_variables_pass_through_env():
+    spec = TargetSpec.from_mapping({"script": "node.py", "env": {"RMW_INTROSPECT_VERBOSE": "1",
+                                                                 "RMW_INTROSPECT_DELIVERY": True}})
+    assert spec.env == {"RMW_INTROSPECT_VERBOSE": "1", "RMW_INTROSPECT_DELIVERY": "1"}

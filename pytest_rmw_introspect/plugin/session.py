@@ -170,7 +170,7 @@ def addoption(parser: pytest.Parser) -> None:
 
     group.addoption("--rmw-introspect-capture-ahead", default=None, metavar="N",
                     help="how many of the next contract items start their capture while the current one "
-                    f"runs (default {DEFAULT_CAPTURE_AHEAD}; 0: one capture at a time)")
+                    f"runs (default {DEFAULT_CAPTURE_AHEAD}, 1 with cold starts; 0: one capture at a time)")
     group.addoption("--rmw-introspect-no-capture-ahead", action="store_true", default=False,
                     help="capture each contract item's target only when the item runs (--rmw-introspect-capture-ahead 0)")
     group.addoption(
@@ -244,13 +244,18 @@ def capture_ahead_count(raw: Any, where: str) -> int:
     return count
 
 
-def _capture_ahead(config: pytest.Config) -> int:
+def _capture_ahead(config: pytest.Config, cold_session: bool) -> int:
     if config.getoption("rmw_introspect_no_capture_ahead", False):
         return 0
     cli = config.getoption("rmw_introspect_capture_ahead", None)
     if cli is not None:
         return capture_ahead_count(cli, "--rmw-introspect-capture-ahead")
-    return capture_ahead_count(config.getini("rmw_introspect_capture_ahead"), "ini option rmw_introspect_capture_ahead")
+    ini = config.getini("rmw_introspect_capture_ahead")
+    if str(ini).strip() == "" and cold_session:
+        # cold starts keep the CPU busy (starting Python, importing rclpy): more than one
+        # capture ahead only adds contention
+        return min(DEFAULT_CAPTURE_AHEAD, 1)
+    return capture_ahead_count(ini, "ini option rmw_introspect_capture_ahead")
 
 
 def _ini_args(config: pytest.Config, name: str) -> Any:
@@ -313,7 +318,7 @@ def configure(config: pytest.Config) -> SessionState:
         golden=golden_module.GoldenSession(enabled=update),
         invocation_dir=Path(config.invocation_params.dir),
         rootdir=Path(config.rootpath),
-        capture_ahead=_capture_ahead(config),
+        capture_ahead=_capture_ahead(config, cold_session=bool(ini_target.get("cold_start") or cli_target.get("cold_start"))),
     )
 
 

@@ -1,10 +1,13 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
-// The Session state machine on a manual clock: settling (by wait, by activity), progress
-// snapshots, the warp (jumps, horizon, budget), the final settle, exit. No thread, no sleep.
+// The Session state machine on a manual clock and an injected main-thread state: settling (by
+// wait, by activity), probing, progress snapshots, the warp (jumps, horizon, budget), the final
+// settle, exit. Only the two tests of the real /proc main-thread state use a thread and a sleep.
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdint>
+#include <thread>
 
 #include "detail/session.hpp"
 
@@ -606,6 +609,106 @@ TEST(SessionProbe, a_process_that_never_waited_is_not_probed)
   clock.advance_ms(250);
   EXPECT_EQ(Session::Action::kSettle, session.poll().action);
   EXPECT_STREQ("skipped", session.probe_state());
+}
+
+namespace
+{
+class ManualMainThread : public rmw_introspect::MainThreadState
+{
+public:
+  bool runnable() const override {return running;}
+  bool running = false;
+};
+}  // namespace
+
+TEST(SessionProbe, a_runnable_main_thread_gets_more_time_to_start_waiting_up_to_2_s)
+{
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  ManualMainThread main_thread;
+  Session session{clock, virtual_clock, probe_settings(), &main_thread};
+  session.start();
+  session.on_change();
+  session.on_activity();
+  session.on_activity();
+  clock.advance_ms(10);
+  ASSERT_EQ(Session::Action::kStartProbe, session.poll().action);
+  main_thread.running = true;  // still importing and setting up, or waiting for a CPU
+  clock.advance_ms(250);
+  Session::Step step = session.poll();
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  EXPECT_EQ(clock.now + 50 * kMs, step.deadline_ns);  // looked at again in 50 ms
+  clock.advance_ms(50);
+  EXPECT_EQ(Session::Action::kNone, session.poll().action);
+  // it reaches its executor: probed as usual
+  session.on_wait_entered();
+  const uint64_t token = session.enter_wait();
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_done();
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  EXPECT_STREQ("done", session.probe_state());
+  session.leave_wait(token);
+}
+
+TEST(SessionProbe, a_main_thread_that_runs_without_ever_waiting_is_given_up_after_2_s)
+{
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  ManualMainThread main_thread;
+  main_thread.running = true;  // a loop that publishes without sleeping or spinning
+  Session session{clock, virtual_clock, probe_settings(), &main_thread};
+  session.start();
+  session.on_change();
+  session.on_activity();
+  session.on_activity();
+  clock.advance_ms(10);
+  const int64_t probing_since = clock.now;
+  ASSERT_EQ(Session::Action::kStartProbe, session.poll().action);
+  Session::Step step = session.poll();
+  while (step.action == Session::Action::kNone && step.has_deadline) {
+    ASSERT_LE(step.deadline_ns, probing_since + 2000 * kMs);
+    clock.now = step.deadline_ns;
+    session.on_activity();
+    session.on_activity();
+    step = session.poll();
+  }
+  EXPECT_EQ(Session::Action::kSettle, step.action);
+  EXPECT_EQ(probing_since + 2000 * kMs, clock.now);
+  EXPECT_STREQ("skipped", session.probe_state());
+}
+
+TEST(SessionProbe, a_sleeping_main_thread_is_given_up_after_250_ms)
+{
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  ManualMainThread main_thread;  // sleeps between its publishes (an old-school loop)
+  Session session{clock, virtual_clock, probe_settings(), &main_thread};
+  session.start();
+  session.on_change();
+  session.on_activity();
+  session.on_activity();
+  clock.advance_ms(10);
+  ASSERT_EQ(Session::Action::kStartProbe, session.poll().action);
+  clock.advance_ms(250);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  EXPECT_STREQ("skipped", session.probe_state());
+}
+
+TEST(SessionProbe, the_proc_main_thread_state_of_a_running_test_is_runnable)
+{
+  // this test's own main thread is running while it asks
+  EXPECT_TRUE(rmw_introspect::ProcMainThreadState().runnable());
+}
+
+TEST(SessionProbe, the_proc_main_thread_state_of_a_blocked_main_thread_is_not_runnable)
+{
+  bool runnable = true;
+  std::thread asker([&runnable]() {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      runnable = rmw_introspect::ProcMainThreadState().runnable();
+    });
+  asker.join();  // the main thread is blocked in here while the other thread asks
+  EXPECT_FALSE(runnable);
 }
 
 TEST(SessionProbe, an_executor_that_starts_waiting_after_an_activity_settle_is_probed)

@@ -154,8 +154,10 @@ def _starts(project) -> list[float]:
 
 
 @pytest.mark.parametrize(("options", "ahead"), [([], 3), (["--rmw-introspect-capture-ahead", "1"], 1),
+                                              (["--rmw-introspect-cold-start"], 1),
+                                              (["--rmw-introspect-cold-start", "--rmw-introspect-capture-ahead", "2"], 2),
                                               (["--rmw-introspect-no-capture-ahead"], 0)],
-                         ids=["default", "one-ahead", "one-at-a-time"])
+                         ids=["default", "one-ahead", "cold-default", "cold-two-ahead", "one-at-a-time"])
 def test_the_next_contract_items_capture_while_the_current_one_runs(project, options, ahead):
     _slow_contracts(project)
     result = project.run("--update-golden", *options)

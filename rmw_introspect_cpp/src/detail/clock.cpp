@@ -2,6 +2,8 @@
 #include "detail/clock.hpp"
 
 #include <chrono>
+#include <cstdio>
+#include <cstring>
 #include <limits>
 
 #include "rcutils/error_handling.h"
@@ -13,6 +15,21 @@ int64_t SteadyClock::now_ns() const
 {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
     std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+bool ProcMainThreadState::runnable() const
+{
+  // "pid (comm) S ...": comm may hold spaces and parentheses, the state follows the last ')'.
+  std::FILE * stat = std::fopen("/proc/self/stat", "re");
+  if (stat == nullptr) {
+    return false;
+  }
+  char buffer[512];
+  const size_t read = std::fread(buffer, 1, sizeof(buffer) - 1, stat);
+  std::fclose(stat);
+  buffer[read] = '\0';
+  const char * close = std::strrchr(buffer, ')');
+  return close != nullptr && close[1] == ' ' && close[2] == 'R';
 }
 
 void VirtualClock::advance(int64_t ns)

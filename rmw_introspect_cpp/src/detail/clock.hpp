@@ -28,6 +28,23 @@ public:
   int64_t now_ns() const override;
 };
 
+/// Whether the process's main thread is runnable right now: running, or ready and waiting for
+/// a CPU (a process still working towards its first rmw_wait, or one starved on a busy
+/// machine), as opposed to blocked or sleeping. An interface so that the unit tests inject it.
+class MainThreadState
+{
+public:
+  virtual ~MainThreadState() = default;
+  virtual bool runnable() const = 0;
+};
+
+/// The state field of /proc/self/stat (the thread group leader): R.
+class ProcMainThreadState final : public MainThreadState
+{
+public:
+  bool runnable() const override;
+};
+
 /// The process-wide offset of virtual time: what the warp has added to the real clocks.
 /// Steady and system time are shifted together; the offset only ever grows, so virtual
 /// steady time stays monotonic. Read without a lock by every rcutils time call.

@@ -78,7 +78,7 @@ Session::Settings session_settings(const Config & config)
 Runtime::Runtime()
 : config_(Config::from_environment(static_cast<long>(getpid()))),
   probe_driver_(config_.probe, config_.stimuli, recorder_, injector_),
-  session_(clock_, virtual_clock_, session_settings(config_))
+  session_(clock_, virtual_clock_, session_settings(config_), &main_thread_state_)
 {
   for (const auto & warning : config_.warnings) {
     std::fprintf(stderr, "[rmw_introspect] warning: %s\n", warning.c_str());

@@ -128,6 +128,7 @@ private:
 
   const Config config_;
   const SteadyClock clock_;
+  const ProcMainThreadState main_thread_state_;
   VirtualClock virtual_clock_;
   Recorder recorder_;
   WaitHub wait_hub_;

@@ -15,8 +15,13 @@ constexpr int64_t kNsPerMs = 1000 * 1000;
 // Activity calls after the last change that make a process that never waits "in its loop".
 constexpr uint64_t kSettlingActivity = 2;
 // A process that settled by activity before any wait gets this long to start waiting (an
-// executor starting to spin right after a burst of publishes) before the probing is skipped.
+// executor starting to spin right after a burst of publishes) before the probing is skipped;
+// while its main thread is runnable at that moment (still setting up, or waiting for a CPU on a
+// busy machine) it gets more, looked at again every kFirstWaitRecheckNs, up to kFirstWaitMaxNs
+// (what a node that loops without ever waiting, and without sleeping, costs).
 constexpr int64_t kFirstWaitGraceNs = 250 * 1000 * 1000;
+constexpr int64_t kFirstWaitRecheckNs = 50 * 1000 * 1000;
+constexpr int64_t kFirstWaitMaxNs = 2000 * 1000 * 1000;
 
 void propose(int64_t when, bool * has_deadline, int64_t * deadline)
 {
@@ -27,8 +32,10 @@ void propose(int64_t when, bool * has_deadline, int64_t * deadline)
 }
 }  // namespace
 
-Session::Session(const Clock & clock, VirtualClock & virtual_clock, const Settings & settings)
-: clock_(clock), virtual_clock_(virtual_clock), settings_(settings)
+Session::Session(
+  const Clock & clock, VirtualClock & virtual_clock, const Settings & settings,
+  const MainThreadState * main_thread)
+: clock_(clock), main_thread_(main_thread), virtual_clock_(virtual_clock), settings_(settings)
 {
 }
 
@@ -180,6 +187,7 @@ Session::Step Session::poll()
         phase_ = Phase::kProbing;
         probed_ = true;
         probe_started_ns_ = now;
+        first_wait_give_up_ns_ = now + kFirstWaitGraceNs;
         // Settled by activity before any wait: the first request waits for a settle by wait.
         probe_settle_first_ = !ever_waited_;
         step.action = Action::kStartProbe;
@@ -232,9 +240,14 @@ bool Session::poll_probing(int64_t now, Step * step)
 {
   if (!ever_waited_ && !probe_done_) {
     // No executor has waited yet: nobody could take a request.
-    const int64_t give_up = probe_started_ns_ + kFirstWaitGraceNs;
-    if (now < give_up) {
-      propose(give_up, &step->has_deadline, &step->deadline_ns);
+    if (now < first_wait_give_up_ns_) {
+      propose(first_wait_give_up_ns_, &step->has_deadline, &step->deadline_ns);
+      return false;
+    }
+    const int64_t last_chance = probe_started_ns_ + kFirstWaitMaxNs;
+    if (main_thread_ != nullptr && now < last_chance && main_thread_->runnable()) {
+      first_wait_give_up_ns_ = std::min(now + kFirstWaitRecheckNs, last_chance);
+      propose(first_wait_give_up_ns_, &step->has_deadline, &step->deadline_ns);
       return false;
     }
     probe_skipped_ = true;

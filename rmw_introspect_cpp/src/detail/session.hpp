@@ -24,9 +24,12 @@ namespace rmw_introspect
 ///    answer within answer_timeout_ms: kProbeTimeout) breaks the quiet; a request that
 ///    changes the node (a lifecycle transition) is followed by a settle (the rule of 1)
 ///    before the next one, a query by the next request at once. When nothing is left to ask,
-///    the process settles once more and goes on as after 1. A process that settled by
-///    activity and never entered rmw_wait gets 250 ms to start waiting, then the probing is
-///    skipped (nothing could take a request).
+///    the process settles once more if an answer ran the node's code (a transition, a
+///    stimulus), a request timed out or an entity was created meanwhile, and goes on as after
+///    1. A process that settled by activity and never entered rmw_wait gets 250 ms to start
+///    waiting, longer (up to 2 s) while its main thread is runnable (still setting up, or
+///    waiting for a CPU on a busy machine), then the probing is skipped (nothing could take a
+///    request).
 /// 2. With horizon 0 that settle is final. Otherwise a "warping" snapshot is written and
 ///    finite waits with nothing ready jump virtual time (try_jump) until the node's virtual
 ///    age would pass the horizon or the real-time budget is spent.
@@ -46,7 +49,10 @@ public:
     int64_t answer_timeout_ms = 5000;  // real time a node has to answer one request
   };
 
-  Session(const Clock & clock, VirtualClock & virtual_clock, const Settings & settings);
+  /// `main_thread`: whether the main thread is runnable (null: taken as never; unit tests).
+  Session(
+    const Clock & clock, VirtualClock & virtual_clock, const Settings & settings,
+    const MainThreadState * main_thread = nullptr);
 
   /// First rmw_init of the process: the session's time starts. False when already started.
   bool start();
@@ -139,6 +145,7 @@ private:
   bool quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline);
 
   const Clock & clock_;
+  const MainThreadState * main_thread_;
   VirtualClock & virtual_clock_;
   const Settings settings_;
   Phase phase_ = Phase::kSettling;
@@ -174,6 +181,7 @@ private:
   int64_t probe_sent_ns_ = 0;
   bool probe_settle_first_ = false;
   bool probe_done_ = false;
+  int64_t first_wait_give_up_ns_ = 0;  // when a process that never waited is not probed
   // An answer that runs the node's own code (a transition, a stimulus) or a timeout: the node
   // may have changed, so the end of the probing waits for a settle. Reads need none.
   bool probe_changed_node_ = false;

@@ -162,10 +162,6 @@ def compare(
     writes them.
     Items come most severe first, then by node, kind, name and change.
     """
-    # Imported here, not at the top: deepdiff costs ~0.1-0.2 s and only comparing needs it (the
-    # package, and so every `rmw-introspect` command, imports this module).
-    from deepdiff import DeepDiff
-
     options = options or ComparisonOptions()
     ignored_qos = _ignored_qos_fields(options.ignore_qos)
     # Indexing and diffing make many objects and no cycles (see untrusted.gc_paused).
@@ -175,15 +171,9 @@ def compare(
         _drop_one_sided_keys(expected, actual)
 
         expected_differing, actual_differing = _differing(expected, actual)
-        diff = DeepDiff(
-            expected_differing,
-            actual_differing,
-            view="tree",
-            # compare every level however different: the default reports a whole mapping as
-            # changed when few keys are shared, which would hide the per-interface changes
-            threshold_to_diff_deeper=0,
-        )
-        items = _translate(diff, expected, actual)
+        # the common case, nothing differs, needs no structural diff (nor deepdiff's import)
+        items = ([] if expected_differing == actual_differing else
+                 _translate(_deep_diff(expected_differing, actual_differing), expected, actual))
     items = _with_type_items(items, expected, actual, expected_types, actual_types, require_types)
     items += _parameter_and_lifecycle_items(expected_nodes or {}, actual_nodes or {}, options)
 
@@ -317,6 +307,21 @@ def _drop_one_sided_keys(expected: _Index, actual: _Index) -> None:
                 for attribute in set(interface.compared) ^ set(other.compared):
                     interface.compared.pop(attribute, None)
                     other.compared.pop(attribute, None)
+
+
+def _deep_diff(expected_differing: dict, actual_differing: dict) -> DeepDiff:
+    # Imported here, not at the top: deepdiff costs ~0.1-0.2 s (with numpy, which it imports
+    # when it is installed, and numpy's BLAS threads) and only a difference needs it.
+    from deepdiff import DeepDiff
+
+    return DeepDiff(
+        expected_differing,
+        actual_differing,
+        view="tree",
+        # compare every level however different: the default reports a whole mapping as
+        # changed when few keys are shared, which would hide the per-interface changes
+        threshold_to_diff_deeper=0,
+    )
 
 
 def _differing(expected: _Index, actual: _Index) -> tuple[dict, dict]:

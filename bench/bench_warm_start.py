@@ -13,9 +13,10 @@
    ``settle: 0.01`` (0.1 for ``map_server``, see ``SETTLE``); goldens written first (not timed),
    then ``pytest -n 2`` over all of them in turn, ``--pytest-reps`` times each: only collecting
    (``--collect-only``: start-up and collection, the fixed part of a run), warm (the default:
-   the next contract item captures ahead), warm one capture at a time
-   (``--rmw-introspect-no-capture-ahead``) and cold (``--rmw-introspect-cold-start``): wall time
-   of the whole pytest process and the CPU time of everything it ran.
+   the next three contract items capture ahead), warm one capture at a time
+   (``--rmw-introspect-no-capture-ahead``) and cold (``--rmw-introspect-cold-start``, which
+   captures one ahead by default): wall time of the whole pytest process and the CPU time of
+   everything it ran.
 3. The ``rmw-introspect`` CLI's own start-up: wall time of ``rmw-introspect capture --script
    MISSING`` (interpreter start, import of the package, detecting ROS 2, locating the
    middleware, then failing to find the script: everything before a first capture starts),

@@ -111,7 +111,7 @@ public:
   void probe_done();
   bool probing() const {return phase_ == Phase::kProbing;}
   /// "off" (nothing to ask), "pending" (not settled yet), "running", "done", "skipped"
-  /// (no thread entered rmw_wait within 250 ms of the settle: no executor to ask).
+  /// (no thread entered rmw_wait in time after the settle: no executor to ask).
   const char * probe_state() const;
 
   /// A capture is being written out of turn (rmw_shutdown, process exit).

@@ -589,18 +589,35 @@ TEST_F(ProbeTest, progress_snapshots_while_probing_say_probing_and_exit_is_befor
   session.leave_wait(token);
 }
 
+namespace
+{
+class ManualMainThread : public rmw_introspect::MainThreadState
+{
+public:
+  bool runnable() const override {return running;}
+  bool running = false;
+};
+
+// A process that settles by activity (two publishes after its last creation) before any
+// thread waited: the probing starts, waiting for a first wait.
+void settle_by_activity_into_probing(Session & session, ManualClock & clock)
+{
+  session.start();
+  session.on_change();
+  session.on_activity();
+  session.on_activity();
+  clock.advance_ms(10);
+  ASSERT_EQ(Session::Action::kStartProbe, session.poll().action);
+}
+}  // namespace
+
 TEST(SessionProbe, a_process_that_never_waited_is_not_probed)
 {
   ManualClock clock;
   rmw_introspect::VirtualClock virtual_clock;
   Session session{clock, virtual_clock, probe_settings()};
   EXPECT_STREQ("pending", session.probe_state());
-  session.start();
-  session.on_change();
-  session.on_activity();
-  session.on_activity();
-  clock.advance_ms(10);
-  EXPECT_EQ(Session::Action::kStartProbe, session.poll().action);
+  ASSERT_NO_FATAL_FAILURE(settle_by_activity_into_probing(session, clock));
   Session::Step step = session.poll();
   EXPECT_EQ(Session::Action::kNone, step.action);
   EXPECT_EQ(clock.now + 250 * kMs, step.deadline_ns);  // time to start waiting
@@ -611,28 +628,13 @@ TEST(SessionProbe, a_process_that_never_waited_is_not_probed)
   EXPECT_STREQ("skipped", session.probe_state());
 }
 
-namespace
-{
-class ManualMainThread : public rmw_introspect::MainThreadState
-{
-public:
-  bool runnable() const override {return running;}
-  bool running = false;
-};
-}  // namespace
-
 TEST(SessionProbe, a_runnable_main_thread_gets_more_time_to_start_waiting_up_to_2_s)
 {
   ManualClock clock;
   rmw_introspect::VirtualClock virtual_clock;
   ManualMainThread main_thread;
   Session session{clock, virtual_clock, probe_settings(), &main_thread};
-  session.start();
-  session.on_change();
-  session.on_activity();
-  session.on_activity();
-  clock.advance_ms(10);
-  ASSERT_EQ(Session::Action::kStartProbe, session.poll().action);
+  ASSERT_NO_FATAL_FAILURE(settle_by_activity_into_probing(session, clock));
   main_thread.running = true;  // still importing and setting up, or waiting for a CPU
   clock.advance_ms(250);
   Session::Step step = session.poll();
@@ -683,12 +685,7 @@ TEST(SessionProbe, a_sleeping_main_thread_is_given_up_after_250_ms)
   rmw_introspect::VirtualClock virtual_clock;
   ManualMainThread main_thread;  // sleeps between its publishes (an old-school loop)
   Session session{clock, virtual_clock, probe_settings(), &main_thread};
-  session.start();
-  session.on_change();
-  session.on_activity();
-  session.on_activity();
-  clock.advance_ms(10);
-  ASSERT_EQ(Session::Action::kStartProbe, session.poll().action);
+  ASSERT_NO_FATAL_FAILURE(settle_by_activity_into_probing(session, clock));
   clock.advance_ms(250);
   EXPECT_EQ(Session::Action::kSettle, session.poll().action);
   EXPECT_STREQ("skipped", session.probe_state());
@@ -716,12 +713,7 @@ TEST(SessionProbe, an_executor_that_starts_waiting_after_an_activity_settle_is_p
   ManualClock clock;
   rmw_introspect::VirtualClock virtual_clock;
   Session session{clock, virtual_clock, probe_settings()};
-  session.start();
-  session.on_change();
-  session.on_activity();
-  session.on_activity();
-  clock.advance_ms(10);
-  EXPECT_EQ(Session::Action::kStartProbe, session.poll().action);
+  ASSERT_NO_FATAL_FAILURE(settle_by_activity_into_probing(session, clock));
   clock.advance_ms(5);
   session.on_wait_entered();
   const uint64_t token = session.enter_wait();

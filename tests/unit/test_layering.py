@@ -8,6 +8,8 @@ start-up time; and the module-level imports form no cycle.
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -227,3 +229,24 @@ def test_the_public_api_exports_every_type_its_functions_return():
         assert hasattr(api, name), name
     assert set(api._LAZY) | {"__version__"} == exported  # the table of lazy names is the export list
     assert (PACKAGE / "py.typed").is_file()
+
+
+#: what `rmw-introspect capture` (without a launch file) must start without: the comparison and
+#: system pipelines and their libraries, PyYAML (imported once a capture is printed), and the
+#: slow parts of the standard library the CLI used to load (README, "Measured performance")
+NOT_FOR_CAPTURE = ("yaml", "deepdiff", "jsonschema", "numpy", "ctypes.util", "importlib.metadata",
+                   "pytest_rmw_introspect.check.pipeline", "pytest_rmw_introspect.check.golden",
+                   "pytest_rmw_introspect.compare.drift", "pytest_rmw_introspect.cli.system",
+                   "pytest_rmw_introspect.cli.commands", "pytest_rmw_introspect.run.launch_reader")
+
+
+def test_the_capture_command_starts_without_the_pipeline_and_yaml():
+    probe = ("import sys\n"
+             "from pytest_rmw_introspect.cli import parser\n"
+             "import pytest_rmw_introspect.cli.capture\n"
+             "parser.build_parser().parse_args(['capture', '--script', 'node.py'])\n"
+             "print('\\n'.join(sorted(sys.modules)))\n")
+    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    loaded = set(result.stdout.split())
+    assert "pytest_rmw_introspect.run.runner" in loaded  # the probe did import the command
+    assert sorted(loaded & set(NOT_FOR_CAPTURE)) == []

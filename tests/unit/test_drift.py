@@ -1,6 +1,8 @@
 """drift.compare: every rule, the options, tolerance of partial input and deterministic order."""
 
 import random
+import subprocess
+import sys
 
 import pytest
 
@@ -453,3 +455,20 @@ def test_docs_list_every_rule_with_its_severity():
                                  flags=re.MULTILINE))
     for rule in drift.RULES.values():
         assert documented.get(rule.id) == rule.severity.name, rule.id
+
+
+def test_a_comparison_without_differences_does_not_load_deepdiff():
+    # deepdiff imports numpy (and its BLAS threads) when installed: a run whose contracts all
+    # match should pay for neither (README, "Measured performance")
+    probe = (
+        "import sys\n"
+        "from pytest_rmw_introspect.compare import drift\n"
+        "nodes = {'/n': {'publishers': [{'name': '/t', 'type': 'std_msgs/msg/String'}]}}\n"
+        "assert drift.compare(nodes, nodes) == []\n"
+        "print('deepdiff' in sys.modules, 'numpy' in sys.modules)\n"
+        "changed = {'/n': {'publishers': [{'name': '/t', 'type': 'std_msgs/msg/Int32'}]}}\n"
+        "assert [i.change for i in drift.compare(nodes, changed)] == ['type']\n"
+        "print('deepdiff' in sys.modules)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert result.stdout.split() == ["False", "False", "True"]

@@ -63,7 +63,10 @@ def _build_inputs(src: Path) -> list[tuple[Path, os.stat_result]]:
         rel = path.relative_to(src)
         if rel.parts[0] in {"test", "build"} or "__pycache__" in rel.parts:
             continue
-        info = path.stat()
+        try:
+            info = path.stat()
+        except OSError:  # a dangling link: nothing a build reads
+            continue
         if stat.S_ISREG(info.st_mode):
             inputs.append((rel, info))
     return inputs
@@ -91,9 +94,9 @@ def sources_hash(src: Path, memo_dir: Path | None = None) -> str:
     for rel, _info in inputs:
         digest.update(str(rel).encode() + b"\0" + (src / rel).read_bytes() + b"\0")
     hexdigest = digest.hexdigest()
-    if memo is not None:
+    if memo_dir is not None and memo is not None:
         try:  # a cache: a run that cannot write it only hashes again next time
-            memo_dir.mkdir(parents=True, exist_ok=True)  # type: ignore[union-attr]
+            memo_dir.mkdir(parents=True, exist_ok=True)
             partial = memo.with_name(f"{memo.name}.{os.getpid()}.tmp")
             partial.write_text(hexdigest + "\n", encoding="ascii")
             os.replace(partial, memo)

@@ -73,6 +73,9 @@ def test_sources_hash_is_remembered_under_names_sizes_and_times(tmp_path):
     changed = middleware.sources_hash(src, memo_dir=memo_dir)
     assert changed != plain and changed == middleware.sources_hash(src)
     assert len(list(memo_dir.glob("sources-*"))) == 2
+    # a dangling link is nothing a build reads
+    (src / "dangling").symlink_to(src / "no-such-file")
+    assert middleware.sources_hash(src, memo_dir=memo_dir) == changed
     # an unwritable cache only costs the hashing
     blocked = tmp_path / "blocked"
     blocked.write_text("a file where the cache directory should be")

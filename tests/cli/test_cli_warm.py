@@ -9,16 +9,10 @@ import textwrap
 import time
 from pathlib import Path
 
+from rmwi_processes import wait_gone
+
 WARM_PID = Path(__file__).resolve().parents[1] / "middleware" / "nodes_warm" / "warm_pid.py"
 CLI = Path(sys.executable).parent / "rmw-introspect"
-
-
-def _alive(pid: int) -> bool:
-    try:
-        with open(f"/proc/{pid}/stat", encoding="ascii") as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except (FileNotFoundError, IndexError):
-        return False
 
 
 def _contracts(tmp_path: Path, pids: Path, names: list[str]) -> list[str]:
@@ -50,10 +44,7 @@ def test_several_contracts_share_one_server_that_ends_with_the_run(tmp_path, mid
     parents = set(_parents(pids))
     assert len(parents) == 1  # one warm start server forked all three targets
     (server,) = parents
-    deadline = time.monotonic() + 5
-    while _alive(server) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert not _alive(server)  # it ended with the run
+    assert wait_gone([server], 5) == []  # it ended with the run
 
 
 def test_one_capture_and_cold_start_start_cold(tmp_path, middleware_library, monkeypatch):
@@ -85,10 +76,7 @@ def test_a_terminated_run_leaves_no_server_or_target(tmp_path, middleware_librar
         proc.terminate()
         _out, err = proc.communicate(timeout=30)
         assert proc.returncode == 143, err
-        deadline = time.monotonic() + 10
-        while (_alive(target) or _alive(server)) and time.monotonic() < deadline:
-            time.sleep(0.05)
-        assert not _alive(target) and not _alive(server)
+        assert wait_gone([target, server], 10) == []
     finally:
         if proc.poll() is None:
             proc.kill()

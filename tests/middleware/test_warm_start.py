@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 import warm_helpers as w
+from rmwi_processes import wait_gone
 
 from pytest_rmw_introspect.errors import TargetExited, TargetTimeout
 from pytest_rmw_introspect.run import process, runner, warm
@@ -64,7 +65,7 @@ def test_a_child_that_ignores_sigint_and_sigterm_is_killed_and_the_server_lives_
     assert time.monotonic() - started < 10
     partial = failed.value.partial
     assert partial is not None and partial.node_names == ["/stubborn"]
-    assert w.wait_gone([partial.pid], 2.0) == []
+    assert wait_gone([partial.pid], 2.0) == []
     assert server.alive() and capture(script=TALKER).started == "warm"
 
 
@@ -73,7 +74,7 @@ def test_what_a_warm_target_starts_in_its_process_group_is_killed_with_it(tmp_pa
     cap = capture(script=str(w.WARM_NODES / "warm_pid.py"), env={"WARM_PID_FILE": str(pids), "WARM_CHILD": "1"})
     assert cap.started == "warm"
     child = int(pids.read_text().split("child ")[1].split()[0])
-    assert w.wait_gone([child], 5.0) == []
+    assert wait_gone([child], 5.0) == []
 
 
 def _write(path: Path, text: str, executable: bool = False) -> Path:
@@ -146,7 +147,7 @@ def test_a_server_that_dies_during_a_capture_is_replaced_by_a_cold_start():
     cap = capture(script=str(w.WARM_NODES / "warm_kills_server.py"), env=env)
     assert (cap.started, cap.start_note) == ("cold", "the warm start server ended during the capture")
     assert cap.node_names == ["/survivor"]
-    assert w.wait_gone([server.pid], 5.0) == []
+    assert wait_gone([server.pid], 5.0) == []
     # the next capture gets a new server
     assert w.server_for({"env": env}) is not server
     assert capture(script=TALKER, env=env).started == "warm"
@@ -198,7 +199,7 @@ def test_no_process_outlives_a_runner_that_is_killed_or_interrupted(tmp_path, si
             assert b"warm_server" in f.read()
         proc.send_signal(sig)
         proc.wait(30)
-        assert w.wait_gone([target, server], 10.0) == []
+        assert wait_gone([target, server], 10.0) == []
     finally:
         if proc.poll() is None:
             proc.kill()
@@ -208,7 +209,7 @@ def test_no_process_outlives_a_runner_that_is_killed_or_interrupted(tmp_path, si
 def test_shutdown_ends_the_servers():
     server = w.server_for()
     warm.shutdown()
-    assert w.wait_gone([server.pid], 5.0) == []
+    assert wait_gone([server.pid], 5.0) == []
     assert warm.POOL.servers() == []
     assert os.getpid() != server.pid
 
@@ -274,6 +275,6 @@ def test_a_server_started_by_a_short_lived_thread_outlives_it():
     thread.start()
     thread.join()
     server = started["server"]
-    assert w.wait_gone([server.pid], 1.0) == [server.pid]  # still alive after the thread ended
+    assert wait_gone([server.pid], 1.0) == [server.pid]  # still alive after the thread ended
     assert server.alive() and w.server_for({"env": env}) is server
     assert capture(script=TALKER, env=env).started == "warm"

@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 import pytest
+from rmwi_processes import alive, wait_gone
 
 WARM_NODES = Path(__file__).resolve().parents[1] / "middleware" / "nodes_warm"
 
@@ -42,21 +43,6 @@ def _records(project) -> list[list[str]]:
     return [line.split(" ", 2) for line in project.read("record.txt").splitlines()]
 
 
-def _alive(pid: int) -> bool:
-    try:
-        with open(f"/proc/{pid}/stat", encoding="ascii") as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except (FileNotFoundError, IndexError):
-        return False
-
-
-def _gone(pids, timeout: float = 10.0) -> list[int]:
-    deadline = time.monotonic() + timeout
-    while any(_alive(p) for p in pids) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    return [p for p in pids if _alive(p)]
-
-
 def _server_pids(records) -> set[int]:
     return {int(p) for r in records for p in r[2].split("servers=")[1].split()}
 
@@ -73,7 +59,7 @@ def test_captures_start_warm_and_the_servers_end_with_the_session(project, worke
     for pid, _how, rest in records:
         per_process.setdefault(pid, set()).update(int(p) for p in rest.split("servers=")[1].split())
     assert all(len(servers) == 1 for servers in per_process.values()), per_process  # one per worker
-    assert _gone(_server_pids(records)) == []
+    assert wait_gone(_server_pids(records)) == []
 
 
 @pytest.mark.parametrize("how", ["option", "ini"])
@@ -199,12 +185,12 @@ def test_nothing_outlives_an_interrupted_pytest(project, workers, sig):
     try:
         target, server = _wait_for_target(project, proc)
         runner = _parent(server)
-        assert runner != os.getpid() and _alive(runner)
+        assert runner != os.getpid() and alive(runner)
         # SIGINT: Ctrl-C, the terminal signals the whole foreground group; SIGTERM: a CI job's
         # runner stopping the job's process group
         os.killpg(proc.pid, sig)
         proc.wait(60)
-        assert _gone([target, server]) == []
+        assert wait_gone([target, server]) == []
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
@@ -222,7 +208,7 @@ def test_nothing_outlives_pytest_terminated_alone(project, workers):
         runner = _parent(server)
         proc.send_signal(signal.SIGTERM)
         proc.wait(60)
-        assert _gone([target, server, runner]) == []
+        assert wait_gone([target, server, runner]) == []
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
@@ -237,7 +223,7 @@ def test_nothing_outlives_a_killed_xdist_worker(project):
         worker = _parent(server)
         assert worker != proc.pid
         os.kill(worker, signal.SIGKILL)
-        assert _gone([target, server]) == []
+        assert wait_gone([target, server]) == []
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)

@@ -4,51 +4,17 @@ constants), which come from the same definitions but through a different generat
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
+import dataclasses
 
 import pytest
 import rmwi_helpers as h
-from rosidl_parser import definition
-
-_BASIC = {
-    "boolean": "bool", "octet": "byte", "char": "char", "wchar": "wchar", "float": "float32",
-    "double": "float64", "long double": "long_double",
-}
+import type_tables
 
 
-def _python_class(type_name: str):
-    """pkg/msg/X, pkg/srv/X_Request, pkg/action/X_Goal ... -> the generated Python class."""
-    pkg, kind, leaf = type_name.split("/")
-    module = importlib.import_module(f"{pkg}.{kind}")
-    if hasattr(module, leaf):
-        return getattr(module, leaf)
-    for info in pkgutil.iter_modules(module.__path__):
-        sub = importlib.import_module(f"{pkg}.{kind}.{info.name}")
-        if hasattr(sub, leaf):
-            return getattr(sub, leaf)
-    raise LookupError(type_name)
-
-
-def _field(name: str, slot) -> dict:
-    """A rosidl_parser slot type in the capture's field shape."""
-    field: dict = {"name": name}
-    value = slot
-    if isinstance(slot, definition.Array):
-        field["array"], field["array_size"], value = "fixed", slot.size, slot.value_type
-    elif isinstance(slot, definition.BoundedSequence):
-        field["array"], field["array_size"], value = "bounded", slot.maximum_size, slot.value_type
-    elif isinstance(slot, definition.UnboundedSequence):
-        field["array"], value = "unbounded", slot.value_type
-    if isinstance(value, definition.NamespacedType):
-        field["type"] = "/".join([*value.namespaces, value.name])
-    elif isinstance(value, definition.AbstractGenericString):
-        field["type"] = "wstring" if isinstance(value, definition.AbstractWString) else "string"
-        if value.has_maximum_size():
-            field["string_bound"] = value.maximum_size
-    else:
-        field["type"] = _BASIC.get(value.typename, value.typename)
-    return {k: field[k] for k in ("name", "type", "array", "array_size", "string_bound") if k in field}
+def _capture_field(name: str, slot) -> dict:
+    """A rosidl_parser slot type in the capture's field shape (keys of unset attributes left out)."""
+    field = dataclasses.asdict(type_tables.field_of(name, slot))
+    return {key: value for key, value in field.items() if value is not None}
 
 
 def _constant_matches(recorded: dict, value) -> bool:
@@ -92,8 +58,8 @@ def test_fields_and_constants_match_rosidl(types_capture):
     for name, entry in types_capture["types"].items():
         if entry["kind"] != "message":
             continue
-        cls = _python_class(name)
-        expected = [_field(field, slot) for field, slot in zip(cls.get_fields_and_field_types(), cls.SLOT_TYPES,
+        cls = type_tables.python_class(name)
+        expected = [_capture_field(field, slot) for field, slot in zip(cls.get_fields_and_field_types(), cls.SLOT_TYPES,
                                                                 strict=True)]
         # rosidl gives an empty message a placeholder member (in the type hash too); Python hides it
         expected = expected or [{"name": "structure_needs_at_least_one_member", "type": "uint8"}]

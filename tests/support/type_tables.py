@@ -2,7 +2,8 @@
 through rosidl's generated Python classes (their SLOT_TYPES: element types, arrays, bounds),
 constants from the installed ``.msg`` / ``.srv`` / ``.action`` files. The middleware records
 the same from the C/C++ introspection type supports and the definition sources they carry;
-the end-to-end test tests/middleware/test_type_descriptions.py checks that both agree."""
+the end-to-end test tests/middleware/test_type_descriptions.py checks that both agree (with
+``python_class`` and ``field_of`` from here). Shared by tests/unit and tests/middleware."""
 
 from __future__ import annotations
 

@@ -73,8 +73,9 @@ _BOOTSTRAP = (
     "from pytest_rmw_introspect.run import warm_server as _w\n"
     "del sys.path[0]\n"
     "_job = _w.main(int(sys.argv[1]))\n"
-    "if _job is not None:\n"
-    "    _w.run(_job)\n"
+    "if _job is None:\n"
+    "    _w.exit_server()\n"
+    "_w.run(_job)\n"
 )
 _PACKAGE_PARENT = str(Path(__file__).resolve().parents[2])
 _ZIP_MAGIC = b"PK\x03\x04"

@@ -197,6 +197,13 @@ def _int(value: Any, where: str) -> int | None:
     return value
 
 
+#: the last entry read for each type name, and what it was read into: a session reads the same
+#: descriptions (rcl_interfaces' for every node's parameter services) from every capture, and
+#: comparing a JSON entry with the one read before is ~20x cheaper than reading it again
+_READ: dict[str, tuple[Any, TypeDescription]] = {}
+_READ_LIMIT = 4096
+
+
 def from_capture(data: Any) -> TypeTable:
     """The capture's ``types`` table (ValueError naming the place of a malformed entry)."""
     if data is None:
@@ -205,44 +212,54 @@ def from_capture(data: Any) -> TypeTable:
         raise ValueError("`types` is not an object")
     table: TypeTable = {}
     for name, entry in data.items():
-        where = f"types[{name!r}]"
-        if not isinstance(entry, Mapping):
-            raise ValueError(f"{where} is not an object")
-        kind = entry.get("kind")
-        if kind == SERVICE:
-            request, response = entry.get("request"), entry.get("response")
-            if not isinstance(request, str) or not isinstance(response, str):
-                raise ValueError(f"{where}: a service needs `request` and `response` type names")
-            table[str(name)] = ServiceType(str(name), request, response)
+        known = _READ.get(name)
+        if known is not None and known[0] == entry:
+            table[name] = known[1]
             continue
-        if kind != MESSAGE:
-            raise ValueError(f"{where}: unknown kind {kind!r}")
-        fields_data = entry.get("fields")
-        if not isinstance(fields_data, list):
-            raise ValueError(f"{where}: `fields` is not a list")
-        fields = []
-        for i, f in enumerate(fields_data):
-            at = f"{where}.fields[{i}]"
-            if not isinstance(f, Mapping) or not isinstance(f.get("name"), str) or not isinstance(f.get("type"), str):
-                raise ValueError(f"{at}: needs a `name` and a `type`")
-            array = f.get("array")
-            if array is not None and array not in ARRAY_KINDS:
-                raise ValueError(f"{at}: unknown array kind {array!r}")
-            fields.append(Field(name=f["name"], type=f["type"], array=array,
-                                array_size=_int(f.get("array_size"), at) if array in (FIXED, BOUNDED) else None,
-                                string_bound=_int(f.get("string_bound"), at) or None))
-        constants: tuple[Constant, ...] | None = None
-        if entry.get("constants") is not None:
-            if not isinstance(entry["constants"], list):
-                raise ValueError(f"{where}: `constants` is not a list")
-            items = []
-            for i, c in enumerate(entry["constants"]):
-                if not isinstance(c, Mapping) or not all(isinstance(c.get(k), str) for k in ("name", "type", "value")):
-                    raise ValueError(f"{where}.constants[{i}]: needs `name`, `type` and `value` strings")
-                items.append(Constant(c["name"], c["type"], c["value"]))
-            constants = tuple(items)
-        table[str(name)] = MessageType(str(name), tuple(fields), constants)
+        table[str(name)] = _entry_from_capture(name, entry)
+        if len(_READ) >= _READ_LIMIT:
+            _READ.clear()
+        _READ[name] = (entry, table[str(name)])
     return table
+
+
+def _entry_from_capture(name: Any, entry: Any) -> TypeDescription:
+    where = f"types[{name!r}]"
+    if not isinstance(entry, Mapping):
+        raise ValueError(f"{where} is not an object")
+    kind = entry.get("kind")
+    if kind == SERVICE:
+        request, response = entry.get("request"), entry.get("response")
+        if not isinstance(request, str) or not isinstance(response, str):
+            raise ValueError(f"{where}: a service needs `request` and `response` type names")
+        return ServiceType(str(name), request, response)
+    if kind != MESSAGE:
+        raise ValueError(f"{where}: unknown kind {kind!r}")
+    fields_data = entry.get("fields")
+    if not isinstance(fields_data, list):
+        raise ValueError(f"{where}: `fields` is not a list")
+    fields = []
+    for i, f in enumerate(fields_data):
+        at = f"{where}.fields[{i}]"
+        if not isinstance(f, Mapping) or not isinstance(f.get("name"), str) or not isinstance(f.get("type"), str):
+            raise ValueError(f"{at}: needs a `name` and a `type`")
+        array = f.get("array")
+        if array is not None and array not in ARRAY_KINDS:
+            raise ValueError(f"{at}: unknown array kind {array!r}")
+        fields.append(Field(name=f["name"], type=f["type"], array=array,
+                            array_size=_int(f.get("array_size"), at) if array in (FIXED, BOUNDED) else None,
+                            string_bound=_int(f.get("string_bound"), at) or None))
+    constants: tuple[Constant, ...] | None = None
+    if entry.get("constants") is not None:
+        if not isinstance(entry["constants"], list):
+            raise ValueError(f"{where}: `constants` is not a list")
+        items = []
+        for i, c in enumerate(entry["constants"]):
+            if not isinstance(c, Mapping) or not all(isinstance(c.get(k), str) for k in ("name", "type", "value")):
+                raise ValueError(f"{where}.constants[{i}]: needs `name`, `type` and `value` strings")
+            items.append(Constant(c["name"], c["type"], c["value"]))
+        constants = tuple(items)
+    return MessageType(str(name), tuple(fields), constants)
 
 
 class SectionError(ValueError):

@@ -353,6 +353,8 @@ class WarmServer:
         self._lock = threading.Lock()
         self.info: dict[str, Any] | None = None
         self.failure: str | None = None
+        self._told: set[str] = set()  # the type names sent to learn()
+        self._told_lock = threading.Lock()  # not _lock: wait_ready holds that while it waits
         try:
             self.proc = _LAUNCHER.call(functools.partial(
                 subprocess.Popen,
@@ -451,11 +453,15 @@ class WarmServer:
                          os.fdopen(out_r, "rb", buffering=0), os.fdopen(err_r, "rb", buffering=0))
 
     def learn(self, type_names: Sequence[str]) -> None:
-        """Ask the server to import these types' packages (and type supports) for later targets."""
-        if not type_names or not self.alive():
+        """Ask the server to import these types' packages (and type supports) for later targets
+        (only those it was not told of before: most captures use no new type)."""
+        with self._told_lock:
+            new = sorted(set(type_names) - self._told)
+            self._told.update(new)
+        if not new or not self.alive():
             return
         try:
-            self.control.send(json.dumps({"op": "preload", "types": sorted(type_names)}).encode())
+            self.control.send(json.dumps({"op": "preload", "types": new}).encode())
         except OSError:
             pass
 

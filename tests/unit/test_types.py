@@ -5,6 +5,7 @@ packages of the venv (type_tables.py)."""
 from __future__ import annotations
 
 import copy
+import json
 from typing import Any
 
 import pytest
@@ -116,6 +117,21 @@ def test_constants_unknown_stay_unknown():
     data = {"pkg/msg/Idl": {"kind": "message", "fields": [{"name": "x", "type": "int32"}]}}
     entry = type_model.from_capture(data)["pkg/msg/Idl"]
     assert isinstance(entry, MessageType) and entry.constants is None
+
+
+def test_capture_table_entries_read_before_are_reused_while_they_are_equal():
+    data = to_capture_json(describe("std_msgs/msg/String"))
+    first = type_model.from_capture(data)["std_msgs/msg/String"]
+    again = type_model.from_capture(json.loads(json.dumps(data)))["std_msgs/msg/String"]
+    assert again is first  # the same entry (an equal copy): read once
+    changed = json.loads(json.dumps(data))
+    changed["std_msgs/msg/String"]["fields"].append({"name": "extra", "type": "int8"})
+    read = type_model.from_capture(changed)["std_msgs/msg/String"]
+    assert [f.name for f in read.fields] == ["data", "extra"]
+    broken = json.loads(json.dumps(data))
+    broken["std_msgs/msg/String"]["fields"].append({"name": "x"})
+    with pytest.raises(ValueError, match="needs a `name` and a `type`"):  # an entry read before is no pass
+        type_model.from_capture(broken)
 
 
 @pytest.mark.parametrize("mutate, reason", [

@@ -10,6 +10,7 @@ import socket
 import stat
 import subprocess
 import sys
+import threading
 import zipfile
 from pathlib import Path
 
@@ -179,6 +180,30 @@ def test_a_server_gone_during_the_capture_is_noticed(child_and_server):
     child, server, _sleeper = child_and_server
     server.close()
     assert child.wait(5) == -signal.SIGKILL and child.server_lost
+
+
+def test_a_server_is_told_each_message_type_once():
+    ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+    sleeper = subprocess.Popen(["sleep", "30"])
+    # a WarmServer without its process: learn() only needs the control socket and a live proc
+    server = object.__new__(warm.WarmServer)
+    server.__dict__.update(control=ours, proc=sleeper, failure=None)
+    server.__dict__.update(_told=set(), _told_lock=threading.Lock())
+    try:
+        theirs.settimeout(5)
+        server.learn(["std_msgs/msg/String", "std_srvs/srv/Empty"])
+        assert json.loads(theirs.recv(65536)) == {"op": "preload", "types": ["std_msgs/msg/String", "std_srvs/srv/Empty"]}
+        server.learn(["std_srvs/srv/Empty", "std_msgs/msg/String"])  # nothing new: nothing sent
+        server.learn(["std_msgs/msg/String", "geometry_msgs/msg/Twist"])
+        assert json.loads(theirs.recv(65536)) == {"op": "preload", "types": ["geometry_msgs/msg/Twist"]}
+        theirs.setblocking(False)
+        with pytest.raises(BlockingIOError):
+            theirs.recv(65536)
+    finally:
+        sleeper.kill()
+        sleeper.wait()
+        ours.close()
+        theirs.close()
 
 
 # ---------------------------------------------------------------------------- option and pool

@@ -26,6 +26,7 @@ and in the ini file).
 
 from __future__ import annotations
 
+import os
 from collections.abc import Generator
 from pathlib import Path
 from typing import Any
@@ -60,6 +61,11 @@ def pytest_configure(config: pytest.Config) -> None:
     session_state = session.configure(config)
     config.stash[session.SESSION] = session_state
     config.pluginmanager.register(session.GoldenReporter(session_state), "rmw-introspect-golden-reporter")
+    workerinput = getattr(config, "workerinput", None)
+    if workerinput is not None:
+        # pytest-xdist workers of one run share their warm start servers (the parent is the
+        # controller: a run that reuses --testrunuid still gets servers of its own)
+        warm.POOL.share_within(f"{workerinput.get('testrunuid', '')}-{os.getppid()}")
 
 
 def pytest_report_header(config: pytest.Config) -> list[str] | None:

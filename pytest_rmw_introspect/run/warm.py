@@ -14,7 +14,9 @@ the target (see the server's module for what the child sets up). This module is 
   (``PYTHON*``, ``LD_*``, ``AMENT_PREFIX_PATH``, locale, ...): one server per key, and targets whose
   environment differs there get (or start) another server;
 * :class:`Pool` keeps the servers of this process (a pytest session, an xdist worker, one CLI run),
-  started in the background: a capture that finds its server still starting runs cold;
+  started in the background: a capture that finds its server still starting runs cold; runners
+  given the same scope (:meth:`Pool.share_within`: the xdist workers of a run) share them, the
+  first one starting a server and the others attaching to it;
 * :class:`WarmChild` is the forked target as the runner sees it: it behaves like the
   ``subprocess.Popen`` of a cold start (pid = process group, ``poll``, ``wait``, ``send_signal``), so
   timeouts and the SIGINT → SIGTERM → SIGKILL escalation of :mod:`.process` apply unchanged.
@@ -28,6 +30,7 @@ from __future__ import annotations
 
 import atexit
 import functools
+import hashlib
 import json
 import os
 import queue
@@ -72,7 +75,7 @@ _BOOTSTRAP = (
     "sys.path.insert(0, {package_parent!r})\n"
     "from pytest_rmw_introspect.run import warm_server as _w\n"
     "del sys.path[0]\n"
-    "_job = _w.main(int(sys.argv[1]))\n"
+    "_job = _w.main(*map(int, sys.argv[1:3]))\n"
     "if _job is None:\n"
     "    _w.exit_server()\n"
     "_w.run(_job)\n"
@@ -206,8 +209,43 @@ def server_key(env: Mapping[str, str], cwd: str, python: str | None = None) -> t
     return (os.path.abspath(python or sys.executable), tuple(sorted(keyed.items())), cwd if relative else None)
 
 
-def server_command(fd: int, python: str | None = None) -> list[str]:
-    return [python or sys.executable, "-c", _BOOTSTRAP.format(package_parent=_PACKAGE_PARENT), str(fd)]
+def server_command(fd: int, python: str | None = None, listen_fd: int | None = None) -> list[str]:
+    command = [python or sys.executable, "-c", _BOOTSTRAP.format(package_parent=_PACKAGE_PARENT), str(fd)]
+    return command if listen_fd is None else [*command, str(listen_fd)]
+
+
+def shared_address(scope: str, key: tuple[Any, ...]) -> bytes:
+    """The Unix socket address (abstract namespace) of the shared server for ``key`` in ``scope``."""
+    digest = hashlib.sha256(repr(key).encode()).hexdigest()[:24]
+    return f"\0rmw-introspect-warm/{os.getuid()}/{scope}/{digest}".encode()[:107]
+
+
+def _connect(address: bytes) -> socket.socket | None:
+    """A connection to the shared server at ``address`` (run by this user), or None."""
+    from .warm_server import peer_uid  # only runners that share servers need it
+
+    sock = socket.socket(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+    try:
+        sock.connect(address)
+    except OSError:
+        sock.close()
+        return None
+    if peer_uid(sock) != os.getuid():
+        sock.close()
+        return None
+    return sock
+
+
+def _bind(address: bytes) -> socket.socket | None:
+    """A listening socket bound to ``address``, or None when another runner holds it."""
+    sock = socket.socket(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+    try:
+        sock.bind(address)
+        sock.listen(64)
+    except OSError:
+        sock.close()
+        return None
+    return sock
 
 
 def _umask() -> int:
@@ -343,24 +381,24 @@ _LAUNCHER = _Launcher()
 
 
 class WarmServer:
-    """One server process and its control socket, seen from the runner."""
+    """One server process and its control socket, seen from the runner: a server this runner
+    started (its owner), or one it is attached to (a shared server another runner started)."""
 
-    def __init__(self, env: Mapping[str, str], cwd: str, python: str | None = None) -> None:
-        self.python = python or sys.executable
-        self.started_at = time.monotonic()
-        self.log = tempfile.TemporaryFile(prefix="rmw_introspect_warm_")
-        self.control, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
-        self._lock = threading.Lock()
-        self.info: dict[str, Any] | None = None
-        self.failure: str | None = None
-        self._told: set[str] = set()  # the type names sent to learn()
-        self._told_lock = threading.Lock()  # not _lock: wait_ready holds that while it waits
+    proc: subprocess.Popen[bytes] | None  # None: attached to another runner's server
+    log: IO[bytes]
+
+    def __init__(self, env: Mapping[str, str], cwd: str, python: str | None = None, *,
+                 listener: socket.socket | None = None) -> None:
+        """Start a server; ``listener``: a bound, listening socket that makes it a shared one."""
+        mine, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        self._init(mine, python)
+        fds = (theirs.fileno(),) if listener is None else (theirs.fileno(), listener.fileno())
         try:
             self.proc = _LAUNCHER.call(functools.partial(
                 subprocess.Popen,
-                server_command(theirs.fileno(), self.python),
+                server_command(theirs.fileno(), self.python, None if listener is None else listener.fileno()),
                 env=dict(env), cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=self.log,
-                pass_fds=(theirs.fileno(),), start_new_session=True,
+                pass_fds=fds, start_new_session=True,
                 preexec_fn=functools.partial(process.die_with_parent, os.getpid()),
             ))
         except OSError as exc:
@@ -370,9 +408,30 @@ class WarmServer:
         finally:
             theirs.close()
 
+    @classmethod
+    def attached(cls, sock: socket.socket, python: str | None = None) -> WarmServer:
+        """The shared server at the other end of ``sock`` (a connection to its listening socket)."""
+        server = cls.__new__(cls)
+        server._init(sock, python)
+        return server
+
+    def _init(self, control: socket.socket, python: str | None) -> None:
+        self.python = python or sys.executable
+        self.started_at = time.monotonic()
+        self.control = control
+        self.proc = None
+        self.log = tempfile.TemporaryFile(prefix="rmw_introspect_warm_")
+        self._lock = threading.Lock()
+        self.info: dict[str, Any] | None = None
+        self.failure: str | None = None
+        self._told: set[str] = set()  # the type names sent to learn()
+        self._told_lock = threading.Lock()  # not _lock: wait_ready holds that while it waits
+
     @property
     def pid(self) -> int:
-        return self.proc.pid
+        if self.proc is not None:
+            return self.proc.pid
+        return int((self.info or {}).get("pid", -1))
 
     def log_tail(self, limit: int = 2000) -> str:
         try:
@@ -404,16 +463,25 @@ class WarmServer:
             except (OSError, ValueError):
                 info = None
             if not isinstance(info, dict) or not info.get("ready"):
-                self.proc.poll()
+                status = self.proc.poll() if self.proc is not None else None
                 self.failure = ("the warm start server ended before it was ready"
-                                + (f" (status {self.proc.returncode})" if self.proc.returncode is not None else "")
+                                + (f" (status {status})" if status is not None else "")
                                 + (": " + self.log_tail().strip() if self.log_tail().strip() else ""))
                 return False
             self.info = info
             return True
 
     def alive(self) -> bool:
-        return self.failure is None and self.proc.poll() is None
+        if self.failure is not None:
+            return False
+        if self.proc is not None:
+            return self.proc.poll() is None
+        # attached: the server sends nothing after its ready message, so a readable socket is its end
+        try:
+            readable, _, _ = select.select([self.control], [], [], 0)
+        except (OSError, ValueError):
+            return False
+        return not readable
 
     def spawn(self, plan: Plan, *, env: Mapping[str, str], cwd: str) -> WarmChild:
         """Fork the target; raises :class:`WarmStartFailed` (the runner then starts it cold)."""
@@ -466,16 +534,61 @@ class WarmServer:
             pass
 
     def close(self, timeout: float = 2.0) -> None:
-        """End the server: it kills what it still runs, then exits."""
-        try:
+        """Let go of the server. An attached runner just closes its connection (the server ends
+        its children). The owner ends the server: it kills what it still runs for the owner and
+        exits, or, shared, first serves the runners still connected (they may have captures to
+        go) and says how many there are; the owner waits for them, and kills a server that
+        neither exits nor answers within ``timeout`` seconds."""
+        if self.proc is None:
             self.control.close()
-        finally:
-            try:
-                self.proc.wait(timeout)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
             self.log.close()
+            return
+        try:
+            try:
+                self.control.shutdown(socket.SHUT_WR)
+            except OSError:
+                pass
+            self._wait_for_exit(self.proc, timeout)
+        finally:
+            self.control.close()
+            self.log.close()
+
+    def _wait_for_exit(self, proc: subprocess.Popen[bytes], timeout: float) -> None:
+        serving = False  # the server said runners are still connected
+        deadline = time.monotonic() + timeout
+        while True:
+            try:
+                proc.wait(0.05 if serving else max(0.0, min(0.05, deadline - time.monotonic())))
+                return
+            except subprocess.TimeoutExpired:
+                pass
+            clients = self._clients_reported()
+            if clients is not None:
+                serving = clients > 0
+                deadline = time.monotonic() + timeout
+            if not serving and time.monotonic() >= deadline:
+                proc.kill()
+                proc.wait()
+                return
+
+    def _clients_reported(self) -> int | None:
+        """The last number of connected runners the server reported, if it reported any since."""
+        clients = None
+        while True:
+            try:
+                data = self.control.recv(65536, socket.MSG_DONTWAIT)
+            except (BlockingIOError, InterruptedError):
+                return clients
+            except OSError:
+                return clients
+            if not data:
+                return clients
+            try:
+                message = json.loads(data)
+            except ValueError:
+                continue
+            if isinstance(message, dict) and isinstance(message.get("clients"), int):
+                clients = message["clients"]
 
 
 # ---------------------------------------------------------------------------------- the pool
@@ -492,6 +605,14 @@ class Pool:
         self._owner = os.getpid()
         #: why this process starts every target cold (None: Python targets start warm)
         self.disabled: str | None = None
+        #: runners with the same scope share their servers (None: this process's own servers)
+        self.scope: str | None = None
+
+    def share_within(self, scope: str | None) -> None:
+        """Share servers with the other runners (processes of this user) that give the same
+        ``scope``: the first one that needs a server for a key starts it, the others attach to it
+        (pytest-xdist workers of one run: one server instead of one per worker)."""
+        self.scope = scope or None
 
     def disable(self, reason: str) -> None:
         """Start every target of this process cold, for ``reason`` (a run with one capture: a
@@ -525,7 +646,7 @@ class Pool:
                     return self._broken[key]
             if server is None:
                 try:
-                    server = WarmServer(server_environment(env), cwd, python)
+                    server = self._start_or_attach(key, env, cwd, python)
                 except WarmStartFailed as exc:
                     self._broken[key] = str(exc)
                     return str(exc)
@@ -543,6 +664,23 @@ class Pool:
             server.close(0.5)
             return server.failure
         return "the warm start server is still starting"
+
+    def _start_or_attach(self, key: tuple[Any, ...], env: Mapping[str, str], cwd: str,
+                         python: str | None) -> WarmServer:
+        if self.scope is not None:
+            address = shared_address(self.scope, key)
+            for _attempt in range(5):
+                sock = _connect(address)
+                if sock is not None:
+                    return WarmServer.attached(sock, python)
+                listener = _bind(address)
+                if listener is not None:
+                    try:
+                        return WarmServer(server_environment(env), cwd, python, listener=listener)
+                    finally:
+                        listener.close()  # the server has its own copy
+                time.sleep(0.01)  # another runner bound it and is about to listen
+        return WarmServer(server_environment(env), cwd, python)
 
     def learn(self, env: Mapping[str, str], cwd: str, type_names: Sequence[str], python: str | None = None) -> None:
         """Tell the server for targets with environment ``env`` (if there is one, started or

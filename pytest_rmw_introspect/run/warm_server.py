@@ -16,6 +16,14 @@ runner over FD, a ``SOCK_SEQPACKET`` Unix socket (one JSON message per packet):
   supports) later targets will probably use, imported while the server is idle;
 * end of file on FD (the runner closed it or died): every child's group is killed, the server exits.
 
+A server may be **shared** (pytest-xdist workers of one run, see ``warm.Pool.share_within``): it is
+then also given a listening socket (``LISTEN_FD``) and serves every runner that connects to it
+with this user's uid (``SO_PEERCRED``), each connection like FD: the ready message, then spawn
+and preload requests. A runner closing its connection only ends its own children (their reply
+sockets close with it). When FD (its owner) reaches end of file, a shared server stops accepting,
+tells the owner how many runners are still connected (``{"clients": N}``, and again whenever one
+leaves) and exits when the last one is gone; the owner waits for that (``warm.WarmServer.close``).
+
 The child (:meth:`Server.become_target`) does what a cold start would have done: a session and
 process group of its own (``setsid``), the parent-death signal SIGKILL (tied to the server, which
 is itself tied to the runner: when the runner dies, both die), the three standard streams, the
@@ -45,6 +53,7 @@ import runpy
 import selectors
 import signal
 import socket
+import struct
 import sys
 import time
 import types
@@ -309,13 +318,25 @@ class _Child:
 
 
 @dataclass
+class _Client:
+    """A runner connected to a shared server (not its owner)."""
+
+    sock: socket.socket
+
+
+@dataclass
 class Server:
     """The serve loop (single-threaded: it forks from it)."""
 
     control: socket.socket
     base_path: list[str]
+    #: a shared server's listening socket (None: only the owner's control socket is served)
+    listener: socket.socket | None = None
+    ready_message: dict[str, Any] = field(default_factory=dict)
     selector: selectors.BaseSelector = field(default_factory=selectors.DefaultSelector)
     children: dict[int, _Child] = field(default_factory=dict)
+    clients: list[_Client] = field(default_factory=list)
+    owner_gone: bool = False
     lttng: _LttngFork = field(default_factory=_LttngFork)
     learned: set[str] = field(default_factory=set)
     pid_at_start: int = field(default_factory=os.getpid)
@@ -332,6 +353,9 @@ class Server:
         signal.signal(signal.SIGCHLD, lambda signum, frame: None)
         self.selector.register(self.control, selectors.EVENT_READ, None)
         self.selector.register(self.wake_r, selectors.EVENT_READ, None)
+        if self.listener is not None:
+            self.listener.setblocking(False)
+            self.selector.register(self.listener, selectors.EVENT_READ, None)
 
     # ---------------------------------------------------------------- loop
     def serve(self) -> Job | None:
@@ -339,12 +363,20 @@ class Server:
         try:
             while True:
                 for key, _events in self.selector.select():
-                    if key.fileobj is self.control:
-                        outcome = self._on_control()
-                        if outcome is False:
-                            return None
+                    if key.fileobj is self.control or isinstance(key.data, _Client):
+                        client = key.data if isinstance(key.data, _Client) else None
+                        outcome = self._on_control(client.sock if client is not None else self.control)
                         if isinstance(outcome, Job):
                             return outcome
+                        if outcome is False:
+                            if client is not None:
+                                self._drop_client(client)
+                            else:
+                                self._owner_left()
+                            if self.owner_gone and not self.clients:
+                                return None
+                    elif key.fileobj is self.listener:
+                        self._accept()
                     elif key.fileobj == self.wake_r:
                         try:
                             while os.read(self.wake_r, 512):
@@ -358,9 +390,45 @@ class Server:
             if os.getpid() == self.pid_at_start:
                 self._kill_all()
 
-    def _on_control(self) -> Job | bool:
+    # ---------------------------------------------------------------- runners of a shared server
+    def _accept(self) -> None:
+        assert self.listener is not None
         try:
-            data, fds, _flags, _addr = socket.recv_fds(self.control, MAX_MESSAGE, SPAWN_FDS)
+            sock, _addr = self.listener.accept()
+        except (BlockingIOError, InterruptedError):
+            return
+        except OSError:
+            return
+        sock.setblocking(True)
+        if peer_uid(sock) != os.getuid():  # another user: refused
+            sock.close()
+            return
+        client = _Client(sock)
+        self.clients.append(client)
+        self.selector.register(sock, selectors.EVENT_READ, client)
+        _send(sock, self.ready_message)
+
+    def _drop_client(self, client: _Client) -> None:
+        """A runner closed its connection (or died): its children's reply sockets closed with it."""
+        self.selector.unregister(client.sock)
+        client.sock.close()
+        self.clients.remove(client)
+        if self.owner_gone:
+            _send(self.control, {"clients": len(self.clients)})
+
+    def _owner_left(self) -> None:
+        """The owner closed its side: no new runner is accepted; those connected are served on."""
+        self.owner_gone = True
+        self.selector.unregister(self.control)
+        if self.listener is not None:
+            self.selector.unregister(self.listener)
+            self.listener.close()
+            self.listener = None
+        _send(self.control, {"clients": len(self.clients)})
+
+    def _on_control(self, sock: socket.socket) -> Job | bool:
+        try:
+            data, fds, _flags, _addr = socket.recv_fds(sock, MAX_MESSAGE, SPAWN_FDS)
         except (ConnectionResetError, OSError):
             return False
         if not data:
@@ -471,8 +539,11 @@ class Server:
                 os._exit(1)
             signal.set_wakeup_fd(-1)
             self.selector.close()
-            for sock in (self.control, reply, *(c.reply for c in self.children.values() if c.reply)):
+            for sock in (self.control, reply, *(c.reply for c in self.children.values() if c.reply),
+                         *(c.sock for c in self.clients), *([self.listener] if self.listener else [])):
                 sock.close()
+            self.clients.clear()
+            self.listener = None
             self.children.clear()
             os.close(self.wake_r)
             os.close(self.wake_w)
@@ -545,15 +616,29 @@ def exit_server() -> None:
     os._exit(0)
 
 
-def main(fd: int) -> Job | None:
-    """The server: import what targets need, say ready on ``fd``, serve. Returns None when it
+def peer_uid(sock: socket.socket) -> int | None:
+    """The uid of the process at the other end of a Unix socket (``SO_PEERCRED``)."""
+    try:
+        creds = sock.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED, struct.calcsize("3i"))
+    except OSError:
+        return None
+    return int(struct.unpack("3i", creds)[1])
+
+
+def main(fd: int, listen_fd: int = -1) -> Job | None:
+    """The server: import what targets need, say ready on ``fd`` (and to each runner that
+    connects to ``listen_fd``, a shared server's listening socket), serve. Returns None when it
     should exit, or in a forked child the job to run."""
     started = time.monotonic()
     control = socket.socket(fileno=fd)
+    listener = socket.socket(fileno=listen_fd) if listen_fd >= 0 else None
     base_path = sys.path[:] if sys.flags.safe_path else sys.path[1:]
     single_threaded_blas()
     done = preload(PRELOAD_MODULES, PRELOAD_TYPES)
-    server = Server(control, base_path)
-    _send(control, {"ready": True, "pid": os.getpid(), "preloaded": done, "lttng_fork_hooks": server.lttng.before is not None,
-                    "seconds": round(time.monotonic() - started, 3)})
+    server = Server(control, base_path, listener)
+    server.ready_message = {
+        "ready": True, "pid": os.getpid(), "preloaded": done, "lttng_fork_hooks": server.lttng.before is not None,
+        "shared": listener is not None, "seconds": round(time.monotonic() - started, 3),
+    }
+    _send(control, server.ready_message)
     return server.serve()

@@ -1,5 +1,5 @@
-"""Warm starts in pytest sessions (issue 12): captures start warm, one server per session or
-xdist worker; the option and ini value ask for cold starts; the next contract item captures
+"""Warm starts in pytest sessions (issue 12): captures start warm, one server per session (the
+xdist workers of a run share it); the option and ini value ask for cold starts; the next contract item captures
 ahead; no server or target outlives the session, also when pytest is interrupted or terminated
 or an xdist worker is killed."""
 
@@ -58,7 +58,8 @@ def test_captures_start_warm_and_the_servers_end_with_the_session(project, worke
     per_process: dict[str, set[int]] = {}
     for pid, _how, rest in records:
         per_process.setdefault(pid, set()).update(int(p) for p in rest.split("servers=")[1].split())
-    assert all(len(servers) == 1 for servers in per_process.values()), per_process  # one per worker
+    assert all(len(servers) == 1 for servers in per_process.values()), per_process
+    assert len(_server_pids(records)) == 1, records  # xdist: the workers share it
     assert wait_gone(_server_pids(records)) == []
 
 
@@ -228,3 +229,51 @@ def test_nothing_outlives_a_killed_xdist_worker(project):
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
+
+
+TWO_HANGING_TESTS = f"""
+import pytest
+
+@pytest.mark.parametrize("name", ["one", "two"])
+def test_hangs(rmw_capture, name):
+    rmw_capture(script={str(WARM_NODES / 'warm_pid.py')!r}, timeout=120,
+                env={{"WARM_PID_FILE": "pids.txt", "WARM_HANG": "1", "WARM_NODE_NAME": name}})
+"""
+
+
+def test_a_killed_xdist_worker_takes_its_targets_not_the_shared_server(project):
+    """Two workers, one shared server: killing the worker that did not start it ends its own
+    target only; the rest ends with pytest."""
+    project.test(TWO_HANGING_TESTS)
+    proc = _start_pytest(project, "-n", "2")
+    try:
+        pids = project.path / "pids.txt"
+        deadline = time.monotonic() + 120
+        while not (pids.exists() and len(pids.read_text().splitlines()) >= 2):
+            assert time.monotonic() < deadline and proc.poll() is None, proc.communicate()[0].decode(errors="replace")
+            time.sleep(0.05)
+        lines = pids.read_text().splitlines()[:2]
+        (target_a, server_a), (target_b, server_b) = ([int(p) for p in line.split()[:2]] for line in lines)
+        assert server_a == server_b  # both workers' targets were forked by one server
+        owner = _parent(server_a)
+        workers = {pid for pid in _children(proc.pid) if pid != owner}
+        assert len(workers) == 1, workers
+        (other,) = workers
+        os.kill(other, signal.SIGKILL)
+        deadline = time.monotonic() + 10
+        while alive(target_a) and alive(target_b) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert [alive(target_a), alive(target_b)].count(True) == 1  # the killed worker's target only
+        assert alive(server_a) and alive(owner)
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(60)
+        assert wait_gone([target_a, target_b, server_a, owner]) == []
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+def _children(pid: int) -> list[int]:
+    with open(f"/proc/{pid}/task/{pid}/children", encoding="ascii") as f:
+        return [int(p) for p in f.read().split()]

@@ -59,6 +59,9 @@ LOCAL_IMPORTS = {
     ("cli.formats", "pytest_rmw_introspect.check"): "the contract writer (~25 ms with PyYAML): `capture` "
                                                     "starts without it, it prints with it",
     ("run.middleware", "filelock"): "filelock (+ logging) costs ~15 ms; only building the middleware needs it",
+    ("run.warm", "pytest_rmw_introspect.run.warm_server"): "the server's own module (ctypes, runpy, selectors, "
+                                                          "~5 ms); only runners sharing servers (xdist workers) "
+                                                          "check a peer's uid with it",
     ("check.golden", "filelock"): "filelock (+ logging) costs ~15 ms; only writing a file needs it",
 }
 

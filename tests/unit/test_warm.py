@@ -206,6 +206,32 @@ def test_a_server_is_told_each_message_type_once():
         theirs.close()
 
 
+def test_the_shared_address_names_user_scope_and_key():
+    key = warm.server_key({"PYTHONPATH": "/a"}, "/")
+    address = warm.shared_address("scope1", key)
+    assert address.startswith(b"\0rmw-introspect-warm/") and f"/{os.getuid()}/scope1/".encode() in address
+    assert warm.shared_address("scope1", warm.server_key({"PYTHONPATH": "/b"}, "/")) != address
+    assert warm.shared_address("scope2", key) != address
+
+
+def test_one_runner_binds_a_shared_address_the_others_connect_to_it():
+    address = warm.shared_address(f"unit-{os.getpid()}", ("key",))
+    assert warm._connect(address) is None  # nobody there yet
+    listener = warm._bind(address)
+    assert listener is not None
+    try:
+        assert warm._bind(address) is None  # taken
+        client = warm._connect(address)
+        assert client is not None
+        served, _ = listener.accept()
+        assert warm_server.peer_uid(served) == os.getuid() == warm_server.peer_uid(client)
+        served.close()
+        client.close()
+    finally:
+        listener.close()
+    assert warm._connect(address) is None
+
+
 # ---------------------------------------------------------------------------- option and pool
 
 

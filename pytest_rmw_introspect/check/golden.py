@@ -11,11 +11,8 @@
   line endings keeps them (its header byte for byte). Failures are :class:`GoldenWriteError`.
 * :func:`new_contract_text` is a complete new contract with a header saying how it was written
   and a ``target:`` block (paths relative to the contract's directory).
-* ``ci_refusal()``: with ``CI`` set (non-empty, not ``0``/``false``) goldens are never written;
-  front ends turn the message into their usage error.
-* Every written golden is recorded on the test's report (``user_properties``) as
-  ``(USER_PROPERTY, "<action>\\t<path>")``; reports travel from xdist workers to the
-  controller, where :class:`GoldenSession` collects them for the terminal summary.
+* ``ci_refusal()`` and the record of what was written (``GoldenSession``) are in
+  :mod:`.golden_record`, which a pytest session's controller needs without the writer.
 """
 
 from __future__ import annotations
@@ -24,8 +21,7 @@ import hashlib
 import os
 import stat
 import tempfile
-from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -34,26 +30,11 @@ import yaml
 from ..errors import ContractError, GoldenWriteError
 from ..model import contract as contract_module
 from ..model import types as type_model
-from ..model.paths import relative_or_absolute, shown
+from ..model.paths import relative_or_absolute
 from ..run.target import TargetSpec
+from .golden_record import CREATED, UPDATED
 
-USER_PROPERTY = "rmw_introspect_golden_written"
-CREATED = "created"
-UPDATED = "updated"
 LOCK_TIMEOUT = 120.0
-
-
-def ci_refusal(environ: Mapping[str, str] | None = None) -> str | None:
-    """The reason why goldens must not be written here, or None."""
-    environ = os.environ if environ is None else environ
-    value = environ.get("CI", "")
-    if value.strip() and value.strip().lower() not in ("0", "false", "no", "off"):
-        return (
-            f"--update-golden refuses to write golden contracts in CI (the CI environment variable "
-            f"is set to {value!r}). Goldens are reviewed changes: run `pytest --update-golden` on "
-            "your machine and commit the updated files, or unset CI if this is not a CI run."
-        )
-    return None
 
 
 # ---------------------------------------------------------------------------- the writer
@@ -208,31 +189,3 @@ def new_contract_text(nodes: Mapping[str, Any], *, spec: TargetSpec, base: Path,
     header = new_contract_header(spec=spec, base=base, include_infrastructure=include_infrastructure, how=how,
                                  run_dir=run_dir)
     return contract_module.render(nodes, header=header)
-
-
-# ---------------------------------------------------------------------------- reporting
-
-
-def property_value(action: str, path: str | Path) -> str:
-    return f"{action}\t{Path(path).resolve()}"
-
-
-@dataclass
-class GoldenSession:
-    """What this session wrote (filled from test reports, so it works under xdist)."""
-
-    enabled: bool = False
-    written: dict[Path, str] = field(default_factory=dict)
-
-    def record_report(self, user_properties: Iterable[tuple[str, object]]) -> None:
-        for name, value in user_properties:
-            if name != USER_PROPERTY or not isinstance(value, str) or "\t" not in value:
-                continue
-            action, path = value.split("\t", 1)
-            p = Path(path)
-            # "created" wins over a later "updated" of the same file
-            if self.written.get(p) != CREATED:
-                self.written[p] = action
-
-    def summary_lines(self, base: Path | None = None) -> list[str]:
-        return [f"{self.written[p]:8} {shown(p, base) if base is not None else p}" for p in sorted(self.written)]

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..check import golden, pipeline
+from ..check import golden, golden_record, pipeline
 from ..check.outcome import Verdict, decide
 from ..compare import ci_report
 from ..errors import GoldenWriteError
@@ -72,7 +72,7 @@ def _write_golden(result: pipeline.CheckResult | system.system_pipeline.SystemCh
 
 def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     if args.update:
-        refusal = golden.ci_refusal()
+        refusal = golden_record.ci_refusal()
         if refusal:
             raise UsageError(refusal.replace("--update-golden", "--update").replace(
                 "run `pytest --update` on", "run `rmw-introspect check --update` on"))

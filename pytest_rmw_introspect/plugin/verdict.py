@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from ..check import golden as golden_module
+from ..check import golden_record
 from ..check.outcome import Checked, Verdict, decide
 from ..errors import GoldenWriteError
 from .session import SessionState
@@ -39,7 +39,7 @@ def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> No
         except GoldenWriteError as exc:
             pytest.fail(str(exc), pytrace=False)
         if action is not None:
-            item.user_properties.append((golden_module.USER_PROPERTY, golden_module.property_value(action, result.path)))
+            item.user_properties.append((golden_record.USER_PROPERTY, golden_record.property_value(action, result.path)))
     elif outcome.failed:
         pytest.fail(outcome.message, pytrace=False)
     elif outcome.verdict is Verdict.WARN:

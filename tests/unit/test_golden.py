@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect.check import golden
+from pytest_rmw_introspect.check import golden, golden_record
 from pytest_rmw_introspect.model import contract
 
 NODES = {"/talker": {"publishers": [{"name": "/chatter", "type": "std_msgs/msg/String",
@@ -21,7 +21,7 @@ NODES = {"/talker": {"publishers": [{"name": "/chatter", "type": "std_msgs/msg/S
 ])
 def test_ci_refusal(value, refused):
     env = {} if value is None else {"CI": value}
-    reason = golden.ci_refusal(env)
+    reason = golden_record.ci_refusal(env)
     assert (reason is not None) == refused
     if refused:
         assert "--update-golden refuses to write" in reason and repr(value) in reason
@@ -74,12 +74,12 @@ def test_concurrent_writers_write_a_golden_once(tmp_path):
 
 
 def test_session_collects_reports_and_lists_files(tmp_path):
-    session = golden.GoldenSession(enabled=True)
+    session = golden_record.GoldenSession(enabled=True)
     a, b = tmp_path / "a.yaml", tmp_path / "sub" / "b.yaml"
-    session.record_report([("other", "x"), (golden.USER_PROPERTY, golden.property_value(golden.CREATED, a))])
-    session.record_report([(golden.USER_PROPERTY, golden.property_value(golden.UPDATED, a))])
-    session.record_report([(golden.USER_PROPERTY, golden.property_value(golden.UPDATED, b)),
-                           (golden.USER_PROPERTY, "garbage")])
+    session.record_report([("other", "x"), (golden_record.USER_PROPERTY, golden_record.property_value(golden.CREATED, a))])
+    session.record_report([(golden_record.USER_PROPERTY, golden_record.property_value(golden.UPDATED, a))])
+    session.record_report([(golden_record.USER_PROPERTY, golden_record.property_value(golden.UPDATED, b)),
+                           (golden_record.USER_PROPERTY, "garbage")])
     assert session.written == {a.resolve(): golden.CREATED, b.resolve(): golden.UPDATED}
     assert session.summary_lines(tmp_path) == ["created  a.yaml", "updated  sub/b.yaml"]
 

@@ -1,6 +1,9 @@
-"""pytest entry point of pytest-rmw-introspect (``pytest11``): the hooks, and the fixtures
-they register. Everything else lives in the modules next to it:
+"""pytest entry point of pytest-rmw-introspect (``pytest11``): the options, the session's
+state and its summary. Everything else lives in the modules next to it:
 
+* ``hooks``: the hooks that collect and run tests, and the fixtures; registered here in every
+  process that runs tests (not in a pytest-xdist controller, which only distributes them: it
+  starts its workers sooner without the pipelines' imports);
 * ``session``: command-line and ini options, the session's option layers, goldens written;
 * ``marker``: the ``interfaces`` marker (contract, target and options of a test);
 * ``fixtures``: ``interfaces``, ``rmw_capture``, ``rmw_introspect_ros``, ``rmw_introspect_library``;
@@ -26,29 +29,11 @@ and in the ini file).
 
 from __future__ import annotations
 
-import os
-from collections.abc import Generator
-from pathlib import Path
-from typing import Any
-
 import pytest
 
-from ..errors import RmwIntrospectError, SetupError
-from ..run import runner, warm
-from . import items, lookahead, marker, session, system_marker
-from . import session as session_module
-from .fixtures import interfaces, rmw_capture, rmw_introspect_library, rmw_introspect_marker_check, rmw_introspect_ros
-from .system_marker import rmw_introspect_system_marker_check, system_capture
+from . import session
 
-__all__ = [
-    "interfaces",
-    "rmw_capture",
-    "rmw_introspect_library",
-    "rmw_introspect_ros",
-    "rmw_introspect_marker_check",
-    "rmw_introspect_system_marker_check",
-    "system_capture",
-]
+HOOKS_PLUGIN = "rmw-introspect-hooks"
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -56,16 +41,22 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    config.addinivalue_line("markers", marker.MARKER_DOC)
-    config.addinivalue_line("markers", system_marker.MARKER_DOC)
     session_state = session.configure(config)
     config.stash[session.SESSION] = session_state
     config.pluginmanager.register(session.GoldenReporter(session_state), "rmw-introspect-golden-reporter")
-    workerinput = getattr(config, "workerinput", None)
-    if workerinput is not None:
-        # pytest-xdist workers of one run share their warm start servers (the parent is the
-        # controller: a run that reuses --testrunuid still gets servers of its own)
-        warm.POOL.share_within(f"{workerinput.get('testrunuid', '')}-{os.getppid()}")
+    if not _xdist_controller(config):
+        from . import hooks  # the pipelines (~80 ms): only where tests run
+
+        config.pluginmanager.register(hooks, HOOKS_PLUGIN)
+
+
+def _xdist_controller(config: pytest.Config) -> bool:
+    """pytest-xdist's controller process: it starts the workers and shows their reports, and
+    never collects or runs a test itself (xdist's own rule for starting its ``DSession``).
+    ``--markers`` and ``--fixtures`` list ours there too."""
+    listing = any(config.getoption(name, False) for name in ("markers", "showfixtures", "show_fixtures_per_test"))
+    return (getattr(config.option, "dist", "no") != "no" and not config.getoption("collectonly", False)
+            and not hasattr(config, "workerinput") and not listing)
 
 
 def pytest_report_header(config: pytest.Config) -> list[str] | None:
@@ -75,74 +66,6 @@ def pytest_report_header(config: pytest.Config) -> list[str] | None:
     return None
 
 
-@pytest.hookimpl(wrapper=True)
-def pytest_runtest_call(item: pytest.Item) -> Generator[None, Any, Any]:
-    st = item.stash.get(marker.ITEM, None)
-    if st is not None and st.error is not None:
-        pytest.fail(str(st.error), pytrace=False)
-    system_st = item.stash.get(system_marker.ITEM, None)
-    if system_st is not None and system_st.error is not None:
-        pytest.fail(str(system_st.error), pytrace=False)
-    try:
-        result = yield
-    except RmwIntrospectError as exc:
-        # raised in the test body (e.g. by rmw_capture): a failure with the message, no traceback
-        pytest.fail(str(exc), pytrace=False)
-    if st is not None and st.capture is not None:
-        marker.check(item, st, session.state(item.config))
-    if system_st is not None and system_st.capture is not None:
-        system_marker.check(item, system_st, session.state(item.config))
-    return result
-
-
-@pytest.hookimpl(tryfirst=True)
-def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> None:
-    """The captures of the next contract items (``capture_ahead`` of them) start now, beside this
-    item: a session or xdist worker keeps several captures going, whose waiting overlaps."""
-    if nextitem is None or item.config.option.collectonly:
-        return
-    session_state = item.config.stash.get(session_module.SESSION, None)
-    if session_state is None or session_state.capture_ahead <= 0:
-        return
-    for upcoming in lookahead.upcoming(item, nextitem, session_state.capture_ahead):
-        if isinstance(upcoming, items.ContractItem):
-            upcoming.capture_ahead()
-
-
-def pytest_collection_finish(session: pytest.Session) -> None:
-    """When this session (or xdist worker) will capture targets, start the warm start server now,
-    in the background: it imports rclpy while the first tests are set up."""
-    config = session.config
-    if config.option.collectonly or not any(
-        isinstance(item, items.ContractItem) or item.get_closest_marker(marker.MARKER) is not None
-        for item in session.items
-    ):
-        return
-    session_state = config.stash.get(session_module.SESSION, None)
-    if session_state is None:
-        return
-    try:
-        spec = session_state.layers().target()
-        if spec.cold_start:
-            return
-        runner.warm_up(spec, library=session_state.library(), ros=session_state.ros())
-    except (SetupError, RmwIntrospectError):
-        pass  # the tests themselves report it
-
-
-def pytest_unconfigure(config: pytest.Config) -> None:
-    warm.shutdown()
-
-
-def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.File | None:
-    """Contract files (``rmw_introspect_contracts``) are test items of their own (``items``;
-    system contracts: ``system_marker``)."""
-    if items.matches(file_path, parent.config, items.patterns(parent.config)):
-        if system_marker.is_system_file(file_path):
-            return system_marker.SystemContractFile.from_parent(parent, path=file_path)
-        return items.ContractFile.from_parent(parent, path=file_path)
-    return None
-
-
 def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter, exitstatus: int, config: pytest.Config) -> None:
     session.terminal_summary(terminalreporter, config)
+

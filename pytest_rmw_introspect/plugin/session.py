@@ -6,12 +6,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from ..check import golden as golden_module
-from ..check.pipeline import Layers, OptionLayer, TargetLayer
+from ..check import golden_record
 from ..compare.options import OptionError, parse_layer
 from ..errors import SetupError, TargetConfigError
 from ..model.paths import shown
@@ -19,6 +18,9 @@ from ..model.vocabulary import FAIL_ON, LIFECYCLE_TARGETS
 from ..run import middleware, ros_env
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
+
+if TYPE_CHECKING:
+    from ..check.pipeline import Layers, OptionLayer, TargetLayer
 
 #: target options that have a command-line option and an ini value (seconds, then the others)
 SECONDS_TARGET_KEYS = ("timeout", "settle", "horizon")
@@ -36,7 +38,7 @@ class SessionState:
     ini_options: dict[str, Any]
     cli_target: dict[str, Any]
     ini_target: dict[str, Any]
-    golden: golden_module.GoldenSession
+    golden: golden_record.GoldenSession
     invocation_dir: Path
     rootdir: Path
     #: how many contract items ahead of the running one have their capture started already
@@ -79,6 +81,8 @@ class SessionState:
     def layers(self, *, strong_target: list[TargetLayer] | None = None,
                strong_options: list[OptionLayer] | None = None) -> Layers:
         """This session's layers, with a test's own (marker, fixture arguments) on top."""
+        from ..check.pipeline import Layers  # the pipeline: not in an xdist controller, which runs no test
+
         return Layers(weak_target=self.target_layers(), strong_target=strong_target or [],
                       weak_options=self.option_layers(), strong_options=strong_options or [])
 
@@ -268,7 +272,7 @@ def configure(config: pytest.Config) -> SessionState:
     """Read and validate this session's options (a bad value is a ``pytest.UsageError``)."""
     update = bool(config.getoption("update_golden", False))
     if update:
-        refusal = golden_module.ci_refusal()
+        refusal = golden_record.ci_refusal()
         if refusal:
             raise pytest.UsageError(refusal)
 
@@ -315,7 +319,7 @@ def configure(config: pytest.Config) -> SessionState:
         ini_options=ini_options,
         cli_target={k: v for k, v in cli_target.items() if v is not None},
         ini_target={k: v for k, v in ini_target.items() if v is not None},
-        golden=golden_module.GoldenSession(enabled=update),
+        golden=golden_record.GoldenSession(enabled=update),
         invocation_dir=Path(config.invocation_params.dir),
         rootdir=Path(config.rootpath),
         capture_ahead=_capture_ahead(config, cold_session=bool(ini_target.get("cold_start") or cli_target.get("cold_start"))),

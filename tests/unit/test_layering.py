@@ -59,6 +59,10 @@ LOCAL_IMPORTS = {
     ("cli.formats", "pytest_rmw_introspect.check"): "the contract writer (~25 ms with PyYAML): `capture` "
                                                     "starts without it, it prints with it",
     ("run.middleware", "filelock"): "filelock (+ logging) costs ~15 ms; only building the middleware needs it",
+    ("plugin", "pytest_rmw_introspect.plugin"): "the hooks that run tests import the pipelines (~80 ms); a "
+                                                "pytest-xdist controller runs no test and starts its workers sooner",
+    ("plugin.session", "pytest_rmw_introspect.check.pipeline"): "the pipeline (~80 ms): an xdist controller "
+                                                                "reads the options but runs no test",
     ("run.warm", "pytest_rmw_introspect.run.warm_server"): "the server's own module (ctypes, runpy, selectors, "
                                                           "~5 ms); only runners sharing servers (xdist workers) "
                                                           "check a peer's uid with it",
@@ -253,3 +257,22 @@ def test_the_capture_command_starts_without_the_pipeline_and_yaml():
     loaded = set(result.stdout.split())
     assert "pytest_rmw_introspect.run.runner" in loaded  # the probe did import the command
     assert sorted(loaded & set(NOT_FOR_CAPTURE)) == []
+
+
+#: what the pytest entry point (all a pytest-xdist controller imports of the plugin) must load
+#: without: the pipelines that run tests (README, "Measured performance")
+NOT_FOR_THE_CONTROLLER = ("yaml", "deepdiff", "jsonschema", "numpy", "pytest_rmw_introspect.check.pipeline",
+                          "pytest_rmw_introspect.check.system_pipeline", "pytest_rmw_introspect.check.golden",
+                          "pytest_rmw_introspect.run.runner", "pytest_rmw_introspect.model.capture",
+                          "pytest_rmw_introspect.plugin.hooks")
+
+
+def test_the_pytest_entry_point_loads_no_pipeline():
+    probe = ("import sys\n"
+             "import pytest_rmw_introspect.plugin\n"
+             "import pytest_rmw_introspect.plugin.session\n"
+             "print('\\n'.join(sorted(sys.modules)))\n")
+    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    loaded = set(result.stdout.split())
+    assert "pytest_rmw_introspect.check.golden_record" in loaded  # the probe did import the session
+    assert sorted(loaded & set(NOT_FOR_THE_CONTROLLER)) == []

@@ -1,0 +1,112 @@
+"""The hooks and fixtures of pytest-rmw-introspect that run tests: contract files collected as
+items, the ``interfaces`` and ``system_capture`` markers checked after the test body, the next
+contract items capturing ahead, the warm start server started after collection and ended with
+the session, and the fixtures. Registered by the entry point (``plugin/__init__``) in
+``pytest_configure`` in every process that runs tests: not in a pytest-xdist controller, which
+only distributes them (so it starts its workers without importing the pipelines)."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Generator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from ..errors import RmwIntrospectError, SetupError
+from ..run import runner, warm
+from . import items, lookahead, marker, session, system_marker
+from . import session as session_module
+from .fixtures import interfaces, rmw_capture, rmw_introspect_library, rmw_introspect_marker_check, rmw_introspect_ros
+from .system_marker import rmw_introspect_system_marker_check, system_capture
+
+__all__ = [
+    "interfaces",
+    "rmw_capture",
+    "rmw_introspect_library",
+    "rmw_introspect_ros",
+    "rmw_introspect_marker_check",
+    "rmw_introspect_system_marker_check",
+    "system_capture",
+]
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Called when the entry point registers this module (``pytest_configure`` is historic)."""
+    config.addinivalue_line("markers", marker.MARKER_DOC)
+    config.addinivalue_line("markers", system_marker.MARKER_DOC)
+    workerinput = getattr(config, "workerinput", None)
+    if workerinput is not None:
+        # pytest-xdist workers of one run share their warm start servers (the parent is the
+        # controller: a run that reuses --testrunuid still gets servers of its own)
+        warm.POOL.share_within(f"{workerinput.get('testrunuid', '')}-{os.getppid()}")
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_call(item: pytest.Item) -> Generator[None, Any, Any]:
+    st = item.stash.get(marker.ITEM, None)
+    if st is not None and st.error is not None:
+        pytest.fail(str(st.error), pytrace=False)
+    system_st = item.stash.get(system_marker.ITEM, None)
+    if system_st is not None and system_st.error is not None:
+        pytest.fail(str(system_st.error), pytrace=False)
+    try:
+        result = yield
+    except RmwIntrospectError as exc:
+        # raised in the test body (e.g. by rmw_capture): a failure with the message, no traceback
+        pytest.fail(str(exc), pytrace=False)
+    if st is not None and st.capture is not None:
+        marker.check(item, st, session.state(item.config))
+    if system_st is not None and system_st.capture is not None:
+        system_marker.check(item, system_st, session.state(item.config))
+    return result
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> None:
+    """The captures of the next contract items (``capture_ahead`` of them) start now, beside this
+    item: a session or xdist worker keeps several captures going, whose waiting overlaps."""
+    if nextitem is None or item.config.option.collectonly:
+        return
+    session_state = item.config.stash.get(session_module.SESSION, None)
+    if session_state is None or session_state.capture_ahead <= 0:
+        return
+    for upcoming in lookahead.upcoming(item, nextitem, session_state.capture_ahead):
+        if isinstance(upcoming, items.ContractItem):
+            upcoming.capture_ahead()
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    """When this session (or xdist worker) will capture targets, start the warm start server now,
+    in the background: it imports rclpy while the first tests are set up."""
+    config = session.config
+    if config.option.collectonly or not any(
+        isinstance(item, items.ContractItem) or item.get_closest_marker(marker.MARKER) is not None
+        for item in session.items
+    ):
+        return
+    session_state = config.stash.get(session_module.SESSION, None)
+    if session_state is None:
+        return
+    try:
+        spec = session_state.layers().target()
+        if spec.cold_start:
+            return
+        runner.warm_up(spec, library=session_state.library(), ros=session_state.ros())
+    except (SetupError, RmwIntrospectError):
+        pass  # the tests themselves report it
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    warm.shutdown()
+
+
+def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.File | None:
+    """Contract files (``rmw_introspect_contracts``) are test items of their own (``items``;
+    system contracts: ``system_marker``)."""
+    if items.matches(file_path, parent.config, items.patterns(parent.config)):
+        if system_marker.is_system_file(file_path):
+            return system_marker.SystemContractFile.from_parent(parent, path=file_path)
+        return items.ContractFile.from_parent(parent, path=file_path)
+    return None

@@ -7,17 +7,21 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <fstream>
 #include <iterator>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "rmw/qos_profiles.h"
 
 #include "detail/capture_writer.hpp"
+#include "detail/json_writer.hpp"
 #include "detail/recorder.hpp"
+#include "reference_capture_writer.hpp"
 
 using rmw_introspect::CaptureHeader;
 using rmw_introspect::RecorderSnapshot;
@@ -674,4 +678,341 @@ TEST(CaptureWriter, ended_only_in_end_captures_with_teardown_marks)
   h.has_ended = false;
   EXPECT_EQ(
     std::string::npos, rmw_introspect::render_capture_json(h, recorder.snapshot()).find("ended"));
+}
+
+namespace
+{
+using rmw_introspect::FieldArray;
+using rmw_introspect::TypeDescription;
+using rmw_introspect::TypeDescriptions;
+
+// Every kind of byte a string can hold: quotes, backslash, control characters, DEL, valid
+// and invalid UTF-8 (truncated, overlong, surrogate lead, past U+10FFFF, stray continuation).
+const std::string kOdd = std::string(
+  "q\"b\\n\nt\tr\r\x01\x1f\x7f \xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80 "
+  "\xc3 \xc0\xaf \xe2\x82 \xf5\x80\x80\x80 \x80 \xff") + std::string(1, '\0') + "end";
+
+std::shared_ptr<const TypeDescriptions> path_types(const std::string & constant_value)
+{
+  TypeDescription point;
+  point.name = "pkg/msg/Point";
+  point.fields = {
+    {"x", "float64", FieldArray::None, 0, 0}, {"y", "float64", FieldArray::None, 0, 0}};
+  point.constants_known = true;
+  TypeDescription path;
+  path.name = "pkg/msg/Path";
+  path.fields = {
+    {"points", "pkg/msg/Point", FieldArray::Bounded, 100, 0},
+    {"names", "string", FieldArray::Fixed, 2, 8},
+    {"tags", "wstring", FieldArray::Unbounded, 0, 0},
+    {"label", "string", FieldArray::None, 0, 16}};
+  path.constants_known = true;
+  path.constants = {{"MAX", "uint8", constant_value}, {"ODD", "string", kOdd}};
+  TypeDescription empty;
+  empty.name = "pkg/msg/Empty";
+  empty.constants_known = false;
+  return std::make_shared<const TypeDescriptions>(TypeDescriptions{path, point, empty});
+}
+
+std::shared_ptr<const TypeDescriptions> service_types()
+{
+  TypeDescription service;
+  service.name = "pkg/srv/Plan";
+  service.is_service = true;
+  service.constants_known = true;
+  service.request = "pkg/srv/Plan_Request";
+  service.response = "pkg/srv/Plan_Response";
+  TypeDescription request;
+  request.name = "pkg/srv/Plan_Request";
+  request.fields = {{"goal", "pkg/msg/Point", FieldArray::None, 0, 0}};
+  TypeDescription response;
+  response.name = "pkg/srv/Plan_Response";
+  response.fields = {{"path", "pkg/msg/Path", FieldArray::None, 0, 0}};
+  response.constants_known = true;
+  TypeDescription point;  // nested, listed again (the first listing wins)
+  point.name = "pkg/msg/Point";
+  point.fields = {{"different", "int8", FieldArray::None, 0, 0}};
+  return std::make_shared<const TypeDescriptions>(
+    TypeDescriptions{service, request, response, point});
+}
+
+rmw_introspect::NodeProbe full_probe()
+{
+  using rmw_introspect::ParameterRecord;
+  rmw_introspect::NodeProbe probe;
+  probe.has_parameters = true;
+  probe.parameters_error = kOdd;
+  const uint8_t kinds[] = {
+    rmw_introspect::kParameterNotSet, rmw_introspect::kParameterBool,
+    rmw_introspect::kParameterInteger, rmw_introspect::kParameterDouble,
+    rmw_introspect::kParameterString, rmw_introspect::kParameterByteArray,
+    rmw_introspect::kParameterBoolArray, rmw_introspect::kParameterIntegerArray,
+    rmw_introspect::kParameterDoubleArray, rmw_introspect::kParameterStringArray, 42};
+  for (uint8_t kind : kinds) {
+    ParameterRecord p;
+    p.name = "p" + std::to_string(kind);
+    p.descriptor_type = kind;
+    p.value.type = kind;
+    p.value.bool_value = true;
+    p.value.integer_value = std::numeric_limits<int64_t>::min();
+    p.value.double_value = -0.0;
+    p.value.string_value = kOdd;
+    p.value.byte_array_value = {0, 127, 255};
+    p.value.bool_array_value = {true, false};
+    p.value.integer_array_value = {std::numeric_limits<int64_t>::max(), -1, 0};
+    p.value.double_array_value = {
+      0.1, 1.0 / 3.0, 1e300, 5e-324, -2.5, 100.0, 1e21, 123456789012345678.0,
+      std::numeric_limits<double>::quiet_NaN(), HUGE_VAL, -HUGE_VAL};
+    p.value.string_array_value = {"", kOdd, "plain"};
+    p.description = kOdd;
+    p.read_only = kind % 2 == 0;
+    p.dynamic_typing = kind % 3 == 0;
+    p.has_integer_range = kind % 2 == 1;
+    p.integer_range = {-7, 7, 3};
+    p.has_floating_point_range = kind % 2 == 0;
+    p.floating_point_range = {-0.5, 0.1 + 0.2, std::numeric_limits<double>::infinity()};
+    p.declared_in = kind == 3 ? "configure" : "";
+    probe.parameters.push_back(p);
+  }
+  ParameterRecord empty_arrays;
+  empty_arrays.name = "empty";
+  empty_arrays.value.type = rmw_introspect::kParameterStringArray;
+  probe.parameters.push_back(empty_arrays);
+  probe.has_lifecycle = true;
+  probe.lifecycle.target = "active";
+  probe.lifecycle.initial_state = "unconfigured";
+  using Result = rmw_introspect::LifecycleTransitionRecord::Result;
+  const Result results[] = {
+    Result::kSuccess, Result::kFailure, Result::kNoAnswer, Result::kPending};
+  uint8_t id = 1;
+  for (Result result : results) {
+    rmw_introspect::LifecycleTransitionRecord t;
+    t.id = id++;
+    t.label = "t" + std::to_string(t.id);
+    t.result = result;
+    probe.lifecycle.transitions.push_back(t);
+  }
+  probe.lifecycle.error = kOdd;
+  return probe;
+}
+
+// A capture with every kind of field the document has.
+struct FullCapture
+{
+  CaptureHeader header;
+  rmw_introspect::Recorder recorder;
+  uint64_t node = 0;
+};
+
+void fill(FullCapture & c)
+{
+  CaptureHeader & h = c.header;
+  h = header();
+  h.argv = {kOdd, "", "--ros-args"};
+  h.state = "exit";
+  h.has_time_to_settle = false;
+  h.settled_by.clear();
+  h.elapsed_ms = 1e12 + 0.0005;
+  h.virtual_elapsed_ms = -0.0;
+  h.real_elapsed_ms = 2.0005;
+  h.horizon_ms = std::numeric_limits<int64_t>::max();
+  h.activity_calls = std::numeric_limits<uint64_t>::max() / 2;
+  h.horizon_reached = true;
+  h.warp_budget_exhausted = true;
+  h.probe_state = "done";
+  h.probe_parameters = true;
+  h.probe_lifecycle = "active";
+  h.answer_timeout_ms = -1;
+  h.has_ended = true;
+  h.ended_before_settle = false;
+  rmw_introspect::StimulusRecord stimulus;
+  stimulus.name = kOdd;
+  stimulus.state = rmw_introspect::StimulusRecord::State::kDone;
+  rmw_introspect::StimulusTargetRecord target;
+  target.kind = rmw_introspect::EndpointKind::Service;
+  target.node = "/n";
+  target.type = "pkg/srv/Plan";
+  target.result = rmw_introspect::StimulusTargetRecord::Result::kFailed;
+  target.error = kOdd;
+  stimulus.targets = {target, target};
+  rmw_introspect::StimulusRecord skipped;
+  skipped.name = "/skipped";
+  skipped.state = rmw_introspect::StimulusRecord::State::kSkipped;
+  h.stimuli = {stimulus, skipped};
+
+  c.node = c.recorder.add_node("n", "/ns", kOdd.c_str(), {1.0005, -3.25});
+  c.recorder.set_node_probe(c.node, full_probe());
+  const uint64_t bare = c.recorder.add_node("bare", "/", "/");
+  rmw_introspect::NodeProbe no_parameters;
+  no_parameters.has_parameters = true;
+  c.recorder.set_node_probe(c.recorder.add_node("empty_probe", "/", "/"), no_parameters);
+  rmw_introspect::EndpointRecord e;
+  e.node_id = c.node;
+  e.kind = rmw_introspect::EndpointKind::Publisher;
+  e.name = "/path";
+  e.type = "pkg/msg/Path";
+  e.type_hash = "RIHS01_00";
+  e.typesupport = "rosidl_typesupport_cpp";
+  e.types = path_types("100");
+  e.qos = rmw_qos_profile_sensor_data;
+  e.qos.deadline = {1, 5};
+  e.qos.lifespan = RMW_DURATION_INFINITE;
+  e.qos.avoid_ros_namespace_conventions = true;
+  e.created = {0.0005, 1e9};
+  c.recorder.add_endpoint(e);
+  e.kind = rmw_introspect::EndpointKind::Service;
+  e.name = kOdd;
+  e.type = "pkg/srv/Plan";
+  e.type_hash.clear();
+  e.types = service_types();
+  e.qos = rmw_qos_profile_services_default;
+  c.recorder.add_endpoint(e);
+  e.kind = rmw_introspect::EndpointKind::Client;
+  e.types = nullptr;
+  c.recorder.set_cause("stimulus:" + kOdd);
+  const uint64_t client = c.recorder.add_endpoint(e);
+  c.recorder.set_cause("");
+  e.node_id = bare;
+  e.kind = rmw_introspect::EndpointKind::Subscription;
+  e.name = "/shared";
+  e.types = path_types("100");  // the same types again, another list
+  c.recorder.add_endpoint(e);
+  c.recorder.destroy_endpoint(client);
+  c.recorder.destroy_node(bare, true);
+}
+}  // namespace
+
+TEST(CaptureWriter, json_and_yaml_equal_the_reference_renderer_for_every_field)
+{
+  FullCapture c;
+  fill(c);
+  for (bool teardown : {false, true}) {
+    const RecorderSnapshot snapshot = c.recorder.snapshot(teardown);
+    const std::string json = rmw_introspect::render_capture_json(c.header, snapshot);
+    EXPECT_EQ(rmwi_reference::render_capture_json(c.header, snapshot), json);
+    EXPECT_EQ(
+      rmwi_reference::render_capture_yaml(c.header, snapshot),
+      rmw_introspect::render_capture_yaml(c.header, snapshot));
+    // It has what the test means it to have.
+    EXPECT_NE(std::string::npos, json.find("\\u0001\\u001f\\u007f")) << json;
+    EXPECT_NE(std::string::npos, json.find("\\ufffd \\ufffd\\ufffd")) << json;
+    EXPECT_NE(std::string::npos, json.find("end\"")) << json;
+    EXPECT_NE(std::string::npos, json.find("\"value\": [],")) << json;
+    EXPECT_NE(std::string::npos, json.find("\"nan\", \"inf\", \"-inf\"]")) << json;
+    EXPECT_NE(std::string::npos, json.find("\"value\": -0.0,")) << json;
+    EXPECT_NE(std::string::npos, json.find("\"pkg/msg/Empty\": {\n      \"kind\": \"message\",\n"
+      "      \"fields\": []\n    },")) << json;
+    EXPECT_NE(std::string::npos, json.find("\"parameters\": [],")) << json;
+  }
+  CaptureHeader running = c.header;
+  running.state = "running";
+  running.has_ended = false;
+  running.has_time_to_settle = true;
+  running.settled_by = "activity";
+  running.stimuli.clear();
+  running.argv.clear();
+  const RecorderSnapshot snapshot = c.recorder.snapshot();
+  EXPECT_EQ(
+    rmwi_reference::render_capture_json(running, snapshot),
+    rmw_introspect::render_capture_json(running, snapshot));
+  EXPECT_EQ(
+    rmwi_reference::render_capture_yaml(running, snapshot),
+    rmw_introspect::render_capture(rmw_introspect::CaptureFormat::Yaml, running, snapshot));
+  EXPECT_EQ(
+    rmwi_reference::render_capture_json(running, RecorderSnapshot{}),
+    rmw_introspect::render_capture(
+      rmw_introspect::CaptureFormat::Json, running, RecorderSnapshot{}));
+  EXPECT_EQ(
+    rmwi_reference::render_capture_yaml(running, RecorderSnapshot{}),
+    rmw_introspect::render_capture_yaml(running, RecorderSnapshot{}));
+}
+
+TEST(CaptureWriter, strings_and_doubles_are_written_as_the_reference_writes_them)
+{
+  // Every byte after plain text, and every pair of bytes (escapes, UTF-8 leads and tails).
+  std::vector<std::string> inputs = {"", "plain"};
+  for (int a = 0; a < 256; ++a) {
+    inputs.push_back("ab" + std::string(1, static_cast<char>(a)));
+    for (int b = 0; b < 256; ++b) {
+      inputs.push_back(std::string{static_cast<char>(a), static_cast<char>(b)});
+    }
+  }
+  inputs.push_back("\xf0\x9f\x98\x80x\xf0\x9f\x98");
+  inputs.push_back("\xe2\x82\xac\xe2\x82\xac\xe2");
+  for (const auto & in : inputs) {
+    std::string out = "prefix";
+    rmw_introspect::append_json_string(out, in);
+    ASSERT_EQ("prefix" + rmwi_reference::quote_string(in), out) << in;
+  }
+  const double doubles[] = {
+    0.0, -0.0, 1.0, -1.0, 0.1, 0.2, 0.1 + 0.2, 1.0 / 3.0, 2.0 / 3.0, 1e15, 1e16, 1e17, 1e21,
+    1e22, 1e-5, 1e-7, 123.456, 5e-324, 2.2250738585072014e-308,
+    std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
+    9007199254740993.0, 4.35, 0.3, std::numeric_limits<double>::quiet_NaN(), HUGE_VAL,
+    -HUGE_VAL};
+  for (double d : doubles) {
+    std::string out;
+    rmw_introspect::append_exact_double(out, d);
+    EXPECT_EQ(rmwi_reference::exact_double_text(d), out) << d;
+  }
+}
+
+TEST(CaptureWriter, a_renderer_gives_the_same_text_each_time_and_renders_each_type_once)
+{
+  FullCapture c;
+  fill(c);
+  const RecorderSnapshot snapshot = c.recorder.snapshot();
+  const std::string expected = rmwi_reference::render_capture_json(c.header, snapshot);
+  rmw_introspect::CaptureRenderer renderer;
+  EXPECT_EQ(expected, renderer.render_json(c.header, snapshot));
+  const uint64_t renders = renderer.type_cache().renders();
+  EXPECT_EQ(3u + 4u + 3u, renders);  // per list: path, service, path again
+  EXPECT_EQ(expected, renderer.render_json(c.header, snapshot));
+  EXPECT_EQ(expected, renderer.render_json(c.header, c.recorder.snapshot()));  // a new snapshot
+  EXPECT_EQ(renders, renderer.type_cache().renders());
+  // The YAML output does not go through the cache and stays as it was.
+  EXPECT_EQ(
+    rmwi_reference::render_capture_yaml(c.header, snapshot),
+    renderer.render(rmw_introspect::CaptureFormat::Yaml, c.header, snapshot));
+  EXPECT_EQ(expected, renderer.render(rmw_introspect::CaptureFormat::Json, c.header, snapshot));
+}
+
+TEST(CaptureWriter, a_type_added_between_writes_shows_up)
+{
+  rmw_introspect::Recorder recorder;
+  const uint64_t n = recorder.add_node("n", "/", "/");
+  rmw_introspect::EndpointRecord e;
+  e.node_id = n;
+  e.name = "/plan";
+  e.kind = rmw_introspect::EndpointKind::Service;
+  e.type = "pkg/srv/Plan";
+  e.types = service_types();
+  recorder.add_endpoint(e);
+  rmw_introspect::CaptureRenderer renderer;
+  const CaptureHeader h = header();
+  const std::string first = renderer.render_json(h, recorder.snapshot());
+  EXPECT_EQ(rmwi_reference::render_capture_json(h, recorder.snapshot()), first);
+  EXPECT_EQ(std::string::npos, first.find("\"pkg/msg/Path\": {"));
+  EXPECT_NE(std::string::npos, first.find("\"different\""));  // the service's Point
+  // A new endpoint with new types: they show up; Point stays the first listed one.
+  e.kind = rmw_introspect::EndpointKind::Publisher;
+  e.name = "/path";
+  e.type = "pkg/msg/Path";
+  e.types = path_types("7");
+  recorder.add_endpoint(e);
+  const std::string second = renderer.render_json(h, recorder.snapshot());
+  EXPECT_EQ(rmwi_reference::render_capture_json(h, recorder.snapshot()), second);
+  EXPECT_NE(std::string::npos, second.find("\"pkg/msg/Path\": {"));
+  EXPECT_NE(std::string::npos, second.find("\"value\": \"7\""));
+  EXPECT_NE(std::string::npos, second.find("\"different\""));
+  EXPECT_EQ(4u + 3u, renderer.type_cache().renders());
+  // A snapshot made of other lists (same names, other contents) shows those.
+  RecorderSnapshot other = recorder.snapshot();
+  other.endpoints.erase(other.endpoints.begin());
+  other.endpoints[0].types = path_types("8");
+  const std::string third = renderer.render_json(h, other);
+  EXPECT_EQ(rmwi_reference::render_capture_json(h, other), third);
+  EXPECT_NE(std::string::npos, third.find("\"value\": \"8\""));
+  EXPECT_EQ(std::string::npos, third.find("\"value\": \"7\""));
+  EXPECT_EQ(std::string::npos, third.find("\"different\""));
 }

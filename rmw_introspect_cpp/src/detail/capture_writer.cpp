@@ -4,20 +4,20 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cassert>
 #include <cerrno>
-#include <cinttypes>
-#include <cmath>
-#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
+#include "detail/json_writer.hpp"
 #include "detail/qos.hpp"
 
 namespace rmw_introspect
@@ -26,137 +26,80 @@ namespace rmw_introspect
 namespace
 {
 
-// A minimal ordered document tree, emitted as JSON or YAML.
+// The document is described once (write_document, a template over its writer) and written
+// either straight as JSON (JsonWriter) or as a tree (ValueBuilder) that emit_yaml_* prints.
+
+// A minimal ordered document tree, for the YAML output.
 struct Value
 {
   enum class Kind { Null, Bool, Int, Double, Real, String, Array, Object };
   Kind kind = Kind::Null;
   bool b = false;
   int64_t i = 0;
-  double d = 0.0;
+  double d = 0.0;  // Double: %.3f; Real: append_exact_double
   std::string s;
   std::vector<Value> items;                           // Array
   std::vector<std::pair<std::string, Value>> fields;  // Object
-
-  static Value null() {return Value();}
-  static Value boolean(bool v) {Value x; x.kind = Kind::Bool; x.b = v; return x;}
-  static Value integer(int64_t v) {Value x; x.kind = Kind::Int; x.i = v; return x;}
-  static Value number(double v) {Value x; x.kind = Kind::Double; x.d = v; return x;}
-  /// A double written exactly (shortest round trip; a JSON number with a '.' or an exponent;
-  /// NaN and infinities as the strings "nan", "inf", "-inf").
-  static Value real(double v) {Value x; x.kind = Kind::Real; x.d = v; return x;}
-  static Value string(std::string v) {Value x; x.kind = Kind::String; x.s = std::move(v); return x;}
-  static Value array() {Value x; x.kind = Kind::Array; return x;}
-  static Value object() {Value x; x.kind = Kind::Object; return x;}
-  Value & add(std::string key, Value v)
-  {
-    fields.emplace_back(std::move(key), std::move(v));
-    return *this;
-  }
-  Value & push(Value v)
-  {
-    items.push_back(std::move(v));
-    return *this;
-  }
 };
 
-// Quote a string for JSON (also a valid YAML double-quoted scalar). Invalid UTF-8 bytes
-// become U+FFFD so that the document always decodes.
-std::string quote(const std::string & in)
+// The JsonWriter interface, building a Value tree.
+class ValueBuilder
 {
-  std::string out;
-  out.reserve(in.size() + 2);
-  out.push_back('"');
-  const auto * p = reinterpret_cast<const unsigned char *>(in.data());
-  const size_t n = in.size();
-  for (size_t k = 0; k < n; ) {
-    const unsigned char c = p[k];
-    if (c == '"') {
-      out += "\\\"";
-      ++k;
-    } else if (c == '\\') {
-      out += "\\\\";
-      ++k;
-    } else if (c == '\n') {
-      out += "\\n";
-      ++k;
-    } else if (c == '\t') {
-      out += "\\t";
-      ++k;
-    } else if (c == '\r') {
-      out += "\\r";
-      ++k;
-    } else if (c < 0x20 || c == 0x7f) {
-      char buf[8];
-      snprintf(buf, sizeof(buf), "\\u%04x", c);
-      out += buf;
-      ++k;
-    } else if (c < 0x80) {
-      out.push_back(static_cast<char>(c));
-      ++k;
-    } else {
-      size_t len = 0;
-      if ((c & 0xE0) == 0xC0 && c >= 0xC2) {
-        len = 2;
-      } else if ((c & 0xF0) == 0xE0) {
-        len = 3;
-      } else if ((c & 0xF8) == 0xF0 && c <= 0xF4) {
-        len = 4;
-      }
-      bool ok = len != 0 && k + len <= n;
-      for (size_t j = 1; ok && j < len; ++j) {
-        ok = (p[k + j] & 0xC0) == 0x80;
-      }
-      if (ok) {
-        out.append(reinterpret_cast<const char *>(p + k), len);
-        k += len;
+public:
+  ValueBuilder & key(std::string_view name)
+  {
+    key_.assign(name.data(), name.size());
+    return *this;
+  }
+  void begin_object() {open(Value::Kind::Object);}
+  void end_object() {stack_.pop_back();}
+  void begin_array() {open(Value::Kind::Array);}
+  void begin_flat_array() {open(Value::Kind::Array);}
+  void end_array() {stack_.pop_back();}
+  void null() {add(Value::Kind::Null);}
+  void boolean(bool b) {add(Value::Kind::Bool)->b = b;}
+  void integer(int64_t i) {add(Value::Kind::Int)->i = i;}
+  void fixed(double d) {add(Value::Kind::Double)->d = d;}
+  void real(double d) {add(Value::Kind::Real)->d = d;}
+  void string(std::string_view s) {add(Value::Kind::String)->s.assign(s.data(), s.size());}
+
+  const Value & root() const {return root_;}
+
+private:
+  Value * add(Value::Kind kind)
+  {
+    Value * v = &root_;
+    if (!stack_.empty()) {
+      Value & top = *stack_.back();
+      if (top.kind == Value::Kind::Object) {
+        top.fields.emplace_back(key_, Value());
+        v = &top.fields.back().second;
       } else {
-        out += "\\ufffd";
-        ++k;
+        top.items.emplace_back();
+        v = &top.items.back();
       }
     }
+    v->kind = kind;
+    return v;
   }
-  out.push_back('"');
-  return out;
-}
+  // The open containers are the last element of their parent, which only grows once they close.
+  void open(Value::Kind kind) {stack_.push_back(add(kind));}
 
-std::string exact_double(double d)
-{
-  if (std::isnan(d)) {
-    return "\"nan\"";
-  }
-  if (std::isinf(d)) {
-    return d > 0 ? "\"inf\"" : "\"-inf\"";
-  }
-  char buf[64];
-  for (int precision = 15; precision <= 17; ++precision) {
-    snprintf(buf, sizeof(buf), "%.*g", precision, d);
-    if (std::strtod(buf, nullptr) == d) {
-      break;
-    }
-  }
-  std::string out(buf);
-  if (out.find_first_of(".e") == std::string::npos) {
-    out += ".0";  // stays a floating point number for the reader
-  }
-  return out;
-}
+  Value root_;
+  std::vector<Value *> stack_;
+  std::string key_;
+};
 
-std::string scalar(const Value & v)
+void append_scalar(std::string & out, const Value & v)
 {
-  char buf[64];
   switch (v.kind) {
-    case Value::Kind::Null: return "null";
-    case Value::Kind::Bool: return v.b ? "true" : "false";
-    case Value::Kind::Int:
-      snprintf(buf, sizeof(buf), "%" PRId64, v.i);
-      return buf;
-    case Value::Kind::Double:
-      snprintf(buf, sizeof(buf), "%.3f", v.d);
-      return buf;
-    case Value::Kind::Real: return exact_double(v.d);
-    case Value::Kind::String: return quote(v.s);
-    default: return "";
+    case Value::Kind::Null: out += "null"; break;
+    case Value::Kind::Bool: out += v.b ? "true" : "false"; break;
+    case Value::Kind::Int: append_integer(out, v.i); break;
+    case Value::Kind::Double: append_fixed_double(out, v.d); break;
+    case Value::Kind::Real: append_exact_double(out, v.d); break;
+    case Value::Kind::String: append_json_string(out, v.s); break;
+    default: break;
   }
 }
 
@@ -165,67 +108,30 @@ bool is_container(const Value & v)
   return v.kind == Value::Kind::Array || v.kind == Value::Kind::Object;
 }
 
-void emit_json(const Value & v, int indent, std::string & out)
-{
-  const std::string pad(static_cast<size_t>(indent + 2), ' ');
-  const std::string end_pad(static_cast<size_t>(indent), ' ');
-  if (v.kind == Value::Kind::Array) {
-    if (v.items.empty()) {
-      out += "[]";
-      return;
-    }
-    // Arrays of scalars stay on one line (argv).
-    bool flat = true;
-    for (const auto & item : v.items) {
-      flat = flat && !is_container(item);
-    }
-    out += flat ? "[" : "[\n";
-    for (size_t k = 0; k < v.items.size(); ++k) {
-      if (!flat) {out += pad;}
-      emit_json(v.items[k], indent + 2, out);
-      if (k + 1 < v.items.size()) {out += flat ? ", " : ",\n";}
-    }
-    out += flat ? "]" : "\n" + end_pad + "]";
-  } else if (v.kind == Value::Kind::Object) {
-    if (v.fields.empty()) {
-      out += "{}";
-      return;
-    }
-    out += "{\n";
-    for (size_t k = 0; k < v.fields.size(); ++k) {
-      out += pad + quote(v.fields[k].first) + ": ";
-      emit_json(v.fields[k].second, indent + 2, out);
-      if (k + 1 < v.fields.size()) {out += ",";}
-      out += "\n";
-    }
-    out += end_pad + "}";
-  } else {
-    out += scalar(v);
-  }
-}
-
 void emit_yaml_object(const Value & v, int indent, std::string & out);
 
 void emit_yaml_value_after_key(const Value & v, int indent, std::string & out)
 {
+  const size_t pad = static_cast<size_t>(indent);
   if (v.kind == Value::Kind::Array) {
     if (v.items.empty()) {
       out += " []\n";
       return;
     }
     out += "\n";
-    const std::string pad(static_cast<size_t>(indent), ' ');
     for (const auto & item : v.items) {
+      out.append(pad, ' ');
+      out += "- ";
       if (item.kind == Value::Kind::Object && !item.fields.empty()) {
-        out += pad + "- ";
         // first field on the dash line, others indented under it
-        std::string nested;
-        emit_yaml_object(item, indent + 2, nested);
-        out += nested.substr(static_cast<size_t>(indent + 2));
+        const size_t at = out.size();
+        emit_yaml_object(item, indent + 2, out);
+        out.erase(at, pad + 2);
       } else if (is_container(item)) {
-        out += pad + "- " + (item.kind == Value::Kind::Array ? "[]" : "{}") + "\n";
+        out += item.kind == Value::Kind::Array ? "[]\n" : "{}\n";
       } else {
-        out += pad + "- " + scalar(item) + "\n";
+        append_scalar(out, item);
+        out += "\n";
       }
     }
   } else if (v.kind == Value::Kind::Object) {
@@ -236,99 +142,119 @@ void emit_yaml_value_after_key(const Value & v, int indent, std::string & out)
     out += "\n";
     emit_yaml_object(v, indent + 2, out);
   } else {
-    out += " " + scalar(v) + "\n";
+    out += " ";
+    append_scalar(out, v);
+    out += "\n";
   }
 }
 
 void emit_yaml_object(const Value & v, int indent, std::string & out)
 {
-  const std::string pad(static_cast<size_t>(indent), ' ');
   for (const auto & field : v.fields) {
-    out += pad + field.first + ":";
+    out.append(static_cast<size_t>(indent), ' ');
+    out += field.first;
+    out += ":";
     emit_yaml_value_after_key(field.second, indent, out);
   }
 }
 
-Value qos_value(const rmw_qos_profile_t & qos)
+template<typename W>
+void optional_string(W & w, const std::string & s)
 {
-  Value v = Value::object();
-  v.add("history", Value::string(history_to_string(qos.history)));
-  v.add("depth", Value::integer(static_cast<int64_t>(qos.depth)));
-  v.add("reliability", Value::string(reliability_to_string(qos.reliability)));
-  v.add("durability", Value::string(durability_to_string(qos.durability)));
-  v.add("liveliness", Value::string(liveliness_to_string(qos.liveliness)));
-  v.add("deadline_ns", Value::integer(duration_to_ns(qos.deadline)));
-  v.add("lifespan_ns", Value::integer(duration_to_ns(qos.lifespan)));
-  v.add(
-    "liveliness_lease_duration_ns", Value::integer(duration_to_ns(qos.liveliness_lease_duration)));
-  v.add("avoid_ros_namespace_conventions", Value::boolean(qos.avoid_ros_namespace_conventions));
-  return v;
-}
-
-Value optional_string(const std::string & s)
-{
-  return s.empty() ? Value::null() : Value::string(s);
-}
-
-Value parameter_value(const ParameterValue & v)
-{
-  Value array = Value::array();
-  switch (v.type) {
-    case kParameterBool: return Value::boolean(v.bool_value);
-    case kParameterInteger: return Value::integer(v.integer_value);
-    case kParameterDouble: return Value::real(v.double_value);
-    case kParameterString: return Value::string(v.string_value);
-    case kParameterByteArray:
-      for (uint8_t b : v.byte_array_value) {array.push(Value::integer(b));}
-      return array;
-    case kParameterBoolArray:
-      for (bool b : v.bool_array_value) {array.push(Value::boolean(b));}
-      return array;
-    case kParameterIntegerArray:
-      for (int64_t i : v.integer_array_value) {array.push(Value::integer(i));}
-      return array;
-    case kParameterDoubleArray:
-      for (double d : v.double_array_value) {array.push(Value::real(d));}
-      return array;
-    case kParameterStringArray:
-      for (const auto & s : v.string_array_value) {array.push(Value::string(s));}
-      return array;
-    default:
-      return Value::null();
+  if (s.empty()) {
+    w.null();
+  } else {
+    w.string(s);
   }
 }
 
-Value parameter(const ParameterRecord & p)
+template<typename W>
+void write_qos(W & w, const rmw_qos_profile_t & qos)
 {
-  Value v = Value::object();
-  v.add("name", Value::string(p.name));
+  w.begin_object();
+  w.key("history").string(history_to_string(qos.history));
+  w.key("depth").integer(static_cast<int64_t>(qos.depth));
+  w.key("reliability").string(reliability_to_string(qos.reliability));
+  w.key("durability").string(durability_to_string(qos.durability));
+  w.key("liveliness").string(liveliness_to_string(qos.liveliness));
+  w.key("deadline_ns").integer(duration_to_ns(qos.deadline));
+  w.key("lifespan_ns").integer(duration_to_ns(qos.lifespan));
+  w.key("liveliness_lease_duration_ns").integer(duration_to_ns(qos.liveliness_lease_duration));
+  w.key("avoid_ros_namespace_conventions").boolean(qos.avoid_ros_namespace_conventions);
+  w.end_object();
+}
+
+template<typename W>
+void write_parameter_value(W & w, const ParameterValue & v)
+{
+  switch (v.type) {
+    case kParameterBool: w.boolean(v.bool_value); return;
+    case kParameterInteger: w.integer(v.integer_value); return;
+    case kParameterDouble: w.real(v.double_value); return;
+    case kParameterString: w.string(v.string_value); return;
+    case kParameterByteArray:
+      w.begin_flat_array();
+      for (uint8_t b : v.byte_array_value) {w.integer(b);}
+      break;
+    case kParameterBoolArray:
+      w.begin_flat_array();
+      for (bool b : v.bool_array_value) {w.boolean(b);}
+      break;
+    case kParameterIntegerArray:
+      w.begin_flat_array();
+      for (int64_t i : v.integer_array_value) {w.integer(i);}
+      break;
+    case kParameterDoubleArray:
+      w.begin_flat_array();
+      for (double d : v.double_array_value) {w.real(d);}
+      break;
+    case kParameterStringArray:
+      w.begin_flat_array();
+      for (const auto & s : v.string_array_value) {w.string(s);}
+      break;
+    default:
+      w.null();
+      return;
+  }
+  w.end_array();
+}
+
+template<typename W>
+void write_parameter(W & w, const ParameterRecord & p)
+{
+  w.begin_object();
+  w.key("name").string(p.name);
   const char * type = parameter_type_name(p.type());
-  v.add("type", type != nullptr ? Value::string(type) : Value::null());
-  v.add("value", parameter_value(p.value));
-  v.add("read_only", Value::boolean(p.read_only));
-  v.add("dynamic_typing", Value::boolean(p.dynamic_typing));
-  v.add("description", Value::string(p.description));
-  v.add("additional_constraints", Value::string(p.additional_constraints));
-  if (p.has_integer_range) {
-    Value range = Value::object();
-    range.add("from_value", Value::integer(p.integer_range.from_value));
-    range.add("to_value", Value::integer(p.integer_range.to_value));
-    range.add("step", Value::integer(static_cast<int64_t>(p.integer_range.step)));
-    v.add("integer_range", std::move(range));
+  if (type != nullptr) {
+    w.key("type").string(type);
   } else {
-    v.add("integer_range", Value::null());
+    w.key("type").null();
+  }
+  write_parameter_value(w.key("value"), p.value);
+  w.key("read_only").boolean(p.read_only);
+  w.key("dynamic_typing").boolean(p.dynamic_typing);
+  w.key("description").string(p.description);
+  w.key("additional_constraints").string(p.additional_constraints);
+  if (p.has_integer_range) {
+    w.key("integer_range").begin_object();
+    w.key("from_value").integer(p.integer_range.from_value);
+    w.key("to_value").integer(p.integer_range.to_value);
+    w.key("step").integer(static_cast<int64_t>(p.integer_range.step));
+    w.end_object();
+  } else {
+    w.key("integer_range").null();
   }
   if (p.has_floating_point_range) {
-    Value range = Value::object();
-    range.add("from_value", Value::real(p.floating_point_range.from_value));
-    range.add("to_value", Value::real(p.floating_point_range.to_value));
-    range.add("step", Value::real(p.floating_point_range.step));
-    v.add("floating_point_range", std::move(range));
+    w.key("floating_point_range").begin_object();
+    w.key("from_value").real(p.floating_point_range.from_value);
+    w.key("to_value").real(p.floating_point_range.to_value);
+    w.key("step").real(p.floating_point_range.step);
+    w.end_object();
   } else {
-    v.add("floating_point_range", Value::null());
+    w.key("floating_point_range").null();
   }
-  v.add("declared_in", optional_string(p.declared_in));
-  return v;
+  optional_string(w.key("declared_in"), p.declared_in);
+  w.end_object();
 }
 
 const char * transition_result(LifecycleTransitionRecord::Result result)
@@ -342,244 +268,310 @@ const char * transition_result(LifecycleTransitionRecord::Result result)
   return "pending";
 }
 
-Value lifecycle(const LifecycleRecord & lc)
+template<typename W>
+void write_lifecycle(W & w, const LifecycleRecord & lc)
 {
-  Value v = Value::object();
-  v.add("target", Value::string(lc.target));
-  v.add("initial_state", optional_string(lc.initial_state));
-  v.add("state", optional_string(lc.state));
-  Value transitions = Value::array();
+  w.begin_object();
+  w.key("target").string(lc.target);
+  optional_string(w.key("initial_state"), lc.initial_state);
+  optional_string(w.key("state"), lc.state);
+  w.key("transitions").begin_array();
   for (const auto & t : lc.transitions) {
-    Value tv = Value::object();
-    tv.add("id", Value::integer(t.id));
-    tv.add("label", Value::string(t.label));
-    tv.add("result", Value::string(transition_result(t.result)));
-    tv.add(
-      "success",
-      t.result == LifecycleTransitionRecord::Result::kSuccess ? Value::boolean(true) :
-      t.result == LifecycleTransitionRecord::Result::kFailure ? Value::boolean(false) :
-      Value::null());
-    transitions.push(std::move(tv));
+    w.begin_object();
+    w.key("id").integer(t.id);
+    w.key("label").string(t.label);
+    w.key("result").string(transition_result(t.result));
+    if (t.result == LifecycleTransitionRecord::Result::kSuccess) {
+      w.key("success").boolean(true);
+    } else if (t.result == LifecycleTransitionRecord::Result::kFailure) {
+      w.key("success").boolean(false);
+    } else {
+      w.key("success").null();
+    }
+    w.end_object();
   }
-  v.add("transitions", std::move(transitions));
-  v.add("error", optional_string(lc.error));
-  return v;
+  w.end_array();
+  optional_string(w.key("error"), lc.error);
+  w.end_object();
 }
 
 // The node's "parameters", "parameters_error" and "lifecycle".
-void add_probe_fields(const NodeRecord & n, Value & node)
+template<typename W>
+void write_probe_fields(W & w, const NodeRecord & n)
 {
   const NodeProbe * probe = n.probe.get();
   if (probe != nullptr && probe->has_parameters) {
-    Value parameters = Value::array();
+    w.key("parameters").begin_array();
     for (const auto & p : probe->parameters) {
-      parameters.push(parameter(p));
+      write_parameter(w, p);
     }
-    node.add("parameters", std::move(parameters));
+    w.end_array();
   } else {
-    node.add("parameters", Value::null());
+    w.key("parameters").null();
   }
-  node.add(
-    "parameters_error", probe != nullptr ? optional_string(probe->parameters_error) : Value::null());
-  node.add(
-    "lifecycle",
-    probe != nullptr && probe->has_lifecycle ? lifecycle(probe->lifecycle) : Value::null());
+  if (probe != nullptr) {
+    optional_string(w.key("parameters_error"), probe->parameters_error);
+  } else {
+    w.key("parameters_error").null();
+  }
+  if (probe != nullptr && probe->has_lifecycle) {
+    write_lifecycle(w.key("lifecycle"), probe->lifecycle);
+  } else {
+    w.key("lifecycle").null();
+  }
 }
 
-Value type_value(const TypeDescription & type)
+// One entry of the `types` table (its value).
+template<typename W>
+void write_type(W & w, const TypeDescription & type)
 {
-  Value v = Value::object();
+  w.begin_object();
   if (type.is_service) {
-    v.add("kind", Value::string("service"));
-    v.add("request", Value::string(type.request));
-    v.add("response", Value::string(type.response));
-    return v;
+    w.key("kind").string("service");
+    w.key("request").string(type.request);
+    w.key("response").string(type.response);
+    w.end_object();
+    return;
   }
-  v.add("kind", Value::string("message"));
-  Value fields = Value::array();
+  w.key("kind").string("message");
+  w.key("fields").begin_array();
   for (const auto & f : type.fields) {
-    Value field = Value::object();
-    field.add("name", Value::string(f.name));
-    field.add("type", Value::string(f.type));
+    w.begin_object();
+    w.key("name").string(f.name);
+    w.key("type").string(f.type);
     if (f.array != FieldArray::None) {
-      field.add("array", Value::string(field_array_to_string(f.array)));
+      w.key("array").string(field_array_to_string(f.array));
       if (f.array != FieldArray::Unbounded) {
-        field.add("array_size", Value::integer(static_cast<int64_t>(f.array_size)));
+        w.key("array_size").integer(static_cast<int64_t>(f.array_size));
       }
     }
     if (f.string_bound > 0) {
-      field.add("string_bound", Value::integer(static_cast<int64_t>(f.string_bound)));
+      w.key("string_bound").integer(static_cast<int64_t>(f.string_bound));
     }
-    fields.push(std::move(field));
+    w.end_object();
   }
-  v.add("fields", std::move(fields));
+  w.end_array();
   if (type.constants_known) {
-    Value constants = Value::array();
+    w.key("constants").begin_array();
     for (const auto & c : type.constants) {
-      Value constant = Value::object();
-      constant.add("name", Value::string(c.name));
-      constant.add("type", Value::string(c.type));
-      constant.add("value", Value::string(c.value));
-      constants.push(std::move(constant));
+      w.begin_object();
+      w.key("name").string(c.name);
+      w.key("type").string(c.type);
+      w.key("value").string(c.value);
+      w.end_object();
     }
-    v.add("constants", std::move(constants));
+    w.end_array();
   }
-  return v;
+  w.end_object();
 }
 
-// The `types` table: every type the endpoints refer to, nested ones included, each once,
-// by name.
-Value types_value(const RecorderSnapshot & snapshot)
+// The column of a `types` entry's value in the JSON document (document > types > entry):
+// the cached texts are rendered for it.
+constexpr int kTypeEntryIndent = 4;
+
+void render_type_json(const TypeDescription & type, std::string * out)
 {
-  std::map<std::string, const TypeDescription *> types;
-  for (const auto & e : snapshot.endpoints) {
-    if (!e.types) {
-      continue;
-    }
-    for (const auto & type : *e.types) {
-      types.emplace(type.name, &type);
-    }
-  }
-  Value table = Value::object();
-  for (const auto & entry : types) {
-    table.add(entry.first, type_value(*entry.second));
-  }
-  return table;
+  JsonWriter w(*out, kTypeEntryIndent);
+  write_type(w, type);
 }
 
-Value stimuli_value(const std::vector<StimulusRecord> & stimuli)
+template<typename W>
+void write_stimuli(W & w, const std::vector<StimulusRecord> & stimuli)
 {
-  Value list = Value::array();
+  w.begin_array();
   for (const auto & record : stimuli) {
-    Value v = Value::object();
-    v.add("name", Value::string(record.name));
-    v.add("state", Value::string(stimulus_state_name(record.state)));
-    Value targets = Value::array();
+    w.begin_object();
+    w.key("name").string(record.name);
+    w.key("state").string(stimulus_state_name(record.state));
+    w.key("targets").begin_array();
     for (const auto & t : record.targets) {
-      Value tv = Value::object();
-      tv.add("kind", Value::string(endpoint_kind_to_string(t.kind)));
-      tv.add("node", Value::string(t.node));
-      tv.add("type", Value::string(t.type));
-      tv.add("result", Value::string(stimulus_result_name(t.result)));
-      tv.add("error", optional_string(t.error));
-      targets.push(std::move(tv));
+      w.begin_object();
+      w.key("kind").string(endpoint_kind_to_string(t.kind));
+      w.key("node").string(t.node);
+      w.key("type").string(t.type);
+      w.key("result").string(stimulus_result_name(t.result));
+      optional_string(w.key("error"), t.error);
+      w.end_object();
     }
-    v.add("targets", std::move(targets));
-    v.add("error", optional_string(record.error));
-    list.push(std::move(v));
+    w.end_array();
+    optional_string(w.key("error"), record.error);
+    w.end_object();
   }
-  return list;
+  w.end_array();
 }
 
-Value build_document(const CaptureHeader & header, const RecorderSnapshot & snapshot)
+// The whole document; `write_types(w)` writes the value of "types".
+template<typename W, typename TypesFn>
+void write_document(
+  W & w, const CaptureHeader & header, const RecorderSnapshot & snapshot, TypesFn && write_types)
 {
-  Value doc = Value::object();
-  doc.add("format", Value::string("rmw_introspect_capture"));
-  doc.add("format_version", Value::integer(1));
-  doc.add("format_minor", Value::integer(2));
-  doc.add("rmw_implementation", Value::string("rmw_introspect_cpp"));
-  doc.add("pid", Value::integer(header.pid));
-  Value argv = Value::array();
+  w.begin_object();
+  w.key("format").string("rmw_introspect_capture");
+  w.key("format_version").integer(1);
+  w.key("format_minor").integer(2);
+  w.key("rmw_implementation").string("rmw_introspect_cpp");
+  w.key("pid").integer(header.pid);
+  w.key("argv").begin_flat_array();
   for (const auto & arg : header.argv) {
-    argv.push(Value::string(arg));
+    w.string(arg);
   }
-  doc.add("argv", std::move(argv));
-  doc.add("state", Value::string(header.state));
-  doc.add("settle_ms", Value::integer(header.settle_ms));
-  doc.add(
-    "time_to_settle_ms",
-    header.has_time_to_settle ? Value::number(header.time_to_settle_ms) : Value::null());
-  doc.add("elapsed_ms", Value::number(header.elapsed_ms));
-  doc.add(
-    "settled_by", header.settled_by.empty() ? Value::null() : Value::string(header.settled_by));
-  doc.add("ever_waited", Value::boolean(header.ever_waited));
-  doc.add("activity_calls", Value::integer(static_cast<int64_t>(header.activity_calls)));
-  Value time = Value::object();
-  time.add("horizon_ms", Value::integer(header.horizon_ms));
-  time.add("virtual_elapsed_ms", Value::number(header.virtual_elapsed_ms));
-  time.add("real_elapsed_ms", Value::number(header.real_elapsed_ms));
-  time.add("jumps", Value::integer(static_cast<int64_t>(header.jumps)));
-  time.add("warp_ms", Value::number(header.warp_ms));
-  time.add("horizon_reached", Value::boolean(header.horizon_reached));
-  time.add("warp_budget_exhausted", Value::boolean(header.warp_budget_exhausted));
-  doc.add("time", std::move(time));
-  Value probe = Value::object();
-  probe.add("state", Value::string(header.probe_state));
-  probe.add("parameters", Value::boolean(header.probe_parameters));
-  probe.add("lifecycle", Value::string(header.probe_lifecycle));
-  probe.add("answer_timeout_ms", Value::integer(header.answer_timeout_ms));
-  probe.add("requests", Value::integer(static_cast<int64_t>(header.probe_requests)));
-  probe.add("unanswered", Value::integer(static_cast<int64_t>(header.probe_unanswered)));
-  doc.add("probe", std::move(probe));
-  doc.add("stimuli", stimuli_value(header.stimuli));
+  w.end_array();
+  w.key("state").string(header.state);
+  w.key("settle_ms").integer(header.settle_ms);
+  if (header.has_time_to_settle) {
+    w.key("time_to_settle_ms").fixed(header.time_to_settle_ms);
+  } else {
+    w.key("time_to_settle_ms").null();
+  }
+  w.key("elapsed_ms").fixed(header.elapsed_ms);
+  optional_string(w.key("settled_by"), header.settled_by);
+  w.key("ever_waited").boolean(header.ever_waited);
+  w.key("activity_calls").integer(static_cast<int64_t>(header.activity_calls));
+  w.key("time").begin_object();
+  w.key("horizon_ms").integer(header.horizon_ms);
+  w.key("virtual_elapsed_ms").fixed(header.virtual_elapsed_ms);
+  w.key("real_elapsed_ms").fixed(header.real_elapsed_ms);
+  w.key("jumps").integer(static_cast<int64_t>(header.jumps));
+  w.key("warp_ms").fixed(header.warp_ms);
+  w.key("horizon_reached").boolean(header.horizon_reached);
+  w.key("warp_budget_exhausted").boolean(header.warp_budget_exhausted);
+  w.end_object();
+  w.key("probe").begin_object();
+  w.key("state").string(header.probe_state);
+  w.key("parameters").boolean(header.probe_parameters);
+  w.key("lifecycle").string(header.probe_lifecycle);
+  w.key("answer_timeout_ms").integer(header.answer_timeout_ms);
+  w.key("requests").integer(static_cast<int64_t>(header.probe_requests));
+  w.key("unanswered").integer(static_cast<int64_t>(header.probe_unanswered));
+  w.end_object();
+  write_stimuli(w.key("stimuli"), header.stimuli);
   if (header.has_ended) {
-    Value ended = Value::object();
-    ended.add("before_settle", Value::boolean(header.ended_before_settle));
-    doc.add("ended", std::move(ended));
+    w.key("ended").begin_object();
+    w.key("before_settle").boolean(header.ended_before_settle);
+    w.end_object();
   }
-  Value nodes = Value::array();
+  w.key("nodes").begin_array();
   for (const auto & n : snapshot.nodes) {
-    Value node = Value::object();
-    node.add("id", Value::integer(static_cast<int64_t>(n.id)));
-    node.add("seq", Value::integer(static_cast<int64_t>(n.seq)));
-    node.add("name", Value::string(n.name));
-    node.add("namespace", Value::string(n.namespace_));
-    node.add("fqn", Value::string(n.fqn));
-    node.add("enclave", Value::string(n.enclave));
-    node.add("destroyed", Value::boolean(n.destroyed));
-    node.add("in_teardown", Value::boolean(n.in_teardown));
-    node.add("created_virtual_ms", Value::number(n.created.virtual_ms));
-    node.add("created_real_ms", Value::number(n.created.real_ms));
-    add_probe_fields(n, node);
-    nodes.push(std::move(node));
+    w.begin_object();
+    w.key("id").integer(static_cast<int64_t>(n.id));
+    w.key("seq").integer(static_cast<int64_t>(n.seq));
+    w.key("name").string(n.name);
+    w.key("namespace").string(n.namespace_);
+    w.key("fqn").string(n.fqn);
+    w.key("enclave").string(n.enclave);
+    w.key("destroyed").boolean(n.destroyed);
+    w.key("in_teardown").boolean(n.in_teardown);
+    w.key("created_virtual_ms").fixed(n.created.virtual_ms);
+    w.key("created_real_ms").fixed(n.created.real_ms);
+    write_probe_fields(w, n);
+    w.end_object();
   }
-  doc.add("nodes", std::move(nodes));
-  Value endpoints = Value::array();
+  w.end_array();
+  w.key("endpoints").begin_array();
   for (const auto & e : snapshot.endpoints) {
-    Value ep = Value::object();
-    ep.add("seq", Value::integer(static_cast<int64_t>(e.seq)));
-    ep.add("kind", Value::string(endpoint_kind_to_string(e.kind)));
-    ep.add("node_id", Value::integer(static_cast<int64_t>(e.node_id)));
-    ep.add("node", Value::string(e.node_fqn));
-    ep.add("name", Value::string(e.name));
-    ep.add("type", Value::string(e.type));
-    ep.add("type_hash", e.type_hash.empty() ? Value::null() : Value::string(e.type_hash));
-    ep.add("typesupport", Value::string(e.typesupport));
-    ep.add("qos", qos_value(e.qos));
-    ep.add("destroyed", Value::boolean(e.destroyed));
-    ep.add("in_teardown", Value::boolean(e.in_teardown));
-    ep.add("created_virtual_ms", Value::number(e.created.virtual_ms));
-    ep.add("created_real_ms", Value::number(e.created.real_ms));
-    ep.add("created_in", optional_string(e.created_in));
-    endpoints.push(std::move(ep));
+    w.begin_object();
+    w.key("seq").integer(static_cast<int64_t>(e.seq));
+    w.key("kind").string(endpoint_kind_to_string(e.kind));
+    w.key("node_id").integer(static_cast<int64_t>(e.node_id));
+    w.key("node").string(e.node_fqn);
+    w.key("name").string(e.name);
+    w.key("type").string(e.type);
+    optional_string(w.key("type_hash"), e.type_hash);
+    w.key("typesupport").string(e.typesupport);
+    write_qos(w.key("qos"), e.qos);
+    w.key("destroyed").boolean(e.destroyed);
+    w.key("in_teardown").boolean(e.in_teardown);
+    w.key("created_virtual_ms").fixed(e.created.virtual_ms);
+    w.key("created_real_ms").fixed(e.created.real_ms);
+    optional_string(w.key("created_in"), e.created_in);
+    w.end_object();
   }
-  doc.add("endpoints", std::move(endpoints));
-  doc.add("types", types_value(snapshot));
-  return doc;
+  w.end_array();
+  write_types(w.key("types"));
+  w.end_object();
 }
 
 }  // namespace
 
+CaptureRenderer::CaptureRenderer()
+: types_(render_type_json)
+{
+}
+
+std::string CaptureRenderer::render_json(
+  const CaptureHeader & header, const RecorderSnapshot & snapshot)
+{
+  const auto & types = types_.table(snapshot);
+  size_t estimate = 4096 + 1024 * (snapshot.nodes.size() + snapshot.endpoints.size());
+  for (const auto & entry : types) {
+    estimate += entry.name.size() + entry.text->size() + 8;
+  }
+  std::string out;
+  out.reserve(std::max(estimate, last_json_size_ + last_json_size_ / 8));
+  JsonWriter w(out);
+  write_document(
+    w, header, snapshot, [&types](JsonWriter & tw) {
+      tw.begin_object();
+      for (const auto & entry : types) {
+        tw.key(entry.name);
+        assert(tw.value_indent() == kTypeEntryIndent);
+        tw.raw(*entry.text);
+      }
+      tw.end_object();
+    });
+  out += "\n";
+  last_json_size_ = out.size();
+  return out;
+}
+
+std::string CaptureRenderer::render_yaml(
+  const CaptureHeader & header, const RecorderSnapshot & snapshot)
+{
+  ValueBuilder tree;
+  write_document(
+    tree, header, snapshot, [&snapshot](ValueBuilder & tw) {
+      // Each name once (the first endpoint listing it wins), sorted by name.
+      std::map<std::string_view, const TypeDescription *> types;
+      for (const auto & e : snapshot.endpoints) {
+        if (!e.types) {
+          continue;
+        }
+        for (const auto & type : *e.types) {
+          types.emplace(type.name, &type);
+        }
+      }
+      tw.begin_object();
+      for (const auto & entry : types) {
+        write_type(tw.key(entry.first), *entry.second);
+      }
+      tw.end_object();
+    });
+  std::string out = "# rmw_introspect capture (format_version 1, format_minor 2)\n";
+  emit_yaml_object(tree.root(), 0, out);
+  return out;
+}
+
+std::string CaptureRenderer::render(
+  CaptureFormat format, const CaptureHeader & header, const RecorderSnapshot & snapshot)
+{
+  return format == CaptureFormat::Yaml ?
+         render_yaml(header, snapshot) : render_json(header, snapshot);
+}
+
 std::string render_capture_json(const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
-  std::string out;
-  emit_json(build_document(header, snapshot), 0, out);
-  out += "\n";
-  return out;
+  return CaptureRenderer().render_json(header, snapshot);
 }
 
 std::string render_capture_yaml(const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
-  std::string out = "# rmw_introspect capture (format_version 1, format_minor 2)\n";
-  emit_yaml_object(build_document(header, snapshot), 0, out);
-  return out;
+  return CaptureRenderer().render_yaml(header, snapshot);
 }
 
 std::string render_capture(
   CaptureFormat format, const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
-  return format == CaptureFormat::Yaml ?
-         render_capture_yaml(header, snapshot) : render_capture_json(header, snapshot);
+  return CaptureRenderer().render(format, header, snapshot);
 }
 
 bool write_file_atomically(const std::string & path, const std::string & content, std::string * error)

@@ -2,6 +2,7 @@
 #ifndef DETAIL__CAPTURE_WRITER_HPP_
 #define DETAIL__CAPTURE_WRITER_HPP_
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "detail/config.hpp"
 #include "detail/recorder.hpp"
 #include "detail/stimuli.hpp"
+#include "detail/type_text_cache.hpp"
 
 namespace rmw_introspect
 {
@@ -48,6 +50,29 @@ struct CaptureHeader
   bool ended_before_settle = false;
 };
 
+/// Renders the captures of one process. JSON is written straight into the output, each
+/// `types` entry rendered once and reused by later captures (TypeTextCache); YAML goes
+/// through a document tree. Not thread-safe: one render at a time (Runtime::write_mutex_).
+class CaptureRenderer
+{
+public:
+  CaptureRenderer();
+  CaptureRenderer(const CaptureRenderer &) = delete;
+  CaptureRenderer & operator=(const CaptureRenderer &) = delete;
+
+  std::string render(
+    CaptureFormat format, const CaptureHeader & header, const RecorderSnapshot & snapshot);
+  std::string render_json(const CaptureHeader & header, const RecorderSnapshot & snapshot);
+  std::string render_yaml(const CaptureHeader & header, const RecorderSnapshot & snapshot);
+
+  const TypeTextCache & type_cache() const {return types_;}
+
+private:
+  TypeTextCache types_;
+  size_t last_json_size_ = 0;  // to reserve the next output at once
+};
+
+/// One capture with a renderer of its own (nothing cached from one call to the next).
 std::string render_capture_json(const CaptureHeader & header, const RecorderSnapshot & snapshot);
 std::string render_capture_yaml(const CaptureHeader & header, const RecorderSnapshot & snapshot);
 std::string render_capture(

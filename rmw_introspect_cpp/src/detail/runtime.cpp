@@ -356,7 +356,7 @@ void Runtime::write_capture(const char * state)
   header.state = state;
   // The captures written as the process ends mark its final run of destructions.
   const std::string content =
-    render_capture(config_.format, header, recorder_.snapshot(header.has_ended));
+    capture_renderer_.render(config_.format, header, recorder_.snapshot(header.has_ended));
   std::string error;
   if (!write_file_atomically(config_.output_path, content, &error)) {
     std::fprintf(stderr, "[rmw_introspect] cannot write capture: %s\n", error.c_str());

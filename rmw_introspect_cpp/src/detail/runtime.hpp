@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "detail/capture_writer.hpp"
 #include "detail/clock.hpp"
 #include "detail/config.hpp"
 #include "detail/delivery.hpp"
@@ -31,7 +32,8 @@ struct ContextImpl;
 /// One object per process, reached through instance() by the rmw_* entry points.
 ///
 /// Lock order: a thread holding one of these mutexes takes only those further down the list.
-///   1. Runtime::write_mutex_    serializes capture writes (held while rendering one)
+///   1. Runtime::write_mutex_    serializes capture writes (held while rendering one; guards
+///                               capture_renderer_ and its cache of rendered types)
 ///   2. GraphGuards' mutex       trigger_all() triggers through the wait hub
 ///   3. Injector's mutex         release() makes a request ready through the wait hub; its
 ///                               answer listener (-> session) runs after release
@@ -143,6 +145,7 @@ private:
   std::vector<std::string> argv_;  // read at rmw_init (immutable after)
 
   std::mutex write_mutex_;
+  CaptureRenderer capture_renderer_;  // guarded by write_mutex_
   std::mutex session_mutex_;
   std::condition_variable session_cv_;
   Session session_;

@@ -28,3 +28,15 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
             item.add_marker(pytest.mark.e2e)
         elif parts[:1] == ("tests",) and len(parts) > 1 and parts[1] in _TIERS:
             item.add_marker(getattr(pytest.mark, _TIERS[parts[1]]))
+
+
+# ---------------------------------------------------------------------------- warm start servers
+@pytest.fixture(scope="session", autouse=True)
+def _own_warm_start_servers():
+    """This suite's own xdist workers would share their warm start servers (the plugin does that
+    in every worker): the warm start tests look at, kill and end the servers of their process,
+    so each test process keeps servers of its own (sharing is tested in processes of its own,
+    tests/middleware/test_warm_shared.py and tests/plugin/test_plugin_warm.py)."""
+    from pytest_rmw_introspect.run import warm
+
+    warm.POOL.share_within(None)

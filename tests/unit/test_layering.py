@@ -247,14 +247,17 @@ NOT_FOR_CAPTURE = ("yaml", "deepdiff", "jsonschema", "numpy", "ctypes.util", "im
                    "pytest_rmw_introspect.cli.commands", "pytest_rmw_introspect.run.launch_reader")
 
 
-def test_the_capture_command_starts_without_the_pipeline_and_yaml():
-    probe = ("import sys\n"
-             "from pytest_rmw_introspect.cli import parser\n"
-             "import pytest_rmw_introspect.cli.capture\n"
-             "parser.build_parser().parse_args(['capture', '--script', 'node.py'])\n"
-             "print('\\n'.join(sorted(sys.modules)))\n")
+def _modules_loaded_by(code: str) -> set[str]:
+    """The modules a fresh interpreter has loaded after running ``code``."""
+    probe = f"import sys\n{code}\nprint('\\n'.join(sorted(sys.modules)))\n"
     result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
-    loaded = set(result.stdout.split())
+    return set(result.stdout.split())
+
+
+def test_the_capture_command_starts_without_the_pipeline_and_yaml():
+    loaded = _modules_loaded_by("from pytest_rmw_introspect.cli import parser\n"
+                                "import pytest_rmw_introspect.cli.capture\n"
+                                "parser.build_parser().parse_args(['capture', '--script', 'node.py'])")
     assert "pytest_rmw_introspect.run.runner" in loaded  # the probe did import the command
     assert sorted(loaded & set(NOT_FOR_CAPTURE)) == []
 
@@ -268,11 +271,6 @@ NOT_FOR_THE_CONTROLLER = ("yaml", "deepdiff", "jsonschema", "numpy", "pytest_rmw
 
 
 def test_the_pytest_entry_point_loads_no_pipeline():
-    probe = ("import sys\n"
-             "import pytest_rmw_introspect.plugin\n"
-             "import pytest_rmw_introspect.plugin.session\n"
-             "print('\\n'.join(sorted(sys.modules)))\n")
-    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
-    loaded = set(result.stdout.split())
+    loaded = _modules_loaded_by("import pytest_rmw_introspect.plugin\nimport pytest_rmw_introspect.plugin.session")
     assert "pytest_rmw_introspect.check.golden_record" in loaded  # the probe did import the session
     assert sorted(loaded & set(NOT_FOR_THE_CONTROLLER)) == []

@@ -24,6 +24,8 @@ the target (see the server's module for what the child sets up). This module is 
 No process is left behind: a server has the parent-death signal SIGKILL tied to the runner, its
 children have it tied to the server, and a server exits (killing its children's groups) as soon as
 its control socket closes: at :func:`shutdown`, at the end of the runner process, or when it dies.
+A shared server exits once its owner and every attached runner closed their sockets (the owner
+waits for that at its shutdown); a runner that goes away takes its own children with it.
 """
 
 from __future__ import annotations
@@ -476,6 +478,8 @@ class WarmServer:
             return False
         if self.proc is not None:
             return self.proc.poll() is None
+        if self.info is None:
+            return True  # its ready message (or its end) is wait_ready's to read
         # attached: the server sends nothing after its ready message, so a readable socket is its end
         try:
             readable, _, _ = select.select([self.control], [], [], 0)

@@ -269,3 +269,20 @@ def test_the_capture_says_how_it_was_started(tmp_path):
     cap = runner.run(TargetSpec.from_mapping({"script": str(script)}), library=lib, ros=ros)
     assert (cap.started, cap.start_note) == ("cold", "the fast test tier starts targets cold")
     assert "started cold" in cap.summary()
+
+
+def test_an_attached_server_whose_ready_message_waits_is_alive():
+    """An attached runner's server socket becomes readable with the ready message: that is no end
+    until wait_ready read it (a capture that found the server still starting ran cold, the
+    next one must find it alive, not count a death)."""
+    ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+    server = warm.WarmServer.attached(ours)
+    try:
+        assert not server.wait_ready(0)  # nothing yet: still starting
+        theirs.send(json.dumps({"ready": True, "pid": 4242}).encode())
+        assert server.alive()  # readable, but with the ready message
+        assert server.wait_ready(0) and server.pid == 4242 and server.alive()
+        theirs.close()
+        assert not server.alive()  # now readable at its end
+    finally:
+        server.close()

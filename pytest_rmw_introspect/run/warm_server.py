@@ -395,9 +395,7 @@ class Server:
         assert self.listener is not None
         try:
             sock, _addr = self.listener.accept()
-        except (BlockingIOError, InterruptedError):
-            return
-        except OSError:
+        except OSError:  # nobody waiting after all (non-blocking), or the connection went away
             return
         sock.setblocking(True)
         if peer_uid(sock) != os.getuid():  # another user: refused

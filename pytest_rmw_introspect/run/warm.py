@@ -558,35 +558,46 @@ class WarmServer:
             self.log.close()
 
     def _wait_for_exit(self, proc: subprocess.Popen[bytes], timeout: float) -> None:
+        """Wait on the control socket (the server's reports, then its end) rather than polling
+        the process: the owner is done the moment the server is."""
         serving = False  # the server said runners are still connected
         deadline = time.monotonic() + timeout
         while True:
+            remaining = None if serving else deadline - time.monotonic()
+            if remaining is not None and remaining <= 0:
+                break  # neither exited nor answered: stuck
             try:
-                proc.wait(0.05 if serving else max(0.0, min(0.05, deadline - time.monotonic())))
-                return
-            except subprocess.TimeoutExpired:
-                pass
-            clients = self._clients_reported()
+                readable, _, _ = select.select([self.control], [], [], remaining)
+            except (OSError, ValueError):
+                break
+            if not readable:
+                continue
+            clients, ended = self._reports()
+            if ended:
+                try:
+                    proc.wait(timeout)
+                    return
+                except subprocess.TimeoutExpired:
+                    break
             if clients is not None:
                 serving = clients > 0
                 deadline = time.monotonic() + timeout
-            if not serving and time.monotonic() >= deadline:
-                proc.kill()
-                proc.wait()
-                return
+        proc.kill()
+        proc.wait()
 
-    def _clients_reported(self) -> int | None:
-        """The last number of connected runners the server reported, if it reported any since."""
+    def _reports(self) -> tuple[int | None, bool]:
+        """The last number of connected runners the server reported since the last call (None:
+        no report), and whether its end of the control socket is closed."""
         clients = None
         while True:
             try:
                 data = self.control.recv(65536, socket.MSG_DONTWAIT)
             except (BlockingIOError, InterruptedError):
-                return clients
+                return clients, False
             except OSError:
-                return clients
+                return clients, True
             if not data:
-                return clients
+                return clients, True
             try:
                 message = json.loads(data)
             except ValueError:

@@ -11,6 +11,7 @@ import stat
 import subprocess
 import sys
 import threading
+import time
 import zipfile
 from pathlib import Path
 
@@ -286,3 +287,38 @@ def test_an_attached_server_whose_ready_message_waits_is_alive():
         assert not server.alive()  # now readable at its end
     finally:
         server.close()
+
+
+def _owned(proc: subprocess.Popen) -> tuple[warm.WarmServer, socket.socket]:
+    """A WarmServer owning ``proc`` (a stand-in for a server process), and the server's end of
+    its control socket."""
+    ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+    server = warm.WarmServer.attached(ours)
+    server.proc = proc
+    return server, theirs
+
+
+def test_the_owner_kills_a_server_that_neither_ends_nor_answers():
+    server, theirs = _owned(subprocess.Popen(["sleep", "30"]))
+    try:
+        server.close(timeout=0.3)
+        assert server.proc is not None and server.proc.returncode == -signal.SIGKILL
+    finally:
+        theirs.close()
+
+
+def test_the_owner_waits_while_the_server_still_serves_attached_runners():
+    proc = subprocess.Popen(["sleep", "0.9"])
+    server, theirs = _owned(proc)
+
+    def shared_server() -> None:  # runners stay attached longer than the owner's timeout
+        theirs.send(json.dumps({"clients": 1}).encode())
+        time.sleep(0.8)
+        theirs.send(json.dumps({"clients": 0}).encode())
+        theirs.close()
+
+    serving = threading.Thread(target=shared_server)
+    serving.start()
+    server.close(timeout=0.5)
+    serving.join()
+    assert proc.returncode == 0  # it ended by itself: not killed after 0.5 s

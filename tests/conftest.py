@@ -31,12 +31,12 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 
 
 # ---------------------------------------------------------------------------- warm start servers
-@pytest.fixture(scope="session", autouse=True)
-def _own_warm_start_servers():
+def pytest_sessionstart(session: pytest.Session) -> None:
     """This suite's own xdist workers would share their warm start servers (the plugin does that
-    in every worker): the warm start tests look at, kill and end the servers of their process,
-    so each test process keeps servers of its own (sharing is tested in processes of its own,
-    tests/middleware/test_warm_shared.py and tests/plugin/test_plugin_warm.py)."""
+    in every worker, and starts one after collecting): the warm start tests look at, kill and end
+    the servers of their process, so each test process keeps servers of its own, from before
+    its collection (sharing is tested in processes of its own, tests/middleware/
+    test_warm_shared.py and tests/plugin/test_plugin_warm.py)."""
     from pytest_rmw_introspect.run import warm
 
     warm.POOL.share_within(None)

@@ -538,21 +538,30 @@ class WarmServer:
             pass
 
     def close(self, timeout: float = 2.0) -> None:
-        """Let go of the server. An attached runner just closes its connection (the server ends
-        its children). The owner ends the server: it kills what it still runs for the owner and
-        exits, or, shared, first serves the runners still connected (they may have captures to
-        go) and says how many there are; the owner waits for them, and kills a server that
-        neither exits nor answers within ``timeout`` seconds."""
+        """Let go of the server (:meth:`begin_close`, then :meth:`finish_close`)."""
+        self.begin_close()
+        self.finish_close(timeout)
+
+    def begin_close(self) -> None:
+        """An attached runner closes its connection (the server ends that runner's children).
+        The owner half-closes its control socket: the server kills what it still runs for the
+        owner and exits, or, shared, goes on serving the runners still connected (they may have
+        captures to go) and says how many there are. Never blocks: runners that own one shared
+        server and are attached to another's begin closing all before waiting for any."""
         if self.proc is None:
             self.control.close()
-            self.log.close()
             return
         try:
-            try:
-                self.control.shutdown(socket.SHUT_WR)
-            except OSError:
-                pass
-            self._wait_for_exit(self.proc, timeout)
+            self.control.shutdown(socket.SHUT_WR)
+        except OSError:
+            pass
+
+    def finish_close(self, timeout: float = 2.0) -> None:
+        """The owner waits for the server to end (as long as it reports runners still connected)
+        and kills one that neither exits nor answers within ``timeout`` seconds."""
+        try:
+            if self.proc is not None:
+                self._wait_for_exit(self.proc, timeout)
         finally:
             self.control.close()
             self.log.close()
@@ -615,6 +624,7 @@ class Pool:
     def __init__(self) -> None:
         self._servers: dict[tuple[Any, ...], WarmServer] = {}
         self._broken: dict[tuple[Any, ...], str] = {}
+        self._closing: list[WarmServer] = []  # let go of, not waited for yet (see close)
         self._deaths: dict[tuple[Any, ...], int] = {}
         self._lock = threading.Lock()
         self._owner = os.getpid()
@@ -666,8 +676,10 @@ class Pool:
                     self._broken[key] = str(exc)
                     return str(exc)
                 while len(self._servers) >= MAX_SERVERS:
-                    oldest = next(iter(self._servers))
-                    self._servers.pop(oldest).close(0.5)
+                    # the least recently used: waited for at close(), it may serve other runners
+                    oldest = self._servers.pop(next(iter(self._servers)))
+                    oldest.begin_close()
+                    self._closing.append(oldest)
             self._servers[key] = server  # most recently used last
         if server.wait_ready(wait):
             return server
@@ -710,14 +722,19 @@ class Pool:
             return list(self._servers.values())
 
     def close(self) -> None:
-        """End every server of this process (and what they still run)."""
+        """End every server of this process (and what they still run): let go of all of them
+        first, then wait for those it owns (runners that each own a shared server and are
+        attached to the other's never wait for each other)."""
         with self._lock:
-            servers = list(self._servers.values()) if os.getpid() == self._owner else []
+            servers = [*self._servers.values(), *self._closing] if os.getpid() == self._owner else []
             self._servers.clear()
+            self._closing.clear()
             self._broken.clear()
             self._deaths.clear()
         for server in servers:
-            server.close()
+            server.begin_close()
+        for server in servers:
+            server.finish_close()
 
 
 POOL = Pool()

@@ -37,7 +37,7 @@ for line in sys.stdin:
         break
     env = json.loads(words[2]) if len(words) > 2 else {}
     cap = runner.run(TargetSpec.from_mapping({"script": words[1], "env": env, "timeout": 60}), warm_wait=60.0)
-    (server,) = warm.POOL.servers()
+    server = warm.POOL.servers()[-1]  # the one this capture used: the most recently used is last
     print(json.dumps({"started": cap.started, "note": cap.start_note, "server": server.pid,
                       "owner": server.proc is not None, "pid": cap.pid}), flush=True)
 warm.shutdown()
@@ -126,6 +126,22 @@ def test_the_owner_waits_for_the_attached_runners_before_the_server_ends(runners
     attached.quit()
     assert attached.proc.wait(10) == 0 and owner.proc.wait(10) == 0
     assert wait_gone([server], 5.0) == []
+
+
+def test_runners_that_own_a_server_each_and_use_the_other_s_end_together(runners):
+    """Each runner owns the server of one environment and is attached to the other's: at their
+    end each lets go of the other's before waiting for its own (no runner waits for the other)."""
+    first, second = runners(), runners()
+    other_env = {"LC_RMWI_TEST": "the second environment"}  # LC_*: a server key of its own
+    own_first = first.capture()
+    own_second = second.capture(env=other_env)
+    assert own_first["owner"] and own_second["owner"]
+    assert first.capture(env=other_env)["server"] == own_second["server"]
+    assert second.capture()["server"] == own_first["server"]
+    first.quit()
+    second.quit()
+    assert first.proc.wait(30) == 0 and second.proc.wait(30) == 0
+    assert wait_gone([own_first["server"], own_second["server"]], 5.0) == []
 
 
 def test_an_attached_runner_that_is_killed_takes_only_its_own_children(runners, tmp_path):

@@ -278,3 +278,14 @@ def test_a_server_started_by_a_short_lived_thread_outlives_it():
     assert wait_gone([server.pid], 1.0) == [server.pid]  # still alive after the thread ended
     assert server.alive() and w.server_for({"env": env}) is server
     assert capture(script=TALKER, env=env).started == "warm"
+
+
+def test_the_least_recently_used_server_is_let_go_of_when_too_many_run(monkeypatch):
+    monkeypatch.setattr(warm, "MAX_SERVERS", 1)
+    first = w.server_for({"env": {"LC_RMWI_TEST": "evicted"}})
+    second = w.server_for({"env": {"LC_RMWI_TEST": "evicting"}})
+    assert second is not first and warm.POOL.servers() == [second]
+    assert wait_gone([first.pid], 10.0) == []  # it ended (reaped when the pool closes)
+    assert capture(script=TALKER, env={"LC_RMWI_TEST": "evicting"}).started == "warm"
+    warm.shutdown()
+    assert wait_gone([second.pid], 5.0) == []

@@ -609,6 +609,18 @@ void settle_by_activity_into_probing(Session & session, ManualClock & clock)
   clock.advance_ms(10);
   ASSERT_EQ(Session::Action::kStartProbe, session.poll().action);
 }
+
+// The process reaches its executor: it is asked at once, then settles with the probing done.
+void expect_probed_once_it_waits(Session & session)
+{
+  session.on_wait_entered();
+  const uint64_t token = session.enter_wait();
+  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
+  session.probe_done();
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  EXPECT_STREQ("done", session.probe_state());
+  session.leave_wait(token);
+}
 }  // namespace
 
 TEST(SessionProbe, a_process_that_never_waited_is_not_probed)
@@ -643,13 +655,7 @@ TEST(SessionProbe, a_runnable_main_thread_gets_more_time_to_start_waiting_up_to_
   clock.advance_ms(50);
   EXPECT_EQ(Session::Action::kNone, session.poll().action);
   // it reaches its executor: probed as usual
-  session.on_wait_entered();
-  const uint64_t token = session.enter_wait();
-  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
-  session.probe_done();
-  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
-  EXPECT_STREQ("done", session.probe_state());
-  session.leave_wait(token);
+  expect_probed_once_it_waits(session);
 }
 
 TEST(SessionProbe, a_main_thread_that_runs_without_ever_waiting_is_given_up_after_2_s)
@@ -659,13 +665,8 @@ TEST(SessionProbe, a_main_thread_that_runs_without_ever_waiting_is_given_up_afte
   ManualMainThread main_thread;
   main_thread.running = true;  // a loop that publishes without sleeping or spinning
   Session session{clock, virtual_clock, probe_settings(), &main_thread};
-  session.start();
-  session.on_change();
-  session.on_activity();
-  session.on_activity();
-  clock.advance_ms(10);
+  ASSERT_NO_FATAL_FAILURE(settle_by_activity_into_probing(session, clock));
   const int64_t probing_since = clock.now;
-  ASSERT_EQ(Session::Action::kStartProbe, session.poll().action);
   Session::Step step = session.poll();
   while (step.action == Session::Action::kNone && step.has_deadline) {
     ASSERT_LE(step.deadline_ns, probing_since + 2000 * kMs);
@@ -715,14 +716,8 @@ TEST(SessionProbe, an_executor_that_starts_waiting_after_an_activity_settle_is_p
   Session session{clock, virtual_clock, probe_settings()};
   ASSERT_NO_FATAL_FAILURE(settle_by_activity_into_probing(session, clock));
   clock.advance_ms(5);
-  session.on_wait_entered();
-  const uint64_t token = session.enter_wait();
   // Quiet since the last change and a thread waiting: the settle rule holds, ask now.
-  EXPECT_EQ(Session::Action::kProbe, session.poll().action);
-  session.probe_done();
-  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
-  EXPECT_STREQ("done", session.probe_state());
-  session.leave_wait(token);
+  expect_probed_once_it_waits(session);
 }
 
 TEST(SessionProbe, off_without_the_setting)

@@ -33,6 +33,7 @@ from __future__ import annotations
 import atexit
 import functools
 import hashlib
+import io
 import json
 import os
 import queue
@@ -393,7 +394,7 @@ class WarmServer:
                  listener: socket.socket | None = None) -> None:
         """Start a server; ``listener``: a bound, listening socket that makes it a shared one."""
         mine, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
-        self._init(mine, python)
+        self._init(mine, python, tempfile.TemporaryFile(prefix="rmw_introspect_warm_"))
         fds = (theirs.fileno(),) if listener is None else (theirs.fileno(), listener.fileno())
         try:
             self.proc = _LAUNCHER.call(functools.partial(
@@ -414,15 +415,15 @@ class WarmServer:
     def attached(cls, sock: socket.socket, python: str | None = None) -> WarmServer:
         """The shared server at the other end of ``sock`` (a connection to its listening socket)."""
         server = cls.__new__(cls)
-        server._init(sock, python)
+        server._init(sock, python, io.BytesIO())  # its stderr is its owner's to keep
         return server
 
-    def _init(self, control: socket.socket, python: str | None) -> None:
+    def _init(self, control: socket.socket, python: str | None, log: IO[bytes]) -> None:
         self.python = python or sys.executable
         self.started_at = time.monotonic()
         self.control = control
         self.proc = None
-        self.log = tempfile.TemporaryFile(prefix="rmw_introspect_warm_")
+        self.log = log  # the server's stderr
         self._lock = threading.Lock()
         self.info: dict[str, Any] | None = None
         self.failure: str | None = None

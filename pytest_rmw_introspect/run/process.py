@@ -7,6 +7,9 @@ output kept as a bounded tail, stopped with escalating signals.
 * stdout and stderr are read by one thread into :class:`OutputTail` buffers of a fixed size: a
   target logging in a loop cannot fill the disk (only the tail is ever shown).
 * :func:`stop`: SIGINT, SIGTERM, then SIGKILL to the whole group, with short grace periods.
+* :class:`Process` (what :func:`start` returns) waits with a timeout by being woken the moment the
+  target ends (a pidfd), where ``subprocess.Popen.wait(timeout)`` polls with sleeps growing to
+  50 ms: a cold capture of a short-lived target ended up to 50 ms after its target did.
 """
 
 from __future__ import annotations
@@ -14,6 +17,7 @@ from __future__ import annotations
 import ctypes
 import functools
 import os
+import select
 import selectors
 import signal
 import subprocess
@@ -151,10 +155,35 @@ class OutputTail:
                     key.data._pipe.close()
 
 
-def start(argv: Sequence[str], *, env: Mapping[str, str], cwd: Path | None) -> subprocess.Popen[bytes]:
+class Process(subprocess.Popen[bytes]):
+    """A ``subprocess.Popen`` whose ``wait(timeout)`` returns when the process ends."""
+
+    def wait(self, timeout: float | None = None) -> int:
+        if timeout is not None and self.returncode is None and not wait_for_exit(self.pid, timeout):
+            raise subprocess.TimeoutExpired(self.args, timeout)
+        return super().wait(timeout)  # ended (or not known to be): reaps it, or polls as before
+
+
+def wait_for_exit(pid: int, timeout: float) -> bool:
+    """Wait up to ``timeout`` seconds for the child ``pid`` to end, without reaping it. False when it
+    is still running then; True when it ended, or when this cannot be known (no pidfd: an older
+    kernel or Python, or the pid was reaped already), so the caller's own wait decides."""
+    try:
+        fd = os.pidfd_open(pid)
+    except (AttributeError, OSError):
+        return True
+    try:
+        poller = select.poll()  # not select.select: a long session's descriptors pass FD_SETSIZE
+        poller.register(fd, select.POLLIN)
+        return bool(poller.poll(max(0.0, timeout) * 1000))
+    finally:
+        os.close(fd)
+
+
+def start(argv: Sequence[str], *, env: Mapping[str, str], cwd: Path | None) -> Process:
     """Start ``argv`` in a new session (its own process group), stdin closed, output piped.
     Raises OSError when it cannot be started."""
-    return subprocess.Popen(
+    return Process(
         list(argv),
         env=dict(env),
         cwd=str(cwd) if cwd else None,

@@ -398,7 +398,7 @@ class WarmServer:
         fds = (theirs.fileno(),) if listener is None else (theirs.fileno(), listener.fileno())
         try:
             self.proc = _LAUNCHER.call(functools.partial(
-                subprocess.Popen,
+                process.Process,
                 server_command(theirs.fileno(), self.python, None if listener is None else listener.fileno()),
                 env=dict(env), cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=self.log,
                 pass_fds=fds, start_new_session=True,

@@ -17,7 +17,9 @@
    the next three contract items capture ahead), warm one capture at a time
    (``--rmw-introspect-no-capture-ahead``) and cold (``--rmw-introspect-cold-start``, which
    captures one ahead by default): wall time of the whole pytest process and the CPU time of
-   everything it ran.
+   everything it ran. Then the same 100 targets without pytest: ``runner.run`` four at a time in
+   this process, warm by default (what the captures themselves cost on two cores; the rest of a pytest run
+   is pytest's and pytest-xdist's).
 3. The ``rmw-introspect`` CLI's own start-up: wall time of ``rmw-introspect capture --script
    MISSING`` (interpreter start, import of the package, detecting ROS 2, locating the
    middleware, then failing to find the script: everything before a first capture starts),
@@ -28,6 +30,7 @@
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
 import os
 import platform
 import resource
@@ -40,6 +43,7 @@ import textwrap
 import time
 from pathlib import Path
 
+from pytest_rmw_introspect.model import contract as contract_model
 from pytest_rmw_introspect.run import middleware, ros_env, runner, target, warm
 
 PY = sys.executable
@@ -166,7 +170,29 @@ ITEM_RUNS = {
 }
 
 
-def bench_items(count: int, reps: int, ros: ros_env.RosEnvironment) -> dict[str, float]:
+#: captures in flight at once when the items' targets are captured without pytest
+ALONE_CONCURRENCY = 4
+
+
+def captures_alone(directory: Path, library: Path, ros: ros_env.RosEnvironment) -> float:
+    """Wall time (ms) of capturing every contract's target in ``directory`` through
+    ``runner.run``, ``ALONE_CONCURRENCY`` at a time, in this process: no pytest. Warm, as the
+    pytest run's default (compiled targets, ``c_talker``, start cold in both)."""
+    specs = []
+    for path in sorted(directory.glob("*.interfaces.yaml")):
+        loaded = contract_model.load(path)
+        specs.append(target.merge((loaded.target, path.parent, str(path))))
+    runner.warm_up(library=library, ros=ros, wait=60)
+    runner.run(specs[0], library=library, ros=ros)  # the server is ready and has learned the types
+    t0 = time.perf_counter()
+    with concurrent.futures.ThreadPoolExecutor(ALONE_CONCURRENCY) as pool:
+        list(pool.map(lambda spec: runner.run(spec, library=library, ros=ros), specs))
+    elapsed = ms_since(t0)
+    warm.shutdown()
+    return elapsed
+
+
+def bench_items(count: int, reps: int, ros: ros_env.RosEnvironment, library: Path) -> dict[str, float]:
     with tempfile.TemporaryDirectory(prefix="bench_items_") as d:
         directory = Path(d)
         (directory / "pytest.ini").write_text("[pytest]\n")
@@ -178,6 +204,7 @@ def bench_items(count: int, reps: int, ros: ros_env.RosEnvironment) -> dict[str,
                 wall, cpu = pytest_run(directory, *extra, ok_codes=(5,) if NOTHING in extra else ())
                 samples.setdefault(name, []).append(wall)
                 samples.setdefault(name + " cpu", []).append(cpu)
+            samples.setdefault("alone", []).append(captures_alone(directory, library, ros))
         return {k: statistics.median(v) for k, v in samples.items()}
 
 
@@ -230,7 +257,7 @@ def main() -> int:
     one = bench_one_capture(args.reps, library, ros)
     warm.shutdown()
     cli = bench_cli(args.reps)
-    items = None if args.skip_pytest else bench_items(args.items, args.pytest_reps, ros)
+    items = None if args.skip_pytest else bench_items(args.items, args.pytest_reps, ros, library)
     print(f"machine at the end: load average {os.getloadavg()[0]:.1f} (other jobs share this machine: "
           "a load above the run's own ~2 slows every figure)")
     print()
@@ -258,6 +285,8 @@ def main() -> int:
                      f"CPU {items['warm cpu'] / 1000:.1f} s"))
         rows.append(("  of which: start-up and collection (pytest -n 2 with every item deselected)",
                      f"{items['collect']:.0f}", f"CPU {items['collect cpu'] / 1000:.1f} s"))
+        rows.append((f"{n} captures of the same targets without pytest ({ALONE_CONCURRENCY} at a time, warm)",
+                     f"{items['alone']:.0f}", f"{items['cold'] / items['alone']:.1f}x faster than the cold pytest run"))
     rows.append(("floor: python -c pass", f"{cli['python -c pass']:.1f}", ""))
     rows.append(("rmw-introspect start-up (import, detect ROS, locate the middleware)", f"{cli['start-up']:.1f}",
                  "target < 150 ms"))

@@ -66,19 +66,25 @@ def package_prefix():
                 f'{sys.prefix}: install it first (scripts/install-examples.sh)')
 
 
-@pytest.fixture(scope='module')
-def processes(tmp_path_factory):
-    lib = package_prefix() / 'lib' / PACKAGE
-    logs = tmp_path_factory.mktemp('logs')
+def node_env(logs, domain_offset=0):
+    """The environment of the nodes: the ordinary middleware, a ROS domain of this test run."""
     env = dict(os.environ)
     env.update(
-        ROS_DOMAIN_ID=str(100 + os.getpid() % 100),
+        ROS_DOMAIN_ID=str(100 + (os.getpid() + domain_offset) % 100),
         ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST',
         ROS_HOME=str(logs),  # log files of rcl go here, not to ~/.ros
         PYTHONUNBUFFERED='1',
         RCUTILS_LOGGING_BUFFERED_STREAM='0',
     )
     env.pop('LD_PRELOAD', None)
+    return env
+
+
+@pytest.fixture(scope='module')
+def processes(tmp_path_factory):
+    lib = package_prefix() / 'lib' / PACKAGE
+    logs = tmp_path_factory.mktemp('logs')
+    env = node_env(logs)
     started = {}
     for name, (args, _) in {**NODES, **CLIENTS}.items():
         executable = lib / name
@@ -142,3 +148,25 @@ def test_client_gets_its_answer_and_exits(processes, name):
     expected = {**CLIENTS, **HELPERS}[name][1]
     assert status == 0, f'{name} exited with status {status}:\n{output}'
     assert expected in output, f'{name} did not print {expected!r}:\n{output}'
+
+
+#: when Ctrl-C reaches old_school_talker: seconds after one of its publishes, across its 0.5 s sleep
+CTRL_C_POINTS = (0.0, 0.06, 0.12, 0.18, 0.24, 0.30, 0.36, 0.42)
+
+
+def test_a_loop_without_executor_stops_cleanly_wherever_ctrl_c_lands(tmp_path):
+    # rclpy's SIGINT handler shuts the context down from a thread of its own while the loop's
+    # thread, woken from time.sleep by KeyboardInterrupt, shuts it down too: a shutdown that
+    # loses that race must not end the node with a traceback (one Ctrl-C in five did)
+    executable = package_prefix() / 'lib' / PACKAGE / 'old_school_talker'
+    env = node_env(tmp_path, domain_offset=1)  # not the domain of the nodes above
+    for delay in CTRL_C_POINTS:
+        process = subprocess.Popen([str(executable)], env=env, stdout=subprocess.PIPE,
+                                   stderr=subprocess.STDOUT, text=True)
+        first = process.stdout.readline()  # its first publish ('' if it died starting)
+        time.sleep(delay)
+        status = stop(process)
+        output = first + process.stdout.read()
+        process.stdout.close()
+        assert status == 0 and 'Traceback' not in output, (
+            f'old_school_talker, Ctrl-C {delay} s after a publish: exit status {status}:\n{output}')

@@ -631,24 +631,23 @@ def _python(code: str) -> process.Process:
 def test_a_wait_with_a_timeout_is_woken_by_the_end_of_the_process_not_by_polling(monkeypatch):
     # subprocess.Popen.wait(timeout) sleeps between polls, up to 50 ms at a time: a cold
     # capture ended that much after its target
-    proc = _python("import time; time.sleep(0.3); raise SystemExit(3)")
-
     def no_sleeping(seconds: float) -> None:
         raise AssertionError(f"the wait polled (slept {seconds} s)")
 
-    monkeypatch.setattr(time, "sleep", no_sleeping)
-    assert proc.wait(30) == 3
-    assert proc.returncode == 3
+    with _python("import time; time.sleep(0.3); raise SystemExit(3)") as proc:
+        monkeypatch.setattr(time, "sleep", no_sleeping)
+        assert proc.wait(30) == 3
+        assert proc.returncode == 3
 
 
 def test_a_wait_that_times_out_raises_and_leaves_the_process_running():
-    proc = _python("import time; time.sleep(30)")
-    try:
-        with pytest.raises(subprocess.TimeoutExpired):
-            proc.wait(0.2)
-        assert proc.poll() is None
-    finally:
-        assert process.stop(proc, 0.5, 0.5) != 0
+    with _python("import time; time.sleep(30)") as proc:
+        try:
+            with pytest.raises(subprocess.TimeoutExpired):
+                proc.wait(0.2)
+            assert proc.poll() is None
+        finally:
+            assert process.stop(proc, 0.5, 0.5) != 0
 
 
 def test_without_pidfds_a_wait_polls_as_subprocess_does(monkeypatch):
@@ -657,22 +656,22 @@ def test_without_pidfds_a_wait_polls_as_subprocess_does(monkeypatch):
 
     monkeypatch.setattr(os, "pidfd_open", unsupported)
     assert process.wait_for_exit(os.getpid(), 0) is True  # cannot know: the caller's wait decides
-    proc = _python("raise SystemExit(4)")
-    assert proc.wait(30) == 4
-    proc = _python("import time; time.sleep(30)")
-    try:
-        with pytest.raises(subprocess.TimeoutExpired):
-            proc.wait(0.2)
-    finally:
-        process.stop(proc, 0.5, 0.5)
+    with _python("raise SystemExit(4)") as proc:
+        assert proc.wait(30) == 4
+    with _python("import time; time.sleep(30)") as proc:
+        try:
+            with pytest.raises(subprocess.TimeoutExpired):
+                proc.wait(0.2)
+        finally:
+            process.stop(proc, 0.5, 0.5)
 
 
 def test_waiting_for_the_exit_does_not_reap_the_process():
-    proc = _python("raise SystemExit(5)")
-    assert process.wait_for_exit(proc.pid, 30) is True
-    assert process.wait_for_exit(proc.pid, 0) is True  # a zombie still has its pid
-    assert proc.returncode is None
-    assert proc.wait() == 5  # Popen reaps it and reads its status
+    with _python("raise SystemExit(5)") as proc:
+        assert process.wait_for_exit(proc.pid, 30) is True
+        assert process.wait_for_exit(proc.pid, 0) is True  # a zombie still has its pid
+        assert proc.returncode is None
+        assert proc.wait() == 5  # Popen reaps it and reads its status
 
 
 def test_the_variables_a_target_env_may_not_set_are_those_the_runner_sets(tmp_path, ros, library):

@@ -14,6 +14,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -163,7 +164,10 @@ def test_a_loop_without_executor_stops_cleanly_wherever_ctrl_c_lands(tmp_path):
     for delay in CTRL_C_POINTS:
         process = subprocess.Popen([str(executable)], env=env, stdout=subprocess.PIPE,
                                    stderr=subprocess.STDOUT, text=True)
+        hung = threading.Timer(DEADLINE, process.kill)  # a node that never prints fails, not hangs
+        hung.start()
         first = process.stdout.readline()  # its first publish ('' if it died starting)
+        hung.cancel()
         time.sleep(delay)
         status = stop(process)
         output = first + process.stdout.read()

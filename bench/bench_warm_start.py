@@ -43,7 +43,7 @@ import textwrap
 import time
 from pathlib import Path
 
-from pytest_rmw_introspect.model import contract as contract_model
+from pytest_rmw_introspect.check import pipeline
 from pytest_rmw_introspect.run import middleware, ros_env, runner, target, warm
 
 PY = sys.executable
@@ -178,10 +178,7 @@ def captures_alone(directory: Path, library: Path, ros: ros_env.RosEnvironment) 
     """Wall time (ms) of capturing every contract's target in ``directory`` through
     ``runner.run``, ``ALONE_CONCURRENCY`` at a time, in this process: no pytest. Warm, as the
     pytest run's default (compiled targets, ``c_talker``, start cold in both)."""
-    specs = []
-    for path in sorted(directory.glob("*.interfaces.yaml")):
-        loaded = contract_model.load(path)
-        specs.append(target.merge((loaded.target, path.parent, str(path))))
+    specs = [pipeline.prepare(path).spec for path in sorted(directory.glob("*.interfaces.yaml"))]
     runner.warm_up(library=library, ros=ros, wait=60)
     runner.run(specs[0], library=library, ros=ros)  # the server is ready and has learned the types
     t0 = time.perf_counter()

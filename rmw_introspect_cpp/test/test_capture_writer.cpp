@@ -462,6 +462,30 @@ TEST(CaptureWriter, json_null_time_to_settle_and_empty_lists)
 
 namespace
 {
+// pkg/srv/Plan as describe_service_type makes it: the service, its request (constants
+// unknown) and its response, which name pkg/msg/Point and pkg/msg/Path (not included)
+struct PlanService
+{
+  rmw_introspect::TypeDescription service, request, response;
+};
+
+PlanService plan_service()
+{
+  using rmw_introspect::FieldArray;
+  PlanService plan;
+  plan.service.name = "pkg/srv/Plan";
+  plan.service.is_service = true;
+  plan.service.constants_known = true;
+  plan.service.request = "pkg/srv/Plan_Request";
+  plan.service.response = "pkg/srv/Plan_Response";
+  plan.request.name = "pkg/srv/Plan_Request";
+  plan.request.fields = {{"goal", "pkg/msg/Point", FieldArray::None, 0, 0}};
+  plan.response.name = "pkg/srv/Plan_Response";
+  plan.response.fields = {{"path", "pkg/msg/Path", FieldArray::None, 0, 0}};
+  plan.response.constants_known = true;
+  return plan;
+}
+
 // Two endpoint types that share a nested type, as describe_*_type makes them.
 RecorderSnapshot sample_with_types()
 {
@@ -480,19 +504,7 @@ RecorderSnapshot sample_with_types()
     {"tags", "wstring", FieldArray::Unbounded, 0, 0}};
   path.constants_known = true;
   path.constants = {{"MAX", "uint8", "100"}};
-  TypeDescription service;
-  service.name = "pkg/srv/Plan";
-  service.is_service = true;
-  service.constants_known = true;
-  service.request = "pkg/srv/Plan_Request";
-  service.response = "pkg/srv/Plan_Response";
-  TypeDescription request;
-  request.name = "pkg/srv/Plan_Request";
-  request.fields = {{"goal", "pkg/msg/Point", FieldArray::None, 0, 0}};  // constants unknown
-  TypeDescription response;
-  response.name = "pkg/srv/Plan_Response";
-  response.fields = {{"path", "pkg/msg/Path", FieldArray::None, 0, 0}};
-  response.constants_known = true;
+  const PlanService plan = plan_service();
 
   rmw_introspect::Recorder recorder;
   const uint64_t n = recorder.add_node("planner", "/", "/");
@@ -508,7 +520,7 @@ RecorderSnapshot sample_with_types()
   e.name = "/plan";
   e.type = "pkg/srv/Plan";
   e.types = std::make_shared<const TypeDescriptions>(
-    TypeDescriptions{service, request, point, response, path});
+    TypeDescriptions{plan.service, plan.request, point, plan.response, path});
   recorder.add_endpoint(e);
   e.name = "/undescribed";
   e.types = nullptr;
@@ -716,24 +728,12 @@ std::shared_ptr<const TypeDescriptions> path_types(const std::string & constant_
 
 std::shared_ptr<const TypeDescriptions> service_types()
 {
-  TypeDescription service;
-  service.name = "pkg/srv/Plan";
-  service.is_service = true;
-  service.constants_known = true;
-  service.request = "pkg/srv/Plan_Request";
-  service.response = "pkg/srv/Plan_Response";
-  TypeDescription request;
-  request.name = "pkg/srv/Plan_Request";
-  request.fields = {{"goal", "pkg/msg/Point", FieldArray::None, 0, 0}};
-  TypeDescription response;
-  response.name = "pkg/srv/Plan_Response";
-  response.fields = {{"path", "pkg/msg/Path", FieldArray::None, 0, 0}};
-  response.constants_known = true;
+  const PlanService plan = plan_service();
   TypeDescription point;  // nested, listed again (the first listing wins)
   point.name = "pkg/msg/Point";
   point.fields = {{"different", "int8", FieldArray::None, 0, 0}};
   return std::make_shared<const TypeDescriptions>(
-    TypeDescriptions{service, request, response, point});
+    TypeDescriptions{plan.service, plan.request, plan.response, point});
 }
 
 rmw_introspect::NodeProbe full_probe()

@@ -56,7 +56,7 @@ if TYPE_CHECKING:
     from .model.types import Constant, Field, MessageType, ServiceType
     from .model.vocabulary import Severity
     from .plugin.assertions import check_compatible
-    from .run.runner import capture
+    from .run.api import capture
     from .run.target import TargetSpec
 
 #: public name → (module, attribute). Imported on first use: importing the package (which every
@@ -82,7 +82,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     **{name: ("model.types", name) for name in ("Constant", "Field", "MessageType", "ServiceType")},
     "Severity": ("model.vocabulary", "Severity"),
     "check_compatible": ("plugin.assertions", "check_compatible"),
-    "capture": ("run.runner", "capture"),
+    "capture": ("run.api", "capture"),
     "TargetSpec": ("run.target", "TargetSpec"),
     **{name: ("errors", name) for name in (
         "CaptureFormatError", "ContractError", "ExecutableNotFound", "LifecycleTransitionFailed", "NoNodeCreated",

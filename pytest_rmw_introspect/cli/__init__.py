@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from types import FrameType
 
 from ..errors import RmwIntrospectError
-from .parser import EXIT_ERROR, UsageError, build_parser
+from .parser import EXIT_ERROR, ONE_CAPTURE_STARTS_COLD, UsageError, build_parser
 
 EXIT_TERMINATED = 128 + signal.SIGTERM
 
@@ -55,13 +55,24 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 130
     # Each command imports what it needs once the arguments are valid (`--help` and usage errors
     # answer in a fraction of the time); `capture` never loads the comparison pipeline
-    # (deepdiff, jsonschema, ...) nor, without a launch file, the system pipeline.
+    # (deepdiff, jsonschema, ...) nor, without a launch file, the system pipeline, nor the warm
+    # start client: its one target starts cold (cli.capture).
+    if args.command == "capture":
+        return _run_reporting_errors(args, command)
     from ..run import warm
 
-    if args.command == "capture" or len(getattr(args, "contracts", ())) < 2:
+    if len(getattr(args, "contracts", ())) < 2:
         # a warm start server pays for itself from the second capture of a run on
-        warm.POOL.disable("a run with one capture starts it cold (a warm start server pays off from the second)")
+        warm.POOL.disable(ONE_CAPTURE_STARTS_COLD)
+    try:
+        return _run_reporting_errors(args, command)
+    finally:
+        warm.shutdown()  # the servers end with the run, whatever way it ends
 
+
+def _run_reporting_errors(args: argparse.Namespace, command: list[str] | None) -> int:
+    """Run the command; a problem the user can fix, an interrupt or SIGTERM becomes a message and
+    an exit status."""
     try:
         return _run_command(args, command)
     except (RmwIntrospectError, UsageError, ValueError) as exc:
@@ -73,8 +84,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Terminated:
         print("rmw-introspect: terminated", file=sys.stderr)
         return EXIT_TERMINATED
-    finally:
-        warm.shutdown()  # the servers end with the run, whatever way it ends
 
 
 def _run_command(args: argparse.Namespace, command: list[str] | None) -> int:

@@ -12,7 +12,7 @@ from ..errors import TargetError
 from ..run import runner
 from ..run.target import TargetSpec
 from . import formats, launch_options
-from .parser import EXIT_OK, UsageError, target_from_args
+from .parser import EXIT_OK, ONE_CAPTURE_STARTS_COLD, UsageError, target_from_args
 from .ros_setup import Setup
 
 
@@ -32,7 +32,8 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
     setup = Setup()
     include = bool(args.include_infrastructure or args.raw)
     try:
-        cap = runner.run(spec, library=setup.library(), ros=setup.ros(), include_infrastructure=include)
+        cap = runner.run(spec, library=setup.library(), ros=setup.ros(), include_infrastructure=include,
+                         cold_note=ONE_CAPTURE_STARTS_COLD)
     except TargetError as exc:
         partial = getattr(exc, "partial", None)
         if not args.partial or partial is None:

@@ -7,13 +7,15 @@ import json
 import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..model import qos as qos_module
-from ..model.capture import Capture
-from ..model.parameters import Parameter
 from ..model.vocabulary import KIND_TO_LIST, LISTS
 from ..run.target import TargetSpec
+
+if TYPE_CHECKING:  # the capture model is imported by the runner while the target starts
+    from ..model.capture import Capture
+    from ..model.parameters import Parameter
 
 _NODL_QOS_FIELDS = ("history", "depth", "reliability", "durability", "deadline_ns", "lifespan_ns", "liveliness",
                     "liveliness_lease_duration_ns")

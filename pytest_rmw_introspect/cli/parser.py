@@ -11,6 +11,8 @@ from ..model.vocabulary import FAIL_ON, LIFECYCLE_TARGETS
 from . import system_options
 
 EXIT_OK, EXIT_DRIFT, EXIT_ERROR = 0, 1, 2
+#: the start note of a command's only capture: a warm start server pays off from the second one
+ONE_CAPTURE_STARTS_COLD = "a run with one capture starts it cold (a warm start server pays off from the second)"
 
 _DESCRIPTION = """\
 Interface contracts of ROS 2 nodes: run a node on the recording middleware (rmw_introspect_cpp)

@@ -25,7 +25,7 @@ the ones the client library declares by itself, ``use_sim_time`` and the like, l
 
 This module is also callable: ``pytest_rmw_introspect.capture(script="talker.py")`` runs a
 target on the recording middleware and returns its :class:`Capture` (see
-:func:`pytest_rmw_introspect.run.runner.capture`).
+:func:`pytest_rmw_introspect.run.api.capture`).
 """
 
 from __future__ import annotations

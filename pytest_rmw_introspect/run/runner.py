@@ -50,7 +50,7 @@ import time
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import IO, Any
+from typing import IO, TYPE_CHECKING, Any
 
 from ..errors import (
     CaptureFormatError,
@@ -62,9 +62,16 @@ from ..errors import (
     TargetExited,
     TargetTimeout,
 )
-from ..model.capture import Capture, OtherProcess
-from . import middleware, process, ros_env, warm
+from . import middleware, process, ros_env
 from .target import TargetSpec, build_argv, module_main_hint
+
+if TYPE_CHECKING:
+    from ..model.capture import Capture, OtherProcess
+    from .warm import WarmChild
+
+# Imported when first needed, not here: the capture model (its dataclasses cost ~30 ms to create)
+# while the first target starts, so the two overlap, and the warm start machinery (``warm``) only
+# when a target may start warm: ``rmw-introspect capture`` starts its one target cold without it.
 
 #: where a capture run's files go: ``<tempdir>/rmw_introspect_<runner pid>_<random>/``
 _WORKDIR_PREFIX = "rmw_introspect_"
@@ -117,6 +124,8 @@ def sweep_stale_workdirs(tempdir: Path | None = None, *, now: float | None = Non
 
 
 def _try_load(path: Path, include_infrastructure: bool) -> Capture | None:
+    from ..model.capture import Capture
+
     if not path.exists():
         return None
     try:
@@ -162,16 +171,23 @@ class _Started:
     note: str | None  # why it started cold
     #: a warm child's command line as a cold start's /proc/self/cmdline would read
     cmdline: list[str] | None = None
+    #: ``proc`` when it was forked by a warm start server
+    warm_child: WarmChild | None = None
 
 
 def _start(spec: TargetSpec, argv: list[str], env: dict[str, str], python: str | None,
-           warm_wait: float, cold_note: str | None = None) -> _Started:
-    """Start the target: forked from a warm start server when it can be, else a new process."""
+           warm_wait: float | None, cold_note: str | None = None) -> _Started:
+    """Start the target: forked from a warm start server when it can be, else a new process
+    (``cold_note``: why it must start cold; ``warm_wait``: default ``warm.DEFAULT_WAIT``)."""
     describe = spec.describe()
     note = cold_note
     if note is None:
         note = "cold_start asked for it" if spec.cold_start else None
     if note is None:
+        from . import warm
+
+        if warm_wait is None:
+            warm_wait = warm.DEFAULT_WAIT
         how = warm.plan(argv, env, python)
         if isinstance(how, warm.Plan):
             cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
@@ -179,7 +195,7 @@ def _start(spec: TargetSpec, argv: list[str], env: dict[str, str], python: str |
             if isinstance(server, warm.WarmServer):
                 try:
                     child = server.spawn(how, env=env, cwd=cwd)
-                    return _Started(child, child.stdout, child.stderr, "warm", None, list(how.orig_argv))
+                    return _Started(child, child.stdout, child.stderr, "warm", None, list(how.orig_argv), child)
                 except warm.WarmStartFailed as exc:
                     note = str(exc)
             else:
@@ -206,9 +222,10 @@ class _Ended:
     stderr: str
 
 
-def _wait(proc: process.Handle, stdout: IO[bytes], stderr: IO[bytes], timeout: float) -> _Ended:
+def _wait(start: _Started, timeout: float) -> _Ended:
     """Wait for the target (stopping it after ``timeout``), then kill what is left of its group."""
-    stdout_tail, stderr_tail = process.OutputTail.read_together(stdout, stderr)
+    proc = start.proc
+    stdout_tail, stderr_tail = process.OutputTail.read_together(start.stdout, start.stderr)
     timed_out = False
     try:
         returncode = proc.wait(timeout)
@@ -220,8 +237,8 @@ def _wait(proc: process.Handle, stdout: IO[bytes], stderr: IO[bytes], timeout: f
         raise
     finally:
         process.reap_group(proc)
-        if isinstance(proc, warm.WarmChild):
-            proc.release()
+        if start.warm_child is not None:
+            start.warm_child.release()
         stdout_tail.finish()
         stderr_tail.finish()
     return _Ended(returncode, timed_out, stdout_tail.text(), stderr_tail.text())
@@ -237,6 +254,8 @@ def warm_up(spec: TargetSpec | None = None, *, library: str | Path | None = None
     ros = ros or ros_env.detect()
     if library is None:
         library = middleware.ensure_library(ros)
+    from . import warm
+
     env = environment(spec, Path(library), ros, Path(tempfile.gettempdir()) / _OUTPUT_PATTERN)
     cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
     server = warm.POOL.server(env, cwd, python, wait=wait)
@@ -252,6 +271,7 @@ def run(
     keep_files: bool | None = None,
     python: str | None = None,
     warm_wait: float | None = None,
+    cold_note: str | None = None,
 ) -> Capture:
     """Run ``spec`` on the middleware and return its capture (raises a TargetError subclass).
 
@@ -259,7 +279,8 @@ def run(
     ROS environment (default: ``ros_env.detect()``); ``keep_files``: keep the temporary
     capture and stderr files (default: the ``RMW_INTROSPECT_KEEP_FILES`` variable);
     ``warm_wait``: seconds to wait for a warm start server that is still starting before the
-    target is started cold instead (default ``warm.DEFAULT_WAIT``).
+    target is started cold instead (default ``warm.DEFAULT_WAIT``); ``cold_note``: start it cold,
+    for this reason (``Capture.start_note``), without looking for a warm start server.
     """
     spec.validate()
     ros = ros or ros_env.detect()
@@ -284,19 +305,19 @@ def run(
         shutil.rmtree(workdir, ignore_errors=True)
         raise ExecutableNotFound(f"Working directory {cwd} of target {describe} does not exist.", target=describe)
 
-    if warm_wait is None:
-        warm_wait = warm.DEFAULT_WAIT
     started = time.monotonic()
     try:
-        start = _start(spec, argv, env, python, warm_wait)
-        ended = _wait(start.proc, start.stdout, start.stderr, timeout)
-        if isinstance(start.proc, warm.WarmChild) and start.proc.server_lost:
+        start = _start(spec, argv, env, python, warm_wait, cold_note)
+        from ..model.capture import Capture  # while the target starts (imported already in a pytest run)
+
+        ended = _wait(start, timeout)
+        if start.warm_child is not None and start.warm_child.server_lost:
             # the server died under the target (which died with it): run the target again, cold
             for leftover in workdir.iterdir():
                 leftover.unlink()
             start = _start(spec, argv, env, python, warm_wait,
                            cold_note="the warm start server ended during the capture")
-            ended = _wait(start.proc, start.stdout, start.stderr, timeout)
+            ended = _wait(start, timeout)
         returncode, stderr = ended.returncode, ended.stderr
         wall = time.monotonic() - started
         if keep_files:
@@ -342,7 +363,8 @@ def run(
             problems = stimulus_problems(captured.raw, returncode)
             if problems:
                 raise _tag(StimulusFailed(describe, problems, captured, stderr, argv), start)
-        _learn(captured, env, spec, python)
+        if cold_note is None:  # a run that never starts warm has no server to tell
+            _learn(captured, env, spec, python)
         return captured
     finally:
         if not keep_files:
@@ -370,6 +392,8 @@ def _learn(captured: Capture, env: Mapping[str, str], spec: TargetSpec, python: 
     type_names = sorted({e.type for e in captured.raw_endpoints if e.type})
     if not type_names:
         return
+    from . import warm
+
     cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
     warm.POOL.learn(env, cwd, type_names, python)
 
@@ -416,6 +440,8 @@ def stimulus_problems(raw: Mapping[str, Any], returncode: int | None) -> list[st
 
 
 def _describe_process(path: Path, include_infrastructure: bool) -> OtherProcess:
+    from ..model.capture import OtherProcess
+
     pid_text = path.name.split(".")[1] if path.name.count(".") >= 2 else ""
     other = _try_load(path, include_infrastructure)
     if other is None:
@@ -461,42 +487,3 @@ def _missing_module_hint(stderr: str) -> str | None:
         "module comes from a workspace or another virtual environment, give PYTHONPATH (or "
         "AMENT_PREFIX_PATH) in the target's `env:`, or run the check where the node's environment is set up."
     )
-
-
-def capture(
-    target: TargetSpec | Mapping[str, Any] | None = None,
-    *,
-    include_infrastructure: bool = False,
-    library: str | Path | None = None,
-    ros: Any = None,
-    base_dir: str | Path | None = None,
-    keep_files: bool | None = None,
-    **options: Any,
-) -> Capture:
-    """Capture the interfaces of a target: the library function behind ``pytest_rmw_introspect.capture``.
-
-    Give the target as keyword arguments (the keys of :mod:`pytest_rmw_introspect.run.target`:
-    ``package``/``executable``, ``command``, ``script``, ``module``, ``arguments``,
-    ``namespace``, ``node_name``, ``remappings``, ``parameters``, ``params_file``, ``env``,
-    ``cwd``, ``settle``, ``timeout``, ``horizon``, ``lifecycle``, ``read_parameters``, ``stimuli``), as a
-    mapping, or as a :class:`TargetSpec`; keyword
-    arguments override the mapping. Relative paths are relative to ``base_dir`` (default:
-    the current directory).
-
-    >>> cap = capture(script="talker.py", namespace="/robot1")   # doctest: +SKIP
-    >>> cap["/robot1/talker"].publishers[0].name                 # doctest: +SKIP
-    '/robot1/chatter'
-
-    Raises :class:`~pytest_rmw_introspect.errors.SetupError` when ROS 2 or the middleware is
-    missing and a :class:`~pytest_rmw_introspect.errors.TargetError` when the target fails (a
-    :class:`~pytest_rmw_introspect.errors.LifecycleTransitionFailed` when a lifecycle node
-    fails a transition the capture drives).
-    """
-    base = Path(base_dir) if base_dir is not None else Path.cwd()
-    if isinstance(target, TargetSpec):
-        spec = target
-    else:
-        spec = TargetSpec.from_mapping(target or {}, base_dir=base, source="capture()")
-    if options:
-        spec = spec.merged(options, base_dir=base, source="capture()")
-    return run(spec, library=library, ros=ros, include_infrastructure=include_infrastructure, keep_files=keep_files)

@@ -1,8 +1,10 @@
 """`rmw-introspect check` of several contracts forks their targets from one warm start server,
-which ends with the run; a run with one capture starts it cold; `--cold-start` asks for cold."""
+which ends with the run; a run with one capture (`check` of one contract, `capture`) starts it
+cold; `--cold-start` asks for cold."""
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import textwrap
@@ -56,8 +58,13 @@ def test_one_capture_and_cold_start_start_cold(tmp_path, middleware_library, mon
     cold = subprocess.Popen([str(CLI), "check", "--cold-start", *contracts[1:]], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE)
     cold.communicate(timeout=120)
+    capture = subprocess.Popen([str(CLI), "capture", "--script", str(WARM_PID), "--settle", "0.02"],
+                               env={**os.environ, "WARM_PID_FILE": str(pids)}, stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    _out, err = capture.communicate(timeout=120)
+    assert capture.returncode == 0, err
     # a cold start's parent is the CLI process itself
-    assert _parents(pids) == [single.pid, cold.pid, cold.pid]
+    assert _parents(pids) == [single.pid, cold.pid, cold.pid, capture.pid]
 
 
 def test_a_terminated_run_leaves_no_server_or_target(tmp_path, middleware_library, monkeypatch):

@@ -373,10 +373,10 @@ def test_yaml_capture_is_read_too(tmp_path, talker):
 def test_package_capture_is_the_library_function_even_after_importing_the_model():
     import importlib
 
-    from pytest_rmw_introspect.run import runner
+    from pytest_rmw_introspect.run import api
 
     importlib.import_module("pytest_rmw_introspect.model.capture")
-    assert pytest_rmw_introspect.capture is runner.capture
+    assert pytest_rmw_introspect.capture is api.capture
     assert pytest_rmw_introspect.Capture is Capture
 
 

@@ -41,7 +41,12 @@ LOCAL_IMPORTS = {
     ("compare.drift", "deepdiff"): "deepdiff costs 0.1-0.2 s; only comparing needs it",
     ("cli", "pytest_rmw_introspect.cli"): "`--help` and usage errors answer without the pipeline",
     ("cli", "pytest_rmw_introspect.cli.validate"): "`validate` (a pre-commit hook) loads only the contract reader",
-    ("cli", "pytest_rmw_introspect.run"): "`--help` and usage errors answer without the warm start client (~30 ms)",
+    ("cli", "pytest_rmw_introspect.run"): "`capture` (one target, started cold), `--help` and usage errors answer "
+                                          "without the warm start client (~15 ms)",
+    ("run.runner", "pytest_rmw_introspect.run"): "the warm start client (~15 ms) only when a target may start warm: "
+                                                 "`rmw-introspect capture` starts its one target cold without it",
+    ("run.runner", "pytest_rmw_introspect.model.capture"): "the capture model (~30 ms of dataclass creation) is "
+                                                           "imported while the first target starts, not before it",
     ("run.ros_env", "importlib"): "importlib.metadata (+ email) costs ~10 ms; only a venv without the "
                                    "ros-<distro>-rclpy dist-info needs the scan of installed distributions",
     ("run.target", "importlib"): "importlib.metadata (+ email) costs ~15 ms; only console scripts and packages "
@@ -239,9 +244,11 @@ def test_the_public_api_exports_every_type_its_functions_return():
 
 
 #: what `rmw-introspect capture` (without a launch file) must start without: the comparison and
-#: system pipelines and their libraries, PyYAML (imported once a capture is printed), and the
-#: slow parts of the standard library the CLI used to load (README, "Measured performance")
+#: system pipelines and their libraries, PyYAML (imported once a capture is printed), the capture
+#: model (imported while the target starts), the warm start client (its one target starts cold),
+#: and the slow parts of the standard library the CLI used to load (README, "Measured performance")
 NOT_FOR_CAPTURE = ("yaml", "deepdiff", "jsonschema", "numpy", "ctypes.util", "importlib.metadata",
+                   "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.warm", "socket",
                    "pytest_rmw_introspect.check.pipeline", "pytest_rmw_introspect.check.golden",
                    "pytest_rmw_introspect.compare.drift", "pytest_rmw_introspect.cli.system",
                    "pytest_rmw_introspect.cli.commands", "pytest_rmw_introspect.run.launch_reader")

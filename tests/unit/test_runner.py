@@ -25,7 +25,7 @@ from pytest_rmw_introspect.errors import (
     TargetExited,
     TargetTimeout,
 )
-from pytest_rmw_introspect.run import process, runner
+from pytest_rmw_introspect.run import api, process, runner
 from pytest_rmw_introspect.run import target as target_module
 from pytest_rmw_introspect.run.ros_env import RosEnvironment
 from pytest_rmw_introspect.run.target import TargetSpec
@@ -243,9 +243,9 @@ def test_package_executable_from_the_ament_index(tmp_path, ros, library):
 
 def test_capture_function_takes_keywords_relative_to_base_dir(tmp_path, ros, library):
     fake(tmp_path, "write()\n", name="n.py")
-    cap = runner.capture(script="n.py", base_dir=tmp_path, library=library, ros=ros)
+    cap = api.capture(script="n.py", base_dir=tmp_path, library=library, ros=ros)
     assert cap.node_names == ["/fake"]
-    cap = runner.capture({"script": "n.py", "timeout": 5}, base_dir=tmp_path, library=library, ros=ros,
+    cap = api.capture({"script": "n.py", "timeout": 5}, base_dir=tmp_path, library=library, ros=ros,
                          include_infrastructure=True)
     assert cap.include_infrastructure
 

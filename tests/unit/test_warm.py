@@ -251,7 +251,9 @@ def test_a_disabled_pool_starts_no_server_and_says_why(monkeypatch):
     assert warm.POOL.servers() == before
 
 
-def test_the_capture_says_how_it_was_started(tmp_path):
+def _fake_target(tmp_path):
+    """A script that writes a settled capture of one node the way the middleware would, a library
+    file and a ROS environment to run it with (no ROS needed)."""
     script = tmp_path / "fake.py"
     script.write_text(
         "import json, os\n"
@@ -267,9 +269,29 @@ def test_the_capture_says_how_it_was_started(tmp_path):
     from pytest_rmw_introspect.run.ros_env import RosEnvironment
 
     ros = RosEnvironment(kind="system", prefix=tmp_path, distro="jazzy", ament_prefixes=(tmp_path,))
-    cap = runner.run(TargetSpec.from_mapping({"script": str(script)}), library=lib, ros=ros)
+    return TargetSpec.from_mapping({"script": str(script)}), lib, ros
+
+
+def test_the_capture_says_how_it_was_started(tmp_path):
+    spec, lib, ros = _fake_target(tmp_path)
+    cap = runner.run(spec, library=lib, ros=ros)
     assert (cap.started, cap.start_note) == ("cold", "the fast test tier starts targets cold")
     assert "started cold" in cap.summary()
+
+
+def test_a_capture_given_a_cold_note_never_asks_for_a_server(tmp_path, monkeypatch):
+    """`rmw-introspect capture` runs one target: it starts cold, for the reason it gives, without
+    the warm start client (which would start a server for a Python target)."""
+    monkeypatch.setattr(warm.POOL, "disabled", None)
+
+    def no_server(*args, **kwargs):
+        raise AssertionError("a capture given a cold note asked for a warm start server")
+
+    monkeypatch.setattr(warm.POOL, "server", no_server)
+    monkeypatch.setattr(warm.POOL, "learn", no_server)
+    spec, lib, ros = _fake_target(tmp_path)
+    cap = runner.run(spec, library=lib, ros=ros, cold_note="one capture")
+    assert (cap.started, cap.start_note) == ("cold", "one capture")
 
 
 def test_an_attached_server_whose_ready_message_waits_is_alive():

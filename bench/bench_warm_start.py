@@ -23,6 +23,8 @@
 3. The ``rmw-introspect`` CLI's own start-up: wall time of ``rmw-introspect capture --script
    MISSING`` (interpreter start, import of the package, detecting ROS 2, locating the
    middleware, then failing to find the script: everything before a first capture starts),
+   the whole ``rmw-introspect capture`` of the compiled ``c_talker`` (start-up, the target,
+   reading and printing its capture: what start-up work left for later costs when it comes),
    and ``rmw-introspect check`` over the example package's contracts, warm (one server for all)
    and ``--cold-start``.
 """
@@ -209,7 +211,8 @@ def bench_items(count: int, reps: int, ros: ros_env.RosEnvironment, library: Pat
 
 
 def bench_cli(reps: int) -> dict[str, float]:
-    samples: dict[str, list[float]] = {"python -c pass": [], "start-up": [], "check warm": [], "check cold": []}
+    samples: dict[str, list[float]] = {"python -c pass": [], "start-up": [], "capture c_talker": [],
+                                       "check warm": [], "check cold": []}
     contracts = sorted(str(p) for p in CONTRACTS.glob("*.interfaces.yaml"))
 
     def timed(argv: list[str], codes: tuple[int, ...]) -> float:
@@ -225,6 +228,8 @@ def bench_cli(reps: int) -> dict[str, float]:
     for _ in range(reps):
         samples["python -c pass"].append(timed([PY, "-c", "pass"], (0,)))
         samples["start-up"].append(timed([CLI, "capture", "--script", missing], (2,)))
+        samples["capture c_talker"].append(timed([CLI, "capture", "--package", PACKAGE, "--executable", "c_talker",
+                                                  "--settle", "0.01"], (0,)))
     for _ in range(max(1, reps // 3)):
         samples["check warm"].append(timed([CLI, "check", *contracts], (0,)))
         samples["check cold"].append(timed([CLI, "check", "--cold-start", *contracts], (0,)))
@@ -287,6 +292,8 @@ def main() -> int:
     rows.append(("floor: python -c pass", f"{cli['python -c pass']:.1f}", ""))
     rows.append(("rmw-introspect start-up (import, detect ROS, locate the middleware)", f"{cli['start-up']:.1f}",
                  "target < 150 ms"))
+    rows.append(("rmw-introspect capture of c_talker, the whole command (settle 0.01 s)",
+                 f"{cli['capture c_talker']:.1f}", ""))
     rows.append((f"rmw-introspect check, {len(list(CONTRACTS.glob('*.interfaces.yaml')))} example contracts, "
                  "--cold-start", f"{cli['check cold']:.0f}", ""))
     rows.append((f"rmw-introspect check, {len(list(CONTRACTS.glob('*.interfaces.yaml')))} example contracts, "

@@ -1,9 +1,10 @@
 """The hooks and fixtures of pytest-rmw-introspect that run tests: contract files collected as
 items, the ``interfaces`` and ``system_capture`` markers checked after the test body, the next
-contract items capturing ahead, the warm start server started after collection and ended with
-the session, and the fixtures. Registered by the entry point (``plugin/__init__``) in
-``pytest_configure`` in every process that runs tests: not in a pytest-xdist controller, which
-only distributes them (so it starts its workers without importing the pipelines)."""
+contract items capturing ahead, the warm start server (started by the first contract file
+collected, or after collection for ``interfaces`` tests; ended with the session), and the
+fixtures. Registered by the entry point (``plugin/__init__``) in ``pytest_configure`` in every
+process that runs tests: not in a pytest-xdist controller, which only distributes them (so it
+starts its workers without importing the pipelines)."""
 
 from __future__ import annotations
 
@@ -78,14 +79,23 @@ def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> 
 
 
 def pytest_collection_finish(session: pytest.Session) -> None:
-    """When this session (or xdist worker) will capture targets, start the warm start server now,
-    in the background: it imports rclpy while the first tests are set up."""
-    config = session.config
-    if config.option.collectonly or not any(
-        isinstance(item, items.ContractItem) or item.get_closest_marker(marker.MARKER) is not None
-        for item in session.items
-    ):
+    """When this session (or xdist worker) will capture targets for ``interfaces`` tests, start
+    the warm start server now (contract files started it when they were collected)."""
+    if any(item.get_closest_marker(marker.MARKER) is not None for item in session.items):
+        _warm_up(session.config)
+
+
+#: the warm start server of this session was asked for already
+_WARMED_UP = pytest.StashKey[bool]()
+
+
+def _warm_up(config: pytest.Config) -> None:
+    """Start the warm start server in the background (or attach to the xdist run's): it imports
+    rclpy while the session goes on collecting and setting up, so it is ready for the first
+    capture. Once per session; not for ``--collect-only`` nor ``cold_start``."""
+    if config.stash.get(_WARMED_UP, False) or config.option.collectonly:
         return
+    config.stash[_WARMED_UP] = True
     session_state = config.stash.get(session_module.SESSION, None)
     if session_state is None:
         return
@@ -108,5 +118,8 @@ def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.Fil
     if items.matches(file_path, parent.config, items.patterns(parent.config)):
         if system_marker.is_system_file(file_path):
             return system_marker.SystemContractFile.from_parent(parent, path=file_path)
+        # the first contract file of a session starts the warm start server, which then imports
+        # rclpy while the rest is collected (a `-k` that deselects every contract item wastes it)
+        _warm_up(parent.config)
         return items.ContractFile.from_parent(parent, path=file_path)
     return None

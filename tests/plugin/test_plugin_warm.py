@@ -162,6 +162,30 @@ def test_the_next_contract_items_capture_while_the_current_one_runs(project, opt
     project.run().assert_outcomes(passed=3)  # and they match again, captured ahead
 
 
+#: records, as each file's collection ends, how many warm start servers the session has asked for
+COLLECTION_RECORDER = """
+from pytest_rmw_introspect.run import warm
+
+def pytest_collectreport(report):
+    if report.nodeid.endswith(".interfaces.yaml"):
+        with open("collected.txt", "a") as f:
+            f.write(f"{report.nodeid} {len(warm.POOL.servers())}\\n")
+"""
+
+
+@pytest.mark.parametrize("collect_only", [False, True], ids=["run", "collect-only"])
+def test_the_first_contract_file_starts_the_server_while_the_rest_is_collected(project, collect_only):
+    """The server imports rclpy while the session collects its other contracts (a collection of
+    a hundred takes about as long), instead of after collection, when the first item waits."""
+    _slow_contracts(project)
+    project.write("conftest.py", COLLECTION_RECORDER)
+    result = project.run("--update-golden", *(["--collect-only"] if collect_only else []))
+    assert result.ret == 0, result.stdout.str()
+    reports = [line.split() for line in project.read("collected.txt").splitlines()]
+    assert len(reports) == 3
+    assert {int(servers) for _nodeid, servers in reports} == ({0} if collect_only else {1}), reports
+
+
 def test_capture_ahead_is_an_ini_value_too(project):
     _slow_contracts(project)
     project.pytester.makeini("[pytest]\nrmw_introspect_capture_ahead = false\n")

@@ -14,7 +14,7 @@
    then ``pytest -n 2`` over all of them in turn, ``--pytest-reps`` times each: only collecting
    (every item deselected with ``-k``: the controller and both workers start and collect, the
    fixed part of a run; ``--collect-only`` would collect in the controller alone), warm (the default:
-   the next three contract items capture ahead), warm one capture at a time
+   the next eight contract items capture ahead), warm one capture at a time
    (``--rmw-introspect-no-capture-ahead``) and cold (``--rmw-introspect-cold-start``, which
    captures one ahead by default): wall time of the whole pytest process and the CPU time of
    everything it ran. Then the same 100 targets without pytest: ``runner.run`` four at a time in

@@ -140,7 +140,7 @@ def _starts(project) -> list[float]:
     return [float(t) for _name, _start, t in sorted(lines, key=lambda parts: parts[0])]
 
 
-@pytest.mark.parametrize(("options", "ahead"), [([], 3), (["--rmw-introspect-capture-ahead", "1"], 1),
+@pytest.mark.parametrize(("options", "ahead"), [([], 8), (["--rmw-introspect-capture-ahead", "1"], 1),
                                               (["--rmw-introspect-cold-start"], 1),
                                               (["--rmw-introspect-cold-start", "--rmw-introspect-capture-ahead", "2"], 2),
                                               (["--rmw-introspect-no-capture-ahead"], 0)],

@@ -228,6 +228,10 @@ def _wait(start: _Started, timeout: float) -> _Ended:
     stdout_tail, stderr_tail = process.OutputTail.read_together(start.stdout, start.stderr)
     timed_out = False
     try:
+        # the capture model is needed once the target ends: imported while it starts (inside the
+        # try: an interrupt during the import stops the target too)
+        from ..model.capture import Capture  # noqa: F401
+
         returncode = proc.wait(timeout)
     except subprocess.TimeoutExpired:
         timed_out = True
@@ -308,8 +312,6 @@ def run(
     started = time.monotonic()
     try:
         start = _start(spec, argv, env, python, warm_wait, cold_note)
-        from ..model.capture import Capture  # while the target starts (imported already in a pytest run)
-
         ended = _wait(start, timeout)
         if start.warm_child is not None and start.warm_child.server_lost:
             # the server died under the target (which died with it): run the target again, cold
@@ -344,6 +346,8 @@ def run(
                     "or it did not run on the recording middleware",
                     hint=no_node_hint,
                 ), start)
+            from ..model.capture import Capture
+
             captured = Capture.load(output, include_infrastructure=include_infrastructure)
         _mark(captured, start)
         if not captured.raw_nodes:

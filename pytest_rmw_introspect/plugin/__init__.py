@@ -3,7 +3,8 @@ state and its summary. Everything else lives in the modules next to it:
 
 * ``hooks``: the hooks that collect and run tests, and the fixtures; registered here in every
   process that runs tests (not in a pytest-xdist controller, which only distributes them: it
-  starts its workers sooner without the pipelines' imports);
+  starts its workers sooner without the hooks' ~50 ms of imports); the pipelines themselves
+  are imported by the first contract test that runs;
 * ``session``: command-line and ini options, the session's option layers, goldens written;
 * ``marker``: the ``interfaces`` marker (contract, target and options of a test);
 * ``fixtures``: ``interfaces``, ``rmw_capture``, ``rmw_introspect_ros``, ``rmw_introspect_library``;
@@ -45,7 +46,7 @@ def pytest_configure(config: pytest.Config) -> None:
     config.stash[session.SESSION] = session_state
     config.pluginmanager.register(session.GoldenReporter(session_state), "rmw-introspect-golden-reporter")
     if not _xdist_controller(config):
-        from . import hooks  # the pipelines (~80 ms): only where tests run
+        from . import hooks  # ~50 ms (the target options, the runner): only where tests run
 
         config.pluginmanager.register(hooks, HOOKS_PLUGIN)
 

@@ -5,17 +5,19 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import pytest
 
 from ..errors import SetupError
-from ..model.capture import Capture
 from ..run import runner
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
 from . import marker
 from .session import state
+
+if TYPE_CHECKING:  # the capture model: imported by the first capture (run.runner)
+    from ..model.capture import Capture
 
 
 @pytest.fixture(scope="session")
@@ -41,7 +43,7 @@ def rmw_introspect_library(pytestconfig: pytest.Config) -> Path:
 
 
 #: What ``rmw_capture`` returns: call it with target options to capture a target.
-CaptureFunction = Callable[..., Capture]
+CaptureFunction = Callable[..., "Capture"]
 
 
 @pytest.fixture

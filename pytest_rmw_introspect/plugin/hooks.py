@@ -4,7 +4,9 @@ contract items capturing ahead, the warm start server (started by the first cont
 collected, or after collection for ``interfaces`` tests; ended with the session), and the
 fixtures. Registered by the entry point (``plugin/__init__``) in ``pytest_configure`` in every
 process that runs tests: not in a pytest-xdist controller, which only distributes them (so it
-starts its workers without importing the pipelines)."""
+starts its workers sooner). The pipelines (contract comparison, system contracts and launch
+files) are imported by the first test that needs them (``items``, ``marker``, ``system_marker``):
+a session without contract tests never loads them."""
 
 from __future__ import annotations
 

@@ -30,17 +30,19 @@ import fnmatch
 import threading
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from ..check import pipeline
 from ..errors import RmwIntrospectError, SetupError
 from ..model import contract as contract_module
-from ..model.capture import Capture
 from ..model.contract import Contract
 from . import verdict
 from .session import state
+
+if TYPE_CHECKING:  # imported by the first item that runs: a session without one never loads them
+    from ..check import pipeline
+    from ..model.capture import Capture
 
 DEFAULT_PATTERNS = ("*.interfaces.yaml", "*.system.yaml")
 
@@ -145,12 +147,16 @@ class ContractItem(pytest.Item):
         self._ahead = _Ahead(self._capture)
 
     def _capture(self) -> tuple[pipeline.Prepared, Capture]:
+        from ..check import pipeline
+
         session_state = state(self.config)
         prepared = pipeline.prepare(self.path, layers=session_state.layers(), shown=session_state.display(self.path),
                                     no_target=_no_target, loaded=self.loaded)
         return prepared, pipeline.run_capture(prepared, library=session_state.library(), ros=session_state.ros())
 
     def runtest(self) -> None:
+        from ..check import pipeline
+
         if self.load_error is not None:
             pytest.fail(str(self.load_error), pytrace=False)
         session_state = state(self.config)

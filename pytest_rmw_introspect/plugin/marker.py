@@ -12,19 +12,20 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from ..check import pipeline
-from ..check.pipeline import Prepared
 from ..compare.options import OPTION_KEYS, OptionError
 from ..errors import RmwIntrospectError
-from ..model.capture import Capture
-from ..model.contract import Contract
 from ..run.target import TARGET_KEYS
 from . import verdict
 from .session import SessionState
+
+if TYPE_CHECKING:  # imported by the first marker test that runs: a session without one never loads them
+    from ..check.pipeline import Prepared
+    from ..model.capture import Capture
+    from ..model.contract import Contract
 
 MARKER = "interfaces"
 MARKER_DOC = (
@@ -84,6 +85,8 @@ def parse(item: pytest.Item) -> tuple[Path, dict[str, Any], dict[str, Any]]:
 
 def prepare(item: pytest.Item, session_state: SessionState) -> ItemState:
     """Load the marker's contract, layer its target and options, and capture the target."""
+    from ..check import pipeline
+
     st = ItemState()
     try:
         path, target_kw, option_kw = parse(item)
@@ -113,5 +116,7 @@ def prepare(item: pytest.Item, session_state: SessionState) -> ItemState:
 
 def check(item: pytest.Item, st: ItemState, session_state: SessionState) -> None:
     """Compare the test's capture with its contract and apply the outcome."""
+    from ..check import pipeline
+
     assert st.prepared is not None and st.capture is not None
     verdict.apply(item, pipeline.compare(st.prepared, st.capture), session_state)

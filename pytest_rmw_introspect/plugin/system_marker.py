@@ -26,20 +26,21 @@ import os
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from ..check import system_pipeline
-from ..check.system_pipeline import SystemPrepared
 from ..compare.options import OPTION_KEYS, OptionError
 from ..errors import RmwIntrospectError
 from ..model import system_contract
 from ..model.system_contract import SYSTEM_TARGET_KEYS
-from ..run.system import SystemCapture
 from . import verdict
 from .fixtures import UnavailableCapture
 from .session import SessionState, state
+
+if TYPE_CHECKING:  # the system pipeline and launch readers: imported by the first system test that runs
+    from ..check.system_pipeline import SystemPrepared
+    from ..run.system import SystemCapture
 
 MARKER = "system_contract"
 MARKER_DOC = (
@@ -98,6 +99,8 @@ def parse(item: pytest.Item) -> tuple[Path, dict[str, Any], dict[str, Any], dict
 
 def prepare(item: pytest.Item, session_state: SessionState) -> SystemItemState:
     """Load the marker's system contract and capture every process of its launch file."""
+    from ..check import system_pipeline
+
     st = SystemItemState()
     try:
         path, launch_arguments, target, options, system_fail_on = parse(item)
@@ -115,6 +118,8 @@ def prepare(item: pytest.Item, session_state: SessionState) -> SystemItemState:
 
 def check(item: pytest.Item, st: SystemItemState, session_state: SessionState) -> None:
     """Compare the test's system capture with its contract and apply the outcome."""
+    from ..check import system_pipeline
+
     assert st.prepared is not None and st.capture is not None
     verdict.apply(item, system_pipeline.compare(st.prepared, st.capture), session_state)
 
@@ -171,6 +176,8 @@ class SystemContractItem(pytest.Item):
         self.load_error = load_error
 
     def runtest(self) -> None:
+        from ..check import system_pipeline
+
         if self.load_error is not None:
             pytest.fail(str(self.load_error), pytrace=False)
         session_state = state(self.config)

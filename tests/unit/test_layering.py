@@ -64,14 +64,20 @@ LOCAL_IMPORTS = {
     ("cli.formats", "pytest_rmw_introspect.check"): "the contract writer (~25 ms with PyYAML): `capture` "
                                                     "starts without it, it prints with it",
     ("run.middleware", "filelock"): "filelock (+ logging) costs ~15 ms; only building the middleware needs it",
-    ("plugin", "pytest_rmw_introspect.plugin"): "the hooks that run tests import the pipelines (~80 ms); a "
-                                                "pytest-xdist controller runs no test and starts its workers sooner",
+    ("plugin", "pytest_rmw_introspect.plugin"): "the hooks that run tests (~50 ms of imports): a pytest-xdist "
+                                                "controller runs no test and starts its workers sooner",
     ("plugin.session", "pytest_rmw_introspect.check.pipeline"): "the pipeline (~80 ms): an xdist controller "
                                                                 "reads the options but runs no test",
     ("run.warm", "pytest_rmw_introspect.run.warm_server"): "the server's own module (ctypes, runpy, selectors, "
                                                           "~5 ms); only runners sharing servers (xdist workers) "
                                                           "check a peer's uid with it",
     ("check.golden", "filelock"): "filelock (+ logging) costs ~15 ms; only writing a file needs it",
+    ("plugin.items", "pytest_rmw_introspect.check"): "the pipeline (~35 ms with the capture model): every pytest "
+                                                     "process loads the plugin's hooks, most have no contract test",
+    ("plugin.marker", "pytest_rmw_introspect.check"): "the pipeline (~35 ms with the capture model): only "
+                                                      "`interfaces` tests need it",
+    ("plugin.system_marker", "pytest_rmw_introspect.check"): "the system pipeline and launch readers (~15 ms): "
+                                                             "only system contracts need them",
 }
 
 
@@ -275,6 +281,20 @@ NOT_FOR_THE_CONTROLLER = ("yaml", "deepdiff", "jsonschema", "numpy", "pytest_rmw
                           "pytest_rmw_introspect.check.system_pipeline", "pytest_rmw_introspect.check.golden",
                           "pytest_rmw_introspect.run.runner", "pytest_rmw_introspect.model.capture",
                           "pytest_rmw_introspect.plugin.hooks")
+
+
+#: what the hooks that run tests (every pytest process but an xdist controller) must load without:
+#: a session with no contract test never needs the pipelines (README, "Measured performance")
+NOT_FOR_THE_HOOKS = ("deepdiff", "jsonschema", "numpy", "pytest_rmw_introspect.check.pipeline",
+                     "pytest_rmw_introspect.check.system_pipeline", "pytest_rmw_introspect.check.golden",
+                     "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.system",
+                     "pytest_rmw_introspect.compare.drift")
+
+
+def test_the_hooks_load_no_pipeline():
+    loaded = _modules_loaded_by("import pytest\nimport pytest_rmw_introspect.plugin.hooks")
+    assert "pytest_rmw_introspect.plugin.items" in loaded  # the probe did import the hooks
+    assert sorted(loaded & set(NOT_FOR_THE_HOOKS)) == []
 
 
 def test_the_pytest_entry_point_loads_no_pipeline():

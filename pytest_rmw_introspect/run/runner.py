@@ -82,6 +82,8 @@ _SWEEP_EVERY_S = 60.0
 _last_sweep = -_SWEEP_EVERY_S
 #: the middleware substitutes the process id: every ROS process of the target writes its own file
 _OUTPUT_PATTERN = "capture.<pid>.json"
+#: the directory of a capture's files that rcl's log files go to (``ROS_LOG_DIR``)
+LOG_DIR = "ros_log"
 _MISSING_MODULE = re.compile(r"ModuleNotFoundError: No module named '([^']+)'")
 
 
@@ -142,11 +144,18 @@ def environment(
     base: Mapping[str, str] | None = None,
 ) -> dict[str, str]:
     """The complete environment of the target process; ``output`` may contain ``<pid>``, which
-    the middleware replaces with each process's id."""
+    the middleware replaces with each process's id. rcl's log files of the capture go to
+    ``ros_log`` beside ``output`` (``ROS_LOG_DIR``), unless the environment or the target's
+    ``env`` says where logs go (``ROS_LOG_DIR`` or ``ROS_HOME``)."""
     env = dict(os.environ if base is None else base)
     # the target's own variables first, then the activation merged with them: a target's
     # LD_PRELOAD, LD_LIBRARY_PATH or AMENT_PREFIX_PATH extends the middleware's, never drops it
     env.update(spec.env)
+    if "ROS_LOG_DIR" not in env and "ROS_HOME" not in env:
+        # A capture is an analysis of the node, not a run of it: its log file (one per process,
+        # as `ros2 run` writes) is removed with the capture's files instead of piling up in
+        # ~/.ros/log, a file per capture and CI run; RMW_INTROSPECT_KEEP_FILES keeps it.
+        env["ROS_LOG_DIR"] = str(Path(output).parent / LOG_DIR)
     env.update(ros_env.activation_env(library, ros, base=env))
     env["RMW_INTROSPECT_OUTPUT"] = str(output)
     env["RMW_INTROSPECT_FORMAT"] = "json"
@@ -315,8 +324,11 @@ def run(
         ended = _wait(start, timeout)
         if start.warm_child is not None and start.warm_child.server_lost:
             # the server died under the target (which died with it): run the target again, cold
-            for leftover in workdir.iterdir():
-                leftover.unlink()
+            for leftover in workdir.iterdir():  # its capture files, and its log directory
+                if leftover.is_dir():
+                    shutil.rmtree(leftover, ignore_errors=True)
+                else:
+                    leftover.unlink()
             start = _start(spec, argv, env, python, warm_wait,
                            cold_note="the warm start server ended during the capture")
             ended = _wait(start, timeout)

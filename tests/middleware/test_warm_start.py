@@ -5,6 +5,7 @@ middleware reads each capture's settings after the fork; no process outlives its
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import stat
 import subprocess
@@ -289,3 +290,23 @@ def test_the_least_recently_used_server_is_let_go_of_when_too_many_run(monkeypat
     assert capture(script=TALKER, env={"LC_RMWI_TEST": "evicting"}).started == "warm"
     warm.shutdown()
     assert wait_gone([second.pid], 5.0) == []
+
+
+@pytest.mark.parametrize("cold_start", [False, True], ids=["warm", "cold"])
+def test_a_capture_keeps_its_log_file_with_its_files_not_in_the_users_log_directory(tmp_path, cold_start):
+    """rcl opens a log file per process at rclpy.init (`ros2 run` too): a capture's goes to its
+    own files (kept with keep_files, removed without), unless the target says where logs go."""
+    if not cold_start:
+        w.server_for()
+    kept = runner.run(TargetSpec.from_mapping({"script": TALKER, "cold_start": cold_start}), warm_wait=60.0,
+                      keep_files=True)
+    assert kept.started == ("cold" if cold_start else "warm")
+    assert kept.path is not None
+    try:
+        assert list((kept.path.parent / runner.LOG_DIR).glob("python_*.log"))
+    finally:
+        shutil.rmtree(kept.path.parent, ignore_errors=True)
+    mine = tmp_path / "my_logs"
+    chosen = capture(script=TALKER, cold_start=cold_start, env={"ROS_LOG_DIR": str(mine)})
+    assert chosen.started == ("cold" if cold_start else "warm")
+    assert list(mine.glob("python_*.log"))

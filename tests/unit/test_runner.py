@@ -679,3 +679,18 @@ def test_the_variables_a_target_env_may_not_set_are_those_the_runner_sets(tmp_pa
     env = runner.environment(spec, library, ros, tmp_path / "c.json", base={"PATH": os.environ["PATH"]})
     owned = {name for name in env if name.startswith("RMW_INTROSPECT_")}
     assert owned == set(target_module.RUNNER_VARIABLES)
+
+
+def test_the_log_files_of_a_capture_go_with_its_files_unless_the_user_says_where_logs_go(tmp_path, library):
+    ros = RosEnvironment(kind="wheels", prefix=tmp_path, distro="jazzy", ament_prefixes=(tmp_path,))
+    output = tmp_path / "work" / "capture.<pid>.json"
+    base = {"PATH": os.environ["PATH"], "HOME": "/home/someone"}
+    spec = TargetSpec.from_mapping({"module": "m"})
+    assert runner.environment(spec, library, ros, output, base=base)["ROS_LOG_DIR"] == str(tmp_path / "work" / "ros_log")
+    for where in ({"ROS_LOG_DIR": "/var/log/ros"}, {"ROS_HOME": "/srv/ros"}):
+        # in the environment the check runs in, or in the target's env: the user's choice stands
+        env = runner.environment(spec, library, ros, output, base={**base, **where})
+        assert env.get("ROS_LOG_DIR") == where.get("ROS_LOG_DIR"), where
+        env = runner.environment(TargetSpec.from_mapping({"module": "m", "env": where}), library, ros, output,
+                                 base=base)
+        assert env.get("ROS_LOG_DIR") == where.get("ROS_LOG_DIR"), where

@@ -41,11 +41,14 @@ process that created no node is :class:`~pytest_rmw_introspect.errors.NoNodeCrea
 
 from __future__ import annotations
 
+import importlib
 import os
 import re
 import shutil
 import subprocess
+import sys
 import tempfile
+import threading
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -70,8 +73,9 @@ if TYPE_CHECKING:
     from .warm import WarmChild
 
 # Imported when first needed, not here: the capture model (its dataclasses cost ~30 ms to create)
-# while the first target starts, so the two overlap, and the warm start machinery (``warm``) only
-# when a target may start warm: ``rmw-introspect capture`` starts its one target cold without it.
+# while the first target starts, so the two overlap (_import_capture_model_meanwhile), and the warm
+# start machinery (``warm``) only when a target may start warm: ``rmw-introspect capture`` starts
+# its one target cold without it.
 
 #: where a capture run's files go: ``<tempdir>/rmw_introspect_<runner pid>_<random>/``
 _WORKDIR_PREFIX = "rmw_introspect_"
@@ -84,6 +88,7 @@ _last_sweep = -_SWEEP_EVERY_S
 _OUTPUT_PATTERN = "capture.<pid>.json"
 #: the directory of a capture's files that rcl's log files go to (``ROS_LOG_DIR``)
 LOG_DIR = "ros_log"
+_CAPTURE_MODEL = f"{__name__.rsplit('.', 2)[0]}.model.capture"
 _MISSING_MODULE = re.compile(r"ModuleNotFoundError: No module named '([^']+)'")
 
 
@@ -231,16 +236,23 @@ class _Ended:
     stderr: str
 
 
+def _import_capture_model_meanwhile() -> None:
+    """Import the capture model (~30 ms of dataclass creation, needed once the target ends) while
+    the target starts, in a thread of its own. Not in this thread: a SIGINT or SIGTERM
+    (KeyboardInterrupt, the CLI's Terminated) raised in the middle of an import can come out as
+    another error (a RuntimeError from a dataclass field's ``__set_name__``), which would skip
+    the clean stop of the target and of the command. The first use waits for the import."""
+    if _CAPTURE_MODEL not in sys.modules:
+        threading.Thread(target=importlib.import_module, args=(_CAPTURE_MODEL,),
+                         name="rmw-introspect import", daemon=True).start()
+
+
 def _wait(start: _Started, timeout: float) -> _Ended:
     """Wait for the target (stopping it after ``timeout``), then kill what is left of its group."""
     proc = start.proc
     stdout_tail, stderr_tail = process.OutputTail.read_together(start.stdout, start.stderr)
     timed_out = False
     try:
-        # the capture model is needed once the target ends: imported while it starts (inside the
-        # try: an interrupt during the import stops the target too)
-        from ..model.capture import Capture  # noqa: F401
-
         returncode = proc.wait(timeout)
     except subprocess.TimeoutExpired:
         timed_out = True
@@ -321,6 +333,7 @@ def run(
     started = time.monotonic()
     try:
         start = _start(spec, argv, env, python, warm_wait, cold_note)
+        _import_capture_model_meanwhile()
         ended = _wait(start, timeout)
         if start.warm_child is not None and start.warm_child.server_lost:
             # the server died under the target (which died with it): run the target again, cold

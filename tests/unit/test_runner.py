@@ -694,3 +694,41 @@ def test_the_log_files_of_a_capture_go_with_its_files_unless_the_user_says_where
         env = runner.environment(TargetSpec.from_mapping({"module": "m", "env": where}), library, ros, output,
                                  base=base)
         assert env.get("ROS_LOG_DIR") == where.get("ROS_LOG_DIR"), where
+
+
+#: a runner process that records which thread imports the capture model, and captures a fake node
+_IMPORT_SPY = """
+import sys, threading
+from pathlib import Path
+from pytest_rmw_introspect.run import runner
+from pytest_rmw_introspect.run.ros_env import RosEnvironment
+from pytest_rmw_introspect.run.target import TargetSpec
+
+importers = []
+
+class Spy:
+    def find_spec(self, name, path=None, target=None):
+        if name == "pytest_rmw_introspect.model.capture":
+            importers.append(threading.current_thread().name)
+        return None
+
+assert "pytest_rmw_introspect.model.capture" not in sys.modules
+sys.meta_path.insert(0, Spy())
+script, library, prefix = sys.argv[1:4]
+ros = RosEnvironment(kind="system", prefix=Path(prefix), distro="jazzy", ament_prefixes=(Path(prefix),), library_dirs=())
+cap = runner.run(TargetSpec.from_mapping({"script": script}), library=library, ros=ros, cold_note="one capture")
+print(cap.node_names, importers)
+"""
+
+
+def test_the_capture_model_is_imported_beside_the_target_not_in_the_main_thread(tmp_path, ros, library):
+    """While a target runs, SIGINT or SIGTERM raise in the runner's main thread (KeyboardInterrupt,
+    the CLI's Terminated), and one that lands inside an import can come out as another error (a
+    RuntimeError from a dataclass field's __set_name__: the CLI then ended with a traceback and
+    status 1 instead of stopping the target and ending with 143). So the capture model, imported
+    while the first target starts, is imported in a thread of its own."""
+    script = fake(tmp_path, "write()\n")
+    probe = subprocess.run([sys.executable, "-c", _IMPORT_SPY, str(script), str(library), str(ros.prefix)],
+                           capture_output=True, text=True, timeout=60)
+    assert probe.returncode == 0, probe.stderr
+    assert probe.stdout.strip() == "['/fake'] ['rmw-introspect import']"

@@ -11,6 +11,11 @@ where the recording middleware sees it settle, whatever the middleware answers a
 server (an action server counts as ready only when its three services are available *and*
 its feedback and status topics have publishers).
 
+Once the goal is accepted it asks for the result, and asks again every two seconds until the
+answer comes: on DDS a service response can be lost when it is sent before the server has
+matched the client's response reader (seen once in this package's smoke test: all the
+feedback arrived, the result never did). A result request is idempotent; the first answer wins.
+
 Parameter: ``order`` (int, ``10``).
 """
 
@@ -31,6 +36,8 @@ class FibonacciClient(Node):
         self.result = Future()
         self._action_client = ActionClient(self, Fibonacci, 'fibonacci')
         self._wait_timer = self.create_timer(0.5, self._send_goal_when_ready)
+        self._goal_handle = None
+        self._result_timer = None
 
     def _send_goal_when_ready(self):
         if not self._action_client.server_is_ready():
@@ -49,8 +56,19 @@ class FibonacciClient(Node):
             self.get_logger().warn('Goal rejected')
             self.result.set_result(None)
             return
-        goal_handle.get_result_async().add_done_callback(
-            lambda future: self.result.set_result(list(future.result().result.sequence)))
+        self._goal_handle = goal_handle
+        self._result_timer = self.create_timer(2.0, self._request_result)
+        self._request_result()
+
+    def _request_result(self):
+        if self.result.done():
+            self._result_timer.cancel()
+            return
+        self._goal_handle.get_result_async().add_done_callback(self._on_result)
+
+    def _on_result(self, future):
+        if not self.result.done():
+            self.result.set_result(list(future.result().result.sequence))
 
     def _on_feedback(self, feedback_msg):
         self.get_logger().info(f'Feedback: {list(feedback_msg.feedback.sequence)}')

@@ -181,12 +181,16 @@ class _Started:
     proc: process.Handle
     stdout: IO[bytes]
     stderr: IO[bytes]
-    how: str  # "warm" or "cold"
     note: str | None  # why it started cold
     #: a warm child's command line as a cold start's /proc/self/cmdline would read
     cmdline: list[str] | None = None
     #: ``proc`` when it was forked by a warm start server
     warm_child: WarmChild | None = None
+
+    @property
+    def how(self) -> str:
+        """``warm`` or ``cold`` (``Capture.started``)."""
+        return "cold" if self.warm_child is None else "warm"
 
 
 def _start(spec: TargetSpec, argv: list[str], env: dict[str, str], python: str | None,
@@ -209,7 +213,7 @@ def _start(spec: TargetSpec, argv: list[str], env: dict[str, str], python: str |
             if isinstance(server, warm.WarmServer):
                 try:
                     child = server.spawn(how, env=env, cwd=cwd)
-                    return _Started(child, child.stdout, child.stderr, "warm", None, list(how.orig_argv), child)
+                    return _Started(child, child.stdout, child.stderr, None, list(how.orig_argv), child)
                 except warm.WarmStartFailed as exc:
                     note = str(exc)
             else:
@@ -225,7 +229,7 @@ def _start(spec: TargetSpec, argv: list[str], env: dict[str, str], python: str |
             searched=[argv[0]],
         ) from None
     assert proc.stdout is not None and proc.stderr is not None
-    return _Started(proc, proc.stdout, proc.stderr, "cold", note)
+    return _Started(proc, proc.stdout, proc.stderr, note)
 
 
 @dataclass

@@ -2,10 +2,28 @@
 VENV ?= $(CURDIR)/.venv
 export VENV
 
-.PHONY: example test test-fast typecheck fuzz lint bootstrap bench asan conformance clean
+.PHONY: example test test-fast typecheck fuzz lint bootstrap lock lowest newest bench asan conformance clean
 
+## bootstrap: .venv/ with exactly the packages of requirements/jazzy.txt (hash-checked), the
+## package editable, the middleware built and the example package installed
 bootstrap:
 	scripts/bootstrap.sh
+
+## lock: refresh the lock files to the newest releases (UPGRADE=0: keep today's pins where
+## pyproject.toml allows them); then `make test lowest` and commit requirements/ (CONTRIBUTING.md)
+lock: bootstrap
+	scripts/lock.sh
+
+## lowest: the fast tier on the lowest versions pyproject.toml allows (requirements/lowest.txt)
+lowest:
+	VENV=$(CURDIR)/.venv-lowest LOCK_FILE=$(CURDIR)/requirements/lowest.txt scripts/bootstrap.sh
+	$(CURDIR)/.venv-lowest/bin/pytest -m "not e2e and not plugin" $(PYTEST_ARGS)
+
+## newest: the fast tier on the newest releases, without the lock: finds the next upstream
+## release that breaks us before a lock refresh does (not in CI, on purpose: CI stays locked)
+newest:
+	VENV=$(CURDIR)/.venv-newest LOCK_FILE=none scripts/bootstrap.sh
+	$(CURDIR)/.venv-newest/bin/pytest -m "not e2e and not plugin" $(PYTEST_ARGS)
 
 ## example: the main job: check the example package's interface contracts
 example: bootstrap
@@ -28,8 +46,7 @@ typecheck: bootstrap
 	$(VENV)/bin/python -m mypy
 
 lint: bootstrap
-	$(VENV)/bin/python -m pip install --quiet ruff
-	$(VENV)/bin/ruff check pytest_rmw_introspect tests bench examples
+	$(VENV)/bin/ruff check pytest_rmw_introspect tests bench examples scripts
 
 bench: bootstrap
 	$(VENV)/bin/python bench/bench_time_to_capture.py
@@ -48,4 +65,4 @@ conformance: bootstrap
 	$(VENV)/bin/python scripts/conformance/run.py $(CONFORMANCE_ARGS)
 
 clean:
-	rm -rf $(VENV) build .pytest_cache
+	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest build .pytest_cache

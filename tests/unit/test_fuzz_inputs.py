@@ -173,7 +173,7 @@ def _bomb(levels: int = 9, width: int = 9) -> str:
     ("contract_version: 1\nnodes:\n  null: {}\n", "mapping keys must be strings, got 'null'"),
     ("contract_version: 1\nnodes:\n  true: {}\n", "mapping keys must be strings, got 'true'"),
     ("contract_version: 1\nnodes:\n  ? [a, b]\n  : {}\n", "mapping keys must be strings, got a list or mapping"),
-    ("contract_version: 1\nnodes: " + "[" * 2000 + "]" * 2000 + "\n", "nested"),
+    ("contract_version: 1\nnodes: " + "[" * 2000 + "]" * 2000 + "\n", "nested more than 64 levels deep"),
     ("contract_version: 1\nnodes: " + "{a: " * 200 + "1" + "}" * 200 + "\n", "nested more than 64 levels"),
     (_bomb() + "contract_version: 1\nnodes: {}\n", "alias bomb"),
     ("contract_version: 1\ntarget:\n  script: a.py\n  parameters:\n"
@@ -189,6 +189,40 @@ def test_hostile_contracts_are_refused_quickly_with_a_reason(text, reason):
     assert time.monotonic() - started < CASE_SECONDS
     assert reason in info.value.reason, info.value.reason
     assert len(str(info.value)) < 400, str(info.value)
+
+
+DEEP_DOCUMENTS = {
+    # libyaml (PyYAML >= 6.0.4's wheels) refuses flow nesting past 1000 levels with its own
+    # message; the pure-Python composer runs out of recursion
+    "flow lists": "contract_version: 1\nnodes: " + "[" * 2000 + "]" * 2000 + "\n",
+    "unclosed flow lists": "contract_version: 1\nnodes: " + "[" * 5000 + "\n",
+    "flow mappings": "contract_version: 1\nnodes: " + "{a: " * 1200 + "1" + "}" * 1200 + "\n",
+    "block mappings": "contract_version: 1\nnodes:\n" + "".join("  " * (i + 1) + f"k{i}:\n" for i in range(1200)) + "  " * 1201 + "x\n",
+    "just past the limit": "contract_version: 1\nnodes: " + "[" * 66 + "]" * 66 + "\n",
+}
+
+
+def _yaml_loaders() -> list:
+    import yaml
+
+    loaders = [pytest.param(yaml.SafeLoader, id="pure-Python")]
+    c_loader = getattr(yaml, "CSafeLoader", None)
+    loaders.append(pytest.param(c_loader, id="libyaml", marks=pytest.mark.skipif(
+        c_loader is None, reason="this PyYAML was built without libyaml")))
+    return loaders
+
+
+@pytest.mark.parametrize("loader", _yaml_loaders())
+@pytest.mark.parametrize("text", DEEP_DOCUMENTS.values(), ids=DEEP_DOCUMENTS.keys())
+def test_deep_nesting_is_refused_with_the_projects_own_message_by_either_parser(text, loader, monkeypatch):
+    from pytest_rmw_introspect.model import untrusted
+
+    monkeypatch.setattr(untrusted, "LOADER", loader)
+    with deadline(CASE_SECONDS, "a deeply nested contract"), pytest.raises(ContractError) as info:
+        loads(text, path="deep.interfaces.yaml")
+    assert info.value.reason.endswith("nested more than 64 levels deep"), info.value.reason
+    assert str(info.value).startswith("invalid contract deep.interfaces.yaml:"), str(info.value)
+    assert info.value.line is not None and info.value.line >= 2
 
 
 def test_a_fifo_a_directory_and_a_huge_file_are_refused(tmp_path, monkeypatch):

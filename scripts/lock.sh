@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# `make lock`: write the lock files the development environment is installed from.
+#
+#   requirements/jazzy.txt   every package `make bootstrap` installs (ROS 2 Jazzy wheels, the
+#                            package's dependencies and extras, mypy, the tools), at the newest
+#                            releases, each with the hashes of its files
+#   requirements/lowest.txt  the same with the package's own dependencies (and the test extra)
+#                            at the lowest versions pyproject.toml allows: `make lowest` runs the
+#                            fast tier on it, so a floor that no longer works is found here
+#
+# UPGRADE=1 (the default) moves every package to its newest release; UPGRADE=0 keeps the pins
+# of the current lock where pyproject.toml still allows them (after adding a dependency).
+# Needs uv, which the lock itself installs into the venv (VENV, default <repo>/.venv).
+set -euo pipefail
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+venv="${VENV:-$root/.venv}"
+cd "$root"
+uv="${UV:-$venv/bin/uv}"
+[ -x "$uv" ] || { echo "lock: no uv at $uv: run make bootstrap first (the lock installs it), or set UV" >&2; exit 1; }
+
+upgrade=()
+[ "${UPGRADE:-1}" = 1 ] && upgrade=(--upgrade)
+common=(--generate-hashes --python-version 3.11 --quiet)
+
+"$uv" pip compile pyproject.toml requirements/tools.in --extra ros-wheels --extra test \
+  "${common[@]}" "${upgrade[@]}" --custom-compile-command "make lock" -o requirements/jazzy.txt
+
+# The lowest set keeps the ROS 2 wheels and the installer at the versions just locked (the
+# distribution decides those, not a range of ours) and takes the lowest of everything else.
+pins=$(mktemp)
+trap 'rm -f "$pins"' EXIT
+grep -E '^(ros-[a-z0-9-]+|pip|setuptools|wheel)==' requirements/jazzy.txt | sed 's/ *\\$//' > "$pins"
+"$uv" pip compile pyproject.toml requirements/build.in --extra ros-wheels --extra test \
+  --resolution lowest-direct --constraint "$pins" "${common[@]}" \
+  --custom-compile-command "make lock" -o requirements/lowest.txt
+
+echo "lock: wrote requirements/jazzy.txt ($(grep -cE '^[a-z0-9]' requirements/jazzy.txt) packages) and" \
+     "requirements/lowest.txt ($(grep -cE '^[a-z0-9]' requirements/lowest.txt) packages);" \
+     "run make bootstrap to install, make test and make lowest to try them"

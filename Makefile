@@ -1,6 +1,14 @@
 # The two commands of the README. Both set up .venv/ first (idempotent; see scripts/bootstrap.sh).
+# DISTRO=kilted runs any target on ROS 2 Kilted instead of Jazzy: its own venv (.venv-kilted)
+# from its own lock (requirements/kilted.txt); the middleware's cache keeps one build per distribution.
+DISTRO ?= jazzy
+ifeq ($(DISTRO),jazzy)
 VENV ?= $(CURDIR)/.venv
-export VENV
+else
+VENV ?= $(CURDIR)/.venv-$(DISTRO)
+endif
+LOCK_FILE ?= $(CURDIR)/requirements/$(DISTRO).txt
+export VENV LOCK_FILE
 
 .PHONY: example test test-fast typecheck fuzz lint bootstrap lock lowest newest bench asan conformance clean
 
@@ -66,4 +74,4 @@ conformance: bootstrap
 	$(VENV)/bin/python scripts/conformance/run.py $(CONFORMANCE_ARGS)
 
 clean:
-	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest build .pytest_cache
+	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted build .pytest_cache

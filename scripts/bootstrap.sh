@@ -84,7 +84,10 @@ install_locked() {
 
 if [ "$lock" = none ]; then install_newest; else install_locked; fi
 
-echo "bootstrap: recording middleware at $("$venv/bin/python" -m pytest_rmw_introspect.run.middleware)"
+# (a variable first: a failed build inside `echo "$(...)"` would not stop the script)
+library=$("$venv/bin/python" -m pytest_rmw_introspect.run.middleware) ||
+  { echo "bootstrap: building the recording middleware failed (above)" >&2; exit 1; }
+echo "bootstrap: recording middleware at $library"
 
 if [ -x scripts/install-examples.sh ] && [ -d examples ]; then
   VENV="$venv" scripts/install-examples.sh

@@ -8,8 +8,9 @@
 # venv; when nothing changed the script does nothing. Files an earlier install put into the
 # venv but this one no longer installs are removed.
 #
-# Environment: VENV (default <repo>/.venv), EXAMPLES_BUILD_DIR (default <repo>/build/examples),
-# FORCE=1 to rebuild even when the stamp matches.
+# Environment: VENV (default <repo>/.venv), EXAMPLES_BUILD_DIR (default <repo>/build/examples
+# for that venv, <repo>/build/examples-<venv name> for another: each venv, e.g. one per ROS
+# distribution, keeps its own build), FORCE=1 to rebuild even when the stamp matches.
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -22,7 +23,9 @@ venv="${VENV:-$root/.venv}"
 [ -x "$venv/bin/python" ] ||
   die "no Python at $venv/bin/python: run scripts/bootstrap.sh first (or set VENV to the venv with the ROS 2 wheels)"
 venv=$(cd "$venv" && pwd)
-build_root="${EXAMPLES_BUILD_DIR:-$root/build/examples}"
+default_build="$root/build/examples"
+[ "$venv" = "$root/.venv" ] || default_build="$root/build/examples-$(basename "$venv")"
+build_root="${EXAMPLES_BUILD_DIR:-$default_build}"
 build="$build_root/$package"
 stamp="$venv/.$package.stamp"
 manifest="$venv/.$package.install_manifest.txt"

@@ -4,6 +4,7 @@
 #   requirements/jazzy.txt   every package `make bootstrap` installs (ROS 2 Jazzy wheels, the
 #                            package's dependencies and extras, mypy, the tools), at the newest
 #                            releases, each with the hashes of its files
+#   requirements/kilted.txt  the same with ROS 2 Kilted's wheels (`make bootstrap DISTRO=kilted`)
 #   requirements/lowest.txt  the same with the package's own dependencies (and the test extra)
 #                            at the lowest versions pyproject.toml allows: `make lowest` runs the
 #                            fast tier on it, so a floor that no longer works is found here
@@ -23,18 +24,22 @@ upgrade=()
 [ "${UPGRADE:-1}" = 1 ] && upgrade=(--upgrade)
 common=(--generate-hashes --python-version 3.11 --quiet)
 
-"$uv" pip compile pyproject.toml requirements/tools.in --extra ros-wheels --extra test \
+"$uv" pip compile pyproject.toml requirements/tools.in --extra ros-wheels --extra jazzy --extra test \
   "${common[@]}" "${upgrade[@]}" --custom-compile-command "make lock" -o requirements/jazzy.txt
+"$uv" pip compile pyproject.toml requirements/tools.in --extra kilted --extra test \
+  "${common[@]}" "${upgrade[@]}" --custom-compile-command "make lock" -o requirements/kilted.txt
 
 # The lowest set keeps the ROS 2 wheels and the installer at the versions just locked (the
 # distribution decides those, not a range of ours) and takes the lowest of everything else.
-pins=$(mktemp)
-trap 'rm -f "$pins"' EXIT
+# (a fixed relative path: the lock names it in its comments, which must not change from run to run)
+pins=build/lock/distribution-pins.txt
+mkdir -p build/lock
 grep -E '^(ros-[a-z0-9-]+|pip|setuptools|wheel)==' requirements/jazzy.txt | sed 's/ *\\$//' > "$pins"
-"$uv" pip compile pyproject.toml requirements/build.in --extra ros-wheels --extra test \
+"$uv" pip compile pyproject.toml requirements/build.in --extra ros-wheels --extra jazzy --extra test \
   --resolution lowest-direct --constraint "$pins" "${common[@]}" \
   --custom-compile-command "make lock" -o requirements/lowest.txt
 
-echo "lock: wrote requirements/jazzy.txt ($(grep -cE '^[a-z0-9]' requirements/jazzy.txt) packages) and" \
-     "requirements/lowest.txt ($(grep -cE '^[a-z0-9]' requirements/lowest.txt) packages);" \
-     "run make bootstrap to install, make test and make lowest to try them"
+for lock in jazzy kilted lowest; do
+  echo "lock: wrote requirements/$lock.txt ($(grep -cE '^[a-z0-9]' "requirements/$lock.txt") packages)"
+done
+echo "lock: make test, make test DISTRO=kilted and make lowest try them"

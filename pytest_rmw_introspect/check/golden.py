@@ -93,18 +93,19 @@ def write_text(path: str | Path, text: str, *, timeout: float = LOCK_TIMEOUT) ->
 
 def update(path: str | Path, nodes: Mapping[str, Any], *, new_header: str | None = None,
            types: Mapping[str, type_model.TypeDescription] | None = None,
-           timeout: float = LOCK_TIMEOUT) -> str | None:
+           distribution: str | None = None, timeout: float = LOCK_TIMEOUT) -> str | None:
     """Write the golden at ``path`` with ``nodes``; return ``CREATED``, ``UPDATED`` or None
     (nothing to change). A new file starts with ``new_header`` (default: the plain contract
     header). Entries the golden spells differently but equivalently keep their spelling
     (``contract.preserve_spelling``); a broken golden is replaced, keeping its header when it
     can be found. ``types``: the ``types:`` section to write (``types.replace_section``);
-    None leaves the file's section, if any, as it is."""
+    None leaves the file's section, if any, as it is. ``distribution``: the ROS 2 distribution
+    the nodes were captured on, recorded as ``ros_distribution:`` (None leaves it as it is)."""
     path = Path(path)
     existed = path.exists()
 
     def new_text(old: str | None) -> str:
-        return with_types(nodes_text(old), types)
+        return contract_module.with_distribution(with_types(nodes_text(old), types), distribution)
 
     def nodes_text(old: str | None) -> str:
         wanted = nodes
@@ -166,7 +167,8 @@ def _names_relative_paths(spec: TargetSpec, run_dir: Path) -> bool:
 
 
 def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure: bool = False,
-                        how: str = "rmw-introspect capture", run_dir: Path | None = None) -> str:
+                        how: str = "rmw-introspect capture", run_dir: Path | None = None,
+                        distribution: str | None = None) -> str:
     """The header of a new contract: how it was written, ``contract_version``, a ``target:``
     block (paths relative to ``base``, the contract's directory) and options."""
     header = (
@@ -175,6 +177,8 @@ def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure:
         "# above `nodes:` are kept when it is updated.\n"
         f"contract_version: {contract_module.CONTRACT_VERSION}\n"
     )
+    if distribution:
+        header += f"{contract_module.DISTRIBUTION_KEY}: {distribution}\n"
     header += yaml.safe_dump({"target": target_block(spec, base, run_dir)}, sort_keys=False, default_flow_style=False,
                              allow_unicode=True)
     if include_infrastructure:
@@ -184,8 +188,8 @@ def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure:
 
 def new_contract_text(nodes: Mapping[str, Any], *, spec: TargetSpec, base: Path,
                       include_infrastructure: bool = False, how: str = "rmw-introspect capture",
-                      run_dir: Path | None = None) -> str:
+                      run_dir: Path | None = None, distribution: str | None = None) -> str:
     """A complete new contract: :func:`new_contract_header`, then ``nodes``."""
     header = new_contract_header(spec=spec, base=base, include_infrastructure=include_infrastructure, how=how,
-                                 run_dir=run_dir)
+                                 run_dir=run_dir, distribution=distribution)
     return contract_module.render(nodes, header=header)

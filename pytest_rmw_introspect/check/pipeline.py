@@ -205,7 +205,8 @@ class CheckResult:
 
     def update(self, *, new_header: str | None = None) -> str | None:
         """Write the golden (``golden.update``): ``created``, ``updated`` or None."""
-        return golden.update(self.path, self.golden_nodes(), new_header=new_header, types=self.golden_types())
+        return golden.update(self.path, self.golden_nodes(), new_header=new_header, types=self.golden_types(),
+                             distribution=self.capture.ros_distribution if self.capture is not None else None)
 
     def title(self) -> str:
         return f"Interface drift of {self.spec.describe()}" if self.spec is not None else "Interface drift"
@@ -243,10 +244,10 @@ def compare(prepared: Prepared, capture: Capture) -> CheckResult:
     result = CheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
                          spec=prepared.spec, options=prepared.options, capture=capture)
     if prepared.contract is not None:
-        result.items = drift.compare(
+        result.items = drift.attribute_to_distribution(drift.compare(
             prepared.contract.nodes, capture.to_contract_nodes(), prepared.options,
             expected_types=prepared.contract.types, actual_types=capture.types if capture.has_types else None,
-            require_types=prepared.options.include_types)
+            require_types=prepared.options.include_types), prepared.contract.ros_distribution, capture.ros_distribution)
         result.compared = True
     return result
 
@@ -356,7 +357,9 @@ def diff_contracts(
         else:
             layers = options or ()
         opts = Layers(strong_options=layers).options(old, shown=old_shown)
-    items = drift.compare(old.nodes, new.nodes, opts, expected_types=old.types, actual_types=new.types)
+    items = drift.attribute_to_distribution(
+        drift.compare(old.nodes, new.nodes, opts, expected_types=old.types, actual_types=new.types),
+        old.ros_distribution, new.ros_distribution)
     return DiffResult(old, new, old_shown, new_shown, opts, items)
 
 

@@ -126,7 +126,7 @@ def capture_text(cap: Capture, args: argparse.Namespace, spec: TargetSpec, cwd: 
     base = Path(args.output).absolute().parent if args.output else cwd
     text = golden.new_contract_text(cap.to_contract_nodes(), spec=spec, base=base,
                                     include_infrastructure=bool(args.include_infrastructure),
-                                    run_dir=spec.cwd or cwd)
+                                    run_dir=spec.cwd or cwd, distribution=cap.ros_distribution)
     if partial_reason is not None:
         text = f"# PARTIAL capture (not a complete interface): {partial_reason}\n" + text
     return text

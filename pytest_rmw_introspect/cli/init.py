@@ -62,7 +62,8 @@ def cmd_init(args: argparse.Namespace) -> int:
             failed.append((executable, str(exc).splitlines()[0]))
             continue
         text = golden.new_contract_text(capture.to_contract_nodes(), spec=spec, base=contracts_dir,
-                                        how=f"rmw-introspect init --package {args.package}")
+                                        how=f"rmw-introspect init --package {args.package}",
+                                        distribution=capture.ros_distribution)
         golden.write_text(path, text)
         written.append(path)
         for note in capture.notes():

@@ -102,6 +102,8 @@ RULES: dict[str, Rule] = _rules(
                          ("action_clients", "ACTION_CLIENT"))),
     Rule("TYPE_CHANGED", _B, "interface type name changed"),
     Rule("TYPE_HASH_CHANGED", _B, "type definition changed under the same type name"),
+    Rule("TYPE_HASH_DISTRIBUTION_CHANGED", _R,
+         "type hash differs, and the two sides were captured on different ROS 2 distributions"),
     *(
         rule
         for stem, word in _MATCHING_POLICIES.values()
@@ -187,6 +189,28 @@ def compare(
         return True
 
     return sorted(_pair_renames(list(filter(wanted, items))), key=_sort_key)
+
+
+def attribute_to_distribution(items: list[DriftItem], expected: str | None, actual: str | None) -> list[DriftItem]:
+    """``items`` with each ``TYPE_HASH_CHANGED`` said to be ``TYPE_HASH_DISTRIBUTION_CHANGED``
+    when the two sides were captured on different ROS 2 distributions (``expected``: the
+    contract's ``ros_distribution``, ``actual``: the capture's; either None: unknown, nothing
+    changes). A distribution may redefine a message (a field added to a standard type): the hash
+    then differs for every package, not because of this one. The item stays visible (RISKY:
+    peers on the two distributions cannot exchange that type), and its message says which
+    distributions and how to tell the two causes apart."""
+    if not expected or not actual or expected == actual:
+        return items
+    out = [
+        dataclasses.replace(
+            item, rule="TYPE_HASH_DISTRIBUTION_CHANGED", severity=RULES["TYPE_HASH_DISTRIBUTION_CHANGED"].severity,
+            message=(f"{item.message} between ROS 2 {expected} (the contract) and {actual} (this run): the "
+                     f"{actual} definition differs from {expected}'s; a change of the type in your own packages "
+                     f"looks the same, so check on {expected} to tell them apart"))
+        if item.rule == "TYPE_HASH_CHANGED" else item
+        for item in items
+    ]
+    return sorted(out, key=_sort_key)
 
 
 _RENAME_RULE = {

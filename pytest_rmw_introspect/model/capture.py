@@ -329,6 +329,9 @@ class Capture:
     #: why a target was started cold (a compiled executable, ``cold_start`` asked for it, the
     #: server still starting, ...); None when it started warm
     start_note: str | None = None
+    #: the ROS 2 distribution the target ran on (``ros_env``: jazzy, kilted, ...); None for a
+    #: capture read from a file
+    ros_distribution: str | None = None
     #: the additive revision of ``format_version`` (1: parameters, lifecycle, probe, created_in)
     format_minor: int = 0
     #: what the middleware asked the nodes' own services after the first settle (None: a capture
@@ -386,6 +389,7 @@ class Capture:
         )
         other.other_processes, other.from_child = self.other_processes, self.from_child
         other.started, other.start_note, other.argv = self.started, self.start_note, self.argv
+        other.ros_distribution = self.ros_distribution
         return other
 
     # ---------------------------------------------------------------- queries

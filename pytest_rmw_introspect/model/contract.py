@@ -4,6 +4,7 @@ A contract (docs/design.md section 2) is YAML::
 
     # comments, the target block and the options block above `nodes:` survive updates
     contract_version: 1
+    ros_distribution: jazzy   # optional: the distribution it was captured on
     target: {...}      # optional
     options: {...}     # optional
     nodes:
@@ -26,7 +27,8 @@ in ``parameters.ENTRY_KEYS`` order, values and ranges on one line).
 ``dump(load(x))`` of a file this module wrote is byte-identical.
 
 Updating a file (``update_text``) keeps everything *above* the top-level ``nodes:`` key
-verbatim (comments, ``contract_version``, ``target``, ``options``) and everything after the
+verbatim (comments, ``contract_version``, ``target``, ``options``; a golden write sets only its
+``ros_distribution:`` line, :func:`with_distribution`) and everything after the
 ``nodes`` block that starts a new top-level key, and rewrites only the ``nodes`` block. This
 is a deliberate decision: it needs no round-trip YAML library, and the part people annotate
 (the header) survives byte for byte. Comments *inside* the ``nodes`` block do not survive an
@@ -55,6 +57,8 @@ from .vocabulary import ACTION_HASHED_PARTS, LABELS, LIFECYCLE, LISTS, PARAMETER
 
 CONTRACT_VERSION = 1
 ENTRY_KEYS = ("name", "type", "type_hash", "qos")
+#: the top-level key recording the ROS 2 distribution a contract was captured on
+DISTRIBUTION_KEY = "ros_distribution"
 
 DEFAULT_HEADER = (
     "# Interface contract checked by pytest-rmw-introspect.\n"
@@ -83,6 +87,8 @@ class Contract:
     text: str = ""
     #: the generated ``types:`` section (``model.types``); None when the file has none
     types: dict[str, type_model.TypeDescription] | None = None
+    #: the ROS 2 distribution the contract was captured on (``ros_distribution:``), if recorded
+    ros_distribution: str | None = None
 
     def expanded_nodes(self) -> dict[str, dict[str, Any]]:
         """``nodes`` with every topic QoS expanded to all fields (``qos.expand``)."""
@@ -290,6 +296,7 @@ def _loads(text: str, path: Path | None) -> Contract:
         contract_version=int(data["contract_version"]),
         text=text,
         types=types,
+        ros_distribution=data.get(DISTRIBUTION_KEY),
     )
 
 
@@ -494,6 +501,26 @@ def update_text(old_text: str, nodes: Mapping[str, Any]) -> str:
         return render(nodes)
     header, trailer = parts
     return header + dump_nodes(nodes) + trailer
+
+
+def with_distribution(text: str, distribution: str | None) -> str:
+    """``text`` recording ``distribution`` in its top-level ``ros_distribution:`` line: the line
+    is replaced where the header has one, else added after ``contract_version:`` (or first).
+    None, or a text with no ``nodes:`` block to find the header by, leaves it unchanged."""
+    parts = split_text(text) if distribution else None
+    if parts is None:
+        return text
+    header, _trailer = parts
+    line = f"{DISTRIBUTION_KEY}: {distribution}\n"
+    lines = header.splitlines(keepends=True)
+    for i, old in enumerate(lines):
+        if old.startswith(f"{DISTRIBUTION_KEY}:"):
+            lines[i] = line
+            break
+    else:
+        at = next((i + 1 for i, old in enumerate(lines) if old.startswith("contract_version:")), 0)
+        lines.insert(at, line)
+    return "".join(lines) + text[len(header):]
 
 
 def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]) -> dict[str, Any]:

@@ -21,6 +21,7 @@ from __future__ import annotations
 import contextlib
 import gc
 import os
+import re
 import stat
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -116,6 +117,12 @@ def _compose_yaml(text: str, loader: type | None) -> yaml.Node | None:
     import yaml
 
     loader_class = _loader(loader)
+    if _brackets_deeper_than(text, MAX_DEPTH):
+        # deep flow nesting costs the pure-Python scanner time quadratic in the depth (it keeps
+        # a possible simple key per level): find the limit from the events before composing
+        error = _nesting_error(text)
+        if error is not None:
+            raise error
     try:
         parser = loader_class(text)
     except yaml.YAMLError as exc:  # the pure reader refuses control characters at once
@@ -131,6 +138,23 @@ def _compose_yaml(text: str, loader: type | None) -> yaml.Node | None:
             f"nested more than {MAX_DEPTH} levels deep") from None
     finally:
         parser.dispose()
+
+
+_BRACKETS = re.compile(r"[\[\]{}]")
+
+
+def _brackets_deeper_than(text: str, limit: int) -> bool:
+    """Whether brackets nest more than ``limit`` deep in ``text`` (counting those inside quotes
+    too: a cheap upper bound of the flow nesting, to decide whether to look closer)."""
+    depth = 0
+    for match in _BRACKETS.finditer(text):
+        if match.group() in "[{":
+            depth += 1
+            if depth > limit:
+                return True
+        elif depth:
+            depth -= 1
+    return False
 
 
 def _nesting_error(text: str, max_depth: int = MAX_DEPTH) -> InputError | None:

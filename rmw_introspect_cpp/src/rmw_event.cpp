@@ -8,9 +8,11 @@
 
 #include "detail/common.hpp"
 #include "detail/handles.hpp"
+#include "detail/rmw_api.hpp"
 #include "detail/runtime.hpp"
 
 using rmw_introspect::EventSource;
+using rmw_introspect::is_valid_event_type;
 using rmw_introspect::kIdentifier;
 
 namespace
@@ -118,7 +120,7 @@ rmw_ret_t rmw_event_set_callback(
 {
   RMWI_CHECK_HANDLE(event);
   auto * source = static_cast<EventSource *>(event->data);
-  if (event->event_type >= RMW_EVENT_INVALID) {
+  if (!is_valid_event_type(event->event_type)) {
     RMW_SET_ERROR_MSG("invalid event type");
     return RMW_RET_INVALID_ARGUMENT;
   }

@@ -13,6 +13,7 @@
 
 #include "detail/common.hpp"
 #include "detail/handles.hpp"
+#include "detail/rmw_api.hpp"
 #include "detail/runtime.hpp"
 
 using rmw_introspect::kIdentifier;
@@ -43,7 +44,9 @@ rmw_ret_t rmw_init_options_init(rmw_init_options_t * init_options, rcutils_alloc
   init_options->implementation_identifier = kIdentifier;
   init_options->allocator = allocator;
   init_options->impl = nullptr;
+#if RMWI_RMW_HAS_LOCALHOST_ONLY
   init_options->localhost_only = RMW_LOCALHOST_ONLY_DEFAULT;
+#endif
   init_options->domain_id = RMW_DEFAULT_DOMAIN_ID;
   init_options->enclave = nullptr;
   init_options->security_options = rmw_get_zero_initialized_security_options();

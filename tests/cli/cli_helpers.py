@@ -34,13 +34,15 @@ TALKER_PARAMETERS = (
 
 
 def talker_contract(*, target: str | None = None, depth: int = 10, reliability: str = "RELIABLE",
-                    header: str = "", parameters: bool = True) -> str:
+                    header: str = "", parameters: bool = True, distribution: str | None = None) -> str:
     """A contract of tests/plugin/nodes/talker.py as it runs with its defaults (changeable; the
     parameters block always lists the defaults; ``parameters=False``: a contract written before
-    parameters were recorded)."""
+    parameters were recorded; ``distribution``: its ``ros_distribution:`` line, as a golden
+    write records it)."""
     block = f"target:\n{textwrap.indent(target, '  ')}\n" if target else ""
+    recorded = f"ros_distribution: {distribution}\n" if distribution else ""
     return (
-        f"{header}contract_version: 1\n{block}"
+        f"{header}contract_version: 1\n{recorded}{block}"
         "nodes:\n"
         "  /talker:\n"
         "    publishers:\n"

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pytest_rmw_introspect.run import ros_env
+
 STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
 #: the parameters of nodes/talker.py with their defaults, as a golden lists them
 TALKER_PARAMETERS = """\
@@ -32,10 +34,15 @@ def test_talker(interfaces):
     assert interfaces["/talker"].publishers[0].name == "/chatter"
 """
 
+#: the ROS 2 distribution this venv runs: golden writes record it (``ros_distribution:``)
+DISTRIBUTION = ros_env.detect().distro
+RECORDED = f"contract_version: 1\nros_distribution: {DISTRIBUTION}\n"
+
 EXPECTED_TALKER_CONTRACT = f"""\
 # Interface contract checked by pytest-rmw-introspect.
 # Regenerate with `pytest --update-golden`; comments and keys above `nodes:` are kept.
 contract_version: 1
+ros_distribution: {DISTRIBUTION}
 nodes:
   /talker:
     publishers:
@@ -113,8 +120,10 @@ def test_update_rewrites_a_drifted_golden_keeping_header_target_and_options(proj
     result.assert_outcomes(passed=1)
     result.stdout.fnmatch_lines(["updated  contracts/talker.yaml"])
     text = project.read("contracts/talker.yaml")
-    assert text.startswith(header)
-    assert text == header + EXPECTED_TALKER_CONTRACT.split("contract_version: 1\n", 1)[1]
+    # the header is kept, but for the distribution the nodes were captured on
+    kept = header.replace("contract_version: 1\n", RECORDED, 1)
+    assert text.startswith(kept)
+    assert text == kept + EXPECTED_TALKER_CONTRACT.split(RECORDED, 1)[1]
     project.run().assert_outcomes(passed=1)
 
 

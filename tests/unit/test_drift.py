@@ -277,9 +277,36 @@ def test_every_rule_has_a_test_row():
     from test_type_drift import TESTED_RULES as TYPE_DESCRIPTION_RULES  # rules of the types: section
 
     tested = {row[2] for row in PRESENCE_ROWS} | {row[4] for row in QOS_ROWS} | {
-        "NODE_ADDED", "NODE_REMOVED", "TYPE_CHANGED", "TYPE_HASH_CHANGED"} | set(RENAME_RULES.values()) \
+        "NODE_ADDED", "NODE_REMOVED", "TYPE_CHANGED", "TYPE_HASH_CHANGED", "TYPE_HASH_DISTRIBUTION_CHANGED"} \
+        | set(RENAME_RULES.values()) \
         | TYPE_DESCRIPTION_RULES | PARAMETER_RULES
     assert tested == set(drift.RULES)
+
+
+HASH_A = "RIHS01_" + "a" * 64
+HASH_B = "RIHS01_" + "b" * 64
+
+
+def test_a_type_hash_that_differs_between_distributions_is_said_to_be_the_distribution_s():
+    items = compare(nodes("publishers", entry(type_hash=HASH_A)), nodes("publishers", entry(type_hash=HASH_B)))
+    assert [i.rule for i in items] == ["TYPE_HASH_CHANGED"]
+    attributed = only(drift.attribute_to_distribution(items, "jazzy", "kilted"))
+    assert (attributed.rule, attributed.severity, attributed.change) == ("TYPE_HASH_DISTRIBUTION_CHANGED", RISKY, "type_hash")
+    assert "jazzy" in attributed.message and "kilted" in attributed.message
+    assert "check on jazzy" in attributed.message
+    # the same distribution, or one side unknown: the change is the package's
+    for expected, actual in (("jazzy", "jazzy"), (None, "kilted"), ("jazzy", None)):
+        assert drift.attribute_to_distribution(items, expected, actual) == items
+
+
+def test_only_type_hash_items_are_attributed_to_the_distribution():
+    old = nodes("publishers", entry(type_hash=HASH_A, qos="default"))
+    new = nodes("publishers", entry(type_hash=HASH_B, qos="sensor_data"))
+    attributed = drift.attribute_to_distribution(compare(old, new), "jazzy", "kilted")
+    rules = [i.rule for i in attributed]
+    assert "TYPE_HASH_DISTRIBUTION_CHANGED" in rules and "TYPE_HASH_CHANGED" not in rules
+    assert "QOS_RELIABILITY_WEAKENED" in rules  # a QoS change stays what it is
+    assert rules[0] == "QOS_RELIABILITY_WEAKENED"  # most severe first, as compare sorts them
 
 
 def test_qos_profile_names_compare_equal_to_their_explicit_form():

@@ -19,6 +19,7 @@
 #include "detail/cdr.hpp"
 #include "detail/inbox.hpp"
 #include "detail/recorder.hpp"
+#include "detail/rmw_api.hpp"
 #include "detail/subscription_filter.hpp"
 #include "detail/typesupport.hpp"
 #include "detail/wait_hub.hpp"
@@ -63,7 +64,7 @@ private:
 struct EventSource
 {
   bool is_publisher = false;
-  Callback event_callbacks[RMW_EVENT_INVALID];
+  Callback event_callbacks[kEventTypeEnd];
   MatchedState matched;  // PUBLICATION_MATCHED / SUBSCRIPTION_MATCHED (delivery only)
   std::atomic<bool> delivered{false};  // registered with the Delivery: events are live
 };

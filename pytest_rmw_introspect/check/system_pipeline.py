@@ -36,7 +36,7 @@ from ..errors import RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
 from ..model import system_contract
 from ..model.contract import Contract
-from ..model.locate import line_index
+from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.vocabulary import Severity, parse_threshold
@@ -364,10 +364,17 @@ class SystemDiff:
     new_shown: str
     options: ComparisonOptions
     items: list[DriftItem]
+    #: where NEW lists its nodes and interfaces, for the CI formats
+    lines: LineIndex = field(default_factory=dict)
 
     @property
     def failed(self) -> bool:
         return report.fails(self.items, self.options.threshold())
+
+    def for_ci(self) -> ContractOutcome:
+        """For the CI formats: results point at NEW, the file a pull request changes."""
+        return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.options.threshold(),
+                               lines=self.lines)
 
     def render_text(self) -> str:
         return report.render_text(self.items, contract_path=self.old_shown, threshold=self.options.threshold(),
@@ -394,4 +401,5 @@ def diff_system(old_path: str | Path, new_path: str | Path, options: Sequence[Op
     new, _ = load_nodes(new_path)
     old_shown = display(old_path)
     opts = Layers(strong_options=options).options(old, shown=old_shown)
-    return SystemDiff(old_shown, display(new_path), opts, drift.compare(old.nodes, new.nodes, opts))
+    lines = line_index(Path(new_path).read_text(encoding="utf-8"))
+    return SystemDiff(old_shown, display(new_path), opts, drift.compare(old.nodes, new.nodes, opts), lines)

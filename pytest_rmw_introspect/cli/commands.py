@@ -12,12 +12,14 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from .._version import __version__
 from ..check import golden, golden_record, pipeline
 from ..check.outcome import Verdict, decide
-from ..compare import ci_report
+from ..compare import ci_report, sarif
 from ..errors import GoldenWriteError
 from ..model.contract import Contract
 from . import system
+from .formats import print_json
 from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, UsageError, compare_from_args, target_from_args
 from .ros_setup import Setup
 
@@ -126,6 +128,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         sys.stdout.write(ci_report.drift_markdown(for_ci))
     elif args.format == "github":
         sys.stdout.write(ci_report.drift_github(for_ci))
+    elif args.format == "sarif":
+        print_json(sarif.drift_log(for_ci, tool_version=__version__))
     return status
 
 
@@ -139,6 +143,8 @@ def cmd_diff(args: argparse.Namespace) -> int:
         sys.stdout.write(ci_report.drift_markdown([result.for_ci()], title=f"Interface drift of {result.new_shown}"))
     elif args.format == "github":
         sys.stdout.write(ci_report.drift_github([result.for_ci()]))
+    elif args.format == "sarif":
+        print_json(sarif.drift_log([result.for_ci()], tool_version=__version__))
     else:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK
@@ -155,6 +161,9 @@ def cmd_compat(args: argparse.Namespace) -> int:
         sys.stdout.write(ci_report.compat_markdown(result.items, threshold=result.threshold, labels=result.labels))
     elif args.format == "github":
         sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines))
+    elif args.format == "sarif":
+        print_json(sarif.compat_log(result.items, threshold=result.threshold, lines=result.lines,
+                                     tool_version=__version__))
     else:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK

@@ -244,14 +244,15 @@ def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True, types: 
                        help="also capture and compare /rosout, /parameter_events, parameter and lifecycle services")
 
 
-REPORT_FORMATS = ("text", "json", "markdown", "github")
+REPORT_FORMATS = ("text", "json", "markdown", "github", "sarif")
 
 
 def _add_format(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=REPORT_FORMATS, default="text",
                         help="text: the report for people (default); json: machine-readable items; "
                         "markdown: a summary table and the grouped drift (a pull-request comment, "
-                        "$GITHUB_STEP_SUMMARY); github: GitHub Actions annotations on the contract lines")
+                        "$GITHUB_STEP_SUMMARY); github: GitHub Actions annotations on the contract lines; "
+                        "sarif: a SARIF 2.1.0 log (GitHub code scanning), a result per finding on its contract line")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -316,8 +317,9 @@ def build_parser() -> argparse.ArgumentParser:
                          "without running anything: fast enough for a pre-commit hook.",
                          epilog=_VALIDATE_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     val.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML)")
-    val.add_argument("--format", choices=("text", "github"), default="text",
-                     help="text: one line per file (default); github: an annotation per invalid file")
+    val.add_argument("--format", choices=("text", "github", "sarif"), default="text",
+                     help="text: one line per file (default); github: an annotation per invalid file; "
+                     "sarif: a SARIF 2.1.0 log with a result per invalid file")
 
     com = sub.add_parser("compat", help="check that the nodes of several contracts fit together",
                          description="System check: do the nodes of these contracts fit together?",

@@ -11,11 +11,14 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from .._version import __version__
 from ..check import system_pipeline
 from ..check.pipeline import Layers, SystemResult
 from ..compare import graph as graph_module
+from ..compare import sarif
 from ..errors import TargetConfigError
 from ..model import system_contract
+from ..model.locate import line_index
 from ..model.vocabulary import parse_threshold
 from ..run import system as run_system
 from ..run.ros_env import RosEnvironment
@@ -103,6 +106,8 @@ def cmd_diff(args: argparse.Namespace) -> int:
     result = system_pipeline.diff_system(args.old, args.new, [(compare_from_args(args), "command line")])
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
+    elif args.format == "sarif":
+        formats.print_json(sarif.drift_log([result.for_ci()], tool_version=__version__))
     else:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK
@@ -110,6 +115,16 @@ def cmd_diff(args: argparse.Namespace) -> int:
 
 def any_system(paths: Sequence[str]) -> bool:
     return any(Path(p).exists() and system_contract.is_system_contract(p) for p in paths)
+
+
+def _file_of(label: str, files: Sequence[str]) -> str:
+    """The contract file of a system-check end: its label, a system contract's process label
+    (``FILE: package/executable``) or, when one system contract was checked alone (its process
+    labels do not name the file), that file."""
+    for file in files:
+        if label == file or label.startswith(f"{file}: "):
+            return file
+    return files[0] if len(files) == 1 else label
 
 
 def cmd_compat(args: argparse.Namespace) -> int:
@@ -120,6 +135,11 @@ def cmd_compat(args: argparse.Namespace) -> int:
     result = SystemResult(labels=loaded.labels, items=items, threshold=threshold)
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
+    elif args.format == "sarif":
+        lines = {label: line_index(Path(label).read_text(encoding="utf-8")) for label in loaded.labels}
+        formats.print_json(sarif.compat_log(items, threshold=threshold, lines=lines,
+                                            file_of=lambda label: _file_of(label, loaded.labels),
+                                            tool_version=__version__))
     else:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK

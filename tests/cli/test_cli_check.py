@@ -178,3 +178,10 @@ def test_check_in_the_ci_formats(cli):
     assert gh.returncode == 0, gh
     assert gh.stdout == ("::warning file=talker.interfaces.yaml,line=7,title=QOS_DEPTH_INCREASED (SAFE)::"
                          "/talker publisher /chatter: depth 3 -> 10: more samples are queued; matching is unaffected\n"), gh
+    sarif = cli("check", *contracts, "--format", "sarif", "--fail-on", "breaking")
+    assert sarif.returncode == 2, sarif
+    results = json.loads(sarif.stdout)["runs"][0]["results"]
+    assert [(r["ruleId"], r["level"], r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"])
+            for r in results] == [("QOS_DEPTH_INCREASED", "note", "talker.interfaces.yaml"),
+                                  ("CONTRACT_NOT_CHECKED", "error", "broken.interfaces.yaml")]
+    assert results[0]["locations"][0]["physicalLocation"]["region"] == {"startLine": 7}

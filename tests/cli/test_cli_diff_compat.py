@@ -134,7 +134,7 @@ def test_compat_threshold(cli_nodes_only):
                                  "--timeout SECONDS", "{yaml,json,nodl}", "--raw", "--include-ros-infra",
                                  "-o FILE", "NoDL v2"]),
         (("check", "--help"), ["CONTRACT", "--update", "--fail-on {any,risky,breaking}", "--ignore-type-hash",
-                               "--ignore-qos FIELDS", "--allow-extra", "--include-ros-infra", "--format {text,json,markdown,github}",
+                               "--ignore-qos FIELDS", "--allow-extra", "--include-ros-infra", "--format {text,json,markdown,github,sarif}",
                                "refused when the CI environment variable is set", "2 errors"]),
         (("diff", "--help"), ["OLD", "NEW", "--fail-on", "--format"]),
         (("compat", "--help"), ["CONTRACT", "--fail-on", "--strict-system-default", "--format"]),
@@ -195,3 +195,34 @@ def test_the_pre_commit_hook_runs_validate_on_contract_files():
     assert pattern.search("contracts/talker.interfaces.yaml") and pattern.search("robot.system.yaml")
     assert not pattern.search("params.yaml")
     assert 'rmw-introspect = "pytest_rmw_introspect.cli:main"' in (root / "pyproject.toml").read_text()
+
+
+def test_diff_compat_and_validate_in_sarif(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("old.yaml", talker_contract())
+    cli.write("new.yaml", talker_contract(depth=5))
+    cli.write("listener.yaml", LISTENER)
+    cli.write("bad.interfaces.yaml", "contract_version: 1\nnodes:\n  /talker:\n    publishers: 3\n")
+    diff = cli("diff", "old.yaml", "new.yaml", "--format", "sarif")
+    assert diff.returncode == 1, diff
+    log = json.loads(diff.stdout)
+    assert log["version"] == "2.1.0"
+    (result,) = log["runs"][0]["results"]
+    assert result["ruleId"] == "QOS_DEPTH_DECREASED" and result["level"] == "error"
+    assert result["locations"][0]["physicalLocation"] == {
+        "artifactLocation": {"uri": "new.yaml", "uriBaseId": "%SRCROOT%"}, "region": {"startLine": 5}}
+    assert log["runs"][0]["originalUriBaseIds"]["%SRCROOT%"]["uri"] == cli.path.as_uri() + "/"
+    compat = cli("compat", "new.yaml", "listener.yaml", "--format", "sarif")
+    assert compat.returncode == 0, compat  # RISKY problems, below the default threshold
+    results = json.loads(compat.stdout)["runs"][0]["results"]
+    orders = next(r for r in results if r["ruleId"] == "SUBSCRIPTION_WITHOUT_PUBLISHER")
+    assert orders["level"] == "warning"
+    assert orders["locations"][0]["physicalLocation"] == {
+        "artifactLocation": {"uri": "listener.yaml", "uriBaseId": "%SRCROOT%"}, "region": {"startLine": 8}}
+    valid = cli("validate", "new.yaml", "bad.interfaces.yaml", "--format", "sarif")
+    assert valid.returncode == 2, valid
+    run = json.loads(valid.stdout)["runs"][0]
+    (invalid,) = run["results"]
+    assert invalid["ruleId"] == "CONTRACT_INVALID" and "publishers" in invalid["message"]["text"]
+    assert invalid["locations"][0]["physicalLocation"]["region"] == {"startLine": 4}
+    assert run["invocations"] == [{"executionSuccessful": False}]

@@ -163,7 +163,7 @@ def cmd_compat(args: argparse.Namespace) -> int:
         sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines))
     elif args.format == "sarif":
         print_json(sarif.compat_log(result.items, threshold=result.threshold, lines=result.lines,
-                                     tool_version=__version__))
+                                    tool_version=__version__, accepted=result.accepted, stale=result.stale))
     else:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK

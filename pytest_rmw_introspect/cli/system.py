@@ -13,9 +13,10 @@ from typing import Any
 
 from .._version import __version__
 from ..check import system_pipeline
-from ..check.pipeline import Layers, SystemResult
+from ..check.pipeline import Layers, SystemResult, judge_system
 from ..compare import graph as graph_module
 from ..compare import sarif
+from ..compare.system import CompatItem
 from ..errors import TargetConfigError
 from ..model import system_contract
 from ..model.locate import line_index
@@ -117,28 +118,21 @@ def any_system(paths: Sequence[str]) -> bool:
     return any(Path(p).exists() and system_contract.is_system_contract(p) for p in paths)
 
 
-def _file_of(label: str, files: Sequence[str]) -> str:
-    """The contract file of a system-check end: its label, a system contract's process label
-    (``FILE: package/executable``) or, when one system contract was checked alone (its process
-    labels do not name the file), that file."""
-    for file in files:
-        if label == file or label.startswith(f"{file}: "):
-            return file
-    return files[0] if len(files) == 1 else label
-
-
 def cmd_compat(args: argparse.Namespace) -> int:
     """``compat`` with system contracts among the files: every system rule."""
     loaded = system_pipeline.load_any(args.contracts)
     threshold = parse_threshold(args.fail_on)
-    items = system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default)
-    result = SystemResult(labels=loaded.labels, items=items, threshold=threshold)
+    judged = judge_system(system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default),
+                          loaded.accept, loaded.file_of)
+    items = [item for item in judged.kept if isinstance(item, CompatItem)]
+    result = SystemResult(labels=loaded.labels, items=items, threshold=threshold, accepted=judged.accepted,
+                          stale=judged.stale)
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
     elif args.format == "sarif":
         lines = {label: line_index(Path(label).read_text(encoding="utf-8")) for label in loaded.labels}
         formats.print_json(sarif.compat_log(items, threshold=threshold, lines=lines,
-                                            file_of=lambda label: _file_of(label, loaded.labels),
+                                            file_of=loaded.file_of, accepted=judged.accepted, stale=judged.stale,
                                             tool_version=__version__))
     else:
         sys.stdout.write(result.render_text())

@@ -11,8 +11,10 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
+from ..model.acceptance import Acceptance
 from ..model.locate import LineIndex, line_of
 from ..model.vocabulary import LABELS, THRESHOLD_WORDS, Severity
+from .acceptance import Accepted
 from .drift import DriftItem
 from .system import CompatItem
 
@@ -31,6 +33,9 @@ class ContractOutcome:
     #: a system contract's system-check problems, judged against their own threshold
     system_items: Sequence[CompatItem] = ()
     system_threshold: Severity = Severity.BREAKING
+    #: findings the contract accepts on purpose, and its ``accept:`` entries that match nothing
+    accepted: Sequence[Accepted] = ()
+    stale: Sequence[Acceptance] = ()
 
     @property
     def failed(self) -> bool:

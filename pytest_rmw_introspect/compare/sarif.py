@@ -18,9 +18,11 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import quote
 
+from ..model.acceptance import Acceptance
 from ..model.locate import LineIndex, line_of
 from ..model.vocabulary import LABELS, Severity
-from . import drift, findings, system
+from . import drift, findings, report, system
+from .acceptance import Accepted
 from .ci_report import ContractOutcome
 from .drift import DriftItem
 from .system import CompatItem
@@ -35,12 +37,15 @@ FINGERPRINT = "rmwIntrospectFinding/v1"
 
 CONTRACT_NOT_CHECKED = "CONTRACT_NOT_CHECKED"
 CONTRACT_INVALID = "CONTRACT_INVALID"
+ACCEPTANCE_STALE = report.STALE_RULE
 #: the tool's own rules: rule id → (severity, summary)
 TOOL_RULES: dict[str, tuple[Severity, str]] = {
     CONTRACT_NOT_CHECKED: (Severity.BREAKING, "the contract could not be checked (missing or malformed contract, "
                            "no target, a target that fails, hangs or creates no node, setup)"),
     CONTRACT_INVALID: (Severity.BREAKING, "the contract file is not valid (YAML syntax, schema, QoS values, "
                        "duplicate interfaces, contract_version)"),
+    ACCEPTANCE_STALE: (Severity.RISKY, "an `accept:` entry of the contract matches no finding any more: remove it "
+                       "before it hides a new one"),
 }
 
 _DEFAULT_LEVEL = {Severity.BREAKING: "error", Severity.RISKY: "warning", Severity.SAFE: "note"}
@@ -100,32 +105,56 @@ class _Log:
         self.successful = True
 
     def add(self, rule_id: str, result_level: str, message: str, location: dict[str, Any],
-            *, fingerprint: str | None = None, properties: Mapping[str, Any] | None = None) -> None:
+            *, fingerprint: str | None = None, properties: Mapping[str, Any] | None = None,
+            accepted_by: Acceptance | None = None) -> None:
         result: dict[str, Any] = {"ruleId": rule_id, "ruleIndex": self.index[rule_id], "level": result_level,
                                   "message": {"text": message}, "locations": [location]}
+        if accepted_by is not None:  # SARIF's own word for it: suppressed in the source, with the reason
+            result["suppressions"] = [{"kind": "inSource", "status": "accepted", "justification": accepted_by.reason,
+                                       "location": _location(accepted_by.source, accepted_by.line)}]
         if fingerprint:
             result["partialFingerprints"] = {FINGERPRINT: fingerprint}
         if properties:
             result["properties"] = dict(properties)
         self.results.append(result)
 
-    def add_drift(self, item: DriftItem, *, file: str, lines: LineIndex, threshold: Severity) -> None:
+    def add_drift(self, item: DriftItem, *, file: str, lines: LineIndex, threshold: Severity,
+                  accepted_by: Acceptance | None = None) -> None:
         where = item.node if item.kind == "node" else f"{item.node} {LABELS.get(item.kind, item.kind)} {item.name}"
         logical = item.node if item.kind == "node" else f"{item.node}/{item.kind}/{item.name}"
         self.add(item.rule, level(item.severity, threshold), f"{where}: {item.message}",
                  _location(file, line_of(lines, item.node, item.kind, item.name), logical),
                  fingerprint=findings.fingerprint(item),
                  properties={"severity": item.severity.name, "node": item.node, "kind": item.kind,
-                             "name": item.name, "change": item.change})
+                             "name": item.name, "change": item.change}, accepted_by=accepted_by)
 
-    def add_compat(self, item: CompatItem, *, file: str, lines: LineIndex, threshold: Severity) -> None:
+    def add_compat(self, item: CompatItem, *, file: str, lines: LineIndex, threshold: Severity,
+                   accepted_by: Acceptance | None = None) -> None:
         ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
         self.add(item.rule, level(item.severity, threshold), f"{item.name}: {ends}: {item.message}",
                  _location(file, line_of(lines, item.requester.node, item.requester.kind, item.name),
                            f"{item.requester.node}/{item.requester.kind}/{item.name}"),
                  fingerprint=findings.fingerprint(item),
                  properties={"severity": item.severity.name, "name": item.name,
-                             "requester": item.requester.label, "provider": item.provider.label if item.provider else None})
+                             "requester": item.requester.label, "provider": item.provider.label if item.provider else None},
+                 accepted_by=accepted_by)
+
+    def add_acceptances(self, accepted: Sequence[Accepted], stale: Sequence[Acceptance], *,
+                        lines: Mapping[str, LineIndex], drift_threshold: Severity, system_threshold: Severity,
+                        file: str | None = None) -> None:
+        """Accepted findings as suppressed results, on ``file`` (default: the contract that
+        accepts them); stale entries as results on their own lines."""
+        for entry in accepted:
+            where = file or entry.acceptance.source
+            if isinstance(entry.item, DriftItem):
+                self.add_drift(entry.item, file=where, lines=lines.get(where, {}), threshold=drift_threshold,
+                               accepted_by=entry.acceptance)
+            else:
+                self.add_compat(entry.item, file=where, lines=lines.get(where, {}), threshold=system_threshold,
+                                accepted_by=entry.acceptance)
+        for acceptance in stale:
+            self.add(ACCEPTANCE_STALE, "warning", f"`accept:` entry {acceptance.describe()} matches nothing any more "
+                     f"(reason given: {acceptance.reason}); remove it", _location(acceptance.source, acceptance.line))
 
     def add_error(self, rule_id: str, message: str, *, file: str, line: int | None = None) -> None:
         self.successful = False
@@ -157,12 +186,16 @@ def drift_log(outcomes: Iterable[ContractOutcome], *, tool_version: str | None =
             log.add_drift(item, file=outcome.contract, lines=outcome.lines, threshold=outcome.threshold)
         for compat_item in outcome.system_items:
             log.add_compat(compat_item, file=outcome.contract, lines=outcome.lines, threshold=outcome.system_threshold)
+        log.add_acceptances(outcome.accepted, outcome.stale, file=outcome.contract,
+                            lines={outcome.contract: outcome.lines}, drift_threshold=outcome.threshold,
+                            system_threshold=outcome.system_threshold)
     return log.document()
 
 
 def compat_log(items: Sequence[CompatItem], *, threshold: Severity,
                lines: Mapping[str, LineIndex] | None = None,
-               file_of: Callable[[str], str] | None = None, tool_version: str | None = None) -> dict[str, Any]:
+               file_of: Callable[[str], str] | None = None, tool_version: str | None = None,
+               accepted: Sequence[Accepted] = (), stale: Sequence[Acceptance] = ()) -> dict[str, Any]:
     """``compat``: a result per system problem, on the requesting end's contract and line.
     ``file_of`` maps an end's label to its contract file (default: the label is the file; a
     system contract's processes are labelled ``FILE: package/executable``)."""
@@ -170,6 +203,7 @@ def compat_log(items: Sequence[CompatItem], *, threshold: Severity,
     for item in items:
         where = file_of(item.requester.label) if file_of else item.requester.label
         log.add_compat(item, file=where, lines=(lines or {}).get(where, {}), threshold=threshold)
+    log.add_acceptances(accepted, stale, lines=lines or {}, drift_threshold=threshold, system_threshold=threshold)
     return log.document()
 
 

@@ -185,3 +185,25 @@ def test_check_in_the_ci_formats(cli):
             for r in results] == [("QOS_DEPTH_INCREASED", "note", "talker.interfaces.yaml"),
                                   ("CONTRACT_NOT_CHECKED", "error", "broken.interfaces.yaml")]
     assert results[0]["locations"][0]["physicalLocation"]["region"] == {"startLine": 7}
+
+
+def test_accepted_drift_passes_and_says_so_and_a_stale_entry_is_reported(cli):
+    accept = ("accept:\n"
+              "  - rule: QOS_DEPTH_INCREASED\n    name: /chatter\n    reason: the queue grew on purpose (issue 12)\n")
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, depth=3, header=accept))
+    result = cli("check", "talker.interfaces.yaml")
+    assert result.returncode == 0, result
+    assert result.stdout == "talker.interfaces.yaml: matches (/talker); 1 finding(s) accepted in the contract\n"
+    as_json = json.loads(cli("check", "talker.interfaces.yaml", "--format", "json").stdout)
+    assert [(i["rule"], i["accepted"]["reason"]) for i in as_json] == [
+        ("QOS_DEPTH_INCREASED", "the queue grew on purpose (issue 12)")]
+    # the drift is gone (depth 10 again): the entry is stale, reported but not failing
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, header=accept))
+    stale = cli("check", "talker.interfaces.yaml")
+    assert stale.returncode == 0, stale
+    assert "STALE ACCEPTANCES (1)" in stale.stdout
+    assert "talker.interfaces.yaml:2: QOS_DEPTH_INCREASED name /chatter" in stale.stdout
+    # a typo in a rule id is an error naming the entry
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, header=accept.replace("INCREASED", "INCRAESED")))
+    typo = cli("check", "talker.interfaces.yaml")
+    assert typo.returncode == 2 and "talker.interfaces.yaml:2" in typo.stderr and "unknown rule" in typo.stderr, typo

@@ -226,3 +226,22 @@ def test_diff_compat_and_validate_in_sarif(cli_nodes_only):
     assert invalid["ruleId"] == "CONTRACT_INVALID" and "publishers" in invalid["message"]["text"]
     assert invalid["locations"][0]["physicalLocation"]["region"] == {"startLine": 4}
     assert run["invocations"] == [{"executionSuccessful": False}]
+
+
+def test_compat_accepts_what_a_contract_accepts_and_reports_stale_entries(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("talker.yaml", talker_contract())
+    cli.write("listener.yaml", "accept:\n"
+              "  - {rule: SUBSCRIPTION_WITHOUT_PUBLISHER, name: /orders, reason: 'published by the shop, not launched'}\n"
+              "  - {rule: CLIENT_WITHOUT_SERVER, reason: 'no client any more'}\n" + LISTENER)
+    result = cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky")
+    assert result.returncode == 0, result
+    assert "ACCEPTED (1)" in result.stdout and "published by the shop, not launched" in result.stdout
+    assert "STALE ACCEPTANCES (1)" in result.stdout and "listener.yaml:3: CLIENT_WITHOUT_SERVER" in result.stdout
+    sarif_log = json.loads(cli("compat", "talker.yaml", "listener.yaml", "--format", "sarif").stdout)
+    results = sarif_log["runs"][0]["results"]
+    assert [(r["ruleId"], "suppressions" in r) for r in results] == [
+        ("SUBSCRIPTION_WITHOUT_PUBLISHER", True), ("ACCEPTANCE_STALE", False)]
+    # without the entry, the same problem fails at risky
+    cli.write("listener.yaml", LISTENER)
+    assert cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky").returncode == 1

@@ -230,3 +230,18 @@ def test_system_contracts_in_sarif(cli_nodes_only):
     (changed,) = json.loads(diff.stdout)["runs"][0]["results"]
     assert changed["ruleId"] == "TYPE_CHANGED"
     assert changed["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == "new.system.yaml"
+
+
+def test_a_system_contract_accepts_findings_on_purpose(cli_nodes_only):
+    cli = cli_nodes_only
+    text = (EXAMPLES / "system_demo" / "broken_robot.system-demo.yaml").read_text()
+    accept = ("accept:\n"
+              "  - {rule: DUPLICATE_NODE_NAME, name: /robot1/reporter, reason: 'the demo starts two on purpose'}\n"
+              "  - {rule: TYPE_MISMATCH, name: /robot1/map, node: /robot1/map_listener, reason: 'the demo mistake'}\n")
+    cli.write("robot.system.yaml", text.replace("system_version: 1\n", "system_version: 1\n" + accept, 1))
+    result = cli("compat", "robot.system.yaml")
+    assert result.returncode == 0, result  # both BREAKING problems are accepted
+    assert "ACCEPTED (2)" in result.stdout and "the demo starts two on purpose" in result.stdout
+    assert "[CLIENT_WITHOUT_SERVER]" in result.stdout.split("ACCEPTED")[0]  # not accepted: still reported
+    items = json.loads(cli("compat", "robot.system.yaml", "--format", "json").stdout)
+    assert sorted(i["rule"] for i in items if "accepted" in i) == ["DUPLICATE_NODE_NAME", "TYPE_MISMATCH"]

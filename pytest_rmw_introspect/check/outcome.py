@@ -116,8 +116,11 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None) 
         nodes = ", ".join(sorted(result.contract.nodes)) or "no nodes"
         hint = (f"; it does not state {', '.join(gains)} yet: {accept_command} adds them"
                 if gains and accept_command else "")
-        if result.accepted:
-            hint = f"; {len(result.accepted)} finding(s) accepted in the contract{hint}"
+        in_baseline = sum(1 for entry in result.accepted if entry.acceptance.baseline)
+        if in_baseline:
+            hint = f"; {in_baseline} finding(s) in the baseline{hint}"
+        if len(result.accepted) > in_baseline:
+            hint = f"; {len(result.accepted) - in_baseline} finding(s) accepted in the contract{hint}"
         if result.stale:
             entries = "; ".join(entry.describe() for entry in result.stale)
             return Outcome(Verdict.WARN, f"{result.shown}: matches ({nodes}){hint}; but {len(result.stale)} `accept:` "

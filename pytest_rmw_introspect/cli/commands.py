@@ -18,7 +18,7 @@ from ..check.outcome import Verdict, decide
 from ..compare import ci_report, sarif
 from ..errors import GoldenWriteError
 from ..model.contract import Contract
-from . import system
+from . import baselines, system
 from .formats import print_json
 from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, UsageError, compare_from_args, target_from_args
 from .ros_setup import Setup
@@ -78,11 +78,13 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         if refusal:
             raise UsageError(refusal.replace("--update-golden", "--update").replace(
                 "run `pytest --update` on", "run `rmw-introspect check --update` on"))
+    baseline = baselines.load(args)
     cwd = Path.cwd()
     target = target_from_args(args, command)
     layers = pipeline.Layers(strong_target=[(target, cwd, "command line")] if target else [],
                              strong_options=[(compare_from_args(args), "command line")])
     setup = Setup()
+    checked: list[pipeline.CheckResult | system.system_pipeline.SystemCheckResult] = []
     status = EXIT_OK
     all_items: list[dict[str, Any]] = []
     for_ci: list[ci_report.ContractOutcome] = []
@@ -94,6 +96,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         else:
             result = pipeline.check(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,
                                     allow_missing=args.update, no_target=_no_target)
+        baselines.apply(baseline, result)
+        checked.append(result)
         outcome = decide(result, update=args.update, accept_command=accept_command(args, shown, command))
         all_items += outcome.json
         if outcome.verdict is Verdict.ERROR:
@@ -122,6 +126,9 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
                 print(outcome.message)
         if outcome.failed and status == EXIT_OK:
             status = EXIT_DRIFT
+    baselines.finish(args, baseline, checked, [Path(c) for c in args.contracts])
+    if args.write_baseline and status == EXIT_DRIFT:
+        status = EXIT_OK  # today's findings are what the baseline records
     if args.format == "json":
         print(json.dumps(all_items, indent=2, default=str))
     elif args.format == "markdown":
@@ -153,8 +160,11 @@ def cmd_diff(args: argparse.Namespace) -> int:
 def cmd_compat(args: argparse.Namespace) -> int:
     if system.any_system(args.contracts):
         return system.cmd_compat(args)
+    baseline = baselines.load(args)
     result = pipeline.check_system(args.contracts, fail_on=args.fail_on,
                                    strict_system_default=args.strict_system_default)
+    baselines.apply(baseline, result)
+    baselines.finish(args, baseline, [result])
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
     elif args.format == "markdown":
@@ -166,7 +176,7 @@ def cmd_compat(args: argparse.Namespace) -> int:
                                     tool_version=__version__, accepted=result.accepted, stale=result.stale))
     else:
         sys.stdout.write(result.render_text())
-    return EXIT_DRIFT if result.failed else EXIT_OK
+    return EXIT_DRIFT if result.failed and not args.write_baseline else EXIT_OK
 
 
 def cmd_graph(args: argparse.Namespace) -> int:

@@ -73,6 +73,9 @@ defaults (fail_on: any, nothing ignored). Drift rules and severities: docs/drift
 comments, target and options above it) and creates missing ones (with a `target:` block from
 the target options given here); it is refused when the CI environment variable is set.
 
+--baseline FILE fails only on findings that FILE (written by --write-baseline FILE) does not
+hold; the known ones are reported as accepted by the baseline.
+
 --format json prints one JSON array with an object per drift item: contract, node, kind
 (publishers, subscriptions, service_servers, service_clients, action_servers, action_clients,
 parameters or node), name, change, rule, severity (SAFE, RISKY, BREAKING), old, new, message.
@@ -255,6 +258,16 @@ def _add_format(parser: argparse.ArgumentParser) -> None:
                         "sarif: a SARIF 2.1.0 log (GitHub code scanning), a result per finding on its contract line")
 
 
+def _add_baseline(parser: argparse.ArgumentParser) -> None:
+    g = parser.add_argument_group("baselines (turn the gate on with known findings, tighten it later)")
+    g.add_argument("--baseline", metavar="FILE",
+                   help="fail only on findings that are not in FILE (written by --write-baseline); the known "
+                   "ones are reported as accepted by the baseline")
+    g.add_argument("--write-baseline", metavar="FILE",
+                   help="record today's findings (those no `accept:` entry accepts) in FILE and exit 0 unless "
+                   "a contract could not be checked")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="rmw-introspect", description=_DESCRIPTION,
                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -288,6 +301,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_format(chk)
     chk.add_argument("--update", action="store_true",
                      help="rewrite drifted contracts and create missing ones (refused when CI is set)")
+    _add_baseline(chk)
     system_options.add_launch(chk)
     system_options.add_system_fail_on(chk)
 
@@ -330,6 +344,7 @@ def build_parser() -> argparse.ArgumentParser:
     com.add_argument("--strict-system-default", action="store_true",
                      help="also report policies left at SYSTEM_DEFAULT on both ends (what rmw would warn about)")
     _add_format(com)
+    _add_baseline(com)
     system_options.add_graph(sub, _Parser)
     return parser
 

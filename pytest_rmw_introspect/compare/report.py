@@ -138,7 +138,7 @@ def render_acceptances(accepted: Sequence[Accepted], stale: Sequence[Acceptance]
     """Report lines of the accepted findings (with their reasons) and of the stale entries."""
     lines: list[str] = []
     if accepted:
-        lines += ["", f"ACCEPTED ({len(accepted)}) - accepted on purpose in the contract, not failing"]
+        lines += ["", f"ACCEPTED ({len(accepted)}) - accepted on purpose (`accept:` entries, a baseline), not failing"]
         for entry in accepted:
             lines.append(f"  {_finding_place(entry.item)}: [{entry.item.rule}] {entry.item.message}")
             lines.append(f"    accepted ({entry.acceptance.where()}): {entry.acceptance.reason}")

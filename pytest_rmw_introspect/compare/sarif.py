@@ -110,7 +110,9 @@ class _Log:
         result: dict[str, Any] = {"ruleId": rule_id, "ruleIndex": self.index[rule_id], "level": result_level,
                                   "message": {"text": message}, "locations": [location]}
         if accepted_by is not None:  # SARIF's own word for it: suppressed in the source, with the reason
-            result["suppressions"] = [{"kind": "inSource", "status": "accepted", "justification": accepted_by.reason,
+            result["suppressions"] = [{"kind": "external", "status": "accepted", "justification": accepted_by.reason}
+                                      if accepted_by.baseline else
+                                      {"kind": "inSource", "status": "accepted", "justification": accepted_by.reason,
                                        "location": _location(accepted_by.source, accepted_by.line)}]
         if fingerprint:
             result["partialFingerprints"] = {FINGERPRINT: fingerprint}

@@ -22,6 +22,8 @@ class Acceptance:
     node: str | None = None
     source: str = ""
     line: int | None = None
+    #: an entry of a baseline file (``compare.baseline``), not of the contract
+    baseline: bool = False
 
     def describe(self) -> str:
         """``RULE name /x node /n`` as a person reads it in a report."""
@@ -37,6 +39,8 @@ class Acceptance:
         return f"{self.source}:{self.line}" if self.line else self.source
 
     def to_json(self) -> dict[str, Any]:
+        if self.baseline:
+            return {"baseline": self.source, "reason": self.reason}
         return {"rule": self.rule, "name": self.name, "node": self.node, "reason": self.reason,
                 "contract": self.source, "line": self.line}
 

@@ -46,6 +46,9 @@ class SessionState:
     #: how many contract items ahead of the running one have their capture started already
     #: (``items.ContractItem.capture_ahead``); 0: each item captures when it runs
     capture_ahead: int = DEFAULT_CAPTURE_AHEAD
+    #: ini ``rmw_introspect_baseline``: findings in this file do not fail (read by the first check)
+    baseline_path: Path | None = None
+    _baseline: Any = None
     _ros: RosEnvironment | None = None
     _library: Path | None = None
     _setup_error: SetupError | None = None
@@ -91,6 +94,19 @@ class SessionState:
     def display(self, path: Path) -> str:
         """``path`` as shown in messages: relative to where pytest was started."""
         return shown(path, self.invocation_dir)
+
+    def apply_baseline(self, result: Any) -> None:
+        """Apply the session's baseline (ini ``rmw_introspect_baseline``) to a checked result:
+        the findings it holds are reported as accepted and do not fail. Raises BaselineError."""
+        if self.baseline_path is None or result.error is not None:
+            return
+        # the baseline and the pipeline it judges (~40 ms): imported by the first contract check
+        from ..check import baselines
+        from ..compare import baseline
+
+        if self._baseline is None:
+            self._baseline = baseline.load(self.baseline_path, self.display(self.baseline_path))
+        baselines.apply(result, self._baseline)
 
 
 SESSION = pytest.StashKey[SessionState]()
@@ -196,6 +212,8 @@ def addoption(parser: pytest.Parser) -> None:
                   type="bool", default=False)
     parser.addini("rmw_introspect_include_types", "keep a types: section in contracts (field-level type drift)",
                   type="bool", default=False)
+    parser.addini("rmw_introspect_baseline", "a baseline file (rmw-introspect check --write-baseline FILE): "
+                  "findings it holds are reported as accepted and do not fail; relative to the ini file", default="")
     parser.addini("rmw_introspect_fail_on", "least severe drift that fails: " + " | ".join(FAIL_ON), default="any")
     parser.addini("rmw_introspect_timeout", "default target timeout in seconds", default="")
     parser.addini("rmw_introspect_settle", "default target settle time in seconds", default="")
@@ -325,7 +343,17 @@ def configure(config: pytest.Config) -> SessionState:
         invocation_dir=Path(config.invocation_params.dir),
         rootdir=Path(config.rootpath),
         capture_ahead=_capture_ahead(config, cold_session=bool(ini_target.get("cold_start") or cli_target.get("cold_start"))),
+        baseline_path=_baseline_path(config),
     )
+
+
+def _baseline_path(config: pytest.Config) -> Path | None:
+    """ini ``rmw_introspect_baseline`` as a path (relative to the ini file's directory)."""
+    raw = str(config.getini("rmw_introspect_baseline") or "").strip()
+    if not raw:
+        return None
+    base = Path(config.inipath).parent if config.inipath else Path(config.rootpath)
+    return base / raw
 
 
 class GoldenReporter:

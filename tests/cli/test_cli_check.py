@@ -207,3 +207,18 @@ def test_accepted_drift_passes_and_says_so_and_a_stale_entry_is_reported(cli):
     cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, header=accept.replace("INCREASED", "INCRAESED")))
     typo = cli("check", "talker.interfaces.yaml")
     assert typo.returncode == 2 and "talker.interfaces.yaml:2" in typo.stderr and "unknown rule" in typo.stderr, typo
+
+
+def test_check_with_a_baseline_fails_only_on_new_drift(cli):
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, depth=3))
+    written = cli("check", "talker.interfaces.yaml", "--write-baseline", "interfaces.baseline.json")
+    assert written.returncode == 0, written
+    assert "wrote the baseline interfaces.baseline.json (1 finding(s))" in written.stderr
+    known = cli("check", "talker.interfaces.yaml", "--baseline", "interfaces.baseline.json")
+    assert known.returncode == 0, known
+    assert known.stdout == "talker.interfaces.yaml: matches (/talker); 1 finding(s) in the baseline\n"
+    new = cli("check", "talker.interfaces.yaml", "--baseline", "interfaces.baseline.json",
+              "--param", "reliability:=best_effort")
+    assert new.returncode == 1, new
+    failing = new.stdout.split("ACCEPTED")[0]
+    assert "QOS_RELIABILITY_WEAKENED" in failing and "QOS_DEPTH_INCREASED" not in failing

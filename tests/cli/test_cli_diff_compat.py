@@ -245,3 +245,29 @@ def test_compat_accepts_what_a_contract_accepts_and_reports_stale_entries(cli_no
     # without the entry, the same problem fails at risky
     cli.write("listener.yaml", LISTENER)
     assert cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky").returncode == 1
+
+
+def test_compat_with_a_baseline_fails_only_on_new_problems(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("talker.yaml", talker_contract())
+    cli.write("listener.yaml", LISTENER)
+    written = cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky", "--write-baseline", "b.json")
+    assert written.returncode == 0, written  # today's problems are what the baseline records
+    assert "wrote the baseline b.json (1 finding(s))" in written.stderr
+    assert [f["rule"] for f in json.loads(cli.read("b.json"))["findings"]] == ["SUBSCRIPTION_WITHOUT_PUBLISHER"]
+    known = cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky", "--baseline", "b.json")
+    assert known.returncode == 0, known
+    assert "ACCEPTED (1)" in known.stdout and "in the baseline" in known.stdout
+    cli.write("listener.yaml", LISTENER + "      - name: /refunds\n        type: std_msgs/msg/String\n")
+    new = cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky", "--baseline", "b.json")
+    assert new.returncode == 1, new
+    assert new.stdout.split("ACCEPTED")[0].count("SUBSCRIPTION_WITHOUT_PUBLISHER") == 1  # /refunds only
+    assert "/refunds" in new.stdout.split("ACCEPTED")[0]
+    cli.write("listener.yaml", "contract_version: 1\nnodes:\n  /l:\n    subscriptions:\n"
+                               "      - {name: /chatter, type: std_msgs/msg/String}\n")
+    fixed = cli("compat", "talker.yaml", "listener.yaml", "--baseline", "b.json")
+    assert fixed.returncode == 0 and "note: 1 finding(s) of the baseline b.json are gone" in fixed.stderr, fixed
+    both = cli("compat", "talker.yaml", "--baseline", "b.json", "--write-baseline", "b.json")
+    assert both.returncode == 2 and "not both" in both.stderr, both
+    missing = cli("compat", "talker.yaml", "--baseline", "nowhere.json")
+    assert missing.returncode == 2 and "baseline nowhere.json: the file does not exist" in missing.stderr, missing

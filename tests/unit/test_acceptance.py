@@ -127,7 +127,7 @@ def test_the_text_report_lists_accepted_findings_with_reasons_and_stale_entries(
     assert text == (
         "Interface drift: no drift against talker.yaml.\n"
         "\n"
-        "ACCEPTED (1) - accepted on purpose in the contract, not failing\n"
+        "ACCEPTED (1) - accepted on purpose (`accept:` entries, a baseline), not failing\n"
         "  /talker publisher /debug: [PUB_ADDED] new publisher on /debug (std_msgs/msg/String): nothing existing depends on it\n"
         "    accepted (talker.yaml:3): debug output\n"
         "\n"

@@ -7,13 +7,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import shlex
 import sys
 from pathlib import Path
 from typing import Any
 
 from .._version import __version__
-from ..check import golden, golden_record, pipeline
+from ..check import golden, golden_record, pipeline, sharding
 from ..check.outcome import Verdict, decide
 from ..compare import ci_report, sarif
 from ..errors import GoldenWriteError
@@ -79,6 +80,11 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             raise UsageError(refusal.replace("--update-golden", "--update").replace(
                 "run `pytest --update` on", "run `rmw-introspect check --update` on"))
     baseline = baselines.load(args)
+    if args.shard:
+        shard = sharding.parse(args.shard)
+        everything = args.contracts
+        args.contracts = shard.select(everything, lambda shown: Path(os.path.normpath(shown)).as_posix())
+        print(f"shard {shard}: {len(args.contracts)} of {len(everything)} contract(s)", file=sys.stderr)
     cwd = Path.cwd()
     target = target_from_args(args, command)
     layers = pipeline.Layers(strong_target=[(target, cwd, "command line")] if target else [],

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from ..check import golden_record
+from ..check import golden_record, sharding
 from ..compare.options import OptionError, parse_layer
 from ..errors import SetupError, TargetConfigError
 from ..model.paths import shown
@@ -49,6 +49,8 @@ class SessionState:
     #: ini ``rmw_introspect_baseline``: findings in this file do not fail (read by the first check)
     baseline_path: Path | None = None
     _baseline: Any = None
+    #: ``--rmw-introspect-shard``: the contract-file items this job runs
+    shard: sharding.Shard | None = None
     _ros: RosEnvironment | None = None
     _library: Path | None = None
     _setup_error: SetupError | None = None
@@ -169,6 +171,10 @@ def addoption(parser: pytest.Parser) -> None:
     group.addoption("--rmw-introspect-horizon", type=float, default=None, metavar="SECONDS",
                     help="default virtual-time horizon of targets: seconds of a node's life a capture "
                     "observes, timers firing at once (default 10; 0 turns virtual time off)")
+    group.addoption("--rmw-introspect-shard", metavar="I/N", default=None,
+                    help="run only this CI job's share of the contract files' items: job I of N (e.g. 2/4); the "
+                    "items are sorted by node id and dealt round-robin, the N jobs together run each exactly once "
+                    "(tests with the interfaces marker are left to pytest's own sharding plugins)")
     group.addoption("--rmw-introspect-cold-start", action="store_true", default=None,
                     help="start every target as a new process, never forked from the warm start server "
                     "(default: Python targets start warm)")
@@ -333,6 +339,12 @@ def configure(config: pytest.Config) -> SessionState:
     except TargetConfigError as exc:
         raise pytest.UsageError(str(exc)) from None
 
+    try:
+        shard = sharding.parse(config.getoption("rmw_introspect_shard"), "--rmw-introspect-shard") \
+            if config.getoption("rmw_introspect_shard", None) else None
+    except ValueError as exc:
+        raise pytest.UsageError(str(exc)) from None
+
     return SessionState(
         update=update,
         cli_options=cli_options,
@@ -344,6 +356,7 @@ def configure(config: pytest.Config) -> SessionState:
         rootdir=Path(config.rootpath),
         capture_ahead=_capture_ahead(config, cold_session=bool(ini_target.get("cold_start") or cli_target.get("cold_start"))),
         baseline_path=_baseline_path(config),
+        shard=shard,
     )
 
 

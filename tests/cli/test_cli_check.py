@@ -222,3 +222,21 @@ def test_check_with_a_baseline_fails_only_on_new_drift(cli):
     assert new.returncode == 1, new
     failing = new.stdout.split("ACCEPTED")[0]
     assert "QOS_RELIABILITY_WEAKENED" in failing and "QOS_DEPTH_INCREASED" not in failing
+
+
+def test_the_shards_of_a_check_together_are_the_unsharded_check(cli):
+    names = [f"t{i}.interfaces.yaml" for i in range(3)]
+    for i, name in enumerate(names):  # each drifts in its own way: depth 1, 2, 3 against the node's 10
+        cli.write(name, talker_contract(target=TALKER, depth=i + 1))
+    whole = cli("check", *names, "--format", "json", timeout=180)
+    assert whole.returncode == 1, whole
+    shards = [cli("check", *reversed(names), "--shard", f"{i}/2", "--format", "json", timeout=180) for i in (1, 2)]
+    assert [s.stderr.count("shard ") for s in shards] == [1, 1]
+    assert "shard 1/2: 2 of 3 contract(s)" in shards[0].stderr and "shard 2/2: 1 of 3 contract(s)" in shards[1].stderr
+    def key(item):
+        return json.dumps(item, sort_keys=True)
+    union = sorted((i for s in shards for i in json.loads(s.stdout)), key=key)
+    assert union == sorted(json.loads(whole.stdout), key=key)
+    assert {i["contract"] for i in json.loads(shards[1].stdout)} == {"t1.interfaces.yaml"}
+    bad = cli("check", *names, "--shard", "3/2")
+    assert bad.returncode == 2 and "--shard 3/2: I must be between 1 and N" in bad.stderr, bad

@@ -194,3 +194,19 @@ def test_a_baseline_in_the_ini_file_fails_only_new_drift_and_accept_entries_are_
     result = project.run()
     result.assert_outcomes(failed=2)
     result.stdout.fnmatch_lines(["*baseline ci/missing.json: the file does not exist*"])
+
+
+def test_the_shards_of_a_session_run_every_contract_item_exactly_once(project):
+    for i in range(3):
+        project.write(f"contracts/t{i}.interfaces.yaml", talker(project, depth=10 if i else 3))
+    project.write("contracts/empty.interfaces.yaml", "contract_version: 1\nnodes: {}\n")
+    whole = project.run("-rA")
+    whole.assert_outcomes(passed=2, failed=2)  # t0 drifted, empty has no target
+    ran = []
+    for i in (1, 2, 3):
+        shard = project.run("-rA", f"--rmw-introspect-shard={i}/3")
+        ran += [line.split(" ", 1)[1].split(" - ")[0] for line in shard.outlines if line.startswith(("PASSED ", "FAILED "))]
+    everything = [line.split(" ", 1)[1].split(" - ")[0] for line in whole.outlines if line.startswith(("PASSED ", "FAILED "))]
+    assert len(everything) == 4
+    assert sorted(ran) == sorted(everything)  # the union is the unsharded run, nothing twice
+    project.run("--rmw-introspect-shard=4/3").stderr.fnmatch_lines(["*--rmw-introspect-shard 4/3: I must be between*"])

@@ -176,7 +176,8 @@ def cmd_compat(args: argparse.Namespace) -> int:
     elif args.format == "markdown":
         sys.stdout.write(ci_report.compat_markdown(result.items, threshold=result.threshold, labels=result.labels))
     elif args.format == "github":
-        sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines))
+        sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines,
+                                                 accepted=result.accepted, stale=result.stale))
     elif args.format == "sarif":
         print_json(sarif.compat_log(result.items, threshold=result.threshold, lines=result.lines,
                                     tool_version=__version__, accepted=result.accepted, stale=result.stale))

@@ -193,3 +193,20 @@ def test_updating_a_contract_keeps_its_entries():
     for text in (LISTENER, LISTENER.replace("accept:", "x_accept:", 1)):  # before nodes; and a sanity probe
         updated = update_text(text, {"/listener": {"subscriptions": []}})
         assert updated.split("nodes:")[0] == text.split("nodes:")[0]
+
+
+def test_the_ci_formats_show_accepted_findings_and_stale_entries():
+    from pytest_rmw_introspect.compare import ci_report
+
+    contract, judged = drift_judged()
+    outcome = checked(contract, judged).for_ci()
+    github = ci_report.drift_github([outcome]).splitlines()
+    assert github == [
+        "::notice file=talker.yaml,line=3,title=PUB_ADDED accepted::new publisher on /debug (std_msgs/msg/String): "
+        "nothing existing depends on it (accepted: debug output)",
+        "::warning file=talker.yaml,line=6,title=ACCEPTANCE_STALE::`accept:` entry SUB_REMOVED matches nothing any "
+        "more; remove it",
+    ]
+    markdown = ci_report.drift_markdown([outcome])
+    assert "Accepted on purpose (1, not failing):" in markdown and "debug output" in markdown
+    assert "- `talker.yaml:6`: SUB_REMOVED" in markdown

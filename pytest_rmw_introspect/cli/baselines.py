@@ -20,6 +20,9 @@ def load(args: argparse.Namespace) -> Baseline | None:
     if args.baseline and args.write_baseline:
         raise UsageError("give --baseline FILE (fail only on new findings) or --write-baseline FILE (record "
                          "today's findings), not both")
+    if args.write_baseline and getattr(args, "shard", None):
+        raise UsageError("--write-baseline with --shard would record one job's findings only: write the baseline "
+                         "from a run over every contract (without --shard)")
     if args.write_baseline and getattr(args, "update", False):
         raise UsageError("--write-baseline records findings and --update rewrites contracts: run them one at a time")
     return baseline_module.load(args.baseline) if args.baseline else None

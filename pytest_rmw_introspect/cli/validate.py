@@ -8,7 +8,7 @@ import json
 import sys
 
 from .._version import __version__
-from ..compare import sarif
+from ..compare import acceptance, sarif
 from ..compare.ci_report import annotation
 from ..errors import ContractError
 from ..model import contract as contract_module
@@ -22,6 +22,7 @@ def cmd_validate(args: argparse.Namespace) -> int:
     for shown in args.contracts:
         try:
             loaded = contract_module.load(shown)
+            acceptance.check_rules(loaded.accept)  # a rule id no check has would never match
         except ContractError as exc:
             status = EXIT_ERROR
             invalid.append((shown, exc.line, str(exc)))

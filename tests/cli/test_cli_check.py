@@ -240,3 +240,5 @@ def test_the_shards_of_a_check_together_are_the_unsharded_check(cli):
     assert {i["contract"] for i in json.loads(shards[1].stdout)} == {"t1.interfaces.yaml"}
     bad = cli("check", *names, "--shard", "3/2")
     assert bad.returncode == 2 and "--shard 3/2: I must be between 1 and N" in bad.stderr, bad
+    partial = cli("check", *names, "--shard", "1/2", "--write-baseline", "b.json")
+    assert partial.returncode == 2 and "write the baseline from a run over every contract" in partial.stderr, partial

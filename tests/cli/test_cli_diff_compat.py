@@ -179,6 +179,9 @@ def test_validate_checks_files_without_running_anything(cli_nodes_only):
     assert "bad.interfaces.yaml:4" in bad.stderr and "Traceback" not in bad.stderr
     gh = cli("validate", "bad.interfaces.yaml", "--format", "github")
     assert gh.returncode == 2 and gh.stdout.startswith("::error file=bad.interfaces.yaml,line=4,title=invalid contract::"), gh
+    cli.write("typo.interfaces.yaml", "accept:\n  - {rule: PUB_RENOVED, reason: r}\n" + talker_contract())
+    typo = cli("validate", "typo.interfaces.yaml")
+    assert typo.returncode == 2 and "typo.interfaces.yaml:2" in typo.stderr and "unknown rule PUB_RENOVED" in typo.stderr
 
 
 def test_the_pre_commit_hook_runs_validate_on_contract_files():

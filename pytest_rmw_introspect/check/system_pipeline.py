@@ -204,6 +204,8 @@ class SystemCheckResult:
             lines=line_index(self.contract.text) if self.contract is not None else {},
             system_items=self.system_items, system_threshold=self.system_threshold,
             accepted=self.accepted, stale=self.stale,
+            launched_at={p.label: p.where for p in launched_processes(self.capture) if p.where}
+            if self.capture is not None else {},
         )
 
     def golden_nodes(self) -> dict[str, Any]:

@@ -36,6 +36,8 @@ class ContractOutcome:
     #: findings the contract accepts on purpose, and its ``accept:`` entries that match nothing
     accepted: Sequence[Accepted] = ()
     stale: Sequence[Acceptance] = ()
+    #: a system contract's processes (by label) → where the launch file starts them (``robot.launch.xml:12``)
+    launched_at: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def failed(self) -> bool:

@@ -94,6 +94,22 @@ def _location(file: str, line: int | None, logical: str | None = None) -> dict[s
     return location
 
 
+def _launch_locations(item: CompatItem, launched_at: Mapping[str, str]) -> list[dict[str, Any]]:
+    """Where the launch file starts the processes of a system problem's ends (``file:line``)."""
+    related: list[dict[str, Any]] = []
+    seen: set[str] = set()
+    for end in [e for e in (item.requester, item.provider) if e is not None]:
+        where = launched_at.get(end.label)
+        if not where or where in seen:
+            continue
+        seen.add(where)
+        file, _, line = where.rpartition(":")
+        location = _location(file, int(line)) if file and line.isdigit() else _location(where, None)
+        related.append({"id": len(related), **location,
+                        "message": {"text": f"the launch file starts {end.label} here ({where})"}})
+    return related
+
+
 class _Log:
     """One SARIF run being filled: results refer to the rule table by index."""
 
@@ -131,7 +147,7 @@ class _Log:
                              "name": item.name, "change": item.change}, accepted_by=accepted_by)
 
     def add_compat(self, item: CompatItem, *, file: str, lines: LineIndex, threshold: Severity,
-                   accepted_by: Acceptance | None = None) -> None:
+                   accepted_by: Acceptance | None = None, launched_at: Mapping[str, str] | None = None) -> None:
         ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
         self.add(item.rule, level(item.severity, threshold), f"{item.name}: {ends}: {item.message}",
                  _location(file, line_of(lines, item.requester.node, item.requester.kind, item.name),
@@ -140,6 +156,9 @@ class _Log:
                  properties={"severity": item.severity.name, "name": item.name,
                              "requester": item.requester.label, "provider": item.provider.label if item.provider else None},
                  accepted_by=accepted_by)
+        related = _launch_locations(item, launched_at or {})
+        if related:
+            self.results[-1]["relatedLocations"] = related
 
     def add_acceptances(self, accepted: Sequence[Accepted], stale: Sequence[Acceptance], *,
                         lines: Mapping[str, LineIndex], drift_threshold: Severity, system_threshold: Severity,
@@ -187,7 +206,8 @@ def drift_log(outcomes: Iterable[ContractOutcome], *, tool_version: str | None =
         for item in outcome.items:
             log.add_drift(item, file=outcome.contract, lines=outcome.lines, threshold=outcome.threshold)
         for compat_item in outcome.system_items:
-            log.add_compat(compat_item, file=outcome.contract, lines=outcome.lines, threshold=outcome.system_threshold)
+            log.add_compat(compat_item, file=outcome.contract, lines=outcome.lines, threshold=outcome.system_threshold,
+                           launched_at=outcome.launched_at)
         log.add_acceptances(outcome.accepted, outcome.stale, file=outcome.contract,
                             lines={outcome.contract: outcome.lines}, drift_threshold=outcome.threshold,
                             system_threshold=outcome.system_threshold)

@@ -169,3 +169,22 @@ def test_invalid_files_are_results_with_uris_encoded_and_absolute_paths_as_file_
     assert results[0]["locations"][0]["physicalLocation"] == {
         "artifactLocation": {"uri": "a%20b/bad.yaml", "uriBaseId": "%SRCROOT%"}, "region": {"startLine": 4}}
     assert results[1]["locations"][0]["physicalLocation"] == {"artifactLocation": {"uri": "file:///abs/other.yaml"}}
+
+
+def test_system_problems_of_a_launched_system_point_at_the_launch_file_too(sarif_validator):
+    from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched
+
+    talker = {"/robot/reporter": {"publishers": []}}
+    processes = [LaunchedProcess("demo/talker", None, talker, where="launch/robot.launch.xml:7"),
+                 LaunchedProcess("demo/talker #2", None, talker, where="launch/robot.launch.xml:9")]
+    items = check_launched(processes)
+    outcome = ContractOutcome("robot.system.yaml", system_items=items,
+                              launched_at={p.label: p.where for p in processes if p.where})
+    document = json.loads(json.dumps(sarif.drift_log([outcome])))
+    assert not list(sarif_validator.iter_errors(document))
+    (duplicate,) = document["runs"][0]["results"]
+    assert duplicate["ruleId"] == "DUPLICATE_NODE_NAME"
+    assert duplicate["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == "robot.system.yaml"
+    assert [(r["physicalLocation"]["artifactLocation"]["uri"], r["physicalLocation"]["region"]["startLine"])
+            for r in duplicate["relatedLocations"]] == [("launch/robot.launch.xml", 9), ("launch/robot.launch.xml", 7)]
+    assert "the launch file starts demo/talker #2 here" in duplicate["relatedLocations"][0]["message"]["text"]

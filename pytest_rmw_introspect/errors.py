@@ -373,3 +373,15 @@ class GoldenWriteError(RmwIntrospectError):
             f"cannot write {path}: {reason}. Make the file and its directory writable (and the lock "
             "directory, pytest-rmw-introspect-locks in the temporary directory), or write elsewhere."
         )
+
+
+class BaselineError(RmwIntrospectError):
+    """A baseline file (``--baseline``, ini ``rmw_introspect_baseline``) that cannot be used."""
+
+    def __init__(self, path: str | Path, reason: str) -> None:
+        self.path = Path(path)
+        self.reason = reason
+        super().__init__(
+            f"baseline {path}: {reason}. Write it anew with `rmw-introspect check --write-baseline {path} "
+            "CONTRACT...` (or `compat --write-baseline`), or leave the baseline out."
+        )

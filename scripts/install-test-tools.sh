@@ -5,6 +5,22 @@
 # Without root or apt-get this only says what to install: those tests are then skipped, saying so.
 set -uo pipefail
 
+# The official SARIF 2.1.0 JSON schema, which tests/unit/test_sarif.py validates the
+# `--format sarif` logs against. No Python package ships it; Microsoft's SARIF SDK does, in the
+# npm package @microsoft/jest-sarif (lib/schemas/sarif-2.1.0-rtm.5.json). Without npm the
+# test is skipped, saying so.
+sarif_package=@microsoft/jest-sarif@1.0.0-beta.0
+if command -v npm >/dev/null 2>&1 &&
+   [ ! -f "$(npm root -g)/@microsoft/jest-sarif/lib/schemas/sarif-2.1.0-rtm.5.json" ]; then
+  if [ "$(id -u)" = 0 ]; then
+    echo "install-test-tools: installing $sarif_package (the SARIF 2.1.0 schema)"
+    npm install -g --no-fund --no-audit "$sarif_package" >/dev/null 2>&1 ||
+      echo "install-test-tools: could not install $sarif_package; the SARIF schema test is skipped" >&2
+  else
+    echo "install-test-tools: the SARIF schema is missing; install with: npm install -g $sarif_package" >&2
+  fi
+fi
+
 missing=()
 command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 || missing+=(chromium)
 command -v dot >/dev/null 2>&1 || missing+=(graphviz)

@@ -35,7 +35,8 @@ class _WithNodes(Protocol):
 
 class Checked(Protocol):
     """What :func:`decide` reads: a ``pipeline.CheckResult`` (a node contract) or a
-    ``system_pipeline.SystemCheckResult`` (a system contract). ``items``: everything found;
+    ``system_pipeline.SystemCheckResult`` (a system contract). ``items``: everything found but what
+    the contract accepts (``accepted``); ``stale``: its ``accept:`` entries that accepted nothing;
     ``drifted``: whether the golden differs from the capture (what updating would write)."""
 
     @property
@@ -54,6 +55,10 @@ class Checked(Protocol):
     def options(self) -> ComparisonOptions: ...
     @property
     def items(self) -> Sequence[Any]: ...
+    @property
+    def accepted(self) -> Sequence[Any]: ...
+    @property
+    def stale(self) -> Sequence[_Described]: ...
     @property
     def drifted(self) -> bool: ...
     @property
@@ -111,7 +116,17 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None) 
         nodes = ", ".join(sorted(result.contract.nodes)) or "no nodes"
         hint = (f"; it does not state {', '.join(gains)} yet: {accept_command} adds them"
                 if gains and accept_command else "")
-        return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}){hint}")
+        in_baseline = sum(1 for entry in result.accepted if entry.acceptance.baseline)
+        if in_baseline:
+            hint = f"; {in_baseline} finding(s) in the baseline{hint}"
+        if len(result.accepted) > in_baseline:
+            hint = f"; {len(result.accepted) - in_baseline} finding(s) accepted in the contract{hint}"
+        if result.stale:
+            entries = "; ".join(entry.describe() for entry in result.stale)
+            return Outcome(Verdict.WARN, f"{result.shown}: matches ({nodes}){hint}; but {len(result.stale)} `accept:` "
+                           f"entr{'y' if len(result.stale) == 1 else 'ies'} match nothing any more ({entries}): "
+                           "remove them", report=result.render_text(), json=items)
+        return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}){hint}", json=items if result.accepted else [])
     if update and result.drifted:
         text = result.render_text() if result.items else f"{result.shown}: adds {', '.join(gains)}\n"
         return Outcome(Verdict.WRITE, text, report=text, json=items)

@@ -28,7 +28,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeAlias
 
-from ..compare import drift, parameter_drift, report, system
+from ..compare import acceptance, drift, parameter_drift, report, system
+from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions, resolve
@@ -36,6 +37,7 @@ from ..compare.system import CompatItem
 from ..errors import LifecycleTransitionFailed, RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
 from ..model import types as type_model
+from ..model.acceptance import Acceptance
 from ..model.capture import Capture
 from ..model.contract import Contract
 from ..model.locate import LineIndex, line_index
@@ -121,6 +123,8 @@ def prepare(
     contract = loaded
     if contract is None and (path.exists() or not allow_missing):
         contract = contract_module.load(path)
+    if contract is not None:
+        acceptance.check_rules(contract.accept)
     options = layers.options(contract, shown=shown)
     spec = layers.target(contract, path=path, shown=shown)
     if spec.kind is None:
@@ -156,6 +160,9 @@ class CheckResult:
     items: list[DriftItem] = field(default_factory=list)
     error: RmwIntrospectError | None = None
     compared: bool = False
+    #: drift the contract's ``accept:`` entries accept (not in ``items``), and entries that accepted nothing
+    accepted: list[Accepted] = field(default_factory=list)
+    stale: list[Acceptance] = field(default_factory=list)
 
     @property
     def missing(self) -> bool:
@@ -216,15 +223,18 @@ class CheckResult:
         if self.error is not None:
             return str(self.error)
         text = report.render_text(self.items, contract_path=self.shown, threshold=self.threshold,
-                                  accept_command=accept_command, title=self.title())
+                                  accept_command=accept_command, title=self.title(), accepted=self.accepted,
+                                  stale=self.stale)
         notes = self.capture.notes() if self.capture is not None else []
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes)
         return text
 
     def to_json(self) -> list[dict[str, Any]]:
-        """``report.to_json`` of the drift, each item with the ``contract`` it belongs to."""
-        return [{"contract": self.shown, **item} for item in report.to_json(self.items)]
+        """``report.to_json`` of the drift, each item with the ``contract`` it belongs to; then the
+        accepted drift (with ``accepted``) and the stale ``accept:`` entries (``ACCEPTANCE_STALE``)."""
+        found = [*report.to_json(self.items), *report.accepted_to_json(self.accepted), *report.stale_to_json(self.stale)]
+        return [{"contract": self.shown, **item} for item in found]
 
     def for_ci(self, *, written: str | None = None) -> ContractOutcome:
         """This result for the CI formats (``--format markdown|github``)."""
@@ -236,6 +246,7 @@ class CheckResult:
             contract=self.shown, items=self.items, threshold=self.threshold, nodes=nodes,
             error=str(self.error) if self.error is not None else None, written=written,
             lines=line_index(self.contract.text) if self.contract is not None else {},
+            accepted=self.accepted, stale=self.stale,
         )
 
 
@@ -244,10 +255,13 @@ def compare(prepared: Prepared, capture: Capture) -> CheckResult:
     result = CheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
                          spec=prepared.spec, options=prepared.options, capture=capture)
     if prepared.contract is not None:
-        result.items = drift.attribute_to_distribution(drift.compare(
+        items = drift.attribute_to_distribution(drift.compare(
             prepared.contract.nodes, capture.to_contract_nodes(), prepared.options,
             expected_types=prepared.contract.types, actual_types=capture.types if capture.has_types else None,
             require_types=prepared.options.include_types), prepared.contract.ros_distribution, capture.ros_distribution)
+        judged = acceptance.judge(items, prepared.contract.accept, rules=acceptance.DRIFT_RULES)
+        result.items = [item for item in judged.kept if isinstance(item, DriftItem)]
+        result.accepted, result.stale = judged.accepted, judged.stale
         result.compared = True
     return result
 
@@ -375,6 +389,9 @@ class SystemResult:
     threshold: Severity
     #: where each contract (by label) lists its nodes and interfaces, for annotations
     lines: dict[str, LineIndex] = field(default_factory=dict)
+    #: problems the contracts' ``accept:`` entries accept (not in ``items``), and entries that accepted nothing
+    accepted: list[Accepted] = field(default_factory=list)
+    stale: list[Acceptance] = field(default_factory=list)
 
     @property
     def failed(self) -> bool:
@@ -382,10 +399,24 @@ class SystemResult:
 
     def render_text(self) -> str:
         return report.render_compat_text(self.items, threshold=self.threshold,
-                                         title=f"System check of {len(self.labels)} contract(s)")
+                                         title=f"System check of {len(self.labels)} contract(s)",
+                                         accepted=self.accepted, stale=self.stale)
 
     def to_json(self) -> list[dict[str, Any]]:
-        return report.compat_to_json(self.items)
+        return [*report.compat_to_json(self.items), *report.accepted_to_json(self.accepted),
+                *report.stale_to_json(self.stale)]
+
+
+def judge_system(items: Sequence[CompatItem], accept: Sequence[Acceptance],
+                 file_of: Callable[[str], str] = lambda label: label) -> acceptance.Judged:
+    """The system problems sorted by the contracts' ``accept:`` entries: an entry accepts a
+    problem one of whose ends is in its own contract (``file_of``: an end's label → its file)."""
+    def applies(entry: Acceptance, item: acceptance.Finding) -> bool:
+        assert isinstance(item, CompatItem)
+        ends = [item.requester, *([item.provider] if item.provider else [])]
+        return any(file_of(end.label) == entry.source for end in ends)
+
+    return acceptance.judge(items, accept, rules=acceptance.SYSTEM_RULES, applies=applies)
 
 
 def check_system(
@@ -404,6 +435,7 @@ def check_system(
     threshold = parse_threshold(fail_on)
     systems: dict[str, Any] = {}
     lines: dict[str, LineIndex] = {}
+    accept: list[Acceptance] = []
     for p in contract_paths:
         path = Path(os.path.expanduser(str(p)))
         if not path.is_absolute() and base_dir is not None:
@@ -412,9 +444,12 @@ def check_system(
         if label in systems:
             continue
         loaded = contract_module.load(path)
+        acceptance.check_rules(loaded.accept)
         systems[label] = loaded.nodes
         lines[label] = line_index(loaded.text)
+        accept += loaded.accept
     if not systems:
         raise ValueError("no contracts given to the system check")
-    items = system.check_system(systems, strict_system_default=strict_system_default)
-    return SystemResult(labels=list(systems), items=items, threshold=threshold, lines=lines)
+    judged = judge_system(system.check_system(systems, strict_system_default=strict_system_default), accept)
+    return SystemResult(labels=list(systems), items=[i for i in judged.kept if isinstance(i, CompatItem)],
+                        threshold=threshold, lines=lines, accepted=judged.accepted, stale=judged.stale)

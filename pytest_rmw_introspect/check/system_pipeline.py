@@ -27,7 +27,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import drift, parameter_drift, report
+from ..compare import acceptance, drift, parameter_drift, report
+from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions
@@ -35,8 +36,9 @@ from ..compare.system import CompatItem, LaunchedProcess, check_launched, check_
 from ..errors import RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
 from ..model import system_contract
+from ..model.acceptance import Acceptance
 from ..model.contract import Contract
-from ..model.locate import line_index
+from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.vocabulary import Severity, parse_threshold
@@ -99,6 +101,7 @@ def prepare(
     contract = None
     if path.exists() or not allow_missing:
         contract = system_contract.load(path)
+        acceptance.check_rules(contract.accept)
     as_contract = _as_contract(contract)
     options = layers.options(as_contract, shown=shown)
     target = layers.target(as_contract, path=path, shown=shown)
@@ -160,6 +163,9 @@ class SystemCheckResult:
     system_items: list[CompatItem] = field(default_factory=list)
     error: RmwIntrospectError | None = None
     compared: bool = False
+    #: findings the contract's ``accept:`` entries accept (in neither list), and entries that accepted nothing
+    accepted: list[Accepted] = field(default_factory=list)
+    stale: list[Acceptance] = field(default_factory=list)
 
     @property
     def items(self) -> list[DriftItem | CompatItem]:
@@ -197,6 +203,9 @@ class SystemCheckResult:
             error=str(self.error) if self.error is not None else None, written=written,
             lines=line_index(self.contract.text) if self.contract is not None else {},
             system_items=self.system_items, system_threshold=self.system_threshold,
+            accepted=self.accepted, stale=self.stale,
+            launched_at={p.label: p.where for p in launched_processes(self.capture) if p.where}
+            if self.capture is not None else {},
         )
 
     def golden_nodes(self) -> dict[str, Any]:
@@ -242,6 +251,8 @@ class SystemCheckResult:
             parts.append(report.render_compat_text(self.system_items, threshold=self.system_threshold,
                                                    title=f"System check of {self.shown}"))
         text = "\n".join(p.rstrip("\n") + "\n" for p in parts)
+        if self.accepted or self.stale:
+            text += "\n".join(report.render_acceptances(self.accepted, self.stale)).lstrip("\n") + "\n"
         notes = self.capture.notes() if self.capture is not None else []
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes) + "\n"
@@ -250,7 +261,9 @@ class SystemCheckResult:
     def to_json(self) -> list[dict[str, Any]]:
         drift_json = [{"contract": self.shown, **item} for item in report.to_json(self.drift_items)]
         system_json = [{"contract": self.shown, **item} for item in report.compat_to_json(self.system_items)]
-        return drift_json + system_json
+        acceptance_json = [{"contract": self.shown, **item} for item in
+                           [*report.accepted_to_json(self.accepted), *report.stale_to_json(self.stale)]]
+        return drift_json + system_json + acceptance_json
 
 
 def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResult:
@@ -258,10 +271,17 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
     result = SystemCheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
                                spec=prepared.launch, options=prepared.options,
                                system_threshold=prepared.system_threshold, capture=capture)
-    result.system_items = check_launched(launched_processes(capture))
+    system_items = check_launched(launched_processes(capture))
+    drift_items = []
     if prepared.contract is not None:
-        result.drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)
+        drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)
         result.compared = True
+    accept = prepared.contract.accept if prepared.contract is not None else ()
+    judged = acceptance.judge([*drift_items, *system_items], accept,
+                              rules=acceptance.DRIFT_RULES | acceptance.SYSTEM_RULES)
+    result.drift_items = [item for item in judged.kept if isinstance(item, DriftItem)]
+    result.system_items = [item for item in judged.kept if isinstance(item, CompatItem)]
+    result.accepted, result.stale = judged.accepted, judged.stale
     return result
 
 
@@ -316,9 +336,20 @@ class LoadedContracts:
     labels: list[str]
     processes: list[LaunchedProcess]
     any_system: bool
+    #: the ``accept:`` entries of every file
+    accept: list[Acceptance] = field(default_factory=list)
 
     def nodes_by_label(self) -> dict[str, Mapping[str, Any]]:
         return {p.label: p.nodes for p in self.processes}
+
+    def file_of(self, label: str) -> str:
+        """The file of a system-check end: its label, a system contract's process label
+        (``FILE: package/executable``) or, when one system contract was read alone (its process
+        labels do not name the file), that file."""
+        for file in self.labels:
+            if label == file or label.startswith(f"{file}: "):
+                return file
+        return self.labels[0] if len(self.labels) == 1 else label
 
 
 def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None) -> LoadedContracts:
@@ -326,6 +357,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
     processes, labelled ``PATH: package/executable``). Raises ContractError, ValueError."""
     labels: list[str] = []
     processes: list[LaunchedProcess] = []
+    accept: list[Acceptance] = []
     any_system = False
     paths = list(paths)
     for p in paths:
@@ -338,14 +370,18 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
         labels.append(label)
         if system_contract.is_system_contract(path):
             any_system = True
+            system = system_contract.load(path)
             # the process labels name the file only when several files are drawn together
-            processes += contract_processes(system_contract.load(path), label if len(paths) > 1 else None)
+            processes += contract_processes(system, label if len(paths) > 1 else None)
+            accept += system.accept
         else:
-            processes.append(LaunchedProcess(label=label, expected=None, nodes=contract_module.load(path).nodes,
-                                             launched=False))
+            contract = contract_module.load(path)
+            processes.append(LaunchedProcess(label=label, expected=None, nodes=contract.nodes, launched=False))
+            accept += contract.accept
     if not labels:
         raise ValueError("no contracts given to the system check")
-    return LoadedContracts(labels, processes, any_system)
+    acceptance.check_rules(accept)
+    return LoadedContracts(labels, processes, any_system, accept)
 
 
 def system_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
@@ -364,10 +400,17 @@ class SystemDiff:
     new_shown: str
     options: ComparisonOptions
     items: list[DriftItem]
+    #: where NEW lists its nodes and interfaces, for the CI formats
+    lines: LineIndex = field(default_factory=dict)
 
     @property
     def failed(self) -> bool:
         return report.fails(self.items, self.options.threshold())
+
+    def for_ci(self) -> ContractOutcome:
+        """For the CI formats: results point at NEW, the file a pull request changes."""
+        return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.options.threshold(),
+                               lines=self.lines)
 
     def render_text(self) -> str:
         return report.render_text(self.items, contract_path=self.old_shown, threshold=self.options.threshold(),
@@ -394,4 +437,5 @@ def diff_system(old_path: str | Path, new_path: str | Path, options: Sequence[Op
     new, _ = load_nodes(new_path)
     old_shown = display(old_path)
     opts = Layers(strong_options=options).options(old, shown=old_shown)
-    return SystemDiff(old_shown, display(new_path), opts, drift.compare(old.nodes, new.nodes, opts))
+    lines = line_index(Path(new_path).read_text(encoding="utf-8"))
+    return SystemDiff(old_shown, display(new_path), opts, drift.compare(old.nodes, new.nodes, opts), lines)

@@ -7,17 +7,20 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import shlex
 import sys
 from pathlib import Path
 from typing import Any
 
-from ..check import golden, golden_record, pipeline
+from .._version import __version__
+from ..check import golden, golden_record, pipeline, sharding
 from ..check.outcome import Verdict, decide
-from ..compare import ci_report
+from ..compare import ci_report, sarif
 from ..errors import GoldenWriteError
 from ..model.contract import Contract
-from . import system
+from . import baselines, system
+from .formats import print_json
 from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, UsageError, compare_from_args, target_from_args
 from .ros_setup import Setup
 
@@ -76,11 +79,18 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         if refusal:
             raise UsageError(refusal.replace("--update-golden", "--update").replace(
                 "run `pytest --update` on", "run `rmw-introspect check --update` on"))
+    baseline = baselines.load(args)
+    if args.shard:
+        shard = sharding.parse(args.shard)
+        everything = args.contracts
+        args.contracts = shard.select(everything, lambda shown: Path(os.path.normpath(shown)).as_posix())
+        print(f"shard {shard}: {len(args.contracts)} of {len(everything)} contract(s)", file=sys.stderr)
     cwd = Path.cwd()
     target = target_from_args(args, command)
     layers = pipeline.Layers(strong_target=[(target, cwd, "command line")] if target else [],
                              strong_options=[(compare_from_args(args), "command line")])
     setup = Setup()
+    checked: list[pipeline.CheckResult | system.system_pipeline.SystemCheckResult] = []
     status = EXIT_OK
     all_items: list[dict[str, Any]] = []
     for_ci: list[ci_report.ContractOutcome] = []
@@ -92,6 +102,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         else:
             result = pipeline.check(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,
                                     allow_missing=args.update, no_target=_no_target)
+        baselines.apply(baseline, result)
+        checked.append(result)
         outcome = decide(result, update=args.update, accept_command=accept_command(args, shown, command))
         all_items += outcome.json
         if outcome.verdict is Verdict.ERROR:
@@ -120,12 +132,17 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
                 print(outcome.message)
         if outcome.failed and status == EXIT_OK:
             status = EXIT_DRIFT
+    baselines.finish(args, baseline, checked, [Path(c) for c in args.contracts])
+    if args.write_baseline and status == EXIT_DRIFT:
+        status = EXIT_OK  # today's findings are what the baseline records
     if args.format == "json":
         print(json.dumps(all_items, indent=2, default=str))
     elif args.format == "markdown":
         sys.stdout.write(ci_report.drift_markdown(for_ci))
     elif args.format == "github":
         sys.stdout.write(ci_report.drift_github(for_ci))
+    elif args.format == "sarif":
+        print_json(sarif.drift_log(for_ci, tool_version=__version__))
     return status
 
 
@@ -139,6 +156,8 @@ def cmd_diff(args: argparse.Namespace) -> int:
         sys.stdout.write(ci_report.drift_markdown([result.for_ci()], title=f"Interface drift of {result.new_shown}"))
     elif args.format == "github":
         sys.stdout.write(ci_report.drift_github([result.for_ci()]))
+    elif args.format == "sarif":
+        print_json(sarif.drift_log([result.for_ci()], tool_version=__version__))
     else:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK
@@ -147,17 +166,24 @@ def cmd_diff(args: argparse.Namespace) -> int:
 def cmd_compat(args: argparse.Namespace) -> int:
     if system.any_system(args.contracts):
         return system.cmd_compat(args)
+    baseline = baselines.load(args)
     result = pipeline.check_system(args.contracts, fail_on=args.fail_on,
                                    strict_system_default=args.strict_system_default)
+    baselines.apply(baseline, result)
+    baselines.finish(args, baseline, [result])
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
     elif args.format == "markdown":
         sys.stdout.write(ci_report.compat_markdown(result.items, threshold=result.threshold, labels=result.labels))
     elif args.format == "github":
-        sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines))
+        sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines,
+                                                 accepted=result.accepted, stale=result.stale))
+    elif args.format == "sarif":
+        print_json(sarif.compat_log(result.items, threshold=result.threshold, lines=result.lines,
+                                    tool_version=__version__, accepted=result.accepted, stale=result.stale))
     else:
         sys.stdout.write(result.render_text())
-    return EXIT_DRIFT if result.failed else EXIT_OK
+    return EXIT_DRIFT if result.failed and not args.write_baseline else EXIT_OK
 
 
 def cmd_graph(args: argparse.Namespace) -> int:

@@ -143,3 +143,8 @@ def emit(text: str, output: str | None) -> None:
 
     golden.write_text(output, text)  # raises GoldenWriteError: a message, exit status 2
     print(f"wrote {output}", file=sys.stderr)
+
+
+def print_json(document: Any) -> None:
+    """A report document (``--format json`` or ``sarif``) on stdout."""
+    print(json.dumps(document, indent=2, default=str))

@@ -73,6 +73,9 @@ defaults (fail_on: any, nothing ignored). Drift rules and severities: docs/drift
 comments, target and options above it) and creates missing ones (with a `target:` block from
 the target options given here); it is refused when the CI environment variable is set.
 
+--baseline FILE fails only on findings that FILE (written by --write-baseline FILE) does not
+hold; the known ones are reported as accepted by the baseline.
+
 --format json prints one JSON array with an object per drift item: contract, node, kind
 (publishers, subscriptions, service_servers, service_clients, action_servers, action_clients,
 parameters or node), name, change, rule, severity (SAFE, RISKY, BREAKING), old, new, message.
@@ -244,14 +247,25 @@ def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True, types: 
                        help="also capture and compare /rosout, /parameter_events, parameter and lifecycle services")
 
 
-REPORT_FORMATS = ("text", "json", "markdown", "github")
+REPORT_FORMATS = ("text", "json", "markdown", "github", "sarif")
 
 
 def _add_format(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=REPORT_FORMATS, default="text",
                         help="text: the report for people (default); json: machine-readable items; "
                         "markdown: a summary table and the grouped drift (a pull-request comment, "
-                        "$GITHUB_STEP_SUMMARY); github: GitHub Actions annotations on the contract lines")
+                        "$GITHUB_STEP_SUMMARY); github: GitHub Actions annotations on the contract lines; "
+                        "sarif: a SARIF 2.1.0 log (GitHub code scanning), a result per finding on its contract line")
+
+
+def _add_baseline(parser: argparse.ArgumentParser) -> None:
+    g = parser.add_argument_group("baselines (turn the gate on with known findings, tighten it later)")
+    g.add_argument("--baseline", metavar="FILE",
+                   help="fail only on findings that are not in FILE (written by --write-baseline); the known "
+                   "ones are reported as accepted by the baseline")
+    g.add_argument("--write-baseline", metavar="FILE",
+                   help="record today's findings (those no `accept:` entry accepts) in FILE and exit 0 unless "
+                   "a contract could not be checked")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -287,6 +301,10 @@ def build_parser() -> argparse.ArgumentParser:
     _add_format(chk)
     chk.add_argument("--update", action="store_true",
                      help="rewrite drifted contracts and create missing ones (refused when CI is set)")
+    _add_baseline(chk)
+    chk.add_argument("--shard", metavar="I/N",
+                     help="check only this CI job's share of the contracts: job I of N (e.g. 2/4); the contracts are "
+                     "sorted by path and dealt round-robin, so the N jobs together check each exactly once")
     system_options.add_launch(chk)
     system_options.add_system_fail_on(chk)
 
@@ -316,8 +334,9 @@ def build_parser() -> argparse.ArgumentParser:
                          "without running anything: fast enough for a pre-commit hook.",
                          epilog=_VALIDATE_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     val.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML)")
-    val.add_argument("--format", choices=("text", "github"), default="text",
-                     help="text: one line per file (default); github: an annotation per invalid file")
+    val.add_argument("--format", choices=("text", "github", "sarif"), default="text",
+                     help="text: one line per file (default); github: an annotation per invalid file; "
+                     "sarif: a SARIF 2.1.0 log with a result per invalid file")
 
     com = sub.add_parser("compat", help="check that the nodes of several contracts fit together",
                          description="System check: do the nodes of these contracts fit together?",
@@ -328,6 +347,7 @@ def build_parser() -> argparse.ArgumentParser:
     com.add_argument("--strict-system-default", action="store_true",
                      help="also report policies left at SYSTEM_DEFAULT on both ends (what rmw would warn about)")
     _add_format(com)
+    _add_baseline(com)
     system_options.add_graph(sub, _Parser)
     return parser
 

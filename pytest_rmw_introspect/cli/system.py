@@ -11,16 +11,20 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from .._version import __version__
 from ..check import system_pipeline
-from ..check.pipeline import Layers, SystemResult
+from ..check.pipeline import Layers, SystemResult, judge_system
 from ..compare import graph as graph_module
+from ..compare import sarif
+from ..compare.system import CompatItem
 from ..errors import TargetConfigError
 from ..model import system_contract
+from ..model.locate import line_index
 from ..model.vocabulary import parse_threshold
 from ..run import system as run_system
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
-from . import formats
+from . import baselines, formats
 from .launch_options import launch_arguments, launch_block, wants_launch
 from .parser import EXIT_DRIFT, EXIT_OK, UsageError, compare_from_args, target_from_args
 
@@ -103,6 +107,8 @@ def cmd_diff(args: argparse.Namespace) -> int:
     result = system_pipeline.diff_system(args.old, args.new, [(compare_from_args(args), "command line")])
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
+    elif args.format == "sarif":
+        formats.print_json(sarif.drift_log([result.for_ci()], tool_version=__version__))
     else:
         sys.stdout.write(result.render_text())
     return EXIT_DRIFT if result.failed else EXIT_OK
@@ -114,15 +120,26 @@ def any_system(paths: Sequence[str]) -> bool:
 
 def cmd_compat(args: argparse.Namespace) -> int:
     """``compat`` with system contracts among the files: every system rule."""
+    baseline = baselines.load(args)
     loaded = system_pipeline.load_any(args.contracts)
     threshold = parse_threshold(args.fail_on)
-    items = system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default)
-    result = SystemResult(labels=loaded.labels, items=items, threshold=threshold)
+    judged = judge_system(system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default),
+                          loaded.accept, loaded.file_of)
+    items = [item for item in judged.kept if isinstance(item, CompatItem)]
+    result = SystemResult(labels=loaded.labels, items=items, threshold=threshold, accepted=judged.accepted,
+                          stale=judged.stale)
+    baselines.apply(baseline, result)
+    baselines.finish(args, baseline, [result])
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
+    elif args.format == "sarif":
+        lines = {label: line_index(Path(label).read_text(encoding="utf-8")) for label in loaded.labels}
+        formats.print_json(sarif.compat_log(result.items, threshold=threshold, lines=lines,
+                                            file_of=loaded.file_of, accepted=result.accepted, stale=result.stale,
+                                            tool_version=__version__))
     else:
         sys.stdout.write(result.render_text())
-    return EXIT_DRIFT if result.failed else EXIT_OK
+    return EXIT_DRIFT if result.failed and not args.write_baseline else EXIT_OK
 
 
 def cmd_graph(args: argparse.Namespace) -> int:

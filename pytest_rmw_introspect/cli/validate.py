@@ -4,8 +4,11 @@ hook). Kept apart from the other commands so that it imports only the contract l
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 
+from .._version import __version__
+from ..compare import acceptance, sarif
 from ..compare.ci_report import annotation
 from ..errors import ContractError
 from ..model import contract as contract_module
@@ -15,11 +18,16 @@ from .parser import EXIT_ERROR, EXIT_OK
 def cmd_validate(args: argparse.Namespace) -> int:
     """Load every contract (nothing runs): one line per file, exit 2 when any is invalid."""
     status = EXIT_OK
+    invalid: list[tuple[str, int | None, str]] = []
     for shown in args.contracts:
         try:
             loaded = contract_module.load(shown)
+            acceptance.check_rules(loaded.accept)  # a rule id no check has would never match
         except ContractError as exc:
             status = EXIT_ERROR
+            invalid.append((shown, exc.line, str(exc)))
+            if args.format == "sarif":
+                continue
             if args.format == "github":
                 print(annotation("error", exc.reason, file=shown, line=exc.line, title="invalid contract"))
             else:
@@ -27,4 +35,6 @@ def cmd_validate(args: argparse.Namespace) -> int:
             continue
         if args.format == "text":
             print(f"{shown}: valid ({', '.join(sorted(loaded.nodes)) or 'no nodes'})")
+    if args.format == "sarif":
+        print(json.dumps(sarif.invalid_log(invalid, tool_version=__version__), indent=2))
     return status

@@ -11,8 +11,10 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
+from ..model.acceptance import Acceptance
 from ..model.locate import LineIndex, line_of
 from ..model.vocabulary import LABELS, THRESHOLD_WORDS, Severity
+from .acceptance import Accepted
 from .drift import DriftItem
 from .system import CompatItem
 
@@ -31,6 +33,11 @@ class ContractOutcome:
     #: a system contract's system-check problems, judged against their own threshold
     system_items: Sequence[CompatItem] = ()
     system_threshold: Severity = Severity.BREAKING
+    #: findings the contract accepts on purpose, and its ``accept:`` entries that match nothing
+    accepted: Sequence[Accepted] = ()
+    stale: Sequence[Acceptance] = ()
+    #: a system contract's processes (by label) → where the launch file starts them (``robot.launch.xml:12``)
+    launched_at: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def failed(self) -> bool:
@@ -84,6 +91,8 @@ def drift_markdown(outcomes: Sequence[ContractOutcome], *, title: str = "Interfa
         nodes = ", ".join(f"`{n}`" for n in o.nodes) or "-"
         lines.append(f"| `{o.contract}` | {nodes} | {_result_cell(o)} |")
     for o in outcomes:
+        if o.error is None and (o.accepted or o.stale) and not (o.items or o.system_items):
+            lines += ["", f"### `{o.contract}`"]
         if o.error is not None:
             lines += ["", f"### `{o.contract}`", "", "```", o.error.rstrip("\n"), "```"]
         elif o.items or o.system_items:
@@ -94,7 +103,21 @@ def drift_markdown(outcomes: Sequence[ContractOutcome], *, title: str = "Interfa
                 for item in o.system_items:
                     ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
                     lines.append(f"- {item.severity.name} `{item.name}`: `{item.rule}` {ends}: {item.message}")
+        if o.error is None:
+            lines += _acceptance_bullets(o.accepted, o.stale)
     return "\n".join(lines) + "\n"
+
+
+def _acceptance_bullets(accepted: Sequence[Accepted], stale: Sequence[Acceptance]) -> list[str]:
+    lines: list[str] = []
+    if accepted:
+        lines += ["", f"Accepted on purpose ({len(accepted)}, not failing):", ""]
+        lines += [f"- `{entry.item.rule}` {_cell(entry.item.message)}: {_cell(entry.acceptance.reason)}"
+                  for entry in accepted]
+    if stale:
+        lines += ["", f"Stale `accept:` entries ({len(stale)}, they match nothing: remove them):", ""]
+        lines += [f"- `{entry.where()}`: {entry.describe()}" for entry in stale]
+    return lines
 
 
 def compat_markdown(items: Sequence[CompatItem], *, threshold: Severity, labels: Sequence[str],
@@ -156,11 +179,24 @@ def drift_github(outcomes: Sequence[ContractOutcome]) -> str:
         if o.system_items:
             lines.append(compat_github(o.system_items, threshold=o.system_threshold, lines={o.contract: o.lines},
                                        file=o.contract).rstrip("\n"))
+        lines += acceptance_github(o.accepted, o.stale)
     return "\n".join(lines) + ("\n" if lines else "")
 
 
+def acceptance_github(accepted: Sequence[Accepted], stale: Sequence[Acceptance]) -> list[str]:
+    """A notice per accepted finding on the line of the entry that accepts it (the finding is
+    not shown as a problem) and a warning per stale entry on its line."""
+    out = [annotation("notice", f"{entry.item.message} (accepted: {entry.acceptance.reason})",
+                      file=entry.acceptance.source, line=entry.acceptance.line,
+                      title=f"{entry.item.rule} accepted") for entry in accepted]
+    out += [annotation("warning", f"`accept:` entry {entry.describe()} matches nothing any more; remove it",
+                       file=entry.source, line=entry.line, title="ACCEPTANCE_STALE") for entry in stale]
+    return out
+
+
 def compat_github(items: Sequence[CompatItem], *, threshold: Severity,
-                  lines: Mapping[str, LineIndex] | None = None, file: str | None = None) -> str:
+                  lines: Mapping[str, LineIndex] | None = None, file: str | None = None,
+                  accepted: Sequence[Accepted] = (), stale: Sequence[Acceptance] = ()) -> str:
     """An annotation per system-check problem, on the requesting end's contract (or ``file``,
     a system contract holding every end) and line."""
     out = []
@@ -172,4 +208,5 @@ def compat_github(items: Sequence[CompatItem], *, threshold: Severity,
         out.append(annotation(level, f"{item.name}: {ends}: {item.message}", file=where,
                               line=line_of(index, item.requester.node, item.requester.kind, item.name),
                               title=f"{item.rule} ({item.severity.name})"))
+    out += acceptance_github(accepted, stale)
     return "\n".join(out) + ("\n" if out else "")

@@ -7,10 +7,15 @@ from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from ..model import qos
+from ..model.acceptance import Acceptance
 from ..model.parameters import format_value
 from ..model.vocabulary import LABELS, PARAMETERS, THRESHOLD_WORDS, Severity
+from .acceptance import Accepted
 from .drift import DriftItem
 from .system import CompatItem
+
+#: the rule of a stale ``accept:`` entry in JSON and SARIF
+STALE_RULE = "ACCEPTANCE_STALE"
 
 
 def fails(items: Iterable[DriftItem | CompatItem], threshold: Severity) -> bool:
@@ -89,12 +94,15 @@ def render_text(
     threshold: Severity = Severity.SAFE,
     accept_command: str | None = None,
     title: str | None = None,
+    accepted: Sequence[Accepted] = (),
+    stale: Sequence[Acceptance] = (),
 ) -> str:
-    """The drift report for people: grouped by severity, then node, then interface."""
+    """The drift report for people: grouped by severity, then node, then interface; then the
+    findings the contract accepts and its stale ``accept:`` entries."""
     heading = title or "Interface drift"
     where = f" against {contract_path}" if contract_path else ""
     if not items:
-        return f"{heading}: no drift{where}.\n"
+        return "\n".join([f"{heading}: no drift{where}.", *render_acceptances(accepted, stale)]) + "\n"
 
     lines = [f"{heading}{where}: {_plural(len(items), 'change')} ({_counts(items)})",
              _verdict(items, threshold)]
@@ -114,9 +122,47 @@ def render_text(
                 lines.append(f"    {LABELS.get(item.kind, item.kind)} {item.name}")
             indent = "    " if item.kind == "node" else "      "
             lines.append(f"{indent}{_drift_line(item)}")
+    lines += render_acceptances(accepted, stale)
     if accept_command:
         lines += ["", "To accept these changes as the new contract, run:", f"  {accept_command}"]
     return "\n".join(lines) + "\n"
+
+
+def _finding_place(item: DriftItem | CompatItem) -> str:
+    if isinstance(item, DriftItem):
+        return item.node if item.kind == "node" else f"{item.node} {LABELS.get(item.kind, item.kind)} {item.name}"
+    return f"{item.name} ({item.requester}{f' and {item.provider}' if item.provider else ''})"
+
+
+def render_acceptances(accepted: Sequence[Accepted], stale: Sequence[Acceptance]) -> list[str]:
+    """Report lines of the accepted findings (with their reasons) and of the stale entries."""
+    lines: list[str] = []
+    if accepted:
+        lines += ["", f"ACCEPTED ({len(accepted)}) - accepted on purpose (`accept:` entries, a baseline), not failing"]
+        for entry in accepted:
+            lines.append(f"  {_finding_place(entry.item)}: [{entry.item.rule}] {entry.item.message}")
+            lines.append(f"    accepted ({entry.acceptance.where()}): {entry.acceptance.reason}")
+    if stale:
+        lines += ["", f"STALE ACCEPTANCES ({len(stale)}) - `accept:` entries that match nothing any more; "
+                  "remove them before they hide a new finding"]
+        lines += [f"  {entry.where()}: {entry.describe()} (reason given: {entry.reason})" for entry in stale]
+    return lines
+
+
+def accepted_to_json(accepted: Iterable[Accepted]) -> list[dict[str, Any]]:
+    """The accepted findings as their JSON objects with ``accepted``: the entry that accepts them."""
+    out = []
+    for entry in accepted:
+        item = entry.item
+        (plain,) = to_json([item]) if isinstance(item, DriftItem) else compat_to_json([item])
+        out.append({**plain, "accepted": entry.acceptance.to_json()})
+    return out
+
+
+def stale_to_json(stale: Iterable[Acceptance]) -> list[dict[str, Any]]:
+    """Stale entries as JSON objects of the rule ``ACCEPTANCE_STALE``."""
+    return [{"rule": STALE_RULE, "severity": Severity.SAFE.name, "accept": entry.to_json(),
+             "message": f"`accept:` entry {entry.describe()} matches nothing; remove it"} for entry in stale]
 
 
 def _plain(value: Any) -> Any:
@@ -157,11 +203,14 @@ def render_compat_text(
     *,
     threshold: Severity = Severity.SAFE,
     title: str | None = None,
+    accepted: Sequence[Accepted] = (),
+    stale: Sequence[Acceptance] = (),
 ) -> str:
-    """The system-check report for people: grouped by severity, then topic/service name."""
+    """The system-check report for people: grouped by severity, then topic/service name; then
+    the accepted problems and the stale ``accept:`` entries."""
     heading = title or "System check"
     if not items:
-        return f"{heading}: all contracts fit together.\n"
+        return "\n".join([f"{heading}: all contracts fit together.", *render_acceptances(accepted, stale)]) + "\n"
     lines = [f"{heading}: {_plural(len(items), 'problem')} ({_counts(items)})",
              _verdict(items, threshold)]
     for severity in reversed(Severity):
@@ -181,6 +230,7 @@ def render_compat_text(
             else:
                 ends = f"{item.provider} -> {item.requester}"
             lines.append(f"    [{item.rule}] {ends}: {item.message}")
+    lines += render_acceptances(accepted, stale)
     return "\n".join(lines) + "\n"
 
 

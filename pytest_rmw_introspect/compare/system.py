@@ -41,6 +41,22 @@ RULES: dict[str, Severity] = {
     "LAUNCHED_NODE_NOT_CREATED": Severity.BREAKING,
 }
 
+#: rule id → what it reports, for the docs and SARIF's rule descriptions (the "what" column of
+#: docs/drift-rules.md, "System checks")
+SUMMARIES: dict[str, str] = {
+    "TYPE_MISMATCH": "the two ends use different type names",
+    "TYPE_HASH_MISMATCH": "same type name, different hash (or action hash mapping)",
+    "QOS_INCOMPATIBLE": "`check_compatible` says ERROR (topics)",
+    "QOS_MAYBE_INCOMPATIBLE": "`check_compatible` says WARNING (topics)",
+    "SUBSCRIPTION_WITHOUT_PUBLISHER": "nobody publishes a subscribed topic",
+    "CLIENT_WITHOUT_SERVER": "nobody serves a called service",
+    "ACTION_CLIENT_WITHOUT_SERVER": "nobody serves an action with a client",
+    "DUPLICATE_NODE_NAME": "two nodes of one system have the same fully qualified name",
+    "SERVICE_MULTIPLE_SERVERS": "more than one server for one service",
+    "ACTION_MULTIPLE_SERVERS": "more than one server for one action",
+    "LAUNCHED_NODE_NOT_CREATED": "a process the launch file starts created no node, or not the node the launch file names",
+}
+
 
 @dataclass(frozen=True, order=True)
 class Endpoint:

@@ -49,10 +49,11 @@ from typing import Any
 import yaml
 
 from ..errors import ContractError
+from . import acceptance, untrusted, yaml_blocks
 from . import parameters as parameter_model
 from . import qos as qos_module
 from . import types as type_model
-from . import untrusted, yaml_blocks
+from .paths import shown
 from .vocabulary import ACTION_HASHED_PARTS, LABELS, LIFECYCLE, LISTS, PARAMETERS
 
 CONTRACT_VERSION = 1
@@ -89,6 +90,8 @@ class Contract:
     types: dict[str, type_model.TypeDescription] | None = None
     #: the ROS 2 distribution the contract was captured on (``ros_distribution:``), if recorded
     ros_distribution: str | None = None
+    #: the findings it accepts on purpose (``accept:``)
+    accept: tuple[acceptance.Acceptance, ...] = ()
 
     def expanded_nodes(self) -> dict[str, dict[str, Any]]:
         """``nodes`` with every topic QoS expanded to all fields (``qos.expand``)."""
@@ -213,11 +216,20 @@ def _inline_refs(document: dict[str, Any]) -> dict[str, Any]:
     return inline(document, ())
 
 
+_ACCEPT_REASONS = {
+    "rule": "{instance!r} is not a rule id (docs/drift-rules.md lists them: PUB_REMOVED, SUBSCRIPTION_WITHOUT_PUBLISHER, ...)",
+    "reason": "an accepted finding needs a reason: say why it is accepted (`reason: published by rviz, not launched`)",
+    "node": "{instance!r} is not a fully qualified node name (e.g. /talker or /ns/talker)",
+}
+
+
 def _schema_reason(error: Any) -> str:
     validator = error.validator
     instance = untrusted.Short(error.instance)
     if "propertyNames" in error.absolute_schema_path:
         return f"node name {instance!r} is not a fully qualified node name (e.g. /talker or /ns/talker)"
+    if error.absolute_path and error.absolute_path[0] == acceptance.SECTION_KEY and validator in ("pattern", "minLength"):
+        return _ACCEPT_REASONS.get(str(error.absolute_path[-1]), error.message).format(instance=instance)
     if validator == "pattern" and error.absolute_path and error.absolute_path[-1] == "name":
         return f"{instance!r} is not a fully resolved ROS name (it must start with '/')"
     if validator == "pattern" and error.absolute_path and "type_hash" in error.absolute_path:
@@ -297,6 +309,8 @@ def _loads(text: str, path: Path | None) -> Contract:
         text=text,
         types=types,
         ros_distribution=data.get(DISTRIBUTION_KEY),
+        accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY), source=shown(path) if path else "<contract>",
+                                       line_of=lambda i: _line(root, [acceptance.SECTION_KEY, i])),
     )
 
 

@@ -43,9 +43,10 @@ from typing import Any
 import yaml
 
 from ..errors import ContractError
+from . import acceptance, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
-from . import untrusted
+from .paths import shown
 from .vocabulary import FAIL_ON, LABELS, LISTS
 
 SYSTEM_VERSION = 1
@@ -125,6 +126,7 @@ def schema() -> dict[str, Any]:
             "options": {"$ref": "#/definitions/options"},
             "processes": {"type": ["array", "null"], "items": {"$ref": "#/definitions/process"}},
             "nodes": copy.deepcopy(base["properties"]["nodes"]) | {"type": ["object", "null"]},
+            "accept": {"$ref": "#/definitions/accept"},
         },
         "definitions": definitions,
     }
@@ -141,6 +143,8 @@ class SystemContract:
     target: dict[str, Any] | None = None
     options: dict[str, Any] = field(default_factory=dict)
     text: str = ""
+    #: the findings it accepts on purpose (``accept:``)
+    accept: tuple[acceptance.Acceptance, ...] = ()
 
     @property
     def comparison_options(self) -> dict[str, Any]:
@@ -237,7 +241,10 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                                     line=_where(root, ["processes", i, "nodes"]))
     return SystemContract(path=path, launch=launch, processes=processes, nodes=nodes,
                           target=dict(data["target"]) if data.get("target") is not None else None,
-                          options=dict(data.get("options") or {}), text=text)
+                          options=dict(data.get("options") or {}), text=text,
+                          accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY),
+                                                         source=shown(path) if path else "<system contract>",
+                                                         line_of=lambda i: _where(root, [acceptance.SECTION_KEY, i])))
 
 
 def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:

@@ -117,10 +117,14 @@ def _compose_yaml(text: str, loader: type | None) -> yaml.Node | None:
     import yaml
 
     loader_class = _loader(loader)
-    if _brackets_deeper_than(text, MAX_DEPTH):
-        # deep flow nesting costs the pure-Python scanner time quadratic in the depth (it keeps
-        # a possible simple key per level): find the limit from the events before composing
-        error = _nesting_error(text)
+    too_deep = _bracket_past(text, MAX_DEPTH)
+    if too_deep is not None:
+        # Deep flow nesting costs both scanners time quadratic in the depth (a possible simple
+        # key per level, each looked at for every token): read the events of the text only up to
+        # the bracket that goes past the limit, which says where, at once. A bracket inside a
+        # quoted string counts here too: then the events find no such depth and the whole text
+        # is composed as usual.
+        error = _nesting_error(text[: too_deep + 1])
         if error is not None:
             raise error
     try:
@@ -143,18 +147,18 @@ def _compose_yaml(text: str, loader: type | None) -> yaml.Node | None:
 _BRACKETS = re.compile(r"[\[\]{}]")
 
 
-def _brackets_deeper_than(text: str, limit: int) -> bool:
-    """Whether brackets nest more than ``limit`` deep in ``text`` (counting those inside quotes
-    too: a cheap upper bound of the flow nesting, to decide whether to look closer)."""
+def _bracket_past(text: str, limit: int) -> int | None:
+    """The offset of the first opening bracket that nests more than ``limit`` deep in ``text``,
+    or None (brackets inside quotes count too: a cheap upper bound of the flow nesting)."""
     depth = 0
     for match in _BRACKETS.finditer(text):
         if match.group() in "[{":
             depth += 1
             if depth > limit:
-                return True
+                return match.start()
         elif depth:
             depth -= 1
-    return False
+    return None
 
 
 def _nesting_error(text: str, max_depth: int = MAX_DEPTH) -> InputError | None:

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from ..check import golden_record
+from ..check import golden_record, sharding
 from ..compare.options import OptionError, parse_layer
 from ..errors import SetupError, TargetConfigError
 from ..model.paths import shown
@@ -46,6 +46,11 @@ class SessionState:
     #: how many contract items ahead of the running one have their capture started already
     #: (``items.ContractItem.capture_ahead``); 0: each item captures when it runs
     capture_ahead: int = DEFAULT_CAPTURE_AHEAD
+    #: ini ``rmw_introspect_baseline``: findings in this file do not fail (read by the first check)
+    baseline_path: Path | None = None
+    _baseline: Any = None
+    #: ``--rmw-introspect-shard``: the contract-file items this job runs
+    shard: sharding.Shard | None = None
     _ros: RosEnvironment | None = None
     _library: Path | None = None
     _setup_error: SetupError | None = None
@@ -91,6 +96,19 @@ class SessionState:
     def display(self, path: Path) -> str:
         """``path`` as shown in messages: relative to where pytest was started."""
         return shown(path, self.invocation_dir)
+
+    def apply_baseline(self, result: Any) -> None:
+        """Apply the session's baseline (ini ``rmw_introspect_baseline``) to a checked result:
+        the findings it holds are reported as accepted and do not fail. Raises BaselineError."""
+        if self.baseline_path is None or result.error is not None:
+            return
+        # the baseline and the pipeline it judges (~40 ms): imported by the first contract check
+        from ..check import baselines
+        from ..compare import baseline
+
+        if self._baseline is None:
+            self._baseline = baseline.load(self.baseline_path, self.display(self.baseline_path))
+        baselines.apply(result, self._baseline)
 
 
 SESSION = pytest.StashKey[SessionState]()
@@ -153,6 +171,10 @@ def addoption(parser: pytest.Parser) -> None:
     group.addoption("--rmw-introspect-horizon", type=float, default=None, metavar="SECONDS",
                     help="default virtual-time horizon of targets: seconds of a node's life a capture "
                     "observes, timers firing at once (default 10; 0 turns virtual time off)")
+    group.addoption("--rmw-introspect-shard", metavar="I/N", default=None,
+                    help="run only this CI job's share of the contract files' items: job I of N (e.g. 2/4); the "
+                    "items are sorted by node id and dealt round-robin, the N jobs together run each exactly once "
+                    "(tests with the interfaces marker are left to pytest's own sharding plugins)")
     group.addoption("--rmw-introspect-cold-start", action="store_true", default=None,
                     help="start every target as a new process, never forked from the warm start server "
                     "(default: Python targets start warm)")
@@ -196,6 +218,8 @@ def addoption(parser: pytest.Parser) -> None:
                   type="bool", default=False)
     parser.addini("rmw_introspect_include_types", "keep a types: section in contracts (field-level type drift)",
                   type="bool", default=False)
+    parser.addini("rmw_introspect_baseline", "a baseline file (rmw-introspect check --write-baseline FILE): "
+                  "findings it holds are reported as accepted and do not fail; relative to the ini file", default="")
     parser.addini("rmw_introspect_fail_on", "least severe drift that fails: " + " | ".join(FAIL_ON), default="any")
     parser.addini("rmw_introspect_timeout", "default target timeout in seconds", default="")
     parser.addini("rmw_introspect_settle", "default target settle time in seconds", default="")
@@ -315,6 +339,12 @@ def configure(config: pytest.Config) -> SessionState:
     except TargetConfigError as exc:
         raise pytest.UsageError(str(exc)) from None
 
+    try:
+        shard = sharding.parse(config.getoption("rmw_introspect_shard"), "--rmw-introspect-shard") \
+            if config.getoption("rmw_introspect_shard", None) else None
+    except ValueError as exc:
+        raise pytest.UsageError(str(exc)) from None
+
     return SessionState(
         update=update,
         cli_options=cli_options,
@@ -325,7 +355,18 @@ def configure(config: pytest.Config) -> SessionState:
         invocation_dir=Path(config.invocation_params.dir),
         rootdir=Path(config.rootpath),
         capture_ahead=_capture_ahead(config, cold_session=bool(ini_target.get("cold_start") or cli_target.get("cold_start"))),
+        baseline_path=_baseline_path(config),
+        shard=shard,
     )
+
+
+def _baseline_path(config: pytest.Config) -> Path | None:
+    """ini ``rmw_introspect_baseline`` as a path (relative to the ini file's directory)."""
+    raw = str(config.getini("rmw_introspect_baseline") or "").strip()
+    if not raw:
+        return None
+    base = Path(config.inipath).parent if config.inipath else Path(config.rootpath)
+    return base / raw
 
 
 class GoldenReporter:

@@ -12,7 +12,7 @@ import pytest
 
 from ..check import golden_record
 from ..check.outcome import Checked, Verdict, decide
-from ..errors import GoldenWriteError
+from ..errors import BaselineError, GoldenWriteError
 from .session import SessionState
 
 #: user property with the drift items as JSON (report.to_json + contract), for JUnit XML
@@ -29,6 +29,10 @@ def accept_command(item: pytest.Item, session_state: SessionState) -> str:
 
 def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> None:
     """Turn a compared result into the test's outcome (raises ``pytest.fail`` on failure)."""
+    try:
+        session_state.apply_baseline(result)
+    except BaselineError as exc:
+        pytest.fail(str(exc), pytrace=False)
     outcome = decide(result, update=session_state.update, accept_command=accept_command(item, session_state))
     if outcome.json:
         # the machine-readable drift on the report (JUnit writes it as a <property>)

@@ -183,3 +183,67 @@ def test_check_in_the_ci_formats(cli):
     assert gh.returncode == 0, gh
     assert gh.stdout == ("::warning file=talker.interfaces.yaml,line=7,title=QOS_DEPTH_INCREASED (SAFE)::"
                          "/talker publisher /chatter: depth 3 -> 10: more samples are queued; matching is unaffected\n"), gh
+    sarif = cli("check", *contracts, "--format", "sarif", "--fail-on", "breaking")
+    assert sarif.returncode == 2, sarif
+    results = json.loads(sarif.stdout)["runs"][0]["results"]
+    assert [(r["ruleId"], r["level"], r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"])
+            for r in results] == [("QOS_DEPTH_INCREASED", "note", "talker.interfaces.yaml"),
+                                  ("CONTRACT_NOT_CHECKED", "error", "broken.interfaces.yaml")]
+    assert results[0]["locations"][0]["physicalLocation"]["region"] == {"startLine": 7}
+
+
+def test_accepted_drift_passes_and_says_so_and_a_stale_entry_is_reported(cli):
+    accept = ("accept:\n"
+              "  - rule: QOS_DEPTH_INCREASED\n    name: /chatter\n    reason: the queue grew on purpose (issue 12)\n")
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, depth=3, header=accept))
+    result = cli("check", "talker.interfaces.yaml")
+    assert result.returncode == 0, result
+    assert result.stdout == "talker.interfaces.yaml: matches (/talker); 1 finding(s) accepted in the contract\n"
+    as_json = json.loads(cli("check", "talker.interfaces.yaml", "--format", "json").stdout)
+    assert [(i["rule"], i["accepted"]["reason"]) for i in as_json] == [
+        ("QOS_DEPTH_INCREASED", "the queue grew on purpose (issue 12)")]
+    # the drift is gone (depth 10 again): the entry is stale, reported but not failing
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, header=accept))
+    stale = cli("check", "talker.interfaces.yaml")
+    assert stale.returncode == 0, stale
+    assert "STALE ACCEPTANCES (1)" in stale.stdout
+    assert "talker.interfaces.yaml:2: QOS_DEPTH_INCREASED name /chatter" in stale.stdout
+    # a typo in a rule id is an error naming the entry
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, header=accept.replace("INCREASED", "INCRAESED")))
+    typo = cli("check", "talker.interfaces.yaml")
+    assert typo.returncode == 2 and "talker.interfaces.yaml:2" in typo.stderr and "unknown rule" in typo.stderr, typo
+
+
+def test_check_with_a_baseline_fails_only_on_new_drift(cli):
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, depth=3))
+    written = cli("check", "talker.interfaces.yaml", "--write-baseline", "interfaces.baseline.json")
+    assert written.returncode == 0, written
+    assert "wrote the baseline interfaces.baseline.json (1 finding(s))" in written.stderr
+    known = cli("check", "talker.interfaces.yaml", "--baseline", "interfaces.baseline.json")
+    assert known.returncode == 0, known
+    assert known.stdout == "talker.interfaces.yaml: matches (/talker); 1 finding(s) in the baseline\n"
+    new = cli("check", "talker.interfaces.yaml", "--baseline", "interfaces.baseline.json",
+              "--param", "reliability:=best_effort")
+    assert new.returncode == 1, new
+    failing = new.stdout.split("ACCEPTED")[0]
+    assert "QOS_RELIABILITY_WEAKENED" in failing and "QOS_DEPTH_INCREASED" not in failing
+
+
+def test_the_shards_of_a_check_together_are_the_unsharded_check(cli):
+    names = [f"t{i}.interfaces.yaml" for i in range(3)]
+    for i, name in enumerate(names):  # each drifts in its own way: depth 1, 2, 3 against the node's 10
+        cli.write(name, talker_contract(target=TALKER, depth=i + 1))
+    whole = cli("check", *names, "--format", "json", timeout=180)
+    assert whole.returncode == 1, whole
+    shards = [cli("check", *reversed(names), "--shard", f"{i}/2", "--format", "json", timeout=180) for i in (1, 2)]
+    assert [s.stderr.count("shard ") for s in shards] == [1, 1]
+    assert "shard 1/2: 2 of 3 contract(s)" in shards[0].stderr and "shard 2/2: 1 of 3 contract(s)" in shards[1].stderr
+    def key(item):
+        return json.dumps(item, sort_keys=True)
+    union = sorted((i for s in shards for i in json.loads(s.stdout)), key=key)
+    assert union == sorted(json.loads(whole.stdout), key=key)
+    assert {i["contract"] for i in json.loads(shards[1].stdout)} == {"t1.interfaces.yaml"}
+    bad = cli("check", *names, "--shard", "3/2")
+    assert bad.returncode == 2 and "--shard 3/2: I must be between 1 and N" in bad.stderr, bad
+    partial = cli("check", *names, "--shard", "1/2", "--write-baseline", "b.json")
+    assert partial.returncode == 2 and "write the baseline from a run over every contract" in partial.stderr, partial

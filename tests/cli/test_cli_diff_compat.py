@@ -134,7 +134,7 @@ def test_compat_threshold(cli_nodes_only):
                                  "--timeout SECONDS", "{yaml,json,nodl}", "--raw", "--include-ros-infra",
                                  "-o FILE", "NoDL v2"]),
         (("check", "--help"), ["CONTRACT", "--update", "--fail-on {any,risky,breaking}", "--ignore-type-hash",
-                               "--ignore-qos FIELDS", "--allow-extra", "--include-ros-infra", "--format {text,json,markdown,github}",
+                               "--ignore-qos FIELDS", "--allow-extra", "--include-ros-infra", "--format {text,json,markdown,github,sarif}",
                                "refused when the CI environment variable is set", "2 errors"]),
         (("diff", "--help"), ["OLD", "NEW", "--fail-on", "--format"]),
         (("compat", "--help"), ["CONTRACT", "--fail-on", "--strict-system-default", "--format"]),
@@ -179,6 +179,9 @@ def test_validate_checks_files_without_running_anything(cli_nodes_only):
     assert "bad.interfaces.yaml:4" in bad.stderr and "Traceback" not in bad.stderr
     gh = cli("validate", "bad.interfaces.yaml", "--format", "github")
     assert gh.returncode == 2 and gh.stdout.startswith("::error file=bad.interfaces.yaml,line=4,title=invalid contract::"), gh
+    cli.write("typo.interfaces.yaml", "accept:\n  - {rule: PUB_RENOVED, reason: r}\n" + talker_contract())
+    typo = cli("validate", "typo.interfaces.yaml")
+    assert typo.returncode == 2 and "typo.interfaces.yaml:2" in typo.stderr and "unknown rule PUB_RENOVED" in typo.stderr
 
 
 def test_the_pre_commit_hook_runs_validate_on_contract_files():
@@ -195,3 +198,79 @@ def test_the_pre_commit_hook_runs_validate_on_contract_files():
     assert pattern.search("contracts/talker.interfaces.yaml") and pattern.search("robot.system.yaml")
     assert not pattern.search("params.yaml")
     assert 'rmw-introspect = "pytest_rmw_introspect.cli:main"' in (root / "pyproject.toml").read_text()
+
+
+def test_diff_compat_and_validate_in_sarif(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("old.yaml", talker_contract())
+    cli.write("new.yaml", talker_contract(depth=5))
+    cli.write("listener.yaml", LISTENER)
+    cli.write("bad.interfaces.yaml", "contract_version: 1\nnodes:\n  /talker:\n    publishers: 3\n")
+    diff = cli("diff", "old.yaml", "new.yaml", "--format", "sarif")
+    assert diff.returncode == 1, diff
+    log = json.loads(diff.stdout)
+    assert log["version"] == "2.1.0"
+    (result,) = log["runs"][0]["results"]
+    assert result["ruleId"] == "QOS_DEPTH_DECREASED" and result["level"] == "error"
+    assert result["locations"][0]["physicalLocation"] == {
+        "artifactLocation": {"uri": "new.yaml", "uriBaseId": "%SRCROOT%"}, "region": {"startLine": 5}}
+    assert log["runs"][0]["originalUriBaseIds"]["%SRCROOT%"]["uri"] == cli.path.as_uri() + "/"
+    compat = cli("compat", "new.yaml", "listener.yaml", "--format", "sarif")
+    assert compat.returncode == 0, compat  # RISKY problems, below the default threshold
+    results = json.loads(compat.stdout)["runs"][0]["results"]
+    orders = next(r for r in results if r["ruleId"] == "SUBSCRIPTION_WITHOUT_PUBLISHER")
+    assert orders["level"] == "warning"
+    assert orders["locations"][0]["physicalLocation"] == {
+        "artifactLocation": {"uri": "listener.yaml", "uriBaseId": "%SRCROOT%"}, "region": {"startLine": 8}}
+    valid = cli("validate", "new.yaml", "bad.interfaces.yaml", "--format", "sarif")
+    assert valid.returncode == 2, valid
+    run = json.loads(valid.stdout)["runs"][0]
+    (invalid,) = run["results"]
+    assert invalid["ruleId"] == "CONTRACT_INVALID" and "publishers" in invalid["message"]["text"]
+    assert invalid["locations"][0]["physicalLocation"]["region"] == {"startLine": 4}
+    assert run["invocations"] == [{"executionSuccessful": False}]
+
+
+def test_compat_accepts_what_a_contract_accepts_and_reports_stale_entries(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("talker.yaml", talker_contract())
+    cli.write("listener.yaml", "accept:\n"
+              "  - {rule: SUBSCRIPTION_WITHOUT_PUBLISHER, name: /orders, reason: 'published by the shop, not launched'}\n"
+              "  - {rule: CLIENT_WITHOUT_SERVER, reason: 'no client any more'}\n" + LISTENER)
+    result = cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky")
+    assert result.returncode == 0, result
+    assert "ACCEPTED (1)" in result.stdout and "published by the shop, not launched" in result.stdout
+    assert "STALE ACCEPTANCES (1)" in result.stdout and "listener.yaml:3: CLIENT_WITHOUT_SERVER" in result.stdout
+    sarif_log = json.loads(cli("compat", "talker.yaml", "listener.yaml", "--format", "sarif").stdout)
+    results = sarif_log["runs"][0]["results"]
+    assert [(r["ruleId"], "suppressions" in r) for r in results] == [
+        ("SUBSCRIPTION_WITHOUT_PUBLISHER", True), ("ACCEPTANCE_STALE", False)]
+    # without the entry, the same problem fails at risky
+    cli.write("listener.yaml", LISTENER)
+    assert cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky").returncode == 1
+
+
+def test_compat_with_a_baseline_fails_only_on_new_problems(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("talker.yaml", talker_contract())
+    cli.write("listener.yaml", LISTENER)
+    written = cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky", "--write-baseline", "b.json")
+    assert written.returncode == 0, written  # today's problems are what the baseline records
+    assert "wrote the baseline b.json (1 finding(s))" in written.stderr
+    assert [f["rule"] for f in json.loads(cli.read("b.json"))["findings"]] == ["SUBSCRIPTION_WITHOUT_PUBLISHER"]
+    known = cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky", "--baseline", "b.json")
+    assert known.returncode == 0, known
+    assert "ACCEPTED (1)" in known.stdout and "in the baseline" in known.stdout
+    cli.write("listener.yaml", LISTENER + "      - name: /refunds\n        type: std_msgs/msg/String\n")
+    new = cli("compat", "talker.yaml", "listener.yaml", "--fail-on", "risky", "--baseline", "b.json")
+    assert new.returncode == 1, new
+    assert new.stdout.split("ACCEPTED")[0].count("SUBSCRIPTION_WITHOUT_PUBLISHER") == 1  # /refunds only
+    assert "/refunds" in new.stdout.split("ACCEPTED")[0]
+    cli.write("listener.yaml", "contract_version: 1\nnodes:\n  /l:\n    subscriptions:\n"
+                               "      - {name: /chatter, type: std_msgs/msg/String}\n")
+    fixed = cli("compat", "talker.yaml", "listener.yaml", "--baseline", "b.json")
+    assert fixed.returncode == 0 and "note: 1 finding(s) of the baseline b.json are gone" in fixed.stderr, fixed
+    both = cli("compat", "talker.yaml", "--baseline", "b.json", "--write-baseline", "b.json")
+    assert both.returncode == 2 and "not both" in both.stderr, both
+    missing = cli("compat", "talker.yaml", "--baseline", "nowhere.json")
+    assert missing.returncode == 2 and "baseline nowhere.json: the file does not exist" in missing.stderr, missing

@@ -207,3 +207,41 @@ def test_graph_of_a_system_contract(cli_nodes_only):
     assert "<svg" in svg.stdout and "TYPE_MISMATCH" in svg.stdout and "DUPLICATE_NODE_NAME" in svg.stdout
     missing = cli("graph", "nowhere.system.yaml")
     assert missing.returncode == 2 and "nowhere.system.yaml" in missing.stderr
+
+
+def test_system_contracts_in_sarif(cli_nodes_only):
+    cli = cli_nodes_only
+    text = (EXAMPLES / "system_demo" / "broken_robot.system-demo.yaml").read_text()
+    cli.write("robot.system.yaml", text)
+    compat = cli("compat", "robot.system.yaml", "--format", "sarif")
+    assert compat.returncode == 1, compat
+    results = json.loads(compat.stdout)["runs"][0]["results"]
+    assert {"TYPE_MISMATCH", "DUPLICATE_NODE_NAME"} <= {r["ruleId"] for r in results}
+    lines = text.splitlines()
+    for result in results:  # each on the system contract, at the entry of its requesting end
+        location = result["locations"][0]["physicalLocation"]
+        assert location["artifactLocation"] == {"uri": "robot.system.yaml", "uriBaseId": "%SRCROOT%"}, result
+        line = lines[location["region"]["startLine"] - 1]
+        assert result["ruleId"] == "DUPLICATE_NODE_NAME" or result["locations"][0]["logicalLocations"][0][
+            "fullyQualifiedName"].rsplit("/", 1)[-1] in line, (result, line)
+    cli.write("new.system.yaml", text.replace("type: std_msgs/msg/String", "type: std_msgs/msg/Int32", 1))
+    diff = cli("diff", "robot.system.yaml", "new.system.yaml", "--format", "sarif")
+    assert diff.returncode == 1, diff
+    (changed,) = json.loads(diff.stdout)["runs"][0]["results"]
+    assert changed["ruleId"] == "TYPE_CHANGED"
+    assert changed["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == "new.system.yaml"
+
+
+def test_a_system_contract_accepts_findings_on_purpose(cli_nodes_only):
+    cli = cli_nodes_only
+    text = (EXAMPLES / "system_demo" / "broken_robot.system-demo.yaml").read_text()
+    accept = ("accept:\n"
+              "  - {rule: DUPLICATE_NODE_NAME, name: /robot1/reporter, reason: 'the demo starts two on purpose'}\n"
+              "  - {rule: TYPE_MISMATCH, name: /robot1/map, node: /robot1/map_listener, reason: 'the demo mistake'}\n")
+    cli.write("robot.system.yaml", text.replace("system_version: 1\n", "system_version: 1\n" + accept, 1))
+    result = cli("compat", "robot.system.yaml")
+    assert result.returncode == 0, result  # both BREAKING problems are accepted
+    assert "ACCEPTED (2)" in result.stdout and "the demo starts two on purpose" in result.stdout
+    assert "[CLIENT_WITHOUT_SERVER]" in result.stdout.split("ACCEPTED")[0]  # not accepted: still reported
+    items = json.loads(cli("compat", "robot.system.yaml", "--format", "json").stdout)
+    assert sorted(i["rule"] for i in items if "accepted" in i) == ["DUPLICATE_NODE_NAME", "TYPE_MISMATCH"]

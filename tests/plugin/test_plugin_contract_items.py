@@ -3,6 +3,10 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+from pathlib import Path
+
 from test_plugin_golden import TALKER_PARAMETERS
 
 STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
@@ -165,3 +169,44 @@ def test_the_contract_glob_is_configurable(project):
     cli.stdout.fnmatch_lines(["other.interfaces.yaml::/talker FAILED*"])
     off = project.run("--rmw-introspect-contracts", "none")
     assert off.ret == 5  # no tests collected
+
+
+def test_a_baseline_in_the_ini_file_fails_only_new_drift_and_accept_entries_are_honoured(project):
+    project.write("contracts/old.interfaces.yaml", talker(project, depth=5))
+    accept = "accept:\n  - {rule: QOS_DEPTH_INCREASED, name: /chatter, reason: deeper on purpose}\n"
+    project.write("contracts/accepted.interfaces.yaml", talker(project, depth=7, header=accept))
+    # the baseline as the command line writes it, from another directory than pytest's
+    contracts = project.pytester.path / "contracts"
+    baseline = project.pytester.path / "ci" / "interfaces.baseline.json"
+    baseline.parent.mkdir()
+    written = subprocess.run([str(Path(sys.executable).with_name("rmw-introspect")), "check",
+                              str(contracts / "old.interfaces.yaml"), "--write-baseline", str(baseline)],
+                             capture_output=True, text=True, timeout=120, check=False)
+    assert written.returncode == 0, written
+    project.pytester.makeini("[pytest]\nrmw_introspect_baseline = ci/interfaces.baseline.json\n")
+    result = project.run("-rA")
+    result.assert_outcomes(passed=2)
+    project.write("contracts/old.interfaces.yaml", talker(project, depth=5).replace("RELIABLE", "BEST_EFFORT"))
+    result = project.run()
+    result.assert_outcomes(passed=1, failed=1)
+    result.stdout.fnmatch_lines(["*QOS_RELIABILITY_STRENGTHENED*", "ACCEPTED (1)*", "*in the baseline*"])
+    project.pytester.makeini("[pytest]\nrmw_introspect_baseline = ci/missing.json\n")
+    result = project.run()
+    result.assert_outcomes(failed=2)
+    result.stdout.fnmatch_lines(["*baseline ci/missing.json: the file does not exist*"])
+
+
+def test_the_shards_of_a_session_run_every_contract_item_exactly_once(project):
+    for i in range(3):
+        project.write(f"contracts/t{i}.interfaces.yaml", talker(project, depth=10 if i else 3))
+    project.write("contracts/empty.interfaces.yaml", "contract_version: 1\nnodes: {}\n")
+    whole = project.run("-rA")
+    whole.assert_outcomes(passed=2, failed=2)  # t0 drifted, empty has no target
+    ran = []
+    for i in (1, 2, 3):
+        shard = project.run("-rA", f"--rmw-introspect-shard={i}/3")
+        ran += [line.split(" ", 1)[1].split(" - ")[0] for line in shard.outlines if line.startswith(("PASSED ", "FAILED "))]
+    everything = [line.split(" ", 1)[1].split(" - ")[0] for line in whole.outlines if line.startswith(("PASSED ", "FAILED "))]
+    assert len(everything) == 4
+    assert sorted(ran) == sorted(everything)  # the union is the unsharded run, nothing twice
+    project.run("--rmw-introspect-shard=4/3").stderr.fnmatch_lines(["*--rmw-introspect-shard 4/3: I must be between*"])

@@ -11,6 +11,7 @@ import os
 from pathlib import Path
 
 import pytest
+from report_samples import CAPTURED, LISTENER, TALKER
 
 from pytest_rmw_introspect.compare import ci_report
 from pytest_rmw_introspect.compare.ci_report import ContractOutcome
@@ -21,43 +22,6 @@ from pytest_rmw_introspect.model.locate import line_index, line_of
 from pytest_rmw_introspect.model.vocabulary import Severity
 
 GOLDEN = Path(__file__).parent / "golden_text"
-
-TALKER = """\
-contract_version: 1
-nodes:
-  /talker:
-    publishers:
-      - name: /chatter
-        type: std_msgs/msg/String
-        qos: {history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}
-      - name: /status
-        type: std_msgs/msg/String
-    service_servers:
-      - name: /talker/reset
-        type: std_srvs/srv/Empty
-"""
-CAPTURED = {"/talker": {
-    "publishers": [
-        {"name": "/chatter", "type": "std_msgs/msg/String",
-         "qos": {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}},
-        {"name": "/status", "type": "std_msgs/msg/String"},
-        {"name": "/extra", "type": "std_msgs/msg/Int32"},
-    ],
-    "service_servers": [],
-}}
-LISTENER = """\
-contract_version: 1
-nodes:
-  /listener:
-    subscriptions:
-      - name: /chatter
-        type: std_msgs/msg/String
-        qos: {history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}
-    service_clients:
-      - name: /talker/reset
-        type: std_srvs/srv/Trigger
-"""
-
 
 def outcomes() -> list[ContractOutcome]:
     items = compare(loads(TALKER).nodes, CAPTURED)

@@ -228,3 +228,15 @@ def test_docs_list_every_system_rule_with_its_severity():
                                  flags=re.MULTILINE))
     for rule, severity in compat.RULES.items():
         assert documented.get(rule) == severity.name, rule
+
+
+def test_every_system_rule_has_the_summary_the_docs_give_it():
+    import pathlib
+    import re
+
+    text = (pathlib.Path(__file__).parents[2] / "docs" / "drift-rules.md").read_text()
+    section = text[text.index("## System checks"):]
+    documented = dict(re.findall(r"^\| `([A-Z_]+)` \| ([^|]*) \|", section, flags=re.MULTILINE))
+    assert set(compat.SUMMARIES) == set(compat.RULES)
+    for rule, summary in compat.SUMMARIES.items():
+        assert documented.get(rule) == summary, rule

@@ -36,6 +36,9 @@ ALLOWED: dict[str, set[str]] = {
 #: function-local imports that are there on purpose, each cutting start-up time:
 #: (module, imported module) → why
 LOCAL_IMPORTS = {
+    ("plugin.session", "pytest_rmw_introspect.check"): "the baseline's judge with the pipeline (~40 ms): only a "
+                                                       "session with ini rmw_introspect_baseline, at its first check",
+    ("plugin.session", "pytest_rmw_introspect.compare"): "the baseline reader (with the drift rules): as above",
     ("model.contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a contract needs it",
     ("model.system_contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a system contract needs it",
     ("compare.drift", "deepdiff"): "deepdiff costs 0.1-0.2 s; only comparing needs it",

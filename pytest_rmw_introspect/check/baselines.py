@@ -1,0 +1,46 @@
+"""A baseline (``compare.baseline``) applied to check results, and the findings of results
+written into one: the command line (``--baseline``, ``--write-baseline``) and the pytest plugin
+(ini ``rmw_introspect_baseline``) go through here, so both judge a baseline the same way."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+
+from ..compare.acceptance import Finding
+from ..compare.baseline import Baseline
+from ..compare.drift import DriftItem
+from ..compare.system import CompatItem
+from .pipeline import CheckResult, SystemResult
+from .system_pipeline import SystemCheckResult
+
+Result = CheckResult | SystemCheckResult | SystemResult
+
+
+def apply(result: Result, baseline: Baseline) -> None:
+    """Move the findings of ``result`` that ``baseline`` holds to ``result.accepted``: they are
+    reported as accepted by the baseline and no longer fail."""
+    if isinstance(result, CheckResult):
+        new, known = baseline.split(result.path, result.items)
+        result.items = [item for item in new if isinstance(item, DriftItem)]
+    elif isinstance(result, SystemCheckResult):
+        new, known = baseline.split(result.path, [*result.drift_items, *result.system_items])
+        result.drift_items = [item for item in new if isinstance(item, DriftItem)]
+        result.system_items = [item for item in new if isinstance(item, CompatItem)]
+    else:
+        new, known = baseline.split(None, result.items)
+        result.items = [item for item in new if isinstance(item, CompatItem)]
+    result.accepted = [*result.accepted, *known]
+
+
+def findings(results: Iterable[Result]) -> list[tuple[Path | None, Finding]]:
+    """What a baseline written from ``results`` records: every finding not accepted otherwise."""
+    found: list[tuple[Path | None, Finding]] = []
+    for result in results:
+        if isinstance(result, CheckResult):
+            found += [(result.path, item) for item in result.items]
+        elif isinstance(result, SystemCheckResult):
+            found += [(result.path, item) for item in result.items]
+        else:
+            found += [(None, item) for item in result.items]
+    return found

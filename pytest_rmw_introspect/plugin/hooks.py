@@ -19,7 +19,7 @@ import pytest
 
 from ..errors import RmwIntrospectError, SetupError
 from ..run import runner, warm
-from . import items, lookahead, marker, session, system_marker
+from . import items, lookahead, marker, marker_goldens, session, system_marker
 from . import session as session_module
 from .fixtures import interfaces, rmw_capture, rmw_introspect_library, rmw_introspect_marker_check, rmw_introspect_ros
 from .system_marker import rmw_introspect_system_marker_check, system_capture
@@ -78,6 +78,13 @@ def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> 
     for upcoming in lookahead.upcoming(item, nextitem, session_state.capture_ahead):
         if isinstance(upcoming, items.ContractItem):
             upcoming.capture_ahead()
+
+
+@pytest.hookimpl(trylast=True)  # after -k/-m deselected: only marker tests that run check their goldens
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """A contract file that a marker test of this session names as its golden is checked by
+    that test; its own item is skipped, naming the test (``marker_goldens``)."""
+    marker_goldens.skip_checked_contract_items(items)
 
 
 def pytest_collection_finish(session: pytest.Session) -> None:

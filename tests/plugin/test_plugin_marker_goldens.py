@@ -86,6 +86,21 @@ def test_the_marker_checks_its_golden_with_its_keywords_and_the_item_only_runs_w
     alone.stdout.fnmatch_lines(["*[[]NODE_REMOVED[]]*/robot1/talker*"])
 
 
+def test_a_marker_without_keywords_on_a_file_with_a_target_leaves_the_item_running(project):
+    """The item checks what the test checks (the example package's contracts, checked both ways)."""
+    project.write("contracts/talker.interfaces.yaml",
+                  f"contract_version: 1\ntarget:\n  script: {NODES / 'talker.py'}\nnodes: {{}}\n")
+    project.test("""
+        @pytest.mark.interfaces("contracts/talker.interfaces.yaml")
+        def test_talker(interfaces):
+            assert "/talker" in interfaces
+        """)
+    project.run("--update-golden").assert_outcomes(passed=2)
+    result = project.run("-rA")
+    result.assert_outcomes(passed=2)
+    result.stdout.fnmatch_lines(["PASSED contracts/talker.interfaces.yaml::/talker"])
+
+
 def test_a_system_contract_that_a_marker_test_names_is_checked_by_that_test(project):
     launch(project)  # a talker and a qos_node in the namespace of the launch argument `ns` (default robot)
     project.write("robot.system.yaml", "system_version: 1\nlaunch:\n  path: launch/robot.launch.xml\n")

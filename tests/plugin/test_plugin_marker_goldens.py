@@ -86,6 +86,24 @@ def test_the_marker_checks_its_golden_with_its_keywords_and_the_item_only_runs_w
     alone.stdout.fnmatch_lines(["*[[]NODE_REMOVED[]]*/robot1/talker*"])
 
 
+def test_a_golden_named_through_a_symlink_is_the_file_it_links_to(project):
+    """A contract shared through a symlink: the marker names the link, pytest collects the file."""
+    project.write("shared/talker.interfaces.yaml", f"contract_version: 1\ntarget:\n  script: {NODES / 'talker.py'}\n"
+                  "nodes: {}\n")
+    (project.path / "pkg").mkdir()
+    (project.path / "pkg" / "talker.yaml").symlink_to(project.path / "shared" / "talker.interfaces.yaml")
+    project.test("""
+        @pytest.mark.interfaces("talker.yaml", namespace="/robot1")
+        def test_talker(interfaces):
+            pass
+        """, name="pkg/test_nodes.py")
+    project.run("--update-golden").assert_outcomes(passed=1, skipped=1)
+    assert (project.path / "pkg" / "talker.yaml").is_symlink()
+    result = project.run("-rs")
+    result.assert_outcomes(passed=1, skipped=1)
+    result.stdout.fnmatch_lines([skipped_as_checked_by("shared/talker.interfaces.yaml", "pkg/test_nodes.py::test_talker")])
+
+
 def test_a_marker_without_keywords_on_a_file_with_a_target_leaves_the_item_running(project):
     """The item checks what the test checks (the example package's contracts, checked both ways)."""
     project.write("contracts/talker.interfaces.yaml",

@@ -21,7 +21,9 @@ line > ini), exactly like an ``interfaces`` marker test without keyword argument
 failure whose message is the drift report ending with the ``pytest --update-golden`` command
 for this item, ``--update-golden`` rewrites the ``nodes:`` block and lists the file in the
 terminal summary, and the drift is attached as the ``rmw_introspect_drift`` user property
-(JUnit XML ``<property>``).
+(JUnit XML ``<property>``). When an ``interfaces`` marker test of the session names the file
+as its golden with keywords of its own (or the file names no target), that test checks the
+file and the item is skipped (``marker_goldens``).
 """
 
 from __future__ import annotations

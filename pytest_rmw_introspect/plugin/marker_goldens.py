@@ -69,8 +69,9 @@ def skip_checked_contract_items(items: Sequence[pytest.Item]) -> None:
     for item in items:
         if not isinstance(item, (contract_items.ContractItem, system_marker.SystemContractItem)):
             continue
-        # what the file runs by itself: a system contract's launch file, a node contract's `target:`
-        runs_alone = not isinstance(item, contract_items.ContractItem) or bool(item.loaded and item.loaded.target)
+        # what a loaded file runs by itself: a system contract's launch file, a node contract's `target:`
+        runs_alone = item.load_error is None and (not isinstance(item, contract_items.ContractItem)
+                                                  or bool(item.loaded and item.loaded.target))
         test = checked_by(goldens.get(os.path.realpath(item.path), []), runs_alone=runs_alone)
         if test is not None:
             shown = state(item.config).display(Path(item.path))

@@ -162,3 +162,23 @@ def test_goldens_outside_the_contract_patterns_and_rmw_capture_tests_stay_green(
         result.assert_outcomes(passed=3)
         result.stdout.fnmatch_lines(["PASSED contracts/listener.interfaces.yaml::/listener"])
         assert "goldens/talker.interfaces.yaml::" not in result.stdout.str()
+
+
+def test_a_golden_that_does_not_load_fails_once_in_the_test_that_names_it(project):
+    """Nothing to run alone: the marker test reports the file, its items are skipped."""
+    project.write("bad.system.yaml", "system_version: 1\nlaunch: {path: a.xml, nope: 1}\n")
+    project.write("bad.interfaces.yaml", "contract_version: 1\nnodes: [\n")
+    project.test("""
+        @pytest.mark.system_contract("bad.system.yaml")
+        def test_robot(system_capture):
+            pass
+
+        @pytest.mark.interfaces("bad.interfaces.yaml")
+        def test_node(interfaces):
+            pass
+        """)
+    result = project.run("-rs")
+    result.assert_outcomes(failed=2, skipped=2)
+    result.stdout.fnmatch_lines([skipped_as_checked_by("bad.interfaces.yaml", "test_nodes.py::test_node", runs_alone=False)])
+    result.stdout.fnmatch_lines([skipped_as_checked_by("bad.system.yaml", "test_nodes.py::test_robot", runs_alone=False)])
+    result.stdout.fnmatch_lines(["*invalid contract *bad.system.yaml:2: at launch: unknown key(s) *nope*"])

@@ -9,6 +9,7 @@ state and its summary. Everything else lives in the modules next to it:
 * ``marker``: the ``interfaces`` marker (contract, target and options of a test);
 * ``fixtures``: ``interfaces``, ``rmw_capture``, ``rmw_introspect_ros``, ``rmw_introspect_library``;
 * ``items``: contract files collected as test items;
+* ``marker_goldens``: the items of contract files that a marker test checks are skipped;
 * ``verdict``: an outcome (``check.outcome``) as a pytest outcome;
 * ``assertions``: ``check_compatible``.
 

@@ -19,7 +19,7 @@ import pytest
 
 from ..errors import RmwIntrospectError, SetupError
 from ..run import runner, warm
-from . import items, lookahead, marker, session, system_marker
+from . import items, lookahead, marker, marker_goldens, session, system_marker
 from . import items as items_module
 from . import session as session_module
 from .fixtures import interfaces, rmw_capture, rmw_introspect_library, rmw_introspect_marker_check, rmw_introspect_ros
@@ -81,19 +81,22 @@ def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> 
             upcoming.capture_ahead()
 
 
+@pytest.hookimpl(trylast=True)  # after -k/-m deselected: only the items that stay count
 def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config, items: list[pytest.Item]) -> None:
     """``--rmw-introspect-shard I/N``: keep this job's share of the contract-file items (node
-    ids sorted and dealt round-robin); the others are deselected."""
+    ids sorted and dealt round-robin); the others are deselected. Then a contract file that a
+    marker test of this session names as its golden is checked by that test; its own item is
+    skipped, naming the test (``marker_goldens``)."""
     shard = session_module.state(config).shard
-    if shard is None:
-        return
-    contract_items = [i for i in items if isinstance(i, (items_module.ContractItem, system_marker.SystemContractItem))]
-    mine = set(map(id, shard.select(contract_items, lambda item: item.nodeid)))
-    deselected = [i for i in contract_items if id(i) not in mine]
-    if deselected:
-        config.hook.pytest_deselected(items=deselected)
-        gone = set(map(id, deselected))
-        items[:] = [i for i in items if id(i) not in gone]
+    if shard is not None:
+        contract_items = [i for i in items if isinstance(i, (items_module.ContractItem, system_marker.SystemContractItem))]
+        mine = set(map(id, shard.select(contract_items, lambda item: item.nodeid)))
+        deselected = [i for i in contract_items if id(i) not in mine]
+        if deselected:
+            config.hook.pytest_deselected(items=deselected)
+            gone = set(map(id, deselected))
+            items[:] = [i for i in items if id(i) not in gone]
+    marker_goldens.skip_checked_contract_items(items)
 
 
 def pytest_collection_finish(session: pytest.Session) -> None:

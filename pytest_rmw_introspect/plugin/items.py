@@ -21,7 +21,9 @@ line > ini), exactly like an ``interfaces`` marker test without keyword argument
 failure whose message is the drift report ending with the ``pytest --update-golden`` command
 for this item, ``--update-golden`` rewrites the ``nodes:`` block and lists the file in the
 terminal summary, and the drift is attached as the ``rmw_introspect_drift`` user property
-(JUnit XML ``<property>``).
+(JUnit XML ``<property>``). When an ``interfaces`` marker test of the session names the file
+as its golden with keywords of its own (or the file names no target), that test checks the
+file and the item is skipped (``marker_goldens``).
 """
 
 from __future__ import annotations
@@ -89,7 +91,10 @@ def _no_target(contract: Contract | None, shown: str) -> str:
         "collected as tests name their target themselves, e.g.\n"
         "  target:\n    package: my_pkg\n    executable: my_node\n"
         "(or command:, script:, module:), or check the contract from a test with "
-        "@pytest.mark.interfaces(..., package=..., executable=...)."
+        "@pytest.mark.interfaces(..., package=..., executable=...). If it is the golden of such a test, "
+        "run that test with it (the test checks the file and this item is skipped), or keep pytest "
+        "from collecting it as an item: name it without `.interfaces.yaml`, or narrow the ini option "
+        "rmw_introspect_contracts."
     )
 
 
@@ -137,8 +142,8 @@ class ContractItem(pytest.Item):
         for the next item of a session or xdist worker): a capture is mostly waiting (settle
         periods, nodes that sleep), so two of them overlap. The capture is the same one
         :meth:`runtest` would take; only its start is earlier."""
-        if self._ahead is not None or self.load_error is not None:
-            return
+        if self._ahead is not None or self.load_error is not None or self.get_closest_marker("skip") is not None:
+            return  # a skipped item (its golden checked by a marker test: ``marker_goldens``) captures nothing
         session_state = state(self.config)
         try:  # found once per session, on this thread: the capture's thread only uses them
             session_state.library()

@@ -204,6 +204,11 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
         raise ContractError(path, None, "the file is empty; it needs at least `system_version: 1` and `launch:`")
     if not isinstance(data, Mapping):
         raise ContractError(path, None, f"the document is a {type(data).__name__}, not a mapping", line=1)
+    if "contract_version" in data and "system_version" not in data:  # named *.system.yaml
+        raise ContractError(path, None, "this is a node contract (it says `contract_version`), but a name ending "
+                            f"in {SUFFIX} marks a system contract: rename it to NAME.interfaces.yaml, or make it "
+                            "a system contract (`system_version: 1` and `launch:`)",
+                            line=_where(root, ["contract_version"]))
     _validate(root, data, path)
     launch = dict(data["launch"])
     has_file = "file" in launch or "package" in launch

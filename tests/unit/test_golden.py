@@ -345,3 +345,11 @@ def test_as_a_user_who_may_not_keep_the_owner_the_golden_is_rewritten_in_place(m
         assert readable.read_text() == "old\n" and readable.stat().st_uid == 0
     finally:
         shutil.rmtree(shared)
+
+
+def test_a_fifo_in_the_place_of_a_golden_is_refused_not_read(tmp_path):
+    fifo = tmp_path / "out.yaml"
+    os.mkfifo(fifo)
+    with pytest.raises(GoldenWriteError, match=r"it is a FIFO \(named pipe\), not a regular file"):
+        golden.write_text(fifo, "x\n")  # reading its current text would block
+    assert stat.S_ISFIFO(fifo.stat().st_mode)

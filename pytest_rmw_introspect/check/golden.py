@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import secrets
 import stat
 import tempfile
 from collections.abc import Callable, Mapping
@@ -107,20 +108,42 @@ def _replace(target: Path, data: bytes, old: os.stat_result | None) -> None:
     if old is not None and old.st_nlink > 1:
         _rewrite_in_place(target, data)
         return
-    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
+    tmp, fd = _new_temporary(target)
     try:
-        tmp.write_bytes(data)
-        if old is not None:
-            os.chmod(tmp, stat.S_IMODE(old.st_mode))
-            if (old.st_uid, old.st_gid) != (os.geteuid(), os.getegid()):
-                try:
-                    os.chown(tmp, old.st_uid, old.st_gid)
-                except PermissionError:
-                    _rewrite_in_place(target, data)
-                    return
-        tmp.replace(target)
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+            owner_kept = old is None or _carry_over(fd, old)
+        if owner_kept:
+            tmp.replace(target)
+        else:
+            _rewrite_in_place(target, data)
     finally:
         tmp.unlink(missing_ok=True)
+
+
+def _carry_over(fd: int, old: os.stat_result) -> bool:
+    """Give the open file ``fd`` the permission bits, owner and group of ``old``; False when
+    the caller may not set that owner and group."""
+    os.fchmod(fd, stat.S_IMODE(old.st_mode))
+    if (old.st_uid, old.st_gid) == (os.geteuid(), os.getegid()):
+        return True
+    try:
+        os.fchown(fd, old.st_uid, old.st_gid)
+    except PermissionError:
+        return False
+    return True
+
+
+def _new_temporary(target: Path) -> tuple[Path, int]:
+    """A new file next to ``target`` for its next text, opened for writing. Its name is not
+    predictable and it is created exclusively, never through a symlink: in a directory others
+    may write to, a name planted as a symlink would make this write another file."""
+    while True:
+        tmp = target.with_name(f".{target.name}.{os.getpid()}.{secrets.token_hex(6)}.tmp")
+        try:
+            return tmp, os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666)
+        except FileExistsError:
+            continue
 
 
 def _rewrite_in_place(target: Path, data: bytes) -> None:

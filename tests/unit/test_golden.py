@@ -353,3 +353,16 @@ def test_a_fifo_in_the_place_of_a_golden_is_refused_not_read(tmp_path):
     with pytest.raises(GoldenWriteError, match=r"it is a FIFO \(named pipe\), not a regular file"):
         golden.write_text(fifo, "x\n")  # reading its current text would block
     assert stat.S_ISFIFO(fifo.stat().st_mode)
+
+
+def test_a_temporary_name_planted_as_a_symlink_is_not_followed(tmp_path):
+    """In a directory others may write to, the temporary file's name must not be one they can
+    plant in advance (a pid is no secret)."""
+    victim = _victim(tmp_path)
+    path = tmp_path / "c.yaml"
+    planted = tmp_path / f".c.yaml.{os.getpid()}.tmp"
+    planted.symlink_to(victim)
+    assert golden.update(path, NODES) == golden.CREATED
+    assert victim.read_text() == "the victim's own file\n"
+    assert planted.is_symlink() and contract.load(path).nodes == contract.normalize_nodes(NODES)
+    assert [p.name for p in tmp_path.glob(".c.yaml.*")] == [planted.name]

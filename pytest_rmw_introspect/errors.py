@@ -366,13 +366,11 @@ def diagnose_unsettled(partial: Any) -> str:
 class GoldenWriteError(RmwIntrospectError):
     """A contract (or another file the tool writes) could not be written."""
 
-    def __init__(self, path: str | Path, reason: str) -> None:
+    def __init__(self, path: str | Path, reason: str, advice: str | None = None) -> None:
         self.path = Path(path)
         self.reason = reason
-        super().__init__(
-            f"cannot write {path}: {reason}. Make the file and its directory writable (and the lock "
-            "directory, pytest-rmw-introspect-locks in the temporary directory), or write elsewhere."
-        )
+        advice = advice or "Make the file and its directory writable, or write elsewhere."
+        super().__init__(f"cannot write {path}: {reason}. {advice}")
 
 
 class BaselineError(RmwIntrospectError):

@@ -6,9 +6,12 @@
   Both write atomically (a temporary file in the same directory, then a rename) under a file
   lock keyed by the absolute path, so tests sharing a golden under pytest-xdist write it once
   (the second writer finds the bytes it would write already there) and a killed run never
-  leaves half a file. A symlinked golden is written through the link (the shared file is
-  updated, the link stays), an existing file keeps its permission bits, and a file with CRLF
-  line endings keeps them (its header byte for byte). Failures are :class:`GoldenWriteError`.
+  leaves half a file. The locks live in a directory only the calling user can create files in
+  (:func:`lock_directory`). A symlinked golden is written through the link (the shared file is
+  updated, the link stays); an existing file keeps its permission bits, owner and group, and a
+  file with several hard links stays one file (both rewritten in place where a rename cannot
+  keep them); a read-only file is refused, not replaced; a file with CRLF line endings keeps
+  them (its header byte for byte). Failures are :class:`GoldenWriteError`.
 * :func:`new_contract_text` is a complete new contract with a header saying how it was written
   and a ``target:`` block (paths relative to the contract's directory).
 * ``ci_refusal()`` and the record of what was written (``GoldenSession``) are in
@@ -19,6 +22,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import secrets
 import stat
 import tempfile
 from collections.abc import Callable, Mapping
@@ -30,6 +34,7 @@ import yaml
 from ..errors import ContractError, GoldenWriteError
 from ..model import contract as contract_module
 from ..model import types as type_model
+from ..model import untrusted
 from ..model.paths import relative_or_absolute
 from ..run.target import TargetSpec
 from .golden_record import CREATED, UPDATED
@@ -40,16 +45,119 @@ LOCK_TIMEOUT = 120.0
 # ---------------------------------------------------------------------------- the writer
 
 
+#: the calling user's lock directory in the temporary directory: ``<name>-<uid>``, mode 0700
+LOCK_DIRECTORY = "pytest-rmw-introspect-locks"
+
+
+class _UnsafeLockDirectory(Exception):
+    """The lock directory is not one only the calling user can create files in (``args``: the
+    reason and the advice of a GoldenWriteError)."""
+
+
+def lock_directory() -> Path:
+    """The directory of the golden-write locks: ``<tempdir>/pytest-rmw-introspect-locks-<uid>``,
+    created with mode 0700. Lock names are predictable (a digest of the golden's path) and
+    filelock opens them for writing, so a directory another user could create entries in would
+    let that user plant a lock name as a symlink to any file the victim can write. The
+    directory must therefore be a real directory (not a symlink), owned by the calling user,
+    with no permission for anyone else; otherwise nothing is written (raises
+    _UnsafeLockDirectory with what is wrong and what to do)."""
+    uid = os.geteuid()
+    directory = Path(tempfile.gettempdir()) / f"{LOCK_DIRECTORY}-{uid}"
+    try:
+        os.mkdir(directory, 0o700)
+    except FileExistsError:
+        pass
+    info = os.lstat(directory)
+    if stat.S_ISLNK(info.st_mode) or not stat.S_ISDIR(info.st_mode):
+        problem = "is not a directory (a symlink or a file)"
+    elif info.st_uid != uid:
+        problem = f"belongs to uid {info.st_uid}, not to you (uid {uid})"
+    elif stat.S_IMODE(info.st_mode) & 0o077:
+        problem = f"has mode {stat.S_IMODE(info.st_mode):04o}: other users may create files in it or read it"
+    else:
+        return directory
+    raise _UnsafeLockDirectory(
+        f"its lock directory {directory} {problem}, so another user may have planted it: nothing was written",
+        f"Remove that directory if you do not know where it comes from (rm -r {directory}), or set TMPDIR "
+        "to a directory of your own.")
+
+
 def _lock_path(path: Path) -> Path:
     key = hashlib.sha256(str(path.resolve()).encode()).hexdigest()[:24]
-    directory = Path(tempfile.gettempdir()) / "pytest-rmw-introspect-locks"
-    directory.mkdir(parents=True, exist_ok=True)
-    return directory / f"{key}.lock"
+    return lock_directory() / f"{key}.lock"
+
+
+def _read_only(target: Path, info: os.stat_result) -> str | None:
+    """Why an existing file must not be replaced, or None. A rename would replace a read-only
+    file (the directory is what a rename needs), so permission is asked of the file: no write
+    bit at all (which root ignores) or no write access for the caller."""
+    mode = stat.S_IMODE(info.st_mode)
+    if not mode & 0o222 or not os.access(target, os.W_OK):
+        return f"it is read-only (mode {mode:04o}, owner uid {info.st_uid}) and was left as it is"
+    return None
+
+
+def _replace(target: Path, data: bytes, old: os.stat_result | None) -> None:
+    """Write ``data`` to ``target``: atomically (a temporary file renamed over it) when the
+    rename keeps what the file was, else in place. An existing file keeps its permission bits,
+    owner and group; a rename cannot keep the owner and group where the caller may not set
+    them (someone else's file, writable through its group), nor the other names of a file with
+    several hard links (it would split them): such a file is rewritten in place, which keeps
+    all of that but is not atomic."""
+    if old is not None and old.st_nlink > 1:
+        _rewrite_in_place(target, data)
+        return
+    tmp, fd = _new_temporary(target)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+            owner_kept = old is None or _carry_over(fd, old)
+        if owner_kept:
+            tmp.replace(target)
+        else:
+            _rewrite_in_place(target, data)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def _carry_over(fd: int, old: os.stat_result) -> bool:
+    """Give the open file ``fd`` the permission bits, owner and group of ``old``; False when
+    the caller may not set that owner and group."""
+    os.fchmod(fd, stat.S_IMODE(old.st_mode))
+    if (old.st_uid, old.st_gid) == (os.geteuid(), os.getegid()):
+        return True
+    try:
+        os.fchown(fd, old.st_uid, old.st_gid)
+    except PermissionError:
+        return False
+    return True
+
+
+def _new_temporary(target: Path) -> tuple[Path, int]:
+    """A new file next to ``target`` for its next text, opened for writing. Its name is not
+    predictable and it is created exclusively, never through a symlink: in a directory others
+    may write to, a name planted as a symlink would make this write another file."""
+    while True:
+        tmp = target.with_name(f".{target.name}.{os.getpid()}.{secrets.token_hex(6)}.tmp")
+        try:
+            return tmp, os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666)
+        except FileExistsError:
+            continue
+
+
+def _rewrite_in_place(target: Path, data: bytes) -> None:
+    fd = os.open(target, os.O_WRONLY | os.O_NOFOLLOW | os.O_CLOEXEC)
+    with os.fdopen(fd, "wb") as f:
+        f.write(data)
+        f.truncate()
+        f.flush()
+        os.fsync(f.fileno())
 
 
 def _write_locked(path: Path, new_text: Callable[[str | None], str], timeout: float) -> bool:
     """Under the path's lock: compute the new text from the current one (None: no file) and
-    replace the file atomically when it differs. True when the file's bytes changed.
+    replace the file (:func:`_replace`) when it differs. True when the file's bytes changed.
 
     Text is handled with LF line endings; a file that used CRLF gets CRLF back. Raises
     GoldenWriteError."""
@@ -58,7 +166,8 @@ def _write_locked(path: Path, new_text: Callable[[str | None], str], timeout: fl
 
     try:
         with FileLock(str(_lock_path(target)), timeout=timeout):
-            old_bytes = target.read_bytes() if target.exists() else None
+            info = _existing(target)
+            old_bytes = target.read_bytes() if info is not None else None
             old = old_bytes.decode("utf-8") if old_bytes is not None else None
             crlf = old is not None and "\r\n" in old
             text = new_text(old.replace("\r\n", "\n") if old is not None else None)
@@ -66,16 +175,14 @@ def _write_locked(path: Path, new_text: Callable[[str | None], str], timeout: fl
                 text = text.replace("\r\n", "\n").replace("\n", "\r\n")
             if old == text:
                 return False
+            refusal = _read_only(target, info) if info is not None else None
+            if refusal is not None:
+                raise GoldenWriteError(path, refusal, f"Make it writable (chmod u+w {path}) if it should be updated.")
             target.parent.mkdir(parents=True, exist_ok=True)
-            tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
-            try:
-                tmp.write_bytes(text.encode("utf-8"))
-                if old_bytes is not None:
-                    os.chmod(tmp, stat.S_IMODE(target.stat().st_mode))
-                tmp.replace(target)
-            finally:
-                tmp.unlink(missing_ok=True)
+            _replace(target, text.encode("utf-8"), info)
             return True
+    except _UnsafeLockDirectory as exc:
+        raise GoldenWriteError(path, *exc.args) from None
     except Timeout:
         raise GoldenWriteError(path, f"another process held its lock for {timeout:g} s") from None
     except UnicodeDecodeError as exc:
@@ -83,6 +190,19 @@ def _write_locked(path: Path, new_text: Callable[[str | None], str], timeout: fl
     except OSError as exc:
         where = f" ({exc.filename})" if exc.filename and str(exc.filename) != str(path) else ""
         raise GoldenWriteError(path, f"{exc.strerror or exc}{where}") from None
+
+
+def _existing(target: Path) -> os.stat_result | None:
+    """The ``stat`` of the file to replace (None: there is none); raises GoldenWriteError for
+    something that is not a regular file (a FIFO would block the read of its current text)."""
+    try:
+        info = os.stat(target)
+    except FileNotFoundError:
+        return None
+    problem = untrusted.not_a_file(info.st_mode)
+    if problem is not None:
+        raise GoldenWriteError(target, f"it {problem}")
+    return info
 
 
 def write_text(path: str | Path, text: str, *, timeout: float = LOCK_TIMEOUT) -> bool:

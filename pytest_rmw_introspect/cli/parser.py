@@ -331,9 +331,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     val = sub.add_parser("validate", help="check that contract files are valid (no target is run)",
                          description="Load and validate contract files (YAML, schema, QoS values, duplicates) "
-                         "without running anything: fast enough for a pre-commit hook.",
+                         "without running anything: fast enough for a pre-commit hook. *.system.yaml files (and "
+                         "files saying system_version:) are read as system contracts.",
                          epilog=_VALIDATE_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    val.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML)")
+    val.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML), node or system contracts")
     val.add_argument("--format", choices=("text", "github", "sarif"), default="text",
                      help="text: one line per file (default); github: an annotation per invalid file; "
                      "sarif: a SARIF 2.1.0 log with a result per invalid file")

@@ -68,10 +68,9 @@ def is_system_contract(path: str | Path) -> bool:
     path = Path(path)
     if path.name.endswith(SUFFIX):
         return True
-    try:
-        with path.open(encoding="utf-8") as f:
-            head = f.read(4096)
-    except (OSError, UnicodeDecodeError):
+    try:  # never opens a FIFO (it would block): the loader then says what the file is
+        head = untrusted.read_bytes(path, 4096)[:4096].decode("utf-8", errors="replace")
+    except (OSError, untrusted.InputError):
         return False
     return any(line.startswith("system_version:") for line in head.splitlines())
 
@@ -209,6 +208,11 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
         raise ContractError(path, None, "the file is empty; it needs at least `system_version: 1` and `launch:`")
     if not isinstance(data, Mapping):
         raise ContractError(path, None, f"the document is a {type(data).__name__}, not a mapping", line=1)
+    if "contract_version" in data and "system_version" not in data:  # named *.system.yaml
+        raise ContractError(path, None, "this is a node contract (it says `contract_version`), but a name ending "
+                            f"in {SUFFIX} marks a system contract: rename it to NAME.interfaces.yaml, or make it "
+                            "a system contract (`system_version: 1` and `launch:`)",
+                            line=_where(root, ["contract_version"]))
     _validate(root, data, path)
     launch = dict(data["launch"])
     has_file = "file" in launch or "package" in launch

@@ -3,8 +3,9 @@
 Contracts and capture files may come from anywhere (``diff`` and ``compat`` are meant for
 untrusted pull requests), so reading them is bounded:
 
-* :func:`read_text`: only regular files (not a FIFO that blocks, not ``/dev/zero``), at most
-  :data:`MAX_FILE_BYTES`, UTF-8;
+* :func:`read_text`: only regular files (a FIFO, which blocks whoever opens it for reading,
+  is refused before anything opens it; so is ``/dev/zero``), at most :data:`MAX_FILE_BYTES`,
+  UTF-8; :func:`read_bytes` for the first bytes of such a file (sniffing a file's kind);
 * :func:`compose_yaml`: libyaml when installed (about ten times faster than the pure-Python
   parser on large files, with the same line numbers), every failure a :class:`InputError`;
 * :func:`check_tree`: mapping keys are strings and unique, nesting is at most
@@ -63,27 +64,79 @@ class InputError(Exception):
         return self.reason
 
 
-def read_text(path: Path, *, max_bytes: int | None = None) -> str:
-    """The UTF-8 text of a regular file of at most ``max_bytes`` (default :data:`MAX_FILE_BYTES`;
-    raises FileNotFoundError for a missing file, InputError otherwise)."""
-    max_bytes = MAX_FILE_BYTES if max_bytes is None else max_bytes
+def not_a_file(mode: int) -> str | None:
+    """What a file of this ``st_mode`` is when it cannot be read as a document, as the end of
+    a sentence about it ("is a directory, not a file"); None for a regular file."""
+    if stat.S_ISREG(mode):
+        return None
+    if stat.S_ISDIR(mode):
+        return "is a directory, not a file"
+    if stat.S_ISFIFO(mode):
+        return "is a FIFO (named pipe), not a regular file"
+    if stat.S_ISSOCK(mode):
+        return "is a socket, not a regular file"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "is a device, not a regular file"
+    return "is not a regular file"
+
+
+def file_problem(path: Path) -> str | None:
+    """Why ``path`` cannot be read as a document, as the end of a sentence about it ("does not
+    exist", "is a FIFO (named pipe), not a regular file"); None for a regular file. Nothing is
+    opened."""
+    try:
+        return not_a_file(os.stat(path).st_mode)
+    except FileNotFoundError:
+        return "does not exist"
+    except OSError as exc:
+        return f"cannot be read ({exc.strerror or exc})"
+
+
+def _stat_regular(path: Path) -> os.stat_result:
     try:
         info = os.stat(path)
     except FileNotFoundError:
         raise
     except OSError as exc:
         raise InputError(f"cannot read it: {exc.strerror or exc}") from None
-    if stat.S_ISDIR(info.st_mode):
-        raise InputError("it is a directory, not a file")
-    if not stat.S_ISREG(info.st_mode):
-        raise InputError("it is not a regular file (a FIFO, socket or device); give the path of a file")
-    if info.st_size > max_bytes:
-        raise InputError(f"it is {info.st_size / 1e6:.0f} MB, more than the {max_bytes / 1e6:.0f} MB limit")
+    _refuse_kind(info)
+    return info
+
+
+def _refuse_kind(info: os.stat_result) -> None:
+    reason = not_a_file(info.st_mode)
+    if reason is not None:
+        raise InputError(f"it {reason}; give the path of a file")
+
+
+def read_bytes(path: Path, max_bytes: int) -> bytes:
+    """At most ``max_bytes + 1`` bytes of the regular file ``path``. A FIFO, socket or device is
+    refused from its ``stat`` before anything opens it (opening a FIFO for reading blocks until
+    a writer comes), and again from the opened file (it may have been swapped in between).
+    Raises FileNotFoundError for a missing file, InputError otherwise."""
+    _stat_regular(path)
     try:
-        with open(path, "rb") as f:
-            data = f.read(max_bytes + 1)
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_NOCTTY | os.O_CLOEXEC)
+    except FileNotFoundError:
+        raise
     except OSError as exc:
         raise InputError(f"cannot read it: {exc.strerror or exc}") from None
+    with os.fdopen(fd, "rb") as f:
+        _refuse_kind(os.fstat(fd))
+        try:
+            return f.read(max_bytes + 1)
+        except OSError as exc:
+            raise InputError(f"cannot read it: {exc.strerror or exc}") from None
+
+
+def read_text(path: Path, *, max_bytes: int | None = None) -> str:
+    """The UTF-8 text of a regular file of at most ``max_bytes`` (default :data:`MAX_FILE_BYTES`;
+    raises FileNotFoundError for a missing file, InputError otherwise)."""
+    max_bytes = MAX_FILE_BYTES if max_bytes is None else max_bytes
+    size = _stat_regular(path).st_size
+    if size > max_bytes:
+        raise InputError(f"it is {size / 1e6:.0f} MB, more than the {max_bytes / 1e6:.0f} MB limit")
+    data = read_bytes(path, max_bytes)
     if len(data) > max_bytes:
         raise InputError(f"it grew beyond the {max_bytes / 1e6:.0f} MB limit while being read")
     try:

@@ -48,6 +48,7 @@ from typing import Any
 
 import yaml
 
+from ..model import untrusted
 from ..model.paths import shown
 from . import launch_entities, launch_python, launch_record, launch_substitutions
 from .launch_entities import Entity, EntityFormatError
@@ -115,8 +116,9 @@ def launch_file_of_package(package: str, file: str, prefixes: Sequence[Path]) ->
         raise LaunchError(f"launch file {file} of package {package}: {exc}") from None
     if "/" in file:
         path = share / file
-        if not path.is_file():
-            raise LaunchError(f"launch file {file} of package {package}: {path} does not exist")
+        problem = untrusted.file_problem(path)
+        if problem is not None:
+            raise LaunchError(f"launch file {file} of package {package}: {path} {problem}")
         return path
     found = sorted(p for p in share.rglob(file) if p.is_file())
     if not found:
@@ -145,8 +147,9 @@ def read(
     path = Path(path).absolute()
     given = {str(k): argument_text(v) for k, v in (arguments or {}).items()}
     result = LaunchResult(source=path, arguments=given)
-    if not path.is_file():
-        raise LaunchError(f"launch file {shown(path)} does not exist")
+    problem = untrusted.file_problem(path)  # a FIFO is never opened: reading it would block
+    if problem is not None:
+        raise LaunchError(f"launch file {shown(path)} {problem}")
     if path.name.endswith(".json"):
         launch_record.read(path, result)
         return result
@@ -231,6 +234,9 @@ class _Reader:
         if path in stack or len(stack) > MAX_INCLUDE_DEPTH:
             chain = " -> ".join(shown(p) for p in (*stack, path))
             raise LaunchError(f"{included_from}: include cycle: {chain}")
+        problem = untrusted.file_problem(path)
+        if problem is not None:
+            raise LaunchError(f"{included_from or Where(path)}: launch file {shown(path)} {problem}")
         self.result.files.append(path)
         if path.suffix == ".py":
             launch_python.read(path, scope.configurations, scope.namespace, dict(scope.env), self.result,

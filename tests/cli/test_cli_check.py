@@ -94,6 +94,13 @@ def test_check_update_rewrites_the_drifted_contract_and_keeps_its_header(cli):
     assert "--update refuses to write golden contracts in CI" in refused.stderr
     assert cli.read("talker.interfaces.yaml") == talker_contract(target=TALKER, depth=3, header=header)
 
+    (cli.path / "talker.interfaces.yaml").chmod(0o444)  # read-only: refused, not replaced
+    read_only = cli("check", "--update", "talker.interfaces.yaml")
+    assert read_only.returncode == 2, read_only
+    assert "cannot write talker.interfaces.yaml: it is read-only (mode 0444" in read_only.stderr, read_only
+    assert cli.read("talker.interfaces.yaml") == talker_contract(target=TALKER, depth=3, header=header)
+    (cli.path / "talker.interfaces.yaml").chmod(0o644)
+
     updated = cli("check", "--update", "talker.interfaces.yaml")
     assert updated.returncode == 0, updated
     assert "updated talker.interfaces.yaml" in updated.stderr

@@ -184,6 +184,45 @@ def test_validate_checks_files_without_running_anything(cli_nodes_only):
     assert typo.returncode == 2 and "typo.interfaces.yaml:2" in typo.stderr and "unknown rule PUB_RENOVED" in typo.stderr
 
 
+def test_validate_reads_system_contracts_as_every_other_command_does(cli_nodes_only):
+    cli = cli_nodes_only
+    cli.write("node.system.yaml", talker_contract())  # a node contract, named as a system contract
+    cli.write("broken.system.yaml", "system_version: 1\nlaunch: {path: robot.launch.xml}\nprocesses:\n"
+                                    "  - {executable: talker, nodes: [/talker]}\nnodes: {}\n")
+    cli.write("sniffed.yaml", "system_version: 1\nlaunch: {path: robot.launch.xml}\nprocesses: []\nnodes: {}\n")
+    valid = cli("validate", "sniffed.yaml")
+    assert (valid.returncode, valid.stdout) == (0, "sniffed.yaml: valid system contract (0 processes: no nodes)\n"), valid
+    misnamed = cli("validate", "node.system.yaml")
+    assert misnamed.returncode == 2, misnamed
+    said = ("invalid contract node.system.yaml:1: this is a node contract (it says `contract_version`), but a name "
+            "ending in .system.yaml marks a system contract: rename it to NAME.interfaces.yaml")
+    assert said in misnamed.stderr, misnamed
+    assert said in cli("diff", "node.system.yaml", "node.system.yaml").stderr  # the same words as the others
+    broken = cli("validate", "broken.system.yaml", "--format", "github")
+    assert broken.returncode == 2 and broken.stdout.startswith(
+        "::error file=broken.system.yaml,line=4,title=invalid contract::node /talker is not listed under `nodes:`"), broken
+
+
+def test_every_contract_of_the_repository_passes_the_pre_commit_hook(cli_nodes_only):
+    """The hook's `files` pattern over the repository's files (the example package's system
+    contract among them), validated as the hook runs it."""
+    import pathlib
+    import re
+    import subprocess
+
+    import yaml
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    (hook,) = yaml.safe_load((root / ".pre-commit-hooks.yaml").read_text())
+    files = subprocess.run(["git", "ls-files"], cwd=root, capture_output=True, text=True, check=True).stdout.split()
+    contracts = [f for f in files if re.search(hook["files"], f)]
+    assert "examples/rmw_introspect_examples/contracts/robot.system.yaml" in contracts
+    result = cli_nodes_only(*hook["entry"].split()[1:], *contracts, cwd=root)
+    assert result.returncode == 0, result
+    assert ("examples/rmw_introspect_examples/contracts/robot.system.yaml: valid system contract (7 processes: "
+            "/robot1/lidar, ") in result.stdout
+
+
 def test_the_pre_commit_hook_runs_validate_on_contract_files():
     import pathlib
     import re

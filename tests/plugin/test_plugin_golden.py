@@ -127,6 +127,18 @@ def test_update_rewrites_a_drifted_golden_keeping_header_target_and_options(proj
     project.run().assert_outcomes(passed=1)
 
 
+def test_update_golden_refuses_a_read_only_golden(project):
+    drifted = "contract_version: 1\nnodes:\n  /talker:\n    publishers: []\n"
+    golden = project.write("contracts/talker.yaml", drifted)
+    golden.chmod(0o444)
+    project.test(TALKER_TEST)
+    result = project.run("--update-golden")
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*cannot write *contracts/talker.yaml: it is read-only (mode 0444*"
+                                 "Make it writable (chmod u+w *"])
+    assert project.read("contracts/talker.yaml") == drifted and golden.stat().st_mode & 0o777 == 0o444
+
+
 def test_update_keeps_equivalent_spellings_of_undrifted_entries(project):
     project.write("contracts/svc.yaml", (
         "contract_version: 1\n"

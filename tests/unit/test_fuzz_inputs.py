@@ -241,6 +241,44 @@ def test_a_fifo_a_directory_and_a_huge_file_are_refused(tmp_path, monkeypatch):
         contract.load(big)
 
 
+@pytest.mark.parametrize("argv", [
+    ["diff", "pipe.yaml", "pipe.yaml"], ["diff", "good.interfaces.yaml", "pipe.yaml"],
+    ["compat", "good.interfaces.yaml", "pipe.yaml"], ["graph", "pipe.yaml"], ["check", "pipe.yaml"],
+    ["check", "--update", "pipe.yaml"], ["validate", "pipe.yaml"],
+], ids=" ".join)
+def test_a_fifo_given_as_contract_is_never_opened_for_reading(tmp_path, monkeypatch, capsys, argv):
+    """Telling a node contract from a system contract reads the first bytes of a file: of a
+    regular file only (a FIFO would block until someone writes to it)."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.delenv("CI", raising=False)
+    Path("good.interfaces.yaml").write_text(CONTRACT)
+    os.mkfifo("pipe.yaml")
+    with deadline(CASE_SECONDS, " ".join(argv)):
+        status = cli.main(argv)
+    err = capsys.readouterr().err
+    assert status == 2, err
+    assert "pipe.yaml: it is a FIFO (named pipe), not a regular file; give the path of a file" in err, err
+
+
+def test_a_fifo_or_a_directory_given_as_launch_file_says_what_it_is(tmp_path, monkeypatch):
+    from pytest_rmw_introspect.run import launch_reader
+    from pytest_rmw_introspect.run.launch_model import LaunchError
+
+    monkeypatch.chdir(tmp_path)  # paths in messages are shown relative to it
+    os.mkfifo(tmp_path / "pipe.launch.xml")
+    (tmp_path / "dir.launch.xml").mkdir()
+    include = tmp_path / "main.launch.xml"
+    include.write_text('<launch>\n  <include file="pipe.launch.xml"/>\n</launch>\n')
+    for path, error in [
+        (tmp_path / "pipe.launch.xml", "launch file pipe.launch.xml is a FIFO (named pipe), not a regular file"),
+        (tmp_path / "dir.launch.xml", "launch file dir.launch.xml is a directory, not a file"),
+        (include, "main.launch.xml:2: launch file pipe.launch.xml is a FIFO (named pipe), not a regular file"),
+    ]:
+        with deadline(CASE_SECONDS, f"reading {path.name}"), pytest.raises(LaunchError) as info:
+            launch_reader.read(path)
+        assert str(info.value) == error
+
+
 # ---------------------------------------------------------------------------- the command line
 
 

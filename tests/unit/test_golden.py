@@ -2,12 +2,20 @@
 
 from __future__ import annotations
 
+import hashlib
 import multiprocessing
+import os
+import re
+import shutil
+import stat
+import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 from pytest_rmw_introspect.check import golden, golden_record
+from pytest_rmw_introspect.errors import GoldenWriteError
 from pytest_rmw_introspect.model import contract
 
 NODES = {"/talker": {"publishers": [{"name": "/chatter", "type": "std_msgs/msg/String",
@@ -164,3 +172,197 @@ def test_update_writes_replaces_and_leaves_alone_the_types_section(tmp_path):
     # types=None: the section stays as it is
     assert golden.update(path, NODES) == golden.UPDATED
     assert contract.load(path).types == wide and "/chatter\n" in path.read_text()
+
+
+# ---------------------------------------------------------------------------- another user, read-only files, owners, links
+
+#: the other local user these tests play (nobody): as root, a test creates files as that user with os.chown
+OTHER = 65534
+as_root = pytest.mark.skipif(os.geteuid() != 0, reason="playing another user needs root (os.chown, setuid)")
+
+
+@pytest.fixture
+def shared_tmp(tmp_path, monkeypatch):
+    """A temporary directory every user may create files in (like /tmp: mode 1777), used as the
+    golden writer's tempfile.gettempdir()."""
+    shared = tmp_path / "tmp"
+    shared.mkdir()
+    shared.chmod(0o1777)
+    monkeypatch.setattr(tempfile, "tempdir", str(shared))
+    return shared
+
+
+def _plant(directory: Path, golden_path: Path, victim: Path) -> None:
+    """What another user does: create the lock directory the victim will use, open to all, with
+    the lock name of ``golden_path`` (its scheme is public) as a symlink to ``victim``."""
+    directory.mkdir()
+    directory.chmod(0o777)
+    os.chown(directory, OTHER, OTHER)
+    link = directory / (hashlib.sha256(str(golden_path.resolve()).encode()).hexdigest()[:24] + ".lock")
+    link.symlink_to(victim)
+    os.lchown(link, OTHER, OTHER)
+
+
+def _victim(tmp_path: Path) -> Path:
+    victim = tmp_path / "victim-data"
+    victim.write_text("the victim's own file\n")
+    victim.chmod(0o600)
+    return victim
+
+
+@as_root
+def test_a_lock_directory_planted_by_another_user_stops_the_write_and_touches_nothing(tmp_path, shared_tmp):
+    victim, path = _victim(tmp_path), tmp_path / "c.yaml"
+    # the other user plants the shared directory of earlier releases and this user's own name
+    for name in (golden.LOCK_DIRECTORY, f"{golden.LOCK_DIRECTORY}-{os.geteuid()}"):
+        _plant(shared_tmp / name, path, victim)
+    with pytest.raises(GoldenWriteError) as info:
+        golden.update(path, NODES, timeout=0.5)
+    message = str(info.value)
+    assert f"{golden.LOCK_DIRECTORY}-{os.geteuid()} belongs to uid {OTHER}, not to you" in message, message
+    assert "another user may have planted it: nothing was written" in message and "set TMPDIR" in message
+    assert victim.read_text() == "the victim's own file\n" and victim.stat().st_mode & 0o777 == 0o600
+    assert not path.exists()
+
+
+@as_root
+def test_the_shared_lock_directory_of_earlier_releases_is_not_used(tmp_path, shared_tmp):
+    victim, path = _victim(tmp_path), tmp_path / "c.yaml"
+    _plant(shared_tmp / golden.LOCK_DIRECTORY, path, victim)
+    assert golden.update(path, NODES, timeout=0.5) == golden.CREATED
+    assert victim.read_text() == "the victim's own file\n" and victim.stat().st_mode & 0o777 == 0o600
+    own = shared_tmp / f"{golden.LOCK_DIRECTORY}-{os.geteuid()}"
+    info = own.lstat()
+    assert stat.S_ISDIR(info.st_mode) and info.st_uid == os.geteuid() and stat.S_IMODE(info.st_mode) == 0o700
+
+
+@pytest.mark.parametrize("make, problem", [
+    (lambda d: (d.mkdir(), d.chmod(0o755)), "has mode 0755: other users may create files in it or read it"),
+    (lambda d: d.symlink_to(d.parent), "is not a directory (a symlink or a file)"),
+    (lambda d: d.write_text(""), "is not a directory (a symlink or a file)"),
+], ids=["mode 0755", "symlink", "file"])
+def test_a_lock_directory_open_to_others_or_not_a_directory_is_refused(tmp_path, shared_tmp, make, problem):
+    make(shared_tmp / f"{golden.LOCK_DIRECTORY}-{os.geteuid()}")
+    with pytest.raises(GoldenWriteError, match=re.escape(problem)):
+        golden.write_text(tmp_path / "out.yaml", "x\n")
+    assert not (tmp_path / "out.yaml").exists()
+
+
+def test_a_read_only_golden_is_refused_and_left_as_it_is(tmp_path):
+    path = tmp_path / "c.yaml"
+    golden.update(path, NODES)
+    before = path.read_bytes()
+    path.chmod(0o444)
+    assert golden.update(path, NODES) is None  # nothing to change: nothing refused either
+    with pytest.raises(GoldenWriteError) as info:
+        golden.update(path, CHANGED)
+    message = str(info.value)
+    assert message.startswith(f"cannot write {path}: it is read-only (mode 0444, owner uid {os.geteuid()}) and was "
+                              f"left as it is. Make it writable (chmod u+w {path})"), message
+    assert path.read_bytes() == before and path.stat().st_mode & 0o777 == 0o444
+    with pytest.raises(GoldenWriteError, match="read-only"):
+        golden.write_text(path, "x\n")
+
+
+@as_root
+def test_a_rewritten_golden_keeps_its_owner_and_group(tmp_path):
+    path = tmp_path / "c.yaml"
+    golden.update(path, NODES)
+    os.chown(path, OTHER, OTHER)
+    path.chmod(0o664)
+    assert golden.update(path, CHANGED) == golden.UPDATED
+    info = path.stat()
+    assert (info.st_uid, info.st_gid, info.st_mode & 0o777) == (OTHER, OTHER, 0o664)
+    assert "/chat\n" in path.read_text()
+
+
+def test_a_hard_linked_golden_is_rewritten_in_place_not_split(tmp_path):
+    path = tmp_path / "c.yaml"
+    golden.update(path, NODES)
+    other_name = tmp_path / "elsewhere" / "c.yaml"
+    other_name.parent.mkdir()
+    os.link(path, other_name)
+    inode = path.stat().st_ino
+    assert golden.update(path, CHANGED) == golden.UPDATED
+    assert path.stat().st_ino == inode and path.stat().st_nlink == 2
+    assert other_name.read_text() == path.read_text() and "/chat\n" in other_name.read_text()
+    assert not list(tmp_path.glob(".*.tmp"))
+
+
+def _as_other_user(write: Callable[[], object]) -> str:
+    """``write()`` in a forked child that became the other user (uid and gid ``OTHER``, no
+    supplementary groups): its result or GoldenWriteError, as text. A fork, not a new
+    interpreter: the other user may not read this interpreter's installation."""
+    import filelock  # noqa: F401  (imported here: the child may not be able to read its files)
+
+    read_end, write_end = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: never returns into pytest
+        status = 1
+        try:
+            os.close(read_end)
+            os.setgroups([])
+            os.setgid(OTHER)
+            os.setuid(OTHER)
+            try:
+                said = str(write())
+            except GoldenWriteError as exc:
+                said = str(exc)
+            os.write(write_end, said.encode())
+            status = 0
+        finally:
+            os._exit(status)
+    os.close(write_end)
+    with os.fdopen(read_end, "rb") as f:
+        said = f.read().decode()
+    _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 0, "the child playing the other user failed"
+    return said
+
+
+@as_root
+def test_as_a_user_who_may_not_keep_the_owner_the_golden_is_rewritten_in_place(monkeypatch):
+    """A user who can write someone else's golden (through its group) cannot give a renamed
+    file that owner: the golden is rewritten in place, so it keeps owner and group; a file that
+    user may not write is refused, though the directory would allow the rename."""
+    shared = Path(tempfile.mkdtemp(prefix="rmwi-other-user-", dir="/tmp"))  # the other user can reach it
+    try:
+        shared.chmod(0o1777)
+        monkeypatch.setattr(tempfile, "tempdir", str(shared))  # where the other user's lock directory goes
+        group_writable, readable = shared / "group.yaml", shared / "mine.yaml"
+        for p in (group_writable, readable):
+            p.write_text("old\n")
+        os.chown(group_writable, 0, OTHER)
+        group_writable.chmod(0o664)
+        readable.chmod(0o644)
+
+        assert _as_other_user(lambda: golden.write_text(group_writable, "new\n")) == "True"
+        info = group_writable.stat()
+        assert (info.st_uid, info.st_gid, info.st_mode & 0o777) == (0, OTHER, 0o664)
+        assert group_writable.read_text() == "new\n"
+        said = _as_other_user(lambda: golden.write_text(readable, "new\n"))
+        assert "it is read-only (mode 0644, owner uid 0) and was left as it is" in said, said
+        assert readable.read_text() == "old\n" and readable.stat().st_uid == 0
+    finally:
+        shutil.rmtree(shared)
+
+
+def test_a_fifo_in_the_place_of_a_golden_is_refused_not_read(tmp_path):
+    fifo = tmp_path / "out.yaml"
+    os.mkfifo(fifo)
+    with pytest.raises(GoldenWriteError, match=r"it is a FIFO \(named pipe\), not a regular file"):
+        golden.write_text(fifo, "x\n")  # reading its current text would block
+    assert stat.S_ISFIFO(fifo.stat().st_mode)
+
+
+def test_a_temporary_name_planted_as_a_symlink_is_not_followed(tmp_path):
+    """In a directory others may write to, the temporary file's name must not be one they can
+    plant in advance (a pid is no secret)."""
+    victim = _victim(tmp_path)
+    path = tmp_path / "c.yaml"
+    planted = tmp_path / f".c.yaml.{os.getpid()}.tmp"
+    planted.symlink_to(victim)
+    assert golden.update(path, NODES) == golden.CREATED
+    assert victim.read_text() == "the victim's own file\n"
+    assert planted.is_symlink() and contract.load(path).nodes == contract.normalize_nodes(NODES)
+    assert [p.name for p in tmp_path.glob(".c.yaml.*")] == [planted.name]

@@ -220,12 +220,16 @@ def update(path: str | Path, nodes: Mapping[str, Any], *, new_header: str | None
     (``contract.preserve_spelling``); a broken golden is replaced, keeping its header when it
     can be found. ``types``: the ``types:`` section to write (``types.replace_section``);
     None leaves the file's section, if any, as it is. ``distribution``: the ROS 2 distribution
-    the nodes were captured on, recorded as ``ros_distribution:`` (None leaves it as it is)."""
+    the nodes were captured on, written as ``ros_distribution:`` into a new file and into an
+    existing one that records one already (None leaves it as it is)."""
     path = Path(path)
     existed = path.exists()
 
     def new_text(old: str | None) -> str:
-        return contract_module.with_distribution(with_types(nodes_text(old), types), distribution)
+        # a new file records the distribution; an existing one keeps its header, but for the
+        # distribution it already records
+        return contract_module.with_distribution(with_types(nodes_text(old), types), distribution,
+                                                 add_missing=not old)
 
     def nodes_text(old: str | None) -> str:
         wanted = nodes

@@ -27,8 +27,9 @@ in ``parameters.ENTRY_KEYS`` order, values and ranges on one line).
 ``dump(load(x))`` of a file this module wrote is byte-identical.
 
 Updating a file (``update_text``) keeps everything *above* the top-level ``nodes:`` key
-verbatim (comments, ``contract_version``, ``target``, ``options``; a golden write sets only its
-``ros_distribution:`` line, :func:`with_distribution`) and everything after the
+verbatim (comments, ``contract_version``, ``target``, ``options``; a golden write keeps only its
+``ros_distribution:`` line, where it has one, up to date: :func:`with_distribution`) and
+everything after the
 ``nodes`` block that starts a new top-level key, and rewrites only the ``nodes`` block. This
 is a deliberate decision: it needs no round-trip YAML library, and the part people annotate
 (the header) survives byte for byte. Comments *inside* the ``nodes`` block do not survive an
@@ -517,10 +518,11 @@ def update_text(old_text: str, nodes: Mapping[str, Any]) -> str:
     return header + dump_nodes(nodes) + trailer
 
 
-def with_distribution(text: str, distribution: str | None) -> str:
+def with_distribution(text: str, distribution: str | None, *, add_missing: bool = True) -> str:
     """``text`` recording ``distribution`` in its top-level ``ros_distribution:`` line: the line
-    is replaced where the header has one, else added after ``contract_version:`` (or first).
-    None, or a text with no ``nodes:`` block to find the header by, leaves it unchanged."""
+    is replaced where the header has one, else (``add_missing``) added after
+    ``contract_version:`` (or first). None, or a text with no ``nodes:`` block to find the
+    header by, leaves it unchanged."""
     parts = split_text(text) if distribution else None
     if parts is None:
         return text
@@ -532,6 +534,8 @@ def with_distribution(text: str, distribution: str | None) -> str:
             lines[i] = line
             break
     else:
+        if not add_missing:
+            return text
         at = next((i + 1 for i, old in enumerate(lines) if old.startswith("contract_version:")), 0)
         lines.insert(at, line)
     return "".join(lines) + text[len(header):]

@@ -104,8 +104,11 @@ def test_check_update_rewrites_the_drifted_contract_and_keeps_its_header(cli):
     updated = cli("check", "--update", "talker.interfaces.yaml")
     assert updated.returncode == 0, updated
     assert "updated talker.interfaces.yaml" in updated.stderr
-    # the header is kept byte for byte, and records the distribution the nodes were captured on
+    assert cli.read("talker.interfaces.yaml") == talker_contract(target=TALKER, depth=10, header=header)
+    # a file that records its distribution has it kept up to date: the nodes were captured here
     distribution = ros_env.detect().distro
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, depth=3, header=header, distribution="rolling"))
+    assert cli("check", "--update", "talker.interfaces.yaml").returncode == 0
     assert cli.read("talker.interfaces.yaml") == talker_contract(target=TALKER, depth=10, header=header,
                                                                  distribution=distribution)
     assert cli("check", "talker.interfaces.yaml").returncode == 0

@@ -12,7 +12,10 @@ SHM = Path("/dev/shm")
 
 
 def _segments():
-    return {p.name for p in SHM.glob("fastrtps_*")} if SHM.is_dir() else set()
+    # Fast DDS 2 (Jazzy) names its segments fastrtps_*, Fast DDS 3 (Kilted) fastdds_*
+    if not SHM.is_dir():
+        return set()
+    return {p.name for pattern in ("fastrtps_*", "fastdds_*") for p in SHM.glob(pattern)}
 
 
 def _observe(proc):

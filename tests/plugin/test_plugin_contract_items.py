@@ -7,17 +7,15 @@ import subprocess
 import sys
 from pathlib import Path
 
-from test_plugin_golden import DISTRIBUTION, TALKER_PARAMETERS
+from test_plugin_golden import TALKER_PARAMETERS
 
 STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
 
 
-def talker(project, *, depth: int = 10, header: str = "", target: str | None = None, recorded: bool = False) -> str:
-    """The talker's contract; ``recorded``: with the ``ros_distribution:`` line a golden write adds."""
+def talker(project, *, depth: int = 10, header: str = "", target: str | None = None) -> str:
     target = target if target is not None else f"target:\n  script: {project.node('talker.py')}\n"
-    distribution = f"ros_distribution: {DISTRIBUTION}\n" if recorded else ""
     return (
-        f"{header}contract_version: 1\n{distribution}{target}"
+        f"{header}contract_version: 1\n{target}"
         "nodes:\n"
         "  /talker:\n"
         "    publishers:\n"
@@ -114,7 +112,7 @@ def test_update_golden_rewrites_a_drifted_contract_file_and_lists_it(project):
         "updated  contracts/talker.interfaces.yaml",
         "1 golden contract(s) written",
     ])
-    assert project.read("contracts/talker.interfaces.yaml") == talker(project, header=header, recorded=True)
+    assert project.read("contracts/talker.interfaces.yaml") == talker(project, header=header)
     project.run().assert_outcomes(passed=1)
 
 
@@ -124,7 +122,7 @@ def test_update_golden_fills_a_contract_that_has_only_a_target(project):
     result = project.run("--update-golden", "-v")
     result.assert_outcomes(passed=1)
     result.stdout.fnmatch_lines(["talker.interfaces.yaml::no-nodes PASSED*", "updated  talker.interfaces.yaml"])
-    assert project.read("talker.interfaces.yaml") == talker(project, recorded=True)
+    assert project.read("talker.interfaces.yaml") == talker(project)
 
 
 def test_a_contract_without_target_or_loadable_yaml_fails_with_a_clear_message(project):

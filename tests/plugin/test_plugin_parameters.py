@@ -12,6 +12,7 @@ import textwrap
 from pathlib import Path
 
 import yaml
+from test_plugin_golden import DISTRIBUTION
 
 MIDDLEWARE_NODES = Path(__file__).parent.parent / "middleware" / "nodes"
 PARAMS_NODE = str(MIDDLEWARE_NODES / "params_node.py")
@@ -21,6 +22,7 @@ GOLDEN_HEADER = (
     "# Interface contract checked by pytest-rmw-introspect.\n"
     "# Regenerate with `pytest --update-golden`; comments and keys above `nodes:` are kept.\n"
     "contract_version: 1\n"
+    f"ros_distribution: {DISTRIBUTION}\n"  # a new golden records where it was captured
 )
 
 PARAMS_NODE_PARAMETERS = """\

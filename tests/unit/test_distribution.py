@@ -45,6 +45,13 @@ def test_golden_writes_record_the_distribution_of_the_capture(tmp_path):
     assert golden.update(path, NODES, distribution="jazzy") is None  # nothing to change
 
 
+def test_an_existing_contract_without_the_line_keeps_its_header_byte_for_byte(tmp_path):
+    path = tmp_path / "t.interfaces.yaml"
+    path.write_text("# mine\ncontract_version: 1\n" + contract_module.dump_nodes(_with_hash("b")))
+    assert golden.update(path, NODES, distribution="kilted") == golden.UPDATED
+    assert path.read_text() == "# mine\ncontract_version: 1\n" + contract_module.dump_nodes(NODES)
+
+
 def test_diff_of_contracts_from_two_distributions_names_them(tmp_path):
     old, new = tmp_path / "old.interfaces.yaml", tmp_path / "new.interfaces.yaml"
     old.write_text(contract_module.with_distribution(contract_module.render(_with_hash("a")), "jazzy"))

@@ -31,7 +31,7 @@ from ..compare import drift, parameter_drift, report
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions
-from ..compare.system import CompatItem, LaunchedProcess, check_launched, check_system
+from ..compare.system import CompatItem, LaunchedProcess, check_launched, check_system, propose_external
 from ..errors import RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
 from ..model import system_contract
@@ -44,7 +44,7 @@ from ..run import system as run_system
 from ..run.ros_env import RosEnvironment
 from ..run.system import LaunchSpec, SystemCapture
 from ..run.target import TargetSpec
-from . import golden
+from . import golden, launch_settings
 from .pipeline import Layers, OptionLayer, read_as_asked
 
 #: the system rules fail on this unless ``system_fail_on`` says otherwise (as ``compat``)
@@ -132,7 +132,7 @@ def launched_processes(capture: SystemCapture) -> list[LaunchedProcess]:
     """The processes of a capture as the system rules read them."""
     return [LaunchedProcess(label=p.label, expected=p.launched.expected_fqn, nodes=p.contract_nodes(),
                             duplicates=tuple(p.capture.duplicate_node_names) if p.capture is not None else (),
-                            where=str(p.launched.where))
+                            where=str(p.launched.where), given=launch_settings.given(p.launched))
             for p in capture.processes]
 
 
@@ -220,7 +220,8 @@ class SystemCheckResult:
         header = system_contract.new_header(self.spec.to_block(self.path.absolute().parent),
                                             options={"include_infrastructure": True}
                                             if self.options.include_infrastructure else None,
-                                            how="pytest-rmw-introspect (--update-golden / check --update)")
+                                            how="pytest-rmw-introspect (--update-golden / check --update)",
+                                            external_proposal=propose_external(launched_processes(self.capture)))
         return system_contract.render(self.capture.process_entries(), nodes, header=header)
 
     def update(self) -> str | None:
@@ -258,7 +259,8 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
     result = SystemCheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
                                spec=prepared.launch, options=prepared.options,
                                system_threshold=prepared.system_threshold, capture=capture)
-    result.system_items = check_launched(launched_processes(capture))
+    external = prepared.contract.external if prepared.contract is not None else None
+    result.system_items = check_launched(launched_processes(capture), external=external)
     if prepared.contract is not None:
         result.drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)
         result.compared = True
@@ -316,6 +318,8 @@ class LoadedContracts:
     labels: list[str]
     processes: list[LaunchedProcess]
     any_system: bool
+    #: the outside world the system contracts among them declare (``external:``, merged)
+    external: dict[str, dict[str, str]] = field(default_factory=dict)
 
     def nodes_by_label(self) -> dict[str, Mapping[str, Any]]:
         return {p.label: p.nodes for p in self.processes}
@@ -327,6 +331,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
     labels: list[str] = []
     processes: list[LaunchedProcess] = []
     any_system = False
+    external: dict[str, dict[str, str]] = {}
     paths = list(paths)
     for p in paths:
         path = Path(os.path.expanduser(str(p)))
@@ -338,21 +343,24 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
         labels.append(label)
         if system_contract.is_system_contract(path):
             any_system = True
+            system = system_contract.load(path)
+            for kind, declared in system.external.items():
+                external.setdefault(kind, {}).update(declared)
             # the process labels name the file only when several files are drawn together
-            processes += contract_processes(system_contract.load(path), label if len(paths) > 1 else None)
+            processes += contract_processes(system, label if len(paths) > 1 else None)
         else:
             processes.append(LaunchedProcess(label=label, expected=None, nodes=contract_module.load(path).nodes,
                                              launched=False))
     if not labels:
         raise ValueError("no contracts given to the system check")
-    return LoadedContracts(labels, processes, any_system)
+    return LoadedContracts(labels, processes, any_system, external)
 
 
 def system_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
     """The system rules over loaded contracts: all of them when a system contract is among
     them, the connection rules (``compat`` as before) for node contracts alone."""
     if loaded.any_system:
-        return check_launched(loaded.processes, strict_system_default=strict_system_default)
+        return check_launched(loaded.processes, external=loaded.external, strict_system_default=strict_system_default)
     return check_system(loaded.nodes_by_label(), strict_system_default=strict_system_default)
 
 

@@ -145,7 +145,7 @@ def build(processes: Sequence[LaunchedProcess], items: Sequence[CompatItem], tit
                         marked.marks.append(mark)
             mark_edge(requester.label, requester.node, requester.kind, item.name, mark)
             if provider is not None:
-                mark_edge(provider.label, provider.node, provider.kind, item.name, mark)
+                mark_edge(provider.label, provider.node, provider.kind, item.other_name or item.name, mark)
     ordered = sorted(edges.values(), key=lambda e: (e.source, e.target, e.list_name))
     return SystemGraph(title, vertices, ordered, groups, list(items))
 

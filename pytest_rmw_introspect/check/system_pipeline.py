@@ -214,6 +214,9 @@ class SystemCheckResult:
             try:
                 current = system_contract.loads(old, path=self.path)
                 nodes = contract_module.preserve_spelling(current.nodes, nodes)
+                if not current.processes and not current.nodes and not current.external and "# external:" not in old:
+                    # a hand-written header filled in for the first time: propose its outside world too
+                    old = old + ("" if old.endswith("\n") else "\n") + self.external_proposal()
             except RmwIntrospectError:
                 pass
             return system_contract.update_text(old, self.capture.process_entries(), nodes)
@@ -221,8 +224,13 @@ class SystemCheckResult:
                                             options={"include_infrastructure": True}
                                             if self.options.include_infrastructure else None,
                                             how="pytest-rmw-introspect (--update-golden / check --update)",
-                                            external_proposal=propose_external(launched_processes(self.capture)))
+                                            external_proposal=self.external_proposal())
         return system_contract.render(self.capture.process_entries(), nodes, header=header)
+
+    def external_proposal(self) -> str:
+        """The commented-out ``external:`` block a new contract gets (``compare.wiring.proposal``)."""
+        assert self.capture is not None
+        return propose_external(launched_processes(self.capture))
 
     def update(self) -> str | None:
         """Write the system contract (``golden.update_with``): ``created``, ``updated`` or None."""

@@ -88,6 +88,8 @@ def test_node_contracts_alone_keep_the_risky_missing_peer_rules():
     ("/scan", "/camera/scan", "the same name in another namespace (/ vs /camera)"),
     ("/robot1/scan_raw", "/robot1/scan_row", "1 character apart"),
     ("/robot1/points_filtered", "/robot1/point_filtered", "1 character apart"),
+    ("/robot1/lidar/scna", "/robot1/lidar/scan", "1 character apart"),  # two letters swapped
+    ("/robot1/odometry_filtered", "/robot1/odometry_filterd2", "2 characters apart"),
     ("/robot1/scan", "/scan", "the same name in another namespace (/robot1 vs /)"),
 ])
 def test_near_misses(wanted, offered, why):

@@ -5,16 +5,22 @@
 ``ros_args``), the node sections of its parameters files (read here, within the limits of
 untrusted input), and its remappings (``<remap>``, ``-r`` in ``ros_args``). A parameters file
 that cannot be read is left out: the process itself fails on it, and the capture says so.
+
+:func:`missing_path` says whether a parameter value points at a file that is not there, on this
+machine, now (``model.portable.resolve``: absolute paths, ``file://``, ``package://`` and the
+``$(find-pkg-share)`` token).
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
-from ..compare.launch_given import Given, GivenParameter, ParamsFile, sections
-from ..model import untrusted
+from ..compare.launch_given import Given, GivenParameter, MissingPath, ParamsFile, sections
+from ..model import portable, untrusted
 from ..model.paths import shown
 from ..run.launch_model import LaunchedNode
+from ..run.ros_env import package_shares
 
 
 def given(node: LaunchedNode) -> Given:
@@ -55,3 +61,21 @@ def _file(path: Path | None, text: str | None, name: str | None = None) -> list[
         return []
     label = name or (shown(path) if path is not None else "parameters")
     return [ParamsFile(label, sections(data))]
+
+
+def missing_path(prefixes: Sequence[Path]) -> MissingPath:
+    """A ``compare.launch_given.MissingPath`` that finds packages in the ament ``prefixes``."""
+    shares = {package: Path(share) for share, package in package_shares(prefixes).items()}
+
+    def why_missing(value: str) -> str | None:
+        found = portable.resolve(value, shares.get)
+        if found is None:
+            return None
+        path, package = found
+        if path is None:
+            return f"package {package}, which is not installed (not in the ament index)"
+        if path.exists():
+            return None
+        return f"{shown(path)}, which does not exist"
+
+    return why_missing

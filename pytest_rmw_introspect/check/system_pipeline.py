@@ -63,6 +63,8 @@ class SystemPrepared:
     target: TargetSpec
     options: ComparisonOptions
     system_threshold: Severity
+    #: the ROS environment the processes run in (the ament prefixes that paths resolve against)
+    ros: RosEnvironment | None = None
 
 
 def _as_contract(system: SystemContract | None) -> Contract | None:
@@ -122,7 +124,7 @@ def prepare(
                                      prefixes=run_system.ament_prefixes(env))
     return SystemPrepared(path=path, shown=shown, contract=contract, launch=spec, target=target,
                           options=read_as_asked(target, options),
-                          system_threshold=system_threshold(contract, system_fail_on))
+                          system_threshold=system_threshold(contract, system_fail_on), ros=env)
 
 
 # ---------------------------------------------------------------------------- result
@@ -268,7 +270,8 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
                                spec=prepared.launch, options=prepared.options,
                                system_threshold=prepared.system_threshold, capture=capture)
     external = prepared.contract.external if prepared.contract is not None else None
-    result.system_items = check_launched(launched_processes(capture), external=external)
+    missing_path = launch_settings.missing_path(run_system.ament_prefixes(prepared.ros))
+    result.system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path)
     if prepared.contract is not None:
         result.drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)
         result.compared = True

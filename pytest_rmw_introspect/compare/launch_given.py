@@ -18,7 +18,7 @@ nested key (``robot1: {lidar: {ros__parameters: ...}}``) is the path ``/robot1/l
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -29,7 +29,10 @@ RULES: dict[str, Severity] = {
     "PARAM_NOT_DECLARED": Severity.BREAKING,
     "PARAMS_FILE_SECTION_UNMATCHED": Severity.BREAKING,
     "REMAP_UNUSED": Severity.BREAKING,
+    "PARAM_PATH_MISSING": Severity.BREAKING,
 }
+#: a parameter value → why the file it points at is missing (None: not a path, or it exists)
+MissingPath = Callable[[str], "str | None"]
 
 
 @dataclass(frozen=True)
@@ -119,9 +122,10 @@ class Finding:
     message: str
 
 
-def check(processes: Sequence[Any]) -> list[Finding]:
+def check(processes: Sequence[Any], missing_path: MissingPath | None = None) -> list[Finding]:
     """Every ignored setting of the launched ``processes`` (``compare.system.LaunchedProcess``
-    with ``given``)."""
+    with ``given``), and with ``missing_path`` every parameter value that points at a file that
+    does not exist."""
     findings: list[Finding] = []
     # a file given to several processes (one file for the whole robot) is matched against them all
     receivers: dict[str, list[tuple[Any, str]]] = {}
@@ -133,6 +137,8 @@ def check(processes: Sequence[Any]) -> list[Finding]:
             receivers.setdefault(params_file.shown, []).extend((process, fqn) for fqn in process.nodes)
         for fqn, node in process.nodes.items():
             findings += _undeclared(process, given, fqn, node)
+            if missing_path is not None:
+                findings += _missing_paths(process, fqn, node, missing_path)
         findings += _unused_remappings(process, given)
     everyone = sorted({fqn for process in processes for fqn in process.nodes})
     seen: set[tuple[str, str]] = set()
@@ -180,6 +186,20 @@ def _undeclared(process: Any, given: Given, fqn: str, node: Mapping[str, Any]) -
         out.append(Finding("PARAM_NOT_DECLARED", process.label, fqn, name,
                            f"parameter `{name}` is given ({source}) but {fqn} does not declare it: ROS 2 ignores it "
                            f"without a word{hint}"))
+    return out
+
+
+def _missing_paths(process: Any, fqn: str, node: Mapping[str, Any], missing_path: MissingPath) -> list[Finding]:
+    out = []
+    for parameter in node.get(PARAMETERS) or []:
+        value = parameter.get("default_value")
+        for text in value if isinstance(value, list) else [value]:
+            why = missing_path(text) if isinstance(text, str) else None
+            if why is not None:
+                name = str(parameter.get("name"))
+                out.append(Finding("PARAM_PATH_MISSING", process.label, fqn, name,
+                                   f"parameter `{name}` of {fqn} is {text!r}, which points at {why}: the node "
+                                   "reads nothing (or fails when it needs it); install the file or fix the value"))
     return out
 
 

@@ -191,6 +191,7 @@ _MULTIPLE = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "A
 
 
 def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[str, Mapping[str, str]] | None = None,
+                   missing_path: launch_given.MissingPath | None = None,
                    strict_system_default: bool = False) -> list[CompatItem]:
     """Every system rule over the processes a launch file starts: the connections between all
     their nodes (:func:`check_system`, one label per process), with requesters nobody provides
@@ -198,13 +199,14 @@ def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[st
     mis-wired name, or dangling), plus node names held by more than one node, services and
     actions with more than one server, processes that did not create the node the launch file
     names (or created none), and what the launch file gives a node that it ignores
-    (``compare.launch_given``). Most severe first."""
+    (``compare.launch_given``; with ``missing_path``, parameter values that point at files that
+    do not exist). Most severe first."""
     connections = check_system({p.label: p.nodes for p in processes}, strict_system_default=strict_system_default)
     missing = set(_WITHOUT_PROVIDER.values())
     items = [item for item in connections if item.rule not in missing]
     items += _judge_dangling(processes, [item for item in connections if item.rule in missing], external)
     items += [CompatItem(f.rule, RULES[f.rule], f.name, Endpoint(f.label, f.node, "node"), None, f.message)
-              for f in launch_given.check(processes)]
+              for f in launch_given.check(processes, missing_path)]
     holders: dict[str, list[str]] = {}
     for process in processes:
         for fqn in process.nodes:

@@ -388,6 +388,7 @@ def run(
         captured.path = output if keep_files else None
         captured.other_processes = others
         captured.from_child = from_child
+        captured.make_values_portable(ros_env.package_shares(prefixes))
         failures = captured.failed_transitions()
         if failures:
             raise _tag(LifecycleTransitionFailed(describe, failures, wanted=spec.effective_lifecycle(),

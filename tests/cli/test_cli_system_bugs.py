@@ -4,7 +4,8 @@ correct robot, its outside world declared under `external:`, passes with no find
 buggy version fails the default gate (system_fail_on: breaking) with the rule that names the bug,
 and no other system finding. The robot: a laser driver and an obstacle detector on lidar/scan,
 parameters from a file keyed to the driver's node name, a status talker and its monitor, and a
-command listener fed from outside the launch files (an operator console)."""
+command listener fed from outside the launch files (an operator console), and a map server that
+takes its map by path."""
 
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ import pytest
 from cli_helpers import NODES, Cli
 
 
-def robot_launch(python: str, talker: str) -> str:
+def robot_launch(python: str, talker: str, map_loader: str) -> str:
     return f"""\
 <launch>
   <arg name="renamed_node" default="false"/>
@@ -25,6 +26,7 @@ def robot_launch(python: str, talker: str) -> str:
   <arg name="changed_type" default="false"/>
   <arg name="detector_from" default="scan"/>
   <arg name="detector_to" default="lidar/scan"/>
+  <arg name="map" default="$(find-pkg-share rmw_introspect_examples)/config/robot_params.yaml"/>
   <let name="params" value="$(dirname)/robot_params.yaml"/>
   <group>
     <push-ros-namespace namespace="robot1"/>
@@ -49,6 +51,9 @@ def robot_launch(python: str, talker: str) -> str:
     <node pkg="rmw_introspect_examples" exec="listener" name="status_monitor">
       <remap from="chatter" to="status"/>
     </node>
+    <node exec="{python}" args="{map_loader}" name="map_server">
+      <param name="map_file" value="$(var map)"/>
+    </node>
     <node pkg="rmw_introspect_examples" exec="listener" name="command_listener">
       <remap from="chatter" to="cmd"/>
     </node>
@@ -67,6 +72,10 @@ BUGS = {
     "a parameters file keyed to a renamed node": ("renamed_node:=true",
                                                   [("PARAMS_FILE_SECTION_UNMATCHED", "/robot1/lidar")]),
     "a type changed on one side": ("changed_type:=true", [("TYPE_MISMATCH", "/robot1/status")]),
+    "a path parameter to a missing map": ("map:=$(find-pkg-share rmw_introspect_examples)/maps/office.yaml",
+                                          [("PARAM_PATH_MISSING", "map_file")]),
+    "a path parameter to a package that is not installed": ("map:=package://office_maps/office.yaml",
+                                                            [("PARAM_PATH_MISSING", "map_file")]),
     "a parameter the node does not declare": ("undeclared_parameter:=true", [("PARAM_NOT_DECLARED", "rte")]),
     "a remapping whose from the node does not use": (
         "detector_from:=sacn", [("REMAP_UNUSED", "sacn:=lidar/scan"), ("TOPIC_NAME_MISMATCH", "/robot1/scan")]),
@@ -74,7 +83,8 @@ BUGS = {
 
 
 def write_robot(cli) -> None:
-    cli.write("launch/robot.launch.xml", robot_launch(sys.executable, str(NODES / "talker.py")))
+    cli.write("launch/robot.launch.xml",
+              robot_launch(sys.executable, str(NODES / "talker.py"), str(NODES / "map_loader.py")))
     cli.write("launch/robot_params.yaml", "/robot1/lidar:\n  ros__parameters:\n    rate: 20.0\n")
 
 
@@ -94,6 +104,8 @@ def robot(tmp_path_factory, middleware_library):
     proposal = ("# external:\n#   publishers:\n#     /robot1/cmd: WHO    # std_msgs/msg/String, for "
                 "/robot1/command_listener\n")
     assert proposal in text and text.index(proposal) < text.index("\nprocesses:")
+    # a file of an installed package is recorded with the package's share directory as a token
+    assert "default_value: $(find-pkg-share rmw_introspect_examples)/config/robot_params.yaml\n" in text
     # without it declared, the command listener's input fails the check
     undeclared = cli("check", "robot.system.yaml", "--format", "json", timeout=180)
     assert undeclared.returncode == 1, undeclared

@@ -304,3 +304,67 @@ def test_the_settings_of_a_launched_node(tmp_path):
         (True, (("/**/lidar", ("rate", "frame.id")),))]
     assert settings.remappings == (("scan", "lidar/scan"), ("odom", "wheel/odom"))
     assert settings.where.endswith("robot.launch.xml:4")
+
+
+# ---------------------------------------------------------------------------- paths in parameter values
+
+
+def test_install_prefixes_are_written_as_a_package_token(tmp_path):
+    from pytest_rmw_introspect.model import portable
+
+    shares = {f"{tmp_path}/install/share/robot": "robot", f"{tmp_path}/install/share/robot_maps": "robot_maps"}
+    assert portable.portable_value(f"{tmp_path}/install/share/robot/maps/a.yaml", shares) == \
+        "$(find-pkg-share robot)/maps/a.yaml"
+    assert portable.portable_value(f"{tmp_path}/install/share/robot_maps", shares) == "$(find-pkg-share robot_maps)"
+    assert portable.portable_value([f"file://{tmp_path}/install/share/robot/x", 3], shares) == [
+        "file://$(find-pkg-share robot)/x", 3]
+    # another package whose name starts the same, and values that are no paths, stay as they are
+    assert portable.portable_value(f"{tmp_path}/install/share/robotics/a", shares) == f"{tmp_path}/install/share/robotics/a"
+    assert portable.portable_value(2.5, shares) == 2.5 and portable.portable_value("map", shares) == "map"
+
+
+def test_a_capture_records_parameter_values_portably(tmp_path):
+    from pytest_rmw_introspect.model.capture import Capture, Node
+    from pytest_rmw_introspect.model.parameters import Parameter as CapturedParameter
+
+    captured = Node(fqn="/map_server", name="map_server", namespace="/",
+                    parameters=[CapturedParameter("map", "string", f"{tmp_path}/share/robot/m.yaml"),
+                                CapturedParameter("rate", "double", 1.0)])
+    capture = Capture(nodes={"/map_server": captured}, raw_nodes=[], raw_endpoints=[], state="settled")
+    capture.make_values_portable({f"{tmp_path}/share/robot": "robot"})
+    assert [p.value for p in captured.parameters] == ["$(find-pkg-share robot)/m.yaml", 1.0]
+
+
+def test_parameter_values_that_point_at_missing_files(tmp_path):
+    from pytest_rmw_introspect.check.launch_settings import missing_path
+
+    prefix = tmp_path / "install"
+    (prefix / "share" / "ament_index" / "resource_index" / "packages").mkdir(parents=True)
+    (prefix / "share" / "ament_index" / "resource_index" / "packages" / "robot").write_text("")
+    (prefix / "share" / "robot" / "maps").mkdir(parents=True)
+    (prefix / "share" / "robot" / "maps" / "office.yaml").write_text("image: office.pgm\n")
+    why = missing_path([prefix])
+    for fine in ("$(find-pkg-share robot)/maps/office.yaml", "package://robot/maps/office.yaml",
+                 f"file://{prefix}/share/robot/maps/office.yaml", f"{prefix}/share/robot/maps/office.yaml",
+                 "/robot1/scan", "/map", "map", "", "base_link", "/"):
+        assert why(fine) is None, fine
+    assert why("package://robot/maps/lab.yaml").endswith("maps/lab.yaml, which does not exist")
+    assert why("$(find-pkg-share robot)/maps/lab.yaml").endswith("maps/lab.yaml, which does not exist")
+    assert why(f"{tmp_path}/nowhere.yaml").endswith("nowhere.yaml, which does not exist")
+    assert why("package://office_maps/lab.yaml") == "package office_maps, which is not installed (not in the ament index)"
+
+
+def test_a_path_parameter_to_a_missing_file_is_breaking():
+    loader = node(parameters=["map_file"])
+    loader["parameters"][0]["default_value"] = "package://robot/maps/lab.yaml"
+    processes = [LaunchedProcess("demo/map", "/map_server", {"/map_server": loader}, given=given())]
+    items = check_launched(processes, missing_path=lambda v: "maps/lab.yaml, which does not exist"
+                           if v.endswith("lab.yaml") else None)
+    assert found(items) == [("PARAM_PATH_MISSING", "map_file", None)]
+    assert items[0].severity is Severity.BREAKING
+    assert items[0].message == ("parameter `map_file` of /map_server is 'package://robot/maps/lab.yaml', which points "
+                                "at maps/lab.yaml, which does not exist: the node reads nothing (or fails when it "
+                                "needs it); install the file or fix the value")
+    # stored contracts (no launch file: compat, graph) are not judged on this machine's files
+    assert check_launched([LaunchedProcess("demo/map", "/map_server", {"/map_server": loader})],
+                          missing_path=lambda v: "gone") == []

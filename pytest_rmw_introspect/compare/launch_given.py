@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..model.vocabulary import LISTS, PARAMETERS, Severity, is_infrastructure_parameter
-from .wiring import edit_distance
+from .similarity import typo_distance
 
 RULES: dict[str, Severity] = {
     "PARAM_NOT_DECLARED": Severity.BREAKING,
@@ -204,10 +204,9 @@ def _missing_paths(process: Any, fqn: str, node: Mapping[str, Any], missing_path
 
 
 def _closest(name: str, declared: set[str]) -> str | None:
-    best = min(declared, key=lambda d: (edit_distance(name, d), d), default=None)
-    if best is not None and edit_distance(name, best) <= max(1, len(name) // 4):
-        return best
-    return None
+    # a hint only: judged by the declared name's length, so `rte` finds `rate`
+    near = [(distance, d) for d in declared if (distance := typo_distance(name, d, shortest=len(d))) is not None]
+    return min(near)[1] if near else None
 
 
 def _unused_remappings(process: Any, given: Given) -> list[Finding]:

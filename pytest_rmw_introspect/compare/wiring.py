@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..model.vocabulary import LABELS, LISTS, OFFERING_LISTS, PROVIDER_OF, Severity
+from .similarity import typo_distance
 
 #: requesting list → the rule for a dangling requester nobody declared, and for a near miss
 DANGLING = {
@@ -85,20 +86,6 @@ def unconsumed_offers(processes: Iterable[Any], external: Mapping[str, Mapping[s
             and declared(external, REQUESTER_OF[o.kind], o.name) is None]
 
 
-def edit_distance(a: str, b: str) -> int:
-    """Edit distance counting an insertion, a deletion, a substitution or two neighbouring
-    characters swapped (``scna`` for ``scan``, the commonest typo) as one edit each."""
-    rows = [list(range(len(b) + 1))]
-    for i in range(1, len(a) + 1):
-        row = [i] + [0] * len(b)
-        for j in range(1, len(b) + 1):
-            row[j] = min(rows[i - 1][j] + 1, row[j - 1] + 1, rows[i - 1][j - 1] + (a[i - 1] != b[j - 1]))
-            if i > 1 and j > 1 and a[i - 1] == b[j - 2] and a[i - 2] == b[j - 1]:
-                row[j] = min(row[j], rows[i - 2][j - 2] + 1)
-        rows.append(row)
-    return rows[-1][-1]
-
-
 def _split(name: str) -> tuple[str, str]:
     namespace, _, last = name.rpartition("/")
     return namespace or "/", last
@@ -111,11 +98,9 @@ def near_miss(wanted: str, offered: str) -> tuple[int, str] | None:
     (wanted_ns, wanted_last), (offered_ns, offered_last) = _split(wanted), _split(offered)
     if wanted_last == offered_last:
         return 0, f"the same name in another namespace ({wanted_ns} vs {offered_ns})"
-    distance = edit_distance(wanted, offered)
-    # short names are a letter apart by chance (/a, /b); a longer last segment tolerates more
-    shortest = min(len(wanted_last), len(offered_last))
-    allowed = 0 if shortest < 4 else 1 if shortest < 10 else 2
-    if 0 < distance <= allowed:
+    # short names are a letter apart by chance (/a, /b): the last segments decide what is short
+    distance = typo_distance(wanted, offered, shortest=min(len(wanted_last), len(offered_last)))
+    if distance is not None:
         return distance, f"{distance} character{'s' if distance > 1 else ''} apart"
     return None
 

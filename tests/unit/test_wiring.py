@@ -225,6 +225,9 @@ def test_a_parameter_the_node_does_not_declare_is_breaking_with_the_closest_decl
     assert by_name["rte"] == ("parameter `rte` is given (robot.launch.xml:7) but /lidar does not declare it: ROS 2 "
                               "ignores it without a word; did you mean `rate`?")
     assert by_name["colour"].endswith("it declares: frame_id, rate")
+    # the graph marks the node
+    drawn = graph.build([LaunchedProcess("demo/lidar", "/lidar", {"/lidar": lidar})], items)
+    assert [sorted({m.rule for m in v.marks}) for v in drawn.node_vertices()] == [["PARAM_NOT_DECLARED"]]
     # parameters not read (a C node, read_parameters: false): nothing to compare with
     unread = node(pubs=[("/lidar/scan", SCAN)])
     assert check_launched([LaunchedProcess("demo/lidar", "/lidar", {"/lidar": unread}, given=given(["rte"]))]) == []

@@ -362,6 +362,11 @@ def run(
                                      stderr, argv), start)
         captured = _try_load(output, include_infrastructure) if returncode != 0 else None
         crashed = returncode != 0 and crash_evidence(returncode, stderr)
+        if crashed and spec.stimuli and captured is not None and captured.settled_once:
+            # a crash on a stimulus: the stimulus report says which one it was
+            problems = stimulus_problems(captured.raw, returncode)
+            if problems:
+                raise _tag(StimulusFailed(describe, problems, _mark(captured, start), stderr, argv), start)
         if returncode != 0 and (captured is None or not captured.settled_once or crashed):
             raise _tag(TargetExited(describe, returncode, stderr, _mark(captured, start), argv,
                                     hint=_missing_module_hint(stderr),

@@ -161,7 +161,8 @@ class _WithPartialCapture(TargetError):
 
 
 class TargetExited(_WithPartialCapture):
-    """The target process ended with a non-zero status (or a signal) before settling."""
+    """The target process ended with a non-zero status (or a signal) before settling, or
+    crashed (an uncaught exception, a fatal signal) at any time before its final settle."""
 
     def __init__(
         self,
@@ -171,17 +172,23 @@ class TargetExited(_WithPartialCapture):
         partial: Any = None,
         argv: Sequence[str] = (),
         hint: str | None = None,
+        crashed: bool = False,
     ) -> None:
         self.status = status
         self.hint = hint
         self.stderr_tail = _tail(stderr_tail)
         self.partial = partial
         self.argv = list(argv)
+        self.crashed = crashed
         if status < 0:
             how = f"was killed by signal {-status}"
         else:
             how = f"exited with status {status}"
-        parts = [f"The target {target} {how} before its interfaces settled."]
+        if crashed:  # whether it got past the first settle is timing: a crash is reported as one
+            parts = [f"The target {target} crashed: it {how} while it was captured (an uncaught exception or a "
+                     "fatal signal), so what it created is not its interface."]
+        else:
+            parts = [f"The target {target} {how} before its interfaces settled."]
         if self.argv:
             parts.append("Command: " + " ".join(self.argv))
         if self.stderr_tail:

@@ -32,7 +32,7 @@ from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions
-from ..compare.system import CompatItem, LaunchedProcess, check_launched, check_system
+from ..compare.system import CompatItem, LaunchedProcess, check_launched, check_system, propose_external
 from ..errors import RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
 from ..model import system_contract
@@ -46,7 +46,7 @@ from ..run import system as run_system
 from ..run.ros_env import RosEnvironment
 from ..run.system import LaunchSpec, SystemCapture
 from ..run.target import TargetSpec
-from . import golden
+from . import golden, launch_settings
 from .pipeline import Layers, OptionLayer, read_as_asked
 
 #: the system rules fail on this unless ``system_fail_on`` says otherwise (as ``compat``)
@@ -65,6 +65,8 @@ class SystemPrepared:
     target: TargetSpec
     options: ComparisonOptions
     system_threshold: Severity
+    #: the ROS environment the processes run in (the ament prefixes that paths resolve against)
+    ros: RosEnvironment | None = None
 
 
 def _as_contract(system: SystemContract | None) -> Contract | None:
@@ -125,7 +127,7 @@ def prepare(
                                      prefixes=run_system.ament_prefixes(env))
     return SystemPrepared(path=path, shown=shown, contract=contract, launch=spec, target=target,
                           options=read_as_asked(target, options),
-                          system_threshold=system_threshold(contract, system_fail_on))
+                          system_threshold=system_threshold(contract, system_fail_on), ros=env)
 
 
 # ---------------------------------------------------------------------------- result
@@ -135,7 +137,7 @@ def launched_processes(capture: SystemCapture) -> list[LaunchedProcess]:
     """The processes of a capture as the system rules read them."""
     return [LaunchedProcess(label=p.label, expected=p.launched.expected_fqn, nodes=p.contract_nodes(),
                             duplicates=tuple(p.capture.duplicate_node_names) if p.capture is not None else (),
-                            where=str(p.launched.where))
+                            where=str(p.launched.where), given=launch_settings.given(p.launched))
             for p in capture.processes]
 
 
@@ -223,14 +225,23 @@ class SystemCheckResult:
             try:
                 current = system_contract.loads(old, path=self.path)
                 nodes = contract_module.preserve_spelling(current.nodes, nodes)
+                if not current.processes and not current.nodes and not current.external and "# external:" not in old:
+                    # a hand-written header filled in for the first time: propose its outside world too
+                    old = old + ("" if old.endswith("\n") else "\n") + self.external_proposal()
             except RmwIntrospectError:
                 pass
             return system_contract.update_text(old, self.capture.process_entries(), nodes)
         header = system_contract.new_header(self.spec.to_block(self.path.absolute().parent),
                                             options={"include_infrastructure": True}
                                             if self.options.include_infrastructure else None,
-                                            how="pytest-rmw-introspect (--update-golden / check --update)")
+                                            how="pytest-rmw-introspect (--update-golden / check --update)",
+                                            external_proposal=self.external_proposal())
         return system_contract.render(self.capture.process_entries(), nodes, header=header)
+
+    def external_proposal(self) -> str:
+        """The commented-out ``external:`` block a new contract gets (``compare.wiring.proposal``)."""
+        assert self.capture is not None
+        return propose_external(launched_processes(self.capture))
 
     def update(self) -> str | None:
         """Write the system contract (``golden.update_with``): ``created``, ``updated`` or None."""
@@ -271,7 +282,9 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
     result = SystemCheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
                                spec=prepared.launch, options=prepared.options,
                                system_threshold=prepared.system_threshold, capture=capture)
-    system_items = check_launched(launched_processes(capture))
+    external = prepared.contract.external if prepared.contract is not None else None
+    missing_path = launch_settings.missing_path(run_system.ament_prefixes(prepared.ros))
+    system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path)
     drift_items = []
     if prepared.contract is not None:
         drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)
@@ -338,6 +351,8 @@ class LoadedContracts:
     any_system: bool
     #: the ``accept:`` entries of every file
     accept: list[Acceptance] = field(default_factory=list)
+    #: the outside world the system contracts among them declare (``external:``, merged)
+    external: dict[str, dict[str, str]] = field(default_factory=dict)
 
     def nodes_by_label(self) -> dict[str, Mapping[str, Any]]:
         return {p.label: p.nodes for p in self.processes}
@@ -359,6 +374,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
     processes: list[LaunchedProcess] = []
     accept: list[Acceptance] = []
     any_system = False
+    external: dict[str, dict[str, str]] = {}
     paths = list(paths)
     for p in paths:
         path = Path(os.path.expanduser(str(p)))
@@ -371,6 +387,8 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
         if system_contract.is_system_contract(path):
             any_system = True
             system = system_contract.load(path)
+            for kind, declared in system.external.items():
+                external.setdefault(kind, {}).update(declared)
             # the process labels name the file only when several files are drawn together
             processes += contract_processes(system, label if len(paths) > 1 else None)
             accept += system.accept
@@ -381,14 +399,14 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
     if not labels:
         raise ValueError("no contracts given to the system check")
     acceptance.check_rules(accept)
-    return LoadedContracts(labels, processes, any_system, accept)
+    return LoadedContracts(labels, processes, any_system, accept, external)
 
 
 def system_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
     """The system rules over loaded contracts: all of them when a system contract is among
     them, the connection rules (``compat`` as before) for node contracts alone."""
     if loaded.any_system:
-        return check_launched(loaded.processes, strict_system_default=strict_system_default)
+        return check_launched(loaded.processes, external=loaded.external, strict_system_default=strict_system_default)
     return check_system(loaded.nodes_by_label(), strict_system_default=strict_system_default)
 
 

@@ -16,7 +16,7 @@ from ..check import system_pipeline
 from ..check.pipeline import Layers, SystemResult, judge_system
 from ..compare import graph as graph_module
 from ..compare import sarif
-from ..compare.system import CompatItem
+from ..compare.system import CompatItem, propose_external
 from ..errors import TargetConfigError
 from ..model import system_contract
 from ..model.locate import line_index
@@ -74,8 +74,10 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None, ros: Callab
         text = json.dumps({"processes": processes, "nodes": nodes}, indent=2)
     else:
         base = Path(args.output).absolute().parent if args.output else cwd
+        proposal = propose_external(system_pipeline.launched_processes(cap))
         header = system_contract.new_header(spec.to_block(base), target=target or None,
-                                            options={"include_infrastructure": True} if include else None)
+                                            options={"include_infrastructure": True} if include else None,
+                                            external_proposal=proposal)
         text = system_contract.render(cap.process_entries(), nodes, header=header)
     formats.emit(text, args.output)
     return EXIT_OK

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..model import qos, untrusted
 from ..model import types as type_model
-from ..model.vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS, PARAMETERS, TOPIC_LISTS, Severity
+from ..model.vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS, PARAMETERS, PROVIDER_OF, TOPIC_LISTS, Severity
 from . import parameter_drift, type_drift
 from .options import ComparisonOptions
 
@@ -188,7 +188,8 @@ def compare(
             return False
         return True
 
-    return sorted(_pair_renames(list(filter(wanted, items))), key=_sort_key)
+    # a rename brings the other changes of the endpoint along: the options apply to them too
+    return sorted(filter(wanted, _pair_renames(list(filter(wanted, items)))), key=_sort_key)
 
 
 def attribute_to_distribution(items: list[DriftItem], expected: str | None, actual: str | None) -> list[DriftItem]:
@@ -231,8 +232,12 @@ _RENAME_EFFECT = {
 
 def _pair_renames(items: list[DriftItem]) -> list[DriftItem]:
     """One interface removed and one of the same kind and type added in the same node read as a
-    rename: one item naming both (still BREAKING). Ambiguous cases (two removed or two added of
-    that type) stay separate items."""
+    rename: one item naming both (still BREAKING), plus every other change between the two
+    entries (type hash, QoS) under the new name, so that the rename hides nothing. When a node
+    lost exactly one requesting interface of a kind (subscription, client) and gained exactly
+    one of another type, that is a rename and a retype: the rename item and ``TYPE_CHANGED`` (a subscription renamed and retyped
+    is as severe as one only renamed). Ambiguous cases (two removed or two added of that type)
+    stay separate items."""
     slots: dict[tuple[str, str, Any], dict[str, list[DriftItem]]] = {}
     for item in items:
         if item.kind == "node" or item.change not in ("removed", "added"):
@@ -241,20 +246,50 @@ def _pair_renames(items: list[DriftItem]) -> list[DriftItem]:
         type_name = entry.get("type") if isinstance(entry, Mapping) else None
         if type_name:
             slots.setdefault((item.node, item.kind, type_name), {"removed": [], "added": []})[item.change].append(item)
-    paired: list[DriftItem] = []
-    for (node, kind, type_name), sides in slots.items():
-        if len(sides["removed"]) != 1 or len(sides["added"]) != 1:
-            continue
-        removed, added = sides["removed"][0], sides["added"][0]
-        rule = RULES[_RENAME_RULE[kind]]
-        effect = _RENAME_EFFECT[kind].format(old=removed.name)
-        paired.append(DriftItem(
-            node=node, kind=kind, name=removed.name, change="renamed", old=removed.old, new=added.new,
-            rule=rule.id, severity=rule.severity,
-            message=f"{LABELS[kind]} {removed.name} looks renamed to {added.name} (same type {type_name}): {effect}",
-        ))
-        items = [i for i in items if i is not removed and i is not added]
-    return items + paired
+    pairs: list[tuple[DriftItem, DriftItem]] = []
+    for sides in slots.values():
+        if len(sides["removed"]) == 1 and len(sides["added"]) == 1:
+            pairs.append((sides["removed"][0], sides["added"][0]))
+    paired_ids = {id(i) for pair in pairs for i in pair}
+    # what is left per node and interface list: one removed and one added of other types
+    left: dict[tuple[str, str], dict[str, list[DriftItem]]] = {}
+    for item in items:
+        # requesters only: a removed offer is BREAKING already, a removed and an added request
+        # are RISKY each, though together they are a rename (BREAKING) and a retype
+        if item.kind in PROVIDER_OF and item.change in ("removed", "added") and id(item) not in paired_ids:
+            left.setdefault((item.node, item.kind), {"removed": [], "added": []})[item.change].append(item)
+    for sides in left.values():
+        if len(sides["removed"]) == 1 and len(sides["added"]) == 1:
+            pairs.append((sides["removed"][0], sides["added"][0]))
+    out = [i for i in items if id(i) not in {id(i) for pair in pairs for i in pair}]
+    for removed, added in pairs:
+        out += _renamed(removed, added)
+    return out
+
+
+def _renamed(removed: DriftItem, added: DriftItem) -> list[DriftItem]:
+    node, kind = removed.node, removed.kind
+    rule = RULES[_RENAME_RULE[kind]]
+    effect = _RENAME_EFFECT[kind].format(old=removed.name)
+    old_type, new_type = removed.old.get("type"), added.new.get("type")
+    same = f"same type {old_type}" if old_type == new_type else f"and retyped from {old_type} to {new_type}"
+    items = [DriftItem(
+        node=node, kind=kind, name=removed.name, change="renamed", old=removed.old, new=added.new,
+        rule=rule.id, severity=rule.severity,
+        message=f"{LABELS[kind]} {removed.name} looks renamed to {added.name} ({same}): {effect}",
+    )]
+    if kind not in LISTS:
+        return items
+    old, new = _compared(node, kind, removed.old), _compared(node, kind, added.new)
+    attributes: set[str] = {key for key in ("type", "type_hash") if key in old and key in new and old[key] != new[key]}
+    if "qos" in old and "qos" in new:
+        attributes |= {f"qos.{f}" for f in old["qos"] if old["qos"][f] != new["qos"].get(f)}
+    if "type" in attributes:
+        attributes.discard("type_hash")
+    if "qos.history" in attributes:
+        attributes.discard("qos.depth")
+    items += [_change_item(node, kind, added.name, attribute, old, new) for attribute in sorted(attributes)]
+    return items
 
 
 def _ignored_qos_fields(ignore_qos: bool | Iterable[str]) -> frozenset[str]:

@@ -132,7 +132,7 @@ def build(processes: Sequence[LaunchedProcess], items: Sequence[CompatItem], tit
             vertices[vid] = Vertex(vid, "missing", requester.node if requester.node != "(unnamed)" else "no node",
                                    requester.label, group=requester.label, marks=[mark])
             groups.setdefault(requester.label, []).append(vid)
-        elif item.rule == "DUPLICATE_NODE_NAME":
+        elif requester.kind == "node":  # duplicate names, what a node ignores: the node vertices
             for end in (requester, provider):
                 if end is not None and (end.label, end.node) in node_ids:
                     vertices[node_ids[(end.label, end.node)]].marks.append(mark)
@@ -145,7 +145,7 @@ def build(processes: Sequence[LaunchedProcess], items: Sequence[CompatItem], tit
                         marked.marks.append(mark)
             mark_edge(requester.label, requester.node, requester.kind, item.name, mark)
             if provider is not None:
-                mark_edge(provider.label, provider.node, provider.kind, item.name, mark)
+                mark_edge(provider.label, provider.node, provider.kind, item.other_name or item.name, mark)
     ordered = sorted(edges.values(), key=lambda e: (e.source, e.target, e.list_name))
     return SystemGraph(title, vertices, ordered, groups, list(items))
 

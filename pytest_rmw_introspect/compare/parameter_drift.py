@@ -17,6 +17,7 @@ states whether it is a lifecycle node when it has ``lifecycle`` or ``parameters`
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -25,6 +26,7 @@ from ..model import parameters as parameter_model
 from ..model.parameters import ParameterRange, format_value
 from ..model.vocabulary import LIFECYCLE, LIFECYCLE_TRANSITIONS, LIFECYCLE_UNKNOWN, PARAMETERS, Severity
 from .options import ComparisonOptions
+from .similarity import typo_distance
 
 _B, _R, _S = Severity.BREAKING, Severity.RISKY, Severity.SAFE
 
@@ -33,6 +35,7 @@ RULES: dict[str, tuple[Severity, str]] = {
     "PARAM_REMOVED": (_B, "parameter removed"),
     "PARAM_ADDED": (_S, "parameter added (with a default value)"),
     "PARAM_ADDED_WITHOUT_VALUE": (_R, "parameter added without a default value"),
+    "PARAM_ADDED_SUSPICIOUS": (_R, "parameter added whose name looks like a typo of another one, or like garbage"),
     "PARAM_RENAMED": (_B, "parameter renamed (one removed, one of the same type added)"),
     "PARAM_TYPE_CHANGED": (_B, "parameter type changed"),
     "PARAM_DEFAULT_CHANGED": (_R, "parameter default value changed"),
@@ -133,7 +136,7 @@ def compare_parameters(node: str, expected: Mapping[str, Any], actual: Mapping[s
     for name in sorted(set(old) - set(new)):
         changes.append(removed(name, old[name]))
     for name in sorted(set(new) - set(old)):
-        changes.append(added(name, new[name]))
+        changes.append(added(name, new[name], others=[other for other in new if other != name]))
     for name in sorted(set(old) & set(new)):
         changes += _changed(name, old[name], new[name], options)
     return changes
@@ -145,15 +148,44 @@ def removed(name: str, entry: Mapping[str, Any]) -> Change:
                   "ignored, and `ros2 param set` of it fails")
 
 
-def added(name: str, entry: Mapping[str, Any]) -> Change:
+def added(name: str, entry: Mapping[str, Any], others: Iterable[str] = ()) -> Change:
+    """A new parameter; ``others``: the node's other parameters (a name one typo away from one
+    of them is not SAFE: it is usually an override that created it, ``automatically_declare_
+    parameters_from_overrides``, or a declaration with a typo)."""
     type_name = entry.get("type") or "no type"
     if "default_value" in entry and entry["default_value"] is None and entry.get("type") is not None:
         return Change(PARAMETERS, name, "added", None, dict(entry), "PARAM_ADDED_WITHOUT_VALUE",
                       f"new parameter {name} ({type_name}) without a default value: launch and parameter files must "
                       "now set it (rclcpp's declare_parameter<T>(name) throws when nothing sets it)")
     value = f", default {format_value(entry['default_value'])}" if "default_value" in entry else ""
+    suspicion = _suspicion(name, others)
+    if suspicion:
+        return Change(PARAMETERS, name, "added", None, dict(entry), "PARAM_ADDED_SUSPICIOUS",
+                      f"new parameter {name} ({type_name}{value}) {suspicion}: check the launch and parameter files "
+                      "and the node's declarations")
     return Change(PARAMETERS, name, "added", None, dict(entry), "PARAM_ADDED",
                   f"new parameter {name} ({type_name}{value}): nothing sets it yet, it starts at its default")
+
+
+_PARAMETER_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z0-9_/][A-Za-z0-9_/-]*)*")
+
+
+def _numbered_siblings(a: str, b: str) -> bool:
+    """``gain_x`` / ``gain_y``, ``joint1`` / ``joint2``: one axis or index apart, not a typo."""
+    differing = [(x, y) for x, y in zip(a, b, strict=False) if x != y]
+    return len(a) == len(b) and len(differing) == 1 and all(c in "0123456789xyzXYZ" for c in differing[0])
+
+
+def _suspicion(name: str, others: Iterable[str]) -> str | None:
+    if not _PARAMETER_NAME.fullmatch(name):
+        return "has a name that is no parameter name a node would declare (characters, empty parts)"
+    for other in sorted(others):
+        if _numbered_siblings(name, other):
+            continue
+        distance = typo_distance(name, other, shortest=max(len(name), len(other)))
+        if distance is not None:
+            return f"is {distance} character(s) from {other}: it looks like a typo of it"
+    return None
 
 
 def _range(entry: Mapping[str, Any], key: str) -> ParameterRange | None:

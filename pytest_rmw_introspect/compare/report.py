@@ -249,6 +249,7 @@ def compat_to_json(items: Iterable[CompatItem]) -> list[dict[str, Any]]:
             "requester": _endpoint_json(item.requester),
             "provider": _endpoint_json(item.provider),
             "message": item.message,
+            **({"other_name": item.other_name} if item.other_name else {}),
         }
         for item in items
     ]

@@ -14,6 +14,7 @@ from typing import Any
 
 from ..model import qos
 from ..model.vocabulary import LABELS, PROVIDER_OF, Severity
+from . import launch_given, wiring
 
 _WITHOUT_PROVIDER = {
     "subscriptions": "SUBSCRIPTION_WITHOUT_PUBLISHER",
@@ -39,6 +40,10 @@ RULES: dict[str, Severity] = {
     "SERVICE_MULTIPLE_SERVERS": Severity.BREAKING,
     "ACTION_MULTIPLE_SERVERS": Severity.BREAKING,
     "LAUNCHED_NODE_NOT_CREATED": Severity.BREAKING,
+    # dangling endpoints, the declared outside world, mis-wired names (compare.wiring)
+    **wiring.RULES,
+    # what the launch file gives a node and the node ignores (compare.launch_given)
+    **launch_given.RULES,
 }
 
 #: rule id → what it reports, for the docs and SARIF's rule descriptions (the "what" column of
@@ -55,6 +60,37 @@ SUMMARIES: dict[str, str] = {
     "SERVICE_MULTIPLE_SERVERS": "more than one server for one service",
     "ACTION_MULTIPLE_SERVERS": "more than one server for one action",
     "LAUNCHED_NODE_NOT_CREATED": "a process the launch file starts created no node, or not the node the launch file names",
+    "DANGLING_SUBSCRIPTION": (
+        "in a system contract, nobody in the system publishes a subscribed topic and `external:` does not "
+        "declare who does"
+    ),
+    "TOPIC_NAME_MISMATCH": (
+        "a subscription nobody publishes and a publisher nobody subscribes to (nor a declared outside "
+        "subscriber), of one type, whose names are near misses"
+    ),
+    "DANGLING_SERVICE_CLIENT": "in a system contract, nobody serves a called service and `external:` does not declare who does",
+    "SERVICE_NAME_MISMATCH": "the same for a service client nobody serves and a service server nobody calls",
+    "DANGLING_ACTION_CLIENT": "in a system contract, nobody serves an action with a client and `external:` does not declare who does",
+    "ACTION_NAME_MISMATCH": "the same for an action client and an action server",
+    "EXTERNAL_UNUSED": "an `external:` declaration that no endpoint of the system uses",
+    "PARAM_NOT_DECLARED": (
+        "a parameter the launch file gives a node (`<param>`, a parameters file section that matches the "
+        "node, `-p` in `ros_args`) that the node does not declare"
+    ),
+    "PARAMS_FILE_SECTION_UNMATCHED": (
+        "a parameters file given to processes has a node section that matches none of the nodes it is given "
+        "to"
+    ),
+    "REMAP_UNUSED": (
+        "a remapping the launch file gives a node changed none of its names: no topic, service or action of "
+        "the node has the remapping's target name"
+    ),
+    "PARAM_PATH_MISSING": (
+        "a node's string parameter (as captured, overrides applied) points at a file that does not exist when"
+        " the system is captured: an absolute path whose top directory exists (`/opt/maps/office.yaml`; "
+        "`/robot1/scan` is a name, not a path), `file://...`, `package://PACKAGE/...` or `$(find-pkg-share "
+        "PACKAGE)/...` (a package that is not installed counts as missing)"
+    ),
 }
 
 
@@ -76,6 +112,8 @@ class CompatItem:
     requester: Endpoint  # subscription / service client / action client
     provider: Endpoint | None  # publisher / service server / action server; None if missing
     message: str
+    #: the provider's name when it differs from ``name`` (a mis-wired name: ``*_NAME_MISMATCH``)
+    other_name: str | None = None
 
 
 @dataclass(frozen=True)
@@ -192,17 +230,30 @@ class LaunchedProcess:
     launched: bool = True
     #: where the launch file starts it (``robot.launch.xml:12``), when known
     where: str | None = None
+    #: what the launch file gives it (parameters, parameters files, remappings), when known
+    given: launch_given.Given | None = None
 
 
 _MULTIPLE = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "ACTION_MULTIPLE_SERVERS"}
 
 
-def check_launched(processes: Sequence[LaunchedProcess], *, strict_system_default: bool = False) -> list[CompatItem]:
+def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[str, Mapping[str, str]] | None = None,
+                   missing_path: launch_given.MissingPath | None = None,
+                   strict_system_default: bool = False) -> list[CompatItem]:
     """Every system rule over the processes a launch file starts: the connections between all
-    their nodes (:func:`check_system`, one label per process), plus node names held by more
-    than one node, services and actions with more than one server, and processes that did not
-    create the node the launch file names (or created none). Most severe first."""
-    items = check_system({p.label: p.nodes for p in processes}, strict_system_default=strict_system_default)
+    their nodes (:func:`check_system`, one label per process), with requesters nobody provides
+    judged against the declared outside world ``external`` (``compare.wiring``: declared, a
+    mis-wired name, or dangling), plus node names held by more than one node, services and
+    actions with more than one server, processes that did not create the node the launch file
+    names (or created none), and what the launch file gives a node that it ignores
+    (``compare.launch_given``; with ``missing_path``, parameter values that point at files that
+    do not exist). Most severe first."""
+    connections = check_system({p.label: p.nodes for p in processes}, strict_system_default=strict_system_default)
+    missing = set(_WITHOUT_PROVIDER.values())
+    items = [item for item in connections if item.rule not in missing]
+    items += _judge_dangling(processes, [item for item in connections if item.rule in missing], external)
+    items += [CompatItem(f.rule, RULES[f.rule], f.name, Endpoint(f.label, f.node, "node"), None, f.message)
+              for f in launch_given.check(processes, missing_path)]
     holders: dict[str, list[str]] = {}
     for process in processes:
         for fqn in process.nodes:
@@ -239,3 +290,46 @@ def check_launched(processes: Sequence[LaunchedProcess], *, strict_system_defaul
                     f"{len(found)} {LABELS[kind]}s for {name}: every request reaches each of them and is executed "
                     "by each; the client takes whichever answer comes first"))
     return sorted(items, key=_sort_key)
+
+
+def _judge_dangling(processes: Sequence[LaunchedProcess], missing: Sequence[CompatItem],
+                    external: Mapping[str, Mapping[str, str]] | None) -> list[CompatItem]:
+    """The requesters without provider of a launched system, judged by ``compare.wiring``."""
+    dangling = [d for d in dangling_requesters(processes, missing)
+                if wiring.declared(external, PROVIDER_OF[d.kind], d.name) is None]
+    items = []
+    for rule, item, offer, message in wiring.judge(dangling, wiring.unconsumed_offers(processes, external)):
+        provider = Endpoint(offer.label, offer.node, offer.kind) if offer is not None else None
+        items.append(CompatItem(rule, RULES[rule], item.name, Endpoint(item.label, item.node, item.kind), provider,
+                                message, other_name=offer.name if offer is not None else None))
+    for kind, name, who in wiring.unused_declarations(processes, external):
+        wanted = LABELS[wiring.REQUESTER_OF.get(kind) or PROVIDER_OF[kind]]
+        items.append(CompatItem("EXTERNAL_UNUSED", RULES["EXTERNAL_UNUSED"], name,
+                                Endpoint(wiring.EXTERNAL_LABEL, who, kind), None,
+                                f"`external:` declares {who} as a {LABELS[kind]} of {name}, but no {wanted} of the "
+                                "system uses that name: remove the declaration, or check the name on both sides"))
+    return items
+
+
+def dangling_requesters(processes: Sequence[LaunchedProcess], missing: Sequence[CompatItem]) -> list[wiring.Dangling]:
+    """The requesters of ``missing`` (items without provider) with their types."""
+    types: dict[tuple[str, str, str, str], str | None] = {}
+    for process in processes:
+        for fqn, node in process.nodes.items():
+            for kind in _PAIRS:
+                for entry in (node or {}).get(kind) or []:
+                    types[(process.label, fqn, kind, str(entry.get("name")))] = entry.get("type")
+    return [wiring.Dangling(i.requester.label, i.requester.node, i.requester.kind, i.name,
+                            types.get((i.requester.label, i.requester.node, i.requester.kind, i.name)))
+            for i in missing]
+
+
+def propose_external(processes: Sequence[LaunchedProcess]) -> str:
+    """A commented-out ``external:`` block for a new system contract: every requester nobody in
+    the system provides for, except the near misses (mis-wirings to fix, not outside inputs)."""
+    missing = [item for item in check_system({p.label: p.nodes for p in processes})
+               if item.rule in _WITHOUT_PROVIDER.values()]
+    dangling = dangling_requesters(processes, missing)
+    paired = [item for rule, item, offer, _ in wiring.judge(dangling, wiring.unconsumed_offers(processes, None))
+              if offer is not None]
+    return wiring.proposal(dangling, paired)

@@ -32,15 +32,15 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 from ..errors import CaptureFormatError
 from . import parameters as parameter_model
+from . import portable, untrusted
 from . import qos as qos_module
 from . import types as type_model
-from . import untrusted
 from .parameters import Lifecycle, Parameter, Probe
 from .vocabulary import (
     ACTION_HASHED_PARTS,
@@ -499,6 +499,14 @@ class Capture:
             if node.lifecycle is not None and node.lifecycle.error:
                 notes.append(f"lifecycle: {node.lifecycle.error}")
         return notes
+
+    def make_values_portable(self, shares: Mapping[str, str]) -> None:
+        """Write every package share directory (``shares``: directory → package) in the nodes'
+        parameter values as ``$(find-pkg-share PACKAGE)`` (``model.portable``), so that the
+        values are the same on every machine."""
+        for node in self.nodes.values():
+            if node.parameters:
+                node.parameters = [replace(p, value=portable.portable_value(p.value, shares)) for p in node.parameters]
 
     def failed_transitions(self) -> list[tuple[str, str, str, str]]:
         """The lifecycle transitions the middleware drove that did not succeed: ``(node, transition,

@@ -11,6 +11,9 @@
       allow_unsupported: false       # true: capture what the launch reader supports, note the rest
     target: {timeout: 30}            # optional: settle, timeout, horizon, lifecycle, read_parameters, env
     options: {fail_on: any, system_fail_on: breaking}
+    external:                        # what comes from outside the launch files, and who provides it
+      publishers: {/initialpose: rviz, /cmd_vel: teleop}
+      service_servers: {/robot/set_map: fleet manager}
     processes:                       # every process the launch file starts, in launch order
       - package: my_robot_bringup
         executable: lidar_driver
@@ -22,7 +25,9 @@
 ``nodes`` is exactly the ``nodes`` block of a node contract, so a system drifts like a node
 contract does (``compare.drift``). ``processes`` says which process created which node: the
 system rules (``compare.system.check_launched``) read it for duplicate node names and for
-launched processes that created no node. Two processes creating one node name share one entry
+launched processes that created no node. ``external`` declares the outside world: a
+requester nobody in the system provides for fails the check unless it is declared there
+(``compare.wiring``). Two processes creating one node name share one entry
 under ``nodes`` (the union of their interfaces; the duplicate itself is a BREAKING system problem).
 
 Loading validates against the node contract schema's definitions (``schema()`` builds the
@@ -101,6 +106,15 @@ def schema() -> dict[str, Any]:
             "allow_unsupported": {"type": "boolean"},
         },
     }
+    declarations = {"type": ["object", "null"], "propertyNames": {"pattern": "^/"},
+                    "additionalProperties": {"type": "string", "minLength": 1}}
+    definitions["external"] = {
+        "description": "Interfaces provided or requested outside the launch files, by fully qualified name, "
+                       "with who provides or requests them (`/initialpose: rviz`).",
+        "type": ["object", "null"],
+        "additionalProperties": False,
+        "properties": {list_name: declarations for list_name in LISTS},
+    }
     definitions["process"] = {
         "type": "object",
         "additionalProperties": False,
@@ -123,6 +137,7 @@ def schema() -> dict[str, Any]:
             "launch": {"$ref": "#/definitions/launch"},
             "target": {"$ref": "#/definitions/system_target"},
             "options": {"$ref": "#/definitions/options"},
+            "external": {"$ref": "#/definitions/external"},
             "processes": {"type": ["array", "null"], "items": {"$ref": "#/definitions/process"}},
             "nodes": copy.deepcopy(base["properties"]["nodes"]) | {"type": ["object", "null"]},
             "accept": {"$ref": "#/definitions/accept"},
@@ -144,6 +159,8 @@ class SystemContract:
     text: str = ""
     #: the findings it accepts on purpose (``accept:``)
     accept: tuple[acceptance.Acceptance, ...] = ()
+    #: the declared outside world: list name → interface name → who provides or requests it
+    external: dict[str, dict[str, str]] = field(default_factory=dict)
 
     @property
     def comparison_options(self) -> dict[str, Any]:
@@ -248,7 +265,8 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                           options=dict(data.get("options") or {}), text=text,
                           accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY),
                                                          source=shown(path) if path else "<system contract>",
-                                                         line_of=lambda i: _where(root, [acceptance.SECTION_KEY, i])))
+                                                         line_of=lambda i: _where(root, [acceptance.SECTION_KEY, i])),
+                          external={k: dict(v) for k, v in (data.get("external") or {}).items() if v})
 
 
 def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:
@@ -337,9 +355,11 @@ def update_text(old_text: str, processes: Sequence[Mapping[str, Any]], nodes: Ma
 
 
 def new_header(launch: Mapping[str, Any], *, target: Mapping[str, Any] | None = None,
-               options: Mapping[str, Any] | None = None, how: str = "rmw-introspect capture --launch") -> str:
+               options: Mapping[str, Any] | None = None, how: str = "rmw-introspect capture --launch",
+               external_proposal: str = "") -> str:
     """The header of a new system contract: how it was written, ``system_version``, ``launch:``
-    (and ``target:``, ``options:`` when given)."""
+    (and ``target:``, ``options:`` when given), then ``external_proposal`` (a commented-out
+    ``external:`` block, ``compare.wiring.proposal``)."""
     header = (
         f"# System contract written by `{how}`:\n"
         "# every process the launch file starts, the nodes they create and their interfaces.\n"
@@ -352,4 +372,5 @@ def new_header(launch: Mapping[str, Any], *, target: Mapping[str, Any] | None = 
         blocks["target"] = dict(target)
     if options:
         blocks["options"] = dict(options)
-    return header + yaml.safe_dump(blocks, sort_keys=False, default_flow_style=False, allow_unicode=True)
+    return header + yaml.safe_dump(blocks, sort_keys=False, default_flow_style=False, allow_unicode=True) \
+        + external_proposal

@@ -58,6 +58,9 @@ class LaunchedNode:
     parameters: tuple[Parameter, ...] = ()
     remappings: tuple[tuple[str, str], ...] = ()
     env: Mapping[str, str] = field(default_factory=dict)
+    #: the <set_remap> rules in force where the node is started (before its own, as launch_ros
+    #: passes them: rcl applies the first rule that matches)
+    scope_remappings: tuple[tuple[str, str], ...] = ()
     cwd: Path | None = None
     #: the complete command line, when the launch source gives it (Python launch files:
     #: launch_ros prepared it); otherwise it is built from the fields above
@@ -81,7 +84,8 @@ class LaunchedNode:
 
     def ros_argument_list(self, params_file: Callable[[Parameter], Path] | None = None) -> list[str]:
         """``--ros-args ...`` as launch_ros builds it: node name, namespace, parameters in
-        order, remappings, then the ``ros_args`` given (empty list when there are none)."""
+        order, remappings (``<set_remap>`` ones first), then the ``ros_args`` given (empty list
+        when there are none)."""
         args: list[str] = []
         if self.name is not None:
             args += ["-r", f"__node:={self.name}"]
@@ -94,7 +98,7 @@ class LaunchedNode:
                 args += ["--params-file", str(parameter.file)]
             elif params_file is not None:
                 args += ["--params-file", str(params_file(parameter))]
-        for source, target in self.remappings:
+        for source, target in (*self.scope_remappings, *self.remappings):
             args += ["-r", f"{source}:={target}"]
         args += list(self.ros_arguments)
         return ["--ros-args", *args] if args else []

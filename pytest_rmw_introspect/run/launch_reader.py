@@ -23,6 +23,8 @@ Supported (XML and YAML, ``-`` and ``_`` spellings alike):
 ``set_env``                 ``name``, ``value``: for the processes started after it in its scope
 ``group``                   ``scoped`` (default true), ``forwarding`` (default true), children
 ``push_ros_namespace``      ``namespace``: for the nodes after it in its scope
+``set_remap``               ``from``, ``to``: a remapping for the nodes after it in its scope (before
+                            each node's own, as launch_ros puts them: the first matching rule wins)
 ``include``                 ``file``; children ``arg`` (``name``, ``value``)
 ``if``, ``unless``          on every entity
 ==========================  ===============================================================
@@ -42,7 +44,7 @@ from __future__ import annotations
 import os
 import shlex
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -79,6 +81,7 @@ _TAGS: dict[str, tuple[frozenset[str], frozenset[str]]] = {
     "set_env": (frozenset({"name", "value"}), frozenset()),
     "group": (frozenset({"scoped", "forwarding"}), frozenset()),
     "push_ros_namespace": (frozenset({"namespace"}), frozenset()),
+    "set_remap": (frozenset({"from", "to"}), frozenset()),
     "include": (frozenset({"file"}), frozenset({"arg"})),
     "node": (frozenset({"pkg", "exec", "name", "namespace", "args", "ros_args", "cwd"}) | IGNORED_NODE_ATTRIBUTES,
              frozenset({"param", "remap", "env"})),
@@ -91,7 +94,6 @@ _UNSUPPORTED_HINTS = {
     "composable_node": "composable nodes are not supported (see node_container)",
     "executable": "plain processes (<executable>) are not captured: start ROS nodes with <node>",
     "set_parameter": "global parameters (<set_parameter>) are not supported: give the parameter to each node",
-    "set_remap": "group-wide remappings (<set_remap>) are not supported: give the remapping to each node",
     "timer": "delayed actions (<timer>) are not supported",
 }
 MAX_INCLUDE_DEPTH = 40
@@ -102,9 +104,13 @@ class _Scope:
     configurations: dict[str, str]
     namespace: str | None
     env: dict[str, str]
+    #: <set_remap> rules for the nodes after them (launch_ros keeps them with the configurations)
+    remaps: list[tuple[str, str]] = field(default_factory=list)
+    #: the <include> that reads the current file (None: the top-level file)
+    included_from: Where | None = None
 
     def copy(self) -> _Scope:
-        return _Scope(dict(self.configurations), self.namespace, dict(self.env))
+        return _Scope(dict(self.configurations), self.namespace, dict(self.env), list(self.remaps), self.included_from)
 
 
 def launch_file_of_package(package: str, file: str, prefixes: Sequence[Path]) -> Path:
@@ -293,6 +299,10 @@ class _Reader:
         self.result.declared.append(DeclaredArgument(name, None if default is None else str(default),
                                                      None if description is None else str(description), choices, where))
         if name not in scope.configurations:
+            if default is None and scope.included_from is not None:
+                raise self.error(where, f"launch argument '{name}' is required (it has no default) and the <include> "
+                                        f"at {scope.included_from} does not pass it; add "
+                                        f"<arg name=\"{name}\" value=\"...\"/> to that <include>")
             if default is None:
                 raise self.error(where, f"launch argument '{name}' is required (it has no default) and was not given; "
                                         f"pass it: arguments: {{{name}: ...}} (--launch-arg {name}:=VALUE)")
@@ -309,6 +319,10 @@ class _Reader:
         name = self.text(self.require(entity, file, "name"), scope, file)
         scope.env[name] = self.text(self.require(entity, file, "value"), scope, file)
 
+    def tag_set_remap(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        scope.remaps.append((self.text(self.require(entity, file, "from"), scope, file),
+                             self.text(self.require(entity, file, "to"), scope, file)))
+
     def tag_push_ros_namespace(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
         scope.namespace = join_namespace(scope.namespace, self.text(self.require(entity, file, "namespace"), scope, file))
 
@@ -324,14 +338,16 @@ class _Reader:
         scoped = self.flag(entity, "scoped", True, scope, file)
         forwarding = self.flag(entity, "forwarding", True, scope, file)
         inner = scope.copy() if scoped else scope
-        if not forwarding:
+        if not forwarding:  # launch_ros keeps <set_remap> rules with the configurations
             inner.configurations.clear()
+            inner.remaps.clear()
         self.entities(entity.children, inner, file, stack)
 
     def tag_include(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
         where = Where(file, entity.line)
         target = self.path(self.require(entity, file, "file"), scope, file)
         inner = scope.copy()
+        inner.included_from = where
         for child in entity.children:
             if child.tag != "arg":
                 self.unsupported(Where(file, child.line), f"<{child.tag}> inside <include> is not supported")
@@ -375,7 +391,7 @@ class _Reader:
         self.result.nodes.append(LaunchedNode(
             executable=executable, package=package or None, where=where, name=name or None, namespace=namespace,
             arguments=arguments, ros_arguments=ros_arguments, parameters=tuple(parameters),
-            remappings=tuple(remappings), env=env, cwd=cwd))
+            remappings=tuple(remappings), scope_remappings=tuple(scope.remaps), env=env, cwd=cwd))
 
     def parameters(self, entity: Entity, prefix: str, scope: _Scope, file: Path) -> list[Parameter]:
         where = Where(file, entity.line)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import functools
 import os
 import sys
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -65,6 +65,26 @@ def ament_prefixes(extra: tuple[Path, ...] = ()) -> list[Path]:
         if prefix not in seen:
             seen.append(prefix)
     return seen
+
+
+@functools.lru_cache(maxsize=8)
+def _package_shares(prefixes: tuple[Path, ...]) -> dict[str, str]:
+    found: dict[str, str] = {}  # package → share directory
+    for prefix in prefixes:
+        index = prefix / "share" / "ament_index" / "resource_index" / "packages"
+        try:
+            names = [entry.name for entry in os.scandir(index)]
+        except OSError:
+            continue
+        for name in names:
+            found.setdefault(name, str(prefix / "share" / name))
+    return {share: package for package, share in found.items()}
+
+
+def package_shares(prefixes: Sequence[Path]) -> dict[str, str]:
+    """Share directory → package, for every package of the ament ``prefixes`` (the first prefix
+    that has a package wins, as ``$(find-pkg-share)`` finds it)."""
+    return _package_shares(tuple(Path(p) for p in prefixes))
 
 
 def _wheels_distro(site: Path | None = None) -> str | None:

@@ -45,6 +45,7 @@ import importlib
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -360,9 +361,16 @@ def run(
             raise _tag(TargetTimeout(describe, timeout, _mark(_try_load(output, include_infrastructure), start),
                                      stderr, argv), start)
         captured = _try_load(output, include_infrastructure) if returncode != 0 else None
-        if returncode != 0 and (captured is None or not captured.settled_once):
+        crashed = returncode != 0 and crash_evidence(returncode, stderr)
+        if crashed and spec.stimuli and captured is not None and captured.settled_once:
+            # a crash on a stimulus: the stimulus report says which one it was
+            problems = stimulus_problems(captured.raw, returncode)
+            if problems:
+                raise _tag(StimulusFailed(describe, problems, _mark(captured, start), stderr, argv), start)
+        if returncode != 0 and (captured is None or not captured.settled_once or crashed):
             raise _tag(TargetExited(describe, returncode, stderr, _mark(captured, start), argv,
-                                    hint=_missing_module_hint(stderr)), start)
+                                    hint=_missing_module_hint(stderr),
+                                    crashed=crashed), start)
         no_node_hint = module_main_hint(spec.module, _module_origin(argv[0], spec, cwd)) if spec.module else None
         if captured is None:
             if not output.exists():
@@ -389,6 +397,7 @@ def run(
         captured.other_processes = others
         captured.from_child = from_child
         captured.ros_distribution = getattr(ros, "distro", None)
+        captured.make_values_portable(ros_env.package_shares(prefixes))
         failures = captured.failed_transitions()
         if failures:
             raise _tag(LifecycleTransitionFailed(describe, failures, wanted=spec.effective_lifecycle(),
@@ -403,6 +412,21 @@ def run(
     finally:
         if not keep_files:
             shutil.rmtree(workdir, ignore_errors=True)
+
+
+#: signals that end a program because it failed (not because something stopped it)
+_CRASH_SIGNALS = frozenset({signal.SIGSEGV, signal.SIGABRT, signal.SIGBUS, signal.SIGFPE, signal.SIGILL})
+_CRASH_MARKS = ("Traceback (most recent call last):", "terminate called after throwing")
+
+
+def crash_evidence(returncode: int, stderr: str) -> bool:
+    """A non-zero end that is a crash: a fatal signal, or an uncaught exception on stderr (a
+    Python traceback, C++'s ``terminate called after throwing``). A plain ``exit(1)`` after the
+    interfaces settled is not (a program that gave up when a timeout expired at once in virtual
+    time): it stays a capture with a note."""
+    if returncode < 0 and -returncode in _CRASH_SIGNALS:
+        return True
+    return any(mark in stderr for mark in _CRASH_MARKS)
 
 
 def _tag(exc: TargetError, start: _Started) -> TargetError:

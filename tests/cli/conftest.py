@@ -4,14 +4,10 @@ against the real rclpy node scripts of tests/plugin/nodes on the real recording 
 from __future__ import annotations
 
 import os
-import shutil
-import subprocess
-import sys
-import textwrap
-from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from cli_helpers import Cli
 
 from pytest_rmw_introspect.errors import SetupError
 
@@ -25,46 +21,6 @@ def middleware_library() -> Path:
         return Path(middleware.ensure_library())
     except SetupError as exc:
         pytest.fail(str(exc), pytrace=False)
-
-
-@dataclass
-class Result:
-    returncode: int
-    stdout: str
-    stderr: str
-
-    def __str__(self) -> str:
-        return f"exit {self.returncode}\n--- stdout\n{self.stdout}\n--- stderr\n{self.stderr}"
-
-
-def console_script() -> str:
-    found = shutil.which("rmw-introspect", path=str(Path(sys.executable).parent))
-    assert found, f"the rmw-introspect console script is not installed next to {sys.executable}"
-    return found
-
-
-class Cli:
-    """Runs `rmw-introspect ARGS` in ``cwd`` (default: the test's tmp_path)."""
-
-    def __init__(self, tmp_path: Path, env: dict[str, str]) -> None:
-        self.path = tmp_path
-        self.env = env
-
-    def __call__(self, *args: str, cwd: Path | None = None, env: dict[str, str] | None = None,
-                 module: bool = False, timeout: float = 60) -> Result:
-        exe = [sys.executable, "-m", "pytest_rmw_introspect"] if module else [console_script()]
-        proc = subprocess.run([*exe, *map(str, args)], cwd=cwd or self.path, env={**self.env, **(env or {})},
-                              capture_output=True, text=True, timeout=timeout, check=False)
-        return Result(proc.returncode, proc.stdout, proc.stderr)
-
-    def write(self, relpath: str, text: str) -> Path:
-        path = self.path / relpath
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(textwrap.dedent(text))
-        return path
-
-    def read(self, relpath: str) -> str:
-        return (self.path / relpath).read_text()
 
 
 @pytest.fixture

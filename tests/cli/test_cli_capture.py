@@ -180,10 +180,31 @@ def test_capture_errors_are_messages_with_exit_status_2(cli):
         assert result.stdout == "", (args, str(result))
 
 
+def test_a_crash_after_the_first_settle_is_a_crash_too(cli):
+    # the node spins past the settle window, then raises: not a capture with a one-line note
+    script = cli.write("late_crash.py", """\
+        import rclpy
+        from rclpy.node import Node
+        from std_msgs.msg import String
+
+        rclpy.init()
+        node = Node("late_crasher")
+        node.create_publisher(String, "doomed", 10)
+        for _ in range(6):
+            rclpy.spin_once(node, timeout_sec=0.1)
+        raise RuntimeError("lost the serial port after start-up")
+        """)
+    result = cli("capture", "--script", script, "--settle", "0.1")
+    assert result.returncode == 2, result
+    assert "crashed: it exited with status 1 while it was captured" in result.stderr
+    assert "RuntimeError: lost the serial port after start-up" in result.stderr
+    assert result.stdout == ""
+
+
 def test_capture_of_a_crashing_target_fails_with_its_stderr(cli):
     result = cli("capture", "--script", NODES / "crashing_node.py")
     assert result.returncode == 2, result
-    assert "exited with status 1 before its interfaces settled" in result.stderr
+    assert "crashed: it exited with status 1 while it was captured" in result.stderr
     assert "sensor driver failed to open /dev/ttyUSB0" in result.stderr  # the target's own traceback tail
     assert result.stderr.startswith("rmw-introspect: The target script")
     assert result.stdout == ""

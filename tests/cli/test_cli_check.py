@@ -133,7 +133,7 @@ def test_check_errors_exit_2_with_a_message(cli):
         "missing.interfaces.yaml": "invalid contract missing.interfaces.yaml: the file does not exist",
         "bad.interfaces.yaml": "invalid contract bad.interfaces.yaml:3: YAML syntax error",
         "notarget.interfaces.yaml": "notarget.interfaces.yaml has no `target:` block naming what to run",
-        "crash.interfaces.yaml": "exited with status 1 before its interfaces settled",
+        "crash.interfaces.yaml": "crashed: it exited with status 1 while it was captured",
         "badkey.interfaces.yaml": "invalid contract badkey.interfaces.yaml",
     }
     for name, message in cases.items():

@@ -36,16 +36,20 @@ def test_diff_reports_drift_with_the_check_rules(cli_nodes_only):
     cli.write("new.yaml", talker_contract(reliability="BEST_EFFORT").replace("/chatter", "/speech"))
     result = cli("diff", "old.yaml", "new.yaml")
     assert result.returncode == 1, result
-    assert "Interface drift of new.yaml against old.yaml: 1 change (1 breaking, 0 risky, 0 safe)" in result.stdout
+    # the rename does not hide the weaker reliability of the renamed publisher
+    assert "Interface drift of new.yaml against old.yaml: 2 changes (2 breaking, 0 risky, 0 safe)" in result.stdout
     assert "[PUB_RENAMED] publisher /chatter looks renamed to /speech" in result.stdout
+    assert "[QOS_RELIABILITY_WEAKENED] publisher offers weaker reliability RELIABLE -> BEST_EFFORT" in result.stdout
     assert "To accept" not in result.stdout
 
     as_json = cli("diff", "--format", "json", "old.yaml", "new.yaml")
     assert as_json.returncode == 1
     items = json.loads(as_json.stdout)
-    assert [(i["rule"], i["severity"], i["name"], i["change"], i["new"]["name"], i["contract"]) for i in items] == [
-        ("PUB_RENAMED", "BREAKING", "/chatter", "renamed", "/speech", "old.yaml"),
+    assert [(i["rule"], i["severity"], i["name"], i["change"], i["contract"]) for i in items] == [
+        ("PUB_RENAMED", "BREAKING", "/chatter", "renamed", "old.yaml"),
+        ("QOS_RELIABILITY_WEAKENED", "BREAKING", "/speech", "qos.reliability", "old.yaml"),
     ]
+    assert items[0]["new"]["name"] == "/speech"
 
 
 def test_diff_options(cli_nodes_only):

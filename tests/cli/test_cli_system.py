@@ -240,8 +240,12 @@ def test_a_system_contract_accepts_findings_on_purpose(cli_nodes_only):
               "  - {rule: TYPE_MISMATCH, name: /robot1/map, node: /robot1/map_listener, reason: 'the demo mistake'}\n")
     cli.write("robot.system.yaml", text.replace("system_version: 1\n", "system_version: 1\n" + accept, 1))
     result = cli("compat", "robot.system.yaml")
-    assert result.returncode == 0, result  # both BREAKING problems are accepted
+    # the two accepted BREAKING problems no longer fail; the mis-wired service, not accepted, does
+    assert result.returncode == 1, result
     assert "ACCEPTED (2)" in result.stdout and "the demo starts two on purpose" in result.stdout
-    assert "[CLIENT_WITHOUT_SERVER]" in result.stdout.split("ACCEPTED")[0]  # not accepted: still reported
+    assert "[SERVICE_NAME_MISMATCH]" in result.stdout.split("ACCEPTED")[0]  # not accepted: still reported
+    accept += "  - {rule: SERVICE_NAME_MISMATCH, name: /robot1/enable_motor, reason: 'the third demo mistake'}\n"
+    cli.write("robot.system.yaml", text.replace("system_version: 1\n", "system_version: 1\n" + accept, 1))
+    assert cli("compat", "robot.system.yaml").returncode == 0
     items = json.loads(cli("compat", "robot.system.yaml", "--format", "json").stdout)
     assert sorted(i["rule"] for i in items if "accepted" in i) == ["DUPLICATE_NODE_NAME", "TYPE_MISMATCH"]

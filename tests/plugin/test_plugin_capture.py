@@ -151,7 +151,7 @@ def test_rmw_capture_fixture_relative_paths_and_errors(project):
     """)
     result = project.run()
     result.assert_outcomes(passed=2, failed=1)
-    result.stdout.fnmatch_lines(["The target script */crashing_node.py exited with status 1*"])
+    result.stdout.fnmatch_lines(["The target script */crashing_node.py crashed: it exited with status 1*"])
     assert "pytest_rmw_introspect/" not in result.stdout.str()
 
 

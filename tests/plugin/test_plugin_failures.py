@@ -85,7 +85,7 @@ def test_crashing_node_shows_status_stderr_and_partial_capture(project):
     result = project.run()
     assert_clean_failure(result)
     result.stdout.fnmatch_lines([
-        "The target script */crashing_node.py exited with status 1 before its interfaces settled.",
+        "The target script */crashing_node.py crashed: it exited with status 1 while it was captured*",
         "Command: *crashing_node.py",
         "Last lines of its stderr:",
         "*RuntimeError: sensor driver failed to open /dev/ttyUSB0",

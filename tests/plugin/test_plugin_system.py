@@ -32,9 +32,20 @@ def test_update_golden_writes_a_system_contract_and_the_item_checks_it(project):
     written.assert_outcomes(passed=1)
     written.stdout.fnmatch_lines(["*robot.system.yaml::system PASSED*", "*updated*robot.system.yaml*"])
     text = project.read("robot.system.yaml")
-    assert text.startswith("# my robot\nsystem_version: 1\nlaunch:\n  path: launch/robot.launch.xml\nprocesses:\n")
+    # the hand-written header is kept; the subscriptions nothing in the launch file feeds are proposed
+    # as its outside world, commented out
+    proposal = ("# external:\n#   publishers:\n#     /robot/commands: WHO    # std_msgs/msg/String, for /robot/qos_node\n"
+                "#     /robot/qos_node/private: WHO    # std_msgs/msg/String, for /robot/qos_node\n")
+    assert text.startswith("# my robot\nsystem_version: 1\nlaunch:\n  path: launch/robot.launch.xml\n# Endpoints ")
+    assert proposal in text and text.index(proposal) < text.index("\nprocesses:\n")
     assert "    name: /robot/talker\n    nodes: [/robot/talker]\n" in text
     assert "  /robot/talker:\n    publishers:\n      - name: /robot/chatter\n" in text
+    undeclared = project.run("robot.system.yaml")
+    undeclared.assert_outcomes(failed=1)
+    undeclared.stdout.fnmatch_lines(["*[[]DANGLING_SUBSCRIPTION[]] subscription of /robot/qos_node*"])
+    text = text.replace(proposal, "external:\n  publishers:\n    /robot/commands: operator\n"
+                                  "    /robot/qos_node/private: operator\n")
+    project.write("robot.system.yaml", text)
     project.run("robot.system.yaml").assert_outcomes(passed=1)
     # another namespace: every node drifts
     project.write("robot.system.yaml", text.replace("  path: launch/robot.launch.xml\n",
@@ -71,7 +82,7 @@ def test_the_marker_captures_the_system_and_fails_on_system_problems(project):
     exe = os.path.basename(sys.executable)
     result.assert_outcomes(failed=3)
     result.stdout.fnmatch_lines([
-        "*System check of robot.system.yaml: 3 problems (1 breaking, 2 risky, 0 safe)*",
+        "*System check of robot.system.yaml: 3 problems (3 breaking, 0 risky, 0 safe)*",
         f"*[[]DUPLICATE_NODE_NAME[]] node of /robot/talker ({exe}) and node of /robot/talker ({exe} #2)*",
         "*unknown keyword argument(s) bogus*",
     ])

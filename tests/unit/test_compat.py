@@ -166,7 +166,10 @@ def test_rules_table_is_complete():
          "ACTION_CLIENT_WITHOUT_SERVER"],
         # system contracts only (check_launched)
         ["DUPLICATE_NODE_NAME", "SERVICE_MULTIPLE_SERVERS", "ACTION_MULTIPLE_SERVERS",
-         "LAUNCHED_NODE_NOT_CREATED"]) for row in rows}
+         "LAUNCHED_NODE_NOT_CREATED", "DANGLING_SUBSCRIPTION", "DANGLING_SERVICE_CLIENT", "DANGLING_ACTION_CLIENT",
+         "TOPIC_NAME_MISMATCH", "SERVICE_NAME_MISMATCH", "ACTION_NAME_MISMATCH", "EXTERNAL_UNUSED",
+         "PARAM_NOT_DECLARED", "PARAMS_FILE_SECTION_UNMATCHED", "REMAP_UNUSED", "PARAM_PATH_MISSING"])
+        for row in rows}
 
 
 # --------------------------------------------------------------------------- rendering

@@ -114,7 +114,32 @@ def test_one_removed_and_one_added_of_the_same_type_read_as_a_rename(kind):
     assert "/chatter looks renamed to /speech (same type std_msgs/msg/String)" in item.message
 
 
-def test_no_rename_across_types_kinds_or_ambiguity():
+@pytest.mark.parametrize("kind", ["subscriptions", "service_clients", "action_clients"])
+def test_renamed_and_retyped_is_a_rename_and_a_type_change(kind):
+    # as severe as a rename alone (a subscription removed and added was RISKY, renamed BREAKING)
+    items = compare(nodes(kind, entry("/a")), nodes(kind, entry("/b", type_="std_msgs/msg/Int32", type_hash=H2)))
+    assert sorted((i.rule, i.name, i.severity) for i in items) == sorted([
+        (RENAME_RULES[kind], "/a", BREAKING), ("TYPE_CHANGED", "/b", BREAKING)])
+    renamed = [i for i in items if i.change == "renamed"][0]
+    assert "/a looks renamed to /b (and retyped from std_msgs/msg/String to std_msgs/msg/Int32)" in renamed.message
+
+
+def test_a_rename_does_not_hide_other_changes_of_the_endpoint():
+    deeper = compare(nodes("publishers", entry("/a")),
+                     nodes("publishers", entry("/b", type_hash=H2, qos={"profile": "default", "depth": 5,
+                                                                         "reliability": "BEST_EFFORT"})))
+    assert sorted((i.rule, i.name) for i in deeper) == [
+        ("PUB_RENAMED", "/a"), ("QOS_DEPTH_DECREASED", "/b"), ("QOS_RELIABILITY_WEAKENED", "/b"),
+        ("TYPE_HASH_CHANGED", "/b")]
+    # the comparison options apply to them as to any change
+    ignoring = compare(nodes("publishers", entry("/a")),
+                       nodes("publishers", entry("/b", type_hash=H2, qos={"profile": "default", "depth": 5})),
+                       CompareOptions(ignore_type_hash=True, ignore_qos=["depth"]))
+    assert [i.rule for i in ignoring] == ["PUB_RENAMED"]
+
+
+def test_no_rename_across_kinds_or_ambiguity():
+    # an offer removed is BREAKING already: a publisher of another type is not read as a rename
     other_type = compare(nodes("publishers", entry("/a")),
                          nodes("publishers", entry("/b", type_="std_msgs/msg/Int32", type_hash=H2)))
     assert sorted(i.rule for i in other_type) == ["PUB_ADDED", "PUB_REMOVED"]

@@ -416,6 +416,67 @@ def test_nested_groups_and_scoping(tmp_path):
     ]
 
 
+def test_set_remap_applies_to_the_nodes_after_it_in_its_scope(tmp_path):
+    write(tmp_path / "inc.launch.xml", """
+        <launch>
+          <node pkg="p" exec="included"/>
+          <set_remap from="inc" to="leaks_not"/>
+        </launch>""")
+    path = write(tmp_path / "r.launch.xml", """
+        <launch>
+          <node pkg="p" exec="before"/>
+          <set_remap from="/tf" to="tf"/>
+          <group>
+            <set_remap from="scan" to="lidar/scan"/>
+            <node pkg="p" exec="grouped"><remap from="scan" to="own"/></node>
+          </group>
+          <group scoped="false"><set_remap from="cmd" to="cmd_safe"/></group>
+          <group forwarding="false"><node pkg="p" exec="unforwarded"/></group>
+          <include file="$(dirname)/inc.launch.xml"/>
+          <node pkg="p" exec="after"/>
+        </launch>""")
+    result = read(path)
+    assert [(n.executable, n.scope_remappings, n.remappings) for n in result.nodes] == [
+        ("before", (), ()),
+        ("grouped", (("/tf", "tf"), ("scan", "lidar/scan")), (("scan", "own"),)),
+        ("unforwarded", (), ()),  # launch_ros keeps <set_remap> rules with the launch configurations
+        ("included", (("/tf", "tf"), ("cmd", "cmd_safe")), ()),
+        ("after", (("/tf", "tf"), ("cmd", "cmd_safe")), ()),
+    ]
+    # on the command line before the node's own rules (rcl applies the first that matches)
+    assert result.nodes[1].ros_argument_list()[-6:] == ["-r", "/tf:=tf", "-r", "scan:=lidar/scan", "-r", "scan:=own"]
+    yaml_path = write(tmp_path / "r.launch.yaml", """
+        launch:
+          - set_remap: {from: scan, to: lidar/scan}
+          - node: {pkg: p, exec: e}
+        """)
+    assert read(yaml_path).nodes[0].scope_remappings == (("scan", "lidar/scan"),)
+    assert read(yaml_path).unsupported == []
+
+
+def test_a_required_argument_an_include_does_not_pass_names_the_include(tmp_path):
+    write(tmp_path / "driver.launch.xml", """
+        <launch>
+          <arg name="port"/>
+          <node pkg="p" exec="driver"/>
+        </launch>""")
+    path = write(tmp_path / "robot.launch.xml", """
+        <launch>
+          <group>
+            <include file="$(dirname)/driver.launch.xml">
+              <arg name="baud" value="115200"/>
+            </include>
+          </group>
+        </launch>""")
+    with pytest.raises(LaunchError) as raised:
+        read(path)
+    assert str(raised.value).endswith(
+        "driver.launch.xml:2: launch argument 'port' is required (it has no default) and the <include> at "
+        f"{launch_reader.shown(path)}:3 does not pass it; add <arg name=\"port\" value=\"...\"/> to that <include>")
+    path.write_text(path.read_text().replace('<arg name="baud"', '<arg name="port" value="/dev/ttyUSB0"/><arg name="baud"'))
+    assert [n.executable for n in read(path).nodes] == ["driver"]
+
+
 def test_join_namespace():
     join = launch_reader.join_namespace
     assert join(None, None) is None

@@ -266,9 +266,33 @@ def test_gains_lists_what_an_update_adds():
 
 
 TESTED_RULES = {r[3] for r in ROWS} | {"PARAM_REMOVED", "PARAM_ADDED", "PARAM_ADDED_WITHOUT_VALUE", "PARAM_RENAMED",
+                                       "PARAM_ADDED_SUSPICIOUS",
                                        "PARAMS_NOT_READ", "LIFECYCLE_ADDED", "LIFECYCLE_REMOVED",
                                        "LIFECYCLE_STATE_CHANGED"}
 
 
 def test_every_parameter_rule_has_a_test():
     assert TESTED_RULES == set(parameter_drift.RULES)
+
+
+@pytest.mark.parametrize("name, others, suspicious", [
+    ("rte", ["rate", "frame_id"], "is 1 character(s) from rate: it looks like a typo of it"),
+    ("frame_di", ["frame_id"], "is 1 character(s) from frame_id: it looks like a typo of it"),
+    ("max range", ["rate"], "has a name that is no parameter name a node would declare"),
+    ("a..b", [], "has a name that is no parameter name a node would declare"),
+    ("gain_y", ["gain_x"], None),  # an axis apart
+    ("joint2", ["joint1"], None),  # an index apart
+    ("qos_overrides./chatter.publisher.depth", ["rate"], None),
+    ("timeout", ["rate"], None),
+    ("kd", ["kp"], None),  # too short to tell
+])
+def test_a_new_parameter_that_looks_like_a_typo_or_garbage_is_not_safe(name, others, suspicious):
+    nodes_old = {"/n": {"parameters": [{"name": o, "type": "double", "default_value": 1.0} for o in others]}}
+    nodes_new = {"/n": {"parameters": [*nodes_old["/n"]["parameters"],
+                                       {"name": name, "type": "double", "default_value": 1.0}]}}
+    (item,) = compare(nodes_old, nodes_new)
+    if suspicious is None:
+        assert (item.rule, item.severity) == ("PARAM_ADDED", Severity.SAFE)
+    else:
+        assert (item.rule, item.severity) == ("PARAM_ADDED_SUSPICIOUS", Severity.RISKY)
+        assert suspicious in item.message

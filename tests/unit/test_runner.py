@@ -143,7 +143,7 @@ def test_nonzero_exit_reports_status_stderr_and_partial_capture(tmp_path, ros, l
     assert "boom: the sensor is unplugged" in err.stderr_tail
     assert err.partial is not None and err.partial.node_names == ["/fake"]
     msg = str(err)
-    assert "exited with status 1 before its interfaces settled" in msg
+    assert "crashed: it exited with status 1 while it was captured" in msg
     assert "RuntimeError: boom" in msg
     assert "Captured so far:" in msg and "/fake" in msg and "subscriptions: /cmd" in msg
 
@@ -438,10 +438,31 @@ def test_exit_after_settling_is_a_capture_with_a_note(tmp_path, ros, library):
     assert "exited with status 1 after it had settled" in note
 
 
-def test_crash_after_settling_is_a_capture_with_a_note(tmp_path, ros, library):
-    cap = run(tmp_path, ros, library, "write(state='warping')\nos.kill(os.getpid(), 11)\n")
-    assert cap.returncode == -11 and cap.node_names == ["/fake"]
-    assert "was killed by signal 11 after it had settled" in cap.notes()[0]
+def test_a_crash_is_a_failed_target_whether_or_not_it_settled_first(tmp_path, ros, library):
+    # a fatal signal, or an uncaught exception, after the first settle: the same failure as
+    # before it (whether a crash lands inside the settle window is timing), with the stderr
+    with pytest.raises(TargetExited) as killed:
+        run(tmp_path, ros, library, "write(state='warping')\nos.kill(os.getpid(), 11)\n")
+    assert killed.value.status == -11 and killed.value.crashed
+    assert "crashed: it was killed by signal 11 while it was captured" in str(killed.value)
+    assert killed.value.partial is not None and killed.value.partial.node_names == ["/fake"]
+    body = "write(state='warping')\nraise RuntimeError('sensor driver failed to open /dev/ttyUSB0')\n"
+    with pytest.raises(TargetExited) as raised:
+        run(tmp_path, ros, library, body)
+    message = str(raised.value)
+    assert "crashed: it exited with status 1 while it was captured" in message
+    assert "Traceback (most recent call last):" in message and "RuntimeError: sensor driver failed" in message
+    # a kill that is not a crash (the OOM killer's SIGKILL, an operator) stays a capture with a note
+    cap = run(tmp_path, ros, library, "write(state='warping')\nos.kill(os.getpid(), 9)\n")
+    assert cap.returncode == -9 and "was killed by signal 9 after it had settled" in cap.notes()[0]
+
+
+def test_crash_evidence():
+    assert runner.crash_evidence(-11, "") and runner.crash_evidence(-6, "")
+    assert runner.crash_evidence(1, "Traceback (most recent call last):\n  ...\nValueError: x\n")
+    assert runner.crash_evidence(-6, "terminate called after throwing an instance of 'std::runtime_error'")
+    assert not runner.crash_evidence(1, "[ERROR] gave up waiting for the server\n")
+    assert not runner.crash_evidence(-9, "") and not runner.crash_evidence(-15, "")
 
 
 def test_program_that_ends_by_itself_before_settling(tmp_path, ros, library):

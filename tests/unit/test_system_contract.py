@@ -197,7 +197,8 @@ def test_connections_are_checked_between_processes():
         LaunchedProcess("p", None, {"/p": node(pubs=[("/t", "sensor_data")])}),
         LaunchedProcess("s", None, {"/s": node(subs=[("/t", "default"), ("/missing", "default")])}),
     ])
-    assert rules(items) == [("QOS_INCOMPATIBLE", "/t", "s", "p"), ("SUBSCRIPTION_WITHOUT_PUBLISHER", "/missing", "s", None)]
+    # in a launched system a subscription nobody publishes (and `external:` does not declare) is BREAKING
+    assert rules(items) == [("DANGLING_SUBSCRIPTION", "/missing", "s", None), ("QOS_INCOMPATIBLE", "/t", "s", "p")]
 
 
 # ---------------------------------------------------------------------------- without capturing

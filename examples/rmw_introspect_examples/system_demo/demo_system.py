@@ -7,8 +7,8 @@ with ``test_``)::
 
 broken_robot.launch.xml starts the package's nodes with three mistakes: a String listener
 remapped onto the OccupancyGrid map (TYPE_MISMATCH), two talkers with one node name
-(DUPLICATE_NODE_NAME), and a client remapped to a service nobody serves
-(CLIENT_WITHOUT_SERVER). The system contract matches what the launch file starts, so there is
+(DUPLICATE_NODE_NAME), and a client remapped to a service nobody serves, one letter away from
+the service the server offers (SERVICE_NAME_MISMATCH). The system contract matches what the launch file starts, so there is
 no drift: the failure is the system rules'. `rmw-introspect graph` draws it.
 """
 

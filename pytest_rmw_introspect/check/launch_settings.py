@@ -1,0 +1,81 @@
+"""What a launch file gives each process, as the rules of ``compare.launch_given`` read it.
+
+:func:`given` turns a launched node (``run.launch_model.LaunchedNode``) into a
+``compare.launch_given.Given``: the parameters set on its command line (``<param>``, ``-p`` in
+``ros_args``), the node sections of its parameters files (read here, within the limits of
+untrusted input), and its remappings (``<remap>``, ``-r`` in ``ros_args``). A parameters file
+that cannot be read is left out: the process itself fails on it, and the capture says so.
+
+:func:`missing_path` says whether a parameter value points at a file that is not there, on this
+machine, now (``model.portable.resolve``: absolute paths, ``file://``, ``package://`` and the
+``$(find-pkg-share)`` token).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from ..compare.launch_given import Given, GivenParameter, MissingPath, ParamsFile, sections
+from ..model import portable, untrusted
+from ..model.paths import shown
+from ..run.launch_model import LaunchedNode
+from ..run.ros_env import package_shares
+
+
+def given(node: LaunchedNode) -> Given:
+    """The settings ``node``'s launch file gives it."""
+    where = str(node.where)
+    parameters: list[GivenParameter] = []
+    files: list[ParamsFile] = []
+    remappings = list(node.remappings)
+    for parameter in node.parameters:
+        if parameter.name is not None:
+            parameters.append(GivenParameter(parameter.name, where))
+        elif parameter.file is not None:
+            files += _file(parameter.file, None)
+        elif parameter.file_text is not None:
+            files += _file(None, parameter.file_text, f"the parameters given at {where}")
+    words = list(node.ros_arguments)
+    for flag, value in zip(words, words[1:], strict=False):
+        if flag in ("-p", "--param") and ":=" in value:
+            parameters.append(GivenParameter(value.split(":=", 1)[0], f"{where} (ros_args)"))
+        elif flag in ("-r", "--remap") and ":=" in value:
+            source, target = value.split(":=", 1)
+            remappings.append((source, target))
+        elif flag == "--params-file":
+            files += _file(Path(value), None)
+    return Given(parameters=tuple(parameters), files=tuple(files), remappings=tuple(remappings), where=where)
+
+
+def _file(path: Path | None, text: str | None, name: str | None = None) -> list[ParamsFile]:
+    try:
+        if path is not None:
+            text = untrusted.read_text(path)
+        root = untrusted.compose_yaml(text or "")
+        if root is None:
+            return []
+        untrusted.check_tree(root)
+        data = untrusted.construct(root)
+    except (OSError, untrusted.InputError):
+        return []
+    label = name or (shown(path) if path is not None else "parameters")
+    return [ParamsFile(label, sections(data))]
+
+
+def missing_path(prefixes: Sequence[Path]) -> MissingPath:
+    """A ``compare.launch_given.MissingPath`` that finds packages in the ament ``prefixes``."""
+    shares = {package: Path(share) for share, package in package_shares(prefixes).items()}
+
+    def why_missing(value: str) -> str | None:
+        found = portable.resolve(value, shares.get)
+        if found is None:
+            return None
+        path, package = found
+        if path is None:
+            return f"package {package}, which is not installed (not in the ament index)"
+        if path.exists():
+            return None
+        return f"{shown(path)}, which does not exist"
+
+    return why_missing

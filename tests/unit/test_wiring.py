@@ -1,0 +1,373 @@
+"""The rules that tell a mis-wired robot from its expected outside inputs (compare.wiring), and
+the settings a launch file gives that a node ignores (compare.launch_given, check.launch_settings):
+system contracts' ``external:`` block, near-miss name pairing, undeclared parameters, parameters
+file sections for no node, remappings that change nothing."""
+
+from __future__ import annotations
+
+import textwrap
+
+import pytest
+
+from pytest_rmw_introspect.check import launch_settings, system_pipeline
+from pytest_rmw_introspect.compare import graph, launch_given, report, wiring
+from pytest_rmw_introspect.compare.launch_given import Given, GivenParameter, ParamsFile
+from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched, propose_external
+from pytest_rmw_introspect.errors import ContractError
+from pytest_rmw_introspect.model import system_contract
+from pytest_rmw_introspect.model.vocabulary import Severity
+from pytest_rmw_introspect.run.launch_model import LaunchedNode, Parameter, Where
+
+SCAN = "sensor_msgs/msg/LaserScan"
+POSE = "geometry_msgs/msg/PoseWithCovarianceStamped"
+SET_BOOL = "std_srvs/srv/SetBool"
+
+
+def node(pubs=(), subs=(), servers=(), clients=(), action_servers=(), action_clients=(), parameters=None):
+    out = {
+        "publishers": [{"name": n, "type": t} for n, t in pubs],
+        "subscriptions": [{"name": n, "type": t} for n, t in subs],
+        "service_servers": [{"name": n, "type": SET_BOOL} for n in servers],
+        "service_clients": [{"name": n, "type": SET_BOOL} for n in clients],
+        "action_servers": [{"name": n, "type": "test_msgs/action/Fibonacci"} for n in action_servers],
+        "action_clients": [{"name": n, "type": "test_msgs/action/Fibonacci"} for n in action_clients],
+    }
+    if parameters is not None:
+        out["parameters"] = [{"name": n, "type": "string", "default_value": ""} for n in parameters]
+    return out
+
+
+def found(items):
+    return sorted((i.rule, i.name, i.other_name) for i in items)
+
+
+# ---------------------------------------------------------------------------- the outside world
+
+
+def test_an_undeclared_dangling_subscription_fails_the_default_gate_and_a_declared_one_is_silent():
+    processes = [LaunchedProcess("amcl", "/amcl", {"/amcl": node(subs=[("/initialpose", POSE)],
+                                                                 clients=["/set_map"],
+                                                                 action_clients=["/navigate"])})]
+    items = check_launched(processes)
+    assert found(items) == [("DANGLING_ACTION_CLIENT", "/navigate", None), ("DANGLING_SERVICE_CLIENT", "/set_map", None),
+                            ("DANGLING_SUBSCRIPTION", "/initialpose", None)]
+    assert all(i.severity is Severity.BREAKING for i in items)
+    assert report.fails(items, Severity.BREAKING)
+    assert "external: {publishers: {/initialpose: WHO}}" in items[-1].message or any(
+        "external: {publishers: {/initialpose: WHO}}" in i.message for i in items)
+    declared = {"publishers": {"/initialpose": "rviz"}, "service_servers": {"/set_map": "fleet"},
+                "action_servers": {"/navigate": "bt navigator"}}
+    assert check_launched(processes, external=declared) == []
+
+
+def test_a_declaration_that_matches_nothing_is_reported():
+    processes = [LaunchedProcess("amcl", "/amcl", {"/amcl": node(subs=[("/initialpose", POSE)],
+                                                                 pubs=[("/map", "nav_msgs/msg/OccupancyGrid")])})]
+    external = {"publishers": {"/initialpose": "rviz", "/initial_pose": "rviz"},  # the second: a typo
+                "subscriptions": {"/map": "rviz", "/costmap": "rviz"}}
+    items = check_launched(processes, external=external)
+    assert found(items) == [("EXTERNAL_UNUSED", "/costmap", None), ("EXTERNAL_UNUSED", "/initial_pose", None)]
+    assert all(i.severity is Severity.RISKY for i in items)
+    by_name = {i.name: i for i in items}
+    assert by_name["/initial_pose"].message.startswith("`external:` declares rviz as a publisher of /initial_pose, but "
+                                                       "no subscription of the system uses that name")
+    assert str(by_name["/costmap"].requester) == "subscription of rviz (external)"
+
+
+def test_node_contracts_alone_keep_the_risky_missing_peer_rules():
+    # compat over node contracts (not a whole system) is unchanged
+    from pytest_rmw_introspect.compare.system import check_system
+    items = check_system({"a.yaml": {"/a": node(subs=[("/x", SCAN)])}})
+    assert [(i.rule, i.severity) for i in items] == [("SUBSCRIPTION_WITHOUT_PUBLISHER", Severity.RISKY)]
+
+
+# ---------------------------------------------------------------------------- near misses
+
+
+@pytest.mark.parametrize("wanted, offered, why", [
+    ("/scan", "/camera/scan", "the same name in another namespace (/ vs /camera)"),
+    ("/robot1/scan_raw", "/robot1/scan_row", "1 character apart"),
+    ("/robot1/points_filtered", "/robot1/point_filtered", "1 character apart"),
+    ("/robot1/lidar/scna", "/robot1/lidar/scan", "1 character apart"),  # two letters swapped
+    ("/robot1/odometry_filtered", "/robot1/odometry_filterd2", "2 characters apart"),
+    ("/robot1/scan", "/scan", "the same name in another namespace (/robot1 vs /)"),
+])
+def test_near_misses(wanted, offered, why):
+    assert wiring.near_miss(wanted, offered)[1] == why
+
+
+@pytest.mark.parametrize("wanted, offered", [
+    ("/scan", "/scan"), ("/cmd_vel", "/odom"), ("/a", "/b"), ("/imu", "/gps"), ("/scan", "/scan_filtered_out")])
+def test_names_that_are_not_near_misses(wanted, offered):
+    assert wiring.near_miss(wanted, offered) is None
+
+
+def test_a_dangling_subscription_and_an_unconsumed_publisher_of_one_type_are_one_finding():
+    items = check_launched([
+        LaunchedProcess("lidar", "/robot1/lidar", {"/robot1/lidar": node(pubs=[("/robot1/lidar/scan", SCAN)])}),
+        LaunchedProcess("detector", "/robot1/detector", {"/robot1/detector": node(subs=[("/robot1/scan", SCAN)])}),
+    ])
+    assert found(items) == [("TOPIC_NAME_MISMATCH", "/robot1/scan", "/robot1/lidar/scan")]
+    item = items[0]
+    assert item.severity is Severity.BREAKING
+    assert (item.requester.node, item.provider.node, item.provider.kind) == ("/robot1/detector", "/robot1/lidar", "publishers")
+    assert item.message.startswith(
+        f"nobody provides /robot1/scan and nobody requests /robot1/lidar/scan ({SCAN}): one topic wired under two "
+        "names, the same name in another namespace (/robot1 vs /robot1/lidar); remap it for /robot1/detector: "
+        '<remap from="/robot1/scan" to="/robot1/lidar/scan"/>')
+    # the report names both ends; JSON carries the other name; the graph marks both edges
+    text = report.render_compat_text(items, threshold=Severity.BREAKING)
+    assert "[TOPIC_NAME_MISMATCH] publisher of /robot1/lidar (lidar) -> subscription of /robot1/detector (detector)" in text
+    assert report.compat_to_json(items)[0]["other_name"] == "/robot1/lidar/scan"
+    drawn = graph.build([LaunchedProcess("lidar", None, {"/robot1/lidar": node(pubs=[("/robot1/lidar/scan", SCAN)])}),
+                         LaunchedProcess("detector", None, {"/robot1/detector": node(subs=[("/robot1/scan", SCAN)])})],
+                        items)
+    assert sorted(e.rules for e in drawn.edges) == [["TOPIC_NAME_MISMATCH"], ["TOPIC_NAME_MISMATCH"]]
+
+
+def test_a_relative_name_in_the_wrong_namespace_suggests_the_namespace():
+    items = check_launched([
+        LaunchedProcess("driver", None, {"/robot1/driver": node(pubs=[("/robot1/scan", SCAN)])}),
+        LaunchedProcess("detector", None, {"/detector": node(subs=[("/scan", SCAN)])}),
+    ])
+    assert found(items) == [("TOPIC_NAME_MISMATCH", "/scan", "/robot1/scan")]
+    assert "if /detector is started in the wrong namespace, start it in /robot1" in items[0].message
+
+
+def test_services_and_actions_are_paired_too():
+    items = check_launched([
+        LaunchedProcess("server", None, {"/motors": node(servers=["/enable_motors"], action_servers=["/fibonacci"])}),
+        LaunchedProcess("client", None, {"/enabler": node(clients=["/enable_motor"], action_clients=["/fibonaci"])}),
+    ])
+    assert found(items) == [("ACTION_NAME_MISMATCH", "/fibonaci", "/fibonacci"),
+                            ("SERVICE_NAME_MISMATCH", "/enable_motor", "/enable_motors")]
+
+
+def test_no_pairing_across_types_with_a_consumed_publisher_or_with_a_declared_consumer():
+    lidar = LaunchedProcess("lidar", None, {"/lidar": node(pubs=[("/camera/scan", "sensor_msgs/msg/Image")])})
+    detector = LaunchedProcess("detector", None, {"/detector": node(subs=[("/scan", SCAN)])})
+    assert found(check_launched([lidar, detector])) == [("DANGLING_SUBSCRIPTION", "/scan", None)]
+    lidar = LaunchedProcess("lidar", None, {"/lidar": node(pubs=[("/camera/scan", SCAN)])})
+    consumer = LaunchedProcess("viewer", None, {"/viewer": node(subs=[("/camera/scan", SCAN)])})
+    assert found(check_launched([lidar, detector, consumer])) == [("DANGLING_SUBSCRIPTION", "/scan", None)]
+    assert found(check_launched([lidar, detector], external={"subscriptions": {"/camera/scan": "rviz"}})) == [
+        ("DANGLING_SUBSCRIPTION", "/scan", None)]
+
+
+def test_the_proposed_external_block_lists_the_dangling_requesters_but_not_the_near_misses():
+    processes = [
+        LaunchedProcess("amcl", None, {"/amcl": node(subs=[("/initialpose", POSE), ("/scan_row", SCAN)])}),
+        LaunchedProcess("lidar", None, {"/lidar": node(pubs=[("/scan_raw", SCAN)])}),
+        LaunchedProcess("planner", None, {"/planner": node(clients=["/set_map"])}),
+    ]
+    proposal = propose_external(processes)
+    assert proposal == textwrap.dedent("""\
+        # Endpoints nothing in the launch files provides. If something outside them does (rviz, a
+        # teleop, a driver started elsewhere), uncomment this block and write who; anything not declared
+        # here fails the check (DANGLING_*), since it is usually a remapping or namespace mistake.
+        # external:
+        #   publishers:
+        #     /initialpose: WHO    # geometry_msgs/msg/PoseWithCovarianceStamped, for /amcl
+        #   service_servers:
+        #     /set_map: WHO    # std_srvs/srv/SetBool, for /planner
+        """)
+    # adopting it is uncommenting it: the contract then loads, and only the mis-wiring is left
+    block = "".join(line[2:] + "\n" for line in proposal.splitlines()[3:])
+    contract = system_contract.loads("system_version: 1\nlaunch: {path: a.launch.xml}\n" + block)
+    assert contract.external == {"publishers": {"/initialpose": "WHO"}, "service_servers": {"/set_map": "WHO"}}
+    assert found(check_launched(processes, external=contract.external)) == [
+        ("TOPIC_NAME_MISMATCH", "/scan_row", "/scan_raw")]
+    assert propose_external(processes[1:2]) == ""
+
+
+def test_the_external_block_is_validated(tmp_path):
+    head = "system_version: 1\nlaunch: {path: a.launch.xml}\n"
+    with pytest.raises(ContractError, match=r"external\.publishers.*'initialpose' does not match '\^/'"):
+        system_contract.loads(head + "external:\n  publishers: {initialpose: rviz}\n")
+    with pytest.raises(ContractError, match=r"unknown key\(s\) 'topics'"):
+        system_contract.loads(head + "external:\n  topics: {/initialpose: rviz}\n")
+    assert system_contract.loads(head + "external:\n").external == {}
+
+
+def test_compat_and_graph_of_a_system_contract_read_its_external_block(tmp_path):
+    (tmp_path / "robot.system.yaml").write_text(textwrap.dedent(f"""\
+        system_version: 1
+        launch: {{path: a.launch.xml}}
+        external:
+          publishers: {{/initialpose: rviz}}
+        processes:
+          - {{package: demo, executable: amcl, name: /amcl, nodes: [/amcl]}}
+        nodes:
+          /amcl:
+            subscriptions:
+              - {{name: /initialpose, type: {POSE}}}
+              - {{name: /odom, type: nav_msgs/msg/Odometry}}
+        """))
+    loaded = system_pipeline.load_any(["robot.system.yaml"], base_dir=tmp_path)
+    assert found(system_pipeline.system_items(loaded)) == [("DANGLING_SUBSCRIPTION", "/odom", None)]
+
+
+# ---------------------------------------------------------------------------- what a node ignores
+
+
+def given(parameters=(), files=(), remappings=()):
+    return Given(parameters=tuple(GivenParameter(n, "robot.launch.xml:7") for n in parameters), files=tuple(files),
+                 remappings=tuple(remappings), where="robot.launch.xml:7")
+
+
+def test_a_parameter_the_node_does_not_declare_is_breaking_with_the_closest_declared_name():
+    lidar = node(pubs=[("/lidar/scan", SCAN)], parameters=["frame_id", "rate"])
+    items = check_launched([LaunchedProcess("demo/lidar", "/lidar", {"/lidar": lidar},
+                                            given=given(["rte", "frame_id", "use_sim_time", "colour"]))])
+    assert found(items) == [("PARAM_NOT_DECLARED", "colour", None), ("PARAM_NOT_DECLARED", "rte", None)]
+    assert all(i.severity is Severity.BREAKING for i in items)
+    by_name = {i.name: i.message for i in items}
+    assert by_name["rte"] == ("parameter `rte` is given (robot.launch.xml:7) but /lidar does not declare it: ROS 2 "
+                              "ignores it without a word; did you mean `rate`?")
+    assert by_name["colour"].endswith("it declares: frame_id, rate")
+    # the graph marks the node
+    drawn = graph.build([LaunchedProcess("demo/lidar", "/lidar", {"/lidar": lidar})], items)
+    assert [sorted({m.rule for m in v.marks}) for v in drawn.node_vertices()] == [["PARAM_NOT_DECLARED"]]
+    # parameters not read (a C node, read_parameters: false): nothing to compare with
+    unread = node(pubs=[("/lidar/scan", SCAN)])
+    assert check_launched([LaunchedProcess("demo/lidar", "/lidar", {"/lidar": unread}, given=given(["rte"]))]) == []
+
+
+def test_parameters_file_sections_are_matched_like_ros():
+    assert launch_given.section_matches("/**", "/robot1/lidar")
+    assert launch_given.section_matches("/**/lidar", "/robot1/lidar")
+    assert launch_given.section_matches("/**/lidar", "/lidar")
+    assert launch_given.section_matches("/robot1/*", "/robot1/lidar")
+    assert not launch_given.section_matches("/robot1/*", "/robot1/sub/lidar")
+    assert launch_given.section_matches("lidar", "/lidar")
+    assert not launch_given.section_matches("lidar", "/robot1/lidar")  # no leading /: the root namespace
+    assert launch_given.sections({"robot1": {"lidar": {"ros__parameters": {"rate": 2, "filter": {"size": 3}}}},
+                                  "/**": {"ros__parameters": {"use_sim_time": True}}}) == (
+        ("robot1/lidar", ("rate", "filter.size")), ("/**", ("use_sim_time",)))
+
+
+def test_a_parameters_file_section_keyed_to_no_node_and_its_parameters():
+    params = ParamsFile("config/robot.yaml", (("/robot1/laser", ("frame_id",)), ("/**/lidar", ("rate", "rte"))))
+    lidar = node(parameters=["frame_id", "rate"])
+    items = check_launched([
+        LaunchedProcess("demo/lidar", "/robot1/lidar", {"/robot1/lidar": lidar}, given=given(files=[params])),
+        LaunchedProcess("demo/laser", "/laser", {"/laser": node(parameters=[])}),
+    ])
+    assert found(items) == [("PARAMS_FILE_SECTION_UNMATCHED", "/robot1/laser", None),
+                            ("PARAM_NOT_DECLARED", "rte", None)]
+    by_rule = {i.rule: i.message for i in items}
+    assert by_rule["PARAMS_FILE_SECTION_UNMATCHED"].startswith(
+        "parameters file config/robot.yaml has a section `/robot1/laser` that matches none of the nodes it is given "
+        "to (/robot1/lidar), so its parameters reach no node; the node may have been renamed")
+    assert "(config/robot.yaml [/**/lidar])" in by_rule["PARAM_NOT_DECLARED"]
+
+
+def test_one_file_for_the_whole_robot_is_matched_against_every_node_it_is_given_to():
+    params = ParamsFile("robot.yaml", (("/a", ("x",)), ("/b", ("y",)), ("/c", ("z",))))
+    items = check_launched([
+        LaunchedProcess("a", "/a", {"/a": node(parameters=["x"])}, given=given(files=[params])),
+        LaunchedProcess("b", "/b", {"/b": node(parameters=["y"])}, given=given(files=[params])),
+        LaunchedProcess("c", "/c", {"/c": node(parameters=["z"])}),  # not given the file
+    ])
+    assert found(items) == [("PARAMS_FILE_SECTION_UNMATCHED", "/c", None)]
+    assert "/c would match it but is not given this file" in items[0].message
+
+
+def test_a_remapping_that_changed_no_name_is_breaking():
+    lidar = node(pubs=[("/robot1/lidar/scan", SCAN)])
+    ok = given(remappings=[("scan", "lidar/scan"), ("__ns", "/robot1")])
+    assert check_launched([LaunchedProcess("l", "/robot1/lidar", {"/robot1/lidar": lidar}, given=ok)],
+                          external={"subscriptions": {"/robot1/lidar/scan": "rviz"}}) == []
+    typo = given(remappings=[("sacn", "lidar/scan"), ("~/out", "status")])
+    lidar = node(pubs=[("/robot1/scan", SCAN)])
+    items = check_launched([LaunchedProcess("l", "/robot1/lidar", {"/robot1/lidar": lidar}, given=typo)],
+                           external={"subscriptions": {"/robot1/scan": "rviz"}})
+    assert found(items) == [("REMAP_UNUSED", "sacn:=lidar/scan", None), ("REMAP_UNUSED", "~/out:=status", None)]
+    assert items[0].severity is Severity.BREAKING
+    message = {i.name: i.message for i in items}["sacn:=lidar/scan"]
+    assert message == ("the remapping sacn -> lidar/scan (at robot.launch.xml:7) changed none of the names of "
+                       "/robot1/lidar: no topic, service or action is named /robot1/lidar/scan, so the node never "
+                       "used /robot1/sacn; check the `from` name against the node's own names")
+    assert launch_given.resolve("~/out", "/robot1/lidar") == "/robot1/lidar/out"
+
+
+def test_the_settings_of_a_launched_node(tmp_path):
+    params = tmp_path / "params.yaml"
+    params.write_text("/**/lidar:\n  ros__parameters: {rate: 2.0, frame: {id: x}}\n")
+    launched = LaunchedNode(
+        executable="laser", package="demo", where=Where(tmp_path / "robot.launch.xml", 4), name="lidar",
+        parameters=(Parameter("rate", 3.0), Parameter(file=params), Parameter(file_text="/**:\n  ros__parameters: {a: 1}\n"),
+                    Parameter(file=tmp_path / "missing.yaml")),
+        remappings=(("scan", "lidar/scan"),),
+        ros_arguments=("-p", "gain:=2", "-r", "odom:=wheel/odom", "--params-file", str(params)))
+    settings = launch_settings.given(launched)
+    assert [p.name for p in settings.parameters] == ["rate", "gain"]
+    assert [(f.shown.endswith("params.yaml"), f.sections) for f in settings.files] == [
+        (True, (("/**/lidar", ("rate", "frame.id")),)), (False, (("/**", ("a",)),)),
+        (True, (("/**/lidar", ("rate", "frame.id")),))]
+    assert settings.remappings == (("scan", "lidar/scan"), ("odom", "wheel/odom"))
+    assert settings.where.endswith("robot.launch.xml:4")
+
+
+# ---------------------------------------------------------------------------- paths in parameter values
+
+
+def test_install_prefixes_are_written_as_a_package_token(tmp_path):
+    from pytest_rmw_introspect.model import portable
+
+    shares = {f"{tmp_path}/install/share/robot": "robot", f"{tmp_path}/install/share/robot_maps": "robot_maps"}
+    assert portable.portable_value(f"{tmp_path}/install/share/robot/maps/a.yaml", shares) == \
+        "$(find-pkg-share robot)/maps/a.yaml"
+    assert portable.portable_value(f"{tmp_path}/install/share/robot_maps", shares) == "$(find-pkg-share robot_maps)"
+    assert portable.portable_value([f"file://{tmp_path}/install/share/robot/x", 3], shares) == [
+        "file://$(find-pkg-share robot)/x", 3]
+    # another package whose name starts the same, and values that are no paths, stay as they are
+    assert portable.portable_value(f"{tmp_path}/install/share/robotics/a", shares) == f"{tmp_path}/install/share/robotics/a"
+    assert portable.portable_value(2.5, shares) == 2.5 and portable.portable_value("map", shares) == "map"
+
+
+def test_a_capture_records_parameter_values_portably(tmp_path):
+    from pytest_rmw_introspect.model.capture import Capture, Node
+    from pytest_rmw_introspect.model.parameters import Parameter as CapturedParameter
+
+    captured = Node(fqn="/map_server", name="map_server", namespace="/",
+                    parameters=[CapturedParameter("map", "string", f"{tmp_path}/share/robot/m.yaml"),
+                                CapturedParameter("rate", "double", 1.0)])
+    capture = Capture(nodes={"/map_server": captured}, raw_nodes=[], raw_endpoints=[], state="settled")
+    capture.make_values_portable({f"{tmp_path}/share/robot": "robot"})
+    assert [p.value for p in captured.parameters] == ["$(find-pkg-share robot)/m.yaml", 1.0]
+
+
+def test_parameter_values_that_point_at_missing_files(tmp_path):
+    from pytest_rmw_introspect.check.launch_settings import missing_path
+
+    prefix = tmp_path / "install"
+    (prefix / "share" / "ament_index" / "resource_index" / "packages").mkdir(parents=True)
+    (prefix / "share" / "ament_index" / "resource_index" / "packages" / "robot").write_text("")
+    (prefix / "share" / "robot" / "maps").mkdir(parents=True)
+    (prefix / "share" / "robot" / "maps" / "office.yaml").write_text("image: office.pgm\n")
+    why = missing_path([prefix])
+    for fine in ("$(find-pkg-share robot)/maps/office.yaml", "package://robot/maps/office.yaml",
+                 f"file://{prefix}/share/robot/maps/office.yaml", f"{prefix}/share/robot/maps/office.yaml",
+                 "/robot1/scan", "/map", "map", "", "base_link", "/"):
+        assert why(fine) is None, fine
+    assert why("package://robot/maps/lab.yaml").endswith("maps/lab.yaml, which does not exist")
+    assert why("$(find-pkg-share robot)/maps/lab.yaml").endswith("maps/lab.yaml, which does not exist")
+    assert why(f"{tmp_path}/nowhere.yaml").endswith("nowhere.yaml, which does not exist")
+    assert why("package://office_maps/lab.yaml") == "package office_maps, which is not installed (not in the ament index)"
+
+
+def test_a_path_parameter_to_a_missing_file_is_breaking():
+    loader = node(parameters=["map_file"])
+    loader["parameters"][0]["default_value"] = "package://robot/maps/lab.yaml"
+    processes = [LaunchedProcess("demo/map", "/map_server", {"/map_server": loader}, given=given())]
+    items = check_launched(processes, missing_path=lambda v: "maps/lab.yaml, which does not exist"
+                           if v.endswith("lab.yaml") else None)
+    assert found(items) == [("PARAM_PATH_MISSING", "map_file", None)]
+    assert items[0].severity is Severity.BREAKING
+    assert items[0].message == ("parameter `map_file` of /map_server is 'package://robot/maps/lab.yaml', which points "
+                                "at maps/lab.yaml, which does not exist: the node reads nothing (or fails when it "
+                                "needs it); install the file or fix the value")
+    # stored contracts (no launch file: compat, graph) are not judged on this machine's files
+    assert check_launched([LaunchedProcess("demo/map", "/map_server", {"/map_server": loader})],
+                          missing_path=lambda v: "gone") == []

@@ -248,4 +248,5 @@ def test_a_system_contract_accepts_findings_on_purpose(cli_nodes_only):
     cli.write("robot.system.yaml", text.replace("system_version: 1\n", "system_version: 1\n" + accept, 1))
     assert cli("compat", "robot.system.yaml").returncode == 0
     items = json.loads(cli("compat", "robot.system.yaml", "--format", "json").stdout)
-    assert sorted(i["rule"] for i in items if "accepted" in i) == ["DUPLICATE_NODE_NAME", "TYPE_MISMATCH"]
+    assert sorted(i["rule"] for i in items if "accepted" in i) == [
+        "DUPLICATE_NODE_NAME", "SERVICE_NAME_MISMATCH", "TYPE_MISMATCH"]

@@ -244,7 +244,7 @@ def _schema_reason(error: Any) -> str:
 
 
 #: where the keys each part of a contract takes are listed, for messages too long to list them
-SCHEMA_HINT = "the keys allowed here are in the contract schema, pytest_rmw_introspect/schema/contract.schema.json"
+SCHEMA_HINT = "allowed keys: see the contract schema, pytest_rmw_introspect/schema/contract.schema.json"
 #: the longest list of allowed keys a message spells out (a node's lists; longer ones point at the schema)
 _LISTED_KEYS_CHARS = 120
 

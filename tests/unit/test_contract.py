@@ -82,12 +82,12 @@ nodes:
 
 @pytest.mark.parametrize(("text", "wanted"), [
     ("contract_version: 1\nnodes: {}\ntarget: {script: a.py, timout: 5}\n",
-     "at target: unknown key 'timout'; did you mean 'timeout'? (the keys allowed here are in the contract schema"),
+     "at target: unknown key 'timout'; did you mean 'timeout'? (allowed keys: see the contract schema"),
     ("contract_version: 1\nnodes: {}\noptions: {zz: 1}\n",
-     "at options: unknown key 'zz' (the keys allowed here are in the contract schema, "
+     "at options: unknown key 'zz' (allowed keys: see the contract schema, "
      "pytest_rmw_introspect/schema/contract.schema.json)"),
     ("contract_version: 1\nnodes:\n  /t:\n    parameters:\n      - {name: a, type: bool, wat: 1}\n",
-     "at nodes./t.parameters[0]: unknown key 'wat' (the keys allowed here are in the contract schema"),
+     "at nodes./t.parameters[0]: unknown key 'wat' (allowed keys: see the contract schema"),
     ("contract_version: 1\nnodes:\n  /t:\n    publisher: []\n",
      "unknown key 'publisher'; allowed: action_clients, action_servers, lifecycle, parameters, publishers"),
 ])

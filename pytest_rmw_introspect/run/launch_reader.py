@@ -35,6 +35,13 @@ launch file independent of both). Attributes that do not change what a node crea
 (an unknown tag, composable node containers, ``launch-prefix``, an unsupported substitution)
 is an :class:`Unsupported` entry with its file and line; :meth:`LaunchResult.require_supported`
 turns them into one :class:`LaunchError`.
+
+Launch files may come from anywhere, so reading one is bounded like reading a contract: the
+files themselves (``launch_entities``), substitutions (``launch_substitutions``), and here the
+work of a launch: each file is parsed once however often it is included, at most
+:data:`MAX_INCLUDES` includes are followed and :data:`MAX_ENTITIES` entities interpreted, and
+groups and includes nest at most :data:`MAX_NESTING` levels together. Each limit is a
+:class:`LaunchError` with the file and line.
 """
 
 from __future__ import annotations

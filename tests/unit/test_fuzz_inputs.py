@@ -71,23 +71,36 @@ nodes:
 """
 
 
+class _Expired(AssertionError):
+    """Raised by the alarm wherever the code under test is (possibly thousands of frames deep)."""
+
+
 @contextlib.contextmanager
 def deadline(seconds: float, what: str) -> Iterator[None]:
     def expired(signum, frame):
-        raise AssertionError(f"hang: {what} took more than {seconds} s")
+        raise _Expired()
 
     # pytest-timeout may have an alarm running for the whole test: put it back afterwards
     outer_remaining, _ = signal.getitimer(signal.ITIMER_REAL)
     started = time.monotonic()
     previous = signal.signal(signal.SIGALRM, expired)
     signal.setitimer(signal.ITIMER_REAL, seconds)
+    hung = False
     try:
         yield
+    except _Expired as exc:
+        exc.__traceback__ = None
+        hung = True
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
         if outer_remaining > 0:
             signal.setitimer(signal.ITIMER_REAL, max(0.001, outer_remaining - (time.monotonic() - started)))
+    if hung:
+        # raised here, without the alarm's traceback: an alarm inside a deep recursion (the
+        # pure-Python YAML composer on a busy machine) left frames whose report crashed pytest
+        # under xdist (INTERNALERROR, the whole session ended)
+        raise AssertionError(f"hang: {what} took more than {seconds} s") from None
 
 
 # ---------------------------------------------------------------------------- mutations

@@ -17,12 +17,14 @@ states whether it is a lifecycle node when it has ``lifecycle`` or ``parameters`
 from __future__ import annotations
 
 import math
+import os
 import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 from ..model import parameters as parameter_model
+from ..model import untrusted
 from ..model.parameters import ParameterRange, format_value
 from ..model.vocabulary import LIFECYCLE, LIFECYCLE_TRANSITIONS, LIFECYCLE_UNKNOWN, PARAMETERS, Severity
 from .options import ComparisonOptions
@@ -216,9 +218,11 @@ def _changed(name: str, old: Mapping[str, Any], new: Mapping[str, Any], options:
                           "(InvalidParameterTypeException at start-up; `ros2 param set` fails)"))
     elif compare_values and (retyped or not parameter_model.same_value(_value(old), _value(new))):
         retyped_text = f" (and its type {old_type} -> {new_type}, which dynamic typing accepts)" if retyped else ""
+        old_text, new_text = format_value(_value(old)), format_value(_value(new))
         out.append(change("default_value", old.get("default_value"), new.get("default_value"),
                           "PARAM_DEFAULT_CHANGED",
-                          f"default value {format_value(_value(old))} -> {format_value(_value(new))}{retyped_text}: "
+                          f"default value {old_text} -> {new_text}{_first_difference(_value(old), _value(new), old_text)}"
+                          f"{retyped_text}: "
                           "systems that rely on the default behave differently (those that set it are unaffected)"))
     for flag, added_rule, removed_rule, added_text, removed_text in (
         ("read_only", "PARAM_READ_ONLY_ADDED", "PARAM_READ_ONLY_REMOVED",
@@ -261,7 +265,15 @@ def _changed(name: str, old: Mapping[str, Any], new: Mapping[str, Any], options:
 def _short(text: str, limit: int = 60) -> str:
     if not text:
         return "(none)"
-    return repr(text if len(text) <= limit else text[: limit - 3] + "...")
+    return untrusted.shorten_with_digest(text, limit)
+
+
+def _first_difference(old: Any, new: Any, old_text: str) -> str:
+    """Where two long strings shown cut (:func:`format_value`) first differ, or nothing."""
+    if not (isinstance(old, str) and isinstance(new, str)) or old_text == repr(old):
+        return ""
+    index = len(os.path.commonprefix([old, new]))
+    return f" (they differ from character {index + 1:,} on)"
 
 
 def _transition_rank(label: str | None) -> int:

@@ -38,6 +38,7 @@ update.
 
 from __future__ import annotations
 
+import difflib
 import functools
 import json
 import math
@@ -248,11 +249,7 @@ def _schema_reason(error: Any) -> str:
         allowed_keys = sorted((error.schema.get("properties") or {}).keys())
         extra = sorted(set(error.instance) - set(allowed_keys)) if isinstance(error.instance, Mapping) else []
         if allowed_keys:
-            return (
-                f"unknown key{'s' if len(extra) > 1 else ''} {', '.join(untrusted.shorten(e, 40) for e in extra[:5])}"
-                f"{' and more' if len(extra) > 5 else ''}; "
-                f"allowed: {', '.join(allowed_keys)}"
-            )
+            return _unknown_keys_reason(extra, allowed_keys)
     if validator == "type":
         expected = error.validator_value
         expected = " or ".join(expected) if isinstance(expected, list) else expected
@@ -263,6 +260,23 @@ def _schema_reason(error: Any) -> str:
                     "key out not to compare them")
         return f"{instance!r} is not of type {expected}"
     return error.message
+
+
+#: where the keys each part of a contract takes are listed, for messages too long to list them
+SCHEMA_HINT = "allowed keys: see the contract schema, pytest_rmw_introspect/schema/contract.schema.json"
+#: the longest list of allowed keys a message spells out (a node's lists; longer ones point at the schema)
+_LISTED_KEYS_CHARS = 120
+
+
+def _unknown_keys_reason(extra: list[Any], allowed_keys: list[str]) -> str:
+    """Unknown keys, with the allowed ones when they are few, else the closest one and the schema."""
+    reason = (f"unknown key{'s' if len(extra) > 1 else ''} {', '.join(untrusted.shorten(e, 40) for e in extra[:5])}"
+              f"{' and more' if len(extra) > 5 else ''}")
+    listed = ", ".join(allowed_keys)
+    if len(listed) <= _LISTED_KEYS_CHARS:
+        return f"{reason}; allowed: {listed}"
+    close = difflib.get_close_matches(str(extra[0]), allowed_keys, n=1) if len(extra) == 1 else []
+    return reason + (f"; did you mean {close[0]!r}?" if close else "") + f" ({SCHEMA_HINT})"
 
 
 def load(path: str | Path) -> Contract:

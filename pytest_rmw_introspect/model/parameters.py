@@ -37,6 +37,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from . import untrusted
 from .vocabulary import LIFECYCLE_TARGETS, PARAMETER_TYPES, is_infrastructure_parameter
 
 #: keys of a contract parameter entry, in the order they are written
@@ -69,7 +70,7 @@ def _double(value: Any, where: str) -> float:
         return _SPECIAL_DOUBLES[value]
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         return float(value)
-    raise ValueError(f"{where}: {value!r} is not a double")
+    raise ValueError(f"{where}: {untrusted.shorten(value)} is not a double")
 
 
 def normalize_value(type_name: str | None, value: Any, where: str = "value") -> Any:
@@ -80,7 +81,7 @@ def normalize_value(type_name: str | None, value: Any, where: str = "value") -> 
     if value is None:
         return None
     if type_name is None:
-        raise ValueError(f"{where}: a parameter without a type has no value, got {value!r}")
+        raise ValueError(f"{where}: a parameter without a type has no value, got {untrusted.shorten(value)}")
     if type_name == "bool":
         if isinstance(value, bool):
             return value
@@ -94,16 +95,16 @@ def normalize_value(type_name: str | None, value: Any, where: str = "value") -> 
             return value
     elif type_name.endswith("_array"):
         if not isinstance(value, (list, tuple)):
-            raise ValueError(f"{where}: {type_name} value {value!r} is not a list")
+            raise ValueError(f"{where}: {type_name} value {untrusted.shorten(value)} is not a list")
         element = type_name[: -len("_array")]
         if element == "byte":
             if all(_is_int(v) and 0 <= v <= 255 for v in value):
                 return list(value)
-            raise ValueError(f"{where}: a byte_array holds integers from 0 to 255, got {list(value)!r}")
+            raise ValueError(f"{where}: a byte_array holds integers from 0 to 255, got {untrusted.shorten(list(value))}")
         return [normalize_value(element, v, f"{where}[{i}]") for i, v in enumerate(value)]
     else:
         raise ValueError(f"{where}: unknown parameter type {type_name!r}; known: {', '.join(PARAMETER_TYPES)}")
-    raise ValueError(f"{where}: {value!r} is not {'an' if type_name == 'integer' else 'a'} {type_name}")
+    raise ValueError(f"{where}: {untrusted.shorten(value)} is not {'an' if type_name == 'integer' else 'a'} {type_name}")
 
 
 def same_value(a: Any, b: Any) -> bool:
@@ -131,11 +132,14 @@ def format_value(value: Any) -> str:
             return ".inf" if value > 0 else "-.inf"
         return repr(value)
     if isinstance(value, str):
-        return repr(value)
+        return untrusted.shorten_with_digest(value)  # a megabyte value stays a short line
     if isinstance(value, list):
         shown = ", ".join(format_value(v) for v in value[:8])
+        if len(shown) > 120:  # long items: the list as a whole, cut with its digest
+            return untrusted.shorten_with_digest(value)
         return f"[{shown}{', ...' if len(value) > 8 else ''}]"
-    return str(value)
+    text = str(value)
+    return text if len(text) <= 80 else untrusted.shorten_with_digest(value)
 
 
 # ---------------------------------------------------------------------- records

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import gc
+import hashlib
 import os
 import re
 import stat
@@ -346,6 +347,22 @@ def shorten(value: Any, limit: int = 80) -> str:
     """``repr(value)``, cut to ``limit`` characters for messages."""
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def shorten_with_digest(value: Any, limit: int = 80) -> str:
+    """``repr(value)``, or when that is longer than ``limit``: its start and end, its length and
+    a digest of all of it, so that two long values that differ anywhere read differently
+    (``'aaaa...aaaa' (1,000,000 characters, sha256 3f1c...)``) and a report of a megabyte
+    parameter stays one short line."""
+    text = repr(value)
+    if len(text) <= limit:
+        return text
+    digest = hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()[:12]
+    length = len(value) if isinstance(value, (str, bytes, list, tuple, dict)) else len(text)
+    unit = "characters" if isinstance(value, str) else "bytes" if isinstance(value, bytes) else \
+        "items" if isinstance(value, (list, tuple, dict)) else "characters shown"
+    half = max(8, (limit - 3) // 2)
+    return f"{text[:half]}...{text[-half:]} ({length:,} {unit}, sha256 {digest})"
 
 
 class Short:

@@ -11,6 +11,11 @@ YAML: ``launch:`` holds a list of one-key mappings (``- node: {...}``). In an en
 a key whose value is a list of mappings (``param:``, ``remap:``, ``env:``, ``arg:``) gives one
 child per item with that key as tag; ``children:`` (of a ``group``) holds one-key mappings
 like the root; other values are attributes, typed as YAML reads them.
+
+Launch files may come from anywhere, so they are read like contracts (``model.untrusted``): a
+regular UTF-8 file of at most :data:`MAX_FILE_BYTES`, YAML through the same bounded reader
+(control characters, nesting, alias bombs, non-string keys refused with a reason and a line),
+and XML elements nested at most :data:`MAX_DEPTH` deep.
 """
 
 from __future__ import annotations
@@ -21,6 +26,15 @@ from pathlib import Path
 from typing import Any
 
 import yaml
+
+from ..model import untrusted
+
+#: the largest launch file read (real ones are a few kB)
+MAX_FILE_BYTES = 8 * 1024 * 1024
+#: the deepest nesting of XML elements and of YAML mappings and lists (the contract loader's)
+MAX_DEPTH = untrusted.MAX_DEPTH
+#: the most values a YAML launch file may expand to through aliases
+MAX_VALUES = 100_000
 
 
 class EntityFormatError(Exception):
@@ -57,6 +71,8 @@ def parse_xml(text: str) -> Entity:
     root: list[Entity] = []
 
     def start(name: str, attrs: dict[str, str]) -> None:
+        if len(stack) >= MAX_DEPTH:
+            raise EntityFormatError(f"elements nested more than {MAX_DEPTH} levels deep", parser.CurrentLineNumber)
         entity = Entity(normalize(name), {normalize(k): v for k, v in attrs.items()},
                         line=parser.CurrentLineNumber)
         if stack:
@@ -85,35 +101,34 @@ def parse_xml(text: str) -> Entity:
 
 def parse_yaml(text: str) -> Entity:
     """The root entity of a YAML launch file (raises EntityFormatError)."""
-    loader = yaml.SafeLoader(text)
     try:
-        node = loader.get_single_node()
+        node = untrusted.compose_yaml(text)
         if node is None:
             raise EntityFormatError("the file is empty")
+        untrusted.check_tree(node, max_values=MAX_VALUES)  # keys are strings from here on
         if not isinstance(node, yaml.MappingNode) or len(node.value) != 1:
             raise EntityFormatError("a YAML launch file is a mapping with the one key `launch`", _line(node))
         key, value = node.value[0]
-        tag = normalize(str(loader.construct_object(key, deep=True)))
+        tag = normalize(key.value)
         if tag != "launch":
-            raise EntityFormatError(f"a YAML launch file starts with `launch:`, not `{tag}:`", _line(key))
-        return Entity("launch", {}, _entity_list(loader, value), line=_line(key))
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        reason = " ".join(p for p in (exc.context, exc.problem) if p)
-        raise EntityFormatError(f"YAML syntax error: {reason}", mark.line + 1 if mark else None) from None
-    except yaml.YAMLError as exc:
-        raise EntityFormatError(f"YAML error: {exc}") from None
-    finally:
-        loader.dispose()
+            raise EntityFormatError(f"a YAML launch file starts with `launch:`, not `{untrusted.shorten(tag)}:`",
+                                    _line(key))
+        return Entity("launch", {}, _entity_list(value), line=_line(key))
+    except untrusted.InputError as exc:
+        raise EntityFormatError(exc.reason, exc.line) from None
 
 
 def _line(node: yaml.Node) -> int:
-    return node.start_mark.line + 1
+    return int(node.start_mark.line) + 1
 
 
-def _entity_list(loader: yaml.SafeLoader, node: yaml.Node) -> list[Entity]:
+def _is_null(node: yaml.Node) -> bool:
+    return isinstance(node, yaml.ScalarNode) and node.value in ("", "null", "~")
+
+
+def _entity_list(node: yaml.Node) -> list[Entity]:
     """A list of one-key mappings (``- node: {...}``) → entities."""
-    if isinstance(node, yaml.ScalarNode) and node.value in ("", "null", "~"):
+    if _is_null(node):
         return []
     if not isinstance(node, yaml.SequenceNode):
         raise EntityFormatError("expected a list of entities (`- node: ...`)", _line(node))
@@ -122,35 +137,58 @@ def _entity_list(loader: yaml.SafeLoader, node: yaml.Node) -> list[Entity]:
         if not isinstance(item, yaml.MappingNode) or len(item.value) != 1:
             raise EntityFormatError("each entity is a mapping with one key, its tag (`- node: {...}`)", _line(item))
         key, value = item.value[0]
-        out.append(_entity(loader, normalize(str(loader.construct_object(key, deep=True))), value, _line(key)))
+        out.append(_entity(normalize(key.value), value, _line(key)))
     return out
 
 
-def _entity(loader: yaml.SafeLoader, tag: str, node: yaml.Node, line: int) -> Entity:
+def _entity(tag: str, node: yaml.Node, line: int) -> Entity:
     entity = Entity(tag, {}, line=line)
-    if isinstance(node, yaml.ScalarNode) and node.value in ("", "null", "~"):
+    if _is_null(node):
         return entity
     if not isinstance(node, yaml.MappingNode):
-        raise EntityFormatError(f"`{tag}` takes a mapping of attributes", _line(node))
+        raise EntityFormatError(f"`{untrusted.shorten(tag)}` takes a mapping of attributes", _line(node))
     for key_node, value in node.value:
-        key = normalize(str(loader.construct_object(key_node, deep=True)))
+        key = normalize(key_node.value)
         if key == "children":
-            entity.children += _entity_list(loader, value)
-        elif isinstance(value, yaml.SequenceNode) and value.value and all(
-                isinstance(v, yaml.MappingNode) for v in value.value):
-            entity.children += [_entity(loader, key, v, _line(v)) for v in value.value]
+            entity.children += _entity_list(value)
+        elif isinstance(value, yaml.SequenceNode) and value.value and all(isinstance(v, yaml.MappingNode) for v in value.value):
+            entity.children += [_entity(key, v, _line(v)) for v in value.value]
         else:
-            entity.attributes[key] = loader.construct_object(value, deep=True)
+            entity.attributes[key] = untrusted.construct(value)
     return entity
+
+
+def yaml_value(text: str) -> Any:
+    """A parameter value written as YAML (``[1, 2]``, ``true``, ``3.5``) as launch_ros types it:
+    a scalar or a list, else the text itself. Read like a launch file (raises ValueError for
+    an alias bomb or a list nested too deep)."""
+    try:
+        root = untrusted.compose_yaml(text)
+    except untrusted.InputError:
+        return text
+    if root is None:
+        return text
+    try:
+        untrusted.check_tree(root, max_values=MAX_VALUES)
+    except untrusted.InputError as exc:
+        if isinstance(root, yaml.MappingNode):  # a mapping is no parameter value anyway
+            return text
+        raise ValueError(f"the value {untrusted.shorten(text)} cannot be read: {exc.reason}") from None
+    try:
+        loaded = untrusted.construct(root)
+    except untrusted.InputError:
+        return text
+    return loaded if isinstance(loaded, (str, int, float, bool, list)) else text
 
 
 def parse_file(path: Path) -> Entity:
     """The root entity of ``path`` by its suffix: ``.xml`` or ``.yaml``/``.yml``
-    (raises EntityFormatError, OSError)."""
-    text = path.read_text(encoding="utf-8")
+    (raises EntityFormatError, FileNotFoundError)."""
     name = path.name
-    if name.endswith(".xml"):
-        return parse_xml(text)
-    if name.endswith((".yaml", ".yml")):
-        return parse_yaml(text)
-    raise EntityFormatError(f"unknown launch file type {path.suffix!r} (expected .xml, .yaml, .yml or .py)")
+    if not name.endswith((".xml", ".yaml", ".yml")):
+        raise EntityFormatError(f"unknown launch file type {path.suffix!r} (expected .xml, .yaml, .yml or .py)")
+    try:
+        text = untrusted.read_text(path, max_bytes=MAX_FILE_BYTES)
+    except untrusted.InputError as exc:
+        raise EntityFormatError(exc.reason) from None
+    return parse_xml(text) if name.endswith(".xml") else parse_yaml(text)

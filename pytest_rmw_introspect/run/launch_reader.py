@@ -37,18 +37,24 @@ launch file independent of both). Attributes that do not change what a node crea
 (an unknown tag, composable node containers, ``launch-prefix``, an unsupported substitution)
 is an :class:`Unsupported` entry with its file and line; :meth:`LaunchResult.require_supported`
 turns them into one :class:`LaunchError`.
+
+Launch files may come from anywhere, so reading one is bounded like reading a contract: the
+files themselves (``launch_entities``), substitutions (``launch_substitutions``), and here the
+work of a launch: each file is parsed once however often it is included, at most
+:data:`MAX_INCLUDES` includes are followed and :data:`MAX_ENTITIES` entities interpreted, and
+groups and includes nest at most :data:`MAX_NESTING` levels together. Each limit is a
+:class:`LaunchError` with the file and line.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shlex
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-
-import yaml
 
 from ..model import untrusted
 from ..model.paths import shown
@@ -97,6 +103,14 @@ _UNSUPPORTED_HINTS = {
     "timer": "delayed actions (<timer>) are not supported",
 }
 MAX_INCLUDE_DEPTH = 40
+#: the most includes one launch may follow (each file is parsed once, but every include of it
+#: is interpreted again with its own arguments: 18 files that each include the next twice
+#: would be 2^18 includes)
+MAX_INCLUDES = 1_000
+#: the most entities one launch may interpret, over all its includes
+MAX_ENTITIES = 50_000
+#: the deepest nesting of groups and includes together (the reader recurses once per level)
+MAX_NESTING = 100
 
 
 @dataclass
@@ -184,11 +198,16 @@ class _Reader:
         self.result = result
         self.prefixes = prefixes
         self.anon: dict[str, str] = {}
+        self.budget = launch_substitutions.Budget()
+        self.parsed: dict[Path, Entity] = {}  # each file is parsed once, however often it is included
+        self.includes = 0
+        self.interpreted = 0
+        self.nesting = 0
 
     # ------------------------------------------------------------ helpers
     def context(self, scope: _Scope, file: Path) -> Context:
         return Context(scope.configurations, launch_substitutions.environment_view(scope.env), file,
-                       self.find_package, self.anon)
+                       self.find_package, self.anon, self.budget)
 
     def find_package(self, package: str) -> Path:
         return find_package_prefix(package, self.prefixes)
@@ -196,6 +215,8 @@ class _Reader:
     def text(self, value: Any, scope: _Scope, file: Path) -> str:
         if not isinstance(value, str):
             return argument_text(value)
+        if not launch_substitutions.has_substitution(value):
+            return value
         return launch_substitutions.substitute(value, self.context(scope, file))
 
     def unsupported(self, where: Where, what: str) -> None:
@@ -240,6 +261,12 @@ class _Reader:
         if path in stack or len(stack) > MAX_INCLUDE_DEPTH:
             chain = " -> ".join(shown(p) for p in (*stack, path))
             raise LaunchError(f"{included_from}: include cycle: {chain}")
+        if included_from is not None:
+            self.includes += 1
+            if self.includes > MAX_INCLUDES:
+                raise LaunchError(f"{included_from}: the launch follows more than {MAX_INCLUDES:,} includes (files "
+                                  "that include the same file several times, at every level?); include each "
+                                  "file fewer times")
         problem = untrusted.file_problem(path)
         if problem is not None:
             raise LaunchError(f"{included_from or Where(path)}: launch file {shown(path)} {problem}")
@@ -248,6 +275,14 @@ class _Reader:
             launch_python.read(path, scope.configurations, scope.namespace, dict(scope.env), self.result,
                                self.prefixes, included_from)
             return
+        root = self.parsed.get(path)
+        if root is None:
+            root = self.parsed[path] = self.parse(path, included_from)
+        self.check_attributes(root, path, _TAGS["launch"][0])
+        with self.nested(Where(path, root.line)):
+            self.entities(root.children, scope, path, (*stack, path))
+
+    def parse(self, path: Path, included_from: Where | None) -> Entity:
         where = included_from or Where(path)
         try:
             root = launch_entities.parse_file(path)
@@ -256,14 +291,30 @@ class _Reader:
         except OSError as exc:
             raise LaunchError(f"{where}: cannot read {shown(path)}: {exc}") from None
         except EntityFormatError as exc:
+            if exc.line is None and included_from is not None:  # the file as a whole: say who includes it
+                raise LaunchError(f"{included_from}: {shown(path)}: {exc.reason}") from None
             raise LaunchError(f"{Where(path, exc.line)}: {exc.reason}") from None
         if root.tag != "launch":
             raise LaunchError(f"{Where(path, root.line)}: the root element is <{root.tag}>, not <launch>")
-        self.check_attributes(root, path, _TAGS["launch"][0])
-        self.entities(root.children, scope, path, (*stack, path))
+        return root
+
+    @contextlib.contextmanager
+    def nested(self, where: Where) -> Iterator[None]:
+        """One more level of groups and includes (bounded: the reader recurses once per level)."""
+        if self.nesting >= MAX_NESTING:
+            raise self.error(where, f"groups and includes are nested more than {MAX_NESTING} levels deep")
+        self.nesting += 1
+        try:
+            yield
+        finally:
+            self.nesting -= 1
 
     def entities(self, entities: Sequence[Entity], scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
         for entity in entities:
+            self.interpreted += 1
+            if self.interpreted > MAX_ENTITIES:
+                raise self.error(Where(file, entity.line), f"the launch has more than {MAX_ENTITIES:,} entities "
+                                                           "over all its includes")
             try:
                 if not self.condition(entity, scope, file):
                     continue
@@ -341,7 +392,8 @@ class _Reader:
         if not forwarding:  # launch_ros keeps <set_remap> rules with the configurations
             inner.configurations.clear()
             inner.remaps.clear()
-        self.entities(entity.children, inner, file, stack)
+        with self.nested(Where(file, entity.line)):
+            self.entities(entity.children, inner, file, stack)
 
     def tag_include(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
         where = Where(file, entity.line)
@@ -428,10 +480,9 @@ class _Reader:
             return [guess_type(part) for part in text.split(sep)] if text else []
         if launch_substitutions.has_substitution(raw):
             try:
-                loaded = yaml.safe_load(text)
-            except yaml.YAMLError:
-                return text
-            return loaded if isinstance(loaded, (str, int, float, bool, list)) else text
+                return launch_entities.yaml_value(text)
+            except ValueError as exc:
+                raise SubstitutionError(str(exc)) from None
         return guess_type(text)
 
 

@@ -19,9 +19,9 @@ import json
 from pathlib import Path
 from typing import Any
 
-import yaml
-
+from ..model import untrusted
 from ..model.paths import shown
+from .launch_entities import MAX_FILE_BYTES, yaml_value
 from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter, Unsupported, Where
 
 
@@ -38,14 +38,13 @@ def _pairs(value: Any, path: Path, what: str, index: int) -> list[tuple[str, Any
     return [(str(a), b) for a, b in value]
 
 
-def _value(text: Any) -> Any:
+def _value(text: Any, path: Path, index: int) -> Any:
     if not isinstance(text, str):
         return text
     try:
-        loaded = yaml.safe_load(text)
-    except yaml.YAMLError:
-        return text
-    return loaded if isinstance(loaded, (str, int, float, bool, list)) else text
+        return yaml_value(text)
+    except ValueError as exc:
+        raise _fail(path, f"node[{index}].params: {exc}") from None
 
 
 def _strings(value: Any, path: Path, what: str, index: int) -> tuple[str, ...]:
@@ -59,11 +58,12 @@ def _strings(value: Any, path: Path, what: str, index: int) -> tuple[str, ...]:
 def read(path: Path, result: LaunchResult) -> None:
     """The nodes of a record.json into ``result`` (raises LaunchError)."""
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError) as exc:
+        data = json.loads(untrusted.read_text(path, max_bytes=MAX_FILE_BYTES))
+    except (OSError, untrusted.InputError) as exc:
         raise LaunchError(f"cannot read {shown(path)}: {exc}") from None
-    except json.JSONDecodeError as exc:
-        raise _fail(path, f"not valid JSON: {exc}") from None
+    except (json.JSONDecodeError, RecursionError) as exc:
+        reason = f"not valid JSON: {exc}" if isinstance(exc, json.JSONDecodeError) else "nested too deep"
+        raise _fail(path, reason) from None
     if not isinstance(data, dict) or not isinstance(data.get("node"), list):
         raise _fail(path, "no `node` list")
     result.files.append(path)
@@ -81,7 +81,7 @@ def read(path: Path, result: LaunchResult) -> None:
         for key, value in _pairs(record.get("params"), path, "params", index):
             if ":=" in key:  # `name:=value` as launch_ros passes it after -p
                 key, _, value = key.partition(":=")
-            parameters.append(Parameter(name=key, value=_value(value)))
+            parameters.append(Parameter(name=key, value=_value(value, path, index)))
         env = {k: str(v) for k, v in _pairs(record.get("env"), path, "env", index)}
         package = record.get("package")
         cmd = record.get("cmd") or []

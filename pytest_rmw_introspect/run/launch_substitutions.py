@@ -9,6 +9,12 @@ Supported: ``var``, ``env``, ``optenv``, ``find-pkg-share``, ``find-pkg-prefix``
 ``filename`` and ``anon``. Anything else (``eval``, ``command``, ``exec-in-pkg``,
 ``find-exec``, ``parameter``, ...) is :class:`UnsupportedSubstitution`, which the launch reader
 reports with the file and line of the entity that uses it.
+
+Launch files may come from anywhere, so both steps are bounded: substitutions nest at most
+:data:`MAX_NESTING` deep (parsing recurses once per level), a value is at most
+:data:`MAX_VALUE_CHARS` characters, and one launch produces at most :data:`MAX_TOTAL_CHARS`
+characters of substituted text (:class:`Budget`): a chain of ``<let>`` values that each double
+the last one is refused at its twentieth step instead of filling the memory.
 """
 
 from __future__ import annotations
@@ -16,12 +22,20 @@ from __future__ import annotations
 import hashlib
 import os
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..model import untrusted
+
 #: the substitutions this reader evaluates
 SUPPORTED = ("var", "env", "optenv", "find-pkg-share", "find-pkg-prefix", "dirname", "filename", "anon")
+#: the deepest nesting of substitutions (``$(find-pkg-share $(var pkg))`` is 2)
+MAX_NESTING = 32
+#: the longest value a substitution may give (a launch configuration, an attribute)
+MAX_VALUE_CHARS = 1_000_000
+#: the most characters the substitutions of one launch may give in all
+MAX_TOTAL_CHARS = 64_000_000
 
 
 class SubstitutionError(Exception):
@@ -53,7 +67,7 @@ Part = str | Substitution
 
 def parse(text: str) -> tuple[Part, ...]:
     """``text`` as a sequence of plain strings and :class:`Substitution` parts (raises SubstitutionError)."""
-    parts, end = _parse_parts(text, 0, top=True)
+    parts, end = _parse_parts(text, 0, top=True, depth=0)
     assert end == len(text)
     return tuple(parts)
 
@@ -62,7 +76,7 @@ def has_substitution(text: str) -> bool:
     return "$(" in text
 
 
-def _parse_parts(text: str, pos: int, *, top: bool) -> tuple[list[Part], int]:
+def _parse_parts(text: str, pos: int, *, top: bool, depth: int) -> tuple[list[Part], int]:
     """Parts from ``pos`` up to the end (``top``) or up to an unquoted white space or ``)``."""
     parts: list[Part] = []
 
@@ -74,7 +88,7 @@ def _parse_parts(text: str, pos: int, *, top: bool) -> tuple[list[Part], int]:
 
     while pos < len(text):
         if text.startswith("$(", pos):
-            sub, pos = _parse_substitution(text, pos)
+            sub, pos = _parse_substitution(text, pos, depth + 1)
             add(sub)
             continue
         char = text[pos]
@@ -83,8 +97,8 @@ def _parse_parts(text: str, pos: int, *, top: bool) -> tuple[list[Part], int]:
         if not top and char in "'\"":
             end = text.find(char, pos + 1)
             if end < 0:
-                raise SubstitutionError(f"unterminated quote in {text!r}")
-            for part in _parse_parts(text[pos + 1:end], 0, top=True)[0]:
+                raise SubstitutionError(f"unterminated quote in {_short(text)}")
+            for part in _parse_parts(text[pos + 1:end], 0, top=True, depth=depth)[0]:
                 add(part)
             pos = end + 1
             continue
@@ -93,7 +107,9 @@ def _parse_parts(text: str, pos: int, *, top: bool) -> tuple[list[Part], int]:
     return parts, pos
 
 
-def _parse_substitution(text: str, pos: int) -> tuple[Substitution, int]:
+def _parse_substitution(text: str, pos: int, depth: int) -> tuple[Substitution, int]:
+    if depth > MAX_NESTING:
+        raise SubstitutionError(f"substitutions are nested more than {MAX_NESTING} levels deep")
     start = pos
     pos += 2
     match = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*").match(text, pos)
@@ -106,11 +122,37 @@ def _parse_substitution(text: str, pos: int) -> tuple[Substitution, int]:
         while pos < len(text) and text[pos].isspace():
             pos += 1
         if pos >= len(text):
-            raise SubstitutionError(f"unterminated substitution {text[start:]!r} (missing ')')")
+            raise SubstitutionError(f"unterminated substitution {_short(text[start:])} (missing ')')")
         if text[pos] == ")":
             return Substitution(name, tuple(arguments)), pos + 1
-        argument, pos = _parse_parts(text, pos, top=False)
+        argument, pos = _parse_parts(text, pos, top=False, depth=depth)
         arguments.append(tuple(argument))
+
+
+def _short(text: str) -> str:
+    return untrusted.shorten(text)
+
+
+class Budget:
+    """The characters the substitutions of one launch may still give (:data:`MAX_TOTAL_CHARS`)."""
+
+    def __init__(self, total: int = MAX_TOTAL_CHARS) -> None:
+        self.left = total
+
+    @staticmethod
+    def check_length(length: int) -> None:
+        if length > MAX_VALUE_CHARS:
+            raise SubstitutionError(f"a substituted value has more than {MAX_VALUE_CHARS:,} characters "
+                                    "(a value that doubles at each <let>?)")
+
+    def spend(self, text: str) -> str:
+        """``text``, counted; raises SubstitutionError when it is too long or the budget is spent."""
+        self.check_length(len(text))
+        self.left -= len(text)
+        if self.left < 0:
+            raise SubstitutionError(f"the substitutions of this launch give more than {MAX_TOTAL_CHARS:,} "
+                                    "characters in all (values that grow at each <let> or include?)")
+        return text
 
 
 @dataclass
@@ -123,11 +165,19 @@ class Context:
     current_file: Path
     find_package: Callable[[str], Path]
     anon_names: dict[str, str] = field(default_factory=dict)
+    budget: Budget = field(default_factory=Budget)
 
 
 def evaluate(parts: Sequence[Part], context: Context) -> str:
     """The text of ``parts`` with every substitution evaluated (raises SubstitutionError)."""
-    return "".join(part if isinstance(part, str) else _evaluate_one(part, context) for part in parts)
+    pieces: list[str] = []
+    length = 0
+    for part in parts:
+        piece = part if isinstance(part, str) else _evaluate_one(part, context)
+        length += len(piece)
+        context.budget.check_length(length)  # before the join, which would be the allocation
+        pieces.append(piece)
+    return context.budget.spend("".join(pieces))
 
 
 def substitute(text: str, context: Context) -> str:
@@ -194,12 +244,30 @@ def anon_name(name: str, cache: dict[str, str]) -> str:
     return cache[name]
 
 
-def environment_view(overrides: Mapping[str, str | None]) -> dict[str, str]:
+class _EnvironmentView(Mapping[str, str]):
+    """``os.environ`` seen through overrides, read when looked up: a launch evaluates
+    substitutions for every attribute, and copying the environment each time was most of the
+    time a launch with many includes took."""
+
+    def __init__(self, overrides: Mapping[str, str | None]) -> None:
+        self._overrides = overrides
+
+    def __getitem__(self, key: str) -> str:
+        if key in self._overrides:
+            value = self._overrides[key]
+            if value is None:
+                raise KeyError(key)
+            return value
+        return os.environ[key]
+
+    def __iter__(self) -> Iterator[str]:
+        unset = {k for k, v in self._overrides.items() if v is None}
+        return iter([k for k in {**os.environ, **self._overrides} if k not in unset])
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
+
+
+def environment_view(overrides: Mapping[str, str | None]) -> Mapping[str, str]:
     """``os.environ`` with the launch file's ``set_env`` overrides (None: unset)."""
-    env = dict(os.environ)
-    for key, value in overrides.items():
-        if value is None:
-            env.pop(key, None)
-        else:
-            env[key] = value
-    return env
+    return _EnvironmentView(overrides)

@@ -252,17 +252,44 @@ def _import_capture_model_meanwhile() -> None:
                          name="rmw-introspect import", daemon=True).start()
 
 
-def _wait(start: _Started, timeout: float) -> _Ended:
-    """Wait for the target (stopping it after ``timeout``), then kill what is left of its group."""
+class Cancelled(Exception):
+    """The capture was cancelled (its ``cancel`` event was set): its target was stopped."""
+
+
+#: seconds between two looks at a capture's ``cancel`` event while its target runs
+_CANCEL_POLL_S = 0.1
+
+
+def _wait_for(proc: process.Handle, timeout: float, cancel: threading.Event | None) -> int:
+    """``proc.wait(timeout)``, raising :class:`Cancelled` soon after ``cancel`` is set. A capture
+    in another thread (a system's processes, captured in parallel) is not reached by the
+    KeyboardInterrupt of the main thread, which sets the event instead."""
+    if cancel is None:
+        return proc.wait(timeout)
+    deadline = time.monotonic() + timeout
+    while True:
+        if cancel.is_set():
+            raise Cancelled()
+        remaining = deadline - time.monotonic()
+        try:
+            return proc.wait(max(0.0, min(remaining, _CANCEL_POLL_S)))
+        except subprocess.TimeoutExpired:
+            if remaining <= _CANCEL_POLL_S:
+                raise
+
+
+def _wait(start: _Started, timeout: float, cancel: threading.Event | None = None) -> _Ended:
+    """Wait for the target (stopping it after ``timeout``, or at once when ``cancel`` is set),
+    then kill what is left of its group."""
     proc = start.proc
     stdout_tail, stderr_tail = process.OutputTail.read_together(start.stdout, start.stderr)
     timed_out = False
     try:
-        returncode = proc.wait(timeout)
+        returncode = _wait_for(proc, timeout, cancel)
     except subprocess.TimeoutExpired:
         timed_out = True
         returncode = stop(proc)
-    except BaseException:  # KeyboardInterrupt (or SIGTERM, see cli) while waiting: do not leave it behind
+    except BaseException:  # KeyboardInterrupt (or SIGTERM, see cli), Cancelled: do not leave it behind
         stop(proc, 0.5, 0.5)
         raise
     finally:
@@ -302,6 +329,7 @@ def run(
     python: str | None = None,
     warm_wait: float | None = None,
     cold_note: str | None = None,
+    cancel: threading.Event | None = None,
 ) -> Capture:
     """Run ``spec`` on the middleware and return its capture (raises a TargetError subclass).
 
@@ -337,9 +365,11 @@ def run(
 
     started = time.monotonic()
     try:
+        if cancel is not None and cancel.is_set():
+            raise Cancelled()
         start = _start(spec, argv, env, python, warm_wait, cold_note)
         _import_capture_model_meanwhile()
-        ended = _wait(start, timeout)
+        ended = _wait(start, timeout, cancel)
         if start.warm_child is not None and start.warm_child.server_lost:
             # the server died under the target (which died with it): run the target again, cold
             for leftover in workdir.iterdir():  # its capture files, and its log directory
@@ -349,7 +379,7 @@ def run(
                     leftover.unlink()
             start = _start(spec, argv, env, python, warm_wait,
                            cold_note="the warm start server ended during the capture")
-            ended = _wait(start, timeout)
+            ended = _wait(start, timeout, cancel)
         returncode, stderr = ended.returncode, ended.stderr
         wall = time.monotonic() - started
         if keep_files:

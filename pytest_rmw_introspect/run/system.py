@@ -20,6 +20,7 @@ import os
 import shlex
 import shutil
 import tempfile
+import threading
 from collections.abc import Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -269,19 +270,32 @@ def capture_system(
             directory.mkdir()
             specs.append(process_spec(process.launched, base, directory))
 
+        cancel = threading.Event()
+
         def run_one(index: int) -> TargetError | None:
             try:
                 processes[index].capture = runner.run(specs[index], library=library, ros=ros,
-                                                      include_infrastructure=include_infrastructure)
+                                                      include_infrastructure=include_infrastructure, cancel=cancel)
             except NoNodeCreated as exc:
                 processes[index].no_node = exc
             except TargetError as exc:
                 return exc
+            except runner.Cancelled:
+                return None  # the capture as a whole is being abandoned
             return None
 
         workers = max(1, min(len(processes), jobs or os.cpu_count() or 2))
-        with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="rmw-introspect-system") as pool:
-            errors = list(pool.map(run_one, range(len(processes))))
+        pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="rmw-introspect-system")
+        try:
+            errors = [future.result() for future in [pool.submit(run_one, i) for i in range(len(processes))]]
+        except BaseException:
+            # Ctrl-C or SIGTERM (the CLI's Terminated) reaches this thread only: the workers' targets
+            # are stopped now and the processes not started yet never start, instead of each
+            # running until its timeout while the pool is shut down
+            cancel.set()
+            raise
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
     finally:
         shutil.rmtree(params_dir, ignore_errors=True)
     failures = [(p, e) for p, e in zip(processes, errors, strict=True) if e is not None]

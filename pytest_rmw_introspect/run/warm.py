@@ -62,8 +62,15 @@ KEY_NAMES = frozenset({
 #: the dynamic loader's (``LD_PRELOAD``, ``LD_LIBRARY_PATH``, ...), ROS logging set-up, locale,
 #: and numpy's BLAS threads
 KEY_PREFIXES = ("PYTHON", "LD_", "RCUTILS_", "LC_", "OPENBLAS_", "OMP_", "MKL_", "NUMPY_", "NPY_", "GOTO_")
-#: at most this many servers per process (the least recently used one is closed)
+#: at most this many servers per process, counting those still ending: a target whose environment
+#: needs another one starts cold, unless the least recently used server has been idle for
+#: IDLE_BEFORE_EVICTION seconds (it is then ended first, and the new one started)
 MAX_SERVERS = 4
+#: seconds a server must have gone unused before a server for another environment replaces it:
+#: targets that cycle over more environments than MAX_SERVERS would otherwise start a server for
+#: nearly every capture (23 for 36 captures over six PYTHONPATH variants), each costing more than
+#: the cold start it saves
+IDLE_BEFORE_EVICTION = 10.0
 #: a server that ended this often (killed, or by a target) is not started again for its key
 MAX_DEATHS = 3
 #: seconds a server may take to import everything and say it is ready
@@ -271,8 +278,9 @@ class WarmChild:
     """A target forked by a server, with the parts of ``subprocess.Popen`` the runner uses."""
 
     def __init__(self, pid: int, reply: socket.socket, args: Sequence[str],
-                 stdout: IO[bytes], stderr: IO[bytes]) -> None:
+                 stdout: IO[bytes], stderr: IO[bytes], on_release: Callable[[], None] | None = None) -> None:
         self.pid = pid
+        self._on_release = on_release  # told once, when the runner is done with the child
         self.args = list(args)
         self.stdout: IO[bytes] = stdout
         self.stderr: IO[bytes] = stderr
@@ -338,6 +346,9 @@ class WarmChild:
             if self._reply is not None:
                 self._reply.close()
                 self._reply = None
+            on_release, self._on_release = self._on_release, None
+        if on_release is not None:
+            on_release()
 
 
 # ---------------------------------------------------------------------------------- the server
@@ -429,6 +440,9 @@ class WarmServer:
         self.failure: str | None = None
         self._told: set[str] = set()  # the type names sent to learn()
         self._told_lock = threading.Lock()  # not _lock: wait_ready holds that while it waits
+        #: children of this runner the server runs now, and when it was last asked for (the pool's)
+        self.running = 0
+        self.last_used = time.monotonic()
 
     @property
     def pid(self) -> int:
@@ -522,8 +536,25 @@ class WarmServer:
             os.close(out_r)
             os.close(err_r)
             raise
+        with self._told_lock:
+            self.running += 1
         return WarmChild(int(answer["pid"]), mine, [*plan.orig_argv],
-                         os.fdopen(out_r, "rb", buffering=0), os.fdopen(err_r, "rb", buffering=0))
+                         os.fdopen(out_r, "rb", buffering=0), os.fdopen(err_r, "rb", buffering=0),
+                         on_release=self._child_released)
+
+    def _child_released(self) -> None:
+        with self._told_lock:
+            self.running -= 1
+        self.last_used = time.monotonic()
+
+    def idle_for(self) -> float:
+        """Seconds since it was last used (0 while it runs a child of this runner)."""
+        with self._told_lock:
+            return 0.0 if self.running else time.monotonic() - self.last_used
+
+    def ended(self) -> bool:
+        """Whether a server this runner let go of is gone (an attached one is, once let go of)."""
+        return self.proc is None or self.proc.poll() is not None
 
     def learn(self, type_names: Sequence[str]) -> None:
         """Ask the server to import these types' packages (and type supports) for later targets
@@ -671,16 +702,15 @@ class Pool:
                 if key in self._broken:
                     return self._broken[key]
             if server is None:
+                full = self._make_room()
+                if full is not None:
+                    return full
                 try:
                     server = self._start_or_attach(key, env, cwd, python)
                 except WarmStartFailed as exc:
                     self._broken[key] = str(exc)
                     return str(exc)
-                while len(self._servers) >= MAX_SERVERS:
-                    # the least recently used: waited for at close(), it may serve other runners
-                    oldest = self._servers.pop(next(iter(self._servers)))
-                    oldest.begin_close()
-                    self._closing.append(oldest)
+            server.last_used = time.monotonic()
             self._servers[key] = server  # most recently used last
         if server.wait_ready(wait):
             return server
@@ -692,6 +722,28 @@ class Pool:
             server.close(0.5)
             return server.failure
         return "the warm start server is still starting"
+
+    def _make_room(self) -> str | None:
+        """Room for one more server (called with the lock held): None when there is, after ending
+        the least recently used one if it has been idle long enough, else why the target starts
+        cold. Servers let go of count until they are gone, so no more than MAX_SERVERS ever run."""
+        for server in [s for s in self._closing if s.ended()]:
+            self._closing.remove(server)
+            server.finish_close(0.0)
+        if len(self._servers) + len(self._closing) < MAX_SERVERS:
+            return None
+        if self._servers:
+            key, oldest = next(iter(self._servers.items()))
+            if oldest.idle_for() >= IDLE_BEFORE_EVICTION:
+                del self._servers[key]
+                oldest.begin_close()
+                if oldest.proc is not None and oldest.proc.poll() is None and self.scope is None:
+                    oldest.finish_close()  # it runs nothing of ours: it ends at once
+                else:
+                    self._closing.append(oldest)  # shared: it may still serve other runners
+                return self._make_room()
+        return (f"{MAX_SERVERS} warm start servers for other environments are in use (the most a runner keeps, "
+                "warm.MAX_SERVERS)")
 
     def _start_or_attach(self, key: tuple[Any, ...], env: Mapping[str, str], cwd: str,
                          python: str | None) -> WarmServer:

@@ -59,7 +59,7 @@ import time
 import types
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NoReturn
 
 #: imported before the server says it is ready: what every rclpy node needs
 #: (``rclpy.node.Node()`` imports the parameter and type-description services, and numpy)
@@ -87,6 +87,11 @@ PRELOAD_TYPES = (
     "type_description_interfaces/srv/GetTypeDescription",
     "std_msgs/msg/String",  # loads std_msgs' C type support: the package most nodes use
 )
+#: seconds an ``os._exit()`` of the target waits at most for the capture the middleware has pending
+PENDING_CAPTURE_WAIT = 1.0
+#: the middleware writes a progress snapshot 20 ms after its last change (rmw_introspect_cpp's
+#: session): a capture file left unchanged this long after a write is the last one to come
+CAPTURE_QUIET = 0.06
 MAX_MESSAGE = 1 << 20
 SPAWN_FDS = 4  # reply socket, stdin, stdout, stderr
 _PR_SET_PDEATHSIG = 1
@@ -305,6 +310,58 @@ def run(job: Job) -> None:
     filename = job.target if os.path.isabs(job.target) else os.path.join(os.getcwd(), job.target)
     code = compile(source, filename, "exec", dont_inherit=True)
     exec(code, sys.modules["__main__"].__dict__)  # noqa: S102  # the target, as `python script` runs it
+
+
+_REAL_EXIT = os._exit
+
+
+def _ros_initialised() -> bool:
+    rclpy = sys.modules.get("rclpy")
+    try:
+        return bool(rclpy is not None and rclpy.ok())
+    except Exception:  # noqa: BLE001  # a target may have broken rclpy in any way: then nothing is pending
+        return False
+
+
+def wait_for_pending_capture(path: str, *, wait: float = PENDING_CAPTURE_WAIT, quiet: float = CAPTURE_QUIET) -> None:
+    """Give the middleware the time to write the capture it has pending to ``path`` (its progress
+    snapshot, due 20 ms after its last change): return once a write that came after this call
+    was followed by ``quiet`` seconds without another, or after ``wait`` seconds. Nothing is
+    pending when ROS was never initialised and no capture was written."""
+
+    def inode() -> int | None:
+        try:
+            return os.stat(path).st_ino  # each write is a new file renamed over the last one
+        except OSError:
+            return None
+
+    seen = inode()
+    if seen is None and not _ros_initialised():
+        return
+    written_at: float | None = None
+    deadline = time.monotonic() + wait
+    while time.monotonic() < deadline:
+        now = inode()
+        if now is not None and now != seen:
+            seen, written_at = now, time.monotonic()
+        elif written_at is not None and time.monotonic() - written_at >= quiet:
+            return
+        time.sleep(0.005)
+
+
+def _exit_after_pending_capture(target_pid: int, output: str) -> Callable[[int], NoReturn]:
+    """``os._exit`` for the target: a target that creates its node and calls ``os._exit()`` at once
+    ends before the middleware's progress snapshot is due. A cold start spends that time
+    importing what the node needs (the snapshot is written meanwhile); a warm child has
+    everything imported, so its ``os._exit`` first lets the pending capture be written."""
+    path = output.replace("<pid>", str(target_pid))
+
+    def _exit(status: int) -> NoReturn:
+        if os.getpid() == target_pid:  # not in processes the target forks (multiprocessing ends them so)
+            wait_for_pending_capture(path)
+        _REAL_EXIT(status)
+
+    return _exit
 
 
 # ------------------------------------------------------------------------------------ server
@@ -581,6 +638,8 @@ class Server:
         sys.path[:] = ([] if sys.flags.safe_path else [path0]) + self.base_path
         sys.modules["__main__"] = main
         sys.excepthook = _excepthook
+        if env.get("RMW_INTROSPECT_OUTPUT"):
+            os._exit = _exit_after_pending_capture(os.getpid(), env["RMW_INTROSPECT_OUTPUT"])  # type: ignore[assignment]
         numpy_random = sys.modules.get("numpy.random")
         if numpy_random is not None:  # a fresh process seeds numpy's global generator afresh
             numpy_random.seed()

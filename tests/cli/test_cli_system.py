@@ -7,13 +7,16 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import os
 import shutil
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
-from cli_helpers import NODES
+from cli_helpers import NODES, wait_for_file
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "rmw_introspect_examples"
 
@@ -147,6 +150,39 @@ def test_a_launched_process_that_creates_no_node(cli):
     assert "the launch file starts node /silent at launch/silent.launch.xml:2, but the process created no node at all" \
         in result.stdout
     assert f"  - {Path(sys.executable).name} (launch/silent.launch.xml:2) created no node\n" in result.stdout
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_an_interrupt_stops_the_running_processes_of_a_system_capture_first(cli, sig):
+    """Ctrl-C or SIGTERM (a cancelled CI job) of `capture --launch` stops the processes it runs
+    and ends the command at once; the processes of a system are captured in worker threads, which
+    the interrupt does not reach, and each ran until its timeout (100 s here) before."""
+    pids = [cli.path / f"hang{n}.pid" for n in range(3)]
+    script = cli.write("hang.py", """\
+        import os, sys, time
+        open(sys.argv[1], "w").write(str(os.getpid()))
+        time.sleep(300)
+        """)
+    nodes = "".join(f'  <node exec="{sys.executable}" args="{script} {pid}"/>\n' for pid in pids)
+    cli.write("launch/hang.launch.xml", f"<launch>\n{nodes}</launch>\n")
+    proc = subprocess.Popen([sys.executable, "-m", "pytest_rmw_introspect", "capture", "--launch",
+                             "launch/hang.launch.xml", "--timeout", "100", "--jobs", "2"],
+                            cwd=cli.path, env=cli.env, stderr=subprocess.PIPE, text=True)
+    started = [wait_for_file(pid) for pid in pids[:2]]
+    proc.send_signal(sig)
+    try:
+        _, stderr = proc.communicate(timeout=20)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail("the command still ran 20 s after the interrupt")
+    assert proc.returncode == 128 + sig if sig == signal.SIGTERM else proc.returncode == 130, stderr
+    assert ("terminated" if sig == signal.SIGTERM else "interrupted") in stderr and "Traceback" not in stderr, stderr
+    assert not pids[2].exists(), "a process of the system started after the interrupt"
+    deadline = time.monotonic() + 10
+    for pid in started:
+        while os.path.exists(f"/proc/{pid}") and open(f"/proc/{pid}/stat").read().split(") ")[1][0] != "Z":
+            assert time.monotonic() < deadline, "a process of the system outlived the command"
+            time.sleep(0.05)
 
 
 def test_unsupported_constructs_fail_unless_allowed(cli):

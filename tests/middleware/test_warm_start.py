@@ -281,15 +281,68 @@ def test_a_server_started_by_a_short_lived_thread_outlives_it():
     assert capture(script=TALKER, env=env).started == "warm"
 
 
-def test_the_least_recently_used_server_is_let_go_of_when_too_many_run(monkeypatch):
+def test_the_least_recently_used_server_is_ended_when_too_many_run_and_it_is_idle(monkeypatch):
     monkeypatch.setattr(warm, "MAX_SERVERS", 1)
+    monkeypatch.setattr(warm, "IDLE_BEFORE_EVICTION", 0.0)
     first = w.server_for({"env": {"LC_RMWI_TEST": "evicted"}})
     second = w.server_for({"env": {"LC_RMWI_TEST": "evicting"}})
     assert second is not first and warm.POOL.servers() == [second]
-    assert wait_gone([first.pid], 10.0) == []  # it ended (reaped when the pool closes)
+    assert first.proc is not None and first.proc.poll() is not None  # ended before the second started
     assert capture(script=TALKER, env={"LC_RMWI_TEST": "evicting"}).started == "warm"
     warm.shutdown()
     assert wait_gone([second.pid], 5.0) == []
+
+
+def _warm_servers_alive() -> set[int]:
+    """The warm start servers this process runs now (its children running warm_server)."""
+    found = set()
+    for entry in os.listdir("/proc"):
+        try:
+            stat_fields = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()
+            cmdline = Path(f"/proc/{entry}/cmdline").read_bytes()
+        except (OSError, IndexError):
+            continue
+        if stat_fields[1] == str(os.getpid()) and stat_fields[0] != "Z" and b"warm_server" in cmdline:
+            found.add(int(entry))
+    return found
+
+
+def test_targets_over_more_environments_than_the_cap_never_run_more_servers(monkeypatch):
+    """Six environments cycled through by three threads, two servers allowed: there were up to
+    nine servers alive at once (the cap was 4) and one started for nearly every capture. Now at
+    most MAX_SERVERS run, counting those still ending; targets that find no room start cold,
+    saying why, and a server is replaced only once it has been idle a while."""
+    import threading
+    from concurrent.futures import ThreadPoolExecutor
+
+    monkeypatch.setattr(warm, "MAX_SERVERS", 2)
+    warm.shutdown()
+    seen: set[int] = set()
+    peak = [0]
+    done = threading.Event()
+
+    def watch() -> None:
+        while not done.is_set():
+            alive = _warm_servers_alive()
+            seen.update(alive)
+            peak[0] = max(peak[0], len(alive))
+            time.sleep(0.01)
+
+    watcher = threading.Thread(target=watch, daemon=True)
+    watcher.start()
+    variants = [{"LC_RMWI_TEST": f"variant {n % 6}"} for n in range(18)]
+    try:
+        with ThreadPoolExecutor(max_workers=3) as pool:
+            captures = list(pool.map(lambda env: runner.run(TargetSpec.from_mapping({"script": TALKER, "env": env}),
+                                                            warm_wait=60.0), variants))
+    finally:
+        done.set()
+        watcher.join()
+        warm.shutdown()
+    assert peak[0] <= 2 and len(seen) <= 2, (peak[0], len(seen))
+    assert {c.started for c in captures} == {"warm", "cold"}
+    assert all("warm start servers for other environments are in use" in (c.start_note or "")
+               for c in captures if c.started == "cold")
 
 
 @pytest.mark.parametrize("cold_start", [False, True], ids=["warm", "cold"])

@@ -121,7 +121,9 @@ def test_a_marker_without_keywords_on_a_file_with_a_target_leaves_the_item_runni
 
 def test_a_system_contract_that_a_marker_test_names_is_checked_by_that_test(project):
     launch(project)  # a talker and a qos_node in the namespace of the launch argument `ns` (default robot)
-    project.write("robot.system.yaml", "system_version: 1\nlaunch:\n  path: launch/robot.launch.xml\n")
+    # the qos_node's two inputs come from outside the launch file (declared: issue 26's rules)
+    project.write("robot.system.yaml", "system_version: 1\nlaunch:\n  path: launch/robot.launch.xml\n"
+                  "external:\n  publishers:\n    /other/commands: a teleop\n    /other/qos_node/private: a test\n")
     project.test("""
         @pytest.mark.system_contract("robot.system.yaml", launch_arguments={"ns": "other"})
         def test_robot(system_capture):

@@ -80,6 +80,25 @@ nodes:
 """
 
 
+@pytest.mark.parametrize(("text", "wanted"), [
+    ("contract_version: 1\nnodes: {}\ntarget: {script: a.py, timout: 5}\n",
+     "at target: unknown key 'timout'; did you mean 'timeout'? (allowed keys: see the contract schema"),
+    ("contract_version: 1\nnodes: {}\noptions: {zz: 1}\n",
+     "at options: unknown key 'zz' (allowed keys: see the contract schema, "
+     "pytest_rmw_introspect/schema/contract.schema.json)"),
+    ("contract_version: 1\nnodes:\n  /t:\n    parameters:\n      - {name: a, type: bool, wat: 1}\n",
+     "at nodes./t.parameters[0]: unknown key 'wat' (allowed keys: see the contract schema"),
+    ("contract_version: 1\nnodes:\n  /t:\n    publisher: []\n",
+     "unknown key 'publisher'; allowed: action_clients, action_servers, lifecycle, parameters, publishers"),
+])
+def test_unknown_keys_are_named_and_long_lists_of_allowed_keys_point_at_the_schema(text, wanted):
+    """A message listing the 21 keys `target:` takes was one line of 300-375 characters."""
+    with pytest.raises(ContractError) as info:
+        loads(text, path="k.interfaces.yaml")
+    assert wanted in str(info.value), str(info.value)
+    assert len(str(info.value)) < 240, str(info.value)
+
+
 def test_dump_is_sorted_and_stably_formatted():
     assert dump_nodes(NODES) == EXPECTED_DUMP
 

@@ -1,4 +1,4 @@
-"""Untrusted input, fuzzed: contracts, the target's parameters and the capture-file reader.
+"""Untrusted input, fuzzed: contracts, launch files, the target's parameters and the capture-file reader.
 
 A fixed seed and a bounded number of cases (``RMWI_FUZZ_CASES``, default 150 per input kind;
 `make fuzz` runs many more): no traceback (only the documented errors), no hang (each case
@@ -24,6 +24,8 @@ from pytest_rmw_introspect import cli
 from pytest_rmw_introspect.errors import CaptureFormatError, ContractError, TargetConfigError
 from pytest_rmw_introspect.model.capture import Capture
 from pytest_rmw_introspect.model.contract import loads, render
+from pytest_rmw_introspect.run import launch_python, launch_reader
+from pytest_rmw_introspect.run.launch_model import LaunchError
 from pytest_rmw_introspect.run.target import TargetSpec, ros_arguments
 
 CASES = int(os.environ.get("RMWI_FUZZ_CASES", "150"))
@@ -69,23 +71,36 @@ nodes:
 """
 
 
+class _Expired(AssertionError):
+    """Raised by the alarm wherever the code under test is (possibly thousands of frames deep)."""
+
+
 @contextlib.contextmanager
 def deadline(seconds: float, what: str) -> Iterator[None]:
     def expired(signum, frame):
-        raise AssertionError(f"hang: {what} took more than {seconds} s")
+        raise _Expired()
 
     # pytest-timeout may have an alarm running for the whole test: put it back afterwards
     outer_remaining, _ = signal.getitimer(signal.ITIMER_REAL)
     started = time.monotonic()
     previous = signal.signal(signal.SIGALRM, expired)
     signal.setitimer(signal.ITIMER_REAL, seconds)
+    hung = False
     try:
         yield
+    except _Expired as exc:
+        exc.__traceback__ = None
+        hung = True
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
         if outer_remaining > 0:
             signal.setitimer(signal.ITIMER_REAL, max(0.001, outer_remaining - (time.monotonic() - started)))
+    if hung:
+        # raised here, without the alarm's traceback: an alarm inside a deep recursion (the
+        # pure-Python YAML composer on a busy machine) left frames whose report crashed pytest
+        # under xdist (INTERNALERROR, the whole session ended)
+        raise AssertionError(f"hang: {what} took more than {seconds} s") from None
 
 
 # ---------------------------------------------------------------------------- mutations
@@ -401,3 +416,239 @@ def test_mutated_capture_documents_parse_or_fail_with_a_capture_format_error():
             capture.summary()
             capture.notes()
             render(capture.to_contract_nodes())
+
+
+# ---------------------------------------------------------------------------- launch files
+
+LAUNCH_XML = """\
+<launch>
+  <arg name="ns" default="robot" description="namespace"/>
+  <arg name="lidar" default="true"><choice value="true"/><choice value="false"/></arg>
+  <let name="rate" value="$(var ns)_5.5"/>
+  <set_env name="COLOR" value="$(optenv COLOR red)"/>
+  <group scoped="true">
+    <push_ros_namespace namespace="$(var ns)"/>
+    <node pkg="demo" exec="talker" name="talker" args="--a 'b c'" if="$(var lidar)">
+      <param name="rate" value="$(var rate)"/>
+      <param name="list" value="[1, 2, 3]"/>
+      <param name="outer"><param name="inner" value="x" value_sep=","/></param>
+      <remap from="chatter" to="$(var ns)/chat"/>
+      <env name="K" value="$(anon k)"/>
+    </node>
+  </group>
+  <include file="$(dirname)/inner.launch.xml"><arg name="who" value="$(var ns)"/></include>
+  <node pkg="demo" exec="listener" unless="false" ros_args="--log-level warn"/>
+</launch>
+"""
+LAUNCH_YAML = """\
+launch:
+- arg: {name: ns, default: robot}
+- let: {name: rate, value: "$(var ns)_5.5"}
+- group:
+    scoped: true
+    children:
+    - push_ros_namespace: {namespace: "$(var ns)"}
+    - node:
+        pkg: demo
+        exec: talker
+        name: talker
+        param:
+        - {name: rate, value: "$(var rate)"}
+        - {name: list, value: [1, 2, 3]}
+        remap:
+        - {from: chatter, to: "$(var ns)/chat"}
+- include:
+    file: "$(dirname)/inner.launch.yaml"
+    arg:
+    - {name: who, value: "$(var ns)"}
+- node: {pkg: demo, exec: listener, if: "true"}
+"""
+LAUNCH_INNER = {
+    "xml": '<launch><arg name="who" default="x"/><node pkg="demo" exec="inner" name="$(var who)_inner"/></launch>\n',
+    "yaml": "launch:\n- arg: {name: who, default: x}\n- node: {pkg: demo, exec: inner, name: \"$(var who)_inner\"}\n",
+}
+
+
+_HOSTILE_TEXTS = ["", "$(", "$(var", "$(var nope)", "$(eval 1)", "$(env NOPE)", "$(find-pkg-share nope)",
+                  "$(var ns)$(var ns)", "'", "&amp;a [*a]", "[[[[1]]]]", "true", "2", "x" * 3000, "$(dirname)/..",
+                  "$(anon $(var ns))", "/", "fuzzed.launch.xml", "$(filename)"]
+
+
+def _xml_attribute(rng: random.Random, text: str) -> str:
+    """An attribute's value replaced by a hostile one."""
+    starts = [i for i in range(len(text)) if text.startswith('="', i)]
+    i = rng.choice(starts) + 2
+    j = text.index('"', i)
+    return text[:i] + rng.choice(_HOSTILE_TEXTS).replace('"', "&quot;") + text[j:]
+
+
+def _xml_element(rng: random.Random, text: str) -> str:
+    """An element (or a stray end tag) inserted at the start of a line."""
+    element = rng.choice(["<group>", "</group>", "<x/>", "<node/>", '<include file="fuzzed.launch.xml"/>',
+                          '<include file="inner.launch.xml"/>', "<let/>", '<arg name="ns"/>', "<![CDATA[x]]>",
+                          "<!DOCTYPE l [<!ENTITY a 'aaaa'>]>", "&a;", "<?pi x?>", "<node_container/>"])
+    lines = text.splitlines(keepends=True)
+    i = rng.randrange(len(lines))
+    return "".join(lines[:i] + [element + "\n"] + lines[i:])
+
+
+XML_MUTATORS: list[Callable[[random.Random, str], str]] = [_flip, _control, _cut, _repeat_line, _xml_attribute,
+                                                           _xml_element]
+
+
+def _read_launch(path: Path) -> None:
+    """Read a launch file: a result, or a LaunchError that names the file in a message of bounded size."""
+    with deadline(CASE_SECONDS, f"reading {path.name}"):
+        try:
+            result = launch_reader.read(path)
+        except LaunchError as exc:
+            assert path.name in str(exc) or "inner.launch" in str(exc), str(exc)
+            assert len(str(exc)) < 1500, str(exc)[:3000]
+            return
+    for node in result.nodes:  # what a capture does with the result next
+        node.ros_argument_list(lambda parameter: path)
+
+
+@pytest.mark.parametrize("kind", ["xml", "yaml"])
+def test_mutated_launch_files_are_read_or_refused_with_a_launch_error(tmp_path, kind):
+    base = LAUNCH_XML if kind == "xml" else LAUNCH_YAML
+    mutators = XML_MUTATORS if kind == "xml" else MUTATORS
+    (tmp_path / f"inner.launch.{kind}").write_text(LAUNCH_INNER[kind], encoding="utf-8")
+    path = tmp_path / f"fuzzed.launch.{kind}"
+    rng = random.Random(SEED)
+    for _ in range(CASES):
+        text = base
+        for _ in range(rng.randint(1, 3)):
+            text = rng.choice(mutators)(rng, text)
+        path.write_text(text, encoding="utf-8", errors="surrogatepass")
+        _read_launch(path)
+
+
+def _python_launch_files_readable() -> bool:
+    try:
+        launch_python.modules()
+    except ImportError:
+        return False
+    return True
+
+
+LAUNCH_PY = """\
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        DeclareLaunchArgument("ns", default_value="robot"),
+        Node(package="demo", executable="talker", name="talker", namespace=LaunchConfiguration("ns"),
+             parameters=[{"rate": 5.5}], remappings=[("chatter", "chat")]),
+    ])
+"""
+
+
+def test_mutated_python_launch_files_are_read_or_refused_with_a_launch_error(tmp_path):
+    """Python launch files are read through launch_ros where it is importable; elsewhere every one
+    is the same LaunchError (launch_ros is missing), which is checked too."""
+    path = tmp_path / "fuzzed.launch.py"
+    rng = random.Random(SEED)
+    cases = CASES if _python_launch_files_readable() else 3
+    for _ in range(cases):
+        text = LAUNCH_PY
+        for _ in range(rng.randint(1, 2)):
+            text = rng.choice([_flip, _cut, _repeat_line])(rng, text)
+        path.write_text(text, encoding="utf-8", errors="surrogatepass")
+        _read_launch(path)
+
+
+def _include_bomb(directory: Path, files: int = 18) -> Path:
+    for i in range(files):
+        following = f"inc{i + 1}.launch.xml"
+        body = f'<include file="{following}"/><include file="{following}"/>' if i < files - 1 else \
+            '<node pkg="p" exec="e"/>'
+        (directory / f"inc{i}.launch.xml").write_text(f"<launch>{body}</launch>\n")
+    return directory / "inc0.launch.xml"
+
+
+def _alias_bomb_flow(levels: int = 9) -> str:
+    anchors = ["&a0 [x, x, x, x, x, x, x, x, x]"]
+    anchors += [f"&a{n} [" + ", ".join([f"*a{n - 1}"] * 9) + "]" for n in range(1, levels)]
+    return "[" + ", ".join(anchors) + "]"
+
+
+HOSTILE_LAUNCH_FILES = {
+    "ESC in YAML": ("e.launch.yaml", "launch:\n- let: {name: a, value: \"x\x1by\"}\n", "control characters"),
+    "3000 nested $(var)": ("v.launch.xml", '<launch><let name="a" value="' + "$(var " * 3000 + "a" + ")" * 3000
+                            + '"/></launch>\n', "nested more than 32 levels deep"),
+    "5000 nested groups": ("g.launch.xml", "<launch>" + "<group>" * 5000 + "</group>" * 5000 + "</launch>\n",
+                           "nested more than 64 levels deep"),
+    "400-level YAML": ("d.launch.yaml", "launch:\n- let: {name: a, value: " + "[" * 400 + "]" * 400 + "}\n",
+                       "nested more than 64 levels deep"),
+    "400 nested YAML groups": ("n.launch.yaml", "launch:\n" + "".join(
+        "  " * (2 * i) + "- group:\n" + "  " * (2 * i + 2) + "children:\n" for i in range(400)) + "  " * 800 + "- let: {name: a, value: b}\n",
+        "nested more than 64 levels deep"),
+    "<let> doubling chain": ("l.launch.xml", "<launch>\n<let name='a0' value='xx'/>\n" + "".join(
+        f"<let name='a{n}' value='$(var a{n - 1})$(var a{n - 1})'/>\n" for n in range(1, 34)) + "</launch>\n",
+        "more than 1,000,000 characters"),
+    "alias bomb in a YAML let": ("b.launch.yaml", "launch:\n- let: {name: a, value: " + _alias_bomb_flow() + "}\n",
+                                 "alias bomb"),
+    "alias bomb in a let value used as a parameter": (
+        "p.launch.xml", "<launch><let name='a' value='" + _alias_bomb_flow().replace("&", "&amp;") + "'/>"
+        "<node pkg='p' exec='e'><param name='x' value='$(var a)'/></node></launch>\n", "alias bomb"),
+    "not UTF-8": ("u.launch.xml", b"<launch><!-- caf\xe9 --></launch>\n", "u.launch.xml: it is not UTF-8 text"),
+    "not UTF-8 YAML": ("u.launch.yaml", b"launch:\n- let: {name: a, value: caf\xe9}\n", "it is not UTF-8 text"),
+    "keys that are not strings": ("k.launch.yaml", "launch:\n- node: {1: x, pkg: p, exec: e}\n",
+                                  "mapping keys must be strings"),
+}
+
+
+@pytest.mark.parametrize(("name", "text", "reason"), HOSTILE_LAUNCH_FILES.values(), ids=HOSTILE_LAUNCH_FILES.keys())
+def test_hostile_launch_files_are_refused_quickly_with_a_reason(tmp_path, name, text, reason, monkeypatch):
+    """The launch reader has the contract loader's limits: no traceback (RecursionError), no
+    memory exhausted, a LaunchError naming the file (and the line where known)."""
+    monkeypatch.chdir(tmp_path)
+    path = tmp_path / name
+    if isinstance(text, bytes):
+        path.write_bytes(text)
+    else:
+        path.write_text(text, encoding="utf-8")
+    with deadline(CASE_SECONDS, name), pytest.raises(LaunchError) as info:
+        launch_reader.read(path)
+    assert reason in str(info.value), str(info.value)
+    assert str(info.value).startswith(name), str(info.value)
+    assert len(str(info.value)) < 400, str(info.value)
+
+
+def test_an_include_bomb_is_refused_without_reading_every_include(tmp_path):
+    """18 files that each include the next twice: 2^18 includes. Each file is parsed once and the
+    includes followed are bounded, so the reader stops at once, saying why."""
+    with deadline(CASE_SECONDS, "an include bomb"), pytest.raises(LaunchError) as info:
+        launch_reader.read(_include_bomb(tmp_path))
+    assert f"more than {launch_reader.MAX_INCLUDES:,} includes" in str(info.value), str(info.value)
+
+
+def test_groups_nested_in_every_file_of_an_include_chain_are_bounded(tmp_path):
+    """Each file nests groups below the per-file limit, the chain is below the include limit,
+    together they would recurse past Python's limit: the reader counts both."""
+    files = launch_reader.MAX_INCLUDE_DEPTH
+    for i in range(files):
+        inner = f'<include file="c{i + 1}.launch.xml"/>' if i < files - 1 else '<node pkg="p" exec="e"/>'
+        (tmp_path / f"c{i}.launch.xml").write_text("<launch>" + "<group>" * 60 + inner + "</group>" * 60
+                                                   + "</launch>\n")
+    with deadline(CASE_SECONDS, "nested groups and includes"), pytest.raises(LaunchError) as info:
+        launch_reader.read(tmp_path / "c0.launch.xml")
+    assert f"nested more than {launch_reader.MAX_NESTING} levels deep" in str(info.value), str(info.value)
+
+
+def test_a_launch_file_with_many_lets_and_includes_is_still_read(tmp_path):
+    """The limits leave room for real launch files: 60 includes of one file, 200 lets each."""
+    lets = "".join(f'<let name="v{n}" value="$(var who)_{n}"/>' for n in range(200))
+    (tmp_path / "part.launch.xml").write_text(f'<launch><arg name="who"/>{lets}<node pkg="p" exec="e" '
+                                              'name="$(var v199)"/></launch>\n')
+    includes = "".join(f'<include file="part.launch.xml"><arg name="who" value="r{n}"/></include>'
+                       for n in range(60))
+    (tmp_path / "main.launch.xml").write_text(f"<launch>{includes}</launch>\n")
+    with deadline(CASE_SECONDS, "many includes"):
+        result = launch_reader.read(tmp_path / "main.launch.xml")
+    assert [n.name for n in result.nodes] == [f"r{n}_199" for n in range(60)]

@@ -91,6 +91,33 @@ def test_parameter_rules(old, new, change, rule, severity):
     assert old["name"] in item.message or item.change != "added"
 
 
+def test_a_megabyte_value_changed_in_one_byte_is_reported_in_one_short_line():
+    """Values are cut with a digest: the report of a 1 MB string parameter used to be a 2 MB line
+    (a 50 MB value, 100 MB of output)."""
+    from pytest_rmw_introspect.compare.report import render_text
+
+    big = "a" * 1_000_000
+    changed = big[:500_000] + "b" + big[500_001:]
+    item = only(compare({"/n": node(p("blob", "string", big))}, {"/n": node(p("blob", "string", changed))}))
+    assert item.rule == "PARAM_DEFAULT_CHANGED" and item.new == changed  # the data stays whole
+    assert len(item.message) < 500, item.message[:1000]
+    assert "(1,000,000 characters, sha256 " in item.message
+    old_digest, new_digest = (part.split(")")[0] for part in item.message.split("sha256 ")[1:])
+    assert old_digest != new_digest
+    assert "they differ from character 500,001 on" in item.message
+    report = render_text([item])
+    assert max(len(line) for line in report.splitlines()) < 500 and len(report) < 1000
+
+
+def test_long_descriptions_and_list_values_are_cut_too():
+    old = p("s", "string_array", ["x" * 5000] * 20, description="d" * 5000)
+    new = p("s", "string_array", ["y" * 5000] * 20, description="e" * 5000)
+    items = compare({"/n": node(old)}, {"/n": node(new)})
+    assert {i.rule for i in items} == {"PARAM_DEFAULT_CHANGED", "PARAM_DESCRIPTION_CHANGED"}
+    assert all(len(i.message) < 500 for i in items), [i.message[:2000] for i in items]
+    assert "(20 items, sha256 " in next(i.message for i in items if i.rule == "PARAM_DEFAULT_CHANGED")
+
+
 def test_type_change_implies_value_and_range_changes():
     old = p("n", "integer", 4, integer_range=RANGE)
     new = p("n", "double", 4.5, floating_point_range=FRANGE)

@@ -342,7 +342,7 @@ def test_line_index_has_parameter_entries():
     ("    parameters:\n", "nodes./n.parameters", "write `parameters: []` for a node without parameters"),
     ("    parameters:\n      - {name: a}\n", "nodes./n.parameters[0]", "'type' is required"),
     ("    parameters:\n      - {name: a, type: int}\n", "nodes./n.parameters[0].type", "'int' is not one of"),
-    ("    parameters:\n      - {name: a, type: bool, default: 1}\n", "nodes./n.parameters[0]", "unknown key 'default'; allowed: additional_constraints"),
+    ("    parameters:\n      - {name: a, type: bool, default: 1}\n", "nodes./n.parameters[0]", "unknown key 'default'; did you mean 'default_value'?"),
     ("    parameters:\n      - {name: a, type: bool}\n      - {name: a, type: bool}\n",
      "nodes./n.parameters[1].name", "duplicate parameter 'a' (also at parameters[0])"),
     ("    parameters:\n      - {name: a, type: integer, default_value: 1.5}\n", "nodes./n.parameters[0].default_value",

@@ -28,6 +28,10 @@ struct CaptureHeader
   std::string settled_by;         // "wait" | "activity" | "" (null: not settled)
   bool ever_waited = false;
   uint64_t activity_calls = 0;
+  // "quiescence": how the settles ended (docs/design.md, "Detected quiescence")
+  bool idle_detect = false;
+  uint64_t idle_settles = 0;
+  uint64_t window_settles = 0;
   // "time": virtual time (horizon 0 = off)
   int64_t horizon_ms = 0;
   double virtual_elapsed_ms = 0.0;

@@ -18,6 +18,7 @@
 #include "detail/probe_driver.hpp"
 #include "detail/recorder.hpp"
 #include "detail/session.hpp"
+#include "detail/thread_census.hpp"
 #include "detail/wait_hub.hpp"
 
 namespace rmw_introspect
@@ -95,8 +96,8 @@ private:
   class BlockedWait
   {
 public:
-    explicit BlockedWait(Runtime & runtime)
-    : runtime_(runtime), token_(runtime.enter_wait()) {}
+    BlockedWait(Runtime & runtime, int64_t deadline_ns)
+    : runtime_(runtime), token_(runtime.enter_wait(deadline_ns)) {}
     ~BlockedWait() {runtime_.leave_wait(token_);}
     BlockedWait(const BlockedWait &) = delete;
     BlockedWait & operator=(const BlockedWait &) = delete;
@@ -107,7 +108,8 @@ private:
   };
 
   Runtime();
-  uint64_t enter_wait();
+  /// `deadline_ns`: real steady time the wait ends by itself (negative: never).
+  uint64_t enter_wait(int64_t deadline_ns);
   void leave_wait(uint64_t token);
   void note_wait_entered();
   /// In the warp and with nothing ready: jump virtual time to `target_ns` (see Session).
@@ -122,6 +124,9 @@ private:
   /// Copy what the stimuli came to for the captures (monitor thread).
   void publish_stimuli();
   void monitor_loop();
+  /// The monitor's kCheckIdle: read the other threads with no lock held (`lock` is the
+  /// session's, held on entry and on return).
+  void check_idle(std::unique_lock<std::mutex> & lock);
   /// Write the capture with `state` (no-op with AUTO_EXPORT=0 or before rmw_init; once the
   /// exit capture is being written, nothing else replaces it).
   void write_capture(const char * state);
@@ -131,6 +136,7 @@ private:
   const Config config_;
   const SteadyClock clock_;
   const ProcMainThreadState main_thread_state_;
+  ProcThreadCensus thread_census_;  // the monitor thread's only
   VirtualClock virtual_clock_;
   Recorder recorder_;
   WaitHub wait_hub_;
@@ -184,8 +190,10 @@ void Runtime::wait(ReadyFn ready, int64_t timeout_ns)
     // one re-registers as blocked after the warp began (the settle rule counts only those).
     const uint64_t warp_starts = warp_starts_.load();
     auto ready_or_warp = [&]() {return ready() || warp_starts_.load() != warp_starts;};
+    const int64_t deadline_ns = remaining < 0 ? -1 : clock_.now_ns() + remaining;
     wait_hub_.wait(
-      ready_or_warp, remaining, [this]() -> BlockedWait {return BlockedWait(*this);});
+      ready_or_warp, remaining,
+      [this, deadline_ns]() -> BlockedWait {return BlockedWait(*this, deadline_ns);});
     if (warp_starts_.load() == warp_starts || ready()) {
       return;
     }

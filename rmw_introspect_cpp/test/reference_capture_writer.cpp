@@ -497,6 +497,9 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
   quiescence.add("detect", Value::boolean(header.idle_detect));
   quiescence.add("detected", Value::integer(static_cast<int64_t>(header.idle_settles)));
   quiescence.add("window", Value::integer(static_cast<int64_t>(header.window_settles)));
+  quiescence.add("polls", Value::integer(static_cast<int64_t>(header.polls)));
+  quiescence.add(
+    "not_idle", header.not_idle.empty() ? Value::null() : Value::string(header.not_idle));
   doc.add("quiescence", std::move(quiescence));
   Value time = Value::object();
   time.add("horizon_ms", Value::integer(header.horizon_ms));
@@ -506,6 +509,7 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
   time.add("warp_ms", Value::number(header.warp_ms));
   time.add("horizon_reached", Value::boolean(header.horizon_reached));
   time.add("warp_budget_exhausted", Value::boolean(header.warp_budget_exhausted));
+  time.add("warp_stalled", Value::boolean(header.warp_stalled));
   doc.add("time", std::move(time));
   Value probe = Value::object();
   probe.add("state", Value::string(header.probe_state));

@@ -124,7 +124,9 @@ TEST(CaptureWriter, json_exact)
   "quiescence": {
     "detect": true,
     "detected": 2,
-    "window": 1
+    "window": 1,
+    "polls": 0,
+    "not_idle": null
   },
   "time": {
     "horizon_ms": 10000,
@@ -133,7 +135,8 @@ TEST(CaptureWriter, json_exact)
     "jumps": 1,
     "warp_ms": 3000.000,
     "horizon_reached": false,
-    "warp_budget_exhausted": false
+    "warp_budget_exhausted": false,
+    "warp_stalled": false
   },
   "probe": {
     "state": "off",

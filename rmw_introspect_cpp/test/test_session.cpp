@@ -1069,3 +1069,64 @@ TEST(ThreadCensus, sleeping_threads_count_by_their_deadline_and_waiting_ones_are
   waiter.join();
   EXPECT_TRUE(locked.load());
 }
+
+// ------------------------------------------------------------------ polling loops
+
+TEST_F(SessionTest, a_loop_of_polls_settles_like_one_of_activity)
+{
+  session.start();
+  session.on_change();
+  session.on_poll();
+  EXPECT_TRUE(session.on_poll());  // the second one: the monitor looks again
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_EQ("poll", header.settled_by);
+  EXPECT_EQ(2u, header.polls);
+  EXPECT_TRUE(header.ever_waited);
+}
+
+TEST_F(WarpTest, a_warp_that_sees_only_polls_stalls_and_says_so)
+{
+  settle_and_start_warp();
+  session.leave_wait(token);  // the executor only polls from now on
+  for (int i = 0; i < 4; ++i) {
+    session.on_poll();
+    clock.advance_ms(2);
+    EXPECT_EQ(Session::Action::kNone, session.poll().action) << i;
+  }
+  EXPECT_TRUE(session.warping());
+  clock.advance_ms(2);  // settle_ms (10) without a wait with a timeout
+  session.on_poll();
+  EXPECT_NE(Session::Action::kSettle, session.poll().action);  // stalled: the final settle starts
+  EXPECT_FALSE(session.warping());
+  session.on_poll();
+  session.on_poll();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_TRUE(header.warp_stalled);
+  EXPECT_FALSE(header.warp_budget_exhausted);
+  EXPECT_FALSE(header.horizon_reached);
+  EXPECT_EQ("poll", header.settled_by);
+}
+
+TEST_F(WarpTest, a_warp_with_jumps_stalls_only_after_half_a_second_of_polls)
+{
+  settle_and_start_warp();
+  session.leave_wait(token);
+  EXPECT_TRUE(wait_ms(1));  // a timer: one jump
+  for (int i = 0; i < 40; ++i) {  // 400 ms of polls: a timer due in real time, rcl catching up
+    session.on_poll();
+    session.on_activity();
+    clock.advance_ms(10);
+    session.poll();
+    ASSERT_TRUE(session.warping()) << i;
+  }
+  clock.advance_ms(100);
+  session.on_poll();
+  session.poll();
+  EXPECT_FALSE(session.warping());
+}

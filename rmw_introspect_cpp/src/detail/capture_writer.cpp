@@ -431,6 +431,8 @@ void write_document(
   w.key("detect").boolean(header.idle_detect);
   w.key("detected").integer(static_cast<int64_t>(header.idle_settles));
   w.key("window").integer(static_cast<int64_t>(header.window_settles));
+  w.key("polls").integer(static_cast<int64_t>(header.polls));
+  optional_string(w.key("not_idle"), header.not_idle);
   w.end_object();
   w.key("time").begin_object();
   w.key("horizon_ms").integer(header.horizon_ms);
@@ -440,6 +442,7 @@ void write_document(
   w.key("warp_ms").fixed(header.warp_ms);
   w.key("horizon_reached").boolean(header.horizon_reached);
   w.key("warp_budget_exhausted").boolean(header.warp_budget_exhausted);
+  w.key("warp_stalled").boolean(header.warp_stalled);
   w.end_object();
   w.key("probe").begin_object();
   w.key("state").string(header.probe_state);

@@ -209,6 +209,19 @@ void Runtime::note_wait_entered()
   }
 }
 
+void Runtime::note_poll()
+{
+  const bool first = !ever_waited_.exchange(true);
+  bool wake = false;
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    wake = session_.on_poll();
+  }
+  if (first || wake) {
+    session_cv_.notify_all();
+  }
+}
+
 void Runtime::on_activity()
 {
   bool wake = false;

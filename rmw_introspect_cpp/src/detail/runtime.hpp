@@ -112,6 +112,8 @@ private:
   uint64_t enter_wait(int64_t deadline_ns);
   void leave_wait(uint64_t token);
   void note_wait_entered();
+  /// A poll (timeout 0; see Session::on_poll).
+  void note_poll();
   /// In the warp and with nothing ready: jump virtual time to `target_ns` (see Session).
   template<typename ReadyFn>
   bool try_jump(ReadyFn & ready, int64_t target_ns);
@@ -176,10 +178,12 @@ bool Runtime::try_jump(ReadyFn & ready, int64_t target_ns)
 template<typename ReadyFn>
 void Runtime::wait(ReadyFn ready, int64_t timeout_ns)
 {
-  note_wait_entered();
   if (timeout_ns == 0) {
-    return;  // a poll: rmw_wait reads the guard conditions itself
+    // A poll: rmw_wait reads the guard conditions itself; a loop of polls is in its loop.
+    note_poll();
+    return;
   }
+  note_wait_entered();
   const int64_t start_ns = clock_.now_ns();
   const int64_t target_ns = start_ns + virtual_clock_.offset_ns() + timeout_ns;
   for (int64_t remaining = timeout_ns; ; ) {

@@ -23,6 +23,8 @@ constexpr uint64_t kSettlingActivity = 2;
 constexpr int64_t kFirstWaitGraceNs = 250 * 1000 * 1000;
 constexpr int64_t kFirstWaitRecheckNs = 50 * 1000 * 1000;
 constexpr int64_t kFirstWaitMaxNs = 2000 * 1000 * 1000;
+// The warp of a process that made jumps stalls after this long without a wait with a timeout.
+constexpr int64_t kStallAfterJumpsNs = 500 * 1000 * 1000;
 // A census that found a thread not blocked (a sleep loop, a callback running) is taken again
 // this long after, while nothing else changes (each costs a few hundred microseconds).
 constexpr int64_t kCensusRecheckNs = 5 * 1000 * 1000;
@@ -62,6 +64,7 @@ void Session::break_quiet(int64_t now)
   quiet_since_ns_ = now;
   waiters_current_ = 0;
   activity_current_ = 0;
+  polls_current_ = 0;
 }
 
 void Session::on_change()
@@ -77,6 +80,16 @@ void Session::on_wait_entered()
   if (phase_ == Phase::kWarping) {
     break_quiet(clock_.now_ns());
   }
+}
+
+bool Session::on_poll()
+{
+  if (phase_ == Phase::kWarping) {
+    warp_loop_seen_ = true;
+  }
+  on_wait_entered();
+  ++polls_;
+  return ++polls_current_ == kSettlingActivity;
 }
 
 uint64_t Session::enter_wait(pid_t tid, int64_t deadline_ns)
@@ -157,6 +170,9 @@ bool Session::provably_idle(int64_t now)
 
 bool Session::on_activity()
 {
+  if (phase_ == Phase::kWarping) {
+    warp_loop_seen_ = true;
+  }
   ++activity_calls_;
   ++idle_version_;
   return ++activity_current_ == kSettlingActivity;
@@ -173,6 +189,7 @@ bool Session::try_jump(int64_t target_ns)
     return false;
   }
   const int64_t now = clock_.now_ns();
+  last_timed_wait_ns_ = now;
   if (now - warp_start_ns_ >= settings_.warp_budget_ms * kNsPerMs) {
     budget_exhausted_ = true;
     end_warp();
@@ -211,7 +228,8 @@ bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline
     return true;
   }
   const bool by_wait = waiters_current_ > 0;
-  if (!by_wait && activity_current_ < kSettlingActivity) {
+  const bool by_poll = !by_wait && polls_current_ >= kSettlingActivity;
+  if (!by_wait && !by_poll && activity_current_ < kSettlingActivity) {
     return false;  // the next wait or activity call wakes the monitor
   }
   const int64_t settle_at = quiet_since_ns_ + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
@@ -219,7 +237,7 @@ bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline
     propose(settle_at, has_deadline, deadline);
     return false;
   }
-  settled_by_ = by_wait ? "wait" : "activity";
+  settled_by_ = by_wait ? "wait" : (by_poll ? "poll" : "activity");
   ++window_settles_;
   return true;
 }
@@ -245,6 +263,22 @@ Session::Step Session::poll()
       end_warp();
     } else {
       propose(std::min(budget_end, horizon_at), &step.has_deadline, &step.deadline_ns);
+      // No wait with a timeout for a while the process ran a loop (polls, activity): a loop
+      // that polls or sleeps on its own clock, with nothing to jump to. Before any jump that
+      // is settle_ms; after jumps (timers) kStallAfterJumpsNs at least: a timer due in real
+      // time on a busy machine makes rcl poll (timeout 0) until it has caught up.
+      const int64_t quiet_ns = static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
+      const int64_t stall_at =
+        last_timed_wait_ns_ + (jumps_ == 0 ? quiet_ns : std::max(quiet_ns, kStallAfterJumpsNs));
+      if (blocked_.empty() && now >= stall_at && warp_loop_seen_) {
+        warp_stalled_ = true;
+        end_warp();
+      } else if (blocked_.empty()) {
+        // (looked at again a window later when nothing ran yet)
+        propose(
+          std::max(stall_at, now + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs),
+          &step.has_deadline, &step.deadline_ns);
+      }
     }
   }
   if (phase_ == Phase::kProbing) {
@@ -307,6 +341,7 @@ void Session::after_first_settle(int64_t now, Step * step)
     if (now + virtual_clock_.offset_ns() - t0_ns_ < horizon_ns) {
       phase_ = Phase::kWarping;
       warp_start_ns_ = now;
+      last_timed_wait_ns_ = now;
       break_quiet(now);  // the warp must see settle_ms without a jump before it ends
       step->action = Action::kStartWarp;
       return;
@@ -448,6 +483,9 @@ void Session::fill_header(const char * state, CaptureHeader * header) const
   header->idle_detect = settings_.detect_idle;
   header->idle_settles = idle_settles_;
   header->window_settles = window_settles_;
+  header->polls = polls_;
+  header->not_idle = not_idle_reason_;
+  header->warp_stalled = warp_stalled_;
 }
 
 }  // namespace rmw_introspect

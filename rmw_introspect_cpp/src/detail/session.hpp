@@ -75,6 +75,11 @@ public:
   /// a process that keeps entering waits that jump or poll is still driven by its timers
   /// (on a busy machine real time alone can keep its short timers due).
   void on_wait_entered();
+  /// A thread polled rmw_wait (timeout 0): a wait entry (on_wait_entered), and, like an
+  /// activity call, a sign of a loop (spin_some, spin_once(timeout_sec=0)): at least two after
+  /// the last change settle the process once it was quiet for settle_ms (settled_by "poll").
+  /// True when the monitor should look again.
+  bool on_poll();
   /// Thread `tid` blocks in rmw_wait until real time `deadline_ns` (negative: no deadline);
   /// returns the token for leave_wait. Called under the wait hub's lock, after the thread
   /// found nothing ready.
@@ -207,6 +212,14 @@ private:
   int64_t quiet_since_ns_ = 0;
   uint64_t waiters_current_ = 0;  // threads in rmw_wait that entered in quiet_epoch_
   uint64_t activity_current_ = 0;  // activity calls in quiet_epoch_
+  uint64_t polls_current_ = 0;  // polls in quiet_epoch_
+  uint64_t polls_ = 0;          // ... in all
+  // The warp: when a wait last had a timeout (a jump or a try), and whether the process ran a
+  // loop meanwhile (polls, activity): the warp cannot advance a process that never waits
+  // with a timeout, it stalls (warp_stalled_) instead of running into its budget.
+  int64_t last_timed_wait_ns_ = 0;
+  bool warp_loop_seen_ = false;
+  bool warp_stalled_ = false;
   // Detected quiescence: the threads blocked in rmw_wait now, by token.
   std::map<uint64_t, BlockedWait> blocked_;
   uint64_t next_wait_token_ = 0;

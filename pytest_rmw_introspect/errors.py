@@ -348,9 +348,14 @@ def diagnose_unsettled(partial: Any) -> str:
             "Set `lifecycle: none` or `read_parameters: false` on the target to capture it without them, or raise "
             "`timeout` if a transition is only slow."
         )
+    seen = _what_was_seen(partial)
     if partial.state == "warping":
         vt = partial.virtual_time
         age = f" (virtual age {vt.virtual_elapsed_ms / 1000:.3g} s)" if vt is not None else ""
+        if seen:
+            return (f"It settled after {partial.time_to_settle_ms or 0:.0f} ms; virtual time was then advanced{age} "
+                    f"but it never went quiet again: {seen} Lower `horizon`, or set it to 0 to capture only what "
+                    "exists at the first settle.")
         return (
             f"It settled after {partial.time_to_settle_ms or 0:.0f} ms; virtual time was then advanced{age} but it "
             "never went quiet again: does it keep creating or destroying interfaces? Lower `horizon`, or set it "
@@ -364,10 +369,30 @@ def diagnose_unsettled(partial: Any) -> str:
             "spins settles once it makes two such calls with no new interface for the settle time. Raise "
             "`timeout` if it is only slow."
         )
+    if seen:
+        return f"It waits in an executor but was never quiet for the settle time: {seen} Raise `timeout` if it is only slow."
     return (
         "It waits in an executor but kept creating or destroying interfaces, so it was never quiet for the "
         "settle time. Raise `timeout` if it is only slow to finish starting."
     )
+
+
+def _what_was_seen(partial: Any) -> str:
+    """What the last snapshot shows of a process that did not settle, when its interfaces stopped
+    changing well before it ended ("" when they changed until the end: then that is the reason)."""
+    last = partial.last_change_ms()
+    elapsed = partial.elapsed_ms
+    settle = partial.settle_ms or 0
+    if last is None or elapsed is None or elapsed - last <= max(2 * settle, 1000):
+        return ""
+    facts = [f"its last interface was created at {last:.0f} ms and nothing changed in the {(elapsed - last) / 1000:.3g} s after"]
+    if partial.not_idle:
+        facts.append(f"the middleware last saw {partial.not_idle}")
+    if partial.polls:
+        facts.append(f"it polled its executor {partial.polls} times (zero-timeout waits)")
+    facts.append(f"{partial.activity_calls or 0} calls into ROS (publish, take, graph queries) in all")
+    return ("; ".join(facts) + ". It runs without waiting in an executor (a busy loop: a task spun with spin_once "
+            "that awaits an answer that never comes, a callback that never returns, a sleep loop).")
 
 
 class GoldenWriteError(RmwIntrospectError):

@@ -141,6 +141,9 @@ class VirtualTime:
     warp_ms: float
     horizon_reached: bool
     warp_budget_exhausted: bool
+    #: the warp ended early: the process kept running but never waited with a timeout (it polls
+    #: or sleeps on its own clock), so virtual time had nothing to jump to
+    warp_stalled: bool = False
 
     @property
     def enabled(self) -> bool:
@@ -299,8 +302,9 @@ class Capture:
     settle_ms: float | None = None
     time_to_settle_ms: float | None = None
     elapsed_ms: float | None = None
-    #: "wait" (a thread waited quietly in an executor) or "activity" (a steady loop that never
-    #: waits kept using the middleware); None before any settle
+    #: "wait" (a thread waited quietly in an executor), "poll" (a thread polled rmw_wait and found
+    #: nothing, again and again) or "activity" (a steady loop that never waits kept using the
+    #: middleware); None before any settle
     settled_by: str | None = None
     ever_waited: bool | None = None
     activity_calls: int | None = None
@@ -473,13 +477,8 @@ class Capture:
                 "virtual time): the capture is what it had created until then"
             )
         vt = self.virtual_time
-        if vt is not None and vt.enabled and not vt.horizon_reached:
-            if vt.warp_budget_exhausted:
-                notes.append(
-                    f"virtual time stopped at {vt.virtual_elapsed_ms / 1000:.3g} s of the {vt.horizon_ms / 1000:g} s "
-                    f"horizon: the warp used its real-time budget ({vt.jumps} jumps; a very fast timer?); "
-                    "interfaces created later are not in the capture"
-                )
+        if vt is not None and vt.enabled and not vt.horizon_reached and (vt.warp_stalled or vt.warp_budget_exhausted):
+            notes.append(_horizon_note(vt, self.polls))
         for node in self:
             if node.uses_sim_time:
                 notes.append(
@@ -507,6 +506,28 @@ class Capture:
         for node in self.nodes.values():
             if node.parameters:
                 node.parameters = [replace(p, value=portable.portable_value(p.value, shares)) for p in node.parameters]
+
+    @property
+    def polls(self) -> int:
+        """Polls of ``rmw_wait`` (timeout 0: ``spin_some``, ``spin_once(timeout_sec=0)``) the process
+        made (``quiescence.polls``; 0 for captures that do not say)."""
+        quiescence = self.raw.get("quiescence")
+        value = quiescence.get("polls", 0) if isinstance(quiescence, Mapping) else 0
+        return value if isinstance(value, int) and not isinstance(value, bool) else 0
+
+    @property
+    def not_idle(self) -> str | None:
+        """Why the middleware last found the process not provably idle (a thread not blocked,
+        and in which system call), or None (``quiescence.not_idle``)."""
+        quiescence = self.raw.get("quiescence")
+        value = quiescence.get("not_idle") if isinstance(quiescence, Mapping) else None
+        return value if isinstance(value, str) and value else None
+
+    def last_change_ms(self) -> float | None:
+        """Real age of the process when it created its last node or interface (None: unknown)."""
+        ages = [n.created_real_ms for n in self.raw_nodes] + [e.created_real_ms for e in self.raw_endpoints]
+        known = [age for age in ages if age is not None]
+        return max(known) if known else None
 
     def failed_transitions(self) -> list[tuple[str, str, str, str]]:
         """The lifecycle transitions the middleware drove that did not succeed: ``(node, transition,
@@ -726,6 +747,22 @@ def _optional_float(value: Any) -> float | None:
     return None if value is None else float(value)
 
 
+def _horizon_note(vt: VirtualTime, polls: int) -> str:
+    """What a capture says when the warp stopped before the horizon (stalled, or its budget
+    spent), and what was seen."""
+    where = (f"virtual time stopped at {vt.virtual_elapsed_ms / 1000:.3g} s of the {vt.horizon_ms / 1000:g} s "
+             f"horizon after {vt.jumps} jumps")
+    later = "; interfaces created later are not in the capture"
+    if vt.warp_stalled:
+        polled = f" ({polls} zero-timeout polls of its executor)" if polls else ""
+        return (f"{where}: the program kept running but never waited with a timeout{polled}: it polls "
+                "(spin_some, spin_once(timeout_sec=0)) or sleeps on its own clock (time.sleep, sleep_for, a "
+                "WallRate), which virtual time cannot advance" + later)
+    why = ("each jump is one period of a very fast timer" if vt.jumps >= 1000 else
+           "the program kept running between its waits (a loop that sleeps or polls besides its timers)")
+    return f"{where}: the warp used its real-time budget ({why})" + later
+
+
 def _virtual_time(data: Any, path: Path | None) -> VirtualTime | None:
     if data is None:
         return None
@@ -739,6 +776,7 @@ def _virtual_time(data: Any, path: Path | None) -> VirtualTime | None:
             warp_ms=float(data.get("warp_ms", 0)),
             horizon_reached=bool(data.get("horizon_reached", False)),
             warp_budget_exhausted=bool(data.get("warp_budget_exhausted", False)),
+            warp_stalled=bool(data.get("warp_stalled", False)),
         )
     except (TypeError, ValueError, OverflowError) as exc:
         raise CaptureFormatError(path, f"`time`: malformed field ({exc})") from None

@@ -475,7 +475,7 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
   Value doc = Value::object();
   doc.add("format", Value::string("rmw_introspect_capture"));
   doc.add("format_version", Value::integer(1));
-  doc.add("format_minor", Value::integer(2));
+  doc.add("format_minor", Value::integer(3));
   doc.add("rmw_implementation", Value::string("rmw_introspect_cpp"));
   doc.add("pid", Value::integer(header.pid));
   Value argv = Value::array();
@@ -493,6 +493,14 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     "settled_by", header.settled_by.empty() ? Value::null() : Value::string(header.settled_by));
   doc.add("ever_waited", Value::boolean(header.ever_waited));
   doc.add("activity_calls", Value::integer(static_cast<int64_t>(header.activity_calls)));
+  Value quiescence = Value::object();
+  quiescence.add("detect", Value::boolean(header.idle_detect));
+  quiescence.add("detected", Value::integer(static_cast<int64_t>(header.idle_settles)));
+  quiescence.add("window", Value::integer(static_cast<int64_t>(header.window_settles)));
+  quiescence.add("polls", Value::integer(static_cast<int64_t>(header.polls)));
+  quiescence.add(
+    "not_idle", header.not_idle.empty() ? Value::null() : Value::string(header.not_idle));
+  doc.add("quiescence", std::move(quiescence));
   Value time = Value::object();
   time.add("horizon_ms", Value::integer(header.horizon_ms));
   time.add("virtual_elapsed_ms", Value::number(header.virtual_elapsed_ms));
@@ -501,6 +509,7 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
   time.add("warp_ms", Value::number(header.warp_ms));
   time.add("horizon_reached", Value::boolean(header.horizon_reached));
   time.add("warp_budget_exhausted", Value::boolean(header.warp_budget_exhausted));
+  time.add("warp_stalled", Value::boolean(header.warp_stalled));
   doc.add("time", std::move(time));
   Value probe = Value::object();
   probe.add("state", Value::string(header.probe_state));
@@ -579,7 +588,7 @@ std::string render_capture_json(const CaptureHeader & header, const RecorderSnap
 
 std::string render_capture_yaml(const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
-  std::string out = "# rmw_introspect capture (format_version 1, format_minor 2)\n";
+  std::string out = "# rmw_introspect capture (format_version 1, format_minor 3)\n";
   emit_yaml_object(build_document(header, snapshot), 0, out);
   return out;
 }

@@ -66,6 +66,9 @@ CaptureHeader header()
   h.settled_by = "wait";
   h.ever_waited = true;
   h.activity_calls = 3;
+  h.idle_detect = true;
+  h.idle_settles = 2;
+  h.window_settles = 1;
   h.horizon_ms = 10000;
   h.virtual_elapsed_ms = 3031.9;
   h.real_elapsed_ms = 31.9;
@@ -107,7 +110,7 @@ TEST(CaptureWriter, json_exact)
   const std::string expected = R"({
   "format": "rmw_introspect_capture",
   "format_version": 1,
-  "format_minor": 2,
+  "format_minor": 3,
   "rmw_implementation": "rmw_introspect_cpp",
   "pid": 4242,
   "argv": ["/usr/bin/python3", "talker.py"],
@@ -118,6 +121,13 @@ TEST(CaptureWriter, json_exact)
   "settled_by": "wait",
   "ever_waited": true,
   "activity_calls": 3,
+  "quiescence": {
+    "detect": true,
+    "detected": 2,
+    "window": 1,
+    "polls": 0,
+    "not_idle": null
+  },
   "time": {
     "horizon_ms": 10000,
     "virtual_elapsed_ms": 3031.900,
@@ -125,7 +135,8 @@ TEST(CaptureWriter, json_exact)
     "jumps": 1,
     "warp_ms": 3000.000,
     "horizon_reached": false,
-    "warp_budget_exhausted": false
+    "warp_budget_exhausted": false,
+    "warp_stalled": false
   },
   "probe": {
     "state": "off",

@@ -5,11 +5,17 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
+#include <mutex>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "detail/session.hpp"
+#include "detail/thread_census.hpp"
 
 using rmw_introspect::CaptureHeader;
 using rmw_introspect::Session;
@@ -754,4 +760,373 @@ TEST(SessionProbe, the_warp_comes_after_the_probing)
   EXPECT_STREQ("done", session.probe_state());
   EXPECT_TRUE(session.try_jump(session.virtual_now_ns() + 1000 * kMs));
   session.leave_wait(token);
+}
+
+// ------------------------------------------------------------------ detected quiescence
+
+namespace
+{
+
+class FakeCensus : public rmw_introspect::ThreadCensus
+{
+public:
+  bool others_blocked(
+    const std::vector<pid_t> & known, int64_t until_ns, std::string * culprit) const override
+  {
+    ++calls;
+    last_known = known;
+    last_until = until_ns;
+    if (!blocked && culprit != nullptr) {
+      *culprit = "thread 7 is not blocked (clock_nanosleep)";
+    }
+    return blocked;
+  }
+  bool blocked = true;
+  mutable int calls = 0;
+  mutable std::vector<pid_t> last_known;
+  mutable int64_t last_until = 0;
+};
+
+Session::Settings idle_settings(int settle_ms = 100, int64_t horizon_ms = 0)
+{
+  Session::Settings s = settings(horizon_ms);
+  s.settle_ms = settle_ms;
+  s.detect_idle = true;
+  return s;
+}
+
+class IdleTest : public ::testing::Test
+{
+protected:
+  // poll(), answering its census requests and writing progress snapshots as the monitor does.
+  Session::Step poll(Session & session)
+  {
+    for (;;) {
+      const Session::Step step = session.poll();
+      if (step.action == Session::Action::kWriteRunning) {
+        continue;
+      }
+      if (step.action != Session::Action::kCheckIdle) {
+        return step;
+      }
+      const Session::CensusRequest request = session.census_request();
+      std::string culprit;
+      const bool idle = census.others_blocked(request.known, request.until_ns, &culprit);
+      session.census_done(request.version, idle, culprit);
+    }
+  }
+  ManualClock clock;
+  rmw_introspect::VirtualClock virtual_clock;
+  FakeCensus census;
+};
+
+}  // namespace
+
+TEST_F(IdleTest, a_blocked_wait_with_every_other_thread_blocked_settles_at_once)
+{
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.set_monitor_tid(99);
+  session.on_change();
+  session.enter_wait(42, -1);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);  // no quiet window waited for
+  EXPECT_EQ((std::vector<pid_t>{99, 42}), census.last_known);
+  EXPECT_EQ(clock.now + 100 * kMs, census.last_until);  // where the quiet window would end
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_EQ("wait", header.settled_by);
+  EXPECT_TRUE(header.idle_detect);
+  EXPECT_EQ(1u, header.idle_settles);
+  EXPECT_EQ(0u, header.window_settles);
+  EXPECT_DOUBLE_EQ(0.0, header.time_to_settle_ms);
+}
+
+TEST_F(IdleTest, another_thread_not_blocked_falls_back_to_the_quiet_window)
+{
+  census.blocked = false;  // say, a time.sleep loop
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  session.enter_wait(42, -1);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(1, census.calls);
+  EXPECT_EQ("thread 7 is not blocked (clock_nanosleep)", session.not_idle_reason());
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(1, census.calls);  // nothing changed: not asked again at once ...
+  clock.advance_ms(5);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(2, census.calls);  // ... but a little later
+  clock.advance_ms(94);
+  EXPECT_NE(Session::Action::kSettle, poll(session).action);
+  clock.advance_ms(1);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_EQ(0u, header.idle_settles);
+  EXPECT_EQ(1u, header.window_settles);
+}
+
+TEST_F(IdleTest, an_answer_for_an_older_state_is_dropped)
+{
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  session.enter_wait(42, -1);
+  ASSERT_EQ(Session::Action::kCheckIdle, session.poll().action);
+  const Session::CensusRequest request = session.census_request();
+  session.on_activity();  // a thread ran while the census read the threads
+  session.census_done(request.version, true, "");
+  EXPECT_EQ(Session::Action::kCheckIdle, session.poll().action);  // asked again
+}
+
+TEST_F(IdleTest, no_thread_in_rmw_wait_proves_nothing)
+{
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  session.on_activity();
+  session.on_activity();
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(0, census.calls);  // not even asked
+}
+
+TEST_F(IdleTest, a_deadline_inside_the_quiet_window_is_waited_for)
+{
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  // A timer due 50 ms from now: its callback may create something the window would see.
+  uint64_t token = session.enter_wait(42, clock.now + 50 * kMs);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(0, census.calls);
+  clock.advance_ms(50);
+  session.leave_wait(token);  // the timer fires, creates nothing, the executor waits again
+  token = session.enter_wait(42, clock.now + 1000 * kMs);  // next one after the window
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_DOUBLE_EQ(50.0, header.time_to_settle_ms);
+  EXPECT_EQ(1u, header.idle_settles);
+}
+
+TEST_F(IdleTest, a_woken_waiter_proves_nothing_until_it_blocks_again)
+{
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  const uint64_t token = session.enter_wait(42, -1);
+  session.on_wake();  // a guard condition was triggered: the waiter runs again
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(0, census.calls);
+  session.leave_wait(token);
+  session.enter_wait(42, -1);  // it found nothing and went back to sleep
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+}
+
+TEST_F(IdleTest, off_it_is_the_quiet_window_alone)
+{
+  Session::Settings off = idle_settings();
+  off.detect_idle = false;
+  Session session{clock, virtual_clock, off};
+  session.start();
+  session.on_change();
+  session.enter_wait(42, -1);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(0, census.calls);
+  clock.advance_ms(100);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_FALSE(header.idle_detect);
+  EXPECT_EQ(1u, header.window_settles);
+}
+
+TEST_F(IdleTest, the_settle_after_the_warp_is_detected_too)
+{
+  Session session{clock, virtual_clock, idle_settings(100, 10000)};
+  session.start();
+  session.on_change();
+  uint64_t token = session.enter_wait(42, clock.now + 1000 * kMs);
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  session.on_wake();  // the warp wakes every waiter
+  session.leave_wait(token);
+  for (int i = 0; i < 10; ++i) {
+    EXPECT_TRUE(session.try_jump(session.virtual_now_ns() + 1000 * kMs));
+  }
+  EXPECT_FALSE(session.try_jump(session.virtual_now_ns() + 1000 * kMs));  // past the horizon
+  token = session.enter_wait(42, clock.now + 1000 * kMs);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_EQ(2u, header.idle_settles);
+  EXPECT_EQ(0u, header.window_settles);
+  EXPECT_TRUE(header.horizon_reached);
+}
+
+TEST(ThreadCensus, reads_what_a_thread_waits_in)
+{
+  using rmw_introspect::parse_syscall;
+  // futex(FUTEX_WAIT_BITSET | PRIVATE | CLOCK_REALTIME, no timeout): a lock, a queue
+  auto wait = parse_syscall("202 0x7f227c000ba0 0x189 0x0 0x0 0x0 0xffffffff 0x7f 0x7f");
+  EXPECT_TRUE(wait.blocked);
+  EXPECT_FALSE(wait.has_deadline);
+  EXPECT_EQ(0x7f227c000ba0u, wait.futex);
+  // the same with an absolute timeout (a timed condition wait, the GIL): until a deadline
+  wait = parse_syscall("202 0x7f2278000ba0 0x89 0x0 0x7f22822d99f0 0x0 0xffffffff 0x7f 0x7f");
+  EXPECT_TRUE(wait.blocked);
+  EXPECT_TRUE(wait.has_deadline);
+  EXPECT_EQ(CLOCK_MONOTONIC, wait.clock);
+  EXPECT_EQ(0x7f22822d99f0u, wait.timespec_address);
+  EXPECT_EQ(CLOCK_REALTIME, parse_syscall("202 0x1 0x189 0x0 0x7f 0x0 0xffffffff 0x7f 0x7f").clock);
+  // FUTEX_WAIT with a relative timeout: when it started is unknown
+  EXPECT_FALSE(parse_syscall("202 0x1 0x80 0x0 0x7f 0x0 0x0 0x7f 0x7f").blocked);
+  EXPECT_TRUE(parse_syscall("202 0x1 0x80 0x0 0x0 0x0 0x0 0x7f 0x7f").blocked);
+  // time.sleep: clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME); a relative one is not
+  wait = parse_syscall("230 0x1 0x1 0x7f2282adaab0 0x0 0x0 0x7f 0x7f 0x7f");
+  EXPECT_TRUE(wait.blocked && wait.has_deadline);
+  EXPECT_EQ("clock_nanosleep", wait.name);
+  EXPECT_FALSE(parse_syscall("230 0x1 0x0 0x7f2282adaab0 0x0 0x0 0x7f 0x7f 0x7f").blocked);
+  // futex wake, read, running, in no syscall
+  EXPECT_FALSE(parse_syscall("202 0x7f227c000ba0 0x81 0x1 0x0 0x0 0x0 0x7f 0x7f").blocked);
+  EXPECT_FALSE(parse_syscall("0 0x3 0x560b915c9250 0x2000 0x0 0x0 0x0 0x7f 0x7f").blocked);
+  EXPECT_EQ("running", parse_syscall("running").name);
+  EXPECT_FALSE(parse_syscall("running").blocked);
+  EXPECT_FALSE(parse_syscall("-1 0x7ffd 0x7f").blocked);
+  EXPECT_FALSE(parse_syscall("").blocked);
+  // pause, sigsuspend; sigtimedwait with and without a timeout
+  EXPECT_TRUE(parse_syscall("34 0x0 0x0 0x0 0x0 0x0 0x0 0x7f 0x7f").blocked);
+  EXPECT_TRUE(parse_syscall("130 0x7ffd 0x8 0x0 0x0 0x0 0x0 0x7f 0x7f").blocked);
+  EXPECT_TRUE(parse_syscall("128 0x7ffd 0x0 0x0 0x8 0x0 0x0 0x7f 0x7f").blocked);
+  EXPECT_FALSE(parse_syscall("128 0x7ffd 0x0 0x7ffe 0x8 0x0 0x0 0x7f 0x7f").blocked);
+}
+
+TEST(ThreadCensus, sleeping_threads_count_by_their_deadline_and_waiting_ones_are_blocked)
+{
+  rmw_introspect::ProcThreadCensus census;
+  std::mutex mutex;
+  std::condition_variable cv;
+  bool go = false;
+  std::atomic<pid_t> tid{0};
+  std::thread waiter([&]() {
+      tid = rmw_introspect::current_tid();
+      std::unique_lock<std::mutex> lock(mutex);
+      cv.wait(lock, [&]() {return go;});
+    });
+  while (tid.load() == 0) {
+    std::this_thread::yield();
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const std::vector<pid_t> me{rmw_introspect::current_tid()};
+  const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
+    std::chrono::steady_clock::now().time_since_epoch()).count();
+  EXPECT_TRUE(census.others_blocked(me, now + 1000 * kMs, nullptr));
+  // a mutex the asker holds (the middleware's own): not blocked for ever
+  census.set_busy_futexes({reinterpret_cast<uintptr_t>(mutex.native_handle())});
+  std::unique_lock<std::mutex> held(mutex);
+  std::atomic<bool> locked{false};
+  std::thread blocked_on_mutex([&]() {std::lock_guard<std::mutex> lock(mutex); locked = true;});
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  std::string culprit;
+  EXPECT_FALSE(census.others_blocked(me, now + 1000 * kMs, &culprit));
+  EXPECT_NE(std::string::npos, culprit.find("the middleware's lock")) << culprit;
+  held.unlock();
+  blocked_on_mutex.join();
+  census.set_busy_futexes({});
+  // a thread sleeping 10 s: blocked until after a window ending in 1 s, not in 20 s
+  std::mutex sleep_mutex;
+  std::condition_variable sleep_cv;
+  bool stop = false;
+  std::thread sleeper([&]() {
+      std::unique_lock<std::mutex> lock(sleep_mutex);
+      sleep_cv.wait_for(lock, std::chrono::seconds(10), [&]() {return stop;});
+    });
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_TRUE(census.others_blocked(me, now + 1000 * kMs, &culprit)) << culprit;
+  EXPECT_FALSE(census.others_blocked(me, now + 20000 * kMs, &culprit));
+  EXPECT_NE(std::string::npos, culprit.find("wakes by itself")) << culprit;
+  {
+    std::lock_guard<std::mutex> lock(sleep_mutex);
+    stop = true;
+  }
+  sleep_cv.notify_all();
+  sleeper.join();
+  // a thread that keeps running: not blocked
+  std::atomic<bool> spin{true};
+  std::thread spinner([&]() {
+      while (spin.load()) {
+      }
+    });
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_FALSE(census.others_blocked(me, now + 1000 * kMs, &culprit));
+  EXPECT_NE(std::string::npos, culprit.find("not blocked")) << culprit;
+  spin = false;
+  spinner.join();
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    go = true;
+  }
+  cv.notify_all();
+  waiter.join();
+  EXPECT_TRUE(locked.load());
+}
+
+// ------------------------------------------------------------------ polling loops
+
+TEST_F(SessionTest, a_loop_of_polls_settles_like_one_of_activity)
+{
+  session.start();
+  session.on_change();
+  session.on_poll();
+  EXPECT_TRUE(session.on_poll());  // the second one: the monitor looks again
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_EQ("poll", header.settled_by);
+  EXPECT_EQ(2u, header.polls);
+  EXPECT_TRUE(header.ever_waited);
+}
+
+TEST_F(WarpTest, a_warp_that_sees_only_polls_stalls_and_says_so)
+{
+  settle_and_start_warp();
+  session.leave_wait(token);  // the executor only polls from now on
+  for (int i = 0; i < 4; ++i) {
+    session.on_poll();
+    clock.advance_ms(2);
+    EXPECT_EQ(Session::Action::kNone, session.poll().action) << i;
+  }
+  EXPECT_TRUE(session.warping());
+  clock.advance_ms(2);  // settle_ms (10) without a wait with a timeout
+  session.on_poll();
+  EXPECT_NE(Session::Action::kSettle, session.poll().action);  // stalled: the final settle starts
+  EXPECT_FALSE(session.warping());
+  session.on_poll();
+  session.on_poll();
+  clock.advance_ms(10);
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_TRUE(header.warp_stalled);
+  EXPECT_FALSE(header.warp_budget_exhausted);
+  EXPECT_FALSE(header.horizon_reached);
+  EXPECT_EQ("poll", header.settled_by);
+}
+
+TEST_F(WarpTest, a_warp_with_jumps_stalls_only_after_half_a_second_of_polls)
+{
+  settle_and_start_warp();
+  session.leave_wait(token);
+  EXPECT_TRUE(wait_ms(1));  // a timer: one jump
+  for (int i = 0; i < 40; ++i) {  // 400 ms of polls: a timer due in real time, rcl catching up
+    session.on_poll();
+    session.on_activity();
+    clock.advance_ms(10);
+    session.poll();
+    ASSERT_TRUE(session.warping()) << i;
+  }
+  clock.advance_ms(100);
+  session.on_poll();
+  session.poll();
+  EXPECT_FALSE(session.warping());
 }

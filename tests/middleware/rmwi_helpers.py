@@ -223,7 +223,9 @@ def assert_settled_process(result: Run) -> None:
     assert result.capture is not None, str(result)
     assert result.capture["state"] == "settled"
     assert result.capture["time_to_settle_ms"] is not None
-    assert result.capture["time_to_settle_ms"] >= result.capture["settle_ms"]
+    if not result.capture.get("quiescence", {}).get("detected"):
+        # every settle waited for the quiet window (none was detected: docs/design.md)
+        assert result.capture["time_to_settle_ms"] >= result.capture["settle_ms"]
 
 
 def cpu_ticks(pid: int) -> int:

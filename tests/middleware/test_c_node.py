@@ -16,6 +16,7 @@ def test_c_node_capture_and_time_to_settle(run, c_node):
     ])
     tts = result.capture["time_to_settle_ms"]
     print(f"C node: time_to_settle {tts:.1f} ms, spawn-to-exit {result.wall_s * 1000:.1f} ms")
-    # rmw_init -> settled is the settle time plus a few ms of node setup.
-    assert 10 <= tts < 100
+    # rmw_init -> settled is a few ms of node setup, plus the settle time when the quiet window
+    # decided (the process was not proven idle: docs/design.md, "Detected quiescence").
+    assert (10 if result.capture["quiescence"]["window"] else 0) <= tts < 100
     assert result.wall_s < 2.0

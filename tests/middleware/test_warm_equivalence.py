@@ -22,33 +22,7 @@ from pathlib import Path
 import pytest
 import warm_helpers as w
 
-#: options per target where the defaults would only cost time (a target that never settles)
-_OPTIONS = {"hanging_node.py": {"timeout": 3},
-            # creates its publisher 0.3 s of *real* time (a thread's time.sleep) after start: with
-            # the default settle both captures may end before or after it, whichever way started
-            "guard_wake.py": {"settle": 1.0},
-            # 10 000 jumps in the default 10 s horizon take about the warp's real-time budget
-            # (3 s) here: whether a capture notes that virtual time stopped early was timing
-            # (cold or warm alike). 100 s is ten times what the budget allows on any machine
-            # here: both stop early, and their notes are compared
-            "vt_1khz.py": {"horizon": 100}}
-#: capture fields that depend on timing alone for a target, left out of its comparison: a 1 kHz
-#: timer keeps running in real time after the warp, so at its final settle its executor is as
-#: likely inside rmw_wait ("wait") as in the callback ("activity"), cold or warm alike
-_TIMING_FIELDS = {"vt_1khz.py": ("settled_by",)}
-
-
-def _targets() -> list[tuple[str, dict]]:
-    out: list[tuple[str, dict]] = []
-    for exe in w.example_executables():
-        out.append((f"{w.EXAMPLES}/{exe}", {"package": w.EXAMPLES, "executable": exe}))
-    for label, directory in (("middleware", w.NODES), ("plugin", w.PLUGIN_NODES)):
-        for script in sorted(directory.glob("*.py")):
-            out.append((f"{label}/{script.name}", {"script": str(script), **_OPTIONS.get(script.name, {})}))
-    return out
-
-
-TARGETS = _targets()
+TARGETS = w.equivalence_targets()
 
 
 #: pairs captured before a difference fails the test: some programs' outcome depends on timing
@@ -57,13 +31,7 @@ ATTEMPTS = 3
 
 
 def _comparable(result: dict, options: dict) -> dict:
-    out = w.comparable(result)
-    timing = _TIMING_FIELDS.get(Path(str(options.get("script", ""))).name, ())
-    if timing and out.get("capture") is not None:
-        out = copy.deepcopy(out)
-        for field in timing:
-            out["capture"]["rest"].pop(field, None)
-    return out
+    return w.comparable_for(result, options)
 
 
 def _assert_equivalent(options: dict, base_dir: Path | None = None) -> tuple[dict, dict]:

@@ -408,7 +408,7 @@ void write_document(
   w.begin_object();
   w.key("format").string("rmw_introspect_capture");
   w.key("format_version").integer(1);
-  w.key("format_minor").integer(2);
+  w.key("format_minor").integer(3);
   w.key("rmw_implementation").string("rmw_introspect_cpp");
   w.key("pid").integer(header.pid);
   w.key("argv").begin_flat_array();
@@ -427,6 +427,13 @@ void write_document(
   optional_string(w.key("settled_by"), header.settled_by);
   w.key("ever_waited").boolean(header.ever_waited);
   w.key("activity_calls").integer(static_cast<int64_t>(header.activity_calls));
+  w.key("quiescence").begin_object();
+  w.key("detect").boolean(header.idle_detect);
+  w.key("detected").integer(static_cast<int64_t>(header.idle_settles));
+  w.key("window").integer(static_cast<int64_t>(header.window_settles));
+  w.key("polls").integer(static_cast<int64_t>(header.polls));
+  optional_string(w.key("not_idle"), header.not_idle);
+  w.end_object();
   w.key("time").begin_object();
   w.key("horizon_ms").integer(header.horizon_ms);
   w.key("virtual_elapsed_ms").fixed(header.virtual_elapsed_ms);
@@ -435,6 +442,7 @@ void write_document(
   w.key("warp_ms").fixed(header.warp_ms);
   w.key("horizon_reached").boolean(header.horizon_reached);
   w.key("warp_budget_exhausted").boolean(header.warp_budget_exhausted);
+  w.key("warp_stalled").boolean(header.warp_stalled);
   w.end_object();
   w.key("probe").begin_object();
   w.key("state").string(header.probe_state);
@@ -546,7 +554,7 @@ std::string CaptureRenderer::render_yaml(
       }
       tw.end_object();
     });
-  std::string out = "# rmw_introspect capture (format_version 1, format_minor 2)\n";
+  std::string out = "# rmw_introspect capture (format_version 1, format_minor 3)\n";
   emit_yaml_object(tree.root(), 0, out);
   return out;
 }

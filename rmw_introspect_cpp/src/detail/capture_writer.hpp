@@ -28,6 +28,12 @@ struct CaptureHeader
   std::string settled_by;         // "wait" | "activity" | "" (null: not settled)
   bool ever_waited = false;
   uint64_t activity_calls = 0;
+  // "quiescence": how the settles ended (docs/design.md, "Detected quiescence")
+  bool idle_detect = false;
+  uint64_t idle_settles = 0;
+  uint64_t window_settles = 0;
+  uint64_t polls = 0;  // polls of rmw_wait (timeout 0)
+  std::string not_idle;      // why the latest census found the process not idle ("": null)
   // "time": virtual time (horizon 0 = off)
   int64_t horizon_ms = 0;
   double virtual_elapsed_ms = 0.0;
@@ -36,6 +42,7 @@ struct CaptureHeader
   double warp_ms = 0.0;
   bool horizon_reached = false;
   bool warp_budget_exhausted = false;
+  bool warp_stalled = false;  // ended early: the process never waited with a timeout
   // "probe": asking the nodes' own services (parameters, lifecycle)
   std::string probe_state = "off";  // off | pending | running | done | skipped
   bool probe_parameters = false;

@@ -71,6 +71,7 @@ Session::Settings session_settings(const Config & config)
   // The stimuli follow the probing, in the same phase: either turns it on.
   settings.probe = config.probe.enabled() || !config.stimuli.empty();
   settings.answer_timeout_ms = config.answer_timeout_ms;
+  settings.detect_idle = config.detect_idle;
   return settings;
 }
 }  // namespace
@@ -84,6 +85,16 @@ Runtime::Runtime()
     std::fprintf(stderr, "[rmw_introspect] warning: %s\n", warning.c_str());
   }
   recorder_.set_change_listener([this]() {on_change();});
+  // Under the wait hub's lock (lock order: hub, then session).
+  // A thread blocked on these waits for the monitor (which holds the session's lock while it
+  // decides) or for a thread that does: not idle.
+  thread_census_.set_busy_futexes(
+    {reinterpret_cast<uintptr_t>(session_mutex_.native_handle()), wait_hub_.lock_address()});
+  wait_hub_.set_wake_listener(
+    [this]() {
+      std::lock_guard<std::mutex> lock(session_mutex_);
+      session_.on_wake();
+    });
   {
     std::lock_guard<std::mutex> lock(stimuli_mutex_);
     stimuli_ = probe_driver_.stimuli();  // every name pending
@@ -166,12 +177,12 @@ void Runtime::publish_stimuli()
   stimuli_ = probe_driver_.stimuli();
 }
 
-uint64_t Runtime::enter_wait()
+uint64_t Runtime::enter_wait(int64_t deadline_ns)
 {
   uint64_t token = 0;
   {
     std::lock_guard<std::mutex> lock(session_mutex_);
-    token = session_.enter_wait();
+    token = session_.enter_wait(current_tid(), deadline_ns);
   }
   session_cv_.notify_all();
   return token;
@@ -195,6 +206,19 @@ void Runtime::note_wait_entered()
     if (first) {
       session_cv_.notify_all();  // a probing that waits for the first wait goes on
     }
+  }
+}
+
+void Runtime::note_poll()
+{
+  const bool first = !ever_waited_.exchange(true);
+  bool wake = false;
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    wake = session_.on_poll();
+  }
+  if (first || wake) {
+    session_cv_.notify_all();
   }
 }
 
@@ -223,9 +247,14 @@ void Runtime::monitor_loop()
 {
   pthread_setname_np(pthread_self(), "rmwi_monitor");
   std::unique_lock<std::mutex> lock(session_mutex_);
+  session_.set_monitor_tid(current_tid());
   while (!session_.exiting()) {
     const Session::Step step = session_.poll();
     warping_.store(session_.warping());
+    if (step.action == Session::Action::kCheckIdle) {
+      check_idle(lock);
+      continue;
+    }
     if (step.action != Session::Action::kNone) {
       CaptureHeader header;
       session_.fill_header("settled", &header);
@@ -275,6 +304,20 @@ void Runtime::monitor_loop()
       session_cv_.wait(lock);
     }
   }
+}
+
+void Runtime::check_idle(std::unique_lock<std::mutex> & lock)
+{
+  const Session::CensusRequest request = session_.census_request();
+  lock.unlock();
+  std::string culprit;
+  const bool idle = thread_census_.others_blocked(request.known, request.until_ns, &culprit);
+  if (config_.verbose) {
+    std::fprintf(
+      stderr, "[rmw_introspect] %s\n", idle ? "every thread is blocked: idle" : culprit.c_str());
+  }
+  lock.lock();
+  session_.census_done(request.version, idle, culprit);
 }
 
 void Runtime::exit_if_asked(double time_to_settle_ms)

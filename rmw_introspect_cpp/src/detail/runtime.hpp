@@ -18,6 +18,7 @@
 #include "detail/probe_driver.hpp"
 #include "detail/recorder.hpp"
 #include "detail/session.hpp"
+#include "detail/thread_census.hpp"
 #include "detail/wait_hub.hpp"
 
 namespace rmw_introspect
@@ -95,8 +96,8 @@ private:
   class BlockedWait
   {
 public:
-    explicit BlockedWait(Runtime & runtime)
-    : runtime_(runtime), token_(runtime.enter_wait()) {}
+    BlockedWait(Runtime & runtime, int64_t deadline_ns)
+    : runtime_(runtime), token_(runtime.enter_wait(deadline_ns)) {}
     ~BlockedWait() {runtime_.leave_wait(token_);}
     BlockedWait(const BlockedWait &) = delete;
     BlockedWait & operator=(const BlockedWait &) = delete;
@@ -107,9 +108,12 @@ private:
   };
 
   Runtime();
-  uint64_t enter_wait();
+  /// `deadline_ns`: real steady time the wait ends by itself (negative: never).
+  uint64_t enter_wait(int64_t deadline_ns);
   void leave_wait(uint64_t token);
   void note_wait_entered();
+  /// A poll (timeout 0; see Session::on_poll).
+  void note_poll();
   /// In the warp and with nothing ready: jump virtual time to `target_ns` (see Session).
   template<typename ReadyFn>
   bool try_jump(ReadyFn & ready, int64_t target_ns);
@@ -122,6 +126,9 @@ private:
   /// Copy what the stimuli came to for the captures (monitor thread).
   void publish_stimuli();
   void monitor_loop();
+  /// The monitor's kCheckIdle: read the other threads with no lock held (`lock` is the
+  /// session's, held on entry and on return).
+  void check_idle(std::unique_lock<std::mutex> & lock);
   /// Write the capture with `state` (no-op with AUTO_EXPORT=0 or before rmw_init; once the
   /// exit capture is being written, nothing else replaces it).
   void write_capture(const char * state);
@@ -131,6 +138,7 @@ private:
   const Config config_;
   const SteadyClock clock_;
   const ProcMainThreadState main_thread_state_;
+  ProcThreadCensus thread_census_;  // the monitor thread's only
   VirtualClock virtual_clock_;
   Recorder recorder_;
   WaitHub wait_hub_;
@@ -170,10 +178,12 @@ bool Runtime::try_jump(ReadyFn & ready, int64_t target_ns)
 template<typename ReadyFn>
 void Runtime::wait(ReadyFn ready, int64_t timeout_ns)
 {
-  note_wait_entered();
   if (timeout_ns == 0) {
-    return;  // a poll: rmw_wait reads the guard conditions itself
+    // A poll: rmw_wait reads the guard conditions itself; a loop of polls is in its loop.
+    note_poll();
+    return;
   }
+  note_wait_entered();
   const int64_t start_ns = clock_.now_ns();
   const int64_t target_ns = start_ns + virtual_clock_.offset_ns() + timeout_ns;
   for (int64_t remaining = timeout_ns; ; ) {
@@ -184,8 +194,10 @@ void Runtime::wait(ReadyFn ready, int64_t timeout_ns)
     // one re-registers as blocked after the warp began (the settle rule counts only those).
     const uint64_t warp_starts = warp_starts_.load();
     auto ready_or_warp = [&]() {return ready() || warp_starts_.load() != warp_starts;};
+    const int64_t deadline_ns = remaining < 0 ? -1 : clock_.now_ns() + remaining;
     wait_hub_.wait(
-      ready_or_warp, remaining, [this]() -> BlockedWait {return BlockedWait(*this);});
+      ready_or_warp, remaining,
+      [this, deadline_ns]() -> BlockedWait {return BlockedWait(*this, deadline_ns);});
     if (warp_starts_.load() == warp_starts || ready()) {
       return;
     }

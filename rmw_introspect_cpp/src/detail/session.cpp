@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <vector>
 
 namespace rmw_introspect
 {
@@ -22,6 +23,11 @@ constexpr uint64_t kSettlingActivity = 2;
 constexpr int64_t kFirstWaitGraceNs = 250 * 1000 * 1000;
 constexpr int64_t kFirstWaitRecheckNs = 50 * 1000 * 1000;
 constexpr int64_t kFirstWaitMaxNs = 2000 * 1000 * 1000;
+// The warp of a process that made jumps stalls after this long without a wait with a timeout.
+constexpr int64_t kStallAfterJumpsNs = 500 * 1000 * 1000;
+// A census that found a thread not blocked (a sleep loop, a callback running) is taken again
+// this long after, while nothing else changes (each costs a few hundred microseconds).
+constexpr int64_t kCensusRecheckNs = 5 * 1000 * 1000;
 
 void propose(int64_t when, bool * has_deadline, int64_t * deadline)
 {
@@ -53,10 +59,12 @@ bool Session::start()
 
 void Session::break_quiet(int64_t now)
 {
+  ++idle_version_;
   ++quiet_epoch_;
   quiet_since_ns_ = now;
   waiters_current_ = 0;
   activity_current_ = 0;
+  polls_current_ = 0;
 }
 
 void Session::on_change()
@@ -74,23 +82,99 @@ void Session::on_wait_entered()
   }
 }
 
-uint64_t Session::enter_wait()
+bool Session::on_poll()
+{
+  if (phase_ == Phase::kWarping) {
+    warp_loop_seen_ = true;
+  }
+  on_wait_entered();
+  ++polls_;
+  return ++polls_current_ == kSettlingActivity;
+}
+
+uint64_t Session::enter_wait(pid_t tid, int64_t deadline_ns)
 {
   ever_waited_ = true;
   ++waiters_current_;
-  return quiet_epoch_;
+  ++idle_version_;
+  const uint64_t token = next_wait_token_++;
+  BlockedWait & blocked = blocked_[token];
+  blocked.tid = tid;
+  blocked.deadline_ns = deadline_ns;
+  blocked.quiet_epoch = quiet_epoch_;
+  blocked.wake_epoch = wake_epoch_;
+  return token;
 }
 
 void Session::leave_wait(uint64_t token)
 {
-  if (token == quiet_epoch_ && waiters_current_ > 0) {
+  const auto it = blocked_.find(token);
+  if (it == blocked_.end()) {
+    return;
+  }
+  if (it->second.quiet_epoch == quiet_epoch_ && waiters_current_ > 0) {
     --waiters_current_;
   }
+  blocked_.erase(it);
+  ++idle_version_;
+}
+
+void Session::on_wake()
+{
+  ++wake_epoch_;
+  ++idle_version_;
+}
+
+void Session::census_done(uint64_t version, bool idle, const std::string & culprit)
+{
+  census_answer_version_ = version;
+  census_answer_idle_ = idle;
+  census_answered_ns_ = clock_.now_ns();
+  not_idle_reason_ = idle ? std::string() : culprit;
+}
+
+bool Session::provably_idle(int64_t now)
+{
+  if (!settings_.detect_idle || blocked_.empty()) {
+    return false;
+  }
+  // Nothing may happen before the quiet window would end: a deadline inside it is waited for.
+  const int64_t settle_at = quiet_since_ns_ + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
+  if (now >= settle_at) {
+    return false;  // the quiet window itself decides
+  }
+  for (const auto & entry : blocked_) {
+    const BlockedWait & blocked = entry.second;
+    if (blocked.wake_epoch != wake_epoch_) {
+      return false;  // woken: it has not looked at its wait set again yet
+    }
+    if (blocked.deadline_ns >= 0 && blocked.deadline_ns < settle_at) {
+      return false;  // its timer (or timeout) comes first; it waits again after it
+    }
+  }
+  if (census_answer_version_ == idle_version_) {
+    if (census_answer_idle_ || now < census_answered_ns_ + kCensusRecheckNs) {
+      return census_answer_idle_;
+    }
+  }
+  census_request_.version = idle_version_;
+  census_request_.until_ns = settle_at;
+  census_request_.known.clear();
+  census_request_.known.push_back(monitor_tid_);
+  for (const auto & entry : blocked_) {
+    census_request_.known.push_back(entry.second.tid);
+  }
+  census_wanted_ = true;
+  return false;
 }
 
 bool Session::on_activity()
 {
+  if (phase_ == Phase::kWarping) {
+    warp_loop_seen_ = true;
+  }
   ++activity_calls_;
+  ++idle_version_;
   return ++activity_current_ == kSettlingActivity;
 }
 
@@ -105,6 +189,7 @@ bool Session::try_jump(int64_t target_ns)
     return false;
   }
   const int64_t now = clock_.now_ns();
+  last_timed_wait_ns_ = now;
   if (now - warp_start_ns_ >= settings_.warp_budget_ms * kNsPerMs) {
     budget_exhausted_ = true;
     end_warp();
@@ -137,8 +222,14 @@ void Session::end_warp()
 
 bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline)
 {
+  if (provably_idle(now)) {
+    settled_by_ = "wait";
+    ++idle_settles_;
+    return true;
+  }
   const bool by_wait = waiters_current_ > 0;
-  if (!by_wait && activity_current_ < kSettlingActivity) {
+  const bool by_poll = !by_wait && polls_current_ >= kSettlingActivity;
+  if (!by_wait && !by_poll && activity_current_ < kSettlingActivity) {
     return false;  // the next wait or activity call wakes the monitor
   }
   const int64_t settle_at = quiet_since_ns_ + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
@@ -146,13 +237,15 @@ bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline
     propose(settle_at, has_deadline, deadline);
     return false;
   }
-  settled_by_ = by_wait ? "wait" : "activity";
+  settled_by_ = by_wait ? "wait" : (by_poll ? "poll" : "activity");
+  ++window_settles_;
   return true;
 }
 
 Session::Step Session::poll()
 {
   Step step;
+  census_wanted_ = false;
   if (!started_ || exiting_) {
     return step;
   }
@@ -170,6 +263,22 @@ Session::Step Session::poll()
       end_warp();
     } else {
       propose(std::min(budget_end, horizon_at), &step.has_deadline, &step.deadline_ns);
+      // No wait with a timeout for a while the process ran a loop (polls, activity): a loop
+      // that polls or sleeps on its own clock, with nothing to jump to. Before any jump that
+      // is settle_ms; after jumps (timers) kStallAfterJumpsNs at least: a timer due in real
+      // time on a busy machine makes rcl poll (timeout 0) until it has caught up.
+      const int64_t quiet_ns = static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
+      const int64_t stall_at =
+        last_timed_wait_ns_ + (jumps_ == 0 ? quiet_ns : std::max(quiet_ns, kStallAfterJumpsNs));
+      if (blocked_.empty() && now >= stall_at && warp_loop_seen_) {
+        warp_stalled_ = true;
+        end_warp();
+      } else if (blocked_.empty()) {
+        // (looked at again a window later when nothing ran yet)
+        propose(
+          std::max(stall_at, now + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs),
+          &step.has_deadline, &step.deadline_ns);
+      }
     }
   }
   if (phase_ == Phase::kProbing) {
@@ -207,6 +316,12 @@ Session::Step Session::poll()
     }
     propose(snapshot_at, &step.has_deadline, &step.deadline_ns);
   }
+  if (census_wanted_) {
+    census_wanted_ = false;
+    step.action = Action::kCheckIdle;
+  } else if (census_answer_version_ == idle_version_ && !census_answer_idle_) {
+    propose(census_answered_ns_ + kCensusRecheckNs, &step.has_deadline, &step.deadline_ns);
+  }
   return step;
 }
 
@@ -226,6 +341,7 @@ void Session::after_first_settle(int64_t now, Step * step)
     if (now + virtual_clock_.offset_ns() - t0_ns_ < horizon_ns) {
       phase_ = Phase::kWarping;
       warp_start_ns_ = now;
+      last_timed_wait_ns_ = now;
       break_quiet(now);  // the warp must see settle_ms without a jump before it ends
       step->action = Action::kStartWarp;
       return;
@@ -364,6 +480,12 @@ void Session::fill_header(const char * state, CaptureHeader * header) const
   header->answer_timeout_ms = settings_.answer_timeout_ms;
   header->has_ended = std::strcmp(state, "exit") == 0 || std::strcmp(state, "shutdown") == 0;
   header->ended_before_settle = phase_ != Phase::kDone;
+  header->idle_detect = settings_.detect_idle;
+  header->idle_settles = idle_settles_;
+  header->window_settles = window_settles_;
+  header->polls = polls_;
+  header->not_idle = not_idle_reason_;
+  header->warp_stalled = warp_stalled_;
 }
 
 }  // namespace rmw_introspect

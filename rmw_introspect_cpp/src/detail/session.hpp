@@ -2,7 +2,12 @@
 #ifndef DETAIL__SESSION_HPP_
 #define DETAIL__SESSION_HPP_
 
+#include <sys/types.h>
+
 #include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
 
 #include "detail/capture_writer.hpp"
 #include "detail/clock.hpp"
@@ -18,6 +23,11 @@ namespace rmw_introspect
 /// 1. settling: settled when no node/endpoint changed for settle_ms AND either a thread is
 ///    blocked in rmw_wait that entered it after the last change ("wait"), or at least two
 ///    activity calls (publish, take, graph queries, ...) came after it ("activity").
+///    With Settings::detect_idle, every settle (this one, after each transition or stimulus,
+///    after the warp) ends at once when the process is provably idle (docs/design.md,
+///    "Detected quiescence"): a thread blocked in rmw_wait and not woken since, every other
+///    thread blocked until woken (the ThreadCensus), and no deadline of a blocked wait inside
+///    the rest of the quiet window. The quiet window is the fallback.
 /// 1b. probing (Settings::probe): a "probing" snapshot
 ///    is written, then the middleware asks the nodes' own services, one request at a time
 ///    (the Runtime's ProbeDriver): kProbe = send the next request now; the answer (or no
@@ -47,6 +57,7 @@ public:
     int64_t warp_budget_ms = 3000;
     bool probe = false;               // ask the nodes' services after the first settle
     int64_t answer_timeout_ms = 5000;  // real time a node has to answer one request
+    bool detect_idle = false;         // settle at once when provably idle (RMW_INTROSPECT_IDLE)
   };
 
   /// `main_thread`: whether the main thread is runnable (null: taken as never; unit tests).
@@ -64,9 +75,36 @@ public:
   /// a process that keeps entering waits that jump or poll is still driven by its timers
   /// (on a busy machine real time alone can keep its short timers due).
   void on_wait_entered();
-  /// A thread blocks in rmw_wait; returns the token for leave_wait.
-  uint64_t enter_wait();
+  /// A thread polled rmw_wait (timeout 0): a wait entry (on_wait_entered), and, like an
+  /// activity call, a sign of a loop (spin_some, spin_once(timeout_sec=0)): at least two after
+  /// the last change settle the process once it was quiet for settle_ms (settled_by "poll").
+  /// True when the monitor should look again.
+  bool on_poll();
+  /// Thread `tid` blocks in rmw_wait until real time `deadline_ns` (negative: no deadline);
+  /// returns the token for leave_wait. Called under the wait hub's lock, after the thread
+  /// found nothing ready.
+  uint64_t enter_wait(pid_t tid = 0, int64_t deadline_ns = -1);
   void leave_wait(uint64_t token);
+  /// The wait hub woke its waiters (a trigger, a request, a delivery, a shutdown): a blocked
+  /// wait proves nothing until its thread has looked again and blocked again.
+  void on_wake();
+  /// The middleware's own monitor thread (left out of the census).
+  void set_monitor_tid(pid_t tid) {monitor_tid_ = tid;}
+
+  /// What kCheckIdle asks: are the threads not in `known` blocked until woken, or until
+  /// `until_ns` (the end of the quiet window) at least? Answered for `version` only.
+  struct CensusRequest
+  {
+    uint64_t version = 0;
+    std::vector<pid_t> known;
+    int64_t until_ns = 0;
+  };
+  const CensusRequest & census_request() const {return census_request_;}
+  /// The answer to census_request() (read with no lock held: anything that happened meanwhile
+  /// changed the version, and the answer is dropped). `culprit`: why not, for people.
+  void census_done(uint64_t version, bool idle, const std::string & culprit);
+  /// Why the latest census found the process not idle ("" when it did, or none ran).
+  const std::string & not_idle_reason() const {return not_idle_reason_;}
   /// publish, take*, send_request/response, take_request/response, graph queries, counts of
   /// matched endpoints, server_is_available. True when the monitor should look again.
   bool on_activity();
@@ -89,6 +127,8 @@ public:
     kStartProbe,    // settled once: write "probing" now (then kProbe follows)
     kProbe,         // send the next request now: then probe_sent(), or probe_done()
     kProbeTimeout,  // the request in flight got no answer in time (then kProbe follows)
+    kCheckIdle,     // every thread in rmw_wait is blocked: read the other threads
+                    // (census_request(), a ThreadCensus, then census_done())
   };
   struct Step
   {
@@ -143,6 +183,16 @@ private:
   bool poll_probing(int64_t now, Step * step);
   /// The settle rule at `now`: true when settled; else may set `deadline`.
   bool quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline);
+  /// Detected quiescence at `now` (see the class comment).
+  bool provably_idle(int64_t now);
+
+  struct BlockedWait
+  {
+    pid_t tid = 0;
+    int64_t deadline_ns = -1;
+    uint64_t quiet_epoch = 0;
+    uint64_t wake_epoch = 0;
+  };
 
   const Clock & clock_;
   const MainThreadState * main_thread_;
@@ -162,6 +212,30 @@ private:
   int64_t quiet_since_ns_ = 0;
   uint64_t waiters_current_ = 0;  // threads in rmw_wait that entered in quiet_epoch_
   uint64_t activity_current_ = 0;  // activity calls in quiet_epoch_
+  uint64_t polls_current_ = 0;  // polls in quiet_epoch_
+  uint64_t polls_ = 0;          // ... in all
+  // The warp: when a wait last had a timeout (a jump or a try), and whether the process ran a
+  // loop meanwhile (polls, activity): the warp cannot advance a process that never waits
+  // with a timeout, it stalls (warp_stalled_) instead of running into its budget.
+  int64_t last_timed_wait_ns_ = 0;
+  bool warp_loop_seen_ = false;
+  bool warp_stalled_ = false;
+  // Detected quiescence: the threads blocked in rmw_wait now, by token.
+  std::map<uint64_t, BlockedWait> blocked_;
+  uint64_t next_wait_token_ = 0;
+  uint64_t wake_epoch_ = 0;
+  pid_t monitor_tid_ = 0;
+  uint64_t idle_settles_ = 0;    // settles that ended by detection
+  // Anything that may change whether the process is idle bumps it: a census answer is for
+  // one version.
+  uint64_t idle_version_ = 0;
+  bool census_wanted_ = false;
+  CensusRequest census_request_;
+  uint64_t census_answer_version_ = UINT64_MAX;
+  bool census_answer_idle_ = false;
+  int64_t census_answered_ns_ = 0;
+  std::string not_idle_reason_;
+  uint64_t window_settles_ = 0;  // settles that ended by the quiet window (or activity)
   // Reported.
   bool has_settled_ = false;
   int64_t time_to_settle_ns_ = 0;

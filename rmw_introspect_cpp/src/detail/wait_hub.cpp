@@ -9,6 +9,9 @@ void WaitHub::trigger(GuardCondition * gc)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     gc->triggered.store(true);
+    if (wake_listener_) {
+      wake_listener_();
+    }
   }
   cv_.notify_all();
 }
@@ -18,6 +21,9 @@ void WaitHub::update_and_wake(const std::function<void()> & change)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     change();
+    if (wake_listener_) {
+      wake_listener_();
+    }
   }
   cv_.notify_all();
 }

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <utility>
 
 namespace rmw_introspect
 {
@@ -35,10 +36,18 @@ public:
     return ready();
   }
 
+  /// The futex word of the hub's mutex (a thread blocked on it is not idle: ThreadCensus).
+  uintptr_t lock_address() {return reinterpret_cast<uintptr_t>(mutex_.native_handle());}
+
+  /// Called under the hub's lock whenever the waiters are woken (trigger, update_and_wake):
+  /// a blocked registration no longer proves anything (detected quiescence).
+  void set_wake_listener(std::function<void()> listener) {wake_listener_ = std::move(listener);}
+
   /// Block until `ready()` (evaluated under the hub's lock) holds or `timeout_ns` passes
-  /// (0: poll, negative: forever). `make_guard()` is called under the lock just before the
-  /// first sleep and its result destroyed, still under the lock, after the last one (the
-  /// settle bookkeeping of a blocked thread). Returns whether `ready()` holds.
+  /// (0: poll, negative: forever). `make_guard()` is called under the lock before every sleep
+  /// and its result destroyed, still under the lock, after it (the settle bookkeeping of a
+  /// blocked thread: a thread woken for nothing registers again). Returns whether `ready()`
+  /// holds.
   template<typename ReadyFn, typename MakeGuardFn>
   bool wait(ReadyFn ready, int64_t timeout_ns, MakeGuardFn make_guard)
   {
@@ -49,17 +58,26 @@ public:
     if (timeout_ns == 0) {
       return false;
     }
-    [[maybe_unused]] auto guard = make_guard();
-    if (timeout_ns < 0) {
-      cv_.wait(lock, ready);
-      return true;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::nanoseconds(timeout_ns);
+    for (;;) {
+      {
+        [[maybe_unused]] auto guard = make_guard();
+        if (timeout_ns < 0) {
+          cv_.wait(lock);
+        } else if (cv_.wait_until(lock, deadline) == std::cv_status::timeout) {
+          return ready();
+        }
+      }
+      if (ready()) {
+        return true;
+      }
     }
-    return cv_.wait_for(lock, std::chrono::nanoseconds(timeout_ns), ready);
   }
 
 private:
   std::mutex mutex_;
   std::condition_variable cv_;
+  std::function<void()> wake_listener_;
 };
 
 }  // namespace rmw_introspect

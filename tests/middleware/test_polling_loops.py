@@ -1,0 +1,53 @@
+"""Programs that poll or never wait (issue 24): a poll of rmw_wait (timeout 0) counts towards the
+settle like an activity call, the warp ends as soon as it sees that the program never waits with
+a timeout (nothing to jump to) and says so, and a capture that does not settle names what was
+seen instead of blaming changes that never happened."""
+
+from __future__ import annotations
+
+import pytest
+import rmwi_helpers as h
+from rmwi_helpers import ep, node
+from rmwi_helpers import rclpy_node_infrastructure as infra
+
+from pytest_rmw_introspect.errors import TargetTimeout
+from pytest_rmw_introspect.run import runner
+from pytest_rmw_introspect.run.target import TargetSpec
+
+HORIZON = {"RMW_INTROSPECT_HORIZON_MS": "10000", "RMW_INTROSPECT_SETTLE_MS": "100"}
+
+
+def test_a_loop_of_zero_timeout_polls_settles_and_says_the_horizon_was_not_observed(run):
+    result = run(h.python_node("poll_loop.py"), env=HORIZON, timeout=20)
+    h.assert_settled_process(result)
+    n = "/poller"
+    h.assert_capture(result.capture, [node("poller")],
+                     infra(n) + [ep("publisher", n, "/polled", "std_msgs/msg/String"),
+                                 ep("subscription", n, "/never", "std_msgs/msg/String")])
+    assert result.capture["settled_by"] == "poll"
+    assert result.capture["quiescence"]["polls"] >= 2
+    vt = result.capture["time"]
+    assert vt["warp_stalled"] is True and vt["warp_budget_exhausted"] is False and vt["jumps"] == 0
+
+
+@pytest.mark.parametrize("script", ["poll_loop.py", "sleep_poll_loop.py"])
+def test_the_capture_of_a_polling_loop_notes_that_virtual_time_could_not_advance(script):
+    cap = runner.run(TargetSpec.from_mapping({"script": str(h.NODES / script), "timeout": 20}))
+    assert cap.state == "settled"
+    (note,) = [n for n in cap.notes() if "virtual time stopped" in n]
+    assert "never waited with a timeout" in note and "zero-timeout polls of its executor" in note
+    assert "very fast timer" not in note  # it has no timer at all
+
+
+def test_a_task_spun_by_spin_once_that_never_ends_is_not_blamed_on_changes():
+    """stuck_task.py awaits an answer that never comes in a spin_once loop: rclpy yields the task
+    again on every call without waiting, so the middleware sees no call at all (not yet captured,
+    issue 24 item 5), and the timeout's message says what was seen: nothing changed after its last
+    interface, and how little it called into ROS."""
+    spec = TargetSpec.from_mapping({"script": str(h.NODES / "stuck_task.py"), "timeout": 4})
+    with pytest.raises(TargetTimeout) as info:
+        runner.run(spec)
+    message = str(info.value)
+    assert "its last interface was created at" in message and "nothing changed in the" in message
+    assert "kept creating or destroying" not in message
+    assert "busy loop" in message

@@ -291,8 +291,7 @@ def _names_relative_paths(spec: TargetSpec, run_dir: Path) -> bool:
 
 
 def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure: bool = False,
-                        how: str = "rmw-introspect capture", run_dir: Path | None = None,
-                        distribution: str | None = None) -> str:
+                        how: str = "rmw-introspect capture", run_dir: Path | None = None) -> str:
     """The header of a new contract: how it was written, ``contract_version``, a ``target:``
     block (paths relative to ``base``, the contract's directory) and options."""
     header = (
@@ -301,8 +300,6 @@ def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure:
         "# above `nodes:` are kept when it is updated.\n"
         f"contract_version: {contract_module.CONTRACT_VERSION}\n"
     )
-    if distribution:
-        header += f"{contract_module.DISTRIBUTION_KEY}: {distribution}\n"
     header += yaml.safe_dump({"target": target_block(spec, base, run_dir)}, sort_keys=False, default_flow_style=False,
                              allow_unicode=True)
     if include_infrastructure:
@@ -313,7 +310,8 @@ def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure:
 def new_contract_text(nodes: Mapping[str, Any], *, spec: TargetSpec, base: Path,
                       include_infrastructure: bool = False, how: str = "rmw-introspect capture",
                       run_dir: Path | None = None, distribution: str | None = None) -> str:
-    """A complete new contract: :func:`new_contract_header`, then ``nodes``."""
+    """A complete new contract: :func:`new_contract_header`, then ``nodes``; ``distribution``
+    recorded as every new golden records it (``contract.with_distribution``)."""
     header = new_contract_header(spec=spec, base=base, include_infrastructure=include_infrastructure, how=how,
-                                 run_dir=run_dir, distribution=distribution)
-    return contract_module.render(nodes, header=header)
+                                 run_dir=run_dir)
+    return contract_module.with_distribution(contract_module.render(nodes, header=header), distribution)

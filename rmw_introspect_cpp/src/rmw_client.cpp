@@ -16,6 +16,7 @@
 #include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/recorder.hpp"
+#include "detail/rmw_api.hpp"
 #include "detail/delivery.hpp"
 #include "detail/runtime.hpp"
 
@@ -173,11 +174,12 @@ rmw_ret_t rmw_get_gid_for_client(const rmw_client_t * client, rmw_gid_t * gid)
 rmw_ret_t rmw_service_server_is_available(
   const rmw_node_t * node, const rmw_client_t * client, bool * is_available)
 {
-  // A NULL argument is RMW_RET_ERROR here, not RMW_RET_INVALID_ARGUMENT as rmw.h documents:
-  // rmw_fastrtps_cpp answers so and test_rmw_implementation expects it.
-  RMWI_CHECK_HANDLE_OR(node, data, RMW_RET_ERROR, RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
-  RMWI_CHECK_HANDLE_OR(client, data, RMW_RET_ERROR, RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
-  RMW_CHECK_ARGUMENT_FOR_NULL(is_available, RMW_RET_ERROR);
+  // A NULL argument is RMW_RET_ERROR on Jazzy, RMW_RET_INVALID_ARGUMENT from Kilted on
+  // (detail/rmw_api.hpp says why).
+  constexpr rmw_ret_t kNullRet = rmw_introspect::kNullArgumentRetOfOldChecks;
+  RMWI_CHECK_HANDLE_OR(node, data, kNullRet, RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMWI_CHECK_HANDLE_OR(client, data, kNullRet, RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+  RMW_CHECK_ARGUMENT_FOR_NULL(is_available, kNullRet);
   // Answer "available" so that clients go on to what they do after wait_for_service()
   // (and create the entities that follow). With RMW_INTROSPECT_SERVER_AVAILABLE=0, answer as a
   // real middleware would from what it can see: a server of this process.

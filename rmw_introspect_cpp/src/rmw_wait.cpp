@@ -13,6 +13,7 @@
 #include "detail/delivery.hpp"
 #include "detail/handles.hpp"
 #include "detail/injector.hpp"
+#include "detail/rmw_api.hpp"
 #include "detail/runtime.hpp"
 #include "detail/wait_hub.hpp"
 
@@ -94,9 +95,10 @@ rmw_wait_set_t * rmw_create_wait_set(rmw_context_t * context, size_t max_conditi
 
 rmw_ret_t rmw_destroy_wait_set(rmw_wait_set_t * wait_set)
 {
-  // NULL is RMW_RET_ERROR, as in rmw_fastrtps_cpp and test_rmw_implementation.
+  // NULL is RMW_RET_ERROR on Jazzy, RMW_RET_INVALID_ARGUMENT from Kilted on (detail/rmw_api.hpp).
   RMWI_CHECK_HANDLE_OR(
-    wait_set, data, RMW_RET_ERROR, RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+    wait_set, data, rmw_introspect::kNullArgumentRetOfOldChecks,
+    RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   delete static_cast<WaitSetImpl *>(wait_set->data);
   return RMW_RET_OK;
 }

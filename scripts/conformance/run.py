@@ -1,15 +1,17 @@
 #!/usr/bin/env python3
-"""Build and run the official RMW API suite (test_rmw_implementation, ROS 2 Jazzy) on our middleware.
+"""Build and run the official RMW API suite (test_rmw_implementation) on our middleware.
 
     RMW_CONFORMANCE_SRC=/path/with/both/checkouts .venv/bin/python scripts/conformance/run.py
 
 The sources are the user's upstream checkouts (see README.md, "Conformance", for the
-`git clone` lines); nothing upstream is kept in this repository. Steps:
+`git clone` lines: the rmw_implementation branch of the distribution the venv holds, `jazzy` for
+.venv, `rolling` for .venv-kilted until a `kilted` branch is at hand); nothing upstream is kept
+in this repository. Steps:
 
 1. build osrf_testing_tools_cpp (memory tools) and the 16 gtest binaries of
    test_rmw_implementation out of the repository, into
    ``${RMW_CONFORMANCE_BUILD:-${RMW_INTROSPECT_CACHE:-~/.cache/pytest-rmw-introspect}/conformance}``,
-   against the ROS 2 prefix of this venv (the PyPI wheels) or a sourced /opt/ros/jazzy;
+   against the ROS 2 prefix of this venv (the PyPI wheels) or a sourced /opt/ros/<distro>;
 2. run every binary in each configuration, with a per-run timeout, in its own process group:
      introspect          LD_PRELOAD=<our library>, RMW_IMPLEMENTATION=rmw_introspect_cpp,
                          RMW_INTROSPECT_SERVER_AVAILABLE=0 (no simulated servers),
@@ -54,14 +56,15 @@ TESTS = [
 CONFIGS = ["introspect", "introspect+memcheck", "fastdds", "fastdds+memcheck"]
 STATUSES = ["pass", "fail", "skip", "crash"]
 # Wheels the build needs (all but osrf_testing_tools_cpp, which has no wheel and is built from
-# source); the lock file (requirements/jazzy.txt) has them, so a venv made by `make bootstrap`
-# has them too. Nothing is installed here: every package comes from the lock.
+# source), as ros-<distro>-<name>; the lock files (requirements/<distro>.txt) have them, so a venv
+# made by `make bootstrap` has them too. Nothing is installed here: every package comes from
+# the lock.
 BUILD_WHEELS = {
-    "share/test_msgs": "ros-jazzy-test-msgs",
-    "share/ament_cmake_gtest": "ros-jazzy-ament-cmake-gtest",
-    "src/gtest_vendor": "ros-jazzy-gtest-vendor",
-    "share/rmw_dds_common": "ros-jazzy-rmw-dds-common",
-    "share/rosidl_typesupport_cpp": "ros-jazzy-rosidl-typesupport-cpp",
+    "share/test_msgs": "test-msgs",
+    "share/ament_cmake_gtest": "ament-cmake-gtest",
+    "src/gtest_vendor": "gtest-vendor",
+    "share/rmw_dds_common": "rmw-dds-common",
+    "share/rosidl_typesupport_cpp": "rosidl-typesupport-cpp",
 }
 
 
@@ -86,7 +89,8 @@ def find_sources(src: Path) -> tuple[Path, Path]:
              for p in src.glob(pattern) if (p.parent / "src" / "memory_tools").is_dir()]
     missing = []
     if not tests:
-        missing.append("ros2/rmw_implementation (branch jazzy): */test_rmw_implementation/test")
+        missing.append("ros2/rmw_implementation (the branch of your distribution): "
+                       "*/test_rmw_implementation/test")
     if not tools:
         missing.append("osrf/osrf_testing_tools_cpp (tag 2.0.0): */osrf_testing_tools_cpp/src/memory_tools")
     if missing:
@@ -103,14 +107,26 @@ def ros_prefix(venv: Path) -> tuple[Path, bool]:
         if prefix and (Path(prefix) / "share" / "rmw" / "cmake").is_dir():
             return Path(prefix), False
     raise SetupError(f"no ROS 2 prefix: {venv} has no share/rmw and AMENT_PREFIX_PATH names none "
-                     "(run `make bootstrap`, or source /opt/ros/jazzy/setup.bash)")
+                     "(run `make bootstrap`, or source /opt/ros/<distro>/setup.bash)")
+
+
+def wheels_distribution(prefix: Path) -> str:
+    """The distribution whose wheels the venv ``prefix`` holds (its ros_<distro>_rclpy meta-package)."""
+    for info in sorted(prefix.glob("lib/python3*/site-packages/ros_*_rclpy-*.dist-info")):
+        parts = info.name.split("-", 1)[0].split("_")
+        if len(parts) == 3:
+            return parts[1]
+    return "jazzy"
 
 
 def ensure_build_wheels(prefix: Path) -> None:
-    missing = sorted({wheel for rel, wheel in BUILD_WHEELS.items() if not (prefix / rel).exists()})
+    distro = wheels_distribution(prefix)
+    missing = sorted({f"ros-{distro}-{name}" for rel, name in BUILD_WHEELS.items()
+                      if not (prefix / rel).exists()})
     if missing:
         raise SetupError(f"{prefix} lacks {', '.join(missing)}, which the lock file installs: "
-                         "run `make bootstrap` (it brings the venv back to requirements/jazzy.txt)")
+                         f"run `make bootstrap` (it brings the venv back to "
+                         f"requirements/{distro}.txt)")
 
 
 def run_logged(cmd: list[str], logfile: Path, env: dict[str, str]) -> None:

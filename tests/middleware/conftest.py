@@ -18,8 +18,11 @@ REPO = Path(__file__).resolve().parents[2]
 SOURCES = REPO / "rmw_introspect_cpp"
 
 
-def _tree_hash(root: Path) -> str:
-    digest = hashlib.sha256()
+def _build_key(root: Path) -> str:
+    """A cache key for a build of ``root`` against this environment's ROS prefix: its sources
+    and the prefix (a Jazzy venv, a Kilted venv, a sourced install), so that two environments
+    never reuse, or reconfigure, each other's build."""
+    digest = hashlib.sha256(h.ament_prefix_path().encode() + b"\0")
     for path in sorted(root.rglob("*")):
         if path.is_file() and "__pycache__" not in path.parts:
             digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
@@ -45,8 +48,8 @@ def _cmake_build(src: Path, build_dir: Path, *extra: str) -> None:
 
 @pytest.fixture(scope="session")
 def gtest_build_dir() -> Path:
-    """The package built with BUILD_TESTING=ON (cached by a hash of its sources)."""
-    dest = middleware.cache_root() / f"gtest-{_tree_hash(SOURCES)}"
+    """The package built with BUILD_TESTING=ON (cached by its sources and ROS prefix)."""
+    dest = middleware.cache_root() / f"gtest-{_build_key(SOURCES)}"
     stamp = dest / "complete"
     if not stamp.exists():
         shutil.rmtree(dest, ignore_errors=True)
@@ -66,7 +69,7 @@ def library() -> Path:
 def c_node(tmp_path_factory) -> Path:
     """The compiled rcl C node (no Python interpreter in the process)."""
     src = Path(__file__).parent / "c_node"
-    dest = middleware.cache_root() / f"c_node-{_tree_hash(src)}"
+    dest = middleware.cache_root() / f"c_node-{_build_key(src)}"
     exe = dest / "build" / "rmwi_c_node"
     if not exe.exists():
         shutil.rmtree(dest, ignore_errors=True)

@@ -135,6 +135,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     baselines.finish(args, baseline, checked, [Path(c) for c in args.contracts])
     if args.write_baseline and status == EXIT_DRIFT:
         status = EXIT_OK  # today's findings are what the baseline records
+    if args.summary:
+        _append_summary(args.summary, ci_report.drift_markdown(for_ci))
     if args.format == "json":
         print(json.dumps(all_items, indent=2, default=str))
     elif args.format == "markdown":
@@ -144,6 +146,17 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     elif args.format == "sarif":
         print_json(sarif.drift_log(for_ci, tool_version=__version__))
     return status
+
+
+def _append_summary(path: str, markdown: str) -> None:
+    """Append the Markdown report to ``path`` (``$GITHUB_STEP_SUMMARY`` collects what each step
+    appends; the run's own result is never replaced)."""
+    try:
+        with open(path, "a", encoding="utf-8") as summary:
+            summary.write(markdown if markdown.endswith("\n") else markdown + "\n")
+    except OSError as exc:
+        raise UsageError(f"--summary {path}: cannot append the report ({exc.strerror or exc}); "
+                         "give a file in a directory that exists and is writable") from None
 
 
 def cmd_diff(args: argparse.Namespace) -> int:

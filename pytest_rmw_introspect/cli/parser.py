@@ -302,6 +302,10 @@ def build_parser() -> argparse.ArgumentParser:
     chk.add_argument("--update", action="store_true",
                      help="rewrite drifted contracts and create missing ones (refused when CI is set)")
     _add_baseline(chk)
+    chk.add_argument("--summary", metavar="FILE",
+                     help="also append the Markdown report (a table of the contracts, the drift by severity) to FILE, "
+                     "whatever --format prints: --format github --summary \"$GITHUB_STEP_SUMMARY\" gives the "
+                     "annotations and the job summary from one run")
     chk.add_argument("--shard", metavar="I/N",
                      help="check only this CI job's share of the contracts: job I of N (e.g. 2/4); the contracts are "
                      "sorted by path and dealt round-robin, so the N jobs together check each exactly once")

@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any, TypeAlias
 
 from ..compare import acceptance, drift, parameter_drift, report, system
+from ..compare import type_lock as type_lock_check
 from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
@@ -36,6 +37,7 @@ from ..compare.options import ComparisonOptions, resolve
 from ..compare.system import CompatItem
 from ..errors import LifecycleTransitionFailed, RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
+from ..model import type_lock
 from ..model import types as type_model
 from ..model.acceptance import Acceptance
 from ..model.capture import Capture
@@ -255,15 +257,29 @@ def compare(prepared: Prepared, capture: Capture) -> CheckResult:
     result = CheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
                          spec=prepared.spec, options=prepared.options, capture=capture)
     if prepared.contract is not None:
-        items = drift.attribute_to_distribution(drift.compare(
+        items = drift.compare(
             prepared.contract.nodes, capture.to_contract_nodes(), prepared.options,
             expected_types=prepared.contract.types, actual_types=capture.types if capture.has_types else None,
-            require_types=prepared.options.include_types), prepared.contract.ros_distribution, capture.ros_distribution)
+            require_types=prepared.options.include_types)
+        items = drift.attribute_to_distribution(drift.sort_items(items + locked_type_items(prepared, capture)),
+                                                prepared.contract.ros_distribution, capture.ros_distribution)
         judged = acceptance.judge(items, prepared.contract.accept, rules=acceptance.DRIFT_RULES)
         result.items = [item for item in judged.kept if isinstance(item, DriftItem)]
         result.accepted, result.stale = judged.accepted, judged.stale
         result.compared = True
     return result
+
+
+def locked_type_items(prepared: Prepared, capture: Capture) -> list[DriftItem]:
+    """The interface types of the capture against the package's type lock (``interfaces.lock.json``
+    next to the contract or above it, written by ``rmw-introspect lock``); nothing without a lock,
+    a capture without type descriptions, or with ``ignore_type_hash``. Raises TypeLockError."""
+    if prepared.options.ignore_type_hash or not capture.has_types:
+        return []
+    found = type_lock.find(prepared.path)
+    if found is None:
+        return []
+    return type_lock_check.check(capture.to_contract_nodes(), capture.types, type_lock.load(found))
 
 
 def run_capture(prepared: Prepared, *, library: str | Path | None = None,

@@ -25,6 +25,7 @@ commands:
   compat    check that the nodes of several contracts fit together (types, hashes, QoS, peers)
   validate  check that contract files are valid, without running anything (a pre-commit hook)
   init      write a contract for every executable of an installed package
+  lock      write the RIHS01 hashes of every interface type the contracts use (nested ones too)
   graph     draw a system (Mermaid, Graphviz DOT or HTML) with what does not fit marked
 
 A launch file is a target too: `capture --launch robot.launch.xml -o robot.system.yaml` captures
@@ -170,6 +171,18 @@ this repository):
       - id: rmw-introspect-validate
 
 exit status: 0 all valid, 2 at least one invalid file (each named with its line and reason).
+"""
+
+
+_LOCK_EPILOG = """\
+Each contract needs a types: section (`rmw-introspect check --update --include-types CONTRACT`
+writes it). The lockfile is JSON, sorted: commit it. `check` (and pytest) then compare every
+interface type of a capture, nested types included, with it: a type that changed upstream is
+TYPE_LOCK_CHANGED with the path to it (sensor_msgs/msg/Image -> std_msgs/msg/Header changed), a
+type it does not list TYPE_NOT_LOCKED. check finds the file in a contract's directory or above,
+up to the package root (package.xml, setup.py, pyproject.toml or .git).
+
+exit status: 0 written (or unchanged), 2 a contract is missing, invalid or has no types: section.
 """
 
 
@@ -342,6 +355,14 @@ def build_parser() -> argparse.ArgumentParser:
     val.add_argument("--format", choices=("text", "github", "sarif"), default="text",
                      help="text: one line per file (default); github: an annotation per invalid file; "
                      "sarif: a SARIF 2.1.0 log with a result per invalid file")
+
+    lck = sub.add_parser("lock", help="write the type-hash lockfile of a package's contracts (no target is run)",
+                         description="Write the RIHS01 hash of every interface type the contracts use, nested types "
+                         "included (from their types: sections), into a lockfile that check compares with.",
+                         epilog=_LOCK_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    lck.add_argument("contracts", nargs="+", metavar="CONTRACT", help="node contract files with a types: section")
+    lck.add_argument("-o", "--output", metavar="FILE",
+                     help="the lockfile (default: interfaces.lock.json at the package root above the contracts)")
 
     com = sub.add_parser("compat", help="check that the nodes of several contracts fit together",
                          description="System check: do the nodes of these contracts fit together?",

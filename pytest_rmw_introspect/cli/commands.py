@@ -125,6 +125,11 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             for_ci.append(result.for_ci(written=said.split(" ", 1)[0]))
             continue
         for_ci.append(result.for_ci())
+        nodl_notes = (result.contract.nodl.notes if isinstance(result, pipeline.CheckResult)
+                      and result.contract is not None and result.contract.nodl is not None else [])
+        if not (args.format == "text" and outcome.report):  # (a drift report lists them itself)
+            for note in nodl_notes:  # what the NoDL document could not state
+                print(f"note: {shown}: {note}", file=sys.stderr)
         if args.format == "text":
             if outcome.report:
                 sys.stdout.write(outcome.report + "\n")

@@ -77,6 +77,11 @@ the target options given here); it is refused when the CI environment variable i
 --baseline FILE fails only on findings that FILE (written by --write-baseline FILE) does not
 hold; the known ones are reported as accepted by the baseline.
 
+A NoDL v2 document (*.nodl.yaml, or a file with `nodl_version:`) is a contract too: name the
+target here; what NoDL cannot express (type hashes, lifecycle states, parameter ranges, service
+QoS) and what the document leaves out are not compared. NoDL's schema is used when found (the
+nodl_schema package, or RMW_INTROSPECT_NODL_SCHEMA).
+
 --format json prints one JSON array with an object per drift item: contract, node, kind
 (publishers, subscriptions, service_servers, service_clients, action_servers, action_clients,
 parameters or node), name, change, rule, severity (SAFE, RISKY, BREAKING), old, new, message.
@@ -97,12 +102,13 @@ formats:
         `nodes:` block. Save it with -o NAME.interfaces.yaml and check it with
         `rmw-introspect check` or by running pytest next to it.
   json  the contract's `nodes` mapping as JSON.
-  nodl  one NoDL v2 document per node (nodl_version: 2; `base: lifecycle_node` for a
-        lifecycle node; parameters keyed by name with type, default_value, description,
-        read_only, additional_constraints; publishers, subscriptions, service_servers,
-        service_clients, action_servers, action_clients with name, type and qos for
-        topics), as a YAML stream; a `# node: /fqn` comment names the node of each
-        document (NoDL documents do not name their node).
+  nodl  one NoDL v2 document per node (nodl_version: 2; parameters keyed by name with
+        type, default_value, description, read_only, additional_constraints; publishers,
+        subscriptions, service_servers, service_clients, action_servers, action_clients
+        with name, type and qos for topics), as a YAML stream; a `# node: /fqn` comment
+        names the node of each document (NoDL documents do not name their node), a
+        `# lifecycle: STATE` comment a lifecycle node's state. `check` reads the file
+        back as a contract, `check --update` rewrites it as NoDL.
 
 parameters and lifecycle:
   every node's parameters are read through its own parameter services (--no-read-parameters

@@ -51,7 +51,7 @@ from typing import Any
 import yaml
 
 from ..errors import ContractError
-from . import acceptance, untrusted, yaml_blocks
+from . import acceptance, nodl, untrusted, yaml_blocks
 from . import parameters as parameter_model
 from . import qos as qos_module
 from . import types as type_model
@@ -94,6 +94,8 @@ class Contract:
     ros_distribution: str | None = None
     #: the findings it accepts on purpose (``accept:``)
     accept: tuple[acceptance.Acceptance, ...] = ()
+    #: read from a NoDL file (``model.nodl``): its documents, and what is not compared
+    nodl: nodl.NodlSource | None = None
 
     def expanded_nodes(self) -> dict[str, dict[str, Any]]:
         """``nodes`` with every topic QoS expanded to all fields (``qos.expand``)."""
@@ -112,7 +114,9 @@ class Contract:
         return out
 
     def dump(self) -> str:
-        """The file text with the ``nodes`` block regenerated (header kept)."""
+        """The file text with the ``nodes`` block regenerated (header kept); NoDL stays NoDL."""
+        if self.nodl is not None:
+            return nodl.render(self.nodes, self.nodl)
         return update_text(self.text, self.nodes) if self.text else render(self.nodes)
 
 
@@ -298,6 +302,9 @@ def loads(text: str, *, path: str | Path | None = None) -> Contract:
 
 
 def _loads(text: str, path: Path | None) -> Contract:
+    if nodl.is_nodl(text, path):
+        source = nodl.load_text(text, path)
+        return Contract(path=path, nodes=normalize_nodes(source.nodes()), text=text, nodl=source)
     root, data = _compose(text, path)
     if data is None:
         raise ContractError(path, None, "the file is empty; it needs at least `contract_version: 1` and `nodes:`")

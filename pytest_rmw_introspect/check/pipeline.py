@@ -42,7 +42,7 @@ from ..model import types as type_model
 from ..model.acceptance import Acceptance
 from ..model.capture import Capture
 from ..model.contract import Contract
-from ..model.locate import LineIndex, line_index
+from ..model.locate import LineIndex
 from ..model.paths import shown as display
 from ..model.vocabulary import Severity, parse_threshold
 from ..run import runner
@@ -266,7 +266,7 @@ class CheckResult:
         return ContractOutcome(
             contract=self.shown, items=self.items, threshold=self.threshold, nodes=nodes,
             error=str(self.error) if self.error is not None else None, written=written,
-            lines=line_index(self.contract.text) if self.contract is not None else {},
+            lines=self.contract.lines() if self.contract is not None else {},
             accepted=self.accepted, stale=self.stale,
         )
 
@@ -386,7 +386,7 @@ class DiffResult:
     def for_ci(self) -> ContractOutcome:
         """For the CI formats: annotations point at NEW, the file a pull request changes."""
         return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.threshold,
-                               nodes=sorted(self.new.nodes), lines=line_index(self.new.text))
+                               nodes=sorted(self.new.nodes), lines=self.new.lines())
 
 
 def diff_contracts(
@@ -493,7 +493,7 @@ def check_system(
         loaded = contract_module.load(path)
         acceptance.check_rules(loaded.accept)
         systems[label] = loaded.nodes
-        lines[label] = line_index(loaded.text)
+        lines[label] = loaded.lines()
         accept += loaded.accept
     if not systems:
         raise ValueError("no contracts given to the system check")

@@ -55,6 +55,7 @@ from . import acceptance, nodl, untrusted, yaml_blocks
 from . import parameters as parameter_model
 from . import qos as qos_module
 from . import types as type_model
+from .locate import LineIndex, line_index
 from .paths import shown
 from .vocabulary import ACTION_HASHED_PARTS, LABELS, LIFECYCLE, LISTS, PARAMETERS
 
@@ -112,6 +113,12 @@ class Contract:
                     entries.append(entry)
                 out[fqn][list_name] = entries
         return out
+
+    def lines(self) -> LineIndex:
+        """Where the file writes each node, interface and parameter (for annotations)."""
+        if self.nodl is not None:
+            return self.nodl.lines(bound=next(iter(self.nodes)) if self.nodl.unnamed and self.nodes else None)
+        return line_index(self.text)
 
     def dump(self) -> str:
         """The file text with the ``nodes`` block regenerated (header kept); NoDL stays NoDL."""

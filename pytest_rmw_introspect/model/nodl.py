@@ -158,6 +158,23 @@ class NodlSource:
         return out
 
 
+    def lines(self, bound: str | None = None) -> dict[tuple[str, str, str], int]:
+        """Where each node, endpoint and parameter is written (``model.locate.LineIndex``), for
+        annotations on the document's lines."""
+        index: dict[tuple[str, str, str], int] = {}
+        for doc in self.documents:
+            fqn = doc.node or bound or self.default_node
+            index[(fqn, "node", fqn)] = doc.first_line
+            for list_name in LISTS:
+                for i, entry in enumerate(doc.data.get(list_name) or ()):
+                    line = _line(doc.root, [list_name, i], doc.first_line)
+                    if line is not None:
+                        index.setdefault((fqn, list_name, resolve_name(entry["name"], fqn)), line)
+            for name, line in _key_lines(doc.root, PARAMETERS, doc.first_line).items():
+                index.setdefault((fqn, PARAMETERS, name), line)
+        return index
+
+
 def _split(text: str) -> list[tuple[int, str, str | None]]:
     """The documents of a YAML stream: (first line, text, the ``# node:`` comment's node)."""
     parts: list[tuple[int, list[str]]] = [(1, [])]
@@ -192,6 +209,18 @@ def _line(root: Any, path: Sequence[Any], first: int) -> int | None:
         else:
             break
     return node.start_mark.line + first if node is not None else None
+
+
+def _key_lines(root: Any, key: str, first: int) -> dict[str, int]:
+    """The line of each key of the mapping under the top-level ``key`` (a parameter's name)."""
+    import yaml
+
+    if not isinstance(root, yaml.MappingNode):
+        return {}
+    mapping = next((v for k, v in root.value if isinstance(k, yaml.ScalarNode) and k.value == key), None)
+    if not isinstance(mapping, yaml.MappingNode):
+        return {}
+    return {str(k.value): k.start_mark.line + first for k, _v in mapping.value if isinstance(k, yaml.ScalarNode)}
 
 
 def _where(path: Sequence[Any]) -> str | None:

@@ -5,6 +5,7 @@ checks a node, and diff, compat and validate read NoDL."""
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -71,6 +72,12 @@ def test_capture_as_nodl_round_trips_through_check_and_update(nodl_cli):
     assert drifted.returncode == 1, drifted
     assert "[QOS_DEPTH_DECREASED] depth 10 -> 5" in drifted.stdout
     assert "[PARAM_DEFAULT_CHANGED]" in drifted.stdout
+    annotated = cli("check", "--script", TALKER, "--param", "depth:=5", "--format", "github", "talker.nodl.yaml")
+    lines = first.splitlines()
+    on = {title: int(line) for line, title in re.findall(r"::error file=talker\.nodl\.yaml,line=(\d+),title=(\w+)",
+                                                              annotated.stdout)}
+    assert lines[on["QOS_DEPTH_DECREASED"] - 1] == "- name: /chatter", annotated.stdout  # the entry's line
+    assert lines[on["PARAM_DEFAULT_CHANGED"] - 1] == "  depth:", annotated.stdout
 
     updated = cli("check", "--update", "--script", TALKER, "--param", "depth:=5", "talker.nodl.yaml")
     assert updated.returncode == 0 and "updated talker.nodl.yaml" in updated.stderr, updated
@@ -115,7 +122,11 @@ def test_diff_compat_and_validate_read_nodl(nodl_cli):
     compat = cli("compat", "talker.nodl.yaml", "listener.nodl.yaml")
     assert compat.returncode == 0, compat
     valid = cli("validate", "talker.nodl.yaml", "listener.nodl.yaml")
-    assert valid.returncode == 0 and "talker.nodl.yaml: valid (/talker)" in valid.stdout, valid
+    assert valid.returncode == 0 and "talker.nodl.yaml: valid NoDL (/talker)" in valid.stdout, valid
+    unchecked = cli("validate", "talker.nodl.yaml", env={"RMW_INTROSPECT_NODL_SCHEMA": "/nonexistent"})
+    assert unchecked.stdout == ("talker.nodl.yaml: valid NoDL (/talker); not validated against NoDL's own schema "
+                                "(RMW_INTROSPECT_NODL_SCHEMA=/nonexistent holds no nodl.schema.yaml): set "
+                                "RMW_INTROSPECT_NODL_SCHEMA to NoDL's schemas directory or install NoDL (nodl_schema)\n")
     cli.write("bad.nodl.yaml", "nodl_version: 2\nbase: lifecycle_node\n")
     bad = cli("validate", "bad.nodl.yaml")
     assert bad.returncode == 2 and "bad.nodl.yaml:2: at base: unknown key 'base' in a NoDL v2 document" in bad.stderr

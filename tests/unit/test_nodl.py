@@ -250,3 +250,17 @@ def test_nodls_own_fixtures_are_read(tmp_path):
             continue
         loaded = contract_module.load(fixture)
         assert loaded.nodl is not None and len(loaded.nodes) == 1, fixture
+
+
+@needs_schema
+def test_the_schema_is_found_in_an_installed_nodl_schema_package_or_where_the_setting_says(tmp_path, monkeypatch):
+    package = tmp_path / "site" / "nodl_schema"
+    (package / "schemas").mkdir(parents=True)
+    (package / "__init__.py").write_text("raise ImportError('finding the schema must not import the package')\n")
+    for name in nodl.SCHEMA_FILES:  # a NoDL install, made of the checkout's files
+        (package / "schemas" / name).symlink_to(SCHEMAS / name)
+    monkeypatch.delenv(nodl.SCHEMA_ENV)
+    monkeypatch.syspath_prepend(str(tmp_path / "site"))
+    assert nodl.schema_directory() == (package / "schemas", "the installed nodl_schema package")
+    monkeypatch.setenv(nodl.SCHEMA_ENV, str(SCHEMAS))  # the setting wins, and may name the schemas directory
+    assert nodl.schema_directory() == (SCHEMAS, f"{nodl.SCHEMA_ENV}={SCHEMAS}")

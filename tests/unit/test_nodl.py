@@ -116,6 +116,8 @@ def test_a_stream_names_each_node_and_binds_only_an_unnamed_document():
     loaded = contract_module.loads(text, path="two.nodl.yaml")
     assert sorted(loaded.nodes) == ["/robot/a", "/robot/b"]
     assert nodl.bind(loaded.nodl, loaded.nodes, ["/x"], "two.nodl.yaml") == loaded.nodes
+    above = contract_module.loads("# node: /robot/a\n---\nnodl_version: 2\n", path="one.nodl.yaml")
+    assert list(above.nodes) == ["/robot/a"]  # the comment may also stand above the `---`
     single = contract_module.loads(DOCUMENTED, path="greeter.nodl.yaml")
     bound = nodl.bind(single.nodl, single.nodes, ["/robot/talker"], "greeter.nodl.yaml")
     assert [e["name"] for e in bound["/robot/talker"]["publishers"]] == ["/robot/chatter", "/robot/talker/status"]

@@ -415,3 +415,14 @@ class BaselineError(RmwIntrospectError):
             f"baseline {path}: {reason}. Write it anew with `rmw-introspect check --write-baseline {path} "
             "CONTRACT...` (or `compat --write-baseline`), or leave the baseline out."
         )
+
+
+class TypeLockError(RmwIntrospectError):
+    """A type-hash lockfile (``rmw-introspect lock``) that cannot be written or read."""
+
+    def __init__(self, path: str | Path, reason: str, advice: str | None = None, *, subject: str = "type lock") -> None:
+        self.path = Path(path)
+        self.reason = reason
+        advice = advice or (f"Write it anew with `rmw-introspect lock CONTRACT... -o {path}`, or delete it "
+                            "to check without it.")
+        super().__init__(f"{subject} {path}: {reason}. {advice}")

@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any, TypeAlias
 
 from ..compare import acceptance, drift, parameter_drift, report, system
+from ..compare import type_lock as type_lock_check
 from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
@@ -36,11 +37,12 @@ from ..compare.options import ComparisonOptions, resolve
 from ..compare.system import CompatItem
 from ..errors import LifecycleTransitionFailed, RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
+from ..model import nodl, type_lock
 from ..model import types as type_model
 from ..model.acceptance import Acceptance
 from ..model.capture import Capture
 from ..model.contract import Contract
-from ..model.locate import LineIndex, line_index
+from ..model.locate import LineIndex
 from ..model.paths import shown as display
 from ..model.vocabulary import Severity, parse_threshold
 from ..run import runner
@@ -183,8 +185,8 @@ class CheckResult:
     def gains(self) -> list[str]:
         """What updating would add to a contract that matches but does not state it yet (the
         parameters and lifecycle states of nodes written before they were recorded)."""
-        if self.contract is None or self.capture is None or self.error is not None:
-            return []
+        if self.contract is None or self.capture is None or self.error is not None or self.contract.nodl is not None:
+            return []  # (a NoDL document states parameters always, and can never state a lifecycle)
         return parameter_drift.gains(self.contract.nodes, self.golden_nodes())
 
     @property
@@ -210,8 +212,27 @@ class CheckResult:
             return None
         return self.capture.to_contract_types()
 
+    @property
+    def writes_nodl(self) -> bool:
+        """The golden is a NoDL file: read from one, or a new ``*.nodl.yaml``."""
+        if self.contract is not None:
+            return self.contract.nodl is not None
+        return nodl.is_nodl("", self.path)
+
+    def notes(self) -> list[str]:
+        """What to know about the result beside the drift: how the capture came about, and what
+        a NoDL document could not state (not compared)."""
+        notes = self.capture.notes() if self.capture is not None else []
+        if self.contract is not None and self.contract.nodl is not None:
+            notes += self.contract.nodl.notes
+        return notes
+
     def update(self, *, new_header: str | None = None) -> str | None:
         """Write the golden (``golden.update``): ``created``, ``updated`` or None."""
+        if self.writes_nodl:
+            previous = self.contract.nodl if self.contract is not None else None
+            text = nodl.render(self.golden_nodes(), previous)
+            return golden.update_with(self.path, lambda _old: text)
         return golden.update(self.path, self.golden_nodes(), new_header=new_header, types=self.golden_types(),
                              distribution=self.capture.ros_distribution if self.capture is not None else None)
 
@@ -225,7 +246,7 @@ class CheckResult:
         text = report.render_text(self.items, contract_path=self.shown, threshold=self.threshold,
                                   accept_command=accept_command, title=self.title(), accepted=self.accepted,
                                   stale=self.stale)
-        notes = self.capture.notes() if self.capture is not None else []
+        notes = self.notes()
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes)
         return text
@@ -245,25 +266,46 @@ class CheckResult:
         return ContractOutcome(
             contract=self.shown, items=self.items, threshold=self.threshold, nodes=nodes,
             error=str(self.error) if self.error is not None else None, written=written,
-            lines=line_index(self.contract.text) if self.contract is not None else {},
+            lines=self.contract.lines() if self.contract is not None else {},
             accepted=self.accepted, stale=self.stale,
         )
 
 
 def compare(prepared: Prepared, capture: Capture) -> CheckResult:
     """Compare a capture with the prepared contract (no drift items when it does not exist)."""
-    result = CheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
+    contract = prepared.contract
+    actual = capture.to_contract_nodes()
+    if contract is not None and contract.nodl is not None:
+        # a NoDL document: bound to the target's node, and only what it states is compared
+        contract = dataclasses.replace(contract, nodes=nodl.bind(contract.nodl, contract.nodes, capture.node_names,
+                                                                 prepared.shown))
+        actual = nodl.project(actual, contract.nodes)
+    result = CheckResult(path=prepared.path, shown=prepared.shown, contract=contract,
                          spec=prepared.spec, options=prepared.options, capture=capture)
-    if prepared.contract is not None:
-        items = drift.attribute_to_distribution(drift.compare(
-            prepared.contract.nodes, capture.to_contract_nodes(), prepared.options,
-            expected_types=prepared.contract.types, actual_types=capture.types if capture.has_types else None,
-            require_types=prepared.options.include_types), prepared.contract.ros_distribution, capture.ros_distribution)
-        judged = acceptance.judge(items, prepared.contract.accept, rules=acceptance.DRIFT_RULES)
+    if contract is not None:
+        items = drift.compare(
+            contract.nodes, actual, prepared.options,
+            expected_types=contract.types, actual_types=capture.types if capture.has_types else None,
+            require_types=prepared.options.include_types and contract.nodl is None)
+        items = drift.attribute_to_distribution(drift.sort_items(items + locked_type_items(prepared, capture)),
+                                                contract.ros_distribution, capture.ros_distribution)
+        judged = acceptance.judge(items, contract.accept, rules=acceptance.DRIFT_RULES)
         result.items = [item for item in judged.kept if isinstance(item, DriftItem)]
         result.accepted, result.stale = judged.accepted, judged.stale
         result.compared = True
     return result
+
+
+def locked_type_items(prepared: Prepared, capture: Capture) -> list[DriftItem]:
+    """The interface types of the capture against the package's type lock (``interfaces.lock.json``
+    next to the contract or above it, written by ``rmw-introspect lock``); nothing without a lock,
+    a capture without type descriptions, or with ``ignore_type_hash``. Raises TypeLockError."""
+    if prepared.options.ignore_type_hash or not capture.has_types:
+        return []
+    found = type_lock.find(prepared.path)
+    if found is None:
+        return []
+    return type_lock_check.check(capture.to_contract_nodes(), capture.types, type_lock.load(found))
 
 
 def run_capture(prepared: Prepared, *, library: str | Path | None = None,
@@ -344,7 +386,7 @@ class DiffResult:
     def for_ci(self) -> ContractOutcome:
         """For the CI formats: annotations point at NEW, the file a pull request changes."""
         return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.threshold,
-                               nodes=sorted(self.new.nodes), lines=line_index(self.new.text))
+                               nodes=sorted(self.new.nodes), lines=self.new.lines())
 
 
 def diff_contracts(
@@ -371,8 +413,13 @@ def diff_contracts(
         else:
             layers = options or ()
         opts = Layers(strong_options=layers).options(old, shown=old_shown)
+    old_nodes, new_nodes = old.nodes, new.nodes
+    if old.nodl is not None:  # what a NoDL side does not state is not compared
+        new_nodes = nodl.project(new_nodes, old_nodes)
+    if new.nodl is not None:
+        old_nodes = nodl.project(old_nodes, new_nodes)
     items = drift.attribute_to_distribution(
-        drift.compare(old.nodes, new.nodes, opts, expected_types=old.types, actual_types=new.types),
+        drift.compare(old_nodes, new_nodes, opts, expected_types=old.types, actual_types=new.types),
         old.ros_distribution, new.ros_distribution)
     return DiffResult(old, new, old_shown, new_shown, opts, items)
 
@@ -446,7 +493,7 @@ def check_system(
         loaded = contract_module.load(path)
         acceptance.check_rules(loaded.accept)
         systems[label] = loaded.nodes
-        lines[label] = line_index(loaded.text)
+        lines[label] = loaded.lines()
         accept += loaded.accept
     if not systems:
         raise ValueError("no contracts given to the system check")

@@ -95,6 +95,10 @@ def _run_command(args: argparse.Namespace, command: list[str] | None) -> int:
         from .init import cmd_init
 
         return cmd_init(args)
+    if args.command == "lock":
+        from .lock import cmd_lock
+
+        return cmd_lock(args)
     from . import commands
 
     if args.command == "check":

@@ -125,6 +125,11 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             for_ci.append(result.for_ci(written=said.split(" ", 1)[0]))
             continue
         for_ci.append(result.for_ci())
+        nodl_notes = (result.contract.nodl.notes if isinstance(result, pipeline.CheckResult)
+                      and result.contract is not None and result.contract.nodl is not None else [])
+        if not (args.format == "text" and outcome.report):  # (a drift report lists them itself)
+            for note in nodl_notes:  # what the NoDL document could not state
+                print(f"note: {shown}: {note}", file=sys.stderr)
         if args.format == "text":
             if outcome.report:
                 sys.stdout.write(outcome.report + "\n")
@@ -135,6 +140,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     baselines.finish(args, baseline, checked, [Path(c) for c in args.contracts])
     if args.write_baseline and status == EXIT_DRIFT:
         status = EXIT_OK  # today's findings are what the baseline records
+    if args.summary:
+        _append_summary(args.summary, ci_report.drift_markdown(for_ci))
     if args.format == "json":
         print(json.dumps(all_items, indent=2, default=str))
     elif args.format == "markdown":
@@ -144,6 +151,17 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     elif args.format == "sarif":
         print_json(sarif.drift_log(for_ci, tool_version=__version__))
     return status
+
+
+def _append_summary(path: str, markdown: str) -> None:
+    """Append the Markdown report to ``path`` (``$GITHUB_STEP_SUMMARY`` collects what each step
+    appends; the run's own result is never replaced)."""
+    try:
+        with open(path, "a", encoding="utf-8") as summary:
+            summary.write(markdown if markdown.endswith("\n") else markdown + "\n")
+    except OSError as exc:
+        raise UsageError(f"--summary {path}: cannot append the report ({exc.strerror or exc}); "
+                         "give a file in a directory that exists and is writable") from None
 
 
 def cmd_diff(args: argparse.Namespace) -> int:

@@ -25,6 +25,7 @@ commands:
   compat    check that the nodes of several contracts fit together (types, hashes, QoS, peers)
   validate  check that contract files are valid, without running anything (a pre-commit hook)
   init      write a contract for every executable of an installed package
+  lock      write the RIHS01 hashes of every interface type the contracts use (nested ones too)
   graph     draw a system (Mermaid, Graphviz DOT or HTML) with what does not fit marked
 
 A launch file is a target too: `capture --launch robot.launch.xml -o robot.system.yaml` captures
@@ -76,6 +77,11 @@ the target options given here); it is refused when the CI environment variable i
 --baseline FILE fails only on findings that FILE (written by --write-baseline FILE) does not
 hold; the known ones are reported as accepted by the baseline.
 
+A NoDL v2 document (*.nodl.yaml, or a file with `nodl_version:`) is a contract too: name the
+target here; what NoDL cannot express (type hashes, lifecycle states, parameter ranges, service
+QoS) and what the document leaves out are not compared. NoDL's schema is used when found (the
+nodl_schema package, or RMW_INTROSPECT_NODL_SCHEMA).
+
 --format json prints one JSON array with an object per drift item: contract, node, kind
 (publishers, subscriptions, service_servers, service_clients, action_servers, action_clients,
 parameters or node), name, change, rule, severity (SAFE, RISKY, BREAKING), old, new, message.
@@ -96,12 +102,13 @@ formats:
         `nodes:` block. Save it with -o NAME.interfaces.yaml and check it with
         `rmw-introspect check` or by running pytest next to it.
   json  the contract's `nodes` mapping as JSON.
-  nodl  one NoDL v2 document per node (nodl_version: 2; `base: lifecycle_node` for a
-        lifecycle node; parameters keyed by name with type, default_value, description,
-        read_only, additional_constraints; publishers, subscriptions, service_servers,
-        service_clients, action_servers, action_clients with name, type and qos for
-        topics), as a YAML stream; a `# node: /fqn` comment names the node of each
-        document (NoDL documents do not name their node).
+  nodl  one NoDL v2 document per node (nodl_version: 2; parameters keyed by name with
+        type, default_value, description, read_only, additional_constraints; publishers,
+        subscriptions, service_servers, service_clients, action_servers, action_clients
+        with name, type and qos for topics), as a YAML stream; a `# node: /fqn` comment
+        names the node of each document (NoDL documents do not name their node), a
+        `# lifecycle: STATE` comment a lifecycle node's state. `check` reads the file
+        back as a contract, `check --update` rewrites it as NoDL.
 
 parameters and lifecycle:
   every node's parameters are read through its own parameter services (--no-read-parameters
@@ -161,7 +168,9 @@ exit status: 0 every executable captured, 2 at least one could not be (or no exe
 
 _VALIDATE_EPILOG = """\
 Each file is read like `check` reads it (YAML syntax, the contract schema, QoS values, duplicate
-interfaces, contract_version); nothing is run. As a pre-commit hook (.pre-commit-hooks.yaml of
+interfaces, contract_version); nothing is run. A NoDL v2 document is checked against NoDL's own
+schema when it is found (the nodl_schema package, or RMW_INTROSPECT_NODL_SCHEMA); the line
+says when it was not. As a pre-commit hook (.pre-commit-hooks.yaml of
 this repository):
 
   - repo: https://github.com/<owner>/pytest-rmw-introspect
@@ -170,6 +179,18 @@ this repository):
       - id: rmw-introspect-validate
 
 exit status: 0 all valid, 2 at least one invalid file (each named with its line and reason).
+"""
+
+
+_LOCK_EPILOG = """\
+Each contract needs a types: section (`rmw-introspect check --update --include-types CONTRACT`
+writes it). The lockfile is JSON, sorted: commit it. `check` (and pytest) then compare every
+interface type of a capture, nested types included, with it: a type that changed upstream is
+TYPE_LOCK_CHANGED with the path to it (sensor_msgs/msg/Image -> std_msgs/msg/Header changed), a
+type it does not list TYPE_NOT_LOCKED. check finds the file in a contract's directory or above,
+up to the package root (package.xml, setup.py, pyproject.toml or .git).
+
+exit status: 0 written (or unchanged), 2 a contract is missing, invalid or has no types: section.
 """
 
 
@@ -302,6 +323,10 @@ def build_parser() -> argparse.ArgumentParser:
     chk.add_argument("--update", action="store_true",
                      help="rewrite drifted contracts and create missing ones (refused when CI is set)")
     _add_baseline(chk)
+    chk.add_argument("--summary", metavar="FILE",
+                     help="also append the Markdown report (a table of the contracts, the drift by severity) to FILE, "
+                     "whatever --format prints: --format github --summary \"$GITHUB_STEP_SUMMARY\" gives the "
+                     "annotations and the job summary from one run")
     chk.add_argument("--shard", metavar="I/N",
                      help="check only this CI job's share of the contracts: job I of N (e.g. 2/4); the contracts are "
                      "sorted by path and dealt round-robin, so the N jobs together check each exactly once")
@@ -338,6 +363,14 @@ def build_parser() -> argparse.ArgumentParser:
     val.add_argument("--format", choices=("text", "github", "sarif"), default="text",
                      help="text: one line per file (default); github: an annotation per invalid file; "
                      "sarif: a SARIF 2.1.0 log with a result per invalid file")
+
+    lck = sub.add_parser("lock", help="write the type-hash lockfile of a package's contracts (no target is run)",
+                         description="Write the RIHS01 hash of every interface type the contracts use, nested types "
+                         "included (from their types: sections), into a lockfile that check compares with.",
+                         epilog=_LOCK_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    lck.add_argument("contracts", nargs="+", metavar="CONTRACT", help="node contract files with a types: section")
+    lck.add_argument("-o", "--output", metavar="FILE",
+                     help="the lockfile (default: interfaces.lock.json at the package root above the contracts)")
 
     com = sub.add_parser("compat", help="check that the nodes of several contracts fit together",
                          description="System check: do the nodes of these contracts fit together?",

@@ -52,4 +52,8 @@ def _validated(shown: str) -> str:
         return f"valid system contract ({count} process{'es' if count != 1 else ''}: {nodes})"
     loaded = contract_module.load(shown)
     acceptance.check_rules(loaded.accept)
-    return f"valid ({', '.join(sorted(loaded.nodes)) or 'no nodes'})"
+    nodes = ", ".join(sorted(loaded.nodes)) or "no nodes"
+    if loaded.nodl is not None:  # say when NoDL's own schema was not there to check it
+        unchecked = [note for note in loaded.nodl.notes if note.startswith("not validated")]
+        return f"valid NoDL ({nodes})" + "".join(f"; {note}" for note in unchecked)
+    return f"valid ({nodes})"

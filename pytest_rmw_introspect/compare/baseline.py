@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import BaselineError
+from ..model import versioned_json
 from ..model.acceptance import Acceptance
 from . import findings
 from .acceptance import Accepted, Finding
@@ -87,15 +88,9 @@ def load(path: str | Path, shown: str | None = None) -> Baseline:
     """Read a baseline file (raises :class:`BaselineError` naming the file and what to do)."""
     shown = shown or str(path)
     try:
-        document = json.loads(Path(path).read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise BaselineError(shown, "the file does not exist") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise BaselineError(shown, f"not a readable JSON file ({exc})") from None
-    if not isinstance(document, dict) or document.get("format") != FORMAT:
-        raise BaselineError(shown, f"not a baseline (it needs \"format\": \"{FORMAT}\")")
-    if document.get("version") != VERSION:
-        raise BaselineError(shown, f"version {document.get('version')!r} is not supported (this tool reads {VERSION})")
+        document = versioned_json.read(path, file_format=FORMAT, version=VERSION, what="a baseline")
+    except versioned_json.UnreadableFile as problem:
+        raise BaselineError(shown, problem.reason) from None
     entries: dict[tuple[str, ...], dict[str, Any]] = {}
     for i, entry in enumerate(document.get("findings") or []):
         key = entry.get("key") if isinstance(entry, dict) else None

@@ -129,6 +129,8 @@ RULES: dict[str, Rule] = _rules(
     Rule("QOS_LIFESPAN_NO_EFFECT", _S, "subscription lifespan changed (a publisher-only policy)"),
     Rule("QOS_NAMESPACE_CONVENTIONS_CHANGED", _B, "avoid_ros_namespace_conventions changed"),
     Rule("TYPE_DESCRIPTION_MISSING", _S, "the contract's types: section lacks a type the interface uses"),
+    Rule("TYPE_LOCK_CHANGED", _B, "a type an interface uses, or one it nests, differs from the package's type lock"),
+    Rule("TYPE_NOT_LOCKED", _R, "an interface uses a type the package's type lock does not list"),
     *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in type_drift.RULES.items()),
     *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in parameter_drift.RULES.items()),
 )
@@ -689,6 +691,11 @@ _CHANGE_ORDER = {
          *(f"qos.{f}" for f in qos.FIELDS), *(a for a in parameter_drift.ATTRIBUTES if a != "type"))
     )
 }
+
+
+def sort_items(items: list[DriftItem]) -> list[DriftItem]:
+    """``items`` in report order: most severe first, then by node, kind, name and change."""
+    return sorted(items, key=_sort_key)
 
 
 def _sort_key(item: DriftItem) -> tuple:

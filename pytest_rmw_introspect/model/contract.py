@@ -51,10 +51,11 @@ from typing import Any
 import yaml
 
 from ..errors import ContractError
-from . import acceptance, untrusted, yaml_blocks
+from . import acceptance, nodl, untrusted, yaml_blocks
 from . import parameters as parameter_model
 from . import qos as qos_module
 from . import types as type_model
+from .locate import LineIndex, line_index
 from .paths import shown
 from .vocabulary import ACTION_HASHED_PARTS, LABELS, LIFECYCLE, LISTS, PARAMETERS
 
@@ -94,6 +95,8 @@ class Contract:
     ros_distribution: str | None = None
     #: the findings it accepts on purpose (``accept:``)
     accept: tuple[acceptance.Acceptance, ...] = ()
+    #: read from a NoDL file (``model.nodl``): its documents, and what is not compared
+    nodl: nodl.NodlSource | None = None
 
     def expanded_nodes(self) -> dict[str, dict[str, Any]]:
         """``nodes`` with every topic QoS expanded to all fields (``qos.expand``)."""
@@ -111,8 +114,16 @@ class Contract:
                 out[fqn][list_name] = entries
         return out
 
+    def lines(self) -> LineIndex:
+        """Where the file writes each node, interface and parameter (for annotations)."""
+        if self.nodl is not None:
+            return self.nodl.lines(bound=next(iter(self.nodes)) if self.nodl.unnamed and self.nodes else None)
+        return line_index(self.text)
+
     def dump(self) -> str:
-        """The file text with the ``nodes`` block regenerated (header kept)."""
+        """The file text with the ``nodes`` block regenerated (header kept); NoDL stays NoDL."""
+        if self.nodl is not None:
+            return nodl.render(self.nodes, self.nodl)
         return update_text(self.text, self.nodes) if self.text else render(self.nodes)
 
 
@@ -298,6 +309,9 @@ def loads(text: str, *, path: str | Path | None = None) -> Contract:
 
 
 def _loads(text: str, path: Path | None) -> Contract:
+    if nodl.is_nodl(text, path):
+        source = nodl.load_text(text, path)
+        return Contract(path=path, nodes=normalize_nodes(source.nodes()), text=text, nodl=source)
     root, data = _compose(text, path)
     if data is None:
         raise ContractError(path, None, "the file is empty; it needs at least `contract_version: 1` and `nodes:`")

@@ -239,6 +239,7 @@ def test_the_pre_commit_hook_runs_validate_on_contract_files():
     assert hook["language"] == "python"
     pattern = re.compile(hook["files"])
     assert pattern.search("contracts/talker.interfaces.yaml") and pattern.search("robot.system.yaml")
+    assert pattern.search("nodl/camera.nodl.yaml")
     assert not pattern.search("params.yaml")
     assert 'rmw-introspect = "pytest_rmw_introspect.cli:main"' in (root / "pyproject.toml").read_text()
 

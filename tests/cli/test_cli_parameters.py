@@ -38,16 +38,16 @@ def test_capture_shows_the_lifecycle_state_and_parameters_and_the_options_change
     assert check.returncode == 0 and check.stdout == "managed.interfaces.yaml: matches (/managed)\n", check
 
 
-def test_capture_nodl_has_parameters_and_the_lifecycle_base(cli):
+def test_capture_nodl_has_parameters_and_the_lifecycle_state_in_a_comment(cli):
     result = cli("capture", "--format", "nodl", "--script", LC_MANAGED)
     assert result.returncode == 0, result
     (doc,) = yaml.safe_load_all(result.stdout)
-    assert doc["base"] == "lifecycle_node"
+    assert "base" not in doc and "# lifecycle: active (a lifecycle node: NoDL v2 cannot say so" in result.stdout
     assert doc["parameters"]["depth"] == {"type": "int", "default_value": 5}
     assert doc["parameters"]["rate"] == {"type": "double", "default_value": 10.0, "description": "Hz"}
     raw = cli("capture", "--format", "nodl", "--raw", "--script", PARAMS_NODE)
-    assert "# parameter blob (byte_array) left out: NoDL v2 has no such type" in raw.stdout
     (raw_doc,) = yaml.safe_load_all(raw.stdout)
+    assert raw_doc["parameters"]["blob"]["type"] == "byte_array"
     assert raw_doc["parameters"]["use_sim_time"] == {"type": "bool", "default_value": False}
 
 

@@ -1,0 +1,32 @@
+"""The JSON files the tool writes beside contracts (baselines, the type lock) name their format
+and version; reading one checks both before anything else is looked at."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+
+class UnreadableFile(Exception):
+    """Why the file cannot be used (``reason``); the caller names the file and what to do."""
+
+    def __init__(self, reason: str) -> None:
+        super().__init__(reason)
+        self.reason = reason
+
+
+def read(path: str | Path, *, file_format: str, version: int, what: str) -> dict[str, Any]:
+    """The JSON object in ``path`` whose ``"format"`` is ``file_format`` and ``"version"`` is
+    ``version`` (raises :class:`UnreadableFile`; ``what``: "a baseline", "a type lock")."""
+    try:
+        document = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise UnreadableFile("the file does not exist") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise UnreadableFile(f"not a readable JSON file ({exc})") from None
+    if not isinstance(document, dict) or document.get("format") != file_format:
+        raise UnreadableFile(f"not {what} (it needs \"format\": \"{file_format}\")")
+    if document.get("version") != version:
+        raise UnreadableFile(f"version {document.get('version')!r} is not supported (this tool reads {version})")
+    return document

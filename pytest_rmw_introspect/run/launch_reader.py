@@ -25,9 +25,19 @@ Supported (XML and YAML, ``-`` and ``_`` spellings alike):
 ``push_ros_namespace``      ``namespace``: for the nodes after it in its scope
 ``set_remap``               ``from``, ``to``: a remapping for the nodes after it in its scope (before
                             each node's own, as launch_ros puts them: the first matching rule wins)
+``set_parameter``           ``name``, ``value``: a parameter for the nodes after it in its scope (before
+                            each node's own parameters, which override it, as launch_ros puts them)
+``set_parameters_from_file`` ``filename``: a parameters file for the nodes after it in its scope
 ``include``                 ``file``; children ``arg`` (``name``, ``value``)
 ``if``, ``unless``          on every entity
 ==========================  ===============================================================
+
+The scope of ``set_remap``, ``set_parameter`` and ``set_parameters_from_file`` is launch_ros's
+(jazzy), measured, not the one its documentation promises: each kind is one list kept in the
+launch configurations, and a group copies the configurations but not the list, so a rule
+written inside a group also applies after the group when a rule of the same kind was set
+before the group (in an enclosing scope or an earlier include); a group with
+``forwarding="false"`` starts without any.
 
 Substitutions: ``launch_substitutions``. Relative paths (``include file``, ``param from``,
 ``node cwd``) are relative to the directory of the launch file that names them (``ros2 launch``
@@ -52,7 +62,7 @@ import contextlib
 import os
 import shlex
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -88,6 +98,8 @@ _TAGS: dict[str, tuple[frozenset[str], frozenset[str]]] = {
     "group": (frozenset({"scoped", "forwarding"}), frozenset()),
     "push_ros_namespace": (frozenset({"namespace"}), frozenset()),
     "set_remap": (frozenset({"from", "to"}), frozenset()),
+    "set_parameter": (frozenset({"name", "value"}), frozenset()),
+    "set_parameters_from_file": (frozenset({"filename"}), frozenset()),
     "include": (frozenset({"file"}), frozenset({"arg"})),
     "node": (frozenset({"pkg", "exec", "name", "namespace", "args", "ros_args", "cwd"}) | IGNORED_NODE_ATTRIBUTES,
              frozenset({"param", "remap", "env"})),
@@ -99,7 +111,6 @@ _UNSUPPORTED_HINTS = {
     "load_composable_node": "loading composable nodes is not supported (see node_container)",
     "composable_node": "composable nodes are not supported (see node_container)",
     "executable": "plain processes (<executable>) are not captured: start ROS nodes with <node>",
-    "set_parameter": "global parameters (<set_parameter>) are not supported: give the parameter to each node",
     "timer": "delayed actions (<timer>) are not supported",
 }
 MAX_INCLUDE_DEPTH = 40
@@ -118,13 +129,21 @@ class _Scope:
     configurations: dict[str, str]
     namespace: str | None
     env: dict[str, str]
-    #: <set_remap> rules for the nodes after them (launch_ros keeps them with the configurations)
-    remaps: list[tuple[str, str]] = field(default_factory=list)
+    #: <set_remap> rules for the nodes after them, and <set_parameter>/<set_parameters_from_file>
+    #: settings: launch_ros keeps each kind as one list in the launch configurations (None: not
+    #: set yet). A scope copies the configurations but shares these lists (see :meth:`copy`).
+    remaps: list[tuple[str, str]] | None = None
+    parameters: list[Parameter] | None = None
     #: the <include> that reads the current file (None: the top-level file)
     included_from: Where | None = None
 
     def copy(self) -> _Scope:
-        return _Scope(dict(self.configurations), self.namespace, dict(self.env), list(self.remaps), self.included_from)
+        # launch_ros (jazzy) appends to the list it finds in the configurations, and a scope
+        # copies the configurations dict, not the lists in it: a rule set inside a group is
+        # seen after the group whenever the list existed before it (measured with launch_ros
+        # 0.26.6); one set where no list existed yet makes a new list, which the scope drops
+        return _Scope(dict(self.configurations), self.namespace, dict(self.env), self.remaps,
+                      self.parameters, self.included_from)
 
 
 def launch_file_of_package(package: str, file: str, prefixes: Sequence[Path]) -> Path:
@@ -371,8 +390,32 @@ class _Reader:
         scope.env[name] = self.text(self.require(entity, file, "value"), scope, file)
 
     def tag_set_remap(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
-        scope.remaps.append((self.text(self.require(entity, file, "from"), scope, file),
-                             self.text(self.require(entity, file, "to"), scope, file)))
+        rule = (self.text(self.require(entity, file, "from"), scope, file),
+                self.text(self.require(entity, file, "to"), scope, file))
+        scope.remaps = scope.remaps if scope.remaps is not None else []
+        scope.remaps.append(rule)
+
+    def tag_set_parameter(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        name = self.text(self.require(entity, file, "name"), scope, file)
+        # launch_ros reads the value as YAML once its substitutions are performed
+        text = self.text(self.require(entity, file, "value"), scope, file)
+        try:
+            value = launch_entities.yaml_value(text)
+        except ValueError as exc:
+            raise SubstitutionError(str(exc)) from None
+        self.set_parameter(scope, Parameter(name=name, value=value, where=Where(file, entity.line)))
+
+    def tag_set_parameters_from_file(self, entity: Entity, scope: _Scope, file: Path,
+                                     stack: tuple[Path, ...]) -> None:
+        path = self.path(self.require(entity, file, "filename"), scope, file)
+        if not path.is_file():
+            raise self.error(Where(file, entity.line), f"parameters file {shown(path)} does not exist")
+        self.set_parameter(scope, Parameter(file=path, where=Where(file, entity.line)))
+
+    @staticmethod
+    def set_parameter(scope: _Scope, parameter: Parameter) -> None:
+        scope.parameters = scope.parameters if scope.parameters is not None else []
+        scope.parameters.append(parameter)
 
     def tag_push_ros_namespace(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
         scope.namespace = join_namespace(scope.namespace, self.text(self.require(entity, file, "namespace"), scope, file))
@@ -389,9 +432,9 @@ class _Reader:
         scoped = self.flag(entity, "scoped", True, scope, file)
         forwarding = self.flag(entity, "forwarding", True, scope, file)
         inner = scope.copy() if scoped else scope
-        if not forwarding:  # launch_ros keeps <set_remap> rules with the configurations
+        if not forwarding:  # launch_ros keeps <set_remap>, <set_parameter> with the configurations
             inner.configurations.clear()
-            inner.remaps.clear()
+            inner.remaps = inner.parameters = None
         with self.nested(Where(file, entity.line)):
             self.entities(entity.children, inner, file, stack)
 
@@ -442,8 +485,8 @@ class _Reader:
             raise self.error(where, "<node> has an empty `exec`")
         self.result.nodes.append(LaunchedNode(
             executable=executable, package=package or None, where=where, name=name or None, namespace=namespace,
-            arguments=arguments, ros_arguments=ros_arguments, parameters=tuple(parameters),
-            remappings=tuple(remappings), scope_remappings=tuple(scope.remaps), env=env, cwd=cwd))
+            arguments=arguments, ros_arguments=ros_arguments, parameters=(*(scope.parameters or ()), *parameters),
+            remappings=tuple(remappings), scope_remappings=tuple(scope.remaps or ()), env=env, cwd=cwd))
 
     def parameters(self, entity: Entity, prefix: str, scope: _Scope, file: Path) -> list[Parameter]:
         where = Where(file, entity.line)

@@ -74,8 +74,9 @@ SUMMARIES: dict[str, str] = {
     "ACTION_NAME_MISMATCH": "the same for an action client and an action server",
     "EXTERNAL_UNUSED": "an `external:` declaration that no endpoint of the system uses",
     "PARAM_NOT_DECLARED": (
-        "a parameter the launch file gives a node (`<param>`, a parameters file section that matches the "
-        "node, `-p` in `ros_args`) that the node does not declare"
+        "a parameter the launch file gives a node (`<param>`, `<set_parameter>`/`SetParameter` and "
+        "`<set_parameters_from_file>` in the node's scope, a parameters file section that matches the node, "
+        "`-p` in `ros_args`) that the node does not declare"
     ),
     "PARAMS_FILE_SECTION_UNMATCHED": (
         "a parameters file given to processes has a node section that matches none of the nodes it is given "

@@ -42,9 +42,10 @@ from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.vocabulary import Severity, parse_threshold
+from ..run import component_loads
 from ..run import system as run_system
 from ..run.ros_env import RosEnvironment
-from ..run.system import LaunchSpec, SystemCapture
+from ..run.system import LaunchSpec, ProcessCapture, SystemCapture
 from ..run.target import TargetSpec
 from . import golden, launch_settings
 from .pipeline import Layers, OptionLayer, read_as_asked
@@ -137,8 +138,22 @@ def launched_processes(capture: SystemCapture) -> list[LaunchedProcess]:
     """The processes of a capture as the system rules read them."""
     return [LaunchedProcess(label=p.label, expected=p.launched.expected_fqn, nodes=p.contract_nodes(),
                             duplicates=tuple(p.capture.duplicate_node_names) if p.capture is not None else (),
-                            where=str(p.launched.where), given=launch_settings.given(p.launched))
+                            where=str(p.launched.where), given=launch_settings.given(p.launched),
+                            unloaded=unloaded_components(p))
             for p in capture.processes]
+
+
+def unloaded_components(process: ProcessCapture) -> tuple[tuple[str, str], ...]:
+    """The components the launch file loads into ``process`` (a container) that it did not create."""
+    if not process.launched.components:
+        return ()
+    document = process.capture.raw if process.capture is not None else {}
+    container = process.launched.expected_fqn or process.label
+    out = []
+    for load, why in component_loads.problems(document, process.launched.components):
+        name = f"{(load.namespace or '').rstrip('/')}/{load.name}" if load.name else load.plugin
+        out.append((name, f"the launch file loads {load.describe()} into {container}, but no node came of it: {why}"))
+    return tuple(out)
 
 
 def contract_processes(contract: SystemContract, label: str | None = None) -> list[LaunchedProcess]:

@@ -233,6 +233,9 @@ class LaunchedProcess:
     where: str | None = None
     #: what the launch file gives it (parameters, parameters files, remappings), when known
     given: launch_given.Given | None = None
+    #: components the launch file loads into it (a component container) that it did not
+    #: create: (the component's node name or plugin, why)
+    unloaded: tuple[tuple[str, str], ...] = ()
 
 
 _MULTIPLE = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "ACTION_MULTIPLE_SERVERS"}
@@ -268,6 +271,10 @@ def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[st
                 "LAUNCHED_NODE_NOT_CREATED", RULES["LAUNCHED_NODE_NOT_CREATED"], process.expected or process.label,
                 Endpoint(process.label, process.expected or "(unnamed)", "node"), None,
                 f"the launch file starts {wanted}{at}, but the process created {created}"))
+        for component, why in process.unloaded:
+            items.append(CompatItem(
+                "LAUNCHED_NODE_NOT_CREATED", RULES["LAUNCHED_NODE_NOT_CREATED"], component,
+                Endpoint(process.label, component, "node"), None, why))
     for process in processes:
         for fqn in process.duplicates:
             holders[fqn].append(process.label)

@@ -17,9 +17,14 @@ docs/design.md, "System contracts"), without starting anything:
   system rules (``compare.launch_given``) judge them, and names a ``SetParameter``'s own line;
 * event handlers (``RegisterEventHandler`` and ``on_exit=``) get the meaning a capture can give
   them (``launch_python_events``);
-* composable node containers, ``LoadComposableNodes``, plain ``ExecuteProcess`` actions, timers
-  and the event handlers a capture cannot honour are :class:`Unsupported` (their processes would
-  never be captured), skipped only when their condition is false.
+* a ``ComposableNodeContainer`` is a node (its process is captured) whose components, and those
+  ``LoadComposableNodes`` loads into it, are the LoadNode requests launch_ros would send
+  (``get_composable_node_load_request``: the scope's namespace, ``SetRemap`` and
+  ``SetParameter`` applied), kept as the container's :class:`ComponentLoad` entries: the
+  container's middleware sends them to the container itself (``component_loads``);
+* ``LoadComposableNodes`` into a container this launch does not start, plain ``ExecuteProcess``
+  actions, timers and the event handlers a capture cannot honour are :class:`Unsupported`
+  (their processes would never be captured), skipped only when their condition is false.
 
 launch keeps no line numbers for Python entities: while the file is read, the walker notes where
 each action is created (the innermost stack frame outside launch's own code, :class:`_Origins`),
@@ -33,6 +38,7 @@ is a :class:`LaunchError` that says so (write the launch file in XML or YAML, or
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import importlib
 import os
 import sys
@@ -42,7 +48,7 @@ from types import ModuleType
 from typing import Any
 
 from ..model.paths import shown
-from . import launch_python_events
+from . import launch_model, launch_python_events
 from .launch_entities import yaml_value
 from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter, Unsupported, Where
 
@@ -118,7 +124,8 @@ class _Origins:
     ATTRIBUTE = "_rmw_introspect_where"
 
     def __init__(self, launch: ModuleType, launch_ros: ModuleType) -> None:
-        self.action_class = launch.Action
+        # components are descriptions, not actions: noted too
+        self.classes = [launch.Action, importlib.import_module("launch_ros.descriptions").ComposableNode]
         libraries = [launch, launch_ros, *(sys.modules[name] for name in ("launch_xml", "launch_yaml")
                                            if name in sys.modules)]
         here = Path(__file__).resolve().parents[1]
@@ -136,18 +143,23 @@ class _Origins:
 
     @contextlib.contextmanager
     def noted(self) -> Iterator[None]:
-        original = self.action_class.__init__
-        origins = self
-
-        def init(action: Any, *args: Any, **kwargs: Any) -> None:
-            action.__dict__.setdefault(origins.ATTRIBUTE, origins.where())
-            original(action, *args, **kwargs)
-
-        self.action_class.__init__ = init
+        originals = [cls.__dict__["__init__"] for cls in self.classes]
+        for cls, original in zip(self.classes, originals, strict=True):
+            cls.__init__ = self.noting(original)
         try:
             yield
         finally:
-            self.action_class.__init__ = original
+            for cls, original in zip(self.classes, originals, strict=True):
+                cls.__init__ = original
+
+    def noting(self, original: Any) -> Any:
+        origins = self
+
+        def init(entity: Any, *args: Any, **kwargs: Any) -> None:
+            entity.__dict__.setdefault(origins.ATTRIBUTE, origins.where())
+            original(entity, *args, **kwargs)
+
+        return init
 
 
 class _Walker:
@@ -155,13 +167,9 @@ class _Walker:
                  base_env: Mapping[str, str]) -> None:
         self.launch, self.launch_ros, self.context = launch, launch_ros, context
         self.result, self.path, self.base_env = result, path, base_env
-        actions, ros_actions = launch.actions, launch_ros.actions
-        self.unsupported_types: list[tuple[Any, str]] = [
-            (ros_actions.ComposableNodeContainer, "composable node containers are not supported"),
-            (ros_actions.LoadComposableNodes, "loading composable nodes is not supported"),
-        ]
-        if hasattr(actions, "TimerAction"):
-            self.unsupported_types.append((actions.TimerAction, "delayed actions (TimerAction) are not supported"))
+        self.unsupported_types: list[tuple[Any, str]] = []
+        if hasattr(launch.actions, "TimerAction"):
+            self.unsupported_types.append((launch.actions.TimerAction, "delayed actions (TimerAction) are not supported"))
         #: the processes started so far (what OnProcessStart handlers match)
         self.started: list[Any] = []
         #: RegisterEventHandler(OnProcessStart) actions, handled once the launch description is
@@ -169,6 +177,8 @@ class _Walker:
         self.pending: list[Any] = []
         #: each global parameter SetParameter added (by identity) -> where the SetParameter is
         self.global_parameters: dict[int, Where] = {}
+        #: the component containers started so far: fully qualified name -> index in result.nodes
+        self.containers: dict[str, int] = {}
 
     def where(self, entity: Any) -> Where:
         return getattr(entity, _Origins.ATTRIBUTE, None) or Where(self.path)
@@ -201,9 +211,17 @@ class _Walker:
                 self.on_exit(entity)
                 if isinstance(entity, self.launch_ros.actions.Node):
                     self.node(entity)
+                if isinstance(entity, self.launch_ros.actions.ComposableNodeContainer):
+                    self.containers[entity.node_name] = len(self.result.nodes) - 1
+                    self.add_components(entity.node_name,
+                                        getattr(entity, "_ComposableNodeContainer__composable_node_descriptions", None))
                 else:
                     self.unsupported(entity, "plain processes are not captured: start ROS nodes with "
                                              "launch_ros.actions.Node")
+            return
+        if isinstance(entity, self.launch_ros.actions.LoadComposableNodes):
+            if not self.skip(entity):
+                self.load_components(entity)
             return
         if isinstance(entity, self.launch.actions.RegisterEventHandler):
             if not self.skip(entity):
@@ -307,3 +325,52 @@ class _Walker:
             key = item[0] if isinstance(item, tuple) else os.path.abspath(str(item))
             out[key] = where
         return out
+
+    # ------------------------------------------------------------ components
+
+    def load_components(self, entity: Any) -> None:
+        """``LoadComposableNodes``: its components, into the container it names."""
+        target = entity._LoadComposableNodes__target_container
+        if isinstance(target, self.launch_ros.actions.ComposableNodeContainer):
+            name = target.node_name
+        else:
+            name = self.text(target)
+        if name not in self.containers:
+            started = ", ".join(sorted(self.containers)) or "none"
+            self.unsupported(entity, f"the target container {name} is not started by this launch (containers it "
+                                     f"starts: {started}), so its components cannot be captured; start the container "
+                                     "in the same launch")
+            return
+        self.add_components(name, entity._LoadComposableNodes__composable_node_descriptions)
+
+    def add_components(self, container: str, descriptions: Any) -> None:
+        """The LoadNode requests launch_ros makes of ``descriptions`` now, onto the container."""
+        get_composable_node_load_request = importlib.import_module(
+            "launch_ros.actions.load_composable_nodes").get_composable_node_load_request
+        loads = []
+        for description in descriptions or ():
+            request = get_composable_node_load_request(description, self.context)
+            if request is None:  # its condition is false
+                continue
+            loads.append(launch_model.ComponentLoad(
+                package=request.package_name, plugin=request.plugin_name, where=self.where(description),
+                name=request.node_name or None, namespace=request.node_namespace or None,
+                log_level=int(request.log_level), remap_rules=tuple(request.remap_rules),
+                parameters=tuple(component_parameter(p) for p in request.parameters),
+                extra_arguments=tuple(component_parameter(p) for p in request.extra_arguments)))
+        if loads:
+            index = self.containers[container]
+            node = self.result.nodes[index]
+            self.result.nodes[index] = dataclasses.replace(node, components=(*node.components, *loads))
+
+
+#: rcl_interfaces/msg/ParameterValue: the field of each ParameterType
+_VALUE_FIELDS = {1: "bool_value", 2: "integer_value", 3: "double_value", 4: "string_value", 5: "byte_array_value",
+                 6: "bool_array_value", 7: "integer_array_value", 8: "double_array_value", 9: "string_array_value"}
+
+
+def component_parameter(message: Any) -> launch_model.ComponentParameter:
+    """An rcl_interfaces/msg/Parameter as (name, type, value)."""
+    kind = int(message.value.type)
+    value = getattr(message.value, _VALUE_FIELDS[kind]) if kind in _VALUE_FIELDS else None
+    return (str(message.name), kind, tuple(value) if kind >= 5 and value is not None else value)

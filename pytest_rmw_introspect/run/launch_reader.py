@@ -105,8 +105,9 @@ _TAGS: dict[str, tuple[frozenset[str], frozenset[str]]] = {
              frozenset({"param", "remap", "env"})),
 }
 _UNSUPPORTED_HINTS = {
-    "node_container": "composable node containers are not supported: start each component as a node of its "
-                      "own for the system check, or capture the container with a node contract",
+    "node_container": "composable node containers are not supported in XML and YAML launch files (a Python "
+                      "launch file's are captured with their components): start each component as a node of "
+                      "its own, or write that part of the launch in Python",
     "composable_node_container": "composable node containers are not supported (see node_container)",
     "load_composable_node": "loading composable nodes is not supported (see node_container)",
     "composable_node": "composable nodes are not supported (see node_container)",

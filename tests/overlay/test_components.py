@@ -1,0 +1,104 @@
+"""Component containers in Python launch files (issue 25 item 3), and the Python launch-file
+walker itself (event handlers, SetRemap, SetParameter: tests/unit/test_launch_python.py), on the
+C++ and launch overlay: real launch_ros, a real rclcpp_components container, the example
+package's real components."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+
+ROBOT = """
+from launch import LaunchDescription
+from launch.actions import GroupAction
+from launch_ros.actions import ComposableNodeContainer, LoadComposableNodes, PushRosNamespace, SetParameter, SetRemap
+from launch_ros.descriptions import ComposableNode
+
+
+def generate_launch_description():
+    container = ComposableNodeContainer(
+        name='container', namespace='robot', package='rclcpp_components', executable='component_container',
+        composable_node_descriptions=[
+            ComposableNode(package='rmw_introspect_examples_cpp', plugin='rmw_introspect_examples_cpp::Talker',
+                           name='talker', namespace='robot', parameters=[{'rate_hz': 5.0}],
+                           remappings=[('chatter', 'status')]),
+        ])
+    return LaunchDescription([
+        container,
+        GroupAction([
+            PushRosNamespace('robot'),
+            SetRemap(src='chatter', dst='status'),
+            SetParameter(name='log_every', value=3),
+            LoadComposableNodes(target_container='/robot/container', composable_node_descriptions=[
+                ComposableNode(package='rmw_introspect_examples_cpp', plugin='PLUGIN', name='monitor'),
+            ]),
+        ]),
+    ])
+"""
+
+
+@pytest.fixture
+def env(overlay, cpp_examples, middleware_library) -> dict[str, str]:
+    """A process over the overlay that also finds the example package's components."""
+    base = overlay.env({"RMW_INTROSPECT_LIBRARY": str(middleware_library)})
+    for name, path in (("AMENT_PREFIX_PATH", cpp_examples), ("LD_LIBRARY_PATH", cpp_examples / "lib")):
+        base[name] = os.pathsep.join([str(path), *filter(None, base.get(name, "").split(os.pathsep))])
+    return base
+
+
+def rmw_introspect(env: dict[str, str], cwd: Path, *args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", *args], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=300, check=False)
+
+
+def test_the_components_a_launch_file_loads_are_nodes_of_their_container(tmp_path, env):
+    (tmp_path / "robot.launch.py").write_text(
+        textwrap.dedent(ROBOT).replace("PLUGIN", "rmw_introspect_examples_cpp::Listener"))
+    captured = rmw_introspect(env, tmp_path, "capture", "--launch", "robot.launch.py", "-o", "robot.system.yaml")
+    assert captured.returncode == 0, captured
+    text = (tmp_path / "robot.system.yaml").read_text()
+    # one process, the container, with the components as its nodes
+    assert ("  - package: rclcpp_components\n    executable: component_container\n    name: /robot/container\n"
+            "    nodes: [/robot/container, /robot/monitor, /robot/talker]\n") in text
+    checked = rmw_introspect(env, tmp_path, "check", "robot.system.yaml", "--format", "json")
+    assert checked.returncode == 0, checked
+    assert json.loads(checked.stdout) == []  # wired: /robot/talker publishes what /robot/monitor takes
+    contract = text[text.index("\nnodes:"):]
+    # each component with its own parameters and remappings, and those of its scope
+    assert "  /robot/talker:\n    publishers:\n      - name: /robot/status\n" in contract
+    assert "      - name: rate_hz\n        type: double\n        default_value: 5.0\n" in contract
+    assert "  /robot/monitor:\n    publishers: []\n    subscriptions:\n      - name: /robot/status\n" in contract
+    assert "      - name: log_every\n        type: integer\n        default_value: 3\n" in contract
+
+
+def test_a_component_the_container_cannot_load_is_a_node_not_created(tmp_path, env):
+    (tmp_path / "robot.launch.py").write_text(
+        textwrap.dedent(ROBOT).replace("PLUGIN", "rmw_introspect_examples_cpp::Listner"))
+    captured = rmw_introspect(env, tmp_path, "capture", "--launch", "robot.launch.py", "-o", "robot.system.yaml")
+    assert captured.returncode == 0, captured
+    checked = rmw_introspect(env, tmp_path, "check", "robot.system.yaml", "--format", "json")
+    assert checked.returncode == 1, checked
+    [unloaded] = [i for i in json.loads(checked.stdout) if i["rule"] == "LAUNCHED_NODE_NOT_CREATED"]
+    line = [n for n, text in enumerate((tmp_path / "robot.launch.py").read_text().splitlines(), 1)
+            if "plugin='rmw_introspect_examples_cpp::Listner'" in text][0]
+    assert unloaded["name"] == "/robot/monitor"
+    assert (f"the launch file loads component rmw_introspect_examples_cpp::Listner as /robot/monitor "
+            f"(robot.launch.py:{line}) into /robot/container, but no node came of it: the container refused it: "
+            "Failed to find class with the requested plugin name.") in json.dumps(unloaded)
+
+
+def test_the_python_launch_walker_runs_on_real_launch_ros(overlay):
+    """tests/unit/test_launch_python.py, skipped where launch_ros cannot be imported, runs here."""
+    ran = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-rs",
+                          str(REPO / "tests" / "unit" / "test_launch_python.py")],
+                         cwd=REPO, env=overlay.env(), capture_output=True, text=True, timeout=300, check=False)
+    assert ran.returncode == 0, ran.stdout + ran.stderr
+    assert " passed" in ran.stdout and "skipped" not in ran.stdout, ran.stdout

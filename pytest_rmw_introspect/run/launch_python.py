@@ -211,10 +211,10 @@ class _Walker:
                 self.on_exit(entity)
                 if isinstance(entity, self.launch_ros.actions.Node):
                     self.node(entity)
-                if isinstance(entity, self.launch_ros.actions.ComposableNodeContainer):
-                    self.containers[entity.node_name] = len(self.result.nodes) - 1
-                    self.add_components(entity.node_name,
-                                        getattr(entity, "_ComposableNodeContainer__composable_node_descriptions", None))
+                    if isinstance(entity, self.launch_ros.actions.ComposableNodeContainer):
+                        self.containers[entity.node_name] = len(self.result.nodes) - 1
+                        self.add_components(entity.node_name, getattr(
+                            entity, "_ComposableNodeContainer__composable_node_descriptions", None))
                 else:
                     self.unsupported(entity, "plain processes are not captured: start ROS nodes with "
                                              "launch_ros.actions.Node")
@@ -279,7 +279,7 @@ class _Walker:
         final_env = description.final_env or dict(os.environ)
         env = {k: v for k, v in final_env.items() if self.base_env.get(k) != v}
         package = self.text(node.node_package)
-        parameters, remappings = self.settings(command)
+        parameters, scope_remappings, remappings = self.settings(command)
         self.started.append(node)
         self.result.nodes.append(LaunchedNode(
             executable=self.text(node.node_executable) or command[0],
@@ -288,19 +288,24 @@ class _Walker:
             name=fqn.rsplit("/", 1)[-1] if named else None,
             namespace=namespace if has_namespace else None,
             parameters=parameters,
+            scope_remappings=scope_remappings,
             remappings=remappings,
             env=env,
             cwd=Path(description.final_cwd) if description.final_cwd else None,
             command=command,
         ))
 
-    def settings(self, command: Sequence[str]) -> tuple[tuple[Parameter, ...], tuple[tuple[str, str], ...]]:
-        """The parameters and remappings on a prepared command line (what the system rules
-        judge), each global one (SetParameter) with the place that set it."""
+    def settings(self, command: Sequence[str]) -> tuple[tuple[Parameter, ...], tuple[tuple[str, str], ...],
+                                                         tuple[tuple[str, str], ...]]:
+        """The parameters, the SetRemap rules and the node's own remappings on a prepared command
+        line (what the system rules judge), each global parameter (SetParameter) with the place
+        that set it. The SetRemap rules come first, as in XML (scope_remappings)."""
         origins = self.global_origins()
+        scope_rules = [tuple(rule) for rule in self.context.launch_configurations.get("ros_remaps") or ()]
         words = list(command)
         ros = words[words.index("--ros-args") + 1:] if "--ros-args" in words else []
         parameters: list[Parameter] = []
+        scope_remappings: list[tuple[str, str]] = []
         remappings: list[tuple[str, str]] = []
         for flag, value in zip(ros, ros[1:], strict=False):
             if flag in ("-p", "--param") and ":=" in value:
@@ -311,8 +316,11 @@ class _Walker:
                 parameters.append(Parameter(file=Path(value), where=origins.pop(os.path.abspath(value), None)))
             elif flag in ("-r", "--remap") and ":=" in value and not value.startswith(("__node:=", "__ns:=")):
                 source, target = value.split(":=", 1)
-                remappings.append((source, target))
-        return tuple(parameters), tuple(remappings)
+                if len(scope_remappings) < len(scope_rules) and scope_rules[len(scope_remappings)] == (source, target):
+                    scope_remappings.append((source, target))
+                else:
+                    remappings.append((source, target))
+        return tuple(parameters), tuple(scope_remappings), tuple(remappings)
 
     def global_origins(self) -> dict[str, Where]:
         """Parameter name (or parameters file) -> the SetParameter that set it, for the global

@@ -102,3 +102,23 @@ def test_the_python_launch_walker_runs_on_real_launch_ros(overlay):
                          cwd=REPO, env=overlay.env(), capture_output=True, text=True, timeout=300, check=False)
     assert ran.returncode == 0, ran.stdout + ran.stderr
     assert " passed" in ran.stdout and "skipped" not in ran.stdout, ran.stdout
+
+
+CPP_ROBOT = REPO / "examples" / "rmw_introspect_examples_cpp" / "contracts" / "robot.system.yaml"
+
+
+def test_the_cpp_example_robot_matches_its_system_contract(tmp_path, env):
+    """launch/robot.launch.py of rmw_introspect_examples_cpp: an include with arguments, launch
+    arguments and conditions, GroupAction + PushRosNamespace, SetRemap, SetParameter, a Node with
+    a parameters file, an OpaqueFunction, a container with LoadComposableNodes, a LifecycleNode,
+    an OnProcessExit -> Shutdown handler."""
+    checked = rmw_introspect(env, tmp_path, "check", str(CPP_ROBOT), "--format", "json")
+    assert checked.returncode == 0, checked
+    assert json.loads(checked.stdout) == []
+    # the same robot without components: the talker and listener are processes of their own,
+    # with the same interfaces and parameters; only the container is gone
+    separate = rmw_introspect(env, tmp_path, "check", str(CPP_ROBOT), "--launch-arg", "use_components:=false",
+                              "--format", "json")
+    assert separate.returncode == 1, separate
+    assert sorted({(i["rule"], i["node"]) for i in json.loads(separate.stdout)}) == [
+        ("NODE_REMOVED", "/robot/components"), ("SERVICE_SERVER_REMOVED", "/robot/components")]

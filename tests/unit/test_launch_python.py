@@ -33,7 +33,7 @@ def prefix(tmp_path: Path) -> Path:
 
 LAUNCH = """
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, GroupAction, SetEnvironmentVariable
+from launch.actions import DeclareLaunchArgument, GroupAction, SetEnvironmentVariable, TimerAction
 from launch.conditions import IfCondition
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import ComposableNodeContainer, Node, PushRosNamespace
@@ -53,6 +53,7 @@ def generate_launch_description():
         Node(package='demo', executable='listener'),
         ComposableNodeContainer(name='c', namespace='', package='rclcpp_components',
                                 executable='component_container', composable_node_descriptions=[]),
+        TimerAction(period=2.0, actions=[Node(package='demo', executable='talker')]),
     ])
 """
 
@@ -63,7 +64,7 @@ def test_a_python_launch_file(tmp_path, prefix):
     path = tmp_path / "robot.launch.py"
     path.write_text(textwrap.dedent(LAUNCH).replace("PARAMS", repr(str(params))))
     result = launch_reader.read(path, {"use_lidar": "true"}, prefixes=[prefix])
-    talker, laser, listener = result.nodes
+    talker, laser, listener, container = result.nodes
     assert (talker.package, talker.executable, talker.name, talker.namespace) == ("demo", "talker", "status_reporter",
                                                                                  "/robot1")
     assert talker.command is not None and talker.command[0] == str(prefix / "lib" / "demo" / "talker")
@@ -73,9 +74,10 @@ def test_a_python_launch_file(tmp_path, prefix):
     assert laser.command[-2:] == ("--params-file", str(params))
     assert (listener.name, listener.namespace, listener.command[1:]) == (None, None, ("--ros-args",))
     assert dict(talker.env) == {"ROBOT_COLOR": "red"}
-    assert [u.what.split(":")[0] for u in result.unsupported] == ["ComposableNodeContainer"]
+    assert (container.executable, container.expected_fqn, container.components) == ("component_container", "/c", ())
+    assert [u.what.split(":")[0] for u in result.unsupported] == ["TimerAction"]
     without = launch_reader.read(path, {"use_lidar": "false"}, prefixes=[prefix])
-    assert [n.executable for n in without.nodes] == ["talker", "listener"]
+    assert [n.executable for n in without.nodes] == ["talker", "listener", "component_container"]
 
 
 def line_of(path: Path, text: str) -> int:
@@ -121,11 +123,12 @@ def test_set_remap_and_set_parameter_in_a_python_launch_file(tmp_path, prefix):
     assert [(p.name, p.value, p.where) for p in laser.parameters if p.name] == [
         ("use_sim_time", True, sim_time), ("rate", 2.5, rate)]
     assert [p.file is not None for p in laser.parameters] == [False, False, True]  # the node's own dict
-    assert laser.remappings == (("scan", "lidar/scan"), ("odom", "wheel/odom"))
+    # SetRemap's rules as in XML: in force for the node (before its own), not its own remappings
+    assert (laser.scope_remappings, laser.remappings) == ((("scan", "lidar/scan"),), (("odom", "wheel/odom"),))
     assert laser.where == launch_reader.Where(path, line_of(path, "executable='laser'"))
     # launch_ros's scoping, as in XML: the group's SetRemap ends with it (no remapping was set
     # before the group), its SetParameter does not (the list of global parameters existed)
-    assert after.remappings == ()
+    assert after.remappings == after.scope_remappings == ()
     assert [(p.name, p.where) for p in after.parameters] == [("use_sim_time", sim_time), ("rate", rate)]
     given = launch_settings.given(laser)
     assert [(p.name, p.source) for p in given.parameters] == [
@@ -196,5 +199,5 @@ def test_unsupported_python_actions_name_their_file_and_line(tmp_path, prefix):
     path = tmp_path / "robot.launch.py"
     path.write_text(textwrap.dedent(LAUNCH).replace("PARAMS", repr(str(params))))
     [unsupported] = launch_reader.read(path, {"use_lidar": "true"}, prefixes=[prefix]).unsupported
-    assert unsupported.where == launch_reader.Where(path, line_of(path, "ComposableNodeContainer(name="))
+    assert unsupported.where == launch_reader.Where(path, line_of(path, "TimerAction(period="))
     assert str(unsupported.where).endswith(f"robot.launch.py:{unsupported.where.line}")

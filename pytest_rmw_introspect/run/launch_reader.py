@@ -29,6 +29,12 @@ Supported (XML and YAML, ``-`` and ``_`` spellings alike):
                             each node's own parameters, which override it, as launch_ros puts them)
 ``set_parameters_from_file`` ``filename``: a parameters file for the nodes after it in its scope
 ``include``                 ``file``; children ``arg`` (``name``, ``value``)
+``node_container``          a ``node`` (same attributes and children) whose ``composable_node``
+                            children are loaded into it
+``load_composable_node``    ``target`` (a container this launch starts); ``composable_node`` children
+``composable_node``         ``pkg``, ``plugin``, ``name``, ``namespace``; children ``param``, ``remap``,
+                            ``extra_arg``: the LoadNode request launch_ros makes (``launch_components``),
+                            kept on the container's :class:`LaunchedNode` (``components``)
 ``if``, ``unless``          on every entity
 ==========================  ===============================================================
 
@@ -44,7 +50,7 @@ Substitutions: ``launch_substitutions``. Relative paths (``include file``, ``par
 takes them relative to where it is started; ``$(dirname)`` or ``$(find-pkg-share ...)`` make a
 launch file independent of both). Attributes that do not change what a node creates
 (``output``, ``respawn``, ``emulate_tty``, ...) are accepted and have no effect. Anything else
-(an unknown tag, composable node containers, ``launch-prefix``, an unsupported substitution)
+(an unknown tag, ``launch-prefix``, an unsupported substitution)
 is an :class:`Unsupported` entry with its file and line; :meth:`LaunchResult.require_supported`
 turns them into one :class:`LaunchError`.
 
@@ -59,6 +65,7 @@ groups and includes nest at most :data:`MAX_NESTING` levels together. Each limit
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import os
 import shlex
 from collections.abc import Iterator, Mapping, Sequence
@@ -68,9 +75,10 @@ from typing import Any
 
 from ..model import untrusted
 from ..model.paths import shown
-from . import launch_entities, launch_python, launch_record, launch_substitutions
+from . import launch_components, launch_entities, launch_python, launch_record, launch_substitutions
 from .launch_entities import Entity, EntityFormatError
 from .launch_model import (
+    ComponentLoad,
     DeclaredArgument,
     LaunchedNode,
     LaunchError,
@@ -103,14 +111,16 @@ _TAGS: dict[str, tuple[frozenset[str], frozenset[str]]] = {
     "include": (frozenset({"file"}), frozenset({"arg"})),
     "node": (frozenset({"pkg", "exec", "name", "namespace", "args", "ros_args", "cwd"}) | IGNORED_NODE_ATTRIBUTES,
              frozenset({"param", "remap", "env"})),
+    "node_container": (frozenset({"pkg", "exec", "name", "namespace", "args", "ros_args", "cwd"})
+                       | IGNORED_NODE_ATTRIBUTES, frozenset({"param", "remap", "env", "composable_node"})),
+    "load_composable_node": (frozenset({"target"}), frozenset({"composable_node"})),
 }
+#: attributes and child tags of a <composable_node>
+_COMPONENT = (frozenset({"pkg", "plugin", "name", "namespace"}), frozenset({"param", "remap", "extra_arg"}))
 _UNSUPPORTED_HINTS = {
-    "node_container": "composable node containers are not supported in XML and YAML launch files (a Python "
-                      "launch file's are captured with their components): start each component as a node of "
-                      "its own, or write that part of the launch in Python",
-    "composable_node_container": "composable node containers are not supported (see node_container)",
-    "load_composable_node": "loading composable nodes is not supported (see node_container)",
-    "composable_node": "composable nodes are not supported (see node_container)",
+    "composable_node_container": "write <node_container> (the launch front ends' name for a "
+                                 "ComposableNodeContainer)",
+    "composable_node": "a <composable_node> belongs inside a <node_container> or a <load_composable_node>",
     "executable": "plain processes (<executable>) are not captured: start ROS nodes with <node>",
     "timer": "delayed actions (<timer>) are not supported",
 }
@@ -223,6 +233,8 @@ class _Reader:
         self.includes = 0
         self.interpreted = 0
         self.nesting = 0
+        #: the component containers started so far: fully qualified name -> index in result.nodes
+        self.containers: dict[str, int] = {}
 
     # ------------------------------------------------------------ helpers
     def context(self, scope: _Scope, file: Path) -> Context:
@@ -488,6 +500,75 @@ class _Reader:
             executable=executable, package=package or None, where=where, name=name or None, namespace=namespace,
             arguments=arguments, ros_arguments=ros_arguments, parameters=(*(scope.parameters or ()), *parameters),
             remappings=tuple(remappings), scope_remappings=tuple(scope.remaps or ()), env=env, cwd=cwd))
+
+    def tag_node_container(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        """A container is a node; its <composable_node> entries are loaded into it."""
+        self.tag_node(entity, scope, file, stack)
+        container = self.result.nodes[-1]
+        if container.expected_fqn is None:
+            raise self.error(Where(file, entity.line), "<node_container> needs a `name` (its components are loaded "
+                                                       "through the container's name)")
+        self.containers[container.expected_fqn] = len(self.result.nodes) - 1
+        self.components(container.expected_fqn, entity, scope, file)
+
+    def tag_load_composable_node(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        target = self.text(self.require(entity, file, "target"), scope, file)
+        if target not in self.containers:
+            started = ", ".join(sorted(self.containers)) or "none"
+            self.unsupported(Where(file, entity.line),
+                             f"<load_composable_node>: the target container {target} is not started by this launch "
+                             f"(containers it starts: {started}), so its components cannot be captured; start the "
+                             "container in the same launch")
+            return
+        self.components(target, entity, scope, file)
+
+    def components(self, container: str, entity: Entity, scope: _Scope, file: Path) -> None:
+        """The <composable_node> children of ``entity``, as LoadNode requests onto ``container``."""
+        loads = []
+        for child in entity.children:
+            if child.tag != "composable_node" or not self.condition(child, scope, file):
+                continue
+            self.check_attributes(child, file, _COMPONENT[0])
+            for inner in child.children:
+                if inner.tag not in _COMPONENT[1]:
+                    self.unsupported(Where(file, inner.line), f"<{inner.tag}> inside <composable_node> is not supported")
+            loads.append(self.component(child, scope, file))
+        if loads:
+            index = self.containers[container]
+            node = self.result.nodes[index]
+            self.result.nodes[index] = dataclasses.replace(node, components=(*node.components, *loads))
+
+    def component(self, entity: Entity, scope: _Scope, file: Path) -> ComponentLoad:
+        where = Where(file, entity.line)
+        a = entity.attributes
+        name = self.text(self.require(entity, file, "name"), scope, file)
+        own_namespace = self.text(a["namespace"], scope, file) if a.get("namespace") is not None else None
+        namespace = join_namespace(scope.namespace, own_namespace)
+        given: list[Parameter] = list(scope.parameters or ())
+        remaps = [f"{source}:={target}" for source, target in scope.remaps or ()]
+        extras: list[Parameter] = []
+        for child in entity.children:
+            if not self.condition(child, scope, file):
+                continue
+            if child.tag == "param":
+                given += self.parameters(child, "", scope, file)
+            elif child.tag == "remap":
+                self.check_attributes(child, file, frozenset({"from", "to"}))
+                remaps.append(self.text(self.require(child, file, "from"), scope, file) + ":=" +
+                              self.text(self.require(child, file, "to"), scope, file))
+            elif child.tag == "extra_arg":
+                self.check_attributes(child, file, frozenset({"name", "value"}))
+                extras.append(Parameter(name=self.text(self.require(child, file, "name"), scope, file),
+                                        value=self.value(self.require(child, file, "value"), None, scope, file)))
+        try:
+            parameters = launch_components.parameters(given, name, namespace)
+            extra_arguments = launch_components.parameters(extras, name, namespace)
+        except (launch_components.ComponentParameterError, OSError, untrusted.InputError) as exc:
+            raise self.error(where, f"<composable_node name=\"{name}\">: {exc}") from None
+        return ComponentLoad(
+            package=self.text(self.require(entity, file, "pkg"), scope, file),
+            plugin=self.text(self.require(entity, file, "plugin"), scope, file), where=where, name=name,
+            namespace=namespace, remap_rules=tuple(remaps), parameters=parameters, extra_arguments=extra_arguments)
 
     def parameters(self, entity: Entity, prefix: str, scope: _Scope, file: Path) -> list[Parameter]:
         where = Where(file, entity.line)

@@ -45,6 +45,29 @@ def generate_launch_description():
 """
 
 
+#: the same robot as an XML launch file (read by this project's own reader)
+ROBOT_XML = """
+<launch>
+  <node_container pkg="rclcpp_components" exec="component_container" name="container" namespace="robot">
+    <composable_node pkg="rmw_introspect_examples_cpp" plugin="rmw_introspect_examples_cpp::Talker" name="talker"
+                     namespace="robot">
+      <param name="rate_hz" value="5.0"/>
+      <remap from="chatter" to="status"/>
+    </composable_node>
+  </node_container>
+  <group>
+    <push_ros_namespace namespace="robot"/>
+    <set_remap from="chatter" to="status"/>
+    <set_parameter name="log_every" value="3"/>
+    <load_composable_node target="/robot/container">
+      <composable_node pkg="rmw_introspect_examples_cpp" plugin="PLUGIN" name="monitor"/>
+    </load_composable_node>
+  </group>
+</launch>
+"""
+FORMS = {"robot.launch.py": ROBOT, "robot.launch.xml": ROBOT_XML}
+
+
 @pytest.fixture
 def env(overlay, cpp_examples, middleware_library) -> dict[str, str]:
     """A process over the overlay that also finds the example package's components."""
@@ -59,10 +82,11 @@ def rmw_introspect(env: dict[str, str], cwd: Path, *args: str) -> subprocess.Com
                           capture_output=True, text=True, timeout=300, check=False)
 
 
-def test_the_components_a_launch_file_loads_are_nodes_of_their_container(tmp_path, env):
-    (tmp_path / "robot.launch.py").write_text(
-        textwrap.dedent(ROBOT).replace("PLUGIN", "rmw_introspect_examples_cpp::Listener"))
-    captured = rmw_introspect(env, tmp_path, "capture", "--launch", "robot.launch.py", "-o", "robot.system.yaml")
+@pytest.mark.parametrize("launch_file", list(FORMS))
+def test_the_components_a_launch_file_loads_are_nodes_of_their_container(tmp_path, env, launch_file):
+    (tmp_path / launch_file).write_text(
+        textwrap.dedent(FORMS[launch_file]).replace("PLUGIN", "rmw_introspect_examples_cpp::Listener"))
+    captured = rmw_introspect(env, tmp_path, "capture", "--launch", launch_file, "-o", "robot.system.yaml")
     assert captured.returncode == 0, captured
     text = (tmp_path / "robot.system.yaml").read_text()
     # one process, the container, with the components as its nodes

@@ -521,6 +521,59 @@ def test_set_parameter_applies_to_the_nodes_after_it_in_its_scope(tmp_path):
         read(nameless)
 
 
+def test_components_are_the_load_requests_launch_ros_makes(tmp_path):
+    write(tmp_path / "talker.yaml", """
+        /**:
+          ros__parameters: {frame: map}
+        /**/talker:
+          ros__parameters: {rate_hz: 9.0}
+        robot/talker:
+          ros__parameters: {rate_hz: 4.0, limits: {max: 2}}
+        """)
+    path = write(tmp_path / "c.launch.xml", """
+        <launch>
+          <push_ros_namespace namespace="robot"/>
+          <set_remap from="chatter" to="status"/>
+          <set_parameter name="use_sim_time" value="true"/>
+          <node_container pkg="rclcpp_components" exec="component_container" name="container">
+            <composable_node pkg="demo" plugin="demo::Talker" name="talker">
+              <param from="$(dirname)/talker.yaml"/>
+              <param name="ids" value="1,2" value-sep=","/>
+              <remap from="out" to="talk"/>
+              <extra_arg name="use_intra_process_comms" value="true"/>
+            </composable_node>
+            <composable_node pkg="demo" plugin="demo::Skipped" name="skipped" if="false"/>
+          </node_container>
+          <load_composable_node target="/robot/container">
+            <composable_node pkg="demo" plugin="demo::Listener" name="listener" namespace="/abs"/>
+          </load_composable_node>
+        </launch>""")
+    result = read(path)
+    assert result.unsupported == []
+    [container] = result.nodes
+    assert (container.executable, container.expected_fqn) == ("component_container", "/robot/container")
+    talker, listener = container.components
+    assert (talker.package, talker.plugin, talker.name, talker.namespace, talker.where.line) == (
+        "demo", "demo::Talker", "talker", "/robot", 6)
+    assert talker.remap_rules == ("chatter:=status", "out:=talk")
+    # the `/**` and exact-name sections of the file (launch_ros's rule for components), typed
+    assert talker.parameters == (("use_sim_time", 1, True), ("frame", 4, "map"), ("rate_hz", 3, 4.0),
+                                 ("limits.max", 2, 2), ("ids", 7, (1, 2)))
+    assert talker.extra_arguments == (("use_intra_process_comms", 1, True),)
+    assert (listener.plugin, listener.namespace, listener.remap_rules, listener.parameters) == (
+        "demo::Listener", "/abs", ("chatter:=status",), (("use_sim_time", 1, True),))
+    bad = write(tmp_path / "bad.launch.xml", """
+        <launch>
+          <node_container pkg="rclcpp_components" exec="component_container" name="c">
+            <composable_node pkg="demo" plugin="demo::Talker" name="talker">
+              <param name="mixed" value="1,a" value-sep=","/>
+            </composable_node>
+          </node_container>
+        </launch>""")
+    with pytest.raises(LaunchError, match=r"bad.launch.xml:3: <composable_node name=\"talker\">: parameter `mixed`: "):
+        read(bad)
+
+
 def test_a_required_argument_an_include_does_not_pass_names_the_include(tmp_path):
     write(tmp_path / "driver.launch.xml", """
         <launch>
@@ -578,8 +631,8 @@ def test_argument_errors(tmp_path):
 def test_unsupported_constructs_are_listed_with_file_and_line(tmp_path):
     path = write(tmp_path / "u.launch.xml", """
         <launch>
-          <node_container pkg="rclcpp_components" exec="component_container" name="c"/>
-          <load_composable_node target="/c"/>
+          <composable_node pkg="p" plugin="p::C" name="c"/>
+          <load_composable_node target="/elsewhere"/>
           <executable cmd="ls"/>
           <node pkg="p" exec="e" launch-prefix="gdb --args">
             <param name="x" value="$(eval '1 + 1')"/>
@@ -593,7 +646,7 @@ def test_unsupported_constructs_are_listed_with_file_and_line(tmp_path):
     assert [n.executable for n in result.nodes] == ["ok"]
     listed = [(u.where.line, u.what.split(":")[0]) for u in result.unsupported]
     assert listed == [
-        (2, "<node_container>"), (3, "<load_composable_node>"), (4, "<executable>"),
+        (2, "<composable_node>"), (3, "<load_composable_node>"), (4, "<executable>"),
         (5, "attribute `launch_prefix` of <node> is not supported"), (7, "<unknown_child> inside <node> is not supported"),
         (5, "<node>"), (9, "<node>"), (10, "<timer>"),
     ]

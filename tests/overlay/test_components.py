@@ -69,9 +69,9 @@ FORMS = {"robot.launch.py": ROBOT, "robot.launch.xml": ROBOT_XML}
 
 
 @pytest.fixture
-def env(overlay, cpp_examples, middleware_library) -> dict[str, str]:
+def env(overlay, cpp_examples, rmw_introspect_library) -> dict[str, str]:
     """A process over the overlay that also finds the example package's components."""
-    base = overlay.env({"RMW_INTROSPECT_LIBRARY": str(middleware_library)})
+    base = overlay.env({"RMW_INTROSPECT_LIBRARY": str(rmw_introspect_library)})
     for name, path in (("AMENT_PREFIX_PATH", cpp_examples), ("LD_LIBRARY_PATH", cpp_examples / "lib")):
         base[name] = os.pathsep.join([str(path), *filter(None, base.get(name, "").split(os.pathsep))])
     return base

@@ -73,7 +73,8 @@ def cmake_build(overlay: Overlay, src: Path, name: str, *args: str) -> Path:
     sources and the overlay; built once); returns the directory that holds build/ and install/."""
     from filelock import FileLock
 
-    sources = tree_hash(src) + tree_hash(REPO / "examples" / "rmw_introspect_examples" / "cmake")
+    # the contracts are read from the sources, never from the install: a new one needs no rebuild
+    sources = tree_hash(src, exclude=("contracts",)) + tree_hash(REPO / "examples" / "rmw_introspect_examples" / "cmake")
     dest = overlay.root.parent / f"{name}-{hashlib.sha256((sources + str(overlay.root)).encode()).hexdigest()[:16]}"
     stamp = dest / "complete"
     with FileLock(str(dest) + ".lock"):
@@ -100,6 +101,14 @@ def cmake_build(overlay: Overlay, src: Path, name: str, *args: str) -> Path:
 def build_cpp_examples(overlay: Overlay) -> Path:
     """The install prefix of rmw_introspect_examples_cpp built over ``overlay``."""
     return cmake_build(overlay, CPP_EXAMPLES, "examples-cpp") / "install"
+
+
+def with_prefix(env: dict[str, str], prefix: Path) -> dict[str, str]:
+    """``env`` with ``prefix`` sourced on top (an installed package: `package:` + `executable:` find it)."""
+    env = dict(env)
+    env["AMENT_PREFIX_PATH"] = f"{prefix}:{env['AMENT_PREFIX_PATH']}"
+    env["LD_LIBRARY_PATH"] = f"{prefix / 'lib'}:{env['LD_LIBRARY_PATH']}"
+    return env
 
 
 def build_c_node(overlay: Overlay) -> Path:

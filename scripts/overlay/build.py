@@ -9,7 +9,9 @@ nothing upstream is kept in this repository. The overlay goes into
 ``${RMW_INTROSPECT_CACHE:-~/.cache/pytest-rmw-introspect}/overlay-<distro>-<key>/``, where the key
 hashes the checkouts' commits, the venv's ROS 2 wheels, requirements/overlay.txt and this
 script: built once, reused by every later run (and by every venv made from the same lock).
-``overlay.json`` in it is written last: a directory without it is an unfinished build.
+``overlay.json`` in it is written last: a directory without it is an unfinished build. The CMake
+build trees stay in ``overlay-build-<distro>/`` beside it (not keyed), so a rebuild after a change
+of this script or of one checkout recompiles only what changed.
 
 What it holds (``install/`` is an ordinary ament prefix, placed before the venv):
 
@@ -260,10 +262,10 @@ def write_console_bridge_vendor(work: Path) -> None:
         "set(console_bridge_vendor_FOUND TRUE)\n")
 
 
-def build_cmake(name: str, source: Path, extra: list[str], args: list[str], work: Path, jobs: int,
+def build_cmake(name: str, source: Path, extra: list[str], args: list[str], builds: Path, jobs: int,
                 logfile: Path, env: dict[str, str]) -> float:
     started = time.monotonic()
-    build = work / "build" / name
+    build = builds / name
     run_logged(["cmake", "-S", str(source), "-B", str(build), *args, *extra], logfile, env)
     run_logged(["nice", "-n", "10", "cmake", "--build", str(build), "-j", str(jobs)], logfile, env)
     run_logged(["cmake", "--install", str(build)], logfile, env)
@@ -322,6 +324,7 @@ def smoke_test(install: Path, venv: Path, logfile: Path) -> None:
 
 def build_overlay(src: Path, venv: Path, out: Path, jobs: int, commits: dict[str, str]) -> dict[str, object]:
     install, work = out / "install", out / "work"
+    builds = out.parent / f"overlay-build-{DISTRO}"
     if out.exists():
         shutil.rmtree(out)  # an unfinished build: start again from nothing
     install.mkdir(parents=True)
@@ -339,7 +342,7 @@ def build_overlay(src: Path, venv: Path, out: Path, jobs: int, commits: dict[str
     args = cmake_arguments(install, venv, work)
     for name, path, extra in CMAKE_PACKAGES:
         log(f"building {name} from {src / path}")
-        timings[name] = build_cmake(name, src / path, extra, args, work, jobs, logfile, env)
+        timings[name] = build_cmake(name, src / path, extra, args, builds, jobs, logfile, env)
         if name == "class_loader":  # its installed config asks for the stand-in too
             target = install / "share" / "console_bridge_vendor" / "cmake"
             target.mkdir(parents=True, exist_ok=True)
@@ -353,11 +356,10 @@ def build_overlay(src: Path, venv: Path, out: Path, jobs: int, commits: dict[str
     relinked = relink_to_rmw_implementation(install, venv, logfile, env)
     write_setup_sh(install, venv)
     smoke_test(install, venv, logfile)
-    shutil.rmtree(work / "build")  # the build trees: ~1 GB, never read again
     info: dict[str, object] = {
         "distro": DISTRO, "prefix": str(install), "python_path": str(site_packages(install)),
         "built_against": str(venv), "sources": str(src), "commits": commits,
-        "pypi": pypi, "relinked": relinked, "seconds": {k: round(v, 1) for k, v in timings.items()},
+        "venv_wheels": venv_wheels(venv), "pypi": pypi, "relinked": relinked, "seconds": {k: round(v, 1) for k, v in timings.items()},
         "total_seconds": round(time.monotonic() - started, 1), "built_at": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     (out / "overlay.json").write_text(json.dumps(info, indent=2) + "\n")
@@ -382,8 +384,9 @@ def main(argv: list[str] | None = None) -> int:
         commits = {name: checkout_id(src / name) for name in CHECKOUTS}
         out = cache_root() / f"overlay-{DISTRO}-{overlay_key(commits, venv)}"
         out.parent.mkdir(parents=True, exist_ok=True)
-        with open(f"{out}.lock", "w") as lock:
-            fcntl.flock(lock, fcntl.LOCK_EX)  # a second build of the same key waits, then reuses
+        # one build at a time (they share the build trees); a second one of the same key waits, then reuses
+        with open(out.parent / f"overlay-{DISTRO}.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
             if (out / "overlay.json").is_file() and not args.force:
                 log(f"up to date: {out}")
             else:

@@ -3,7 +3,6 @@ real ROS 2 nodes on it and read their captures."""
 
 from __future__ import annotations
 
-import hashlib
 import os
 import shutil
 import subprocess
@@ -11,19 +10,13 @@ from pathlib import Path
 
 import pytest
 import rmwi_helpers as h
+from source_trees import tree_hash
 
 from pytest_rmw_introspect.run import middleware
 
 REPO = Path(__file__).resolve().parents[2]
 SOURCES = REPO / "rmw_introspect_cpp"
 
-
-def _tree_hash(root: Path) -> str:
-    digest = hashlib.sha256()
-    for path in sorted(root.rglob("*")):
-        if path.is_file() and "__pycache__" not in path.parts:
-            digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
-    return digest.hexdigest()[:16]
 
 
 def _cmake_build(src: Path, build_dir: Path, *extra: str) -> None:
@@ -46,7 +39,7 @@ def _cmake_build(src: Path, build_dir: Path, *extra: str) -> None:
 @pytest.fixture(scope="session")
 def gtest_build_dir() -> Path:
     """The package built with BUILD_TESTING=ON (cached by a hash of its sources)."""
-    dest = middleware.cache_root() / f"gtest-{_tree_hash(SOURCES)}"
+    dest = middleware.cache_root() / f"gtest-{tree_hash(SOURCES)}"
     stamp = dest / "complete"
     if not stamp.exists():
         shutil.rmtree(dest, ignore_errors=True)
@@ -66,7 +59,7 @@ def library() -> Path:
 def c_node(tmp_path_factory) -> Path:
     """The compiled rcl C node (no Python interpreter in the process)."""
     src = Path(__file__).parent / "c_node"
-    dest = middleware.cache_root() / f"c_node-{_tree_hash(src)}"
+    dest = middleware.cache_root() / f"c_node-{tree_hash(src)}"
     exe = dest / "build" / "rmwi_c_node"
     if not exe.exists():
         shutil.rmtree(dest, ignore_errors=True)

@@ -146,3 +146,17 @@ def test_the_cpp_example_robot_matches_its_system_contract(tmp_path, env):
     assert separate.returncode == 1, separate
     assert sorted({(i["rule"], i["node"]) for i in json.loads(separate.stdout)}) == [
         ("NODE_REMOVED", "/robot/components"), ("SERVICE_SERVER_REMOVED", "/robot/components")]
+
+
+def test_a_container_started_alone_shows_itself_and_no_component(tmp_path, env, overlay):
+    """README "Component containers": components loaded later by `ros2 component load` come from
+    another process, which never reaches a capture."""
+    container = overlay.install / "lib" / "rclcpp_components" / "component_container"
+    captured = rmw_introspect(env, tmp_path, "capture", "-o", "alone.interfaces.yaml", "--", str(container))
+    assert captured.returncode == 0, captured
+    text = (tmp_path / "alone.interfaces.yaml").read_text()
+    nodes = text[text.index("\nnodes:"):]
+    assert [line.strip() for line in nodes.splitlines() if line.startswith("  /")] == ["/ComponentManager:"]
+    assert [line.split("name: ")[1] for line in nodes.splitlines() if "- name: /ComponentManager/" in line] == [
+        "/ComponentManager/_container/list_nodes", "/ComponentManager/_container/load_node",
+        "/ComponentManager/_container/unload_node"]

@@ -17,15 +17,13 @@ import os
 
 from ament_index_python.packages import get_package_share_directory
 from launch import LaunchDescription
-from launch.actions import (DeclareLaunchArgument, EmitEvent, GroupAction, IncludeLaunchDescription, OpaqueFunction,
-                            RegisterEventHandler)
+from launch.actions import DeclareLaunchArgument, EmitEvent, GroupAction, IncludeLaunchDescription, OpaqueFunction, RegisterEventHandler
 from launch.conditions import IfCondition, UnlessCondition
 from launch.event_handlers import OnProcessExit
 from launch.events import Shutdown
 from launch.launch_description_sources import PythonLaunchDescriptionSource
 from launch.substitutions import LaunchConfiguration
-from launch_ros.actions import (ComposableNodeContainer, LifecycleNode, LoadComposableNodes, Node, PushRosNamespace,
-                                SetParameter, SetRemap)
+from launch_ros.actions import ComposableNodeContainer, LifecycleNode, LoadComposableNodes, Node, PushRosNamespace, SetParameter, SetRemap
 from launch_ros.descriptions import ComposableNode
 
 PACKAGE = 'rmw_introspect_examples_cpp'

@@ -19,7 +19,7 @@ from pathlib import Path
 from ..compare.launch_given import Given, GivenParameter, MissingPath, ParamsFile, sections
 from ..model import portable, untrusted
 from ..model.paths import shown
-from ..run.launch_model import LaunchedNode
+from ..run.launch_model import ComponentLoad, LaunchedNode
 from ..run.ros_env import package_shares
 
 
@@ -46,6 +46,14 @@ def given(node: LaunchedNode) -> Given:
         elif flag == "--params-file":
             files += _file(Path(value), None)
     return Given(parameters=tuple(parameters), files=tuple(files), remappings=tuple(remappings), where=where)
+
+
+def component_given(load: ComponentLoad) -> Given:
+    """The parameters a component's LoadNode request gives it (parameters files already expanded
+    into parameters by launch_ros, so each is named where the component is loaded); judged by
+    PARAM_NOT_DECLARED (its remappings are not judged: REMAP_UNUSED reads a process's)."""
+    where = str(load.where)
+    return Given(parameters=tuple(GivenParameter(name, where) for name, _, _ in load.parameters), where=where)
 
 
 def _file(path: Path | None, text: str | None, name: str | None = None) -> list[ParamsFile]:

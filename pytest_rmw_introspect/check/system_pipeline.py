@@ -31,6 +31,7 @@ from ..compare import acceptance, drift, parameter_drift, report
 from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
+from ..compare.launch_given import Given
 from ..compare.options import ComparisonOptions
 from ..compare.system import CompatItem, LaunchedProcess, check_launched, check_system, propose_external
 from ..errors import RmwIntrospectError, TargetConfigError
@@ -139,8 +140,21 @@ def launched_processes(capture: SystemCapture) -> list[LaunchedProcess]:
     return [LaunchedProcess(label=p.label, expected=p.launched.expected_fqn, nodes=p.contract_nodes(),
                             duplicates=tuple(p.capture.duplicate_node_names) if p.capture is not None else (),
                             where=str(p.launched.where), given=launch_settings.given(p.launched),
-                            unloaded=unloaded_components(p))
+                            unloaded=unloaded_components(p), component_given=component_settings(p))
             for p in capture.processes]
+
+
+def component_settings(process: ProcessCapture) -> dict[str, Given]:
+    """What each component the container ``process`` loaded was given, by the node it became
+    (the container's answer, ``full_node_name``)."""
+    if not process.launched.components or process.capture is None:
+        return {}
+    records = list(process.capture.raw.get("component_loads") or [])
+    out: dict[str, Given] = {}
+    for load, record in zip(process.launched.components, records, strict=False):
+        if record.get("result") == "loaded" and record.get("full_node_name"):
+            out[str(record["full_node_name"])] = launch_settings.component_given(load)
+    return out
 
 
 def unloaded_components(process: ProcessCapture) -> tuple[tuple[str, str], ...]:

@@ -9,7 +9,7 @@ The rules and their severities are in docs/drift-rules.md ("System checks").
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..model import qos
@@ -236,6 +236,9 @@ class LaunchedProcess:
     #: components the launch file loads into it (a component container) that it did not
     #: create: (the component's node name or plugin, why)
     unloaded: tuple[tuple[str, str], ...] = ()
+    #: per component node of a container (its fully qualified name): what its LoadNode request
+    #: gives it (``launch_given`` judges it instead of the container's ``given``)
+    component_given: Mapping[str, launch_given.Given] = field(default_factory=dict)
 
 
 _MULTIPLE = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "ACTION_MULTIPLE_SERVERS"}

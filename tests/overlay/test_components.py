@@ -160,3 +160,19 @@ def test_a_container_started_alone_shows_itself_and_no_component(tmp_path, env, 
     assert [line.split("name: ")[1] for line in nodes.splitlines() if "- name: /ComponentManager/" in line] == [
         "/ComponentManager/_container/list_nodes", "/ComponentManager/_container/load_node",
         "/ComponentManager/_container/unload_node"]
+
+
+def test_a_parameter_a_component_does_not_declare_is_named_where_it_is_loaded(tmp_path, env):
+    (tmp_path / "robot.launch.py").write_text(
+        textwrap.dedent(ROBOT).replace("PLUGIN", "rmw_introspect_examples_cpp::Listener")
+        .replace("'rate_hz': 5.0", "'rate_hz': 5.0, 'rate_hzz': 6.0"))
+    captured = rmw_introspect(env, tmp_path, "capture", "--launch", "robot.launch.py", "-o", "robot.system.yaml")
+    assert captured.returncode == 0, captured
+    checked = rmw_introspect(env, tmp_path, "check", "robot.system.yaml", "--format", "json")
+    assert checked.returncode == 1, checked
+    [undeclared] = [i for i in json.loads(checked.stdout) if i["rule"] == "PARAM_NOT_DECLARED"]
+    line = [n for n, text in enumerate((tmp_path / "robot.launch.py").read_text().splitlines(), 1)
+            if "plugin='rmw_introspect_examples_cpp::Talker'" in text][0]
+    assert undeclared["name"] == "rate_hzz"
+    assert (f"parameter `rate_hzz` is given (robot.launch.py:{line}) but /robot/talker does not declare it: ROS 2 "
+            "ignores it without a word; did you mean `rate_hz`?") in json.dumps(undeclared)

@@ -62,3 +62,21 @@ def test_a_component_that_was_not_loaded_is_a_node_not_created():
     [item] = check_launched([container])
     assert (item.rule, item.severity.name, item.name) == ("LAUNCHED_NODE_NOT_CREATED", "BREAKING", "demo::Listener")
     assert item.message.endswith("the container refused it")
+
+
+def test_a_component_is_judged_on_what_its_load_request_gives_it():
+    from pytest_rmw_introspect.check import launch_settings
+    from pytest_rmw_introspect.compare import launch_given
+
+    node = {"parameters": [{"name": "rate_hz", "type": "double", "default_value": 5.5}]}
+    container = LaunchedProcess("rclcpp_components/component_container", "/robot/container",
+                                {"/robot/container": {"parameters": []}, "/robot/talker": node},
+                                given=launch_given.Given(where="robot.launch.py:8"),
+                                component_given={"/robot/talker": launch_settings.component_given(TALKER)})
+    # its own parameters, not the container's (which has none), and rate_hz is declared
+    assert sorted((i.rule, i.requester.node, i.name) for i in check_launched([container])) == [
+        ("PARAM_NOT_DECLARED", "/robot/talker", "frame"), ("PARAM_NOT_DECLARED", "/robot/talker", "ids"),
+        ("PARAM_NOT_DECLARED", "/robot/talker", "on")]
+    [frame, *_] = launch_given.check([container])
+    assert frame.message.startswith(
+        f"parameter `frame` is given ({TALKER.where}) but /robot/talker does not declare it")

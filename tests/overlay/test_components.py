@@ -103,16 +103,22 @@ def test_the_components_a_launch_file_loads_are_nodes_of_their_container(tmp_pat
     assert "      - name: log_every\n        type: integer\n        default_value: 3\n" in contract
 
 
-def test_a_component_the_container_cannot_load_is_a_node_not_created(tmp_path, env):
-    (tmp_path / "robot.launch.py").write_text(
-        textwrap.dedent(ROBOT).replace("PLUGIN", "rmw_introspect_examples_cpp::Listner"))
+def one_finding(tmp_path: Path, env: dict[str, str], launch_text: str, rule: str, marker: str) -> tuple[dict, int]:
+    """Capture ``launch_text`` as robot.launch.py, check it: the one finding of ``rule``, and the
+    line of the launch file that holds ``marker``."""
+    (tmp_path / "robot.launch.py").write_text(textwrap.dedent(launch_text))
     captured = rmw_introspect(env, tmp_path, "capture", "--launch", "robot.launch.py", "-o", "robot.system.yaml")
     assert captured.returncode == 0, captured
     checked = rmw_introspect(env, tmp_path, "check", "robot.system.yaml", "--format", "json")
     assert checked.returncode == 1, checked
-    [unloaded] = [i for i in json.loads(checked.stdout) if i["rule"] == "LAUNCHED_NODE_NOT_CREATED"]
-    line = [n for n, text in enumerate((tmp_path / "robot.launch.py").read_text().splitlines(), 1)
-            if "plugin='rmw_introspect_examples_cpp::Listner'" in text][0]
+    [finding] = [i for i in json.loads(checked.stdout) if i["rule"] == rule]
+    lines = (tmp_path / "robot.launch.py").read_text().splitlines()
+    return finding, [n for n, text in enumerate(lines, 1) if marker in text][0]
+
+
+def test_a_component_the_container_cannot_load_is_a_node_not_created(tmp_path, env):
+    unloaded, line = one_finding(tmp_path, env, ROBOT.replace("PLUGIN", "rmw_introspect_examples_cpp::Listner"),
+                                 "LAUNCHED_NODE_NOT_CREATED", "plugin='rmw_introspect_examples_cpp::Listner'")
     assert unloaded["name"] == "/robot/monitor"
     assert (f"the launch file loads component rmw_introspect_examples_cpp::Listner as /robot/monitor "
             f"(robot.launch.py:{line}) into /robot/container, but no node came of it: the container refused it: "
@@ -163,16 +169,10 @@ def test_a_container_started_alone_shows_itself_and_no_component(tmp_path, env, 
 
 
 def test_a_parameter_a_component_does_not_declare_is_named_where_it_is_loaded(tmp_path, env):
-    (tmp_path / "robot.launch.py").write_text(
-        textwrap.dedent(ROBOT).replace("PLUGIN", "rmw_introspect_examples_cpp::Listener")
-        .replace("'rate_hz': 5.0", "'rate_hz': 5.0, 'rate_hzz': 6.0"))
-    captured = rmw_introspect(env, tmp_path, "capture", "--launch", "robot.launch.py", "-o", "robot.system.yaml")
-    assert captured.returncode == 0, captured
-    checked = rmw_introspect(env, tmp_path, "check", "robot.system.yaml", "--format", "json")
-    assert checked.returncode == 1, checked
-    [undeclared] = [i for i in json.loads(checked.stdout) if i["rule"] == "PARAM_NOT_DECLARED"]
-    line = [n for n, text in enumerate((tmp_path / "robot.launch.py").read_text().splitlines(), 1)
-            if "plugin='rmw_introspect_examples_cpp::Talker'" in text][0]
+    launch_text = (ROBOT.replace("PLUGIN", "rmw_introspect_examples_cpp::Listener")
+                   .replace("'rate_hz': 5.0", "'rate_hz': 5.0, 'rate_hzz': 6.0"))
+    undeclared, line = one_finding(tmp_path, env, launch_text, "PARAM_NOT_DECLARED",
+                                   "plugin='rmw_introspect_examples_cpp::Talker'")
     assert undeclared["name"] == "rate_hzz"
     assert (f"parameter `rate_hzz` is given (robot.launch.py:{line}) but /robot/talker does not declare it: ROS 2 "
             "ignores it without a word; did you mean `rate_hz`?") in json.dumps(undeclared)

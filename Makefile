@@ -10,7 +10,7 @@ endif
 LOCK_FILE ?= $(CURDIR)/requirements/$(DISTRO).txt
 export VENV LOCK_FILE
 
-.PHONY: example test test-fast typecheck fuzz lint bootstrap lock lowest newest bench asan conformance clean
+.PHONY: example test test-fast typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay clean
 
 ## bootstrap: .venv/ with exactly the packages of requirements/jazzy.txt (hash-checked), the
 ## package editable, the middleware built and the example package installed
@@ -72,6 +72,12 @@ asan: bootstrap
 ## see README.md, "Conformance". CONFORMANCE_ARGS passes options (e.g. --details, --baseline-memcheck)
 conformance: bootstrap
 	$(VENV)/bin/python scripts/conformance/run.py $(CONFORMANCE_ARGS)
+
+## overlay: rclcpp, components, launch_ros and RMW_IMPLEMENTATION selection over the wheels, built
+## once into the cache from ROS_OVERLAY_SRC=<dir with the upstream checkouts>; see README.md,
+## "C++ and launch overlay"
+overlay: bootstrap
+	$(VENV)/bin/python scripts/overlay/build.py $(OVERLAY_ARGS)
 
 clean:
 	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted build .pytest_cache

@@ -8,6 +8,9 @@
 #   requirements/lowest.txt  the same with the package's own dependencies (and the test extra)
 #                            at the lowest versions pyproject.toml allows: `make lowest` runs the
 #                            fast tier on it, so a floor that no longer works is found here
+#   requirements/overlay.txt what the C++ and launch overlay (`make overlay`) installs from PyPI
+#                            beyond the venv (requirements/overlay.in), with jazzy.txt's
+#                            versions as constraints
 #
 # UPGRADE=1 (the default) moves every package to its newest release; UPGRADE=0 keeps the pins
 # of the current lock where pyproject.toml still allows them (after adding a dependency).
@@ -39,7 +42,13 @@ grep -E '^(ros-[a-z0-9-]+|pip|setuptools|wheel)==' requirements/jazzy.txt | sed 
   --resolution lowest-direct --constraint "$pins" "${common[@]}" \
   --custom-compile-command "make lock" -o requirements/lowest.txt
 
-for lock in jazzy kilted lowest; do
+# The overlay's lock: every package jazzy.txt also names keeps jazzy.txt's version (the overlay
+# installs only the others, beside the venv that has these).
+grep -E '^[A-Za-z0-9._-]+==' requirements/jazzy.txt | sed 's/ *\\$//' > build/lock/jazzy-pins.txt
+"$uv" pip compile requirements/overlay.in --constraint build/lock/jazzy-pins.txt \
+  "${common[@]}" "${upgrade[@]}" --custom-compile-command "make lock" -o requirements/overlay.txt
+
+for lock in jazzy kilted lowest overlay; do
   echo "lock: wrote requirements/$lock.txt ($(grep -cE '^[a-z0-9]' "requirements/$lock.txt") packages)"
 done
 echo "lock: make test, make test DISTRO=kilted and make lowest try them"

@@ -11,10 +11,13 @@ pytest_plugins = ["pytester"]
 # Tests are marked by where they live, so a new test file lands in the right tier by itself:
 #   e2e     real nodes on the real middleware (tests/middleware, tests/cli, tests/cmake, the example package)
 #   plugin  pytest run in a subprocess by pytester (tests/plugin)
+#   overlay the C++ and launch overlay (tests/overlay): rclcpp nodes, RMW_IMPLEMENTATION, colcon;
+#           end-to-end too, and skipped with one line where no overlay was built (`make overlay`)
 # Everything else (tests/unit) is the fast tier: `make test-fast` = pytest -m "not e2e and not plugin".
 import pytest  # noqa: E402
 
-_TIERS = {"middleware": "e2e", "cli": "e2e", "cmake": "e2e", "plugin": "plugin"}
+_TIERS = {"middleware": ("e2e",), "cli": ("e2e",), "cmake": ("e2e",), "plugin": ("plugin",),
+          "overlay": ("e2e", "overlay")}
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
@@ -27,7 +30,8 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
         if parts[:1] == ("examples",):
             item.add_marker(pytest.mark.e2e)
         elif parts[:1] == ("tests",) and len(parts) > 1 and parts[1] in _TIERS:
-            item.add_marker(getattr(pytest.mark, _TIERS[parts[1]]))
+            for tier in _TIERS[parts[1]]:
+                item.add_marker(getattr(pytest.mark, tier))
 
 
 # ---------------------------------------------------------------------------- warm start servers

@@ -1,8 +1,8 @@
 """What a launch file gives each process, as the rules of ``compare.launch_given`` read it.
 
 :func:`given` turns a launched node (``run.launch_model.LaunchedNode``) into a
-``compare.launch_given.Given``: the parameters set on its command line (``<param>``, ``-p`` in
-``ros_args``), the node sections of its parameters files (read here, within the limits of
+``compare.launch_given.Given``: the parameters set on its command line (``<param>``, ``<set_parameter>``,
+``-p`` in ``ros_args``), the node sections of its parameters files (read here, within the limits of
 untrusted input), and its remappings (``<remap>``, ``-r`` in ``ros_args``). A parameters file
 that cannot be read is left out: the process itself fails on it, and the capture says so.
 
@@ -19,7 +19,7 @@ from pathlib import Path
 from ..compare.launch_given import Given, GivenParameter, MissingPath, ParamsFile, sections
 from ..model import portable, untrusted
 from ..model.paths import shown
-from ..run.launch_model import LaunchedNode
+from ..run.launch_model import ComponentLoad, LaunchedNode
 from ..run.ros_env import package_shares
 
 
@@ -30,8 +30,8 @@ def given(node: LaunchedNode) -> Given:
     files: list[ParamsFile] = []
     remappings = list(node.remappings)
     for parameter in node.parameters:
-        if parameter.name is not None:
-            parameters.append(GivenParameter(parameter.name, where))
+        if parameter.name is not None:  # a <set_parameter> names its own line
+            parameters.append(GivenParameter(parameter.name, str(parameter.where or where)))
         elif parameter.file is not None:
             files += _file(parameter.file, None)
         elif parameter.file_text is not None:
@@ -46,6 +46,14 @@ def given(node: LaunchedNode) -> Given:
         elif flag == "--params-file":
             files += _file(Path(value), None)
     return Given(parameters=tuple(parameters), files=tuple(files), remappings=tuple(remappings), where=where)
+
+
+def component_given(load: ComponentLoad) -> Given:
+    """The parameters a component's LoadNode request gives it (parameters files already expanded
+    into parameters by launch_ros, so each is named where the component is loaded); judged by
+    PARAM_NOT_DECLARED (its remappings are not judged: REMAP_UNUSED reads a process's)."""
+    where = str(load.where)
+    return Given(parameters=tuple(GivenParameter(name, where) for name, _, _ in load.parameters), where=where)
 
 
 def _file(path: Path | None, text: str | None, name: str | None = None) -> list[ParamsFile]:

@@ -31,6 +31,7 @@ from ..compare import acceptance, drift, parameter_drift, report
 from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
+from ..compare.launch_given import Given
 from ..compare.options import ComparisonOptions
 from ..compare.system import CompatItem, LaunchedProcess, check_launched, check_system, propose_external
 from ..errors import RmwIntrospectError, TargetConfigError
@@ -42,9 +43,10 @@ from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.vocabulary import Severity, parse_threshold
+from ..run import component_loads
 from ..run import system as run_system
 from ..run.ros_env import RosEnvironment
-from ..run.system import LaunchSpec, SystemCapture
+from ..run.system import LaunchSpec, ProcessCapture, SystemCapture
 from ..run.target import TargetSpec
 from . import golden, launch_settings
 from .pipeline import Layers, OptionLayer, read_as_asked
@@ -137,8 +139,35 @@ def launched_processes(capture: SystemCapture) -> list[LaunchedProcess]:
     """The processes of a capture as the system rules read them."""
     return [LaunchedProcess(label=p.label, expected=p.launched.expected_fqn, nodes=p.contract_nodes(),
                             duplicates=tuple(p.capture.duplicate_node_names) if p.capture is not None else (),
-                            where=str(p.launched.where), given=launch_settings.given(p.launched))
+                            where=str(p.launched.where), given=launch_settings.given(p.launched),
+                            unloaded=unloaded_components(p), component_given=component_settings(p))
             for p in capture.processes]
+
+
+def component_settings(process: ProcessCapture) -> dict[str, Given]:
+    """What each component the container ``process`` loaded was given, by the node it became
+    (the container's answer, ``full_node_name``)."""
+    if not process.launched.components or process.capture is None:
+        return {}
+    records = list(process.capture.raw.get("component_loads") or [])
+    out: dict[str, Given] = {}
+    for load, record in zip(process.launched.components, records, strict=False):
+        if record.get("result") == "loaded" and record.get("full_node_name"):
+            out[str(record["full_node_name"])] = launch_settings.component_given(load)
+    return out
+
+
+def unloaded_components(process: ProcessCapture) -> tuple[tuple[str, str], ...]:
+    """The components the launch file loads into ``process`` (a container) that it did not create."""
+    if not process.launched.components:
+        return ()
+    document = process.capture.raw if process.capture is not None else {}
+    container = process.launched.expected_fqn or process.label
+    out = []
+    for load, why in component_loads.problems(document, process.launched.components):
+        name = f"{(load.namespace or '').rstrip('/')}/{load.name}" if load.name else load.plugin
+        out.append((name, f"the launch file loads {load.describe()} into {container}, but no node came of it: {why}"))
+    return tuple(out)
 
 
 def contract_processes(contract: SystemContract, label: str | None = None) -> list[LaunchedProcess]:

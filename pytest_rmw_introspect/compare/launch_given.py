@@ -135,8 +135,10 @@ def check(processes: Sequence[Any], missing_path: MissingPath | None = None) -> 
             continue
         for params_file in given.files:
             receivers.setdefault(params_file.shown, []).extend((process, fqn) for fqn in process.nodes)
+        # a component of a container gets what its LoadNode request gives it, not the container
+        components: Mapping[str, Given] = getattr(process, "component_given", None) or {}
         for fqn, node in process.nodes.items():
-            findings += _undeclared(process, given, fqn, node)
+            findings += _undeclared(process, components.get(fqn, given), fqn, node)
             if missing_path is not None:
                 findings += _missing_paths(process, fqn, node, missing_path)
         findings += _unused_remappings(process, given)

@@ -9,7 +9,7 @@ The rules and their severities are in docs/drift-rules.md ("System checks").
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..model import qos
@@ -74,8 +74,9 @@ SUMMARIES: dict[str, str] = {
     "ACTION_NAME_MISMATCH": "the same for an action client and an action server",
     "EXTERNAL_UNUSED": "an `external:` declaration that no endpoint of the system uses",
     "PARAM_NOT_DECLARED": (
-        "a parameter the launch file gives a node (`<param>`, a parameters file section that matches the "
-        "node, `-p` in `ros_args`) that the node does not declare"
+        "a parameter the launch file gives a node (`<param>`, `<set_parameter>`/`SetParameter` and "
+        "`<set_parameters_from_file>` in the node's scope, a parameters file section that matches the node, "
+        "`-p` in `ros_args`) that the node does not declare"
     ),
     "PARAMS_FILE_SECTION_UNMATCHED": (
         "a parameters file given to processes has a node section that matches none of the nodes it is given "
@@ -232,6 +233,12 @@ class LaunchedProcess:
     where: str | None = None
     #: what the launch file gives it (parameters, parameters files, remappings), when known
     given: launch_given.Given | None = None
+    #: components the launch file loads into it (a component container) that it did not
+    #: create: (the component's node name or plugin, why)
+    unloaded: tuple[tuple[str, str], ...] = ()
+    #: per component node of a container (its fully qualified name): what its LoadNode request
+    #: gives it (``launch_given`` judges it instead of the container's ``given``)
+    component_given: Mapping[str, launch_given.Given] = field(default_factory=dict)
 
 
 _MULTIPLE = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "ACTION_MULTIPLE_SERVERS"}
@@ -267,6 +274,10 @@ def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[st
                 "LAUNCHED_NODE_NOT_CREATED", RULES["LAUNCHED_NODE_NOT_CREATED"], process.expected or process.label,
                 Endpoint(process.label, process.expected or "(unnamed)", "node"), None,
                 f"the launch file starts {wanted}{at}, but the process created {created}"))
+        for component, why in process.unloaded:
+            items.append(CompatItem(
+                "LAUNCHED_NODE_NOT_CREATED", RULES["LAUNCHED_NODE_NOT_CREATED"], component,
+                Endpoint(process.label, component, "node"), None, why))
     for process in processes:
         for fqn in process.duplicates:
             holders[fqn].append(process.label)

@@ -42,6 +42,35 @@ class Parameter:
     value: Any = None
     file: Path | None = None
     file_text: str | None = None
+    #: where the launch file gives it, when not where the node is started (``<set_parameter>``)
+    where: Where | None = None
+
+
+#: a component's parameter as composition_interfaces/srv/LoadNode carries it: name, its
+#: rcl_interfaces/msg/ParameterType number (1 bool, 2 integer, 3 double, 4 string, 6-9 the
+#: arrays of those), and its value (a tuple of items for an array)
+ComponentParameter = tuple[str, int, Any]
+
+
+@dataclass(frozen=True)
+class ComponentLoad:
+    """One component a launch file loads into a component container (a ComposableNode of a
+    ``ComposableNodeContainer`` or ``LoadComposableNodes``), as the LoadNode request launch_ros
+    sends for it: the scope's namespace, global remappings and parameters already applied."""
+
+    package: str
+    plugin: str
+    where: Where
+    name: str | None = None
+    namespace: str | None = None
+    log_level: int = 0
+    remap_rules: tuple[str, ...] = ()
+    parameters: tuple[ComponentParameter, ...] = ()
+    extra_arguments: tuple[ComponentParameter, ...] = ()
+
+    def describe(self) -> str:
+        named = f" as {(self.namespace or '').rstrip('/')}/{self.name}" if self.name else ""
+        return f"component {self.plugin}{named} ({self.where})"
 
 
 @dataclass(frozen=True)
@@ -65,6 +94,8 @@ class LaunchedNode:
     #: the complete command line, when the launch source gives it (Python launch files:
     #: launch_ros prepared it); otherwise it is built from the fields above
     command: tuple[str, ...] | None = None
+    #: a component container: the components the launch file loads into it, in order
+    components: tuple[ComponentLoad, ...] = ()
 
     @property
     def expected_fqn(self) -> str | None:

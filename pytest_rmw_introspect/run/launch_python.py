@@ -11,9 +11,24 @@ docs/design.md, "System contracts"), without starting anything:
 * a ``launch_ros.actions.Node`` (also a lifecycle node) is not executed: its substitutions are
   performed and its process description prepared (``Node.prepare``), which gives the exact
   command line, working directory and environment ``ros2 launch`` would use;
-* composable node containers, ``LoadComposableNodes``, plain ``ExecuteProcess`` actions,
-  timers and event handlers are :class:`Unsupported` (their processes would never be
-  captured), skipped only when their condition is false.
+* ``SetRemap``, ``SetParameter`` and ``SetParametersFromFile`` are visited like any action:
+  launch_ros puts what they set in force on the command lines it prepares; the walker reads the
+  parameters (``-p``, ``--params-file``) and remappings back from each command line, so that the
+  system rules (``compare.launch_given``) judge them, and names a ``SetParameter``'s own line;
+* event handlers (``RegisterEventHandler`` and ``on_exit=``) get the meaning a capture can give
+  them (``launch_python_events``);
+* a ``ComposableNodeContainer`` is a node (its process is captured) whose components, and those
+  ``LoadComposableNodes`` loads into it, are the LoadNode requests launch_ros would send
+  (``get_composable_node_load_request``: the scope's namespace, ``SetRemap`` and
+  ``SetParameter`` applied), kept as the container's :class:`ComponentLoad` entries: the
+  container's middleware sends them to the container itself (``component_loads``);
+* ``LoadComposableNodes`` into a container this launch does not start, plain ``ExecuteProcess``
+  actions, timers and the event handlers a capture cannot honour are :class:`Unsupported`
+  (their processes would never be captured), skipped only when their condition is false.
+
+launch keeps no line numbers for Python entities: while the file is read, the walker notes where
+each action is created (the innermost stack frame outside launch's own code, :class:`_Origins`),
+so that every node and every unsupported action names its file and line.
 
 The ROS 2 PyPI wheels do not include ``launch`` or ``launch_ros``; there, a Python launch file
 is a :class:`LaunchError` that says so (write the launch file in XML or YAML, or give a
@@ -22,15 +37,20 @@ is a :class:`LaunchError` that says so (write the launch file in XML or YAML, or
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 import importlib
 import os
-from collections.abc import Mapping, Sequence
+import sys
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 from ..model.paths import shown
-from .launch_model import LaunchedNode, LaunchError, LaunchResult, Unsupported, Where
+from . import launch_model, launch_python_events
+from .launch_entities import yaml_value
+from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter, Unsupported, Where
 
 _NOT_AVAILABLE = (
     "{file} is a Python launch file, which is read through the ROS 2 `launch` and `launch_ros` packages; "
@@ -82,9 +102,10 @@ def read(
         context.launch_configurations.update(configurations)
         if namespace:
             context.launch_configurations["ros_namespace"] = namespace
-        source = launch.launch_description_sources.PythonLaunchDescriptionSource(str(path))
-        description = source.get_launch_description(context)
-        _Walker(launch, launch_ros, context, result, path, base_env).walk(description)
+        with _Origins(launch, launch_ros).noted():
+            source = launch.launch_description_sources.PythonLaunchDescriptionSource(str(path))
+            description = source.get_launch_description(context)
+            _Walker(launch, launch_ros, context, result, path, base_env).run(description)
     except LaunchError:
         raise
     except Exception as exc:  # noqa: BLE001 - a launch file is arbitrary Python: say which and why
@@ -95,47 +116,141 @@ def read(
         os.environ.update(saved)
 
 
+class _Origins:
+    """Where the actions of a Python launch file are created (launch keeps no line numbers):
+    while :meth:`noted` is in force, ``launch.Action.__init__`` notes on each action the
+    innermost stack frame outside launch's, launch_ros's and this package's own code."""
+
+    ATTRIBUTE = "_rmw_introspect_where"
+
+    def __init__(self, launch: ModuleType, launch_ros: ModuleType) -> None:
+        # components are descriptions, not actions: noted too
+        self.classes = [launch.Action, importlib.import_module("launch_ros.descriptions").ComposableNode]
+        libraries = [launch, launch_ros, *(sys.modules[name] for name in ("launch_xml", "launch_yaml")
+                                           if name in sys.modules)]
+        here = Path(__file__).resolve().parents[1]
+        self.skipped = tuple(str(Path(m.__file__ or "").resolve().parent) + os.sep for m in libraries) + (
+            str(here) + os.sep, "<")
+
+    def where(self) -> Where | None:
+        frame = sys._getframe(2)
+        while frame is not None:
+            filename = frame.f_code.co_filename
+            if not filename.startswith(self.skipped) and not os.path.realpath(filename).startswith(self.skipped):
+                return Where(Path(filename), frame.f_lineno) if filename.endswith(".py") else None
+            frame = frame.f_back  # type: ignore[assignment]
+        return None
+
+    @contextlib.contextmanager
+    def noted(self) -> Iterator[None]:
+        originals = [cls.__dict__["__init__"] for cls in self.classes]
+        for cls, original in zip(self.classes, originals, strict=True):
+            cls.__init__ = self.noting(original)
+        try:
+            yield
+        finally:
+            for cls, original in zip(self.classes, originals, strict=True):
+                cls.__init__ = original
+
+    def noting(self, original: Any) -> Any:
+        origins = self
+
+        def init(entity: Any, *args: Any, **kwargs: Any) -> None:
+            entity.__dict__.setdefault(origins.ATTRIBUTE, origins.where())
+            original(entity, *args, **kwargs)
+
+        return init
+
+
 class _Walker:
     def __init__(self, launch: Any, launch_ros: Any, context: Any, result: LaunchResult, path: Path,
                  base_env: Mapping[str, str]) -> None:
         self.launch, self.launch_ros, self.context = launch, launch_ros, context
         self.result, self.path, self.base_env = result, path, base_env
-        actions, ros_actions = launch.actions, launch_ros.actions
-        self.unsupported_types: list[tuple[Any, str]] = [
-            (ros_actions.ComposableNodeContainer, "composable node containers are not supported"),
-            (ros_actions.LoadComposableNodes, "loading composable nodes is not supported"),
-        ]
-        for name, what in (("TimerAction", "delayed actions (TimerAction) are not supported"),
-                           ("RegisterEventHandler", "event handlers (RegisterEventHandler) are not supported")):
-            if hasattr(actions, name):
-                self.unsupported_types.append((getattr(actions, name), what))
+        self.unsupported_types: list[tuple[Any, str]] = []
+        if hasattr(launch.actions, "TimerAction"):
+            self.unsupported_types.append((launch.actions.TimerAction, "delayed actions (TimerAction) are not supported"))
+        #: the processes started so far (what OnProcessStart handlers match)
+        self.started: list[Any] = []
+        #: RegisterEventHandler(OnProcessStart) actions, handled once the launch description is
+        #: walked (launch runs them once their process started)
+        self.pending: list[Any] = []
+        #: each global parameter SetParameter added (by identity) -> where the SetParameter is
+        self.global_parameters: dict[int, Where] = {}
+        #: the component containers started so far: fully qualified name -> index in result.nodes
+        self.containers: dict[str, int] = {}
 
     def where(self, entity: Any) -> Where:
-        # launch keeps no line numbers for Python entities: name the file and the entity
-        return Where(self.path)
+        return getattr(entity, _Origins.ATTRIBUTE, None) or Where(self.path)
+
+    def unsupported(self, entity: Any, what: str) -> None:
+        self.result.unsupported.append(Unsupported(self.where(entity), f"{type(entity).__name__}: {what}"))
 
     def skip(self, entity: Any) -> bool:
         condition = getattr(entity, "condition", None)
         return condition is not None and not condition.evaluate(self.context)
 
+    def run(self, description: Any) -> None:
+        self.walk(description)
+        while self.pending:
+            registration = self.pending.pop(0)
+            handling = launch_python_events.handle(self.launch, registration.event_handler, self.started)
+            if handling.unsupported:
+                self.unsupported(registration, handling.unsupported)
+            for action in handling.now:
+                self.walk(action)
+
     def walk(self, entity: Any) -> None:
         for kind, what in self.unsupported_types:
             if isinstance(entity, kind):
                 if not self.skip(entity):
-                    self.result.unsupported.append(Unsupported(self.where(entity), f"{type(entity).__name__}: {what}"))
+                    self.unsupported(entity, what)
                 return
-        if isinstance(entity, self.launch_ros.actions.Node):
-            if not self.skip(entity):
-                self.node(entity)
-            return
         if isinstance(entity, self.launch.actions.ExecuteProcess):
             if not self.skip(entity):
-                self.result.unsupported.append(Unsupported(
-                    self.where(entity), "ExecuteProcess: plain processes are not captured: start ROS nodes with "
-                    "launch_ros.actions.Node"))
+                self.on_exit(entity)
+                if isinstance(entity, self.launch_ros.actions.Node):
+                    self.node(entity)
+                    if isinstance(entity, self.launch_ros.actions.ComposableNodeContainer):
+                        self.containers[entity.node_name] = len(self.result.nodes) - 1
+                        self.add_components(entity.node_name, getattr(
+                            entity, "_ComposableNodeContainer__composable_node_descriptions", None))
+                else:
+                    self.unsupported(entity, "plain processes are not captured: start ROS nodes with "
+                                             "launch_ros.actions.Node")
             return
+        if isinstance(entity, self.launch_ros.actions.LoadComposableNodes):
+            if not self.skip(entity):
+                self.load_components(entity)
+            return
+        if isinstance(entity, self.launch.actions.RegisterEventHandler):
+            if not self.skip(entity):
+                self.event_handler(entity)
+            return
+        before = self.context.launch_configurations.get("global_params")
+        before_ids = {id(p) for p in before or ()}
         for sub in entity.visit(self.context) or ():
             self.walk(sub)
+        if isinstance(entity, (self.launch_ros.actions.SetParameter, self.launch_ros.actions.SetParametersFromFile)):
+            for item in self.context.launch_configurations.get("global_params") or ():
+                if id(item) not in before_ids:
+                    self.global_parameters[id(item)] = self.where(entity)
+
+    def event_handler(self, entity: Any) -> None:
+        handler = entity.event_handler
+        if isinstance(handler, self.launch.event_handlers.OnProcessStart):
+            self.pending.append(entity)
+            return
+        handling = launch_python_events.handle(self.launch, handler, self.started)
+        if handling.unsupported:
+            self.unsupported(entity, handling.unsupported)
+
+    def on_exit(self, process: Any) -> None:
+        """``on_exit=`` of a process: as an OnProcessExit handler of it."""
+        actions = launch_python_events.actions_of(getattr(process, "_ExecuteLocal__on_exit", None))
+        why = launch_python_events.after_the_end(self.launch, actions, "after the process exits")
+        if why:
+            self.unsupported(process, f"on_exit: {why}")
 
     def text(self, value: Any) -> str:
         """A Node attribute as text (it may still be a list of substitutions)."""
@@ -164,13 +279,106 @@ class _Walker:
         final_env = description.final_env or dict(os.environ)
         env = {k: v for k, v in final_env.items() if self.base_env.get(k) != v}
         package = self.text(node.node_package)
+        parameters, scope_remappings, remappings = self.settings(command)
+        self.started.append(node)
         self.result.nodes.append(LaunchedNode(
             executable=self.text(node.node_executable) or command[0],
             package=package or None,
             where=self.where(node),
             name=fqn.rsplit("/", 1)[-1] if named else None,
             namespace=namespace if has_namespace else None,
+            parameters=parameters,
+            scope_remappings=scope_remappings,
+            remappings=remappings,
             env=env,
             cwd=Path(description.final_cwd) if description.final_cwd else None,
             command=command,
         ))
+
+    def settings(self, command: Sequence[str]) -> tuple[tuple[Parameter, ...], tuple[tuple[str, str], ...],
+                                                         tuple[tuple[str, str], ...]]:
+        """The parameters, the SetRemap rules and the node's own remappings on a prepared command
+        line (what the system rules judge), each global parameter (SetParameter) with the place
+        that set it. The SetRemap rules come first, as in XML (scope_remappings)."""
+        origins = self.global_origins()
+        scope_rules = [tuple(rule) for rule in self.context.launch_configurations.get("ros_remaps") or ()]
+        words = list(command)
+        ros = words[words.index("--ros-args") + 1:] if "--ros-args" in words else []
+        parameters: list[Parameter] = []
+        scope_remappings: list[tuple[str, str]] = []
+        remappings: list[tuple[str, str]] = []
+        for flag, value in zip(ros, ros[1:], strict=False):
+            if flag in ("-p", "--param") and ":=" in value:
+                name, text = value.split(":=", 1)
+                # the global ones come first: a node's own parameter of the same name is its own
+                parameters.append(Parameter(name=name, value=yaml_value(text), where=origins.pop(name, None)))
+            elif flag == "--params-file":
+                parameters.append(Parameter(file=Path(value), where=origins.pop(os.path.abspath(value), None)))
+            elif flag in ("-r", "--remap") and ":=" in value and not value.startswith(("__node:=", "__ns:=")):
+                source, target = value.split(":=", 1)
+                if len(scope_remappings) < len(scope_rules) and scope_rules[len(scope_remappings)] == (source, target):
+                    scope_remappings.append((source, target))
+                else:
+                    remappings.append((source, target))
+        return tuple(parameters), tuple(scope_remappings), tuple(remappings)
+
+    def global_origins(self) -> dict[str, Where]:
+        """Parameter name (or parameters file) -> the SetParameter that set it, for the global
+        parameters in force."""
+        out: dict[str, Where] = {}
+        for item in self.context.launch_configurations.get("global_params") or ():
+            where = self.global_parameters.get(id(item))
+            if where is None:
+                continue
+            key = item[0] if isinstance(item, tuple) else os.path.abspath(str(item))
+            out[key] = where
+        return out
+
+    # ------------------------------------------------------------ components
+
+    def load_components(self, entity: Any) -> None:
+        """``LoadComposableNodes``: its components, into the container it names."""
+        target = entity._LoadComposableNodes__target_container
+        if isinstance(target, self.launch_ros.actions.ComposableNodeContainer):
+            name = target.node_name
+        else:
+            name = self.text(target)
+        if name not in self.containers:
+            started = ", ".join(sorted(self.containers)) or "none"
+            self.unsupported(entity, f"the target container {name} is not started by this launch (containers it "
+                                     f"starts: {started}), so its components cannot be captured; start the container "
+                                     "in the same launch")
+            return
+        self.add_components(name, entity._LoadComposableNodes__composable_node_descriptions)
+
+    def add_components(self, container: str, descriptions: Any) -> None:
+        """The LoadNode requests launch_ros makes of ``descriptions`` now, onto the container."""
+        get_composable_node_load_request = importlib.import_module(
+            "launch_ros.actions.load_composable_nodes").get_composable_node_load_request
+        loads = []
+        for description in descriptions or ():
+            request = get_composable_node_load_request(description, self.context)
+            if request is None:  # its condition is false
+                continue
+            loads.append(launch_model.ComponentLoad(
+                package=request.package_name, plugin=request.plugin_name, where=self.where(description),
+                name=request.node_name or None, namespace=request.node_namespace or None,
+                log_level=int(request.log_level), remap_rules=tuple(request.remap_rules),
+                parameters=tuple(component_parameter(p) for p in request.parameters),
+                extra_arguments=tuple(component_parameter(p) for p in request.extra_arguments)))
+        if loads:
+            index = self.containers[container]
+            node = self.result.nodes[index]
+            self.result.nodes[index] = dataclasses.replace(node, components=(*node.components, *loads))
+
+
+#: rcl_interfaces/msg/ParameterValue: the field of each ParameterType
+_VALUE_FIELDS = {1: "bool_value", 2: "integer_value", 3: "double_value", 4: "string_value", 5: "byte_array_value",
+                 6: "bool_array_value", 7: "integer_array_value", 8: "double_array_value", 9: "string_array_value"}
+
+
+def component_parameter(message: Any) -> launch_model.ComponentParameter:
+    """An rcl_interfaces/msg/Parameter as (name, type, value)."""
+    kind = int(message.value.type)
+    value = getattr(message.value, _VALUE_FIELDS[kind]) if kind in _VALUE_FIELDS else None
+    return (str(message.name), kind, tuple(value) if kind >= 5 and value is not None else value)

@@ -25,16 +25,32 @@ Supported (XML and YAML, ``-`` and ``_`` spellings alike):
 ``push_ros_namespace``      ``namespace``: for the nodes after it in its scope
 ``set_remap``               ``from``, ``to``: a remapping for the nodes after it in its scope (before
                             each node's own, as launch_ros puts them: the first matching rule wins)
+``set_parameter``           ``name``, ``value``: a parameter for the nodes after it in its scope (before
+                            each node's own parameters, which override it, as launch_ros puts them)
+``set_parameters_from_file`` ``filename``: a parameters file for the nodes after it in its scope
 ``include``                 ``file``; children ``arg`` (``name``, ``value``)
+``node_container``          a ``node`` (same attributes and children) whose ``composable_node``
+                            children are loaded into it
+``load_composable_node``    ``target`` (a container this launch starts); ``composable_node`` children
+``composable_node``         ``pkg``, ``plugin``, ``name``, ``namespace``; children ``param``, ``remap``,
+                            ``extra_arg``: the LoadNode request launch_ros makes (``launch_components``),
+                            kept on the container's :class:`LaunchedNode` (``components``)
 ``if``, ``unless``          on every entity
 ==========================  ===============================================================
+
+The scope of ``set_remap``, ``set_parameter`` and ``set_parameters_from_file`` is launch_ros's
+(jazzy), measured, not the one its documentation promises: each kind is one list kept in the
+launch configurations, and a group copies the configurations but not the list, so a rule
+written inside a group also applies after the group when a rule of the same kind was set
+before the group (in an enclosing scope or an earlier include); a group with
+``forwarding="false"`` starts without any.
 
 Substitutions: ``launch_substitutions``. Relative paths (``include file``, ``param from``,
 ``node cwd``) are relative to the directory of the launch file that names them (``ros2 launch``
 takes them relative to where it is started; ``$(dirname)`` or ``$(find-pkg-share ...)`` make a
 launch file independent of both). Attributes that do not change what a node creates
 (``output``, ``respawn``, ``emulate_tty``, ...) are accepted and have no effect. Anything else
-(an unknown tag, composable node containers, ``launch-prefix``, an unsupported substitution)
+(an unknown tag, ``launch-prefix``, an unsupported substitution)
 is an :class:`Unsupported` entry with its file and line; :meth:`LaunchResult.require_supported`
 turns them into one :class:`LaunchError`.
 
@@ -49,18 +65,20 @@ groups and includes nest at most :data:`MAX_NESTING` levels together. Each limit
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import os
 import shlex
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from ..model import untrusted
 from ..model.paths import shown
-from . import launch_entities, launch_python, launch_record, launch_substitutions
+from . import launch_components, launch_entities, launch_python, launch_record, launch_substitutions
 from .launch_entities import Entity, EntityFormatError
 from .launch_model import (
+    ComponentLoad,
     DeclaredArgument,
     LaunchedNode,
     LaunchError,
@@ -88,18 +106,22 @@ _TAGS: dict[str, tuple[frozenset[str], frozenset[str]]] = {
     "group": (frozenset({"scoped", "forwarding"}), frozenset()),
     "push_ros_namespace": (frozenset({"namespace"}), frozenset()),
     "set_remap": (frozenset({"from", "to"}), frozenset()),
+    "set_parameter": (frozenset({"name", "value"}), frozenset()),
+    "set_parameters_from_file": (frozenset({"filename"}), frozenset()),
     "include": (frozenset({"file"}), frozenset({"arg"})),
     "node": (frozenset({"pkg", "exec", "name", "namespace", "args", "ros_args", "cwd"}) | IGNORED_NODE_ATTRIBUTES,
              frozenset({"param", "remap", "env"})),
+    "node_container": (frozenset({"pkg", "exec", "name", "namespace", "args", "ros_args", "cwd"})
+                       | IGNORED_NODE_ATTRIBUTES, frozenset({"param", "remap", "env", "composable_node"})),
+    "load_composable_node": (frozenset({"target"}), frozenset({"composable_node"})),
 }
+#: attributes and child tags of a <composable_node>
+_COMPONENT = (frozenset({"pkg", "plugin", "name", "namespace"}), frozenset({"param", "remap", "extra_arg"}))
 _UNSUPPORTED_HINTS = {
-    "node_container": "composable node containers are not supported: start each component as a node of its "
-                      "own for the system check, or capture the container with a node contract",
-    "composable_node_container": "composable node containers are not supported (see node_container)",
-    "load_composable_node": "loading composable nodes is not supported (see node_container)",
-    "composable_node": "composable nodes are not supported (see node_container)",
+    "composable_node_container": "write <node_container> (the launch front ends' name for a "
+                                 "ComposableNodeContainer)",
+    "composable_node": "a <composable_node> belongs inside a <node_container> or a <load_composable_node>",
     "executable": "plain processes (<executable>) are not captured: start ROS nodes with <node>",
-    "set_parameter": "global parameters (<set_parameter>) are not supported: give the parameter to each node",
     "timer": "delayed actions (<timer>) are not supported",
 }
 MAX_INCLUDE_DEPTH = 40
@@ -118,13 +140,21 @@ class _Scope:
     configurations: dict[str, str]
     namespace: str | None
     env: dict[str, str]
-    #: <set_remap> rules for the nodes after them (launch_ros keeps them with the configurations)
-    remaps: list[tuple[str, str]] = field(default_factory=list)
+    #: <set_remap> rules for the nodes after them, and <set_parameter>/<set_parameters_from_file>
+    #: settings: launch_ros keeps each kind as one list in the launch configurations (None: not
+    #: set yet). A scope copies the configurations but shares these lists (see :meth:`copy`).
+    remaps: list[tuple[str, str]] | None = None
+    parameters: list[Parameter] | None = None
     #: the <include> that reads the current file (None: the top-level file)
     included_from: Where | None = None
 
     def copy(self) -> _Scope:
-        return _Scope(dict(self.configurations), self.namespace, dict(self.env), list(self.remaps), self.included_from)
+        # launch_ros (jazzy) appends to the list it finds in the configurations, and a scope
+        # copies the configurations dict, not the lists in it: a rule set inside a group is
+        # seen after the group whenever the list existed before it (measured with launch_ros
+        # 0.26.6); one set where no list existed yet makes a new list, which the scope drops
+        return _Scope(dict(self.configurations), self.namespace, dict(self.env), self.remaps,
+                      self.parameters, self.included_from)
 
 
 def launch_file_of_package(package: str, file: str, prefixes: Sequence[Path]) -> Path:
@@ -203,6 +233,8 @@ class _Reader:
         self.includes = 0
         self.interpreted = 0
         self.nesting = 0
+        #: the component containers started so far: fully qualified name -> index in result.nodes
+        self.containers: dict[str, int] = {}
 
     # ------------------------------------------------------------ helpers
     def context(self, scope: _Scope, file: Path) -> Context:
@@ -371,8 +403,32 @@ class _Reader:
         scope.env[name] = self.text(self.require(entity, file, "value"), scope, file)
 
     def tag_set_remap(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
-        scope.remaps.append((self.text(self.require(entity, file, "from"), scope, file),
-                             self.text(self.require(entity, file, "to"), scope, file)))
+        rule = (self.text(self.require(entity, file, "from"), scope, file),
+                self.text(self.require(entity, file, "to"), scope, file))
+        scope.remaps = scope.remaps if scope.remaps is not None else []
+        scope.remaps.append(rule)
+
+    def tag_set_parameter(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        name = self.text(self.require(entity, file, "name"), scope, file)
+        # launch_ros reads the value as YAML once its substitutions are performed
+        text = self.text(self.require(entity, file, "value"), scope, file)
+        try:
+            value = launch_entities.yaml_value(text)
+        except ValueError as exc:
+            raise SubstitutionError(str(exc)) from None
+        self.set_parameter(scope, Parameter(name=name, value=value, where=Where(file, entity.line)))
+
+    def tag_set_parameters_from_file(self, entity: Entity, scope: _Scope, file: Path,
+                                     stack: tuple[Path, ...]) -> None:
+        path = self.path(self.require(entity, file, "filename"), scope, file)
+        if not path.is_file():
+            raise self.error(Where(file, entity.line), f"parameters file {shown(path)} does not exist")
+        self.set_parameter(scope, Parameter(file=path, where=Where(file, entity.line)))
+
+    @staticmethod
+    def set_parameter(scope: _Scope, parameter: Parameter) -> None:
+        scope.parameters = scope.parameters if scope.parameters is not None else []
+        scope.parameters.append(parameter)
 
     def tag_push_ros_namespace(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
         scope.namespace = join_namespace(scope.namespace, self.text(self.require(entity, file, "namespace"), scope, file))
@@ -389,9 +445,9 @@ class _Reader:
         scoped = self.flag(entity, "scoped", True, scope, file)
         forwarding = self.flag(entity, "forwarding", True, scope, file)
         inner = scope.copy() if scoped else scope
-        if not forwarding:  # launch_ros keeps <set_remap> rules with the configurations
+        if not forwarding:  # launch_ros keeps <set_remap>, <set_parameter> with the configurations
             inner.configurations.clear()
-            inner.remaps.clear()
+            inner.remaps = inner.parameters = None
         with self.nested(Where(file, entity.line)):
             self.entities(entity.children, inner, file, stack)
 
@@ -442,8 +498,77 @@ class _Reader:
             raise self.error(where, "<node> has an empty `exec`")
         self.result.nodes.append(LaunchedNode(
             executable=executable, package=package or None, where=where, name=name or None, namespace=namespace,
-            arguments=arguments, ros_arguments=ros_arguments, parameters=tuple(parameters),
-            remappings=tuple(remappings), scope_remappings=tuple(scope.remaps), env=env, cwd=cwd))
+            arguments=arguments, ros_arguments=ros_arguments, parameters=(*(scope.parameters or ()), *parameters),
+            remappings=tuple(remappings), scope_remappings=tuple(scope.remaps or ()), env=env, cwd=cwd))
+
+    def tag_node_container(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        """A container is a node; its <composable_node> entries are loaded into it."""
+        self.tag_node(entity, scope, file, stack)
+        container = self.result.nodes[-1]
+        if container.expected_fqn is None:
+            raise self.error(Where(file, entity.line), "<node_container> needs a `name` (its components are loaded "
+                                                       "through the container's name)")
+        self.containers[container.expected_fqn] = len(self.result.nodes) - 1
+        self.components(container.expected_fqn, entity, scope, file)
+
+    def tag_load_composable_node(self, entity: Entity, scope: _Scope, file: Path, stack: tuple[Path, ...]) -> None:
+        target = self.text(self.require(entity, file, "target"), scope, file)
+        if target not in self.containers:
+            started = ", ".join(sorted(self.containers)) or "none"
+            self.unsupported(Where(file, entity.line),
+                             f"<load_composable_node>: the target container {target} is not started by this launch "
+                             f"(containers it starts: {started}), so its components cannot be captured; start the "
+                             "container in the same launch")
+            return
+        self.components(target, entity, scope, file)
+
+    def components(self, container: str, entity: Entity, scope: _Scope, file: Path) -> None:
+        """The <composable_node> children of ``entity``, as LoadNode requests onto ``container``."""
+        loads = []
+        for child in entity.children:
+            if child.tag != "composable_node" or not self.condition(child, scope, file):
+                continue
+            self.check_attributes(child, file, _COMPONENT[0])
+            for inner in child.children:
+                if inner.tag not in _COMPONENT[1]:
+                    self.unsupported(Where(file, inner.line), f"<{inner.tag}> inside <composable_node> is not supported")
+            loads.append(self.component(child, scope, file))
+        if loads:
+            index = self.containers[container]
+            node = self.result.nodes[index]
+            self.result.nodes[index] = dataclasses.replace(node, components=(*node.components, *loads))
+
+    def component(self, entity: Entity, scope: _Scope, file: Path) -> ComponentLoad:
+        where = Where(file, entity.line)
+        a = entity.attributes
+        name = self.text(self.require(entity, file, "name"), scope, file)
+        own_namespace = self.text(a["namespace"], scope, file) if a.get("namespace") is not None else None
+        namespace = join_namespace(scope.namespace, own_namespace)
+        given: list[Parameter] = list(scope.parameters or ())
+        remaps = [f"{source}:={target}" for source, target in scope.remaps or ()]
+        extras: list[Parameter] = []
+        for child in entity.children:
+            if not self.condition(child, scope, file):
+                continue
+            if child.tag == "param":
+                given += self.parameters(child, "", scope, file)
+            elif child.tag == "remap":
+                self.check_attributes(child, file, frozenset({"from", "to"}))
+                remaps.append(self.text(self.require(child, file, "from"), scope, file) + ":=" +
+                              self.text(self.require(child, file, "to"), scope, file))
+            elif child.tag == "extra_arg":
+                self.check_attributes(child, file, frozenset({"name", "value"}))
+                extras.append(Parameter(name=self.text(self.require(child, file, "name"), scope, file),
+                                        value=self.value(self.require(child, file, "value"), None, scope, file)))
+        try:
+            parameters = launch_components.parameters(given, name, namespace)
+            extra_arguments = launch_components.parameters(extras, name, namespace)
+        except (launch_components.ComponentParameterError, OSError, untrusted.InputError) as exc:
+            raise self.error(where, f"<composable_node name=\"{name}\">: {exc}") from None
+        return ComponentLoad(
+            package=self.text(self.require(entity, file, "pkg"), scope, file),
+            plugin=self.text(self.require(entity, file, "plugin"), scope, file), where=where, name=name,
+            namespace=namespace, remap_rules=tuple(remaps), parameters=parameters, extra_arguments=extra_arguments)
 
     def parameters(self, entity: Entity, prefix: str, scope: _Scope, file: Path) -> list[Parameter]:
         where = Where(file, entity.line)

@@ -9,7 +9,9 @@ Two kinds are supported:
   venv's ``LD_LIBRARY_PATH`` set for them.
 * ``system``: a standard install (``/opt/ros/jazzy`` or a sourced workspace) where
   ``librmw_implementation.so`` loads the middleware named by ``RMW_IMPLEMENTATION`` through the
-  ament index.
+  ament index. The wheels' venv under a prefix that adds that runtime selection (the C++ and
+  launch overlay, ``make overlay``: ``AMENT_PREFIX_PATH=<overlay>:<venv>``) is one too: there rcl
+  and rclpy come from the overlay, which links them to rmw_implementation.
 """
 
 from __future__ import annotations
@@ -45,6 +47,9 @@ class RosEnvironment:
     distro: str
     ament_prefixes: tuple[Path, ...] = field(default_factory=tuple)
     library_dirs: tuple[Path, ...] = field(default_factory=tuple)
+    # a system install whose underlay is the wheels' venv (the overlay): its processes need the
+    # venv's library dirs and must not let the wheels' bootstrapper reorder LD_LIBRARY_PATH
+    wheels_underlay: bool = False
 
     def library_path(self, existing: str | None = None) -> str:
         """``LD_LIBRARY_PATH`` for a process of this install, ahead of ``existing``."""
@@ -123,10 +128,38 @@ def _detect_wheels(prefix: Path) -> RosEnvironment | None:
     )
 
 
+def _selects_at_runtime(prefix: Path) -> bool:
+    return (prefix / "lib" / "librmw_implementation.so").exists()
+
+
+def _detect_overlay(venv: Path) -> RosEnvironment | None:
+    """The wheels' venv with, ahead of it in ``AMENT_PREFIX_PATH``, a prefix that has runtime
+    selection (``librmw_implementation.so``): a system install over the wheels."""
+    wheels = _detect_wheels(venv)
+    prefixes = ament_prefixes()
+    if wheels is None or venv not in prefixes:
+        return None
+    ahead = prefixes[: prefixes.index(venv)]
+    selecting = [p for p in ahead if _selects_at_runtime(p)]
+    if not selecting:
+        return None
+    library_dirs: list[Path] = []
+    for prefix in prefixes:
+        library_dirs += wheels.library_dirs if prefix == venv else (prefix / "lib",)
+    return RosEnvironment(
+        kind=SYSTEM,
+        prefix=selecting[0],
+        distro=wheels.distro,
+        ament_prefixes=tuple(prefixes),
+        library_dirs=tuple(library_dirs),
+        wheels_underlay=True,
+    )
+
+
 def _detect_system() -> RosEnvironment | None:
     prefixes = ament_prefixes()
     for prefix in prefixes:
-        if (prefix / "lib" / "librmw_implementation.so").exists():
+        if _selects_at_runtime(prefix):
             distro = os.environ.get("ROS_DISTRO") or (prefix.name if prefix.parent == Path("/opt/ros") else "")
             return RosEnvironment(
                 kind=SYSTEM,
@@ -141,7 +174,8 @@ def _detect_system() -> RosEnvironment | None:
 @functools.lru_cache(maxsize=None)
 def detect() -> RosEnvironment:
     """Find the ROS 2 install for this interpreter, or raise :class:`SetupError` saying how to get one."""
-    found = _detect_wheels(Path(sys.prefix)) or _detect_system()
+    venv = Path(sys.prefix)
+    found = _detect_overlay(venv) or _detect_wheels(venv) or _detect_system()
     if found is None:
         raise SetupError(
             "ROS 2 was not found: this Python environment has no ROS 2 Jazzy wheels "
@@ -196,5 +230,7 @@ def activation_env(library: Path, ros: RosEnvironment, base: Mapping[str, str] |
         env["LD_LIBRARY_PATH"] = os.pathsep.join([str(library.parent), library_dirs])
         if str(install_prefix) not in prefixes:
             prefixes.insert(0, str(install_prefix))
+        if ros.wheels_underlay:
+            env["_ROS_WHEELS_BOOTSTRAP_COMPLETE"] = "1"  # the order above must stay
     env["AMENT_PREFIX_PATH"] = os.pathsep.join(prefixes)
     return env

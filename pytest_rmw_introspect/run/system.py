@@ -31,7 +31,7 @@ from ..errors import NoNodeCreated, TargetConfigError, TargetError
 from ..model.capture import Capture
 from ..model.paths import shown
 from ..model.vocabulary import LIFECYCLE, PARAMETERS
-from . import launch_reader, middleware, ros_env, runner
+from . import component_loads, launch_reader, middleware, ros_env, runner
 from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter
 from .target import TargetSpec
 
@@ -221,6 +221,11 @@ def process_spec(node: LaunchedNode, base: TargetSpec, params_dir: Path) -> Targ
         return path
 
     env = {**base.env, **node.env}
+    if node.components:  # the container's middleware loads them (component_loads)
+        counter[0] += 1
+        requests = params_dir / f"component_loads_{counter[0]}.txt"
+        requests.write_text(component_loads.requests_text(node.expected_fqn or "", node.components), encoding="utf-8")
+        env[component_loads.VARIABLE] = str(requests)
     options: dict[str, Any] = {"env": env} if env else {}
     if node.cwd is not None:
         options["cwd"] = str(node.cwd)

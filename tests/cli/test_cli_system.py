@@ -186,19 +186,19 @@ def test_an_interrupt_stops_the_running_processes_of_a_system_capture_first(cli,
 
 
 def test_unsupported_constructs_fail_unless_allowed(cli):
-    cli.write("launch/container.launch.xml", """\
+    cli.write("launch/timer.launch.xml", """\
         <launch>
-          <node_container pkg="rclcpp_components" exec="component_container" name="c"/>
+          <timer period="2.0"><node pkg="rmw_introspect_examples" exec="listener"/></timer>
           <node pkg="rmw_introspect_examples" exec="talker"/>
         </launch>
         """)
-    refused = cli("capture", "--launch", "launch/container.launch.xml")
+    refused = cli("capture", "--launch", "launch/timer.launch.xml")
     assert refused.returncode == 2, refused
-    assert "launch/container.launch.xml:2: <node_container>: composable node containers are not supported" in refused.stderr
+    assert "launch/timer.launch.xml:2: <timer>: delayed actions (<timer>) are not supported" in refused.stderr
     assert "--allow-unsupported" in refused.stderr
-    allowed = cli("capture", "--launch", "launch/container.launch.xml", "--allow-unsupported", timeout=120)
+    allowed = cli("capture", "--launch", "launch/timer.launch.xml", "--allow-unsupported", timeout=120)
     assert allowed.returncode == 0, allowed
-    assert "note: not captured (launch/container.launch.xml:2): <node_container>" in allowed.stderr
+    assert "note: not captured (launch/timer.launch.xml:2): <timer>" in allowed.stderr
     assert "allow_unsupported: true" in allowed.stdout and "/talker:" in allowed.stdout
 
 

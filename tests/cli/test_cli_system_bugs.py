@@ -22,6 +22,7 @@ def robot_launch(python: str, talker: str, map_loader: str) -> str:
 <launch>
   <arg name="renamed_node" default="false"/>
   <arg name="undeclared_parameter" default="false"/>
+  <arg name="undeclared_global_parameter" default="false"/>
   <arg name="wrong_namespace" default="false"/>
   <arg name="changed_type" default="false"/>
   <arg name="detector_from" default="scan"/>
@@ -30,15 +31,18 @@ def robot_launch(python: str, talker: str, map_loader: str) -> str:
   <let name="params" value="$(dirname)/robot_params.yaml"/>
   <group>
     <push-ros-namespace namespace="robot1"/>
-    <node pkg="rmw_introspect_examples" exec="laser_driver" name="lidar" unless="$(var renamed_node)">
-      <param from="$(var params)"/>
-      <param name="rte" value="5.0" if="$(var undeclared_parameter)"/>
-      <remap from="scan" to="lidar/scan"/>
-    </node>
-    <node pkg="rmw_introspect_examples" exec="laser_driver" name="laser" if="$(var renamed_node)">
-      <param from="$(var params)"/>
-      <remap from="scan" to="lidar/scan"/>
-    </node>
+    <group>
+      <set_parameter name="frame_idd" value="laser" if="$(var undeclared_global_parameter)"/>
+      <node pkg="rmw_introspect_examples" exec="laser_driver" name="lidar" unless="$(var renamed_node)">
+        <param from="$(var params)"/>
+        <param name="rte" value="5.0" if="$(var undeclared_parameter)"/>
+        <remap from="scan" to="lidar/scan"/>
+      </node>
+      <node pkg="rmw_introspect_examples" exec="laser_driver" name="laser" if="$(var renamed_node)">
+        <param from="$(var params)"/>
+        <remap from="scan" to="lidar/scan"/>
+      </node>
+    </group>
     <group unless="$(var wrong_namespace)">
       <node pkg="rmw_introspect_examples" exec="scan_consumer" name="obstacle_detector">
         <remap from="$(var detector_from)" to="$(var detector_to)"/>
@@ -77,6 +81,9 @@ BUGS = {
     "a path parameter to a package that is not installed": ("map:=package://office_maps/office.yaml",
                                                             [("PARAM_PATH_MISSING", "map_file")]),
     "a parameter the node does not declare": ("undeclared_parameter:=true", [("PARAM_NOT_DECLARED", "rte")]),
+    # a <set_parameter> reaches the nodes after it in its group only (the driver, not the others)
+    "a global parameter the node does not declare": ("undeclared_global_parameter:=true",
+                                                     [("PARAM_NOT_DECLARED", "frame_idd")]),
     "a remapping whose from the node does not use": (
         "detector_from:=sacn", [("REMAP_UNUSED", "sacn:=lidar/scan"), ("TOPIC_NAME_MISMATCH", "/robot1/scan")]),
 }
@@ -133,3 +140,14 @@ def test_each_buggy_robot_fails_the_default_gate_naming_its_bug(robot, bug):
     system = sorted((i["rule"], i["name"]) for i in items if "requester" in i)
     assert system == sorted(expected), checked
     assert all(i["severity"] == "BREAKING" for i in items if "requester" in i)
+
+
+def test_a_global_parameter_is_named_where_the_launch_file_sets_it(robot):
+    checked = robot("check", "robot.system.yaml", "--launch-arg", "undeclared_global_parameter:=true",
+                    "--format", "json", timeout=180)
+    [finding] = [i for i in json.loads(checked.stdout) if i.get("rule") == "PARAM_NOT_DECLARED"]
+    line = robot.read("launch/robot.launch.xml").splitlines().index(
+        '      <set_parameter name="frame_idd" value="laser" if="$(var undeclared_global_parameter)"/>') + 1
+    assert f"parameter `frame_idd` is given (launch/robot.launch.xml:{line}) but /robot1/lidar does not declare it" \
+        in json.dumps(finding), finding
+    assert "did you mean `frame_id`?" in json.dumps(finding)

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 import rmwi_helpers as h
+from source_trees import tree_hash
 
 from pytest_rmw_introspect.run import middleware
 
@@ -22,11 +23,8 @@ def _build_key(root: Path) -> str:
     """A cache key for a build of ``root`` against this environment's ROS prefix: its sources
     and the prefix (a Jazzy venv, a Kilted venv, a sourced install), so that two environments
     never reuse, or reconfigure, each other's build."""
-    digest = hashlib.sha256(h.ament_prefix_path().encode() + b"\0")
-    for path in sorted(root.rglob("*")):
-        if path.is_file() and "__pycache__" not in path.parts:
-            digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
-    return digest.hexdigest()[:16]
+    keyed = h.ament_prefix_path() + "\0" + tree_hash(root)
+    return hashlib.sha256(keyed.encode()).hexdigest()[:16]
 
 
 def _cmake_build(src: Path, build_dir: Path, *extra: str) -> None:

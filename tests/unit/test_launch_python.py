@@ -33,7 +33,7 @@ def prefix(tmp_path: Path) -> Path:
 
 LAUNCH = """
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, GroupAction, SetEnvironmentVariable
+from launch.actions import DeclareLaunchArgument, GroupAction, SetEnvironmentVariable, TimerAction
 from launch.conditions import IfCondition
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import ComposableNodeContainer, Node, PushRosNamespace
@@ -53,6 +53,7 @@ def generate_launch_description():
         Node(package='demo', executable='listener'),
         ComposableNodeContainer(name='c', namespace='', package='rclcpp_components',
                                 executable='component_container', composable_node_descriptions=[]),
+        TimerAction(period=2.0, actions=[Node(package='demo', executable='talker')]),
     ])
 """
 
@@ -63,7 +64,7 @@ def test_a_python_launch_file(tmp_path, prefix):
     path = tmp_path / "robot.launch.py"
     path.write_text(textwrap.dedent(LAUNCH).replace("PARAMS", repr(str(params))))
     result = launch_reader.read(path, {"use_lidar": "true"}, prefixes=[prefix])
-    talker, laser, listener = result.nodes
+    talker, laser, listener, container = result.nodes
     assert (talker.package, talker.executable, talker.name, talker.namespace) == ("demo", "talker", "status_reporter",
                                                                                  "/robot1")
     assert talker.command is not None and talker.command[0] == str(prefix / "lib" / "demo" / "talker")
@@ -73,6 +74,130 @@ def test_a_python_launch_file(tmp_path, prefix):
     assert laser.command[-2:] == ("--params-file", str(params))
     assert (listener.name, listener.namespace, listener.command[1:]) == (None, None, ("--ros-args",))
     assert dict(talker.env) == {"ROBOT_COLOR": "red"}
-    assert [u.what.split(":")[0] for u in result.unsupported] == ["ComposableNodeContainer"]
+    assert (container.executable, container.expected_fqn, container.components) == ("component_container", "/c", ())
+    assert [u.what.split(":")[0] for u in result.unsupported] == ["TimerAction"]
     without = launch_reader.read(path, {"use_lidar": "false"}, prefixes=[prefix])
-    assert [n.executable for n in without.nodes] == ["talker", "listener"]
+    assert [n.executable for n in without.nodes] == ["talker", "listener", "component_container"]
+
+
+def line_of(path: Path, text: str) -> int:
+    """The line of ``path`` that contains ``text`` (once)."""
+    [line] = [n for n, line in enumerate(path.read_text().splitlines(), 1) if text in line]
+    return line
+
+
+SETTINGS = """
+from launch import LaunchDescription
+from launch.actions import GroupAction
+from launch_ros.actions import Node, SetParameter, SetRemap
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        SetParameter(name='use_sim_time', value=True),
+        GroupAction([
+            SetRemap(src='scan', dst='lidar/scan'),
+            SetParameter(name='rate', value=2.5),
+            Node(package='demo', executable='laser', name='lidar', remappings=[('odom', 'wheel/odom')],
+                 parameters=[{'frame': 'laser'}]),
+        ]),
+        Node(package='demo', executable='listener', name='after'),
+    ])
+"""
+
+
+def test_set_remap_and_set_parameter_in_a_python_launch_file(tmp_path, prefix):
+    from pytest_rmw_introspect.check import launch_settings
+
+    path = tmp_path / "settings.launch.py"
+    path.write_text(textwrap.dedent(SETTINGS))
+    laser, after = launch_reader.read(path, prefixes=[prefix]).nodes
+    # launch_ros put them on the command line (global parameters first, the node's own after)
+    assert laser.command is not None
+    words = list(laser.command)
+    assert words[words.index("-p"):words.index("-p") + 4] == ["-p", "use_sim_time:=True", "-p", "rate:=2.5"]
+    assert laser.command[-4:] == ("-r", "scan:=lidar/scan", "-r", "odom:=wheel/odom")
+    # and the walker read them back, each SetParameter with its own line
+    sim_time = launch_reader.Where(path, line_of(path, "SetParameter(name='use_sim_time'"))
+    rate = launch_reader.Where(path, line_of(path, "SetParameter(name='rate'"))
+    assert [(p.name, p.value, p.where) for p in laser.parameters if p.name] == [
+        ("use_sim_time", True, sim_time), ("rate", 2.5, rate)]
+    assert [p.file is not None for p in laser.parameters] == [False, False, True]  # the node's own dict
+    # SetRemap's rules as in XML: in force for the node (before its own), not its own remappings
+    assert (laser.scope_remappings, laser.remappings) == ((("scan", "lidar/scan"),), (("odom", "wheel/odom"),))
+    assert laser.where == launch_reader.Where(path, line_of(path, "executable='laser'"))
+    # launch_ros's scoping, as in XML: the group's SetRemap ends with it (no remapping was set
+    # before the group), its SetParameter does not (the list of global parameters existed)
+    assert after.remappings == after.scope_remappings == ()
+    assert [(p.name, p.where) for p in after.parameters] == [("use_sim_time", sim_time), ("rate", rate)]
+    given = launch_settings.given(laser)
+    assert [(p.name, p.source) for p in given.parameters] == [
+        ("use_sim_time", str(sim_time)), ("rate", str(rate))]
+    assert [f.sections for f in given.files] == [(("/**", ("frame",)),)]
+
+
+HANDLERS = """
+from launch import LaunchDescription
+from launch.actions import EmitEvent, LogInfo, RegisterEventHandler, Shutdown
+from launch.conditions import IfCondition
+from launch.event_handlers import OnProcessExit, OnProcessIO, OnProcessStart, OnShutdown
+from launch.events import Shutdown as ShutdownEvent
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    talker = Node(package='demo', executable='talker', name='talker', on_exit=Shutdown(),
+                  condition=IfCondition(LaunchConfiguration('talk', default='true')))
+    return LaunchDescription([
+        talker,
+        RegisterEventHandler(OnProcessExit(target_action=talker, on_exit=[LogInfo(msg='done'), EmitEvent(event=ShutdownEvent())])),
+        RegisterEventHandler(OnProcessStart(target_action=talker, on_start=[LogInfo(msg='up'), Node(package='demo', executable='listener', name='follower')])),
+        RegisterEventHandler(OnShutdown(on_shutdown=[LogInfo(msg='bye')])),
+        BAD
+    ])
+"""
+#: handlers a capture cannot honour: (the code, what the report says of it)
+BAD_HANDLERS = {
+    "RegisterEventHandler(OnProcessExit(target_action=talker, on_exit=[Node(package='demo', executable='laser')])),":
+        "RegisterEventHandler: OnProcessExit: Node would run only after the process exits, which a capture does not "
+        "wait for (it stops every process itself); only Shutdown, EmitEvent(Shutdown) and LogInfo are accepted there",
+    "RegisterEventHandler(OnProcessExit(target_action=talker, on_exit=lambda event, context: None)),":
+        "RegisterEventHandler: OnProcessExit: its actions are given as a function, run after the process exits; a "
+        "capture cannot run it (it has no such event): give a list of actions",
+    "RegisterEventHandler(OnShutdown(on_shutdown=lambda event, context: [LogInfo(msg='x')])),":
+        "RegisterEventHandler: OnShutdown: its actions are given as a function, run when the launch shuts down;",
+    "RegisterEventHandler(OnProcessStart(target_action=talker, on_start=lambda event, context: None)),":
+        "RegisterEventHandler: OnProcessStart: its actions are given as a function of the start event",
+    "RegisterEventHandler(OnProcessIO(target_action=talker, on_stdout=lambda event: None)),":
+        "RegisterEventHandler: OnProcessIO: this event handler is not supported",
+    "Node(package='demo', executable='laser', on_exit=[Node(package='demo', executable='listener')]),":
+        "Node: on_exit: Node would run only after the process exits",
+}
+
+
+def test_event_handlers_get_the_meaning_a_capture_can_give_them(tmp_path, prefix):
+    path = tmp_path / "handlers.launch.py"
+    path.write_text(textwrap.dedent(HANDLERS).replace("BAD", ""))
+    result = launch_reader.read(path, prefixes=[prefix])
+    # OnProcessStart: what follows the talker's start is started too; the ending handlers are accepted
+    assert [(n.executable, n.name) for n in result.nodes] == [("talker", "talker"), ("listener", "follower")]
+    assert result.unsupported == []
+    assert result.nodes[1].where == launch_reader.Where(path, line_of(path, "name='follower'"))
+    # its target not started: nothing follows
+    assert [n.name for n in launch_reader.read(path, {"talk": "false"}, prefixes=[prefix]).nodes] == []
+    for code, what in BAD_HANDLERS.items():
+        path.write_text(textwrap.dedent(HANDLERS).replace("BAD", code))
+        [unsupported] = launch_reader.read(path, prefixes=[prefix]).unsupported
+        assert unsupported.what.startswith(what), (code, unsupported.what)
+        assert unsupported.where == launch_reader.Where(path, line_of(path, code)), code
+
+
+def test_unsupported_python_actions_name_their_file_and_line(tmp_path, prefix):
+    params = tmp_path / "params.yaml"
+    params.write_text("/**:\n  ros__parameters: {rate: 20.0}\n")
+    path = tmp_path / "robot.launch.py"
+    path.write_text(textwrap.dedent(LAUNCH).replace("PARAMS", repr(str(params))))
+    [unsupported] = launch_reader.read(path, {"use_lidar": "true"}, prefixes=[prefix]).unsupported
+    assert unsupported.where == launch_reader.Where(path, line_of(path, "TimerAction(period="))
+    assert str(unsupported.where).endswith(f"robot.launch.py:{unsupported.where.line}")

@@ -416,12 +416,17 @@ def test_nested_groups_and_scoping(tmp_path):
     ]
 
 
-def test_set_remap_applies_to_the_nodes_after_it_in_its_scope(tmp_path):
-    write(tmp_path / "inc.launch.xml", """
+def write_include(tmp_path: Path, rule: str) -> Path:
+    """inc.launch.xml: a node `included`, then `rule` (seen by the nodes after the include)."""
+    return write(tmp_path / "inc.launch.xml", f"""
         <launch>
           <node pkg="p" exec="included"/>
-          <set_remap from="inc" to="leaks_not"/>
+          {rule}
         </launch>""")
+
+
+def test_set_remap_applies_to_the_nodes_after_it_in_its_scope(tmp_path):
+    write_include(tmp_path, '<set_remap from="inc" to="from_include"/>')
     path = write(tmp_path / "r.launch.xml", """
         <launch>
           <node pkg="p" exec="before"/>
@@ -436,12 +441,16 @@ def test_set_remap_applies_to_the_nodes_after_it_in_its_scope(tmp_path):
           <node pkg="p" exec="after"/>
         </launch>""")
     result = read(path)
+    # as launch_ros (jazzy) does, measured: the rules are one list in the launch configurations,
+    # which a group copies without copying the list, so a rule set in a group (or an include)
+    # stays when the list existed before it; a group without forwarding starts with none
+    all_rules = (("/tf", "tf"), ("scan", "lidar/scan"), ("cmd", "cmd_safe"))
     assert [(n.executable, n.scope_remappings, n.remappings) for n in result.nodes] == [
         ("before", (), ()),
         ("grouped", (("/tf", "tf"), ("scan", "lidar/scan")), (("scan", "own"),)),
-        ("unforwarded", (), ()),  # launch_ros keeps <set_remap> rules with the launch configurations
-        ("included", (("/tf", "tf"), ("cmd", "cmd_safe")), ()),
-        ("after", (("/tf", "tf"), ("cmd", "cmd_safe")), ()),
+        ("unforwarded", (), ()),
+        ("included", all_rules, ()),
+        ("after", (*all_rules, ("inc", "from_include")), ()),
     ]
     # on the command line before the node's own rules (rcl applies the first that matches)
     assert result.nodes[1].ros_argument_list()[-6:] == ["-r", "/tf:=tf", "-r", "scan:=lidar/scan", "-r", "scan:=own"]
@@ -452,6 +461,117 @@ def test_set_remap_applies_to_the_nodes_after_it_in_its_scope(tmp_path):
         """)
     assert read(yaml_path).nodes[0].scope_remappings == (("scan", "lidar/scan"),)
     assert read(yaml_path).unsupported == []
+
+
+def test_set_parameter_applies_to_the_nodes_after_it_in_its_scope(tmp_path):
+    write(tmp_path / "globals.yaml", "/**:\n  ros__parameters: {frame: map}\n")
+    write_include(tmp_path, '<set_parameter name="from_include" value="1"/>')
+    path = write(tmp_path / "p.launch.xml", """
+        <launch>
+          <arg name="rate" default="2.5"/>
+          <group><set_parameter name="scoped" value="x"/><node pkg="p" exec="first"/></group>
+          <node pkg="p" exec="before"/>
+          <set_parameter name="use_sim_time" value="true"/>
+          <group>
+            <set_parameter name="rate" value="$(var rate)"/>
+            <set_parameters_from_file filename="$(dirname)/globals.yaml"/>
+            <node pkg="p" exec="grouped"><param name="rate" value="3"/></node>
+          </group>
+          <group forwarding="false"><node pkg="p" exec="unforwarded"/></group>
+          <include file="$(dirname)/inc.launch.xml"/>
+          <node pkg="p" exec="after"/>
+        </launch>""")
+    result = read(path)
+    at = {line: launch_reader.Where(path, line) for line in (3, 5, 7, 8)}
+    globals_file = tmp_path / "globals.yaml"
+    sim_time, rate, from_file = (Parameter("use_sim_time", True, where=at[5]), Parameter("rate", 2.5, where=at[7]),
+                                 Parameter(file=globals_file, where=at[8]))
+    # launch_ros (jazzy) as measured: a group copies the launch configurations, not the list of
+    # global parameters in them, so what a group adds to a list that existed before it stays
+    assert [(n.executable, n.parameters) for n in result.nodes] == [
+        ("first", (Parameter("scoped", "x", where=at[3]),)),
+        ("before", ()),  # the first group made its own list
+        ("grouped", (sim_time, rate, from_file, Parameter("rate", 3))),
+        ("unforwarded", ()),
+        ("included", (sim_time, rate, from_file)),
+        ("after", (sim_time, rate, from_file,
+                   Parameter("from_include", 1, where=launch_reader.Where(tmp_path / "inc.launch.xml", 3)))),
+    ]
+    # before the node's own parameters on the command line: the node's own value wins
+    assert result.nodes[2].ros_argument_list()[1:] == [
+        "-p", "use_sim_time:=true", "-p", "rate:=2.5", "--params-file", str(globals_file), "-p", "rate:=3"]
+    assert result.unsupported == []
+    yaml_path = write(tmp_path / "p.launch.yaml", """
+        launch:
+          - set_parameter: {name: gain, value: 0.5}
+          - set_parameters_from_file: {filename: globals.yaml}
+          - node: {pkg: p, exec: e}
+        """)
+    yaml_result = read(yaml_path)
+    assert yaml_result.nodes[0].parameters == (Parameter("gain", 0.5, where=launch_reader.Where(yaml_path, 2)),
+                                               Parameter(file=globals_file, where=launch_reader.Where(yaml_path, 3)))
+    assert yaml_result.unsupported == []
+    missing = write(tmp_path / "m.launch.xml", """
+        <launch><set_parameters_from_file filename="nowhere.yaml"/></launch>""")
+    with pytest.raises(LaunchError, match=r"m.launch.xml:1: parameters file .*nowhere.yaml does not exist"):
+        read(missing)
+    nameless = write(tmp_path / "n.launch.xml", """
+        <launch><set_parameter value="1"/></launch>""")
+    with pytest.raises(LaunchError, match=r"n.launch.xml:1: <set_parameter> needs the attribute `name`"):
+        read(nameless)
+
+
+def test_components_are_the_load_requests_launch_ros_makes(tmp_path):
+    write(tmp_path / "talker.yaml", """
+        /**:
+          ros__parameters: {frame: map}
+        /**/talker:
+          ros__parameters: {rate_hz: 9.0}
+        robot/talker:
+          ros__parameters: {rate_hz: 4.0, limits: {max: 2}}
+        """)
+    path = write(tmp_path / "c.launch.xml", """
+        <launch>
+          <push_ros_namespace namespace="robot"/>
+          <set_remap from="chatter" to="status"/>
+          <set_parameter name="use_sim_time" value="true"/>
+          <node_container pkg="rclcpp_components" exec="component_container" name="container">
+            <composable_node pkg="demo" plugin="demo::Talker" name="talker">
+              <param from="$(dirname)/talker.yaml"/>
+              <param name="ids" value="1,2" value-sep=","/>
+              <remap from="out" to="talk"/>
+              <extra_arg name="use_intra_process_comms" value="true"/>
+            </composable_node>
+            <composable_node pkg="demo" plugin="demo::Skipped" name="skipped" if="false"/>
+          </node_container>
+          <load_composable_node target="/robot/container">
+            <composable_node pkg="demo" plugin="demo::Listener" name="listener" namespace="/abs"/>
+          </load_composable_node>
+        </launch>""")
+    result = read(path)
+    assert result.unsupported == []
+    [container] = result.nodes
+    assert (container.executable, container.expected_fqn) == ("component_container", "/robot/container")
+    talker, listener = container.components
+    assert (talker.package, talker.plugin, talker.name, talker.namespace, talker.where.line) == (
+        "demo", "demo::Talker", "talker", "/robot", 6)
+    assert talker.remap_rules == ("chatter:=status", "out:=talk")
+    # the `/**` and exact-name sections of the file (launch_ros's rule for components), typed
+    assert talker.parameters == (("use_sim_time", 1, True), ("frame", 4, "map"), ("rate_hz", 3, 4.0),
+                                 ("limits.max", 2, 2), ("ids", 7, (1, 2)))
+    assert talker.extra_arguments == (("use_intra_process_comms", 1, True),)
+    assert (listener.plugin, listener.namespace, listener.remap_rules, listener.parameters) == (
+        "demo::Listener", "/abs", ("chatter:=status",), (("use_sim_time", 1, True),))
+    bad = write(tmp_path / "bad.launch.xml", """
+        <launch>
+          <node_container pkg="rclcpp_components" exec="component_container" name="c">
+            <composable_node pkg="demo" plugin="demo::Talker" name="talker">
+              <param name="mixed" value="1,a" value-sep=","/>
+            </composable_node>
+          </node_container>
+        </launch>""")
+    with pytest.raises(LaunchError, match=r"bad.launch.xml:3: <composable_node name=\"talker\">: parameter `mixed`: "):
+        read(bad)
 
 
 def test_a_required_argument_an_include_does_not_pass_names_the_include(tmp_path):
@@ -511,8 +631,8 @@ def test_argument_errors(tmp_path):
 def test_unsupported_constructs_are_listed_with_file_and_line(tmp_path):
     path = write(tmp_path / "u.launch.xml", """
         <launch>
-          <node_container pkg="rclcpp_components" exec="component_container" name="c"/>
-          <load_composable_node target="/c"/>
+          <composable_node pkg="p" plugin="p::C" name="c"/>
+          <load_composable_node target="/elsewhere"/>
           <executable cmd="ls"/>
           <node pkg="p" exec="e" launch-prefix="gdb --args">
             <param name="x" value="$(eval '1 + 1')"/>
@@ -526,7 +646,7 @@ def test_unsupported_constructs_are_listed_with_file_and_line(tmp_path):
     assert [n.executable for n in result.nodes] == ["ok"]
     listed = [(u.where.line, u.what.split(":")[0]) for u in result.unsupported]
     assert listed == [
-        (2, "<node_container>"), (3, "<load_composable_node>"), (4, "<executable>"),
+        (2, "<composable_node>"), (3, "<load_composable_node>"), (4, "<executable>"),
         (5, "attribute `launch_prefix` of <node> is not supported"), (7, "<unknown_child> inside <node> is not supported"),
         (5, "<node>"), (9, "<node>"), (10, "<timer>"),
     ]

@@ -141,3 +141,48 @@ def test_the_wheels_distro_is_read_from_the_meta_packages_dist_info(tmp_path, mo
     monkeypatch.setattr(sys, "prefix", str(prefix))
     monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
     assert ros_env.detect().distro == "kilted"
+
+
+# ---------------------------------------------------------------- the overlay over the wheels
+def test_a_runtime_selection_prefix_ahead_of_the_venv_is_a_system_install_over_the_wheels(tmp_path, monkeypatch):
+    venv = make_wheels_prefix(tmp_path / "venv")
+    overlay = make_system_prefix(tmp_path / "overlay")
+    monkeypatch.setattr(sys, "prefix", str(venv))
+    monkeypatch.setenv("AMENT_PREFIX_PATH", f"{overlay}:{venv}")
+    found = ros_env.detect()
+    assert found.kind == ros_env.SYSTEM
+    assert found.prefix == overlay
+    assert found.wheels_underlay
+    assert found.ament_prefixes == (overlay, venv)
+    site = venv / "lib" / PYVER / "site-packages"
+    # the overlay's relinked librcl must be found before the wheels' own
+    assert found.library_dirs == (overlay / "lib", venv / "lib", (site / "ros_fastrtps.libs").resolve(),
+                                  (site / "ros_rcl.libs").resolve())
+
+
+@pytest.mark.parametrize("order", ["venv first", "venv not named"])
+def test_runtime_selection_that_is_not_ahead_of_the_venv_leaves_the_wheels_kind(tmp_path, monkeypatch, order):
+    # the interpreter's rclpy is then the wheels' own, linked to Fast DDS: only the preload works
+    venv = make_wheels_prefix(tmp_path / "venv")
+    other = make_system_prefix(tmp_path / "opt")
+    monkeypatch.setattr(sys, "prefix", str(venv))
+    monkeypatch.setenv("AMENT_PREFIX_PATH", f"{venv}:{other}" if order == "venv first" else str(other))
+    found = ros_env.detect()
+    assert found.kind == ros_env.WHEELS
+    assert found.prefix == venv
+
+
+def test_activation_over_the_wheels_keeps_the_library_order_from_the_bootstrapper(tmp_path):
+    venv = make_wheels_prefix(tmp_path / "venv")
+    overlay = make_system_prefix(tmp_path / "overlay")
+    lib = tmp_path / "install" / "lib" / "librmw_introspect_cpp.so"
+    lib.parent.mkdir(parents=True)
+    lib.write_bytes(b"")
+    ros = ros_env.RosEnvironment(ros_env.SYSTEM, overlay, "jazzy", (overlay, venv), (overlay / "lib", venv / "lib"),
+                                 wheels_underlay=True)
+    env = ros_env.activation_env(lib, ros, base={})
+    assert env["_ROS_WHEELS_BOOTSTRAP_COMPLETE"] == "1"
+    assert env["LD_LIBRARY_PATH"].split(":") == [str(lib.parent.resolve()), str(overlay / "lib"), str(venv / "lib")]
+    assert env["AMENT_PREFIX_PATH"].split(":") == [str(lib.parent.parent.resolve()), str(overlay), str(venv)]
+    plain = ros_env.RosEnvironment(ros_env.SYSTEM, overlay, "jazzy", (overlay,), (overlay / "lib",))
+    assert "_ROS_WHEELS_BOOTSTRAP_COMPLETE" not in ros_env.activation_env(lib, plain, base={})

@@ -296,12 +296,16 @@ def test_the_settings_of_a_launched_node(tmp_path):
     params.write_text("/**/lidar:\n  ros__parameters: {rate: 2.0, frame: {id: x}}\n")
     launched = LaunchedNode(
         executable="laser", package="demo", where=Where(tmp_path / "robot.launch.xml", 4), name="lidar",
-        parameters=(Parameter("rate", 3.0), Parameter(file=params), Parameter(file_text="/**:\n  ros__parameters: {a: 1}\n"),
+        parameters=(Parameter("use_sim_time", True, where=Where(tmp_path / "robot.launch.xml", 2)),
+                    Parameter("rate", 3.0), Parameter(file=params), Parameter(file_text="/**:\n  ros__parameters: {a: 1}\n"),
                     Parameter(file=tmp_path / "missing.yaml")),
         remappings=(("scan", "lidar/scan"),),
         ros_arguments=("-p", "gain:=2", "-r", "odom:=wheel/odom", "--params-file", str(params)))
     settings = launch_settings.given(launched)
-    assert [p.name for p in settings.parameters] == ["rate", "gain"]
+    assert [p.name for p in settings.parameters] == ["use_sim_time", "rate", "gain"]
+    # a <set_parameter> is named where it is written, the node's own where the node is
+    assert [p.source.rsplit("/", 1)[-1] for p in settings.parameters] == [
+        "robot.launch.xml:2", "robot.launch.xml:4", "robot.launch.xml:4 (ros_args)"]
     assert [(f.shown.endswith("params.yaml"), f.sections) for f in settings.files] == [
         (True, (("/**/lidar", ("rate", "frame.id")),)), (False, (("/**", ("a",)),)),
         (True, (("/**/lidar", ("rate", "frame.id")),))]

@@ -19,7 +19,8 @@
 # Sets ROS_PYPI_WHEELS (TRUE/FALSE), ROS_PYPI_WHEELS_PREFIX and ROS_PYPI_WHEELS_LIBS_DIRS;
 # <package>_DIR of a package found with find_package() tells where the ROS prefix is.
 # With the wheels, it also drops paths that do not exist from the imported targets' include
-# directories and link libraries: some exported targets name paths of the machine that built
+# directories and link libraries, and points libraries named plainly that only the wheels bundle
+# (lttng-ust) at the bundled file: some exported targets name paths of the machine that built
 # the wheels (*__rosidl_generator_py: /opt/python/cp311-cp311/include/...; Fast DDS, which
 # rcl::rcl reaches through rmw_implementation: /usr/lib64/libtinyxml2.so, bundled in
 # ros_fastrtps.libs instead), and CMake refuses to build with a missing one.
@@ -51,9 +52,21 @@ function(_ros_pypi_wheels_drop_missing_paths)
       set(_kept)
       foreach(_value IN LISTS _values)
         # keep target names, flags, generator expressions and paths that exist
-        if(NOT IS_ABSOLUTE "${_value}" OR EXISTS "${_value}")
-          list(APPEND _kept "${_value}")
+        if(IS_ABSOLUTE "${_value}" AND NOT EXISTS "${_value}")
+          continue()
         endif()
+        # a library named plainly that the wheels bundle under a hashed name (tracetools names
+        # lttng-ust: ros_tracetools.libs/liblttng-ust-<hash>.so.0.0.0): that file
+        if(_value MATCHES "^[A-Za-z0-9_.+-]+$" AND NOT TARGET "${_value}")
+          foreach(_dir IN LISTS ROS_PYPI_WHEELS_LIBS_DIRS)
+            file(GLOB _bundled "${_dir}/lib${_value}-[0-9a-f]*.so*")
+            if(_bundled)
+              list(GET _bundled 0 _value)
+              break()
+            endif()
+          endforeach()
+        endif()
+        list(APPEND _kept "${_value}")
       endforeach()
       if(NOT _kept STREQUAL _values)
         set_target_properties(${_target} PROPERTIES ${_property} "${_kept}")
@@ -92,7 +105,20 @@ function(ros_pypi_wheels_fix_executable target)
       "with --enable-shared (pyenv: PYTHON_CONFIGURE_OPTS=--enable-shared).")
   endif()
 
-  set(_dirs "${ROS_PYPI_WHEELS_PREFIX}/lib" ${ROS_PYPI_WHEELS_LIBS_DIRS})
+  # Prefixes listed before the wheels' come first: an overlay's libraries must win over the
+  # wheels' own (`make overlay` relinks librcl to rmw_implementation; DT_RPATH beats LD_LIBRARY_PATH).
+  set(_ahead)
+  string(REPLACE ":" ";" _env_prefixes "$ENV{CMAKE_PREFIX_PATH}")
+  foreach(_prefix IN LISTS CMAKE_PREFIX_PATH _env_prefixes)
+    get_filename_component(_prefix "${_prefix}" ABSOLUTE)
+    if(_prefix STREQUAL ROS_PYPI_WHEELS_PREFIX)
+      break()
+    endif()
+    if(IS_DIRECTORY "${_prefix}/lib")
+      list(APPEND _ahead "${_prefix}/lib")
+    endif()
+  endforeach()
+  set(_dirs ${_ahead} "${ROS_PYPI_WHEELS_PREFIX}/lib" ${ROS_PYPI_WHEELS_LIBS_DIRS})
   foreach(_dir IN LISTS _dirs)
     target_link_options(${target} PRIVATE "LINKER:-rpath-link,${_dir}")
   endforeach()

@@ -376,6 +376,23 @@ void render_type_json(const TypeDescription & type, std::string * out)
 }
 
 template<typename W>
+void write_component_loads(W & w, const std::vector<ComponentLoadRecord> & loads)
+{
+  w.begin_array();
+  for (const auto & record : loads) {
+    w.begin_object();
+    w.key("service").string(record.service);
+    w.key("plugin").string(record.plugin);
+    w.key("node").string(record.node);
+    w.key("result").string(component_load_result_name(record.result));
+    w.key("full_node_name").string(record.full_node_name);
+    optional_string(w.key("error"), record.error);
+    w.end_object();
+  }
+  w.end_array();
+}
+
+template<typename W>
 void write_stimuli(W & w, const std::vector<StimulusRecord> & stimuli)
 {
   w.begin_array();
@@ -453,6 +470,9 @@ void write_document(
   w.key("unanswered").integer(static_cast<int64_t>(header.probe_unanswered));
   w.end_object();
   write_stimuli(w.key("stimuli"), header.stimuli);
+  if (!header.component_loads.empty()) {
+    write_component_loads(w.key("component_loads"), header.component_loads);
+  }
   if (header.has_ended) {
     w.key("ended").begin_object();
     w.key("before_settle").boolean(header.ended_before_settle);

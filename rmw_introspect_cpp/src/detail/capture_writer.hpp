@@ -9,6 +9,7 @@
 
 #include "detail/config.hpp"
 #include "detail/recorder.hpp"
+#include "detail/component_loads.hpp"
 #include "detail/stimuli.hpp"
 #include "detail/type_text_cache.hpp"
 
@@ -52,6 +53,8 @@ struct CaptureHeader
   uint64_t probe_unanswered = 0;
   // "stimuli": RMW_INTROSPECT_STIMULI, in the order given, and what each came to
   std::vector<StimulusRecord> stimuli;
+  // "component_loads": RMW_INTROSPECT_LOAD_NODES, in the order given (absent when none)
+  std::vector<ComponentLoadRecord> component_loads;
   // "ended": only in the captures written as the process ends (exit, shutdown)
   bool has_ended = false;
   bool ended_before_settle = false;

@@ -106,6 +106,10 @@ Config Config::from_environment(long pid)
     config.answer_timeout_ms = answer_timeout_ms;
   }
   config.stimuli = parse_stimuli(std::getenv("RMW_INTROSPECT_STIMULI"), &config.warnings);
+  const char * loads = std::getenv("RMW_INTROSPECT_LOAD_NODES");
+  if (loads != nullptr && *loads != '\0') {
+    config.component_loads = read_component_loads(loads, &config.warnings);
+  }
   return config;
 }
 

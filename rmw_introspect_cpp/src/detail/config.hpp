@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "detail/component_loads.hpp"
 #include "detail/prober.hpp"
 
 namespace rmw_introspect
@@ -34,6 +35,9 @@ struct Config
   /// RMW_INTROSPECT_STIMULI: topic and service names that get one default message or request
   /// after the probing (stimuli.hpp); empty = off.
   std::vector<std::string> stimuli;
+  /// RMW_INTROSPECT_LOAD_NODES: a file of LoadNode requests for this process's component
+  /// containers, sent before the probing (component_loads.hpp); empty = none.
+  std::vector<ComponentLoad> component_loads;
   /// One line per value that was out of range or not a number (kept at its default);
   /// the Runtime prints them on stderr.
   std::vector<std::string> warnings;

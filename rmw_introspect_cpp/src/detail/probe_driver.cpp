@@ -8,9 +8,9 @@ namespace rmw_introspect
 {
 
 ProbeDriver::ProbeDriver(
-  const ProbeSettings & settings, const std::vector<std::string> & stimuli, Recorder & recorder,
-  Injector & injector)
-: prober_(settings), stimuli_(stimuli), recorder_(recorder), injector_(injector),
+  const ProbeSettings & settings, const std::vector<std::string> & stimuli,
+  const std::vector<ComponentLoad> & loads, Recorder & recorder, Injector & injector)
+: prober_(settings), stimuli_(stimuli), loads_(loads), recorder_(recorder), injector_(injector),
   prober_done_(!settings.enabled())
 {
 }
@@ -28,7 +28,19 @@ void ProbeDriver::finish_in_flight(
 {
   const std::string within =
     timeout_ms > 0 ? " within " + std::to_string(timeout_ms) + " ms" : std::string();
-  if (in_flight_stimulus_) {
+  if (in_flight_load_) {
+    switch (outcome) {
+      case Injector::Outcome::kAnswered:
+        loads_.on_answer(answer);
+        break;
+      case Injector::Outcome::kFailed:
+        loads_.on_failed(error, false);
+        break;
+      case Injector::Outcome::kNone:
+        loads_.on_failed("no answer from " + in_flight_service_ + within, true);
+        break;
+    }
+  } else if (in_flight_stimulus_) {
     // The process settled after it (or gave up): what it creates now is not its reaction.
     recorder_.set_cause("");
     switch (outcome) {
@@ -58,6 +70,7 @@ void ProbeDriver::finish_in_flight(
   }
   in_flight_ = false;
   in_flight_stimulus_ = false;
+  in_flight_load_ = false;
 }
 
 bool ProbeDriver::step(WaitHub & hub, const std::function<void()> & before_send)
@@ -67,6 +80,9 @@ bool ProbeDriver::step(WaitHub & hub, const std::function<void()> & before_send)
     std::string error;
     const Injector::Outcome outcome = injector_.withdraw(&answer, &error);
     finish_in_flight(outcome, answer, error, 0);
+  }
+  if (send_load(hub, before_send)) {
+    return true;
   }
   while (!prober_done_) {
     ProbeRequest request;
@@ -93,6 +109,31 @@ bool ProbeDriver::step(WaitHub & hub, const std::function<void()> & before_send)
     return true;
   }
   return send_stimulus(hub, before_send);
+}
+
+bool ProbeDriver::send_load(WaitHub & hub, const std::function<void()> & before_send)
+{
+  while (!loads_done_) {
+    uint64_t service_id = 0;
+    const ComponentLoad * load = nullptr;
+    if (!loads_.next(recorder_.snapshot(), &service_id, &load)) {
+      loads_done_ = true;
+      break;
+    }
+    std::string error;
+    // A load creates a node: wait for the process to settle again before the next request.
+    if (!injector_.prepare(service_id, load->request, true, &error)) {
+      loads_.on_failed(error, false);
+      continue;
+    }
+    in_flight_ = true;
+    in_flight_load_ = true;
+    in_flight_service_ = load->service;
+    before_send();
+    injector_.release(hub);
+    return true;
+  }
+  return false;
 }
 
 bool ProbeDriver::send_stimulus(WaitHub & hub, const std::function<void()> & before_send)

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "detail/component_loads.hpp"
 #include "detail/injector.hpp"
 #include "detail/prober.hpp"
 #include "detail/recorder.hpp"
@@ -17,7 +18,9 @@
 namespace rmw_introspect
 {
 
-/// Runs the Prober against this process: asks it for the next request, sends that through
+/// First sends the launch file's component loads (ComponentLoadPlan) to this process's
+/// component containers, one at a time, each followed by a settle (the nodes they create are
+/// then probed like the others). Then runs the Prober against this process: asks it for the next request, sends that through
 /// the Injector, hands the answer (or its absence) back, and keeps what it learnt with the
 /// node records (Recorder::set_node_probe, set_node_transition for the endpoints' created_in).
 /// When the Prober has nothing left to ask (or is off), the stimuli follow the same way
@@ -29,8 +32,8 @@ class ProbeDriver
 {
 public:
   ProbeDriver(
-    const ProbeSettings & settings, const std::vector<std::string> & stimuli, Recorder & recorder,
-    Injector & injector);
+    const ProbeSettings & settings, const std::vector<std::string> & stimuli,
+    const std::vector<ComponentLoad> & loads, Recorder & recorder, Injector & injector);
 
   /// kProbe: take the outcome of the request in flight, then send the next one: `before_send`
   /// runs just before the node can see it (the Session's probe_sent). False when nothing is
@@ -47,6 +50,8 @@ public:
   size_t unanswered() const {return prober_.unanswered();}
   /// What the stimuli came to so far (in the order given).
   const std::vector<StimulusRecord> & stimuli() const {return stimuli_.records();}
+  /// What the component loads came to so far (in the order given).
+  const std::vector<ComponentLoadRecord> & component_loads() const {return loads_.records();}
 
 private:
   void publish(uint64_t node_id);
@@ -55,9 +60,14 @@ private:
     const std::string & error, int64_t timeout_ms);
   /// Send the next stimulus; false when none is left.
   bool send_stimulus(WaitHub & hub, const std::function<void()> & before_send);
+  /// Send the next component load; false when none is left.
+  bool send_load(WaitHub & hub, const std::function<void()> & before_send);
 
   Prober prober_;
   StimulusPlan stimuli_;
+  ComponentLoadPlan loads_;
+  bool loads_done_ = false;
+  bool in_flight_load_ = false;
   Recorder & recorder_;
   Injector & injector_;
   bool prober_done_ = false;  // the Prober has nothing left to ask (or is off)

@@ -69,7 +69,8 @@ Session::Settings session_settings(const Config & config)
   settings.horizon_ms = config.horizon_ms;
   settings.warp_budget_ms = config.warp_budget_ms;
   // The stimuli follow the probing, in the same phase: either turns it on.
-  settings.probe = config.probe.enabled() || !config.stimuli.empty();
+  // So do the component loads, which come first.
+  settings.probe = config.probe.enabled() || !config.stimuli.empty() || !config.component_loads.empty();
   settings.answer_timeout_ms = config.answer_timeout_ms;
   settings.detect_idle = config.detect_idle;
   return settings;
@@ -78,7 +79,7 @@ Session::Settings session_settings(const Config & config)
 
 Runtime::Runtime()
 : config_(Config::from_environment(static_cast<long>(getpid()))),
-  probe_driver_(config_.probe, config_.stimuli, recorder_, injector_),
+  probe_driver_(config_.probe, config_.stimuli, config_.component_loads, recorder_, injector_),
   session_(clock_, virtual_clock_, session_settings(config_), &main_thread_state_)
 {
   for (const auto & warning : config_.warnings) {
@@ -98,6 +99,7 @@ Runtime::Runtime()
   {
     std::lock_guard<std::mutex> lock(stimuli_mutex_);
     stimuli_ = probe_driver_.stimuli();  // every name pending
+    component_loads_ = probe_driver_.component_loads();
   }
   injector_.set_answer_listener([this](bool changes_node) {on_probe_answer(changes_node);});
 }
@@ -170,11 +172,12 @@ void Runtime::probe_timeout()
 
 void Runtime::publish_stimuli()
 {
-  if (config_.stimuli.empty()) {
+  if (config_.stimuli.empty() && config_.component_loads.empty()) {
     return;
   }
   std::lock_guard<std::mutex> lock(stimuli_mutex_);
   stimuli_ = probe_driver_.stimuli();
+  component_loads_ = probe_driver_.component_loads();
 }
 
 uint64_t Runtime::enter_wait(int64_t deadline_ns)
@@ -393,6 +396,7 @@ void Runtime::write_capture(const char * state)
   {
     std::lock_guard<std::mutex> lock(stimuli_mutex_);
     header.stimuli = stimuli_;
+    header.component_loads = component_loads_;
   }
   header.pid = static_cast<long>(getpid());
   header.argv = argv_;

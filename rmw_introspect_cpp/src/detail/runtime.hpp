@@ -150,6 +150,7 @@ private:
   std::atomic<uint64_t> probe_unanswered_{0};
   std::mutex stimuli_mutex_;  // a leaf: guards stimuli_
   std::vector<StimulusRecord> stimuli_;  // the ProbeDriver's, as last published
+  std::vector<ComponentLoadRecord> component_loads_;  // the same (guarded by stimuli_mutex_)
   std::vector<std::string> argv_;  // read at rmw_init (immutable after)
 
   std::mutex write_mutex_;

@@ -104,10 +104,10 @@ def workspace(overlay, tmp_path_factory) -> Path:
     helper = CPP_EXAMPLES.parent / "rmw_introspect_examples" / "cmake"
     shutil.copytree(helper, ws / "src" / "rmw_introspect_examples" / "cmake")
     write_ament_python_package(ws / "src")
-    built = colcon(overlay, ws, "build", "--cmake-args", f"-DPython3_EXECUTABLE={sys.executable}", "-DCMAKE_BUILD_TYPE=Release",
-                   "--parallel-workers", "1")
-    assert sorted(p.name for p in (ws / "install").iterdir() if p.is_dir()) == ["py_beacon", "rmw_introspect_examples_cpp"]
+    built = colcon(overlay, ws, "build", "--executor", "sequential",
+                   "--cmake-args", f"-DPython3_EXECUTABLE={sys.executable}", "-DCMAKE_BUILD_TYPE=Release")
     assert built.returncode == 0, built.stdout[-4000:] + built.stderr[-4000:]
+    assert sorted(p.name for p in (ws / "install").iterdir() if p.is_dir()) == ["py_beacon", "rmw_introspect_examples_cpp"]
     return ws
 
 

@@ -70,6 +70,7 @@ def write_ament_python_package(src: Path) -> Path:
             data_files=[("share/ament_index/resource_index/packages", ["resource/py_beacon"]),
                         ("share/py_beacon", ["package.xml"])],
             entry_points={"console_scripts": ["beacon = py_beacon.beacon:main"]},
+            tests_require=["pytest"],  # colcon test runs pytest (not unittest) for it
         )
         """))
     (pkg / "contracts" / "beacon.interfaces.yaml").write_text(textwrap.dedent(f"""\
@@ -100,6 +101,10 @@ def workspace(overlay, tmp_path_factory) -> Path:
     the other example package, which it includes: not a package of the workspace) and the
     ament_python package, built with colcon over the overlay."""
     ws = tmp_path_factory.mktemp("ws")
+    # the middleware for the overlay, built before (not inside) the 120 s contract tests
+    library = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect.run.middleware"], env=overlay.env(),
+                             capture_output=True, text=True, timeout=1200)
+    assert library.returncode == 0, library.stderr
     shutil.copytree(CPP_EXAMPLES, ws / "src" / CPP_EXAMPLES.name, ignore=shutil.ignore_patterns("__pycache__"))
     helper = CPP_EXAMPLES.parent / "rmw_introspect_examples" / "cmake"
     shutil.copytree(helper, ws / "src" / "rmw_introspect_examples" / "cmake")

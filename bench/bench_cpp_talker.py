@@ -8,9 +8,10 @@ activates the middleware as on a standard install (RMW_IMPLEMENTATION plus the p
 builds the C++ example package over the overlay (once, cached).
 
 Rows (medians, ms):
-- floor: the talker constructs its node (parameters, publisher, timer) and exits
-  (`--exit-after-setup`), on the recording middleware with nothing written: what the program
-  itself costs, loader and rclcpp included;
+- floor: the talker constructs its node (parameters, publisher, timer) and ends at once without
+  teardown (`--exit-after-setup`: `_Exit`, as the middleware ends a settled process), on the
+  recording middleware with nothing written: what the program itself costs, loader and rclcpp
+  included;
 - recording: spawn -> process exited with its capture written (as the plugin runs it, with the
   middleware's default 10 ms settle); the ratio to the floor is the middleware's overhead
   (target <= 1.2x);

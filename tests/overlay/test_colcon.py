@@ -70,7 +70,7 @@ def write_ament_python_package(src: Path) -> Path:
             data_files=[("share/ament_index/resource_index/packages", ["resource/py_beacon"]),
                         ("share/py_beacon", ["package.xml"])],
             entry_points={"console_scripts": ["beacon = py_beacon.beacon:main"]},
-            tests_require=["pytest"],  # colcon test runs pytest (not unittest) for it
+            extras_require={"test": ["pytest"]},  # colcon test runs pytest (not unittest) for it
         )
         """))
     (pkg / "contracts" / "beacon.interfaces.yaml").write_text(textwrap.dedent(f"""\

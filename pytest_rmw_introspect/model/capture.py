@@ -485,6 +485,7 @@ class Capture:
                     f"node {node.fqn} uses sim time (use_sim_time): its ROS clock waits for /clock, which never "
                     "arrives in a capture, so its ROS-time timers never fire"
                 )
+        notes.extend(self._own_service_notes())
         probe = self.probe
         if probe is not None and probe.state == "skipped":
             notes.append(
@@ -497,6 +498,26 @@ class Capture:
                              "they are not compared")
             if node.lifecycle is not None and node.lifecycle.error:
                 notes.append(f"lifecycle: {node.lifecycle.error}")
+        return notes
+
+    def _own_service_notes(self) -> list[str]:
+        """A client of a service that a node of this same process serves: in a capture nothing is
+        delivered, so a program that waits for the answer (to a request to its own node, say)
+        waits for ever, and what it would create after the answer is not captured."""
+        servers: dict[str, list[str]] = {}
+        for e in self.endpoints():
+            if e.kind == "service":
+                servers.setdefault(e.name, []).append(e.node)
+        notes = []
+        for e in self.endpoints():
+            if e.kind != "client" or e.name not in servers:
+                continue
+            whose = "its own node" if e.node in servers[e.name] else "node " + ", ".join(sorted(set(servers[e.name])))
+            notes.append(
+                f"node {e.node} has a client of {e.name}, a service of {whose} in this process: requests to it "
+                "are never answered in a capture (nothing is delivered), so a program that waits for the answer "
+                "keeps waiting, and what it would create after the answer is not in this capture"
+            )
         return notes
 
     def make_values_portable(self, shares: Mapping[str, str]) -> None:

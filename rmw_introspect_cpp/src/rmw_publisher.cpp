@@ -38,6 +38,7 @@ rmw_publisher_t * rmw_create_publisher(
   if (!rmw_introspect::check_name_and_qos(topic_name, qos_profile, "topic")) {
     return nullptr;
   }
+  // as rmw_fastrtps_cpp: unique flows cannot be strictly required of a publisher
   if (publisher_options->require_unique_network_flow_endpoints ==
     RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED)
   {
@@ -196,8 +197,7 @@ rmw_ret_t rmw_publisher_get_network_flow_endpoints(
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(allocator, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(network_flow_endpoint_array, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("network flow endpoints are not supported: nothing goes on a network");
-  return RMW_RET_UNSUPPORTED;
+  return rmw_introspect::no_network_flow_endpoints(allocator, network_flow_endpoint_array);
 }
 
 rmw_ret_t rmw_get_gid_for_publisher(const rmw_publisher_t * publisher, rmw_gid_t * gid)

@@ -78,13 +78,8 @@ rmw_subscription_t * rmw_create_subscription(
   if (!rmw_introspect::check_name_and_qos(topic_name, qos_policies, "topic")) {
     return nullptr;
   }
-  if (subscription_options->require_unique_network_flow_endpoints ==
-    RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED)
-  {
-    RMW_SET_ERROR_MSG(
-      "Strict requirement on unique network flow endpoints for subscriptions not supported");
-    return nullptr;
-  }
+  // require_unique_network_flow_endpoints: every value is accepted, STRICTLY_REQUIRED too, as
+  // rmw_fastrtps_cpp accepts it on subscriptions (it refuses it on publishers only)
   auto impl = rmw_introspect::new_endpoint<SubscriptionImpl>(
     node, type_supports, rmw_introspect::resolve_message_type, topic_name, qos_policies,
     "subscription");
@@ -199,8 +194,7 @@ rmw_ret_t rmw_subscription_get_network_flow_endpoints(
   RMWI_CHECK_HANDLE(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(allocator, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(network_flow_endpoint_array, RMW_RET_INVALID_ARGUMENT);
-  RMW_SET_ERROR_MSG("network flow endpoints are not supported: nothing goes on a network");
-  return RMW_RET_UNSUPPORTED;
+  return rmw_introspect::no_network_flow_endpoints(allocator, network_flow_endpoint_array);
 }
 
 rmw_ret_t rmw_subscription_set_on_new_message_callback(

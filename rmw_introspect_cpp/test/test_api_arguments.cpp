@@ -246,6 +246,36 @@ TEST_F(ApiArgs, create_subscription)
   EXPECT_FOREIGN(rmw_destroy_subscription(node, &foreign_subscription));
 }
 
+// rmw_fastrtps_cpp accepts unique network flow endpoints strictly required on a subscription,
+// not on a publisher: a program asking for them on a subscription runs, as on Fast DDS.
+TEST_F(ApiArgs, unique_network_flow_endpoints)
+{
+  rmw_subscription_options_t strict_sub = sub_options;
+  strict_sub.require_unique_network_flow_endpoints = RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED;
+  rmw_subscription_t * strict = rmw_create_subscription(node, msg_ts, "/strict", &qos, &strict_sub);
+  ASSERT_NE(nullptr, strict) << rmw_get_error_string().str;
+  rmw_publisher_options_t strict_pub = pub_options;
+  strict_pub.require_unique_network_flow_endpoints = RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED;
+  EXPECT_NULL_WITH_ERROR(rmw_create_publisher(node, msg_ts, "/strict", &qos, &strict_pub));
+  strict_pub.require_unique_network_flow_endpoints = RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_OPTIONALLY_REQUIRED;
+  rmw_publisher_t * optional = rmw_create_publisher(node, msg_ts, "/strict", &qos, &strict_pub);
+  ASSERT_NE(nullptr, optional) << rmw_get_error_string().str;
+
+  // the flows of both: an empty list that finalizes cleanly (nothing goes on a network)
+  rcutils_allocator_t alloc = rcutils_get_default_allocator();
+  rmw_network_flow_endpoint_array_t flows = rmw_get_zero_initialized_network_flow_endpoint_array();
+  ASSERT_EQ(RMW_RET_OK, rmw_subscription_get_network_flow_endpoints(strict, &alloc, &flows));
+  EXPECT_EQ(0u, flows.size);
+  EXPECT_EQ(RMW_RET_OK, rmw_network_flow_endpoint_array_fini(&flows));
+  flows = rmw_get_zero_initialized_network_flow_endpoint_array();
+  ASSERT_EQ(RMW_RET_OK, rmw_publisher_get_network_flow_endpoints(optional, &alloc, &flows));
+  EXPECT_EQ(0u, flows.size);
+  EXPECT_EQ(RMW_RET_OK, rmw_network_flow_endpoint_array_fini(&flows));
+
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_publisher(node, optional));
+  EXPECT_EQ(RMW_RET_OK, rmw_destroy_subscription(node, strict));
+}
+
 TEST_F(ApiArgs, subscription_operations)
 {
   size_t count = 0;

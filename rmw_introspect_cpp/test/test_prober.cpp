@@ -368,19 +368,29 @@ TEST(Prober, targets_inactive_unconfigured_none_and_nodes_already_there)
     EXPECT_EQ(c.transitions, driven) << rmw_introspect::lifecycle_target_name(c.target) << " from " << c.state;
     EXPECT_EQ(rmw_introspect::lifecycle_target_name(c.target), prober.result(id)->lifecycle.target);
   }
-  // none: the lifecycle services are never called, the parameters still read.
+  // none: no transition is driven, but the state is asked (with the parameters) and recorded
   Graph graph;
   const uint64_t id = graph.node("lc", true, true);
   ProbeSettings settings;
   settings.lifecycle = LifecycleTarget::kNone;
   Prober prober{settings};
+  expect_next(prober, graph, "/ns/lc/get_state");
+  prober.on_answer(state_answer("active"));
   answer_parameter_round(prober, graph, "/ns/lc", {"x"}, {"x"});
   ProbeRequest none;
   EXPECT_FALSE(prober.next(graph.recorder.snapshot(), &none));
   EXPECT_TRUE(prober.result(id)->has_lifecycle);
   EXPECT_EQ("none", prober.result(id)->lifecycle.target);
-  EXPECT_EQ("", prober.result(id)->lifecycle.state);
+  EXPECT_EQ("active", prober.result(id)->lifecycle.state);
+  EXPECT_TRUE(prober.result(id)->lifecycle.transitions.empty());
   EXPECT_EQ(1u, prober.result(id)->parameters.size());
+  // none without parameters: nothing is asked at all (state unknown)
+  Graph quiet_graph;
+  const uint64_t quiet_id = quiet_graph.node("lc", true, true);
+  settings.parameters = false;
+  Prober quiet{settings};
+  EXPECT_FALSE(quiet.next(quiet_graph.recorder.snapshot(), &none));
+  EXPECT_EQ("", quiet.result(quiet_id)->lifecycle.state);
 }
 
 TEST(Prober, parameters_off_and_nodes_without_services)

@@ -148,6 +148,18 @@ def overlay_key(commits: dict[str, str], venv: Path) -> str:
     return h.hexdigest()[:16]
 
 
+def find_built(venv: Path) -> Path | None:
+    """The newest complete overlay in the cache built for ``venv``'s ROS 2 wheels (any venv made
+    from the same lock has the same wheels), or None."""
+    wheels = venv_wheels(venv)
+    found = []
+    for info_file in cache_root().glob(f"overlay-{DISTRO}-*/overlay.json"):
+        info = json.loads(info_file.read_text())
+        if info.get("venv_wheels") == wheels and Path(info["prefix"]).is_dir():
+            found.append((info_file.stat().st_mtime, info_file.parent))
+    return max(found)[1] if found else None
+
+
 # --------------------------------------------------------------------------- steps
 
 def run_logged(cmd: list[str], logfile: Path, env: dict[str, str], cwd: Path | None = None) -> None:

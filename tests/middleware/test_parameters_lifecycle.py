@@ -179,14 +179,22 @@ def test_lifecycle_targets(run, target, state, transitions, created):
     assert ("topic" in names) == (target == "inactive")
 
 
-def test_lifecycle_none_leaves_the_node_alone(run):
+def test_lifecycle_none_leaves_the_node_alone_and_records_its_state(run):
     result = run(h.python_node("lc_managed.py"), env={"RMW_INTROSPECT_LIFECYCLE": "none"})
     probe = assert_probed(result)
-    assert probe["requests"] == 3  # the parameters only
+    assert probe["requests"] == 4  # get_state, then the parameters: no change_state
     record = the_node(result.capture, "/managed")
-    assert record["lifecycle"] == {"target": "none", "initial_state": None, "state": None,
+    assert record["lifecycle"] == {"target": "none", "initial_state": "unconfigured", "state": "unconfigured",
                                    "transitions": [], "error": None}
     h.assert_capture(result.capture, [node("managed")], lifecycle_endpoints("/managed"))
+
+
+def test_lifecycle_none_records_the_state_a_self_driving_node_reached(run):
+    # lifecycle_node.py configures and activates itself: asked, not driven
+    result = run(h.python_node("lifecycle_node.py"), env={"RMW_INTROSPECT_LIFECYCLE": "none"})
+    record = the_node(result.capture, "/lc_node")
+    assert record["lifecycle"]["state"] == "active"
+    assert record["lifecycle"]["transitions"] == []
 
 
 @pytest.mark.parametrize("mode", ["fail", "raise"])

@@ -51,3 +51,13 @@ def test_a_task_spun_by_spin_once_that_never_ends_is_not_blamed_on_changes():
     assert "its last interface was created at" in message and "nothing changed in the" in message
     assert "kept creating or destroying" not in message
     assert "busy loop" in message
+
+
+def test_a_program_waiting_on_its_own_nodes_service_is_captured_with_a_note():
+    cap = runner.run(TargetSpec.from_mapping({"script": str(h.NODES / "self_client.py"), "timeout": 20}))
+    assert cap.state == "settled"
+    names = [e.name for e in cap.endpoints()]
+    assert "/ping" in names and "/after_answer" not in names
+    (note,) = [n for n in cap.notes() if "/ping" in n]
+    assert "node /self_caller has a client of /ping, a service of its own node" in note
+    assert "never answered" in note

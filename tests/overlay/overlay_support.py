@@ -57,15 +57,11 @@ class Overlay:
 
 def find_overlay() -> Overlay | None:
     """The newest complete overlay in the cache built for this venv's ROS 2 wheels, if any."""
-    build = builder()
-    wheels = build.venv_wheels(Path(sys.prefix))
-    found = []
-    for info_file in build.cache_root().glob(f"overlay-{build.DISTRO}-*/overlay.json"):
-        info = json.loads(info_file.read_text())
-        if info.get("venv_wheels") == wheels and Path(info["prefix"]).is_dir():
-            found.append((info_file.stat().st_mtime, Overlay(info_file.parent, Path(info["prefix"]), info)))
-    return max(found, key=lambda item: item[0])[1] if found else None
-
+    root = builder().find_built(Path(sys.prefix))
+    if root is None:
+        return None
+    info = json.loads((root / "overlay.json").read_text())
+    return Overlay(root, Path(info["prefix"]), info)
 
 
 def cmake_build(overlay: Overlay, src: Path, name: str, *args: str) -> Path:

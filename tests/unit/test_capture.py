@@ -463,3 +463,18 @@ def test_logger_services_are_infrastructure():
     b.ep(n, "service", "/talker/reset", "std_srvs/srv/Empty")
     assert b.capture()["/talker"].names("service_servers") == ["/talker/reset"]
     assert len(b.capture(include_infrastructure=True)["/talker"].service_servers) == 3 + len(PARAM_SERVICES)
+
+
+def test_a_client_of_a_service_of_the_same_process_is_noted():
+    b = Builder()
+    own = b.node("caller")
+    b.ep(own, "service", "/ping", "std_srvs/srv/Trigger")
+    b.ep(own, "client", "/ping", "std_srvs/srv/Trigger")
+    other = b.node("asker")
+    b.ep(other, "client", "/ping", "std_srvs/srv/Trigger")
+    b.ep(other, "client", "/elsewhere", "std_srvs/srv/Trigger")  # served by another process: no note
+    notes = b.capture().notes()
+    assert len(notes) == 2
+    assert notes[0].startswith("node /caller has a client of /ping, a service of its own node in this process")
+    assert notes[1].startswith("node /asker has a client of /ping, a service of node /caller in this process")
+    assert "never answered in a capture" in notes[1]

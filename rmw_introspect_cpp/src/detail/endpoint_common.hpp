@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rmw/error_handling.h"
+#include "rmw/network_flow_endpoint_array.h"
 #include "rmw/time.h"
 #include "rmw/types.h"
 #include "rmw/validate_full_topic_name.h"
@@ -203,6 +204,20 @@ inline void forget_endpoint(
     "destroyed %s %s%s", endpoint_kind_to_string(kind), name.c_str(),
     teardown ? " (teardown)" : "");
   runtime.notify_graph_change();
+}
+
+/// rmw_{publisher,subscription}_get_network_flow_endpoints: nothing goes on a network, so the
+/// list is empty, and valid (its allocator set): rclcpp's get_network_flow_endpoints() finalizes
+/// it and throws on any error, which would end a program that prints its flows (Fast DDS lists them).
+inline rmw_ret_t no_network_flow_endpoints(
+  rcutils_allocator_t * allocator, rmw_network_flow_endpoint_array_t * array)
+{
+  if (array->network_flow_endpoint != nullptr || array->size != 0) {
+    RMW_SET_ERROR_MSG("network_flow_endpoint_array must be zero initialized");
+    return RMW_RET_INVALID_ARGUMENT;
+  }
+  array->allocator = allocator;
+  return RMW_RET_OK;
 }
 
 }  // namespace rmw_introspect

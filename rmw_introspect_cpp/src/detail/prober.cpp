@@ -244,7 +244,10 @@ void Prober::start_task(Task & task, const RecorderSnapshot & snapshot)
     find_service(snapshot, id, task.fqn, kGetState) != nullptr &&
     find_service(snapshot, id, task.fqn, kChangeState) != nullptr;
   task.parameters = settings_.parameters && has_parameter_services;
-  task.lifecycle = has_lifecycle_services && settings_.lifecycle != LifecycleTarget::kNone;
+  // `none` drives nothing, but the state is still asked (with the parameters): a node that
+  // drives itself is recorded in the state it reached, not as unknown
+  task.lifecycle = has_lifecycle_services &&
+    (settings_.lifecycle != LifecycleTarget::kNone || settings_.parameters);
   task.result.has_lifecycle = has_lifecycle_services;
   if (has_lifecycle_services) {
     task.result.lifecycle.target = lifecycle_target_name(settings_.lifecycle);

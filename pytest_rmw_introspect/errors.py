@@ -422,7 +422,8 @@ def _what_was_seen(partial: Any) -> str:
     if partial.not_idle:
         facts.append(f"the middleware last saw {partial.not_idle}")
     if partial.polls:
-        facts.append(f"it polled its executor {partial.polls} times (zero-timeout waits)")
+        facts.append(f"it returned from rmw_wait {partial.polls} times without waiting (zero-timeout polls, or a "
+                     "guard condition it had just triggered itself)")
     facts.append(f"{partial.activity_calls or 0} calls into ROS (publish, take, graph queries) in all")
     return ("; ".join(facts) + ". It runs without waiting in an executor (a busy loop: a task spun with spin_once "
             "that awaits an answer that never comes, a callback that never returns, a sleep loop).")

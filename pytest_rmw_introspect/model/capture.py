@@ -817,12 +817,19 @@ def _horizon_note(vt: VirtualTime, polls: int) -> str:
              f"horizon after {vt.jumps} jumps")
     later = "; interfaces created later are not in the capture"
     if vt.warp_stalled:
-        polled = f" ({polls} zero-timeout polls of its executor)" if polls else ""
+        polled = (f" ({polls} zero-timeout polls of its executor, or waits that returned at once on a guard "
+                  "condition it had just triggered itself)" if polls else "")
         return (f"{where}: the program kept running but never waited with a timeout{polled}: it polls "
-                "(spin_some, spin_once(timeout_sec=0)) or sleeps on its own clock (time.sleep, sleep_for, a "
+                "(spin_some, spin_once(timeout_sec=0)), spins a task that awaits an answer that never comes "
+                "(spin_once with a pending call_async), or sleeps on its own clock (time.sleep, sleep_for, a "
                 "WallRate), which virtual time cannot advance" + later)
-    why = ("each jump is one period of a very fast timer" if vt.jumps >= 1000 else
-           "the program kept running between its waits (a loop that sleeps or polls besides its timers)")
+    if vt.jumps >= 1000:
+        why = "each jump is one period of a very fast timer"
+    elif polls:
+        why = (f"the program kept running between its waits: {polls} returns from rmw_wait without waiting (polls, "
+               "or a spin_once loop running a task that awaits an answer that never comes)")
+    else:
+        why = "the program kept running between its waits (a loop that sleeps or polls besides its timers)"
     return f"{where}: the warp used its real-time budget ({why})" + later
 
 

@@ -54,3 +54,15 @@ def test_a_task_spun_by_spin_once_that_never_ends_is_captured_at_once():
     (note,) = [n for n in cap.notes() if "virtual time stopped" in n]
     assert "a task that awaits an answer that never comes" in note
     assert "very fast timer" not in note
+
+
+def test_an_rcl_c_node_that_polls_rcl_wait_with_a_zero_timeout_settles_by_its_polls(run, c_node):
+    """rmwi_c_timer_node poll: `rcl_wait(&wait_set, 0)` in a loop (issue 24 item 6, the C side):
+    the polls settle it, the warp stalls at once (nothing to jump to) instead of spending its
+    real-time budget, and the note says why. `make bench` measures it against a plain capture."""
+    result = run([c_node.parent / "rmwi_c_timer_node", "poll"], env=HORIZON, timeout=20)
+    h.assert_settled_process(result)
+    assert result.capture["settled_by"] == "poll"
+    vt = result.capture["time"]
+    assert vt["warp_stalled"] is True and vt["warp_budget_exhausted"] is False and vt["jumps"] == 0
+    assert [n["name"] for n in result.capture["nodes"]] == ["c_timer"]

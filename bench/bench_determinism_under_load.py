@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import re
+import signal
 import subprocess
 import sys
 import time
@@ -25,7 +26,7 @@ from typing import Any
 
 from pytest_rmw_introspect.errors import TargetError
 from pytest_rmw_introspect.model import contract
-from pytest_rmw_introspect.run import runner
+from pytest_rmw_introspect.run import middleware, runner
 from pytest_rmw_introspect.run.target import TargetSpec
 
 CONTRACTS = Path(__file__).resolve().parents[1] / "examples" / "rmw_introspect_examples" / "contracts"
@@ -40,10 +41,10 @@ def _marked(value: Any) -> Any:
     return value
 
 
-def outcome(spec: TargetSpec) -> str:
+def outcome(spec: TargetSpec, library: Path) -> str:
     """What one capture of ``spec`` found, as canonical JSON (or the error's kind)."""
     try:
-        cap = runner.run(spec)
+        cap = runner.run(spec, library=library)
     except TargetError as exc:
         return json.dumps({"error": type(exc).__name__})
     return json.dumps({"nodes": _marked(cap.to_contract_nodes()),
@@ -65,6 +66,8 @@ def main() -> int:
     parser.add_argument("--hogs", type=int, default=2, help="busy processes at normal priority (default 2)")
     args = parser.parse_args()
     specs = targets()
+    library = middleware.ensure_library()  # once: a source edit meanwhile must not rebuild it mid-run
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # stopped: the hogs go too (finally)
     hogs = [subprocess.Popen([sys.executable, "-c", HOG]) for _ in range(args.hogs)]
     reference: dict[str, str] = {}
     same = {name: 0 for name in specs}
@@ -73,7 +76,7 @@ def main() -> int:
     try:
         for run in range(args.runs):
             for name, spec in specs.items():
-                found = outcome(spec)
+                found = outcome(spec, library)
                 if name not in reference:
                     reference[name] = found
                 if found == reference[name]:

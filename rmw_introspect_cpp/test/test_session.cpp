@@ -1130,3 +1130,39 @@ TEST_F(WarpTest, a_warp_with_jumps_stalls_only_after_half_a_second_of_polls)
   session.poll();
   EXPECT_FALSE(session.warping());
 }
+
+TEST_F(WarpTest, a_steady_periodic_timer_that_creates_nothing_is_fast_forwarded_to_the_horizon)
+{
+  settle_and_start_warp();
+  // A 1 ms timer: each wait's deadline 1 ms after the previous one.
+  const int64_t start = session.virtual_now_ns();
+  for (int i = 1; i <= 100; ++i) {
+    EXPECT_TRUE(session.try_jump(start + i * kMs));
+    EXPECT_FALSE(session.fast_forwarded()) << i;
+  }
+  EXPECT_TRUE(session.try_jump(start + 101 * kMs));
+  EXPECT_TRUE(session.fast_forwarded());
+  EXPECT_DOUBLE_EQ(10000.0, session.virtual_age_ms());  // at the horizon
+  EXPECT_FALSE(session.try_jump(session.virtual_now_ns() + kMs));  // past it: the warp ends
+  EXPECT_FALSE(session.warping());
+}
+
+TEST_F(WarpTest, a_timer_that_creates_something_or_uneven_deadlines_are_stepped_through)
+{
+  settle_and_start_warp();
+  int64_t target = session.virtual_now_ns();
+  for (int i = 1; i <= 300; ++i) {
+    target += (i % 2 == 0 ? 1 : 3) * kMs;  // two timers: uneven steps
+    EXPECT_TRUE(session.try_jump(target));
+  }
+  EXPECT_FALSE(session.fast_forwarded());
+  for (int i = 1; i <= 300; ++i) {
+    target += kMs;
+    if (i % 50 == 0) {
+      session.on_change();  // the callback created something
+    }
+    EXPECT_TRUE(session.try_jump(target));
+  }
+  EXPECT_FALSE(session.fast_forwarded());
+  EXPECT_TRUE(session.warping());
+}

@@ -2,6 +2,7 @@
 #include "detail/session.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -25,6 +26,11 @@ constexpr int64_t kFirstWaitRecheckNs = 50 * 1000 * 1000;
 constexpr int64_t kFirstWaitMaxNs = 2000 * 1000 * 1000;
 // The warp of a process that made jumps stalls after this long without a wait with a timeout.
 constexpr int64_t kStallAfterJumpsNs = 500 * 1000 * 1000;
+// Fast-forward (docs/design.md, "Fast-forward of a steady periodic timer"): after this many jumps
+// in a row to equally spaced deadlines with no entity created or destroyed, the next jump goes
+// straight to the horizon. Two deadlines count as equally spaced within kSteadyToleranceNs.
+constexpr uint64_t kSteadyJumpsBeforeHorizon = 100;
+constexpr int64_t kSteadyToleranceNs = 200 * 1000;
 // A census that found a thread not blocked (a sleep loop, a callback running) is taken again
 // this long after, while nothing else changes (each costs a few hundred microseconds).
 constexpr int64_t kCensusRecheckNs = 5 * 1000 * 1000;
@@ -69,6 +75,7 @@ void Session::break_quiet(int64_t now)
 
 void Session::on_change()
 {
+  steady_jumps_ = 0;  // a timer that creates something is not fast-forwarded
   ++generation_;
   last_change_ns_ = clock_.now_ns();
   break_quiet(last_change_ns_);
@@ -206,6 +213,21 @@ bool Session::try_jump(int64_t target_ns)
     horizon_reached_ = true;
     end_warp();
     return false;
+  }
+  // A periodic timer that fired again and again and created nothing: jump to the horizon
+  // at once (rcl then runs its callback once for the missed periods; see kSteadyJumpsBeforeHorizon).
+  const int64_t step = target_ns - last_jump_target_ns_;
+  const bool same_step = last_jump_target_ns_ != 0 && step > 0 &&
+    std::llabs(step - last_jump_step_ns_) <= kSteadyToleranceNs;
+  steady_jumps_ = same_step ? steady_jumps_ + 1 : 0;
+  last_jump_step_ns_ = step;
+  last_jump_target_ns_ = target_ns;
+  if (steady_jumps_ >= kSteadyJumpsBeforeHorizon) {
+    const int64_t horizon_target = t0_ns_ + settings_.horizon_ms * kNsPerMs;
+    if (horizon_target > target_ns) {
+      target_ns = horizon_target;
+      fast_forwarded_ = true;
+    }
   }
   const int64_t delta = target_ns - virtual_now;
   virtual_clock_.advance(delta);

@@ -326,7 +326,7 @@ TEST_F(WarpTest, horizon_clamps_the_warp)
   EXPECT_EQ(Session::Action::kSettle, session.poll().action);
 }
 
-TEST_F(WarpTest, a_1khz_timer_makes_10000_jumps_to_a_10s_horizon)
+TEST_F(WarpTest, a_1khz_timer_is_stepped_through_100_ticks_then_fast_forwarded_to_the_10s_horizon)
 {
   settle_and_start_warp();
   int jumps = 0;
@@ -334,8 +334,9 @@ TEST_F(WarpTest, a_1khz_timer_makes_10000_jumps_to_a_10s_horizon)
     ++jumps;
     clock.now += 100 * 1000;  // 100 us of real time per timer callback
   }
-  EXPECT_GE(jumps, 9000);
-  EXPECT_LE(jumps, 10000);
+  EXPECT_TRUE(session.fast_forwarded());
+  EXPECT_GE(jumps, 100);  // not 10 000: the steady timer is fast-forwarded
+  EXPECT_LE(jumps, 110);
   CaptureHeader header;
   session.fill_header("warping", &header);
   EXPECT_TRUE(header.horizon_reached);
@@ -1136,11 +1137,12 @@ TEST_F(WarpTest, a_steady_periodic_timer_that_creates_nothing_is_fast_forwarded_
   settle_and_start_warp();
   // A 1 ms timer: each wait's deadline 1 ms after the previous one.
   const int64_t start = session.virtual_now_ns();
-  for (int i = 1; i <= 100; ++i) {
+  // 100 equal steps after the first two deadlines
+  for (int i = 1; i <= 101; ++i) {
     EXPECT_TRUE(session.try_jump(start + i * kMs));
     EXPECT_FALSE(session.fast_forwarded()) << i;
   }
-  EXPECT_TRUE(session.try_jump(start + 101 * kMs));
+  EXPECT_TRUE(session.try_jump(start + 102 * kMs));
   EXPECT_TRUE(session.fast_forwarded());
   EXPECT_DOUBLE_EQ(10000.0, session.virtual_age_ms());  // at the horizon
   EXPECT_FALSE(session.try_jump(session.virtual_now_ns() + kMs));  // past it: the warp ends

@@ -28,7 +28,10 @@ constexpr int64_t kFirstWaitMaxNs = 2000 * 1000 * 1000;
 constexpr int64_t kStallAfterJumpsNs = 500 * 1000 * 1000;
 // Fast-forward (docs/design.md, "Fast-forward of a steady periodic timer"): after this many jumps
 // in a row to equally spaced deadlines with no entity created or destroyed, the next jump goes
-// straight to the horizon. Two deadlines count as equally spaced within kSteadyToleranceNs.
+// straight to the horizon. Two steps count as equal within half the longer one, at least
+// kSteadyToleranceNs: a jump's target is the wait's timeout added to the real clock read a
+// moment after rcl read it, so it carries the time the process ran in between (a busy machine:
+// up to a millisecond and more), while two timers of different periods alternate their steps.
 constexpr uint64_t kSteadyJumpsBeforeHorizon = 100;
 constexpr int64_t kSteadyToleranceNs = 200 * 1000;
 // A census that found a thread not blocked (a sleep loop, a callback running) is taken again
@@ -218,7 +221,8 @@ bool Session::try_jump(int64_t target_ns)
   // at once (rcl then runs its callback once for the missed periods; see kSteadyJumpsBeforeHorizon).
   const int64_t step = target_ns - last_jump_target_ns_;
   const bool same_step = last_jump_target_ns_ != 0 && step > 0 &&
-    std::llabs(step - last_jump_step_ns_) <= kSteadyToleranceNs;
+    std::llabs(step - last_jump_step_ns_) <=
+    std::max(kSteadyToleranceNs, std::max(step, last_jump_step_ns_) / 2);
   steady_jumps_ = same_step ? steady_jumps_ + 1 : 0;
   last_jump_step_ns_ = step;
   last_jump_target_ns_ = target_ns;

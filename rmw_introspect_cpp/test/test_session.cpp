@@ -1169,3 +1169,15 @@ TEST_F(WarpTest, a_timer_that_creates_something_or_uneven_deadlines_are_stepped_
   EXPECT_FALSE(session.fast_forwarded());
   EXPECT_TRUE(session.warping());
 }
+
+TEST_F(WarpTest, a_few_late_waits_of_a_preempted_process_do_not_stop_the_fast_forward)
+{
+  settle_and_start_warp();
+  const int64_t start = session.virtual_now_ns();
+  int64_t late = 0;
+  for (int i = 1; i <= 300 && !session.fast_forwarded(); ++i) {
+    late = (i % 20 == 0) ? 6 * kMs : 0;  // every 20th wait entered 6 ms late
+    EXPECT_TRUE(session.try_jump(start + i * kMs + late));
+  }
+  EXPECT_TRUE(session.fast_forwarded());
+}

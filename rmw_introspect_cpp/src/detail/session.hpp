@@ -251,6 +251,7 @@ private:
   int64_t last_jump_target_ns_ = 0;
   int64_t last_jump_step_ns_ = 0;
   uint64_t steady_jumps_ = 0;
+  uint64_t odd_jumps_ = 0;
   bool fast_forwarded_ = false;
   bool horizon_reached_ = false;
   bool budget_exhausted_ = false;

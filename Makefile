@@ -63,6 +63,7 @@ bench: bootstrap
 	$(VENV)/bin/python bench/bench_warm_start.py
 	$(VENV)/bin/python bench/bench_parameters_lifecycle.py
 	$(VENV)/bin/python bench/bench_cpp_talker.py
+	$(VENV)/bin/python bench/bench_quiescence.py
 
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap

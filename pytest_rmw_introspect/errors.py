@@ -23,7 +23,7 @@ Hierarchy::
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -341,6 +341,9 @@ def diagnose_unsettled(partial: Any) -> str:
         )
     if not partial.raw_nodes:
         return "It initialised ROS 2 but created no node yet. Raise `timeout` if it is only slow to start."
+    blocked = _blocked_in_callback(partial)
+    if blocked:
+        return blocked
     if partial.state == "probing":
         return (
             f"It settled after {partial.time_to_settle_ms or 0:.0f} ms, then never finished answering the "
@@ -364,7 +367,8 @@ def diagnose_unsettled(partial: Any) -> str:
     if not partial.ever_waited:
         return (
             "No thread ever waited in an executor (rmw_wait) and it did not keep using ROS (publish, take, "
-            "graph queries) after its last new interface: it is busy or blocked outside ROS (a long "
+            "graph queries; log lines and parameter events do not count: a loop that only logs is still setting "
+            "up) after its last new interface: it is busy or blocked outside ROS (a long "
             "computation, a blocking read, input(), a long time.sleep before it spins). A loop that never "
             "spins settles once it makes two such calls with no new interface for the settle time. Raise "
             "`timeout` if it is only slow."
@@ -375,6 +379,35 @@ def diagnose_unsettled(partial: Any) -> str:
         "It waits in an executor but kept creating or destroying interfaces, so it was never quiet for the "
         "settle time. Raise `timeout` if it is only slow to finish starting."
     )
+
+
+def _blocked_in_callback(partial: Any) -> str:
+    """A request of the middleware's own that the node took and never answered (a lifecycle
+    transition, a stimulus' service call, a parameter read): its callback is blocked. "" otherwise."""
+    settled = f"It settled after {partial.time_to_settle_ms or 0:.0f} ms; "
+    for raw_node in partial.raw_nodes:
+        lifecycle = raw_node.lifecycle
+        for transition in (lifecycle.transitions if lifecycle is not None else ()):
+            if transition.result in ("pending", "no_answer"):
+                return (f"{settled}the middleware then asked lifecycle node {raw_node.fqn} to {transition.label}, and "
+                        f"the transition never returned: the node is blocked in its on_{transition.label} callback "
+                        "(waiting for something that never comes, or looping), its interfaces did not change. Fix "
+                        "the callback, or capture the node without driving it: `lifecycle: none` on the target (or "
+                        "the state before that transition).")
+    for stimulus in partial.raw.get("stimuli") or []:
+        for target in (stimulus.get("targets") or []) if isinstance(stimulus, Mapping) else []:
+            if isinstance(target, Mapping) and target.get("kind") == "service" \
+                    and target.get("result") in ("pending", "no_answer"):
+                return (f"{settled}the stimulus {stimulus.get('name')} then called the service of node "
+                        f"{target.get('node')}, and its callback never returned: the node is blocked in it (waiting "
+                        "for something that never comes, or looping), its interfaces did not change. Fix the "
+                        "callback, or leave that name out of `stimuli`.")
+    probe = partial.probe
+    if probe is not None and probe.unanswered:
+        return (f"{settled}the middleware then read the nodes' parameters and {probe.unanswered} request(s) got no "
+                "answer: a node is blocked in a callback (its executor no longer serves its parameter services), its "
+                "interfaces did not change. Set `read_parameters: false` on the target to capture it without them.")
+    return ""
 
 
 def _what_was_seen(partial: Any) -> str:
@@ -389,7 +422,8 @@ def _what_was_seen(partial: Any) -> str:
     if partial.not_idle:
         facts.append(f"the middleware last saw {partial.not_idle}")
     if partial.polls:
-        facts.append(f"it polled its executor {partial.polls} times (zero-timeout waits)")
+        facts.append(f"it returned from rmw_wait {partial.polls} times without waiting (zero-timeout polls, or a "
+                     "guard condition it had just triggered itself)")
     facts.append(f"{partial.activity_calls or 0} calls into ROS (publish, take, graph queries) in all")
     return ("; ".join(facts) + ". It runs without waiting in an executor (a busy loop: a task spun with spin_once "
             "that awaits an answer that never comes, a callback that never returns, a sleep loop).")

@@ -18,8 +18,17 @@ from typing import TYPE_CHECKING, Any
 
 from ..model import qos, untrusted
 from ..model import types as type_model
-from ..model.vocabulary import ACTION_HASHED_PARTS, LABELS, LISTS, PARAMETERS, PROVIDER_OF, TOPIC_LISTS, Severity
-from . import parameter_drift, type_drift
+from ..model.vocabulary import (
+    ACTION_HASHED_PARTS,
+    DESTROYED_AT,
+    LABELS,
+    LISTS,
+    PARAMETERS,
+    PROVIDER_OF,
+    TOPIC_LISTS,
+    Severity,
+)
+from . import destruction_drift, parameter_drift, type_drift
 from .options import ComparisonOptions
 
 if TYPE_CHECKING:
@@ -32,7 +41,8 @@ class DriftItem:
     kind: str  # one of LISTS, "parameters", or "node"
     name: str  # interface or parameter name (node fqn for kind == "node")
     # "added" | "removed" | "renamed" | "type" | "type_hash" | "qos.<field>" | "type:<type name>" | "types";
-    # a parameter's attribute (parameter_drift.ATTRIBUTES); "lifecycle" or "parameters" (kind "node")
+    # a parameter's attribute (parameter_drift.ATTRIBUTES); "lifecycle" or "parameters" (kind "node");
+    # "destroyed_at" (when the program destroys it: kind "node" or a list; destruction_drift)
     change: str
     old: Any  # contract side (None for added)
     new: Any  # capture side (None for removed)
@@ -133,6 +143,7 @@ RULES: dict[str, Rule] = _rules(
     Rule("TYPE_NOT_LOCKED", _R, "an interface uses a type the package's type lock does not list"),
     *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in type_drift.RULES.items()),
     *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in parameter_drift.RULES.items()),
+    *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in destruction_drift.RULES.items()),
 )
 
 #: ``DriftItem.change`` of a field-level item: the prefix, then the type it is about
@@ -180,6 +191,7 @@ def compare(
                  _translate(_deep_diff(expected_differing, actual_differing), expected, actual))
     items = _with_type_items(items, expected, actual, expected_types, actual_types, require_types)
     items += _parameter_and_lifecycle_items(expected_nodes or {}, actual_nodes or {}, options)
+    items += _destruction_items(expected_nodes or {}, actual_nodes or {}, expected, actual)
 
     def wanted(item: DriftItem) -> bool:
         if options.allow_extra and item.change == "added":
@@ -517,6 +529,19 @@ def _parameter_and_lifecycle_items(expected_nodes: Mapping, actual_nodes: Mappin
         changes = [*parameter_drift.compare_lifecycle(node, old, new),
                    *parameter_drift.compare_parameters(node, old, new, options)]
         items += [_item(node, c.kind, c.name, c.change, c.old, c.new, c.rule, c.message) for c in changes]
+    return items
+
+
+def _destruction_items(expected_nodes: Mapping, actual_nodes: Mapping,
+                       expected: _Index, actual: _Index) -> list[DriftItem]:
+    """``compare.destruction_drift`` on the nodes, and their interfaces, both sides have."""
+    items = []
+    for node in sorted(set(expected) & set(actual)):
+        both = ((kind, key, interface.original, actual[node][kind][key].original)
+                for kind in LISTS for key, interface in expected[node][kind].items()
+                if key in actual[node][kind])
+        changes = destruction_drift.compare_node(node, expected_nodes[node] or {}, actual_nodes[node] or {}, both)
+        items += [_item(node, c.kind, c.name, DESTROYED_AT, c.old, c.new, c.rule, c.message) for c in changes]
     return items
 
 

@@ -22,7 +22,7 @@ import html
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from ..model.vocabulary import LABELS, LISTS, OFFERING_LISTS, Severity
+from ..model.vocabulary import DESTROYED_AT, LABELS, LISTS, OFFERING_LISTS, Severity
 from .system import CompatItem, LaunchedProcess
 
 #: interface list → the kind of interface vertex it connects to
@@ -52,6 +52,8 @@ class Vertex:
     detail: str = ""
     group: str | None = None
     marks: list[Mark] = field(default_factory=list)
+    #: a node the program destroyed while it ran: when (seconds of its virtual age)
+    destroyed_at: float | None = None
 
     @property
     def severity(self) -> Severity | None:
@@ -64,6 +66,9 @@ class Edge:
     target: str
     list_name: str
     marks: list[Mark] = field(default_factory=list)
+    #: an interface (or its node) the program destroyed while it ran: when (seconds of virtual
+    #: age); drawn dashed, with the age
+    destroyed_at: float | None = None
 
     @property
     def severity(self) -> Severity | None:
@@ -111,13 +116,17 @@ def build(processes: Sequence[LaunchedProcess], items: Sequence[CompatItem], tit
         for fqn in sorted(process.nodes):
             vid = f"n{len(node_ids)}"
             node_ids[(process.label, fqn)] = vid
-            vertices[vid] = Vertex(vid, "node", fqn, process.label, group=process.label)
+            node_entry = process.nodes[fqn] or {}
+            node_destroyed = _age(node_entry.get(DESTROYED_AT))
+            vertices[vid] = Vertex(vid, "node", fqn, process.label, group=process.label, destroyed_at=node_destroyed)
             groups[process.label].append(vid)
             for list_name in LISTS:
-                for entry in (process.nodes[fqn] or {}).get(list_name) or []:
+                for entry in node_entry.get(list_name) or []:
                     iid = interface(CATEGORY[list_name], str(entry.get("name")), str(entry.get("type") or ""))
                     source, target = (vid, iid) if list_name in OFFERING_LISTS else (iid, vid)
-                    edges[(process.label, fqn, list_name, str(entry.get("name")))] = Edge(source, target, list_name)
+                    destroyed = _age(entry.get(DESTROYED_AT))
+                    edges[(process.label, fqn, list_name, str(entry.get("name")))] = Edge(
+                        source, target, list_name, destroyed_at=node_destroyed if destroyed is None else destroyed)
 
     def mark_edge(label: str, node: str, list_name: str, name: str, mark: Mark) -> None:
         edge = edges.get((label, node, list_name, name))
@@ -150,6 +159,15 @@ def build(processes: Sequence[LaunchedProcess], items: Sequence[CompatItem], tit
     return SystemGraph(title, vertices, ordered, groups, list(items))
 
 
+def _age(value: object) -> float | None:
+    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+
+
+def destroyed_text(age: float | None) -> str:
+    """``destroyed at 8 s`` for something the program destroyed while it ran ("" otherwise)."""
+    return "" if age is None else f"destroyed at {age:g} s"
+
+
 # ---------------------------------------------------------------------------- Mermaid
 
 
@@ -173,11 +191,15 @@ def to_mermaid(graph: SystemGraph) -> str:
         lines.append("  " + _mermaid_vertex(vertex))
     styles = []
     for index, edge in enumerate(graph.edges):
-        if edge.marks:
-            lines.append(f'  {edge.source} -- "{_mermaid_text(" ".join(edge.rules))}" --> {edge.target}')
-            styles.append(f"  linkStyle {index} stroke:{COLORS[edge.severity or Severity.SAFE]},stroke-width:3px")
+        words = " ".join(filter(None, [*edge.rules, destroyed_text(edge.destroyed_at)]))
+        # a dotted link: what the program destroyed while it ran
+        link = ("-.", ".->") if edge.destroyed_at is not None else ("--", "-->")
+        if words:
+            lines.append(f'  {edge.source} {link[0]} "{_mermaid_text(words)}" {link[1]} {edge.target}')
         else:
             lines.append(f"  {edge.source} --> {edge.target}")
+        if edge.marks:
+            styles.append(f"  linkStyle {index} stroke:{COLORS[edge.severity or Severity.SAFE]},stroke-width:3px")
     lines += styles
     lines.append(f"  classDef breaking fill:#fde0e0,stroke:{COLORS[Severity.BREAKING]},stroke-width:3px")
     lines.append(f"  classDef risky fill:#fff0dd,stroke:{COLORS[Severity.RISKY]},stroke-width:3px")
@@ -192,6 +214,8 @@ def _mermaid_vertex(vertex: Vertex) -> str:
     text = _mermaid_text(vertex.label)
     if vertex.kind == "missing":
         text = f"{text}<br/>not created"
+    elif vertex.destroyed_at is not None:
+        text += f"<br/><small>{destroyed_text(vertex.destroyed_at)}</small>"
     elif vertex.kind != "node" and vertex.detail:
         text += f"<br/><small>{_mermaid_text(vertex.detail)}</small>"
     if vertex.marks:
@@ -221,12 +245,16 @@ def to_dot(graph: SystemGraph) -> str:
     for vertex in graph.interface_vertices():
         lines.append("  " + _dot_vertex(vertex))
     for edge in graph.edges:
-        attributes = ""
+        attributes = []
+        words = " ".join(filter(None, [*edge.rules, destroyed_text(edge.destroyed_at)]))
         if edge.marks:
             color = COLORS[edge.severity or Severity.SAFE]
-            attributes = (f' [color="{color}", penwidth=3, fontcolor="{color}", '
-                          f'label="{_dot_text(" ".join(edge.rules))}"]')
-        lines.append(f"  {edge.source} -> {edge.target}{attributes};")
+            attributes += [f'color="{color}"', "penwidth=3", f'fontcolor="{color}"']
+        if edge.destroyed_at is not None:
+            attributes.append("style=dashed")
+        if words:
+            attributes.append(f'label="{_dot_text(words)}"')
+        lines.append(f"  {edge.source} -> {edge.target}{' [' + ', '.join(attributes) + ']' if attributes else ''};")
     lines.append("}")
     return "\n".join(lines) + "\n"
 
@@ -235,12 +263,14 @@ def _dot_vertex(vertex: Vertex) -> str:
     text = vertex.label
     if vertex.kind == "missing":
         text += "\\nnot created"
+    elif vertex.destroyed_at is not None:
+        text = _dot_text(text) + "\\n" + destroyed_text(vertex.destroyed_at)
     elif vertex.kind != "node" and vertex.detail:
         text = _dot_text(text) + "\\n" + _dot_text(vertex.detail)
     else:
         text = _dot_text(text)
     attributes = [f'label="{text}"', f"shape={_DOT_SHAPES[vertex.kind]}"]
-    if vertex.kind == "missing":
+    if vertex.kind == "missing" or vertex.destroyed_at is not None:
         attributes.append("style=dashed")
     if vertex.marks:
         color = COLORS[vertex.severity or Severity.SAFE]
@@ -322,10 +352,12 @@ def to_svg(graph: SystemGraph) -> str:
         color = COLORS[severity] if severity is not None else "#999999"
         marker = severity.name.lower() if severity is not None else "plain"
         widthpx = 3.5 if severity is not None else 1.3
-        title = "; ".join(f"{m.rule}: {m.message}" for m in edge.marks) or LABELS[edge.list_name]
+        title = "; ".join(filter(None, [*(f"{m.rule}: {m.message}" for m in edge.marks),
+                                        destroyed_text(edge.destroyed_at)])) or LABELS[edge.list_name]
+        edge_dash = ' stroke-dasharray="5 4"' if edge.destroyed_at is not None else ""
         out.append(f'<path class="edge{" marked" if edge.marks else ""}" data-rules="{e(" ".join(edge.rules))}" '
                    f'd="M {x1:.1f} {y1:.1f} C {x1 + bend:.1f} {y1:.1f}, {x2 - bend:.1f} {y2:.1f}, {x2:.1f} {y2:.1f}" '
-                   f'fill="none" stroke="{color}" stroke-width="{widthpx}" marker-end="url(#arrow-{marker})">'
+                   f'fill="none" stroke="{color}" stroke-width="{widthpx}"{edge_dash} marker-end="url(#arrow-{marker})">'
                    f"<title>{e(title)}</title></path>")
         if edge.marks:
             mx, my = (x1 + x2) / 2, (y1 + y2) / 2 - 6
@@ -343,7 +375,7 @@ def to_svg(graph: SystemGraph) -> str:
         fill = {Severity.BREAKING: "#fde0e0", Severity.RISKY: "#fff0dd"}.get(severity, _FILL[vertex.kind]) \
             if severity is not None else _FILL[vertex.kind]
         radius = 22 if vertex.kind == "topic" else 4
-        dash = ' stroke-dasharray="6 4"' if vertex.kind == "missing" else ""
+        dash = ' stroke-dasharray="6 4"' if vertex.kind == "missing" or vertex.destroyed_at is not None else ""
         title = "; ".join(f"{m.rule}: {m.message}" for m in vertex.marks) or vertex.kind
         out.append(f'<g class="vertex {vertex.kind}{" marked" if vertex.marks else ""}" id="{vertex.id}">'
                    f"<title>{e(title)}</title>"
@@ -354,6 +386,8 @@ def to_svg(graph: SystemGraph) -> str:
         out.append(f'<text x="{x + 10}" y="{y + 19}" font-size="13" font-weight="bold" fill="#222">'
                    f"{e(_clip(kind_word + main, w))}</text>")
         second = vertex.detail
+        if vertex.destroyed_at is not None:
+            second = f"{second} ({destroyed_text(vertex.destroyed_at)})" if second else destroyed_text(vertex.destroyed_at)
         if vertex.marks:
             second = " ".join(sorted({m.rule for m in vertex.marks}))
         out.append(f'<text x="{x + 10}" y="{y + 36}" font-size="11" fill="{stroke if vertex.marks else "#555"}">'

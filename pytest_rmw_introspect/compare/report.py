@@ -9,7 +9,7 @@ from typing import Any
 from ..model import qos
 from ..model.acceptance import Acceptance
 from ..model.parameters import format_value
-from ..model.vocabulary import LABELS, PARAMETERS, THRESHOLD_WORDS, Severity
+from ..model.vocabulary import DESTROYED_AT, LABELS, PARAMETERS, THRESHOLD_WORDS, Severity
 from .acceptance import Accepted
 from .drift import DriftItem
 from .system import CompatItem
@@ -65,16 +65,18 @@ def _parameter_details(entry: Mapping[str, Any]) -> str:
 
 
 def _entry_details(kind: str, entry: Any, change: str) -> str:
-    if kind == "node" or not isinstance(entry, Mapping):
+    if not isinstance(entry, Mapping):
         return ""
     if kind == PARAMETERS:  # an added parameter's message already says its type and default
         return _parameter_details(entry) if change == "removed" else ""
     details = []
-    if entry.get("qos") is not None:
+    if kind != "node" and entry.get("qos") is not None:
         try:
             details.append(f"qos {qos.describe(entry['qos'])}")
         except ValueError:
             details.append(f"qos {entry['qos']!r}")
+    if entry.get(DESTROYED_AT) is not None:
+        details.append(f"destroyed by the program at {entry[DESTROYED_AT]:g} s")
     return f" ({', '.join(details)})" if details else ""
 
 

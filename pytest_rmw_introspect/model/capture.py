@@ -10,9 +10,12 @@ servers, service clients, action servers, action clients), where
 * infrastructure endpoints (``/rosout``, ``/parameter_events``, parameter services,
   ``get_type_description``, lifecycle services and ``transition_event``) are left out unless
   ``include_infrastructure=True``,
-* destroyed nodes and endpoints are left out (they stay in ``raw_*``), except those destroyed
-  in the run of destructions that ended the program (``in_teardown``: alive until its own
-  final teardown),
+* nodes and endpoints the program itself destroyed while it ran are kept, with their virtual
+  age at destruction (``destroyed_at``, seconds: they belong to the interface the program
+  offered until then); those destroyed in the run of destructions that ended the program
+  (``in_teardown``) count as alive until its own final teardown; captures older than
+  ``format_minor`` 4 do not say when an entity was destroyed, so their destroyed entities are
+  left out (they stay in ``raw_*``),
 * hidden names (a segment starting with ``_``) are kept,
 
 and each node has its ``parameters`` (as its own parameter services answered the middleware;
@@ -46,6 +49,7 @@ from .vocabulary import (
     ACTION_HASHED_PARTS,
     ACTION_SERVICES,
     ACTION_TOPICS,
+    DESTROYED_AT,
     INFRASTRUCTURE_TOPICS,
     KIND_TO_LIST,
     LIFECYCLE,
@@ -68,8 +72,33 @@ SIM_CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
 # ---------------------------------------------------------------------- raw records
 
 
+class _Lifetime:
+    """How long a recorded node or endpoint lived (shared by :class:`RawNode` and :class:`Endpoint`)."""
+
+    destroyed: bool
+    in_teardown: bool
+    destroyed_virtual_ms: float | None
+
+    @property
+    def alive(self) -> bool:
+        """Alive at the end of the capture, or until the program's own final teardown."""
+        return not self.destroyed or self.in_teardown
+
+    @property
+    def destroyed_at(self) -> float | None:
+        """Seconds of virtual age at which the program itself destroyed it (None: alive)."""
+        if self.alive or self.destroyed_virtual_ms is None:
+            return None
+        return round(self.destroyed_virtual_ms / 1000.0, 1)
+
+    @property
+    def in_view(self) -> bool:
+        """Part of the contract view: alive, or destroyed by the program at a known age."""
+        return self.alive or self.destroyed_at is not None
+
+
 @dataclass(frozen=True)
-class RawNode:
+class RawNode(_Lifetime):
     """A node as the middleware recorded it."""
 
     id: int
@@ -84,6 +113,10 @@ class RawNode:
     #: the node's virtual and real age (ms since the first rmw_init) when it was created
     created_virtual_ms: float | None = None
     created_real_ms: float | None = None
+    #: the node's virtual and real age when the program destroyed it (None: not destroyed by the
+    #: program while it ran, or a capture older than format_minor 4)
+    destroyed_virtual_ms: float | None = None
+    destroyed_real_ms: float | None = None
     #: every parameter as the node's own services answered (None: not read, see
     #: ``parameters_error``), in the order the node listed them
     parameters: tuple[Parameter, ...] | None = None
@@ -92,14 +125,9 @@ class RawNode:
     #: how the middleware drove a lifecycle node (None: not a lifecycle node)
     lifecycle: Lifecycle | None = None
 
-    @property
-    def alive(self) -> bool:
-        """Alive at the end of the capture, or until the program's own final teardown."""
-        return not self.destroyed or self.in_teardown
-
 
 @dataclass(frozen=True)
-class Endpoint:
+class Endpoint(_Lifetime):
     """A publisher, subscription, service server or client as the middleware recorded it.
 
     ``kind`` is ``publisher``, ``subscription``, ``service`` or ``client``; ``qos`` is the raw
@@ -119,15 +147,12 @@ class Endpoint:
     in_teardown: bool = False
     created_virtual_ms: float | None = None
     created_real_ms: float | None = None
+    destroyed_virtual_ms: float | None = None
+    destroyed_real_ms: float | None = None
     #: the lifecycle transition the middleware had last driven on the node when the endpoint was
     #: created (``configure``, ``activate``); None: created at start-up (or by a node that
     #: drives itself)
     created_in: str | None = None
-
-    @property
-    def alive(self) -> bool:
-        """Alive at the end of the capture, or until the program's own final teardown."""
-        return not self.destroyed or self.in_teardown
 
 
 @dataclass(frozen=True)
@@ -170,6 +195,12 @@ class Interface:
     endpoints: tuple[Endpoint, ...] = ()
 
     @property
+    def destroyed_at(self) -> float | None:
+        """Seconds of virtual age at which the program destroyed the entry's last endpoint (None:
+        one of them is alive to the end)."""
+        return _destroyed_at(self.endpoints)
+
+    @property
     def raw_qos(self) -> Mapping[str, Any] | None:
         """The raw rmw QoS of the (first) underlying endpoint."""
         return self.endpoints[0].qos if self.endpoints else None
@@ -179,12 +210,17 @@ class Interface:
         """The lifecycle transition that created the (first) underlying endpoint, or None."""
         return self.endpoints[0].created_in if self.endpoints else None
 
-    def to_contract(self, *, with_type_hash: bool = True, with_qos: bool = True) -> dict[str, Any]:
+    def to_contract(self, *, with_type_hash: bool = True, with_qos: bool = True,
+                    node_destroyed_at: float | None = None) -> dict[str, Any]:
+        """The contract entry; ``destroyed_at`` only when the entry went before its node
+        (``node_destroyed_at``: when the node went, None: it lived to the end)."""
         entry: dict[str, Any] = {"name": self.name, "type": self.type}
         if with_type_hash and self.type_hash:
             entry["type_hash"] = dict(self.type_hash) if isinstance(self.type_hash, Mapping) else self.type_hash
         if with_qos and self.qos is not None:
             entry["qos"] = dict(self.qos)
+        if self.destroyed_at is not None and self.destroyed_at != node_destroyed_at:
+            entry[DESTROYED_AT] = self.destroyed_at
         return entry
 
 
@@ -210,6 +246,14 @@ class Node:
     parameters_error: str | None = None
     #: how the middleware drove it, when it is a lifecycle (managed) node
     lifecycle: Lifecycle | None = None
+
+    @property
+    def destroyed_at(self) -> float | None:
+        """Seconds of virtual age at which the program destroyed the node (None: alive to the
+        end; of two nodes of one name, the later destruction)."""
+        if any(r.destroyed_at is None for r in self.raw):
+            return None
+        return max((r.destroyed_at for r in self.raw if r.destroyed_at is not None), default=None)
 
     @property
     def lifecycle_state(self) -> str | None:
@@ -255,9 +299,12 @@ class Node:
         out: dict[str, Any] = {}
         if self.lifecycle_state is not None:
             out[LIFECYCLE] = self.lifecycle_state
+        if self.destroyed_at is not None:
+            out[DESTROYED_AT] = self.destroyed_at
         for list_name in LISTS:
             out[list_name] = [
-                i.to_contract(with_type_hash=with_type_hash, with_qos=with_qos)
+                i.to_contract(with_type_hash=with_type_hash, with_qos=with_qos,
+                              node_destroyed_at=self.destroyed_at)
                 for i in sorted(getattr(self, list_name), key=lambda i: i.name)
             ]
         if with_parameters and self.parameters is not None:
@@ -597,10 +644,11 @@ class Capture:
         lines += [f"note: {note}" for note in self.notes()]
         for node in self:
             state = f" (lifecycle node, {node.lifecycle_state})" if node.lifecycle_state else ""
-            lines.append(node.fqn + state)
+            lines.append(node.fqn + state + _destroyed_text(node.destroyed_at))
             for list_name, entry in node.interfaces():
                 created = f" (created in {entry.created_in})" if entry.created_in else ""
-                lines.append(f"  {list_name}: {entry.name} [{entry.type}]{created}")
+                destroyed = _destroyed_text(entry.destroyed_at) if entry.destroyed_at != node.destroyed_at else ""
+                lines.append(f"  {list_name}: {entry.name} [{entry.type}]{created}{destroyed}")
             for param in node.parameters or ():
                 lines.append(f"  parameter: {param.name} [{param.type}] = "
                              f"{parameter_model.format_value(param.value)}")
@@ -657,6 +705,8 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
                     in_teardown=bool(n.get("in_teardown", False)),
                     created_virtual_ms=_optional_float(n.get("created_virtual_ms")),
                     created_real_ms=_optional_float(n.get("created_real_ms")),
+                    destroyed_virtual_ms=_optional_float(n.get("destroyed_virtual_ms")),
+                    destroyed_real_ms=_optional_float(n.get("destroyed_real_ms")),
                     parameters=_node_parameters(n, where, path),
                     parameters_error=_optional_str(n, "parameters_error", where, path),
                     lifecycle=_node_lifecycle(n, where, path),
@@ -691,6 +741,8 @@ def _parse(data: Any, *, include_infrastructure: bool, path: Path | None) -> Cap
                     in_teardown=bool(e.get("in_teardown", False)),
                     created_virtual_ms=_optional_float(e.get("created_virtual_ms")),
                     created_real_ms=_optional_float(e.get("created_real_ms")),
+                    destroyed_virtual_ms=_optional_float(e.get("destroyed_virtual_ms")),
+                    destroyed_real_ms=_optional_float(e.get("destroyed_real_ms")),
                     created_in=_optional_str(e, "created_in", where, path),
                 )
             )
@@ -764,6 +816,17 @@ def _optional_str(record: Mapping[str, Any], key: str, where: str, path: Path | 
     return value
 
 
+def _destroyed_text(age: float | None) -> str:
+    return "" if age is None else f" (destroyed by the program at {age:g} s)"
+
+
+def _destroyed_at(endpoints: tuple[Endpoint, ...]) -> float | None:
+    """When the last of ``endpoints`` was destroyed by the program (None: one lives to the end)."""
+    if not endpoints or any(e.destroyed_at is None for e in endpoints):
+        return None
+    return max(e.destroyed_at for e in endpoints if e.destroyed_at is not None)
+
+
 def _optional_float(value: Any) -> float | None:
     return None if value is None else float(value)
 
@@ -775,12 +838,19 @@ def _horizon_note(vt: VirtualTime, polls: int) -> str:
              f"horizon after {vt.jumps} jumps")
     later = "; interfaces created later are not in the capture"
     if vt.warp_stalled:
-        polled = f" ({polls} zero-timeout polls of its executor)" if polls else ""
+        polled = (f" ({polls} zero-timeout polls of its executor, or waits that returned at once on a guard "
+                  "condition it had just triggered itself)" if polls else "")
         return (f"{where}: the program kept running but never waited with a timeout{polled}: it polls "
-                "(spin_some, spin_once(timeout_sec=0)) or sleeps on its own clock (time.sleep, sleep_for, a "
+                "(spin_some, spin_once(timeout_sec=0)), spins a task that awaits an answer that never comes "
+                "(spin_once with a pending call_async), or sleeps on its own clock (time.sleep, sleep_for, a "
                 "WallRate), which virtual time cannot advance" + later)
-    why = ("each jump is one period of a very fast timer" if vt.jumps >= 1000 else
-           "the program kept running between its waits (a loop that sleeps or polls besides its timers)")
+    if vt.jumps >= 1000:
+        why = "each jump is one period of a very fast timer"
+    elif polls:
+        why = (f"the program kept running between its waits: {polls} returns from rmw_wait without waiting (polls, "
+               "or a spin_once loop running a task that awaits an answer that never comes)")
+    else:
+        why = "the program kept running between its waits (a loop that sleeps or polls besides its timers)"
     return f"{where}: the warp used its real-time budget ({why})" + later
 
 
@@ -900,8 +970,9 @@ def build_view(
     *,
     include_infrastructure: bool = False,
 ) -> dict[str, Node]:
-    """The contract view: live nodes by fully qualified name with their grouped interfaces."""
-    live_nodes = [n for n in raw_nodes if n.alive]
+    """The contract view: the nodes alive at the end or destroyed by the program
+    (``RawNode.in_view``), by fully qualified name, with their grouped interfaces."""
+    live_nodes = [n for n in raw_nodes if n.in_view]
     by_id = {n.id: n for n in live_nodes}
     nodes: dict[str, Node] = {}
     for n in sorted(live_nodes, key=lambda n: n.seq):
@@ -921,7 +992,7 @@ def build_view(
             continue  # endpoint of a destroyed (or unknown) node
         node = nodes[owner.fqn]
         node.endpoints = node.endpoints + (e,)
-        if not e.alive:
+        if not e.in_view:
             continue
         if not include_infrastructure and is_infrastructure(e, owner.fqn):
             continue

@@ -20,8 +20,9 @@ YAML syntax errors, schema violations (``schema/contract.schema.json``), bad QoS
 duplicate YAML keys, duplicate interface and parameter names, parameter values that do not fit
 their type.
 
-Writing is deterministic: nodes sorted by name, ``lifecycle`` first, entries sorted by
-``name``, keys in the order ``name, type, type_hash, qos``, the six lists always present, QoS
+Writing is deterministic: nodes sorted by name, ``lifecycle`` first (then ``destroyed_at``,
+for a node the program destroyed), entries sorted by ``name``, keys in the order ``name, type,
+type_hash, qos, destroyed_at``, the six lists always present, QoS
 on one line in field order, then ``parameters`` when the node states them (sorted by name, keys
 in ``parameters.ENTRY_KEYS`` order, values and ranges on one line).
 ``dump(load(x))`` of a file this module wrote is byte-identical.
@@ -57,10 +58,10 @@ from . import qos as qos_module
 from . import types as type_model
 from .locate import LineIndex, line_index
 from .paths import shown
-from .vocabulary import ACTION_HASHED_PARTS, LABELS, LIFECYCLE, LISTS, PARAMETERS
+from .vocabulary import ACTION_HASHED_PARTS, DESTROYED_AT, DESTROYED_AT_TOLERANCE_S, LABELS, LIFECYCLE, LISTS, PARAMETERS
 
 CONTRACT_VERSION = 1
-ENTRY_KEYS = ("name", "type", "type_hash", "qos")
+ENTRY_KEYS = ("name", "type", "type_hash", "qos", DESTROYED_AT)
 #: the top-level key recording the ROS 2 distribution a contract was captured on
 DISTRIBUTION_KEY = "ros_distribution"
 
@@ -103,7 +104,7 @@ class Contract:
 
         out: dict[str, dict[str, Any]] = {}
         for fqn, node in self.nodes.items():
-            out[fqn] = {k: node[k] for k in (LIFECYCLE, PARAMETERS) if k in node}
+            out[fqn] = {k: node[k] for k in (LIFECYCLE, DESTROYED_AT, PARAMETERS) if k in node}
             for list_name in LISTS:
                 entries = []
                 for entry in node[list_name]:
@@ -276,7 +277,7 @@ def _schema_reason(error: Any) -> str:
 #: where the keys each part of a contract takes are listed, for messages too long to list them
 SCHEMA_HINT = "allowed keys: see the contract schema, pytest_rmw_introspect/schema/contract.schema.json"
 #: the longest list of allowed keys a message spells out (a node's lists; longer ones point at the schema)
-_LISTED_KEYS_CHARS = 120
+_LISTED_KEYS_CHARS = 130
 
 
 def _unknown_keys_reason(extra: list[Any], allowed_keys: list[str]) -> str:
@@ -353,6 +354,8 @@ def normalize_nodes(nodes: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
         entry: dict[str, Any] = {}
         if node.get(LIFECYCLE) is not None:
             entry[LIFECYCLE] = node[LIFECYCLE]
+        if node.get(DESTROYED_AT) is not None:
+            entry[DESTROYED_AT] = node[DESTROYED_AT]
         for list_name in LISTS:
             entry[list_name] = [dict(e) for e in (node.get(list_name) or [])]
         if node.get(PARAMETERS) is not None:
@@ -495,6 +498,8 @@ def dump_nodes(nodes: Mapping[str, Any]) -> str:
         node = nodes[fqn]
         if LIFECYCLE in node:
             lines.append(f"    {LIFECYCLE}: {_scalar(node[LIFECYCLE])}")
+        if DESTROYED_AT in node:
+            lines.append(f"    {DESTROYED_AT}: {_scalar(node[DESTROYED_AT])}")
         for list_name in LISTS:
             entries = sorted(node[list_name], key=lambda e: str(e.get("name", "")))
             if not entries:
@@ -569,12 +574,21 @@ def with_distribution(text: str, distribution: str | None, *, add_missing: bool 
     return "".join(lines) + text[len(header):]
 
 
+def _keep_destroyed_at(old: Mapping[str, Any], new: dict[str, Any]) -> None:
+    """``new`` keeps ``old``'s ``destroyed_at`` when both are ages of the same destruction."""
+    before, now = old.get(DESTROYED_AT), new.get(DESTROYED_AT)
+    if isinstance(before, (int, float)) and isinstance(now, (int, float)) \
+            and abs(before - now) <= DESTROYED_AT_TOLERANCE_S:
+        new[DESTROYED_AT] = before
+
+
 def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]) -> dict[str, Any]:
     """Adopt the contract's own spelling where it means the same as the capture.
 
     For an entry present in both: a QoS written as a profile name (or with fewer fields) that
     expands to the captured QoS is kept as written; a ``type_hash`` or ``qos`` the contract
-    leaves out (not compared) stays left out, and so does a parameter's ``default_value``.
+    leaves out (not compared) stays left out, and so does a parameter's ``default_value``; a
+    ``destroyed_at`` within ``DESTROYED_AT_TOLERANCE_S`` of the contract's is kept as written.
     New entries are taken as captured (a node that did not state its parameters gets them).
     """
 
@@ -584,6 +598,7 @@ def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]
         old_node = old_nodes.get(fqn)
         if old_node is None:
             continue
+        _keep_destroyed_at(old_node, node)
         old_params = {e.get("name"): e for e in old_node.get(PARAMETERS) or []}
         for i, entry in enumerate(node.get(PARAMETERS) or []):
             old = old_params.get(entry.get("name"))
@@ -596,6 +611,7 @@ def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]
                 if old is None:
                     continue
                 entry = dict(entry)
+                _keep_destroyed_at(old, entry)
                 if "type_hash" not in old:
                     entry.pop("type_hash", None)
                 if "qos" in entry:

@@ -37,6 +37,13 @@ PROVIDER_OF: dict[str, str] = {
 PARAMETERS = "parameters"
 #: A managed node's lifecycle state in a contract (a key of the node, drift of kind ``node``).
 LIFECYCLE = "lifecycle"
+#: When the program itself destroyed a node or an interface, in seconds of its virtual age (a key
+#: of a node and of an interface entry; absent: alive to the end). See docs/design.md section 2.
+DESTROYED_AT = "destroyed_at"
+#: Two ``destroyed_at`` ages this close (seconds) are the same destruction: a virtual age includes
+#: the real time the program ran before and between its waits (start-up: warm or cold), which
+#: differs a little from run to run.
+DESTROYED_AT_TOLERANCE_S = 0.5
 
 #: Singular words for people, per list (and ``node`` for drift of a whole node).
 LABELS: dict[str, str] = {

@@ -84,7 +84,7 @@ rmw_ret_t rmw_destroy_node(rmw_node_t * node)
   auto & runtime = rmw_introspect::Runtime::instance();
   runtime.graph_guards().remove(&impl->graph_guard.gc);
   const bool teardown = runtime.in_teardown(impl->context_impl);
-  runtime.recorder().destroy_node(impl->record_id, teardown);
+  runtime.recorder().destroy_node(impl->record_id, teardown, runtime.creation_time());
   rmw_introspect::verbose_log(
     "destroyed node %s%s", impl->name.c_str(), teardown ? " (teardown)" : "");
   runtime.notify_graph_change();

@@ -22,6 +22,19 @@
 using rmw_introspect::kIdentifier;
 using rmw_introspect::PublisherImpl;
 
+namespace
+{
+
+// A publication is activity (a sign of a steady loop), except on the bookkeeping topics.
+void note_publication(rmw_introspect::Runtime & runtime, const PublisherImpl & impl)
+{
+  if (!impl.bookkeeping) {
+    runtime.on_activity();
+  }
+}
+
+}  // namespace
+
 extern "C"
 {
 
@@ -52,6 +65,7 @@ rmw_publisher_t * rmw_create_publisher(
     return nullptr;
   }
   impl->is_publisher = true;
+  impl->bookkeeping = impl->name == "/rosout" || impl->name == "/parameter_events";
   impl->handle.topic_name = impl->name.c_str();
   impl->handle.options = *publisher_options;
   impl->layout = rmw_introspect::message_layout(impl->type);
@@ -86,8 +100,8 @@ rmw_ret_t rmw_publish(
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
   rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
-  runtime.on_activity();
   auto * impl = static_cast<PublisherImpl *>(publisher->data);
+  note_publication(runtime, *impl);
   if (!impl->delivered.load()) {
     return RMW_RET_OK;  // accepted and dropped: nothing leaves the process
   }
@@ -110,8 +124,8 @@ rmw_ret_t rmw_publish_serialized_message(
   RMWI_CHECK_HANDLE(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(serialized_message, RMW_RET_INVALID_ARGUMENT);
   rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
-  runtime.on_activity();
   auto * impl = static_cast<PublisherImpl *>(publisher->data);
+  note_publication(runtime, *impl);
   if (impl->delivered.load() && serialized_message->buffer != nullptr) {
     runtime.delivery().publish(
       *impl, nullptr, serialized_message->buffer, serialized_message->buffer_length);
@@ -142,9 +156,9 @@ rmw_ret_t rmw_publish_loaned_message(
   RMWI_CHECK_HANDLE(publisher);
   RMWI_CHECK_CAN_LOAN(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
-  return rmw_introspect::publish_loaned_message(
-    *static_cast<PublisherImpl *>(publisher->data), ros_message);
+  auto * impl = static_cast<PublisherImpl *>(publisher->data);
+  note_publication(rmw_introspect::Runtime::instance(), *impl);
+  return rmw_introspect::publish_loaned_message(*impl, ros_message);
 }
 
 rmw_ret_t rmw_return_loaned_message_from_publisher(

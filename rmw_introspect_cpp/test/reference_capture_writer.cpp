@@ -475,7 +475,7 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
   Value doc = Value::object();
   doc.add("format", Value::string("rmw_introspect_capture"));
   doc.add("format_version", Value::integer(1));
-  doc.add("format_minor", Value::integer(3));
+  doc.add("format_minor", Value::integer(4));
   doc.add("rmw_implementation", Value::string("rmw_introspect_cpp"));
   doc.add("pid", Value::integer(header.pid));
   Value argv = Value::array();
@@ -538,6 +538,8 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     node.add("in_teardown", Value::boolean(n.in_teardown));
     node.add("created_virtual_ms", Value::number(n.created.virtual_ms));
     node.add("created_real_ms", Value::number(n.created.real_ms));
+    node.add("destroyed_virtual_ms", n.destroyed ? Value::number(n.destroyed_at.virtual_ms) : Value::null());
+    node.add("destroyed_real_ms", n.destroyed ? Value::number(n.destroyed_at.real_ms) : Value::null());
     add_probe_fields(n, node);
     nodes.push(std::move(node));
   }
@@ -558,6 +560,8 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     ep.add("in_teardown", Value::boolean(e.in_teardown));
     ep.add("created_virtual_ms", Value::number(e.created.virtual_ms));
     ep.add("created_real_ms", Value::number(e.created.real_ms));
+    ep.add("destroyed_virtual_ms", e.destroyed ? Value::number(e.destroyed_at.virtual_ms) : Value::null());
+    ep.add("destroyed_real_ms", e.destroyed ? Value::number(e.destroyed_at.real_ms) : Value::null());
     ep.add("created_in", optional_string(e.created_in));
     endpoints.push(std::move(ep));
   }
@@ -588,7 +592,7 @@ std::string render_capture_json(const CaptureHeader & header, const RecorderSnap
 
 std::string render_capture_yaml(const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
-  std::string out = "# rmw_introspect capture (format_version 1, format_minor 3)\n";
+  std::string out = "# rmw_introspect capture (format_version 1, format_minor 4)\n";
   emit_yaml_object(build_document(header, snapshot), 0, out);
   return out;
 }

@@ -49,7 +49,7 @@ RecorderSnapshot sample()
   e.qos.lifespan = RMW_DURATION_INFINITE;
   e.qos.deadline = {1, 5};
   const uint64_t id = recorder.add_endpoint(e);
-  recorder.destroy_endpoint(id);
+  recorder.destroy_endpoint(id, false, {8000.5, 40.25});
   return recorder.snapshot();
 }
 
@@ -110,7 +110,7 @@ TEST(CaptureWriter, json_exact)
   const std::string expected = R"({
   "format": "rmw_introspect_capture",
   "format_version": 1,
-  "format_minor": 3,
+  "format_minor": 4,
   "rmw_implementation": "rmw_introspect_cpp",
   "pid": 4242,
   "argv": ["/usr/bin/python3", "talker.py"],
@@ -159,6 +159,8 @@ TEST(CaptureWriter, json_exact)
       "in_teardown": false,
       "created_virtual_ms": 0.500,
       "created_real_ms": 0.500,
+      "destroyed_virtual_ms": null,
+      "destroyed_real_ms": null,
       "parameters": null,
       "parameters_error": null,
       "lifecycle": null
@@ -189,6 +191,8 @@ TEST(CaptureWriter, json_exact)
       "in_teardown": false,
       "created_virtual_ms": 3000.250,
       "created_real_ms": 30.125,
+      "destroyed_virtual_ms": null,
+      "destroyed_real_ms": null,
       "created_in": null
     },
     {
@@ -215,6 +219,8 @@ TEST(CaptureWriter, json_exact)
       "in_teardown": false,
       "created_virtual_ms": 3000.250,
       "created_real_ms": 30.125,
+      "destroyed_virtual_ms": 8000.500,
+      "destroyed_real_ms": 40.250,
       "created_in": null
     }
   ],

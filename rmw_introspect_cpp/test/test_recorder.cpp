@@ -211,6 +211,27 @@ TEST(Recorder, creation_times_are_kept)
   EXPECT_DOUBLE_EQ(13.0, snap.endpoints[0].created.real_ms);
 }
 
+TEST(Recorder, destruction_times_are_kept_for_what_the_program_destroyed)
+{
+  Recorder recorder;
+  const uint64_t n = recorder.add_node("n", "/", "/", {1.0, 1.0});
+  const uint64_t early = recorder.add_endpoint(endpoint(EndpointKind::Publisher, n, "/early"));
+  const uint64_t late = recorder.add_endpoint(endpoint(EndpointKind::Publisher, n, "/late"));
+  const uint64_t kept = recorder.add_node("kept", "/", "/", {1.0, 1.0});
+  const uint64_t gone = recorder.add_endpoint(endpoint(EndpointKind::Service, kept, "/s"));
+  recorder.destroy_endpoint(early, false, {5000.0, 20.0});
+  recorder.destroy_node(n, false, {8000.25, 30.5});  // takes /late with it, at its age
+  recorder.destroy_endpoint(gone, true, {9000.0, 40.0});  // teardown: no age reported
+  const auto snap = recorder.snapshot();
+  EXPECT_DOUBLE_EQ(5000.0, snap.endpoints[early - 1].destroyed_at.virtual_ms);
+  EXPECT_DOUBLE_EQ(20.0, snap.endpoints[early - 1].destroyed_at.real_ms);
+  EXPECT_DOUBLE_EQ(8000.25, snap.endpoints[late - 1].destroyed_at.virtual_ms);
+  EXPECT_DOUBLE_EQ(8000.25, snap.nodes[n - 1].destroyed_at.virtual_ms);
+  EXPECT_DOUBLE_EQ(30.5, snap.nodes[n - 1].destroyed_at.real_ms);
+  EXPECT_FALSE(snap.endpoints[gone - 1].destroyed);
+  EXPECT_DOUBLE_EQ(0.0, snap.endpoints[gone - 1].destroyed_at.virtual_ms);
+}
+
 TEST(Recorder, created_in_is_the_stimulus_while_it_lasts_then_the_node_transition)
 {
   Recorder recorder;

@@ -37,7 +37,7 @@ def the_node(capture, fqn):
 
 def assert_probed(result):
     h.assert_settled_process(result)
-    assert result.capture["format_minor"] == 3
+    assert result.capture["format_minor"] == 4
     probe = result.capture["probe"]
     assert probe["state"] == "done", probe
     assert probe["unanswered"] == 0, probe

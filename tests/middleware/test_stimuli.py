@@ -49,7 +49,7 @@ def test_stimuli_reveal_what_a_node_creates_on_input(run, delivery):
                       "RMW_INTROSPECT_DELIVERY": delivery})
     h.assert_settled_process(result)
     capture = result.capture
-    assert capture["format_minor"] == 3
+    assert capture["format_minor"] == 4
     n = CAMERA
     h.assert_capture(capture, [node("camera_proc")], camera_own(
         ep("publisher", n, "/image_rect", "sensor_msgs/msg/Image", h.qos(depth=5)),

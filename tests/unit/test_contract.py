@@ -89,7 +89,7 @@ nodes:
     ("contract_version: 1\nnodes:\n  /t:\n    parameters:\n      - {name: a, type: bool, wat: 1}\n",
      "at nodes./t.parameters[0]: unknown key 'wat' (allowed keys: see the contract schema"),
     ("contract_version: 1\nnodes:\n  /t:\n    publisher: []\n",
-     "unknown key 'publisher'; allowed: action_clients, action_servers, lifecycle, parameters, publishers"),
+     "unknown key 'publisher'; allowed: action_clients, action_servers, destroyed_at, lifecycle, parameters, publishers"),
 ])
 def test_unknown_keys_are_named_and_long_lists_of_allowed_keys_point_at_the_schema(text, wanted):
     """A message listing the 21 keys `target:` takes was one line of 300-375 characters."""
@@ -208,7 +208,7 @@ BAD = [
     ("contract_version: 1\nnodes:\n  /t:\n    servers: []\n", "nodes./t", 4, "unknown key 'servers'"),
     (
         "contract_version: 1\nnodes:\n  /t:\n    service_servers:\n      - {name: /a, type: std_srvs/srv/Empty, qos: default}\n",
-        "nodes./t.service_servers[0]", 5, "unknown key 'qos'; allowed: name, type, type_hash",
+        "nodes./t.service_servers[0]", 5, "unknown key 'qos'; allowed: destroyed_at, name, type, type_hash",
     ),
     ("contract_version: 1\noptions: {fail_on: sometimes}\nnodes: {}\n", "options.fail_on", 2, "'sometimes' is not one of: any, risky, breaking"),
     ("contract_version: 1\noptions: {ignore_qos: [depth, color]}\nnodes: {}\n", "options.ignore_qos[1]", 2, "'color' is not one of"),

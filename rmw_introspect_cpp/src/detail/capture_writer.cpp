@@ -168,6 +168,20 @@ void optional_string(W & w, const std::string & s)
   }
 }
 
+// When the program itself destroyed the entity (format_minor 4): its virtual and real age then,
+// null for an entity alive at the end or destroyed in the process's teardown.
+template<typename W, typename Record>
+void write_destruction(W & w, const Record & r)
+{
+  if (r.destroyed) {
+    w.key("destroyed_virtual_ms").fixed(r.destroyed_at.virtual_ms);
+    w.key("destroyed_real_ms").fixed(r.destroyed_at.real_ms);
+  } else {
+    w.key("destroyed_virtual_ms").null();
+    w.key("destroyed_real_ms").null();
+  }
+}
+
 template<typename W>
 void write_qos(W & w, const rmw_qos_profile_t & qos)
 {
@@ -425,7 +439,7 @@ void write_document(
   w.begin_object();
   w.key("format").string("rmw_introspect_capture");
   w.key("format_version").integer(1);
-  w.key("format_minor").integer(3);
+  w.key("format_minor").integer(4);
   w.key("rmw_implementation").string("rmw_introspect_cpp");
   w.key("pid").integer(header.pid);
   w.key("argv").begin_flat_array();
@@ -491,6 +505,7 @@ void write_document(
     w.key("in_teardown").boolean(n.in_teardown);
     w.key("created_virtual_ms").fixed(n.created.virtual_ms);
     w.key("created_real_ms").fixed(n.created.real_ms);
+    write_destruction(w, n);
     write_probe_fields(w, n);
     w.end_object();
   }
@@ -511,6 +526,7 @@ void write_document(
     w.key("in_teardown").boolean(e.in_teardown);
     w.key("created_virtual_ms").fixed(e.created.virtual_ms);
     w.key("created_real_ms").fixed(e.created.real_ms);
+    write_destruction(w, e);
     optional_string(w.key("created_in"), e.created_in);
     w.end_object();
   }
@@ -574,7 +590,7 @@ std::string CaptureRenderer::render_yaml(
       }
       tw.end_object();
     });
-  std::string out = "# rmw_introspect capture (format_version 1, format_minor 3)\n";
+  std::string out = "# rmw_introspect capture (format_version 1, format_minor 4)\n";
   emit_yaml_object(tree.root(), 0, out);
   return out;
 }

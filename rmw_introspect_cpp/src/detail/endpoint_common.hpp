@@ -199,7 +199,7 @@ inline void forget_endpoint(
 {
   Runtime & runtime = Runtime::instance();
   const bool teardown = runtime.in_teardown(node != nullptr ? node->context_impl : nullptr);
-  runtime.recorder().destroy_endpoint(record_id, teardown);
+  runtime.recorder().destroy_endpoint(record_id, teardown, runtime.creation_time());
   verbose_log(
     "destroyed %s %s%s", endpoint_kind_to_string(kind), name.c_str(),
     teardown ? " (teardown)" : "");

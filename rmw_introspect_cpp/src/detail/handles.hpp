@@ -110,6 +110,10 @@ struct Loans
 
 struct PublisherImpl : EventSource, EndpointImpl<rmw_publisher_t>
 {
+  /// A publisher of /rosout or /parameter_events, which client libraries use by themselves:
+  /// logging while waiting for a device, or declaring thousands of parameters, is set-up, not
+  /// the steady state of a loop, so its publications are not activity (Session::on_activity).
+  bool bookkeeping = false;
   Loans loans;
   MessageLayout layout;                 // the caller's type support (C or C++)
   std::atomic<int64_t> next_sequence{1};  // publication sequence numbers

@@ -97,7 +97,7 @@ uint64_t Recorder::add_node(
   return id;
 }
 
-bool Recorder::destroy_node(uint64_t node_id, bool teardown)
+bool Recorder::destroy_node(uint64_t node_id, bool teardown, const CreationTime & when)
 {
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -111,6 +111,7 @@ bool Recorder::destroy_node(uint64_t node_id, bool teardown)
         endpoint.alive = false;
         endpoint.destroyed = !teardown;
         endpoint.destroyed_event = event;
+        endpoint.destroyed_at = when;
       }
     }
     if (teardown) {
@@ -118,6 +119,7 @@ bool Recorder::destroy_node(uint64_t node_id, bool teardown)
     }
     nodes_[node_id - 1].destroyed = true;
     nodes_[node_id - 1].destroyed_event = event;
+    nodes_[node_id - 1].destroyed_at = when;
     ++generation_;
   }
   notify();
@@ -150,7 +152,7 @@ uint64_t Recorder::add_endpoint(EndpointRecord record)
   return id;
 }
 
-bool Recorder::destroy_endpoint(uint64_t endpoint_id, bool teardown)
+bool Recorder::destroy_endpoint(uint64_t endpoint_id, bool teardown, const CreationTime & when)
 {
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -165,6 +167,7 @@ bool Recorder::destroy_endpoint(uint64_t endpoint_id, bool teardown)
     }
     endpoints_[endpoint_id - 1].destroyed = true;
     endpoints_[endpoint_id - 1].destroyed_event = ++event_;
+    endpoints_[endpoint_id - 1].destroyed_at = when;
     ++generation_;
   }
   notify();

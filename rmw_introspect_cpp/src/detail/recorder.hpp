@@ -24,8 +24,8 @@ enum class EndpointKind { Publisher, Subscription, Service, Client };
 
 const char * endpoint_kind_to_string(EndpointKind kind);
 
-/// When an entity was created: its process's virtual and real age (ms since the first
-/// rmw_init).
+/// When an entity was created (or destroyed): its process's virtual and real age (ms since the
+/// first rmw_init).
 struct CreationTime
 {
   double virtual_ms = 0.0;
@@ -44,6 +44,7 @@ struct NodeRecord
   bool destroyed = false;  // destroyed while the process was running (reported)
   bool alive = true;       // not destroyed at all, teardown included (graph queries)
   uint64_t destroyed_event = 0;  // place of the destruction in the event sequence
+  CreationTime destroyed_at;     // when it was destroyed (reported destructions only)
   bool in_teardown = false;      // destroyed in the final run of destructions (snapshot)
   /// What the middleware learnt from the node's own services (NULL: not asked).
   std::shared_ptr<const NodeProbe> probe;
@@ -72,6 +73,7 @@ struct EndpointRecord
   bool destroyed = false;  // destroyed while the process was running (reported)
   bool alive = true;       // not destroyed at all, teardown included (graph queries)
   uint64_t destroyed_event = 0;  // place of the destruction in the event sequence
+  CreationTime destroyed_at;     // when it was destroyed (reported destructions only)
   bool in_teardown = false;      // destroyed in the final run of destructions (snapshot)
   /// What the middleware was doing when it was created: the stimulus it was delivering
   /// ("stimulus:/camera_info", until the process settled again), else the lifecycle
@@ -109,12 +111,16 @@ public:
   /// destruction (after rmw_shutdown of its context, or while the process/interpreter exits)
   /// only removes them from the graph: the capture keeps `destroyed: false`, since it says
   /// nothing about the node's interface.
-  bool destroy_node(uint64_t node_id, bool teardown = false);
+  /// `when`: the process's age at the destruction (kept for a reported destruction: the
+  /// capture lists what the program destroyed, with its age, as part of its interface).
+  bool destroy_node(
+    uint64_t node_id, bool teardown = false, const CreationTime & when = CreationTime());
 
   /// Adds an endpoint of a live node; fills id, seq, gid and the node fields.
   /// Returns 0 when the node is unknown.
   uint64_t add_endpoint(EndpointRecord record);
-  bool destroy_endpoint(uint64_t endpoint_id, bool teardown = false);
+  bool destroy_endpoint(
+    uint64_t endpoint_id, bool teardown = false, const CreationTime & when = CreationTime());
 
   /// Keep what the middleware learnt from node `node_id`'s own services. Not a change of
   /// the graph (no listener call): the next capture written carries it.

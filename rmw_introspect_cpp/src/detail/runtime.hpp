@@ -184,6 +184,13 @@ void Runtime::wait(ReadyFn ready, int64_t timeout_ns)
     note_poll();
     return;
   }
+  if (ready()) {
+    // Returns without waiting, like a poll: a loop that triggers its own guard condition before
+    // every wait (rclpy's spin_once(node) adds and removes the node, each a trigger) and runs a
+    // task that awaits an answer that never comes waits this way forever (issue 24 item 5).
+    note_poll();
+    return;
+  }
   note_wait_entered();
   const int64_t start_ns = clock_.now_ns();
   const int64_t target_ns = start_ns + virtual_clock_.offset_ns() + timeout_ns;

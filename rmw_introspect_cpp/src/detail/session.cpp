@@ -2,6 +2,7 @@
 #include "detail/session.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -25,6 +26,16 @@ constexpr int64_t kFirstWaitRecheckNs = 50 * 1000 * 1000;
 constexpr int64_t kFirstWaitMaxNs = 2000 * 1000 * 1000;
 // The warp of a process that made jumps stalls after this long without a wait with a timeout.
 constexpr int64_t kStallAfterJumpsNs = 500 * 1000 * 1000;
+// Fast-forward (docs/design.md, "Fast-forward of a steady periodic timer"): after this many jumps
+// in a row to equally spaced deadlines with no entity created or destroyed, the next jump goes
+// straight to the horizon. Two steps count as equal within half the longer one, at least
+// kSteadyToleranceNs: a jump's target is the wait's timeout added to the real clock read a
+// moment after rcl read it, so it carries the time the process ran in between (a busy machine:
+// up to a millisecond and more), while two timers of different periods alternate their steps.
+constexpr uint64_t kSteadyJumpsBeforeHorizon = 100;
+constexpr int64_t kSteadyToleranceNs = 200 * 1000;
+// Steps unlike the reference step forgiven before it is replaced (plus one per ten steady jumps).
+constexpr uint64_t kOddJumpsForgiven = 10;
 // A census that found a thread not blocked (a sleep loop, a callback running) is taken again
 // this long after, while nothing else changes (each costs a few hundred microseconds).
 constexpr int64_t kCensusRecheckNs = 5 * 1000 * 1000;
@@ -69,6 +80,8 @@ void Session::break_quiet(int64_t now)
 
 void Session::on_change()
 {
+  steady_jumps_ = 0;  // a timer that creates something is not fast-forwarded
+  odd_jumps_ = 0;
   ++generation_;
   last_change_ns_ = clock_.now_ns();
   break_quiet(last_change_ns_);
@@ -206,6 +219,31 @@ bool Session::try_jump(int64_t target_ns)
     horizon_reached_ = true;
     end_warp();
     return false;
+  }
+  // A periodic timer that fired again and again and created nothing: jump to the horizon
+  // at once (rcl then runs its callback once for the missed periods; see kSteadyJumpsBeforeHorizon).
+  // Steps are compared with a reference step; a few outliers (the process preempted before its
+  // wait on a busy machine) are forgiven, a steady run of other steps becomes the reference.
+  const int64_t step = last_jump_target_ns_ != 0 ? target_ns - last_jump_target_ns_ : 0;
+  last_jump_target_ns_ = target_ns;
+  if (step > 0 && last_jump_step_ns_ > 0 &&
+    std::llabs(step - last_jump_step_ns_) <=
+    std::max(kSteadyToleranceNs, std::max(step, last_jump_step_ns_) / 2))
+  {
+    ++steady_jumps_;
+  } else if (step > 0 &&
+    (last_jump_step_ns_ <= 0 || ++odd_jumps_ > kOddJumpsForgiven + steady_jumps_ / 10))
+  {
+    last_jump_step_ns_ = step;  // another timer (or none steady): start over with this step
+    steady_jumps_ = 0;
+    odd_jumps_ = 0;
+  }
+  if (steady_jumps_ >= kSteadyJumpsBeforeHorizon) {
+    const int64_t horizon_target = t0_ns_ + settings_.horizon_ms * kNsPerMs;
+    if (horizon_target > target_ns) {
+      target_ns = horizon_target;
+      fast_forwarded_ = true;
+    }
   }
   const int64_t delta = target_ns - virtual_now;
   virtual_clock_.advance(delta);

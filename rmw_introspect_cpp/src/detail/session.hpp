@@ -80,6 +80,8 @@ public:
   /// the last change settle the process once it was quiet for settle_ms (settled_by "poll").
   /// True when the monitor should look again.
   bool on_poll();
+  /// Whether the warp jumped straight to the horizon (a steady periodic timer; try_jump).
+  bool fast_forwarded() const {return fast_forwarded_;}
   /// Thread `tid` blocks in rmw_wait until real time `deadline_ns` (negative: no deadline);
   /// returns the token for leave_wait. Called under the wait hub's lock, after the thread
   /// found nothing ready.
@@ -245,6 +247,12 @@ private:
   int64_t warp_start_ns_ = 0;
   uint64_t jumps_ = 0;
   int64_t warp_ns_ = 0;
+  // Fast-forward of a steady periodic timer (try_jump).
+  int64_t last_jump_target_ns_ = 0;
+  int64_t last_jump_step_ns_ = 0;
+  uint64_t steady_jumps_ = 0;
+  uint64_t odd_jumps_ = 0;
+  bool fast_forwarded_ = false;
   bool horizon_reached_ = false;
   bool budget_exhausted_ = false;
   // Probing.

@@ -2,9 +2,15 @@
 // 2 s steady-clock timer whose callback creates a publisher on "timed" (once), then it
 // waits on a wait set holding the timer, like an executor (rcl_wait derives the timeout
 // from the timer). Virtual time makes the 2 s pass at once.
+// Modes (first argument):
+//   destroy  node "c_timer" also publishes "doomed" from the start; the timer fires after 8 s
+//            and destroys that publisher instead (a program that destroys what it offered);
+//   poll     as without a mode, but the loop polls: rcl_wait with a zero timeout, never
+//            blocking (a zero-timeout polling rcl node).
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "rcl/error_handling.h"
 #include "rcl/rcl.h"
@@ -18,11 +24,22 @@
 static rcl_node_t g_node;
 static rcl_publisher_t g_publisher;
 static bool g_created = false;
+static rcl_publisher_t g_doomed;
+static bool g_doomed_alive = false;
 
 static void on_timer(rcl_timer_t * timer, int64_t last_call_time)
 {
   (void)timer;
   (void)last_call_time;
+  if (g_doomed_alive) {
+    if (rcl_publisher_fini(&g_doomed, &g_node) != RCL_RET_OK) {
+      fprintf(stderr, "rcl_publisher_fini failed: %s\n", rcl_get_error_string().str);
+      exit(1);
+    }
+    g_doomed_alive = false;
+    g_created = true;  // the destroy mode creates nothing later
+    return;
+  }
   if (g_created) {
     return;
   }
@@ -47,18 +64,28 @@ int main(int argc, char ** argv)
   g_node = rcl_get_zero_initialized_node();
   rcl_node_options_t node_options = rcl_node_get_default_options();
   CHECK(rcl_node_init(&g_node, "c_timer", "/c", &context, &node_options));
+  const bool destroy = argc > 1 && strcmp(argv[1], "destroy") == 0;
+  const bool poll = argc > 1 && strcmp(argv[1], "poll") == 0;
+  if (destroy) {
+    g_doomed = rcl_get_zero_initialized_publisher();
+    rcl_publisher_options_t options = rcl_publisher_get_default_options();
+    CHECK(rcl_publisher_init(
+        &g_doomed, &g_node, ROSIDL_GET_MSG_TYPE_SUPPORT(std_msgs, msg, String), "doomed", &options));
+    g_doomed_alive = true;
+  }
 
   rcl_clock_t clock;
   CHECK(rcl_clock_init(RCL_STEADY_TIME, &clock, &allocator));
   rcl_timer_t timer = rcl_get_zero_initialized_timer();
-  CHECK(rcl_timer_init2(&timer, &clock, &context, RCL_S_TO_NS(2), on_timer, allocator, true));
+  CHECK(rcl_timer_init2(
+      &timer, &clock, &context, RCL_S_TO_NS(destroy ? 8 : 2), on_timer, allocator, true));
 
   rcl_wait_set_t wait_set = rcl_get_zero_initialized_wait_set();
   CHECK(rcl_wait_set_init(&wait_set, 0, 0, 1, 0, 0, 0, &context, allocator));
   for (;;) {
     CHECK(rcl_wait_set_clear(&wait_set));
     CHECK(rcl_wait_set_add_timer(&wait_set, &timer, NULL));
-    rcl_ret_t ret = rcl_wait(&wait_set, -1);
+    rcl_ret_t ret = rcl_wait(&wait_set, poll ? 0 : -1);
     if (ret == RCL_RET_TIMEOUT) {
       continue;
     }

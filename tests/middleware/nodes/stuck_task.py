@@ -1,7 +1,9 @@
-"""A task that awaits an answer that never comes, spun by a `spin_once` loop (issue 24): a 0.5 s
-timer's coroutine callback cancels the timer and awaits `client.call_async(...)`; no server
-exists, so rclpy's executor yields that task again on every `spin_once` without ever waiting -
-a busy loop that makes no call into the middleware at all."""
+"""A task that awaits an answer that never comes, spun by a `spin_once` loop (issue 24 item 5):
+a 0.5 s timer's coroutine callback cancels the timer and awaits `client.call_async(...)`; no
+server exists. Measured: each `rclpy.spin_once(node)` adds and removes the node (two triggers of
+the executor's guard condition) and alternately runs the pending task again and waits in
+rmw_wait without a timeout, which returns at once on that guard condition - a busy loop that
+never blocks (about 25 000 iterations a second here)."""
 import rclpy
 from rclpy.node import Node
 from std_srvs.srv import Trigger

@@ -231,7 +231,7 @@ class CheckResult:
         """Write the golden (``golden.update``): ``created``, ``updated`` or None."""
         if self.writes_nodl:
             previous = self.contract.nodl if self.contract is not None else None
-            text = nodl.render(self.golden_nodes(), previous)
+            text = nodl.render(self.golden_nodes(), previous, self.path)
             return golden.update_with(self.path, lambda _old: text)
         return golden.update(self.path, self.golden_nodes(), new_header=new_header, types=self.golden_types(),
                              distribution=self.capture.ros_distribution if self.capture is not None else None)

@@ -124,7 +124,7 @@ class Contract:
     def dump(self) -> str:
         """The file text with the ``nodes`` block regenerated (header kept); NoDL stays NoDL."""
         if self.nodl is not None:
-            return nodl.render(self.nodes, self.nodl)
+            return nodl.render(self.nodes, self.nodl, self.path)
         return update_text(self.text, self.nodes) if self.text else render(self.nodes)
 
 

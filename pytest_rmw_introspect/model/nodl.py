@@ -134,6 +134,22 @@ class Document:
     node: str | None  # the ``# node:`` comment's node, or None
     first_line: int  # of the document in the file (1-based)
     root: Any = None  # the YAML node tree, for line numbers
+    #: what its ``include:`` references add (their entities and parameters, resolved recursively),
+    #: kept apart from ``data`` so that writing the document back keeps the references
+    included: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def merged(self) -> dict[str, Any]:
+        """The document with what it includes: the interface it describes."""
+        if not self.included:
+            return self.data
+        out = dict(self.data)
+        for list_name in LISTS:
+            if self.included.get(list_name):
+                out[list_name] = [*(self.data.get(list_name) or ()), *self.included[list_name]]
+        if self.included.get(PARAMETERS):
+            out[PARAMETERS] = {**(self.data.get(PARAMETERS) or {}), **self.included[PARAMETERS]}
+        return out
 
 
 @dataclass
@@ -154,7 +170,7 @@ class NodlSource:
         out: dict[str, dict[str, Any]] = {}
         for doc in self.documents:
             fqn = doc.node or bound or self.default_node
-            out[fqn] = to_contract_node(doc.data, fqn)
+            out[fqn] = to_contract_node(doc.merged, fqn)
         return out
 
 
@@ -234,8 +250,9 @@ def _where(path: Sequence[Any]) -> str | None:
     return out or None
 
 
-def load_text(text: str, path: Path | None) -> NodlSource:
-    """Read and validate a NoDL file (one document or a stream); raises ContractError."""
+def load_text(text: str, path: Path | None, _chain: tuple[Path, ...] = ()) -> NodlSource:
+    """Read and validate a NoDL file (one document or a stream), with the documents its
+    ``include:`` references name; raises ContractError."""
     stem = re.sub(r"\.nodl$", "", Path(path.name).stem) if path is not None else "node"
     default = "/" + (re.sub(r"[^A-Za-z0-9_]", "_", stem) or "node")
     if not re.match(r"^/[A-Za-z_]", default):
@@ -276,10 +293,94 @@ def load_text(text: str, path: Path | None) -> NodlSource:
     if directory is None:
         source.notes.append(f"not validated against NoDL's own schema ({found_how}): set {SCHEMA_ENV} to NoDL's "
                             "schemas directory or install NoDL (nodl_schema)")
-    if any(d.data.get("include") for d in source.documents):
-        raise ContractError(path, "include", "`include:` references are not read by this tool yet: merge the "
-                            "included documents into this one (`ros2 nodl` can resolve them), or check them one by one")
+    for doc in source.documents:
+        if doc.data.get("include"):
+            chain = _chain or ((path.resolve(),) if path is not None else ())
+            doc.included = _resolve_includes(doc, path, chain)
     return source
+
+
+# ---------------------------------------------------------------------------- include:
+
+#: the resource type ament_nodl_register installs documents under (key ``<package>__<name>``)
+_AMENT_RESOURCE_TYPE = "nodl"
+_REF = re.compile(r"^([a-z][a-z0-9+.-]*)://(\S+)$")
+
+
+def _reference_path(ref: str, including: Path | None) -> Path:
+    """The file a NoDL reference names: ``local://<path relative to the including file>`` or
+    ``nodl://<package>/<name>`` (the ament index of AMENT_PREFIX_PATH, as ament_nodl_register
+    installs it). Raises ValueError with what to do."""
+    match = _REF.match(ref)
+    if match is None:
+        raise ValueError(f"{ref!r} is not a NoDL reference (`local://<relative path>` or `nodl://<package>/<name>`)")
+    scheme, body = match.groups()
+    if scheme == "local":
+        if including is None:
+            raise ValueError(f"{ref}: a local:// reference needs the including document's file")
+        return including.parent / body
+    if scheme == "nodl":
+        package, _, name = body.partition("/")
+        if not package or not name or "/" in name:
+            raise ValueError(f"{ref}: a nodl:// reference is nodl://<package>/<name>")
+        prefixes = [p for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
+        for prefix in prefixes:
+            candidate = Path(prefix, "share", "ament_index", "resource_index", _AMENT_RESOURCE_TYPE,
+                             f"{package}__{name}")
+            if candidate.is_file():
+                return candidate
+        where = ", ".join(prefixes) or "no prefix: AMENT_PREFIX_PATH is not set"
+        raise ValueError(f"{ref}: no NoDL document {package}__{name} registered in the ament index ({where}); "
+                         "build and source the package that registers it (ament_nodl_register)")
+    raise ValueError(f"{ref}: this tool resolves local:// and nodl:// references, not {scheme}://")
+
+
+def _include_error(doc: Document, path: Path | None, index: int, reason: str) -> ContractError:
+    where = ["include", index]
+    return ContractError(path, _where(where), reason, line=_line(doc.root, where, doc.first_line))
+
+
+def _resolve_includes(doc: Document, path: Path | None, chain: tuple[Path, ...]) -> dict[str, Any]:
+    """The entities and parameters ``doc``'s ``include:`` references add, recursively (what
+    NoDL's resolver does): an entity or parameter defined twice, or a circular inclusion, is an
+    error naming both places."""
+    added: dict[str, Any] = {}
+    own = {(list_name, e["name"]) for list_name in LISTS for e in doc.data.get(list_name) or ()}
+    own_parameters = set(doc.data.get(PARAMETERS) or {})
+    for i, reference in enumerate(doc.data.get("include") or ()):
+        ref = reference.get("ref") if isinstance(reference, Mapping) else None
+        fail = functools.partial(_include_error, doc, path, i)
+
+        if not isinstance(ref, str):
+            raise fail("an include entry is `{ref: <scheme>://<body>}`")
+        try:
+            target = _reference_path(ref, path).resolve()
+        except ValueError as exc:
+            raise fail(str(exc)) from None
+        if target in chain:
+            cycle = " -> ".join(str(p) for p in (*chain, target))
+            raise fail(f"{ref} includes itself in a circle ({cycle})")
+        try:
+            text = untrusted.read_text(target)
+        except FileNotFoundError:
+            raise fail(f"{ref}: the included document {target} does not exist") from None
+        except untrusted.InputError as exc:
+            raise fail(f"{ref}: {target}: {exc.reason}") from None
+        included = load_text(text, target, _chain=(*chain, target))
+        if len(included.documents) != 1:
+            raise fail(f"{ref}: {target} holds {len(included.documents)} documents; an included file holds one")
+        content = included.documents[0].merged
+        for list_name in LISTS:
+            for entry in content.get(list_name) or ():
+                key = (list_name, entry["name"])
+                if key in own or any(e["name"] == entry["name"] for e in added.get(list_name, ())):
+                    raise fail(f"{list_name} {entry['name']} is defined twice: here and in {ref} ({target})")
+                added.setdefault(list_name, []).append(entry)
+        for name, definition in (content.get(PARAMETERS) or {}).items():
+            if name in own_parameters or name in added.get(PARAMETERS, {}):
+                raise fail(f"parameter {name} is defined twice: here and in {ref} ({target})")
+            added.setdefault(PARAMETERS, {})[name] = definition
+    return added
 
 
 def _check(doc: Document, path: Path | None) -> None:
@@ -470,27 +571,57 @@ def nodl_parameters(entries: Sequence[Mapping[str, Any]]) -> tuple[dict[str, Any
     return out, left_out
 
 
-def _document(fqn: str, node: Mapping[str, Any], previous: Mapping[str, Any] | None) -> str:
+def _written_entry(list_name: str, entry: Mapping[str, Any]) -> dict[str, Any]:
+    written: dict[str, Any] = {"name": entry["name"], "type": entry["type"]}
+    if list_name in TOPIC_LISTS and entry.get("qos") is not None:
+        written["qos"] = nodl_qos(entry["qos"])
+    return written
+
+
+def _left_to_includes(fqn: str, node: Mapping[str, Any], previous: Document) -> tuple[set[tuple[str, str]], set[str]]:
+    """The entities and parameters of ``node`` that ``previous``'s ``include:`` references still
+    describe as they are (so the rewritten document keeps the references and leaves them out).
+    Raises ValueError when the node changed one of them: that change belongs in the included file."""
+    included = to_contract_node(previous.included, fqn)
+    entities: set[tuple[str, str]] = set()
+    for list_name in LISTS:
+        have = {str(e["name"]): e for e in node.get(list_name) or ()}
+        for entry in included[list_name]:
+            now = have.get(entry["name"])
+            stated = {k: v for k, v in _written_entry(list_name, now).items() if k in entry} if now else None
+            if stated != ({**entry, "qos": nodl_qos(entry["qos"])} if "qos" in entry else entry):
+                change = "no longer has it" if now is None else "has it otherwise"
+                raise ValueError(f"{list_name} {entry['name']} comes from an included document and the node {change}: "
+                                 "update the included document (or move the entity into this one) and run again")
+            entities.add((list_name, str(entry["name"])))
+    parameters = {str(p["name"]) for p in node.get(PARAMETERS) or ()}
+    missing = sorted(set(previous.included.get(PARAMETERS) or {}) - parameters)
+    if missing:
+        raise ValueError(f"parameter {missing[0]} comes from an included document and the node no longer declares it: "
+                         "update the included document and run again")
+    return entities, set(previous.included.get(PARAMETERS) or {})
+
+
+def _document(fqn: str, node: Mapping[str, Any], previous: Document | None) -> str:
     import yaml  # ~20 ms: only writing NoDL needs it
 
     doc: dict[str, Any] = {"nodl_version": VERSION}
-    for key in ("description", "codegen"):  # what a person wrote, kept
-        if previous and key in previous:
-            doc[key] = previous[key]
+    for key in ("description", "codegen", "include"):  # what a person wrote, kept
+        if previous and key in previous.data:
+            doc[key] = previous.data[key]
+    from_includes, parameters_from_includes = (_left_to_includes(fqn, node, previous)
+                                               if previous is not None and previous.included else (set(), set()))
     comments = [f"# node: {fqn}"]
     if node.get(LIFECYCLE) is not None:
         comments.append(f"# lifecycle: {node[LIFECYCLE]} (a lifecycle node: NoDL v2 cannot say so, not compared)")
-    params, left_out = nodl_parameters(node.get(PARAMETERS) or ())
+    params, left_out = nodl_parameters([p for p in node.get(PARAMETERS) or () if p["name"] not in parameters_from_includes])
     comments += left_out
     if params:
         doc[PARAMETERS] = params
     for list_name in LISTS:
-        entries = []
-        for entry in sorted(node.get(list_name) or (), key=lambda e: str(e["name"])):
-            written: dict[str, Any] = {"name": entry["name"], "type": entry["type"]}
-            if list_name in TOPIC_LISTS and entry.get("qos") is not None:
-                written["qos"] = nodl_qos(entry["qos"])
-            entries.append(written)
+        entries = [_written_entry(list_name, entry)
+                   for entry in sorted(node.get(list_name) or (), key=lambda e: str(e["name"]))
+                   if (list_name, str(entry["name"])) not in from_includes]
         if entries:
             doc[list_name] = entries
     return "\n".join(comments) + "\n" + yaml.safe_dump(doc, sort_keys=False, default_flow_style=False,
@@ -510,13 +641,19 @@ def bind(source: NodlSource, nodes: Mapping[str, Any], node_names: Sequence[str]
                         "describes")
 
 
-def render(nodes: Mapping[str, Mapping[str, Any]], previous: NodlSource | None = None) -> str:
+def render(nodes: Mapping[str, Mapping[str, Any]], previous: NodlSource | None = None,
+           path: Path | None = None) -> str:
     """The NoDL file of contract ``nodes``: a document per node, each under its ``# node:``
-    line (a YAML stream), with the description and codegen blocks of ``previous`` kept."""
-    before: dict[str, Mapping[str, Any]] = {}
+    line (a YAML stream), with the description, codegen and include blocks of ``previous`` (read
+    from ``path``) kept, and what the included documents describe left to them. Raises
+    ContractError when the nodes changed something an included document describes."""
+    before: dict[str, Document] = {}
     if previous is not None:
         for doc in previous.documents:
-            before[doc.node or previous.default_node] = doc.data
+            before[doc.node or previous.default_node] = doc
         if previous.unnamed and len(nodes) == 1:
-            before[next(iter(nodes))] = previous.documents[0].data
-    return "---\n" + "---\n".join(_document(fqn, nodes[fqn], before.get(fqn)) for fqn in sorted(nodes))
+            before[next(iter(nodes))] = previous.documents[0]
+    try:
+        return "---\n" + "---\n".join(_document(fqn, nodes[fqn], before.get(fqn)) for fqn in sorted(nodes))
+    except ValueError as exc:
+        raise ContractError(path, "include", str(exc)) from None

@@ -136,12 +136,14 @@ def test_a_stream_names_each_node_and_binds_only_an_unnamed_document():
     ("nodl_version: 2\nparameters:\n  rate: {type: double, default_value: fast}\n", "parameters.rate", "fast"),
     ("nodl_version: 2\nsubscriptions:\n  - {name: /a, type: std_msgs/msg/String}\n  - {name: /a, type: std_msgs/msg/String}\n",
      "subscriptions[1].name", "/a is listed twice"),
-    ("nodl_version: 2\ninclude:\n  - ref: local://other.nodl.yaml\n", "include", "`include:` references are not read"),
+    ("nodl_version: 2\ninclude:\n  - ref: local://no_such.nodl.yaml\n", "include[0]", "does not exist"),
+    ("nodl_version: 2\ninclude:\n  - ref: https://example.org/x.nodl.yaml\n", "include[0]",
+     "resolves local:// and nodl:// references, not https://"),
 ])
 def test_bad_documents_are_errors_with_the_place_and_reason(text, where, reason):
     error = pytest.raises(ContractError, contract_module.loads, text, path="bad.nodl.yaml").value
     assert (error.location, reason in error.reason) == (where, True), str(error)
-    assert error.line is not None or where == "include"  # the line of the place, for annotations
+    assert error.line is not None  # the line of the place, for annotations
 
 
 def test_a_stream_with_an_unnamed_document_among_several_is_an_error():
@@ -246,12 +248,16 @@ def test_nodls_own_fixtures_are_read(tmp_path):
                        *NODL_SRC.glob("ros2nodl/test/describe/fixtures/*.nodl.yaml")])
     assert len(fixtures) >= 10
     for fixture in fixtures:
-        if "include:" in fixture.read_text():
-            with pytest.raises(ContractError, match="`include:` references are not read"):
-                contract_module.load(fixture)
-            continue
         loaded = contract_module.load(fixture)
         assert loaded.nodl is not None and len(loaded.nodes) == 1, fixture
+    # composed_node includes basic_node (local://): it describes both documents' entities
+    composed = contract_module.load(NODL_SRC / "test_ament_nodl/test/fixtures/composed_node.nodl.yaml")
+    basic = contract_module.load(NODL_SRC / "test_ament_nodl/test/fixtures/basic_node.nodl.yaml")
+    ((_, node),) = composed.nodes.items()
+    ((_, included),) = basic.nodes.items()
+    assert "/composed_input" in [e["name"] for e in node["subscriptions"]]
+    for list_name in ("publishers", "subscriptions", "service_servers", "service_clients"):
+        assert {e["name"] for e in included[list_name]} <= {e["name"] for e in node[list_name]}, list_name
 
 
 @needs_schema
@@ -266,3 +272,96 @@ def test_the_schema_is_found_in_an_installed_nodl_schema_package_or_where_the_se
     assert nodl.schema_directory() == (package / "schemas", "the installed nodl_schema package")
     monkeypatch.setenv(nodl.SCHEMA_ENV, str(SCHEMAS))  # the setting wins, and may name the schemas directory
     assert nodl.schema_directory() == (SCHEMAS, f"{nodl.SCHEMA_ENV}={SCHEMAS}")
+
+
+# ---------------------------------------------------------------------------- include:
+
+BASE = """\
+    nodl_version: 2
+    parameters:
+      rate: {type: double, default_value: 2.0}
+    publishers:
+      - name: status
+        type: std_msgs/msg/String
+        qos: {history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}
+    """
+
+
+def _with_base(tmp_path: Path, top: str, base: str = BASE) -> contract_module.Contract:
+    (tmp_path / "common").mkdir(exist_ok=True)
+    (tmp_path / "common" / "base.nodl.yaml").write_text(textwrap.dedent(base))
+    return _load(tmp_path, top, name="driver.nodl.yaml")
+
+
+TOP = """\
+    nodl_version: 2
+    include:
+      - ref: local://common/base.nodl.yaml
+    subscriptions:
+      - name: cmd
+        type: std_msgs/msg/String
+        qos: {history: KEEP_LAST, depth: 1, reliability: RELIABLE, durability: VOLATILE}
+    """
+
+
+def test_included_documents_add_their_entities_and_parameters_to_the_node(tmp_path):
+    loaded = _with_base(tmp_path, TOP)
+    node = loaded.nodes["/driver"]
+    assert [e["name"] for e in node["publishers"]] == ["/status"]  # relative names resolve in the including node's namespace
+    assert [e["name"] for e in node["subscriptions"]] == ["/cmd"]
+    assert [p["name"] for p in node["parameters"]] == ["rate"]
+
+
+def test_includes_are_followed_recursively_and_a_circle_is_an_error(tmp_path):
+    (tmp_path / "common").mkdir()
+    (tmp_path / "common" / "middle.nodl.yaml").write_text("nodl_version: 2\ninclude:\n  - ref: local://base.nodl.yaml\n")
+    loaded = _with_base(tmp_path, TOP.replace("common/base", "common/middle"))
+    assert [e["name"] for e in loaded.nodes["/driver"]["publishers"]] == ["/status"]
+    (tmp_path / "common" / "base.nodl.yaml").write_text("nodl_version: 2\ninclude:\n  - ref: local://middle.nodl.yaml\n")
+    with pytest.raises(ContractError, match=r"includes itself in a circle \(.*middle.nodl.yaml -> .*base.nodl.yaml -> "
+                                            r".*middle.nodl.yaml\)"):
+        contract_module.load(tmp_path / "driver.nodl.yaml")
+
+
+def test_an_entity_defined_here_and_in_an_included_document_is_an_error(tmp_path):
+    with pytest.raises(ContractError, match=r"publishers status is defined twice: here and in local://common/base") as info:
+        _with_base(tmp_path, TOP.rstrip(" ") + "    publishers:\n      - {name: status, type: std_msgs/msg/String, qos: {history: KEEP_LAST, "
+                            "depth: 1, reliability: RELIABLE, durability: VOLATILE}}\n")
+    assert (info.value.location, info.value.line) == ("include[0]", 3)
+
+
+def test_a_nodl_reference_is_found_in_the_ament_index(tmp_path, monkeypatch):
+    index = tmp_path / "install" / "share" / "ament_index" / "resource_index" / "nodl"
+    index.mkdir(parents=True)
+    (index / "robot_base__base").write_text(textwrap.dedent(BASE))
+    monkeypatch.setenv("AMENT_PREFIX_PATH", str(tmp_path / "elsewhere") + os.pathsep + str(tmp_path / "install"))
+    loaded = _load(tmp_path, TOP.replace("local://common/base.nodl.yaml", "nodl://robot_base/base"), "driver.nodl.yaml")
+    assert [e["name"] for e in loaded.nodes["/driver"]["publishers"]] == ["/status"]
+    with pytest.raises(ContractError, match=r"nodl://robot_base/other: no NoDL document robot_base__other registered "
+                                            r"in the ament index .*ament_nodl_register"):
+        _load(tmp_path, TOP.replace("local://common/base.nodl.yaml", "nodl://robot_base/other"), "driver.nodl.yaml")
+
+
+def test_an_update_keeps_the_include_and_leaves_the_included_entities_to_it(tmp_path):
+    loaded = _with_base(tmp_path, TOP)
+    nodes = {"/driver": dict(loaded.nodes["/driver"])}
+    qos = {"history": "KEEP_LAST", "depth": 1, "reliability": "RELIABLE", "durability": "VOLATILE"}
+    nodes["/driver"]["subscriptions"] = [{"name": "/cmd_vel", "type": "std_msgs/msg/String", "qos": qos}]
+    text = nodl.render(nodes, loaded.nodl, loaded.path)
+    written = yaml.safe_load(text.split("---\n", 2)[1])
+    assert written["include"] == [{"ref": "local://common/base.nodl.yaml"}]
+    assert "publishers" not in written and "parameters" not in written  # still the included document's
+    assert [e["name"] for e in written["subscriptions"]] == ["/cmd_vel"]
+    (tmp_path / "driver.nodl.yaml").write_text(text)  # and reads back as the same node
+    again = contract_module.load(tmp_path / "driver.nodl.yaml")
+    assert drift.compare(again.nodes, nodl.project(nodes, again.nodes)) == []
+
+
+def test_an_update_that_changes_an_included_entity_names_it_and_what_to_do(tmp_path):
+    loaded = _with_base(tmp_path, TOP)
+    nodes = {"/driver": dict(loaded.nodes["/driver"])}
+    nodes["/driver"]["publishers"] = [{"name": "/status", "type": "std_msgs/msg/Header"}]
+    with pytest.raises(ContractError, match=r"publishers /status comes from an included document and the node "
+                                            r"has it otherwise: update the included document") as info:
+        nodl.render(nodes, loaded.nodl, loaded.path)
+    assert info.value.path == loaded.path

@@ -350,7 +350,6 @@ def _resolve_includes(doc: Document, path: Path | None, chain: tuple[Path, ...])
     for i, reference in enumerate(doc.data.get("include") or ()):
         ref = reference.get("ref") if isinstance(reference, Mapping) else None
         fail = functools.partial(_include_error, doc, path, i)
-
         if not isinstance(ref, str):
             raise fail("an include entry is `{ref: <scheme>://<body>}`")
         try:

@@ -110,17 +110,16 @@ def ros_prefix(venv: Path) -> tuple[Path, bool]:
                      "(run `make bootstrap`, or source /opt/ros/<distro>/setup.bash)")
 
 
-def wheels_distribution(prefix: Path) -> str:
-    """The distribution whose wheels the venv ``prefix`` holds (its ros_<distro>_rclpy meta-package)."""
-    for info in sorted(prefix.glob("lib/python3*/site-packages/ros_*_rclpy-*.dist-info")):
-        parts = info.name.split("-", 1)[0].split("_")
-        if len(parts) == 3:
-            return parts[1]
-    return "jazzy"
+def wheels_distribution(python: Path) -> str:
+    """The distribution of the venv whose interpreter is ``python``, as the package detects it."""
+    out = subprocess.run([str(python), "-c", "from pytest_rmw_introspect.run import ros_env; "
+                          "print(ros_env.detect().distro)"], capture_output=True, text=True, cwd=ROOT)
+    lines = out.stdout.split()
+    return lines[-1] if out.returncode == 0 and lines else "jazzy"
 
 
-def ensure_build_wheels(prefix: Path) -> None:
-    distro = wheels_distribution(prefix)
+def ensure_build_wheels(prefix: Path, python: Path) -> None:
+    distro = wheels_distribution(python)
     missing = sorted({f"ros-{distro}-{name}" for rel, name in BUILD_WHEELS.items()
                       if not (prefix / rel).exists()})
     if missing:
@@ -449,7 +448,7 @@ def main(argv: list[str] | None = None) -> int:
         prefix, is_venv = ros_prefix(args.venv)
         python = args.venv / "bin" / "python" if is_venv else Path(sys.executable)
         if is_venv:
-            ensure_build_wheels(prefix)
+            ensure_build_wheels(prefix, python)
         if args.no_build:
             key = hashlib.sha256(f"{test_dir}\0{tools_dir}\0{prefix.resolve()}".encode()
                                  ).hexdigest()[:12]

@@ -312,6 +312,24 @@ def relink_to_rmw_implementation(install: Path, venv: Path, logfile: Path, env: 
     return [str(p.relative_to(install)) for p in done]
 
 
+def portable_scripts(install: Path, venv: Path) -> list[str]:
+    """pip writes the build venv's interpreter into the console scripts it installs (colcon,
+    coverage); the overlay serves every venv made from the same lock, and that venv may be gone.
+    ``#!/usr/bin/env python3`` finds the venv of the overlay's environment instead (its PATH puts
+    the venv's bin/ right after the overlay's). Returns the scripts rewritten."""
+    interpreters = {f"#!{venv / 'bin' / name}" for name in ("python", "python3", Path(sys.executable).name)}
+    rewritten = []
+    for script in sorted((install / "bin").iterdir()):
+        if not script.is_file() or script.is_symlink():
+            continue
+        with script.open("rb") as handle:
+            first = handle.readline()
+        if first.rstrip(b"\n").decode(errors="replace") in interpreters:
+            script.write_bytes(b"#!/usr/bin/env python3\n" + script.read_bytes()[len(first):])
+            rewritten.append(script.name)
+    return rewritten
+
+
 def write_setup_sh(install: Path, venv: Path) -> None:
     env = overlay_env(install, venv, base={})
     names = ["AMENT_PREFIX_PATH", "CMAKE_PREFIX_PATH", "LD_LIBRARY_PATH", "PYTHONPATH", "PATH"]
@@ -366,6 +384,7 @@ def build_overlay(src: Path, venv: Path, out: Path, jobs: int, commits: dict[str
                     str(install), str(src / path)], logfile, env, cwd=work)
     log("relinking copies of librcl, librcl_action, librcl_lifecycle and rclpy to rmw_implementation")
     relinked = relink_to_rmw_implementation(install, venv, logfile, env)
+    log(f"console scripts made independent of {venv}: {', '.join(portable_scripts(install, venv)) or 'none'}")
     write_setup_sh(install, venv)
     smoke_test(install, venv, logfile)
     info: dict[str, object] = {

@@ -106,3 +106,16 @@ def test_the_middleware_library_of_the_overlay_is_its_own_build(overlay, library
     # built against the overlay's prefix, cached apart from the wheels' build
     assert library.is_file()
     assert library.parent.parent.parent.parent == middleware.cache_root()
+
+
+def test_the_overlays_console_scripts_run_from_any_venv_of_the_lock(overlay: Overlay):
+    """The overlay is shared by every venv made from the same lock, so its console scripts (colcon)
+    must not name the interpreter of the venv it happened to be built with: that venv may be gone."""
+    named = {script.name: script.read_bytes().split(b"\n", 1)[0].decode(errors="replace")
+             for script in (overlay.install / "bin").iterdir()
+             if script.is_file() and script.read_bytes().startswith(b"#!")}
+    assert "colcon" in named
+    pinned = {name: line for name, line in named.items() if not line.startswith("#!/usr/bin/env ") and not line.startswith("#!/bin/")}
+    assert pinned == {}
+    usage = subprocess.run(["colcon", "build", "--help"], env=overlay.env(), capture_output=True, text=True, timeout=60)
+    assert usage.returncode == 0, usage.stderr

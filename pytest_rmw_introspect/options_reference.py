@@ -99,6 +99,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         path.write_text(contract_schema_text(path.read_text("utf-8")), encoding="utf-8")
     if args.family:
         print(render_markdown(args.family), end="")
+    elif not args.write_schema:
+        parser.print_help()
     return 0
 
 

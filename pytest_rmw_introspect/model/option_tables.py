@@ -271,8 +271,8 @@ TARGET = Family(
                               "else": {"items": {"type": "string", "pattern": ":="}}},
                "mapping", metavar="FROM:=TO", cli_flag="--remap"),
         Option("parameters", Shape.REPEATED, None, "parameters given to the node (`-p NAME:=VALUE`; nested mappings "
-               "are flattened with dots), each VALUE YAML", _PER_TARGET, {"type": "object"}, "mapping",
-               metavar="NAME:=VALUE", cli_flag="--param"),
+               "are flattened with dots); each VALUE is YAML: 5, 2.0, true, [1, 2], 'text'", _PER_TARGET,
+               {"type": "object"}, "mapping", metavar="NAME:=VALUE", cli_flag="--param"),
         Option("params_file", Shape.TEXT, None, "ROS parameters YAML file (`--params-file`)", _PER_TARGET, _PATH,
                "path", metavar="FILE"),
         Option("env", Shape.REPEATED, None, "extra environment variables of the target", _PROCESS,

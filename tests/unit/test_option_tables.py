@@ -293,3 +293,8 @@ def test_the_reference_page_names_every_option_and_its_spellings(name):
 def test_an_unknown_family_names_the_known_ones():
     with pytest.raises(KeyError, match="known: comparison, target"):
         options_reference.render_markdown("session")
+
+
+def test_the_module_prints_a_page(capsys):
+    assert options_reference.main(["target"]) == 0
+    assert capsys.readouterr().out == options_reference.render_markdown("target")

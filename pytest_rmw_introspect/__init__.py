@@ -21,6 +21,8 @@ The package is layered (docs/design.md): ``model`` (the vocabulary, captures, co
 ``compare`` (options, drift, system checks, reports) and ``run`` (targets, the runner, ROS
 detection, the middleware library), then ``check`` (the pipeline, outcomes, the golden
 writer) and the two front ends, ``plugin`` (pytest) and ``cli`` (``rmw-introspect``).
+``options_reference`` renders the option tables (``model.option_tables``) as reference pages
+and writes the contract schema's generated definitions.
 """
 
 from __future__ import annotations

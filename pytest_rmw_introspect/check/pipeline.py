@@ -43,6 +43,7 @@ from ..model.acceptance import Acceptance
 from ..model.capture import Capture
 from ..model.contract import Contract
 from ..model.locate import LineIndex
+from ..model.option_tables import PRECEDENCE, Source, stack
 from ..model.paths import shown as display
 from ..model.vocabulary import Severity, parse_threshold
 from ..run import runner
@@ -56,29 +57,35 @@ TargetLayer: TypeAlias = tuple[Mapping[str, Any] | None, "str | Path | None", st
 
 @dataclass(frozen=True)
 class Layers:
-    """Where target and comparison options come from around a contract, weakest first.
+    """Where target and comparison options come from around a contract.
 
-    Precedence is decided here and nowhere else: comparison options are ``weak_options`` <
-    the contract's ``options:`` < ``strong_options``; target options ``weak_target`` < the
-    contract's ``target:`` (paths relative to the contract) < ``strong_target``.
+    Precedence is the table's (``model.option_tables.PRECEDENCE``), applied here and nowhere
+    else, by :func:`~pytest_rmw_introspect.model.option_tables.stack`: ``weak_*`` layers (by
+    source: the ini file, pytest's command line) < the contract's ``options:`` / ``target:``
+    (paths relative to the contract) < ``strong_*`` layers (the test's or command's own: marker
+    keyword arguments, ``rmw_capture()`` arguments, ``rmw-introspect`` flags).
     """
 
-    weak_target: Sequence[TargetLayer] = ()
+    weak_target: Mapping[Source, Sequence[TargetLayer]] = field(default_factory=dict)
     strong_target: Sequence[TargetLayer] = ()
-    weak_options: Sequence[OptionLayer] = ()
+    weak_options: Mapping[Source, Sequence[OptionLayer]] = field(default_factory=dict)
     strong_options: Sequence[OptionLayer] = ()
+
+    def __post_init__(self) -> None:
+        below_contract = set(PRECEDENCE[:PRECEDENCE.index(Source.CONTRACT)])
+        assert set(self.weak_target) <= below_contract and set(self.weak_options) <= below_contract
 
     def target(self, contract: Contract | None = None, *, path: Path | None = None, shown: str = "") -> TargetSpec:
         """The target: the layers around the contract's ``target:`` block (raises TargetConfigError)."""
         around: list[TargetLayer] = []
         if contract is not None and contract.target and path is not None:
             around.append((contract.target, path.absolute().parent, f"{shown}: target"))
-        return merge(*self.weak_target, *around, *self.strong_target)
+        return merge(*stack({**self.weak_target, Source.CONTRACT: around, Source.OWN: self.strong_target}))
 
     def options(self, contract: Contract | None = None, *, shown: str = "") -> ComparisonOptions:
         """The comparison options: the layers around the contract's ``options:`` block (raises OptionError)."""
-        return resolve(*self.weak_options, (contract.options if contract else None, f"{shown}: options"),
-                       *self.strong_options)
+        around: list[OptionLayer] = [(contract.options if contract else None, f"{shown}: options")]
+        return resolve(*stack({**self.weak_options, Source.CONTRACT: around, Source.OWN: self.strong_options}))
 
 
 def _default_no_target(contract: Contract | None, shown: str) -> str:

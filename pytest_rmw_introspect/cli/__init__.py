@@ -1,6 +1,7 @@
 """The ``rmw-introspect`` command line: capture, check, diff, compat.
 
-``parser`` (arguments and help texts), ``commands`` (each command over the check pipeline),
+``parser`` (arguments and help texts), ``option_flags`` (the flags of the option tables,
+``model.option_tables``), ``commands`` (each command over the check pipeline),
 ``formats`` (what ``capture`` prints). :func:`main` is the console script.
 """
 

@@ -19,7 +19,8 @@ from ..check.outcome import Verdict, decide
 from ..compare import ci_report, sarif
 from ..errors import GoldenWriteError
 from ..model.contract import Contract
-from . import baselines, system
+from ..model.option_tables import COMPARISON, TARGET, FrontEnd
+from . import baselines, option_flags, system
 from .formats import print_json
 from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, UsageError, compare_from_args, target_from_args
 from .ros_setup import Setup
@@ -28,21 +29,8 @@ from .ros_setup import Setup
 def accept_command(args: argparse.Namespace, contract: str, command: list[str] | None) -> str:
     """`rmw-introspect check --update [the target and comparison flags given] CONTRACT`."""
     words = ["rmw-introspect", "check", "--update"]
-    for key in ("package", "executable", "script", "module", "entry_point", "namespace", "node_name", "params_file", "cwd",
-                "settle", "timeout", "horizon", "lifecycle", "fail_on", "ignore_qos", "ignore_parameters",
-                "ignore_parameter_values"):
-        value = getattr(args, key, None)
-        if value is not None:
-            words += [f"--{key.replace('_', '-')}", str(value)]
-    if getattr(args, "read_parameters", None) is not None:
-        words.append("--read-parameters" if args.read_parameters else "--no-read-parameters")
-    for key, flag in (("arguments", "--arg"), ("remap", "--remap"), ("param", "--param"), ("env", "--env")):
-        for value in getattr(args, key, None) or ():
-            words += [flag, value]
-    for key, flag in (("ignore_type_hash", "--ignore-type-hash"), ("allow_extra", "--allow-extra"),
-                      ("include_infrastructure", "--include-ros-infra"), ("include_types", "--include-types")):
-        if getattr(args, key, None):
-            words.append(flag)
+    for option in (*TARGET.exposed(FrontEnd.CLI), *COMPARISON.exposed(FrontEnd.CLI)):
+        words += option_flags.as_flags(option, getattr(args, option.name, None))
     words.append(contract)
     if command:
         words += ["--", *command]

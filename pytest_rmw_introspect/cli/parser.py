@@ -7,8 +7,9 @@ from collections.abc import Sequence
 from typing import Any
 
 from .._version import __version__
-from ..model.vocabulary import FAIL_ON, LIFECYCLE_TARGETS
-from . import system_options
+from ..model.option_tables import COMPARISON, TARGET, FrontEnd, Shape
+from ..model.vocabulary import FAIL_ON
+from . import option_flags, system_options
 
 EXIT_OK, EXIT_DRIFT, EXIT_ERROR = 0, 1, 2
 #: the start note of a command's only capture: a warm start server pays off from the second one
@@ -207,65 +208,11 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _add_target(parser: argparse.ArgumentParser) -> None:
-    g = parser.add_argument_group("target options", _TARGET_HELP)
-    g.add_argument("--package", metavar="P", help="ament package of the executable (with --executable)")
-    g.add_argument("--executable", metavar="E", help="executable inside <prefix>/lib/<package>/")
-    g.add_argument("--script", metavar="FILE", help="Python file to run with this interpreter")
-    g.add_argument("--module", metavar="M", help="Python module to run as `python -m M`")
-    g.add_argument("--entry-point", metavar="MOD:FUNC",
-                   help="Python function to call like its console script (`my_pkg.camera:main`)")
-    g.add_argument("--arg", dest="arguments", action="append", metavar="ARG",
-                   help="extra command-line argument before --ros-args (repeatable)")
-    g.add_argument("--namespace", metavar="NS", help="node namespace (-r __ns:=NS)")
-    g.add_argument("--node-name", metavar="NAME", help="node name (-r __node:=NAME)")
-    g.add_argument("--remap", action="append", metavar="FROM:=TO", help="name remapping (repeatable)")
-    g.add_argument("--param", action="append", metavar="NAME:=VALUE",
-                   help="parameter; VALUE is YAML (5, 2.0, true, [1, 2], 'text') (repeatable)")
-    g.add_argument("--params-file", metavar="FILE", help="ROS parameters YAML file")
-    g.add_argument("--env", action="append", metavar="K=V", help="environment variable of the target (repeatable)")
-    g.add_argument("--cwd", metavar="DIR", help="working directory of the target")
-    g.add_argument("--settle", type=float, metavar="SECONDS",
-                   help="quiet time (while the node waits) after which the capture is final (default 0.1)")
-    g.add_argument("--timeout", type=float, metavar="SECONDS",
-                   help="time the target gets to settle before it is stopped (default 20)")
-    g.add_argument("--horizon", type=float, metavar="SECONDS",
-                   help="seconds of the node's virtual life the capture observes: timers fire at once "
-                   "(default 10; 0 turns virtual time off)")
-    g.add_argument("--cold-start", action="store_true", default=None,
-                   help="start the target as a new process, never forked from the warm start server")
-    g.add_argument("--lifecycle", choices=LIFECYCLE_TARGETS,
-                   help="drive lifecycle (managed) nodes to this state before the capture: active (configure, "
-                   "activate; the default), inactive (configure), unconfigured, none (leave them alone)")
-    g.add_argument("--read-parameters", action=argparse.BooleanOptionalAction, default=None,
-                   help="read every node's parameters through its own parameter services (default: yes)")
-    g.add_argument("--stimulus", dest="stimuli", action="append", metavar="NAME",
-                   help="after the node settled, give each subscription of this fully resolved topic name one "
-                   "default-constructed message, or call each service of this name with a default request, and "
-                   "capture what the node creates in response (repeatable; off by default: the node acts on "
-                   "that input)")
+    option_flags.add_group(parser, TARGET, FrontEnd.CLI, "target options", _TARGET_HELP)
 
 
-def _add_compare(parser: argparse.ArgumentParser, *, infra: bool = True, types: bool = True) -> None:
-    g = parser.add_argument_group("comparison options (override the contract's options: block)")
-    g.add_argument("--fail-on", choices=FAIL_ON,
-                   help="least severe drift that fails (exit 1); default: the contract's, else any")
-    g.add_argument("--ignore-type-hash", action="store_true", default=None, help="do not compare type hashes")
-    g.add_argument("--ignore-qos", metavar="FIELDS",
-                   help="QoS fields not to compare: comma-separated (depth,history) or 'all'")
-    g.add_argument("--allow-extra", action="store_true", default=None,
-                   help="interfaces and nodes the contract does not list are not drift")
-    g.add_argument("--ignore-parameters", metavar="PATTERNS",
-                   help="parameters not to compare: comma-separated names or fnmatch patterns "
-                   "(qos_overrides.*), or 'all'")
-    g.add_argument("--ignore-parameter-values", metavar="PATTERNS",
-                   help="parameters whose default values are not compared: names or patterns, or 'all'")
-    if types:
-        g.add_argument("--include-types", action="store_true", default=None,
-                       help="keep a types: section in the contract (written by --update) so that a changed "
-                       "type hash is reported field by field")
-    if infra:
-        g.add_argument("--include-ros-infra", dest="include_infrastructure", action="store_true", default=None,
-                       help="also capture and compare /rosout, /parameter_events, parameter and lifecycle services")
+def _add_compare(parser: argparse.ArgumentParser, front_end: FrontEnd = FrontEnd.CLI) -> None:
+    option_flags.add_group(parser, COMPARISON, front_end, "comparison options (override the contract's options: block)")
 
 
 REPORT_FORMATS = ("text", "json", "markdown", "github", "sarif")
@@ -338,7 +285,7 @@ def build_parser() -> argparse.ArgumentParser:
                          epilog=_DIFF_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     dif.add_argument("old", metavar="OLD", help="the contract as it was")
     dif.add_argument("new", metavar="NEW", help="the contract as it is now")
-    _add_compare(dif, infra=False, types=False)
+    _add_compare(dif, FrontEnd.DIFF)
     _add_format(dif)
 
     ini = sub.add_parser("init", help="write a contract for every executable of a package",
@@ -350,9 +297,7 @@ def build_parser() -> argparse.ArgumentParser:
     ini.add_argument("--output-dir", default=".", metavar="DIR",
                      help="the package's source directory: contracts go to DIR/contracts (default: .)")
     ini.add_argument("--force", action="store_true", help="overwrite existing contracts")
-    for option, text in (("--settle", "settle time of each capture"), ("--timeout", "time each executable gets"),
-                         ("--horizon", "virtual-time horizon of each capture")):
-        ini.add_argument(option, type=float, metavar="SECONDS", help=text)
+    option_flags.add(ini, (TARGET[name] for name in ("settle", "timeout", "horizon")))
 
     val = sub.add_parser("validate", help="check that contract files are valid (no target is run)",
                          description="Load and validate contract files (YAML, schema, QoS values, duplicates) "
@@ -401,23 +346,18 @@ def _pairs(values: Sequence[str] | None, sep: str, what: str, example: str) -> l
 
 def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dict[str, Any]:
     """The target options given on the command line (a TargetSpec mapping)."""
-    target: dict[str, Any] = {}
-    for key in ("package", "executable", "script", "module", "entry_point", "namespace", "node_name", "params_file", "cwd",
-                "settle", "timeout", "horizon", "cold_start", "lifecycle", "read_parameters"):
-        value = getattr(args, key, None)
-        if value is not None:
-            target[key] = value
-    if args.arguments:
-        target["arguments"] = list(args.arguments)
-    if getattr(args, "stimuli", None):
-        target["stimuli"] = list(args.stimuli)
+    given = {k: v for k, v in option_flags.values(args, TARGET.exposed(FrontEnd.CLI)).items() if v is not None}
+    target = {k: v for k, v in given.items() if TARGET[k].shape is not Shape.REPEATED}
+    for key in ("arguments", "stimuli"):
+        if given.get(key):
+            target[key] = list(given[key])
     if command:
         target["command"] = list(command)
-    remaps = _pairs(args.remap, ":=", "--remap", "FROM:=TO")
+    remaps = _pairs(given.get("remappings"), ":=", "--remap", "FROM:=TO")
     if remaps:
         target["remappings"] = dict(remaps)
     params = {}
-    pairs = _pairs(args.param, ":=", "--param", "NAME:=VALUE")
+    pairs = _pairs(given.get("parameters"), ":=", "--param", "NAME:=VALUE")
     if pairs:
         import yaml  # ~20 ms: only --param values need it
     for name, text in pairs:
@@ -427,7 +367,7 @@ def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dic
             raise UsageError(f"--param {name}:={text}: the value is not valid YAML ({exc})") from None
     if params:
         target["parameters"] = params
-    env = _pairs(args.env, "=", "--env", "K=V")
+    env = _pairs(given.get("env"), "=", "--env", "K=V")
     if env:
         target["env"] = dict(env)
     kinds = [k for k in ("package", "executable", "script", "module", "entry_point", "command") if k in target]
@@ -440,13 +380,5 @@ def target_from_args(args: argparse.Namespace, command: list[str] | None) -> dic
 
 
 def compare_from_args(args: argparse.Namespace) -> dict[str, Any]:
-    return {
-        "fail_on": args.fail_on,
-        "ignore_type_hash": args.ignore_type_hash,
-        "ignore_qos": args.ignore_qos,
-        "allow_extra": args.allow_extra,
-        "include_infrastructure": getattr(args, "include_infrastructure", None),
-        "include_types": getattr(args, "include_types", None),
-        "ignore_parameters": args.ignore_parameters,
-        "ignore_parameter_values": args.ignore_parameter_values,
-    }
+    """The comparison options given on the command line (None: not given)."""
+    return option_flags.values(args, COMPARISON.options)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from ..model.option_tables import TARGET, FrontEnd
 from ..model.vocabulary import FAIL_ON
 
 GRAPH_FORMATS = ("mermaid", "dot", "html")
@@ -15,9 +16,9 @@ a system (a launch file: every process it starts is captured, in parallel):
   --launch FILE                        an XML, YAML or Python launch file, or a record.json of dump_launch
   --launch-package P --launch-file F   a launch file of a package, found like `ros2 launch P F`
 With a launch file, `capture` writes a system contract (NAME.system.yaml) and the target
-options apply to every process (--settle, --timeout, --horizon, --lifecycle, --[no-]read-parameters,
---env only).
-"""
+options apply to every process ({flags} only).
+""".format(flags=", ".join(option.flag if option.default is not True else f"--[no-]{option.flag[2:]}"
+                           for option in TARGET.exposed(FrontEnd.SYSTEM)))
 
 GRAPH_EPILOG = """\
 Draws the nodes of the contracts (system contracts, node contracts, or both) with their topics,

@@ -1,42 +1,10 @@
-"""Comparison options and where they come from.
+"""Comparison options: what each value means, and how a set of layers becomes the options a
+comparison uses.
 
-=========================  ===============================  ===================================
-option                     meaning                          default
-=========================  ===============================  ===================================
-``ignore_type_hash``       do not compare type hashes       ``false``
-``ignore_qos``             ``true`` (all QoS fields) or a   ``[]``
-                           list of QoS field names not to
-                           compare
-``allow_extra``            interfaces (and nodes) the       ``false``
-                           contract does not list are fine
-``include_infrastructure`` compare /rosout,                 ``false``
-                           /parameter_events, parameter
-                           and lifecycle services too
-``fail_on``                ``any``, ``risky`` or            ``any``
-                           ``breaking``: the least severe
-                           drift that fails the test
-``include_types``          keep a ``types:`` section in     ``false``
-                           the contract (written by
-                           ``--update-golden``): changed
-                           type hashes are explained field
-                           by field
-``ignore_parameters``      ``true`` (no parameter is        ``[]``
-                           compared) or a list of name
-                           patterns (``fnmatch`` globs:
-                           ``qos_overrides.*``) of
-                           parameters not to compare
-``ignore_parameter_values`` ``true`` or a list of name      ``[]``
-                           patterns: their default values
-                           are not compared (the rest of
-                           each parameter is)
-=========================  ===============================  ===================================
-
-Ignored parameters are left as the contract has them when ``--update-golden`` rewrites it (a
-new contract does not get them).
-
-Each can be set, from strongest to weakest: as a keyword argument of the
-``interfaces`` marker, in the contract's ``options:`` block, on the command line
-(``--rmw-introspect-<option>``), in the ini file (``rmw_introspect_<option>``).
+The options themselves (names, types, defaults, help, the front ends that expose them) are the
+table ``model.option_tables.COMPARISON``; ``options_reference.render_markdown("comparison")``
+renders it. Their precedence is ``model.option_tables.PRECEDENCE``, applied by
+``check.pipeline.Layers``; :func:`resolve` folds layers already in that order.
 """
 
 from __future__ import annotations
@@ -47,13 +15,12 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..errors import RmwIntrospectError
+from ..model.option_tables import COMPARISON, Shape
 from ..model.qos import FIELDS as QOS_FIELDS
 from ..model.vocabulary import FAIL_ON, Severity, parse_threshold
 
-OPTION_KEYS = ("ignore_type_hash", "ignore_qos", "allow_extra", "include_infrastructure", "fail_on", "include_types",
-               "ignore_parameters", "ignore_parameter_values")
-#: options that take ``true`` or a list of parameter name patterns
-PATTERN_OPTIONS = ("ignore_parameters", "ignore_parameter_values")
+#: every comparison option, in table order
+OPTION_KEYS = COMPARISON.names()
 _TRUE = ("1", "true", "yes", "on", "all")
 _FALSE = ("0", "false", "no", "off", "")
 
@@ -64,7 +31,8 @@ class OptionError(RmwIntrospectError):
 
 @dataclass(frozen=True)
 class ComparisonOptions:
-    """How a capture (or a newer contract) is compared with a contract (the table above);
+    """How a capture (or a newer contract) is compared with a contract (``option_tables.COMPARISON``:
+    a unit test checks that these defaults are the table's);
     :func:`pytest_rmw_introspect.compare.drift.compare` takes it as it is."""
 
     ignore_type_hash: bool = False
@@ -163,15 +131,17 @@ def _fail_on(value: Any, source: str) -> str:
 
 def parse_one(key: str, value: Any, source: str) -> Any:
     """Validate one option value (from any source)."""
+    if key not in OPTION_KEYS:
+        raise OptionError(f"{source}: unknown option {key!r}; known: {', '.join(OPTION_KEYS)}")
     if key == "ignore_qos":
         return _ignore_qos(value, source)
     if key == "fail_on":
         return _fail_on(value, source)
-    if key in PATTERN_OPTIONS:
+    shape = COMPARISON[key].shape
+    if shape is Shape.WORDS:
         return _patterns(value, key, source)
-    if key in OPTION_KEYS:
-        return _bool(value, key, source)
-    raise OptionError(f"{source}: unknown option {key!r}; known: {', '.join(OPTION_KEYS)}")
+    assert shape is Shape.SWITCH, key  # a new shape needs its parser here
+    return _bool(value, key, source)
 
 
 def parse_layer(values: Mapping[str, Any] | None, source: str) -> dict[str, Any]:
@@ -180,7 +150,7 @@ def parse_layer(values: Mapping[str, Any] | None, source: str) -> dict[str, Any]
 
 
 def resolve(*layers: tuple[Mapping[str, Any] | None, str]) -> ComparisonOptions:
-    """Combine ``(values, source)`` layers, weakest first (ini, command line, contract, marker)."""
+    """Combine ``(values, source)`` layers given weakest first (``option_tables.stack`` orders them)."""
     merged: dict[str, Any] = {}
     for values, source in layers:
         merged.update(parse_layer(values, source))

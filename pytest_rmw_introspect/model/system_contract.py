@@ -51,13 +51,14 @@ from ..errors import ContractError
 from . import acceptance, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
+from .option_tables import TARGET, FrontEnd
 from .paths import shown
 from .vocabulary import FAIL_ON, LABELS, LISTS
 
 SYSTEM_VERSION = 1
 SUFFIX = ".system.yaml"
 #: target options that apply to every process of a system
-SYSTEM_TARGET_KEYS = ("settle", "timeout", "horizon", "lifecycle", "read_parameters", "env")
+SYSTEM_TARGET_KEYS = TARGET.names(FrontEnd.SYSTEM)
 PROCESS_KEYS = ("package", "executable", "name", "nodes")
 
 DEFAULT_HEADER = (

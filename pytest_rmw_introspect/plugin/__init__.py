@@ -6,6 +6,7 @@ state and its summary. Everything else lives in the modules next to it:
   starts its workers sooner without the hooks' ~50 ms of imports); the pipelines themselves
   are imported by the first contract test that runs;
 * ``session``: command-line and ini options, the session's option layers, goldens written;
+* ``option_flags``: the pytest options and ini keys of the option tables (``model.option_tables``);
 * ``marker``: the ``interfaces`` marker (contract, target and options of a test);
 * ``fixtures``: ``interfaces``, ``rmw_capture``, ``rmw_introspect_ros``, ``rmw_introspect_library``;
 * ``items``: contract files collected as test items;
@@ -23,10 +24,9 @@ Problems the user can cause (no target, a malformed contract, a target that cras
 hangs or creates no node, ROS 2 or the middleware missing) fail the test with a message
 that says what to do; they are never internal errors.
 
-Precedence of comparison options: marker > contract ``options:`` > command line > ini.
-Precedence of target options: marker > contract ``target:`` > command line > ini
-(``timeout``/``settle``/``horizon``/``cold_start``/``lifecycle``/``read_parameters`` only on the command line
-and in the ini file).
+Precedence of comparison and target options: marker > contract ``options:`` / ``target:`` >
+command line > ini (``model.option_tables.PRECEDENCE``; which options the command line and the
+ini file take, the tables say).
 """
 
 from __future__ import annotations

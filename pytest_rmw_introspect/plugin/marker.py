@@ -1,8 +1,8 @@
 """The ``interfaces`` marker: which contract a test checks, with which target and options.
 
 The marker's first argument is the golden contract, relative to the test file; its keyword
-arguments are target options (``run.target.TARGET_KEYS``, above the contract's ``target:``)
-and comparison options (``compare.options.OPTION_KEYS``, above the contract's ``options:``).
+arguments are the target and comparison options whose table (``model.option_tables``) says the
+marker takes them (above the contract's ``target:`` and ``options:`` blocks).
 The target is captured when the test sets up (:func:`prepare`); after the test body, the
 capture is compared inside the call phase (:func:`check`).
 """
@@ -16,9 +16,9 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from ..compare.options import OPTION_KEYS, OptionError
+from ..compare.options import OptionError
 from ..errors import RmwIntrospectError
-from ..run.target import TARGET_KEYS
+from ..model.option_tables import COMPARISON, TARGET, FrontEnd
 from . import verdict
 from .session import SessionState
 
@@ -28,6 +28,8 @@ if TYPE_CHECKING:  # imported by the first marker test that runs: a session with
     from ..model.contract import Contract
 
 MARKER = "interfaces"
+TARGET_KEYS = TARGET.names(FrontEnd.MARKER)
+OPTION_KEYS = COMPARISON.names(FrontEnd.MARKER)
 MARKER_DOC = (
     f"{MARKER}(contract, **options): capture the test's target on the recording middleware and "
     "compare it with the golden contract (path relative to the test file). Keyword arguments: "

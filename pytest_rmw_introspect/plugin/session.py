@@ -13,18 +13,16 @@ import pytest
 from ..check import golden_record, sharding
 from ..compare.options import OptionError, parse_layer
 from ..errors import SetupError, TargetConfigError
+from ..model.option_tables import COMPARISON, TARGET, Source
 from ..model.paths import shown
-from ..model.vocabulary import FAIL_ON, LIFECYCLE_TARGETS
 from ..run import middleware, ros_env
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
+from . import option_flags
 
 if TYPE_CHECKING:
     from ..check.pipeline import Layers, OptionLayer, TargetLayer
 
-#: target options that have a command-line option and an ini value (seconds, then the others)
-SECONDS_TARGET_KEYS = ("timeout", "settle", "horizon")
-SESSION_TARGET_KEYS = (*SECONDS_TARGET_KEYS, "lifecycle", "read_parameters")
 #: contract items whose capture starts while the current item runs (a capture is mostly waiting:
 #: settle periods, nodes that sleep). 8, not 3: 100 warm items under `pytest -n 2` took a median
 #: 5.7 s against 6.1 s (18 and 23 interleaved runs; 16 ahead was no better than 8). An xdist worker
@@ -77,13 +75,14 @@ class SessionState:
             self._setup_error = exc
             raise
 
-    def target_layers(self) -> list[TargetLayer]:
-        """The target layers below a contract's ``target:`` block (ini file, then command line)."""
-        return [(self.ini_target, self.rootdir, "ini file"), (self.cli_target, self.rootdir, "command line")]
+    def target_layers(self) -> dict[Source, list[TargetLayer]]:
+        """The target layers below a contract's ``target:`` block, by source."""
+        return {Source.INI: [(self.ini_target, self.rootdir, "ini file")],
+                Source.PYTEST: [(self.cli_target, self.rootdir, "command line")]}
 
-    def option_layers(self) -> list[OptionLayer]:
-        """The comparison option layers below a contract's ``options:`` block."""
-        return [(self.ini_options, "ini file"), (self.cli_options, "command line")]
+    def option_layers(self) -> dict[Source, list[OptionLayer]]:
+        """The comparison option layers below a contract's ``options:`` block, by source."""
+        return {Source.INI: [(self.ini_options, "ini file")], Source.PYTEST: [(self.cli_options, "command line")]}
 
     def layers(self, *, strong_target: list[TargetLayer] | None = None,
                strong_options: list[OptionLayer] | None = None) -> Layers:
@@ -127,74 +126,10 @@ def addoption(parser: pytest.Parser) -> None:
         help="rewrite the golden contracts of the selected tests that drifted and create missing "
         "ones (refused when the CI environment variable is set)",
     )
-    group.addoption(
-        "--rmw-introspect-fail-on",
-        choices=FAIL_ON,
-        default=None,
-        help="least severe interface drift that fails a test (default: ini rmw_introspect_fail_on, any)",
-    )
-    group.addoption(
-        "--rmw-introspect-ignore-type-hash",
-        action="store_true",
-        default=None,
-        help="do not compare type hashes",
-    )
-    group.addoption(
-        "--rmw-introspect-ignore-qos",
-        default=None,
-        metavar="FIELDS",
-        help="QoS fields not to compare: comma-separated names (depth,history) or 'all'",
-    )
-    group.addoption(
-        "--rmw-introspect-allow-extra",
-        action="store_true",
-        default=None,
-        help="interfaces and nodes the contract does not list are not drift",
-    )
-    group.addoption(
-        "--rmw-introspect-include-infrastructure",
-        action="store_true",
-        default=None,
-        help="also compare /rosout, /parameter_events, parameter and lifecycle services",
-    )
-    group.addoption(
-        "--rmw-introspect-include-types",
-        action="store_true",
-        default=None,
-        help="keep a types: section in contracts (written by --update-golden) so that a changed "
-        "type hash is reported field by field",
-    )
-    group.addoption("--rmw-introspect-timeout", type=float, default=None, metavar="SECONDS",
-                    help="default time a target gets to settle (default 20)")
-    group.addoption("--rmw-introspect-settle", type=float, default=None, metavar="SECONDS",
-                    help="default settle time of targets (default 0.1)")
-    group.addoption("--rmw-introspect-horizon", type=float, default=None, metavar="SECONDS",
-                    help="default virtual-time horizon of targets: seconds of a node's life a capture "
-                    "observes, timers firing at once (default 10; 0 turns virtual time off)")
     group.addoption("--rmw-introspect-shard", metavar="I/N", default=None,
                     help="run only this CI job's share of the contract files' items: job I of N (e.g. 2/4); the "
                     "items are sorted by node id and dealt round-robin, the N jobs together run each exactly once "
                     "(tests with the interfaces marker are left to pytest's own sharding plugins)")
-    group.addoption("--rmw-introspect-cold-start", action="store_true", default=None,
-                    help="start every target as a new process, never forked from the warm start server "
-                    "(default: Python targets start warm)")
-    group.addoption("--rmw-introspect-lifecycle", choices=LIFECYCLE_TARGETS, default=None,
-                    help="default state lifecycle (managed) nodes are driven to before the capture "
-                    "(default active; none leaves them alone)")
-    group.addoption("--rmw-introspect-read-parameters", choices=("true", "false"), default=None,
-                    help="default of reading every node's parameters through its parameter services (default true)")
-    group.addoption(
-        "--rmw-introspect-ignore-parameters",
-        default=None,
-        metavar="PATTERNS",
-        help="parameters not to compare: comma-separated names or fnmatch patterns (qos_overrides.*), or 'all'",
-    )
-    group.addoption(
-        "--rmw-introspect-ignore-parameter-values",
-        default=None,
-        metavar="PATTERNS",
-        help="parameters whose default values are not compared: names or patterns, or 'all'",
-    )
 
     group.addoption("--rmw-introspect-capture-ahead", default=None, metavar="N",
                     help="how many of the next contract items start their capture while the current one "
@@ -210,49 +145,13 @@ def addoption(parser: pytest.Parser) -> None:
     )
     parser.addini("rmw_introspect_contracts", "glob patterns of contract files collected as test items "
                   "('none' turns it off)", type="args", default=["*.interfaces.yaml", "*.system.yaml"])
-    parser.addini("rmw_introspect_ignore_type_hash", "do not compare type hashes", type="bool", default=False)
-    parser.addini("rmw_introspect_ignore_qos", "QoS fields not to compare (list, or 'all')", type="args", default=[])
-    parser.addini("rmw_introspect_allow_extra", "interfaces the contract does not list are not drift",
-                  type="bool", default=False)
-    parser.addini("rmw_introspect_include_infrastructure", "compare infrastructure endpoints too",
-                  type="bool", default=False)
-    parser.addini("rmw_introspect_include_types", "keep a types: section in contracts (field-level type drift)",
-                  type="bool", default=False)
     parser.addini("rmw_introspect_baseline", "a baseline file (rmw-introspect check --write-baseline FILE): "
                   "findings it holds are reported as accepted and do not fail; relative to the ini file", default="")
-    parser.addini("rmw_introspect_fail_on", "least severe drift that fails: " + " | ".join(FAIL_ON), default="any")
-    parser.addini("rmw_introspect_timeout", "default target timeout in seconds", default="")
-    parser.addini("rmw_introspect_settle", "default target settle time in seconds", default="")
-    parser.addini("rmw_introspect_horizon", "default target virtual-time horizon in seconds (0: off)", default="")
     parser.addini("rmw_introspect_capture_ahead", "how many of the next contract items start their capture while "
                   f"the current one runs (default {DEFAULT_CAPTURE_AHEAD}; true: the default; false or 0: one "
                   "capture at a time)", default="")
-    parser.addini("rmw_introspect_cold_start", "start every target as a new process (no warm starts)",
-                  type="bool", default=False)
-    parser.addini("rmw_introspect_lifecycle", "default state lifecycle nodes are driven to: "
-                  + " | ".join(LIFECYCLE_TARGETS), default="")
-    parser.addini("rmw_introspect_read_parameters", "read the nodes' parameters (true | false; default true)",
-                  default="")
-    parser.addini("rmw_introspect_ignore_parameters", "parameters not to compare (names or patterns, or 'all')",
-                  type="args", default=[])
-    parser.addini("rmw_introspect_ignore_parameter_values",
-                  "parameters whose default values are not compared (names or patterns, or 'all')",
-                  type="args", default=[])
-
-
-def _ini_float(config: pytest.Config, name: str) -> float | None:
-    raw = str(config.getini(name) or "").strip()
-    if not raw:
-        return None
-    try:
-        return float(raw)
-    except ValueError:
-        raise pytest.UsageError(f"ini option {name} = {raw!r} is not a number of seconds") from None
-
-
-def _ini_text(config: pytest.Config, name: str) -> str | None:
-    """A string ini value (validated with the target options); None when not set."""
-    return str(config.getini(name) or "").strip() or None
+    option_flags.add(group, parser, COMPARISON)
+    option_flags.add(group, parser, TARGET)
 
 
 def capture_ahead_count(raw: Any, where: str) -> int:
@@ -288,12 +187,6 @@ def _capture_ahead(config: pytest.Config, cold_session: bool) -> int:
     return capture_ahead_count(ini, "ini option rmw_introspect_capture_ahead")
 
 
-def _ini_args(config: pytest.Config, name: str) -> Any:
-    """An ini value of type ``args``: one word as it is (``all``), several as a list, None when not set."""
-    words = config.getini(name)
-    return (words[0] if len(words) == 1 else list(words)) if words else None
-
-
 def configure(config: pytest.Config) -> SessionState:
     """Read and validate this session's options (a bad value is a ``pytest.UsageError``)."""
     update = bool(config.getoption("update_golden", False))
@@ -302,38 +195,15 @@ def configure(config: pytest.Config) -> SessionState:
         if refusal:
             raise pytest.UsageError(refusal)
 
-    ini_raw = {
-        "ignore_type_hash": config.getini("rmw_introspect_ignore_type_hash"),
-        "ignore_qos": _ini_args(config, "rmw_introspect_ignore_qos"),
-        "allow_extra": config.getini("rmw_introspect_allow_extra"),
-        "include_infrastructure": config.getini("rmw_introspect_include_infrastructure"),
-        "fail_on": config.getini("rmw_introspect_fail_on") or None,
-        "include_types": config.getini("rmw_introspect_include_types"),
-        "ignore_parameters": _ini_args(config, "rmw_introspect_ignore_parameters"),
-        "ignore_parameter_values": _ini_args(config, "rmw_introspect_ignore_parameter_values"),
-    }
-    cli_raw = {
-        "ignore_type_hash": config.getoption("rmw_introspect_ignore_type_hash", None),
-        "ignore_qos": config.getoption("rmw_introspect_ignore_qos", None),
-        "allow_extra": config.getoption("rmw_introspect_allow_extra", None),
-        "include_infrastructure": config.getoption("rmw_introspect_include_infrastructure", None),
-        "fail_on": config.getoption("rmw_introspect_fail_on", None),
-        "include_types": config.getoption("rmw_introspect_include_types", None),
-        "ignore_parameters": config.getoption("rmw_introspect_ignore_parameters", None),
-        "ignore_parameter_values": config.getoption("rmw_introspect_ignore_parameter_values", None),
-    }
     try:
-        ini_options = parse_layer(ini_raw, "ini file")
-        cli_options = parse_layer(cli_raw, "command line")
+        ini_options = parse_layer(option_flags.ini_values(config, COMPARISON), "ini file")
+        cli_options = parse_layer(option_flags.flag_values(config, COMPARISON), "command line")
     except OptionError as exc:
         raise pytest.UsageError(str(exc)) from None
 
-    ini_target: dict[str, Any] = {key: _ini_float(config, f"rmw_introspect_{key}") for key in SECONDS_TARGET_KEYS}
-    ini_target.update({key: _ini_text(config, f"rmw_introspect_{key}") for key in ("lifecycle", "read_parameters")})
-    cli_target = {key: config.getoption(f"rmw_introspect_{key}", None) for key in SESSION_TARGET_KEYS}
-    # cold starts: only ever switched on by these layers (a contract or marker may say false)
-    ini_target["cold_start"] = True if config.getini("rmw_introspect_cold_start") else None
-    cli_target["cold_start"] = True if config.getoption("rmw_introspect_cold_start", None) else None
+    # (cold starts: only ever switched on by these layers; a contract or marker may say false)
+    ini_target = option_flags.ini_values(config, TARGET)
+    cli_target = option_flags.flag_values(config, TARGET)
     try:
         TargetSpec.from_mapping(ini_target, source="ini file").merged(cli_target, source="command line")
     except TargetConfigError as exc:
@@ -349,8 +219,8 @@ def configure(config: pytest.Config) -> SessionState:
         update=update,
         cli_options=cli_options,
         ini_options=ini_options,
-        cli_target={k: v for k, v in cli_target.items() if v is not None},
-        ini_target={k: v for k, v in ini_target.items() if v is not None},
+        cli_target=cli_target,
+        ini_target=ini_target,
         golden=golden_record.GoldenSession(enabled=update),
         invocation_dir=Path(config.invocation_params.dir),
         rootdir=Path(config.rootpath),

@@ -9,8 +9,8 @@ and ``*.system.yaml`` files collected as test items.
 
 The marker's first argument is the system contract (relative to the test file); keyword
 arguments: ``launch_arguments`` (on top of the contract's ``launch: arguments``), the
-process-wide target options (``settle``, ``timeout``, ``horizon``, ``lifecycle``, ``read_parameters``,
-``env``), the comparison options and ``system_fail_on``. Every process of the launch file is captured when the test sets
+target and comparison options a system contract takes (``model.option_tables``, the rows with
+``FrontEnd.SYSTEM``) and ``system_fail_on``. Every process of the launch file is captured when the test sets
 up; after the test body the system is compared with the contract and the system rules run
 (``check.system_pipeline``), with the same outcomes as an ``interfaces`` test:
 ``--update-golden`` writes the contract, drift or system problems at or above their thresholds
@@ -30,9 +30,10 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from ..compare.options import OPTION_KEYS, OptionError
+from ..compare.options import OptionError
 from ..errors import RmwIntrospectError
 from ..model import system_contract
+from ..model.option_tables import COMPARISON, FrontEnd
 from ..model.system_contract import SYSTEM_TARGET_KEYS
 from . import verdict
 from .fixtures import UnavailableCapture
@@ -43,6 +44,7 @@ if TYPE_CHECKING:  # the system pipeline and launch readers: imported by the fir
     from ..run.system import SystemCapture
 
 MARKER = "system_contract"
+OPTION_KEYS = COMPARISON.names(FrontEnd.SYSTEM)
 MARKER_DOC = (
     f"{MARKER}(contract, **options): capture every process the system contract's launch file starts and "
     "compare the system with the contract (path relative to the test file); run the system rules. Keyword "

@@ -1,52 +1,14 @@
 """What to run: target options → argv and environment.
 
 The same keys are accepted everywhere (the capture API, a contract's ``target`` block, the
-``interfaces`` marker's keyword arguments):
+``interfaces`` marker's keyword arguments, and some of them as pytest options, ini keys and
+``rmw-introspect`` flags): the table ``model.option_tables.TARGET`` names them with their types,
+defaults, help and front ends (``options_reference.render_markdown("target")`` renders it). This
+module decides what each value means (:func:`_convert`) and how a target is started.
 
-=================  ==========================================================================
-``package``        ament package of the executable (with ``executable``), found like ``ros2 run``
-``executable``     executable name inside ``<prefix>/lib/<package>/``
-``command``        an explicit command: a list of strings (or one string, split like a shell)
-``script``         a Python file, run with the current interpreter (``sys.executable``)
-``module``         a Python module, run as ``python -m <module>``
-``entry_point``    a Python function, ``package.module:function`` (what a ``console_scripts``
-                   entry point names), called like the script pip generates for it
-``arguments``      extra command-line arguments, placed before ``--ros-args``
-``namespace``      ``--ros-args -r __ns:=<namespace>``
-``node_name``      ``--ros-args -r __node:=<node_name>``
-``remappings``     mapping ``from → to`` (or a list of ``"from:=to"``): ``-r from:=to``
-``parameters``     mapping ``name → value``: ``-p name:=<YAML value>`` (nested mappings are
-                   flattened with dots)
-``params_file``    ``--params-file <path>``
-``env``            extra environment variables for the process
-``cwd``            working directory of the process (default: the directory of the contract
-                   or test file that named the target)
-``settle``         seconds without changes (while the node waits) after which the capture is
-                   final (``RMW_INTROSPECT_SETTLE_MS``)
-``timeout``        seconds to wait for the process to settle before stopping it
-``horizon``        seconds of the node's virtual life the capture observes: after the first
-                   settle, the middleware advances the ROS clock through every timed wait up
-                   to this age, so timers fire at once (``RMW_INTROSPECT_HORIZON_MS``;
-                   default 10, ``0`` turns virtual time off)
-``cold_start``     ``true``: always start a new interpreter, never fork a Python target from
-                   the warm start server (``run.warm``); default false
-``lifecycle``      how far the middleware drives lifecycle (managed) nodes after the first
-                   settle: ``active`` (configure, activate; the default), ``inactive``,
-                   ``unconfigured``, ``none`` (leave them alone) (``RMW_INTROSPECT_LIFECYCLE``)
-``read_parameters`` read every node's parameters through its own parameter services (default
-                   true; ``RMW_INTROSPECT_PARAMETERS``). Not ``parameters``: that key holds
-                   the ``-p`` values given to the node
-``stimuli``        fully resolved topic or service names (a list, or one string of names
-                   separated by commas or spaces): after the node settled, each subscription
-                   of such a name gets one default-constructed message and each service one
-                   default request, then the node settles again, so that interfaces it
-                   creates in response are captured (``RMW_INTROSPECT_STIMULI``; off by
-                   default: a default message is input the node acts on)
-=================  ==========================================================================
-
-Exactly one of ``package``+``executable``, ``command``, ``script``, ``module`` names the
-target. Relative paths (``script``, ``params_file``, ``cwd`` and a ``command`` whose first
-element contains a ``/``) are relative to the file that named them.
+Exactly one of ``package``+``executable``, ``command``, ``script``, ``module``, ``entry_point``
+names the target. Relative paths (``script``, ``params_file``, ``cwd`` and a ``command`` whose
+first element contains a ``/``) are relative to the file that named them.
 """
 
 from __future__ import annotations
@@ -63,40 +25,17 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ExecutableNotFound, TargetConfigError
+from ..model.option_tables import MAX_SECONDS, TARGET
 from ..model.vocabulary import DEFAULT_LIFECYCLE_TARGET, LIFECYCLE_TARGETS
 
-DEFAULT_TIMEOUT = 20.0
-DEFAULT_SETTLE = 0.1
-DEFAULT_HORIZON = 10.0
-#: the largest settle, timeout or horizon accepted (a day); beyond it a value is a mistake
-MAX_SECONDS = 86_400.0
+DEFAULT_TIMEOUT: float = TARGET["timeout"].default
+DEFAULT_SETTLE: float = TARGET["settle"].default
+DEFAULT_HORIZON: float = TARGET["horizon"].default
 
 #: keys that say *what* to run; a layer that sets one of them replaces the whole choice
 KIND_KEYS = ("package", "executable", "command", "script", "module", "entry_point")
-#: every target key, in documentation order
-TARGET_KEYS = (
-    "package",
-    "executable",
-    "command",
-    "script",
-    "module",
-    "entry_point",
-    "arguments",
-    "namespace",
-    "node_name",
-    "remappings",
-    "parameters",
-    "params_file",
-    "env",
-    "cwd",
-    "settle",
-    "timeout",
-    "horizon",
-    "cold_start",
-    "lifecycle",
-    "read_parameters",
-    "stimuli",
-)
+#: every target key, in table order
+TARGET_KEYS = TARGET.names()
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ endif
 LOCK_FILE ?= $(CURDIR)/requirements/$(DISTRO).txt
 export VENV LOCK_FILE
 
-.PHONY: example test test-fast typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay clean
+.PHONY: example test test-fast typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs clean
 
 ## bootstrap: .venv/ with exactly the packages of requirements/jazzy.txt (hash-checked), the
 ## package editable, the middleware built and the example package installed
@@ -71,15 +71,21 @@ asan: bootstrap
 
 ## conformance: the official RMW API suite (test_rmw_implementation) on the middleware; needs
 ## RMW_CONFORMANCE_SRC=<dir with rmw_implementation and osrf_testing_tools_cpp checkouts>,
-## see README.md, "Conformance". CONFORMANCE_ARGS passes options (e.g. --details, --baseline-memcheck)
+## see docs/conformance.md. CONFORMANCE_ARGS passes options (e.g. --details, --baseline-memcheck)
 conformance: bootstrap
 	$(VENV)/bin/python scripts/conformance/run.py $(CONFORMANCE_ARGS)
 
 ## overlay: rclcpp, components, launch_ros and RMW_IMPLEMENTATION selection over the wheels, built
-## once into the cache from ROS_OVERLAY_SRC=<dir with the upstream checkouts>; see README.md,
-## "C++ and launch overlay"
+## once into the cache from ROS_OVERLAY_SRC=<dir with the upstream checkouts>; see
+## docs/overlay.md
 overlay: bootstrap
 	$(VENV)/bin/python scripts/overlay/build.py $(OVERLAY_ARGS)
+
+## docs: the documentation site into site/ (mkdocs.yml): warnings are errors, and among them every
+## broken internal link or anchor (MkDocs' validation and scripts/docs/site_hooks.py); external
+## links are not checked (no network here). Open site/index.html.
+docs: bootstrap
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict
 
 clean:
 	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted build .pytest_cache

@@ -2,7 +2,7 @@
 
     python bench/bench_cpp_talker.py [--reps 7]      (also run by `make bench`)
 
-Needs the C++ and launch overlay (`make overlay`, README "C++ and launch overlay"); without
+Needs the C++ and launch overlay (`make overlay`, docs/overlay.md); without
 one it says so and exits 0. It re-runs itself in the overlay's environment, where the plugin
 activates the middleware as on a standard install (RMW_IMPLEMENTATION plus the preload), and
 builds the C++ example package over the overlay (once, cached).

@@ -9,14 +9,15 @@ pytest_plugins = ["pytester"]
 
 # ---------------------------------------------------------------------------- tiers
 # Tests are marked by where they live, so a new test file lands in the right tier by itself:
-#   e2e     real nodes on the real middleware (tests/middleware, tests/cli, tests/cmake, the example package)
+#   e2e     real nodes on the real middleware (tests/middleware, tests/cli, tests/cmake, the example package),
+#           and the documentation site built and opened in a real browser (tests/docs)
 #   plugin  pytest run in a subprocess by pytester (tests/plugin)
 #   overlay the C++ and launch overlay (tests/overlay): rclcpp nodes, RMW_IMPLEMENTATION, colcon;
 #           end-to-end too, and skipped with one line where no overlay was built (`make overlay`)
 # Everything else (tests/unit) is the fast tier: `make test-fast` = pytest -m "not e2e and not plugin".
 import pytest  # noqa: E402
 
-_TIERS = {"middleware": ("e2e",), "cli": ("e2e",), "cmake": ("e2e",), "plugin": ("plugin",),
+_TIERS = {"middleware": ("e2e",), "cli": ("e2e",), "cmake": ("e2e",), "docs": ("e2e",), "plugin": ("plugin",),
           "overlay": ("e2e", "overlay")}
 
 

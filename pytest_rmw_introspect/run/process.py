@@ -226,7 +226,7 @@ def stop(proc: Handle, sigint_grace: float | None = None,
 
 def reap_group(proc: Handle) -> None:
     """Kill what the target left behind in its own process group (its children). Children that
-    started a session of their own (daemons, ``setsid``) are out of reach: see the README."""
+    started a session of their own (daemons, ``setsid``) are out of reach: see docs/known-limits.md."""
     try:
         os.killpg(proc.pid, signal.SIGKILL)
     except (ProcessLookupError, PermissionError):

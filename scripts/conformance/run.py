@@ -3,7 +3,7 @@
 
     RMW_CONFORMANCE_SRC=/path/with/both/checkouts .venv/bin/python scripts/conformance/run.py
 
-The sources are the user's upstream checkouts (see README.md, "Conformance", for the
+The sources are the user's upstream checkouts (see docs/conformance.md, for the
 `git clone` lines: the rmw_implementation branch of the distribution the venv holds, `jazzy` for
 .venv, `rolling` for .venv-kilted until a `kilted` branch is at hand); nothing upstream is kept
 in this repository. Steps:
@@ -95,7 +95,7 @@ def find_sources(src: Path) -> tuple[Path, Path]:
         missing.append("osrf/osrf_testing_tools_cpp (tag 2.0.0): */osrf_testing_tools_cpp/src/memory_tools")
     if missing:
         raise SetupError(f"not found under {src}: " + "; ".join(missing)
-                         + " (see README.md, \"Conformance\", for how to get them)")
+                         + " (see docs/conformance.md for how to get them)")
     return tests[0].resolve(), tools[0].resolve()
 
 
@@ -443,7 +443,7 @@ def main(argv: list[str] | None = None) -> int:
         if not args.src:
             raise SetupError("set RMW_CONFORMANCE_SRC (or --src) to the directory holding the "
                              "rmw_implementation and osrf_testing_tools_cpp checkouts; "
-                             "see README.md, \"Conformance\"")
+                             "see docs/conformance.md")
         test_dir, tools_dir = find_sources(Path(args.src).expanduser().resolve())
         prefix, is_venv = ros_prefix(args.venv)
         python = args.venv / "bin" / "python" if is_venv else Path(sys.executable)

@@ -4,7 +4,7 @@ the ROS 2 Jazzy PyPI wheels of a venv.
 
     ROS_OVERLAY_SRC=/dir/with/checkouts .venv/bin/python scripts/overlay/build.py   (`make overlay`)
 
-The sources are the user's upstream checkouts (README.md, "C++ and launch overlay", lists them);
+The sources are the user's upstream checkouts (docs/overlay.md lists them);
 nothing upstream is kept in this repository. The overlay goes into
 ``${RMW_INTROSPECT_CACHE:-~/.cache/pytest-rmw-introspect}/overlay-<distro>-<key>/``, where the key
 hashes the checkouts' commits, the venv's ROS 2 wheels, requirements/overlay.txt and this
@@ -116,7 +116,7 @@ def check_inputs(src: Path, venv: Path) -> None:
             f"{src} lacks the checkouts {', '.join(missing)}: the overlay builds from ros2/rclcpp, "
             "ros2/rcl_interfaces, ros-tooling/libstatistics_collector, ros/class_loader (tag 2.7.0), "
             "ros2/rmw_implementation, ros2/launch and ros2/launch_ros (branch jazzy), cloned side by "
-            "side into one directory named by ROS_OVERLAY_SRC (README.md, \"C++ and launch overlay\")")
+            "side into one directory named by ROS_OVERLAY_SRC (docs/overlay.md)")
     if not (venv / "share" / "rcl" / "cmake").is_dir() or not (venv / "lib" / FASTDDS).exists():
         raise SetupError(f"{venv} is not a venv with the ROS 2 Jazzy wheels: run `make bootstrap`")
     if not Path("/usr/include/console_bridge").is_dir() and not Path("/usr/include/console_bridge_export.h").exists():
@@ -409,7 +409,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.src is None:
             raise SetupError("say where the upstream checkouts are: ROS_OVERLAY_SRC=/dir make overlay "
-                             "(README.md, \"C++ and launch overlay\", lists them)")
+                             "(docs/overlay.md lists them)")
         src, venv = args.src.resolve(), args.venv.absolute()
         check_inputs(src, venv)
         commits = {name: checkout_id(src / name) for name in CHECKOUTS}

@@ -8,33 +8,19 @@ test is skipped, saying so, only where no Chromium is installed."""
 from __future__ import annotations
 
 import os
-import shutil
 import struct
 import subprocess
 import zlib
 from pathlib import Path
 
-import pytest
+from headless_browser import headless_command
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "rmw_introspect_examples"
-BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
-
-
-def browser() -> str:
-    for name in BROWSERS:
-        found = shutil.which(name)
-        if found:
-            return found
-    pytest.skip("no Chromium installed: `apt-get install -y chromium` (the README's set-up; .ci/run installs it)")
 
 
 def screenshot(page: Path, png: Path, profile: Path) -> None:
-    command = [
-        browser(), "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-        "--disable-background-networking", "--disable-component-update", "--disable-sync", "--hide-scrollbars",
-        f"--user-data-dir={profile}", "--force-device-scale-factor=1", "--window-size=1400,1000",
-        f"--screenshot={png}", page.as_uri(),
-    ]
+    command = headless_command(profile, "--hide-scrollbars", "--force-device-scale-factor=1", "--window-size=1400,1000",
+                               f"--screenshot={png}", page.as_uri())
     proc = subprocess.run(command, capture_output=True, text=True, timeout=120, check=False,
                           env={**os.environ, "HOME": str(profile)})
     assert proc.returncode == 0 and png.is_file(), f"chromium failed ({proc.returncode}):\n{proc.stderr[-3000:]}"

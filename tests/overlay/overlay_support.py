@@ -25,7 +25,7 @@ REPO = Path(__file__).resolve().parents[2]
 CPP_EXAMPLES = REPO / "examples" / "rmw_introspect_examples_cpp"
 BUILD_HINT = ("no C++ overlay for this venv in the cache: build it with "
               "`ROS_OVERLAY_SRC=<dir with the upstream checkouts> make overlay` "
-              "(README.md, \"C++ and launch overlay\")")
+              "(docs/overlay.md)")
 
 
 @lru_cache(maxsize=1)

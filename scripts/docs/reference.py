@@ -5,6 +5,8 @@ describe, so that they are never written twice:
   command line itself uses (``pytest_rmw_introspect.cli.parser.build_parser``);
 - ``pytest_reference()``: every command-line option and ini key of the pytest plugin, from its
   own ``pytest_addoption`` called on a real ``pytest.Parser``;
+- ``option_table_reference(family)``: the comparison and target option tables, each rendered from
+  the declarative table every front end is generated from (``model/option_tables.py``);
 - ``contract_reference()``: every key of a contract file, from the JSON Schema contracts are
   validated with (``pytest_rmw_introspect/schema/contract.schema.json``).
 
@@ -286,7 +288,18 @@ def contract_reference(schema: dict[str, Any] | None = None) -> str:
     return "\n".join(lines).rstrip() + "\n"
 
 
+def option_table_reference(family: str) -> str:
+    """The page of one option family (comparison, target), rendered from its declarative table
+    (``pytest_rmw_introspect.model.option_tables``, the one every front end is generated from)."""
+    from pytest_rmw_introspect.options_reference import render_markdown
+
+    note = GENERATED_NOTE.format(source="pytest_rmw_introspect/model/option_tables.py")
+    return note + "\n\n" + render_markdown(family).rstrip() + "\n"
+
+
 PAGES = {
+    "reference/comparison-options.md": lambda: option_table_reference("comparison"),
+    "reference/target-options.md": lambda: option_table_reference("target"),
     "reference/cli.md": cli_reference,
     "reference/pytest.md": pytest_reference,
     "reference/contract.md": contract_reference,

@@ -101,17 +101,35 @@ def processes(tmp_path_factory):
     # every node printed its line and every client exited (or the deadline), stopping none
     # before, since they depend on each other.
     expected = {**NODES, **CLIENTS, **HELPERS}
-    deadline = time.monotonic() + DEADLINE
-    while time.monotonic() < deadline:
-        if all(expected[name][1] in log.read_text() for name, (_, log) in started.items()) and \
-                all(started[name][0].poll() is not None for name in (*CLIENTS, *HELPERS)):
-            break
-        time.sleep(0.2)
+    wait_for_all(started, expected)
+    # DDS can lose a service request or response whose endpoints had not matched yet (seen on a
+    # machine with a load of 17: fibonacci_client got all its feedback, then no result for 57 s
+    # although it asks again every 2 s). A client still waiting then is run once more against the
+    # servers, which are still up; its first log stays beside the second one.
+    for name, (args, _) in CLIENTS.items():
+        process, log = started[name]
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+            log = logs / f'{name}.second-try.log'
+            started[name] = (subprocess.Popen([str(lib / name), *args], env=env, stdout=log.open('w'),
+                                              stderr=subprocess.STDOUT), log)
+    wait_for_all(started, expected)
     yield started
     for process, _ in started.values():
         if process.poll() is None:
             process.kill()
             process.wait()
+
+
+def wait_for_all(started, expected):
+    """Until every node printed its line and every client exited, or the deadline."""
+    deadline = time.monotonic() + DEADLINE
+    while time.monotonic() < deadline:
+        if all(expected[name][1] in log.read_text() for name, (_, log) in started.items()) and \
+                all(started[name][0].poll() is not None for name in (*CLIENTS, *HELPERS)):
+            return
+        time.sleep(0.2)
 
 
 def stop(process):
@@ -143,7 +161,7 @@ def test_client_gets_its_answer_and_exits(processes, name):
     process, log = processes[name]
     if process.poll() is None:
         stop(process)
-        pytest.fail(f'{name} had no answer within {DEADLINE} s:\n{log.read_text()}')
+        pytest.fail(f'{name} had no answer within {DEADLINE} s (clients: in two tries):\n{log.read_text()}')
     status = process.returncode
     output = log.read_text()
     expected = {**CLIENTS, **HELPERS}[name][1]

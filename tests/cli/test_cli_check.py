@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import json
 
-from cli_helpers import NODES, talker_contract
+from cli_helpers import NODES
+from sample_contracts import talker_contract
 
 from pytest_rmw_introspect.run import ros_env
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import xml.etree.ElementTree as ET
 
-from sample_contracts import talker_contract
+from sample_contracts import talker_contract, talker_depth_drift
 
 
 def talker(script: str, *, depth: int = 10, target: bool = True) -> str:
@@ -54,18 +54,7 @@ def test_junit_has_one_case_per_contract_with_the_report_and_the_drift_items(pro
     assert "[QOS_DEPTH_INCREASED] depth 3 -> 10" in message
     assert "pytest --update-golden contracts/drifted.interfaces.yaml::/talker" in message
     assert "Traceback" not in failure.text
-    assert drift_property(drifted) == [{
-        "contract": "contracts/drifted.interfaces.yaml",
-        "node": "/talker",
-        "kind": "publishers",
-        "name": "/chatter",
-        "change": "qos.depth",
-        "rule": "QOS_DEPTH_INCREASED",
-        "severity": "SAFE",
-        "old": 3,
-        "new": 10,
-        "message": "depth 3 -> 10: more samples are queued; matching is unaffected",
-    }]
+    assert drift_property(drifted) == [talker_depth_drift("contracts/drifted.interfaces.yaml")]
 
     notarget = found["contracts.notarget.interfaces.yaml::/talker"].find("failure")
     assert "has no `target:` block" in notarget.get("message")

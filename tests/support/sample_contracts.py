@@ -1,6 +1,6 @@
 """The contracts the tests share (pytest's ``pythonpath`` puts this directory on ``sys.path``):
 those of tests/plugin/nodes/talker.py, whole as a capture writes it or partly, built from one
-`/chatter` entry; and the talker/listener pair with a drifted capture that the report format
+`/chatter` entry, and the drift item of its depth; and the talker/listener pair with a drifted capture that the report format
 tests render (tests/unit/test_ci_report.py, test_sarif.py: their golden text and line numbers
 depend on exactly these)."""
 
@@ -75,6 +75,16 @@ def talker_contract(*, target: str | None = None, header: str = "", distribution
     block = f"target:\n{textwrap.indent(target, '  ')}\n" if target else ""
     recorded = f"ros_distribution: {distribution}\n" if distribution else ""
     return f"{header}contract_version: 1\n{recorded}{block}" + talker_nodes(**nodes)  # type: ignore[arg-type]
+
+
+def talker_depth_drift(contract: str, old: int = 3) -> dict[str, object]:
+    """The one drift item (JSON, JUnit property) of talker.py against a contract of it whose
+    ``/chatter`` depth is ``old`` (talker.py has 10)."""
+    return {
+        "contract": contract, "node": "/talker", "kind": "publishers", "name": "/chatter",
+        "change": "qos.depth", "rule": "QOS_DEPTH_INCREASED", "severity": "SAFE", "old": old, "new": 10,
+        "message": f"depth {old} -> 10: more samples are queued; matching is unaffected",
+    }
 
 
 # ---------------------------------------------------------------- the report format tests' pair

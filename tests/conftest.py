@@ -1,10 +1,11 @@
 """Shared test configuration.
 
-``pytester`` is enabled here (a top-level conftest) because pytest only honours
-``pytest_plugins`` in conftest files it loads at start-up.
+``pytester`` and the shared fixtures of tests/support/middleware_fixtures.py are enabled here
+(a top-level conftest) because pytest only honours ``pytest_plugins`` in conftest files it
+loads at start-up.
 """
 
-pytest_plugins = ["pytester"]
+pytest_plugins = ["pytester", "middleware_fixtures"]
 
 
 # ---------------------------------------------------------------------------- tiers

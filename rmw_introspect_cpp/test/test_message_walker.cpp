@@ -29,11 +29,14 @@
 #include "rosidl_typesupport_introspection_cpp/message_introspection.hpp"
 #include "test_msgs/msg/arrays.h"
 #include "test_msgs/msg/arrays.hpp"
+#include "test_msgs/msg/basic_types.h"
 #include "test_msgs/msg/bounded_sequences.h"
 #include "test_msgs/msg/bounded_sequences.hpp"
 #include "test_msgs/msg/multi_nested.h"
 #include "test_msgs/msg/multi_nested.hpp"
 #include "test_msgs/msg/strings.h"
+#include "test_msgs/msg/unbounded_sequences.h"
+#include "test_msgs/msg/unbounded_sequences.hpp"
 #include "test_msgs/msg/strings.hpp"
 #include "test_msgs/msg/w_strings.h"
 #include "test_msgs/msg/w_strings.hpp"
@@ -511,6 +514,41 @@ TEST(MessageWalkerC, rejects_what_does_not_fit)
 TEST(MessageWalkerCpp, rejects_what_does_not_fit)
 {
   rejects(cpp_layout<test_msgs::msg::BoundedSequences>());
+}
+
+// A sequence written from a value holds the value's items and nothing of before: fields the
+// value leaves out are at their defaults, in C and C++ alike.
+TEST(MessageWalkerC, a_written_sequence_keeps_nothing_of_before)
+{
+  const MessageLayout layout = layout_of(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, UnboundedSequences));
+  Message msg(layout);
+  auto * c_msg = static_cast<test_msgs__msg__UnboundedSequences *>(msg.get());
+  ASSERT_TRUE(test_msgs__msg__BasicTypes__Sequence__init(&c_msg->basic_types_values, 1));
+  c_msg->basic_types_values.data[0].int32_value = 5;
+  DynValue item = DynValue::structure();
+  item.set("bool_value", DynValue::boolean(true));
+  DynValue v = DynValue::structure();
+  v.set("basic_types_values", DynValue::sequence({item}));
+  write(layout, v, msg.get());
+  const DynValue r = read(layout, msg.get());
+  EXPECT_TRUE(at(r, "basic_types_values.0.bool_value").b);
+  EXPECT_EQ(0, at(r, "basic_types_values.0.int32_value").i);
+}
+
+TEST(MessageWalkerCpp, a_written_sequence_keeps_nothing_of_before)
+{
+  const MessageLayout layout = cpp_layout<test_msgs::msg::UnboundedSequences>();
+  test_msgs::msg::UnboundedSequences msg;
+  msg.basic_types_values.resize(1);
+  msg.basic_types_values[0].int32_value = 5;
+  DynValue item = DynValue::structure();
+  item.set("bool_value", DynValue::boolean(true));
+  DynValue v = DynValue::structure();
+  v.set("basic_types_values", DynValue::sequence({item}));
+  write(layout, v, &msg);
+  ASSERT_EQ(1u, msg.basic_types_values.size());
+  EXPECT_TRUE(msg.basic_types_values[0].bool_value);
+  EXPECT_EQ(0, msg.basic_types_values[0].int32_value);
 }
 
 TEST(MessageWalker, checks_its_arguments)

@@ -10,59 +10,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 NODES = Path(__file__).parent.parent / "plugin" / "nodes"
-STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
-
-
-#: the parameters of tests/plugin/nodes/talker.py with their defaults, as a contract lists them
-TALKER_PARAMETERS = (
-    "    parameters:\n"
-    "      - name: depth\n"
-    "        type: integer\n"
-    "        default_value: 10\n"
-    "      - name: durability\n"
-    "        type: string\n"
-    "        default_value: volatile\n"
-    "      - name: listen\n"
-    "        type: string\n"
-    "        default_value: ''\n"
-    "      - name: msg_type\n"
-    "        type: string\n"
-    "        default_value: String\n"
-    "      - name: reliability\n"
-    "        type: string\n"
-    "        default_value: reliable\n"
-    "      - name: topic\n"
-    "        type: string\n"
-    "        default_value: chatter\n"
-)
-
-
-def talker_contract(*, target: str | None = None, depth: int = 10, reliability: str = "RELIABLE",
-                    header: str = "", parameters: bool = True, distribution: str | None = None) -> str:
-    """A contract of tests/plugin/nodes/talker.py as it runs with its defaults (changeable; the
-    parameters block always lists the defaults; ``parameters=False``: a contract written before
-    parameters were recorded; ``distribution``: its ``ros_distribution:`` line, as a golden
-    write records it)."""
-    block = f"target:\n{textwrap.indent(target, '  ')}\n" if target else ""
-    recorded = f"ros_distribution: {distribution}\n" if distribution else ""
-    return (
-        f"{header}contract_version: 1\n{recorded}{block}"
-        "nodes:\n"
-        "  /talker:\n"
-        "    publishers:\n"
-        "      - name: /chatter\n"
-        "        type: std_msgs/msg/String\n"
-        f"        type_hash: {STRING_HASH}\n"
-        f"        qos: {{history: KEEP_LAST, depth: {depth}, reliability: {reliability}, durability: VOLATILE}}\n"
-        "    subscriptions: []\n"
-        "    service_servers: []\n"
-        "    service_clients: []\n"
-        "    action_servers: []\n"
-        "    action_clients: []\n"
-        + (TALKER_PARAMETERS if parameters else "")
-    )
-
-
 def wait_for_file(path: Path, timeout: float = 30.0) -> int:
     """Wait until ``path`` holds a number (a pid a test process wrote) and return it."""
     import time

@@ -9,19 +9,6 @@ from pathlib import Path
 import pytest
 from cli_helpers import Cli
 
-from pytest_rmw_introspect.errors import SetupError
-
-
-@pytest.fixture(scope="session")
-def middleware_library() -> Path:
-    """The middleware library, built once; the CLI processes reuse it (RMW_INTROSPECT_LIBRARY)."""
-    from pytest_rmw_introspect.run import middleware
-
-    try:
-        return Path(middleware.ensure_library())
-    except SetupError as exc:
-        pytest.fail(str(exc), pytrace=False)
-
 
 @pytest.fixture
 def cli(tmp_path: Path, middleware_library: Path) -> Cli:

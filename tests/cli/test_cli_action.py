@@ -10,7 +10,8 @@ import sys
 from pathlib import Path
 
 import yaml
-from cli_helpers import NODES, talker_contract
+from cli_helpers import NODES
+from sample_contracts import talker_contract
 
 ACTION = Path(__file__).resolve().parents[2] / "action.yml"
 TALKER = f"script: {NODES / 'talker.py'}"

@@ -7,24 +7,12 @@ import shutil
 import sys
 
 import yaml
-from cli_helpers import NODES, STRING_HASH, TALKER_PARAMETERS
+from cli_helpers import NODES
+from sample_contracts import talker_nodes
 
 from pytest_rmw_introspect.model import contract as contract_module
 
-TALKER_NODES_YAML = f"""\
-nodes:
-  /talker:
-    publishers:
-      - name: /chatter
-        type: std_msgs/msg/String
-        type_hash: {STRING_HASH}
-        qos: {{history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}}
-    subscriptions: []
-    service_servers: []
-    service_clients: []
-    action_servers: []
-    action_clients: []
-""" + TALKER_PARAMETERS
+TALKER_NODES_YAML = talker_nodes()
 
 
 def test_capture_yaml_to_a_file_is_a_contract_with_a_relative_target_that_checks(cli):

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import json
 
-from cli_helpers import NODES, talker_contract
+from cli_helpers import NODES
+from sample_contracts import talker_contract, talker_depth_drift
 
 from pytest_rmw_introspect.run import ros_env
 
@@ -45,18 +46,7 @@ def test_check_json_has_one_object_per_drift_item(cli):
     cli.write("b.interfaces.yaml", talker_contract(target=TALKER))
     result = cli("check", "--format", "json", "a.interfaces.yaml", "b.interfaces.yaml")
     assert result.returncode == 1, result
-    assert json.loads(result.stdout) == [{
-        "contract": "a.interfaces.yaml",
-        "node": "/talker",
-        "kind": "publishers",
-        "name": "/chatter",
-        "change": "qos.depth",
-        "rule": "QOS_DEPTH_INCREASED",
-        "severity": "SAFE",
-        "old": 3,
-        "new": 10,
-        "message": "depth 3 -> 10: more samples are queued; matching is unaffected",
-    }]
+    assert json.loads(result.stdout) == [talker_depth_drift("a.interfaces.yaml")]
 
 
 def test_command_line_target_options_override_the_contract_target(cli):

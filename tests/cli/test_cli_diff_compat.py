@@ -5,16 +5,9 @@ from __future__ import annotations
 import json
 
 import pytest
-from cli_helpers import talker_contract
+from sample_contracts import chatter, talker_contract
 
-LISTENER = """\
-contract_version: 1
-nodes:
-  /listener:
-    subscriptions:
-      - name: /chatter
-        type: std_msgs/msg/String
-        qos: {history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}
+LISTENER = "contract_version: 1\nnodes:\n  /listener:\n    subscriptions:\n" + chatter(type_hash=False) + """\
       - name: /orders
         type: std_msgs/msg/String
         qos: default

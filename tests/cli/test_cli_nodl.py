@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 import yaml
-from cli_helpers import NODES, talker_contract
+from cli_helpers import NODES
+from sample_contracts import talker_contract
 
 NODL_SRC = Path(os.environ.get("NODL_SRC", "/work/src/nodl"))
 TALKER = NODES / "talker.py"

@@ -9,7 +9,8 @@ import json
 from pathlib import Path
 
 import yaml
-from cli_helpers import NODES, talker_contract
+from cli_helpers import NODES
+from sample_contracts import talker_contract
 
 MIDDLEWARE_NODES = Path(__file__).parent.parent / "middleware" / "nodes"
 LC_MANAGED = MIDDLEWARE_NODES / "lc_managed.py"

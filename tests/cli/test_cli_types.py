@@ -3,7 +3,8 @@ writes it, and the section is then kept and checked."""
 
 from __future__ import annotations
 
-from cli_helpers import NODES, talker_contract
+from cli_helpers import NODES
+from sample_contracts import talker_contract
 
 from pytest_rmw_introspect.model import contract as contract_module
 from pytest_rmw_introspect.model.types import Field, MessageType

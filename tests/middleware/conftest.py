@@ -57,13 +57,6 @@ def gtest_build_dir() -> Path:
 
 
 @pytest.fixture(scope="session")
-def library() -> Path:
-    """librmw_introspect_cpp.so to preload, as the plugin gets it (RMW_INTROSPECT_LIBRARY, an
-    installed package, or the cached build of the bundled sources)."""
-    return middleware.ensure_library()
-
-
-@pytest.fixture(scope="session")
 def c_node(tmp_path_factory) -> Path:
     """The compiled rcl C node (no Python interpreter in the process)."""
     src = Path(__file__).parent / "c_node"
@@ -82,10 +75,10 @@ def c_node(tmp_path_factory) -> Path:
 
 
 @pytest.fixture
-def run(library, tmp_path):
+def run(middleware_library, tmp_path):
     """run(argv, **options) -> h.Run: spawn a process on the recording middleware."""
 
     def _run(argv, **kwargs):
-        return h.run_on_middleware(library, argv, tmp_path, **kwargs)
+        return h.run_on_middleware(middleware_library, argv, tmp_path, **kwargs)
 
     return _run

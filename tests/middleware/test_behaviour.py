@@ -11,9 +11,9 @@ from rmwi_helpers import rclpy_node_infrastructure as infra
 TALKER = [ep("publisher", "/talker", "/chatter", "std_msgs/msg/String")]
 
 
-def test_idle_spinning_node_uses_no_cpu(library, tmp_path):
+def test_idle_spinning_node_uses_no_cpu(middleware_library, tmp_path):
     path = tmp_path / "idle.json"
-    proc = h.spawn(library, h.python_node("idle_spinner.py"), path, {"RMW_INTROSPECT_EXIT": "0"})
+    proc = h.spawn(middleware_library, h.python_node("idle_spinner.py"), path, {"RMW_INTROSPECT_EXIT": "0"})
     try:
         h.wait_for(lambda: h.read_capture_if(path, state="settled"))
         before = h.cpu_ticks(proc.pid)
@@ -37,10 +37,10 @@ def test_guard_condition_trigger_wakes_the_wait(run):
                      infra(n) + [ep("publisher", n, "/woken", "std_msgs/msg/String")])
 
 
-def test_sigkill_after_first_write_loses_nothing(library, tmp_path):
+def test_sigkill_after_first_write_loses_nothing(middleware_library, tmp_path):
     # A settle time the test never reaches: only progress snapshots are written.
     path = tmp_path / "killed.json"
-    proc = h.spawn(library, h.python_node("talker.py"), path,
+    proc = h.spawn(middleware_library, h.python_node("talker.py"), path,
                    {"RMW_INTROSPECT_EXIT": "1", "RMW_INTROSPECT_SETTLE_MS": "600000"})
     try:
         h.wait_for(lambda: (c := h.read_capture_if(path)) and len(c["endpoints"]) == 10)
@@ -52,9 +52,9 @@ def test_sigkill_after_first_write_loses_nothing(library, tmp_path):
     assert capture["time_to_settle_ms"] is None
 
 
-def test_exit_0_keeps_running_and_rewrites_on_change(library, tmp_path):
+def test_exit_0_keeps_running_and_rewrites_on_change(middleware_library, tmp_path):
     path = tmp_path / "later.json"
-    proc = h.spawn(library, h.python_node("changes_later.py"), path, {"RMW_INTROSPECT_EXIT": "0"})
+    proc = h.spawn(middleware_library, h.python_node("changes_later.py"), path, {"RMW_INTROSPECT_EXIT": "0"})
     n = "/changer"
     first = [ep("publisher", n, "/first", "std_msgs/msg/String")]
     second = [ep("publisher", n, "/second", "std_msgs/msg/String")]
@@ -118,8 +118,8 @@ def test_verbose_logs_each_entity(run):
     assert "[rmw_introspect] wrote settled capture" in result.stderr
 
 
-def test_default_output_path(library, tmp_path):
-    proc = h.spawn(library, h.python_node("talker.py"), tmp_path / "unused",
+def test_default_output_path(middleware_library, tmp_path):
+    proc = h.spawn(middleware_library, h.python_node("talker.py"), tmp_path / "unused",
                    {"RMW_INTROSPECT_EXIT": "1", "RMW_INTROSPECT_OUTPUT": ""})
     out, err = proc.communicate(timeout=30)
     assert proc.returncode == 0, err
@@ -130,8 +130,8 @@ def test_default_output_path(library, tmp_path):
         default.unlink(missing_ok=True)
 
 
-def test_pid_placeholder_in_output(library, tmp_path):
-    proc = h.spawn(library, h.python_node("talker.py"), tmp_path / "cap_<pid>.json",
+def test_pid_placeholder_in_output(middleware_library, tmp_path):
+    proc = h.spawn(middleware_library, h.python_node("talker.py"), tmp_path / "cap_<pid>.json",
                    {"RMW_INTROSPECT_EXIT": "1"})
     out, err = proc.communicate(timeout=30)
     assert proc.returncode == 0, err

@@ -51,8 +51,8 @@ def _run_and_observe(library, tmp_path, name):
     return threads, sockets, segments
 
 
-def test_no_fast_dds_activity_when_preloaded(library, tmp_path):
-    threads, sockets, segments = _run_and_observe(library, tmp_path, "preloaded")
+def test_no_fast_dds_activity_when_preloaded(middleware_library, tmp_path):
+    threads, sockets, segments = _run_and_observe(middleware_library, tmp_path, "preloaded")
     print("preloaded:", threads, sockets, segments)
     assert not [t for t in threads if t.startswith("dds.")], threads
     assert sockets == []

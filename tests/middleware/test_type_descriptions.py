@@ -29,8 +29,8 @@ def _constant_matches(recorded: dict, value) -> bool:
 
 
 @pytest.fixture(scope="module")
-def types_capture(library, tmp_path_factory):
-    result = h.run_on_middleware(library, h.python_node("types_node.py"), tmp_path_factory.mktemp("types"))
+def types_capture(middleware_library, tmp_path_factory):
+    result = h.run_on_middleware(middleware_library, h.python_node("types_node.py"), tmp_path_factory.mktemp("types"))
     h.assert_settled_process(result)
     return result.capture
 

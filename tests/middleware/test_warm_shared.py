@@ -19,7 +19,7 @@ import pytest
 import warm_helpers as w
 from rmwi_processes import alive, wait_gone
 
-from pytest_rmw_introspect.run import middleware, ros_env, runner, warm
+from pytest_rmw_introspect.run import ros_env, runner, warm
 from pytest_rmw_introspect.run.target import TargetSpec
 
 TALKER = str(w.NODES / "talker.py")
@@ -177,11 +177,11 @@ def test_when_the_owner_dies_an_attached_runner_starts_a_server_of_its_own(runne
 
 
 @pytest.mark.skipif(os.getuid() != 0, reason="needs to run a process as another user")
-def test_a_runner_of_another_user_is_refused(runners):
+def test_a_runner_of_another_user_is_refused(runners, middleware_library):
     owner = runners()
     owner.capture()
     scope = owner.proc.args[-1]
-    env = runner.environment(TargetSpec.from_mapping({"script": TALKER}), Path(middleware.ensure_library()),
+    env = runner.environment(TargetSpec.from_mapping({"script": TALKER}), middleware_library,
                              ros_env.detect(), Path("/unused"))
     address = warm.shared_address(scope, warm.server_key(env, os.getcwd()))
     read_end, write_end = os.pipe()

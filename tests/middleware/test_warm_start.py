@@ -241,7 +241,7 @@ def test_the_probe_settings_are_read_after_the_fork_too():
     assert node["lifecycle"]["state"] == "inactive" and node["parameters"] is None
 
 
-def test_a_process_forked_before_rmw_init_reads_its_own_configuration(library, tmp_path):
+def test_a_process_forked_before_rmw_init_reads_its_own_configuration(middleware_library, tmp_path):
     """The middleware makes its runtime on first use; a warm start server may reach it before it
     forks (a ROS log line at import reads the time through the middleware). The child's runtime
     must still be made from the child's environment, after the fork."""
@@ -250,7 +250,7 @@ def test_a_process_forked_before_rmw_init_reads_its_own_configuration(library, t
     parent_output, child_output = tmp_path / "parent.json", tmp_path / "child.json"
     child_env = {"CHILD_RMW_INTROSPECT_OUTPUT": str(child_output), "CHILD_RMW_INTROSPECT_SETTLE_MS": "37",
                  **{f"CHILD_{k}": v for k, v in _PROBE_SETTINGS.items()}}
-    result = h.run_on_middleware(library, [sys.executable, str(w.WARM_NODES / "warm_fork_before_init.py")],
+    result = h.run_on_middleware(middleware_library, [sys.executable, str(w.WARM_NODES / "warm_fork_before_init.py")],
                                  tmp_path, output=parent_output, settle_ms=500, env=child_env)
     assert result.returncode == 0, result
     child_pid = int(result.stdout.split()[1])

@@ -13,11 +13,10 @@ from pathlib import Path
 
 import pytest
 from overlay_support import CPP_EXAMPLES, Overlay
+from sample_contracts import STRING_HASH
 
 # building the C++ example package from scratch takes minutes on 2 cores
 pytestmark = pytest.mark.timeout(2400)
-
-STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
 
 
 def colcon(overlay: Overlay, ws: Path, *args: str) -> subprocess.CompletedProcess:

@@ -9,20 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect.errors import SetupError
-
 NODES = Path(__file__).parent / "nodes"
-
-
-@pytest.fixture(scope="session")
-def middleware_library() -> Path:
-    """The middleware library, built once for the whole run (the child sessions reuse it)."""
-    from pytest_rmw_introspect.run import middleware
-
-    try:
-        return Path(middleware.ensure_library())
-    except SetupError as exc:
-        pytest.fail(str(exc), pytrace=False)
 
 
 class Project:

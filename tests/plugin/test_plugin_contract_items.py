@@ -7,29 +7,12 @@ import subprocess
 import sys
 from pathlib import Path
 
-from test_plugin_golden import TALKER_PARAMETERS
-
-STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+from sample_contracts import talker_contract
 
 
-def talker(project, *, depth: int = 10, header: str = "", target: str | None = None) -> str:
-    target = target if target is not None else f"target:\n  script: {project.node('talker.py')}\n"
-    return (
-        f"{header}contract_version: 1\n{target}"
-        "nodes:\n"
-        "  /talker:\n"
-        "    publishers:\n"
-        "      - name: /chatter\n"
-        "        type: std_msgs/msg/String\n"
-        f"        type_hash: {STRING_HASH}\n"
-        f"        qos: {{history: KEEP_LAST, depth: {depth}, reliability: RELIABLE, durability: VOLATILE}}\n"
-        "    subscriptions: []\n"
-        "    service_servers: []\n"
-        "    service_clients: []\n"
-        "    action_servers: []\n"
-        "    action_clients: []\n"
-        + TALKER_PARAMETERS
-    )
+def talker(project, *, target: str | None = None, **options) -> str:
+    """talker_contract with a target block running nodes/talker.py (``target=""``: none)."""
+    return talker_contract(target=f"script: {project.node('talker.py')}" if target is None else target, **options)
 
 
 TWO_NODES = """\

@@ -3,19 +3,9 @@
 from __future__ import annotations
 
 import pytest
+from sample_contracts import STRING_HASH, talker_contract
 
-STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
-
-TALKER_CONTRACT = f"""\
-contract_version: 1
-nodes:
-  /talker:
-    publishers:
-      - name: /chatter
-        type: std_msgs/msg/String
-        type_hash: {STRING_HASH}
-        qos: {{history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}}
-"""
+TALKER_CONTRACT = talker_contract(complete=False)
 
 
 def drift_test(project, marker_kwargs: str = "", contract: str = TALKER_CONTRACT, body: str = "pass"):

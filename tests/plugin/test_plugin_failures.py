@@ -7,15 +7,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from sample_contracts import talker_contract
 
-CONTRACT = """\
-contract_version: 1
-nodes:
-  /talker:
-    publishers:
-      - name: /chatter
-        type: std_msgs/msg/String
-"""
+CONTRACT = talker_contract(described=False, complete=False)
 
 
 def assert_clean_failure(result, failed: int = 1) -> str:

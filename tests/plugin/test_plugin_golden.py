@@ -2,31 +2,9 @@
 
 from __future__ import annotations
 
-from pytest_rmw_introspect.run import ros_env
+from sample_contracts import talker_contract
 
-STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
-#: the parameters of nodes/talker.py with their defaults, as a golden lists them
-TALKER_PARAMETERS = """\
-    parameters:
-      - name: depth
-        type: integer
-        default_value: 10
-      - name: durability
-        type: string
-        default_value: volatile
-      - name: listen
-        type: string
-        default_value: ''
-      - name: msg_type
-        type: string
-        default_value: String
-      - name: reliability
-        type: string
-        default_value: reliable
-      - name: topic
-        type: string
-        default_value: chatter
-"""
+from pytest_rmw_introspect.run import ros_env
 
 TALKER_TEST = """
 @pytest.mark.interfaces("contracts/talker.yaml", script=NODES + "/talker.py")
@@ -38,24 +16,10 @@ def test_talker(interfaces):
 DISTRIBUTION = ros_env.detect().distro
 RECORDED = f"contract_version: 1\nros_distribution: {DISTRIBUTION}\n"
 
-EXPECTED_TALKER_CONTRACT = f"""\
-# Interface contract checked by pytest-rmw-introspect.
-# Regenerate with `pytest --update-golden`; comments and keys above `nodes:` are kept.
-contract_version: 1
-ros_distribution: {DISTRIBUTION}
-nodes:
-  /talker:
-    publishers:
-      - name: /chatter
-        type: std_msgs/msg/String
-        type_hash: {STRING_HASH}
-        qos: {{history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}}
-    subscriptions: []
-    service_servers: []
-    service_clients: []
-    action_servers: []
-    action_clients: []
-""" + TALKER_PARAMETERS
+EXPECTED_TALKER_CONTRACT = talker_contract(
+    header="# Interface contract checked by pytest-rmw-introspect.\n"
+    "# Regenerate with `pytest --update-golden`; comments and keys above `nodes:` are kept.\n",
+    distribution=DISTRIBUTION)
 
 
 def test_missing_golden_fails_with_the_command_that_creates_it(project):

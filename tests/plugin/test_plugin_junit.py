@@ -7,21 +7,12 @@ from __future__ import annotations
 import json
 import xml.etree.ElementTree as ET
 
-STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+from sample_contracts import talker_contract, talker_depth_drift
 
 
 def talker(script: str, *, depth: int = 10, target: bool = True) -> str:
-    return (
-        "contract_version: 1\n"
-        + (f"target:\n  script: {script}\n" if target else "")
-        + "nodes:\n"
-        "  /talker:\n"
-        "    publishers:\n"
-        "      - name: /chatter\n"
-        "        type: std_msgs/msg/String\n"
-        f"        type_hash: {STRING_HASH}\n"
-        f"        qos: {{history: KEEP_LAST, depth: {depth}, reliability: RELIABLE, durability: VOLATILE}}\n"
-    )
+    """The publisher of nodes/talker.py (``script``) alone, with or without a target block."""
+    return talker_contract(target=f"script: {script}" if target else None, depth=depth, complete=False)
 
 
 def cases(path) -> dict[str, ET.Element]:
@@ -63,18 +54,7 @@ def test_junit_has_one_case_per_contract_with_the_report_and_the_drift_items(pro
     assert "[QOS_DEPTH_INCREASED] depth 3 -> 10" in message
     assert "pytest --update-golden contracts/drifted.interfaces.yaml::/talker" in message
     assert "Traceback" not in failure.text
-    assert drift_property(drifted) == [{
-        "contract": "contracts/drifted.interfaces.yaml",
-        "node": "/talker",
-        "kind": "publishers",
-        "name": "/chatter",
-        "change": "qos.depth",
-        "rule": "QOS_DEPTH_INCREASED",
-        "severity": "SAFE",
-        "old": 3,
-        "new": 10,
-        "message": "depth 3 -> 10: more samples are queued; matching is unaffected",
-    }]
+    assert drift_property(drifted) == [talker_depth_drift("contracts/drifted.interfaces.yaml")]
 
     notarget = found["contracts.notarget.interfaces.yaml::/talker"].find("failure")
     assert "has no `target:` block" in notarget.get("message")

@@ -6,6 +6,7 @@ import copy
 import json
 
 import pytest
+from sample_contracts import STRING_HASH
 
 import pytest_rmw_introspect
 from pytest_rmw_introspect.errors import CaptureFormatError
@@ -13,7 +14,6 @@ from pytest_rmw_introspect.model import capture as capture_module
 from pytest_rmw_introspect.model.capture import Capture, is_infrastructure
 
 HASH = "RIHS01_" + "ab" * 32
-STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
 
 DEFAULT_QOS = {
     "history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE",

@@ -11,7 +11,9 @@ import os
 from pathlib import Path
 
 import pytest
-from report_samples import CAPTURED, LISTENER, TALKER
+from sample_contracts import REPORT_CAPTURED as CAPTURED
+from sample_contracts import REPORT_LISTENER as LISTENER
+from sample_contracts import REPORT_TALKER as TALKER
 
 from pytest_rmw_introspect.compare import ci_report
 from pytest_rmw_introspect.compare.ci_report import ContractOutcome

@@ -7,6 +7,7 @@ import textwrap
 
 import jsonschema
 import pytest
+from sample_contracts import STRING_HASH
 
 from pytest_rmw_introspect.check import golden
 from pytest_rmw_introspect.errors import ContractError
@@ -20,7 +21,7 @@ from pytest_rmw_introspect.model.contract import (
     update_text,
 )
 
-HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+HASH = STRING_HASH
 H1, H2, H3 = ("RIHS01_" + c * 64 for c in "123")
 
 NODES = {

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "detail/members.hpp"
+#include "detail/introspection.hpp"
 
 namespace rmw_introspect
 {
@@ -18,8 +18,6 @@ namespace rmw_introspect
 namespace
 {
 
-using members::CppTypes;
-using members::CTypes;
 
 // ----------------------------------------------------------------------------- values
 
@@ -175,14 +173,14 @@ bool like(const std::string & text, const std::string & pattern)
 
 struct Step
 {
-  const void * member = nullptr;  // Types::Member
+  const void * member = nullptr;  // T::Member of the layout's traits
   long index = -1;                // element of an array member, or -1
 };
 
-template<typename Types>
-bool to_value(const typename Types::Member & m, const void * field, Value * out)
+// A primitive field's value (to_value is the visitor of introspection::dispatch).
+bool primitive_value(uint8_t type_id, const void * field, Value * out)
 {
-  switch (m.type_id_) {
+  switch (type_id) {
     case rosidl_typesupport_introspection_c__ROS_TYPE_FLOAT:
       out->kind = Value::Kind::kReal;
       out->d = *static_cast<const float *>(field);
@@ -235,54 +233,76 @@ bool to_value(const typename Types::Member & m, const void * field, Value * out)
       out->kind = Value::Kind::kInt;
       out->i = *static_cast<const int64_t *>(field);
       return true;
-    case rosidl_typesupport_introspection_c__ROS_TYPE_STRING: {
-        const char * data = nullptr;
-        size_t size = 0;
-        Types::read_string(field, &data, &size);
-        out->kind = Value::Kind::kString;
-        out->s.assign(data, size);
-        return true;
-      }
     default:
-      return false;  // wstrings and whole messages are not comparable
+      return false;
   }
 }
 
-template<typename Types>
+// A field's value; wstrings and whole messages are not comparable.
+template<typename T>
+struct ToValue
+{
+  using Member = typename T::Member;
+  Value * out;
+
+  bool primitive(const Member & m, const void * field, size_t)
+  {
+    return primitive_value(m.type_id_, field, out);
+  }
+  bool string(const Member &, const void * field)
+  {
+    const char * data = nullptr;
+    size_t size = 0;
+    T::read_string(field, &data, &size);
+    out->kind = Value::Kind::kString;
+    out->s.assign(data, size);
+    return true;
+  }
+  bool wstring(const Member &, const void *) {return false;}
+  bool message(const Member &, const void *, const typename T::Members *) {return false;}
+  bool unknown(const Member &, const void *) {return false;}
+};
+
+template<typename T>
 bool read_field(const std::vector<Step> & steps, const void * message, Value * out)
 {
   const auto * base = static_cast<const uint8_t *>(message);
   for (size_t k = 0; k < steps.size(); ++k) {
-    const auto & m = *static_cast<const typename Types::Member *>(steps[k].member);
+    const auto & m = *static_cast<const typename T::Member *>(steps[k].member);
+    const bool last = k + 1 == steps.size();
     const void * field = base + m.offset_;
-    if (m.is_array_) {
-      const size_t index = static_cast<size_t>(steps[k].index);
-      const bool fixed = members::is_fixed_array<Types>(m);
-      const size_t count = fixed ? m.array_size_ : m.size_function(field);
-      if (index >= count) {
-        return false;  // no such element: the comparison is false
+    if (!m.is_array_) {
+      if (last) {
+        return introspection::dispatch<T>(m, field, ToValue<T>{out});
       }
-      if (members::is_packed_bool_sequence<Types>(m)) {
-        bool value = false;
-        m.fetch_function(field, index, &value);
-        out->kind = Value::Kind::kBool;
-        out->b = value;
-        return true;
-      }
-      field = m.get_const_function(field, index);
-    }
-    if (k + 1 < steps.size()) {
       base = static_cast<const uint8_t *>(field);
       continue;
     }
-    return to_value<Types>(m, field, out);
+    const size_t index = static_cast<size_t>(steps[k].index);
+    size_t count = 0;
+    if (!introspection::element_count<T>(m, field, &count) || index >= count) {
+      return false;  // no such element: the comparison is false
+    }
+    // The element's address, or for the last step its value (a C++ bool sequence's element
+    // has no lasting address).
+    const bool reached = introspection::with_element<T>(
+      m, field, index, [&](const void * element, size_t) {
+        if (last) {
+          return introspection::dispatch<T>(m, element, ToValue<T>{out});
+        }
+        base = static_cast<const uint8_t *>(element);
+        return true;
+      });
+    if (!reached || last) {
+      return reached;
+    }
   }
   return false;
 }
 
-template<typename Types>
+template<typename T>
 bool resolve_path(
-  const typename Types::Members * members, const std::string & path, std::vector<Step> * steps,
+  const typename T::Members * members, const std::string & path, std::vector<Step> * steps,
   std::string * error)
 {
   size_t start = 0;
@@ -309,13 +329,7 @@ bool resolve_path(
       *error = "field reference '" + path + "' goes into a field that is not a message";
       return false;
     }
-    const typename Types::Member * found = nullptr;
-    for (uint32_t i = 0; i < members->member_count_; ++i) {
-      if (part == members->members_[i].name_) {
-        found = &members->members_[i];
-        break;
-      }
-    }
+    const typename T::Member * found = introspection::find_member<T>(members, part);
     if (found == nullptr) {
       *error = "unknown field '" + part + "' in '" + path + "'";
       return false;
@@ -336,8 +350,7 @@ bool resolve_path(
       }
       return true;
     }
-    members = is_message && found->members_ != nullptr ?
-      static_cast<const typename Types::Members *>(found->members_->data) : nullptr;
+    members = is_message ? introspection::nested_members<T>(*found) : nullptr;
     start = dot + 1;
   }
 }
@@ -613,11 +626,10 @@ private:
     switch (t.kind) {
       case Token::Kind::kIdent:
         out->is_field = true;
-        return layout_.is_cpp ?
-               resolve_path<CppTypes>(
-          static_cast<const CppTypes::Members *>(layout_.members), t.text, &out->steps, error_) :
-               resolve_path<CTypes>(
-          static_cast<const CTypes::Members *>(layout_.members), t.text, &out->steps, error_);
+        return introspection::with_traits(
+          layout_, [&](auto traits, const auto * members) {
+            return resolve_path<decltype(traits)>(members, t.text, &out->steps, error_);
+          });
       case Token::Kind::kParam: {
           const size_t n = std::strtoul(t.text.c_str(), nullptr, 10);
           if (n >= parameters_.size()) {
@@ -660,9 +672,10 @@ bool operand_value(
     *out = operand.constant;
     return true;
   }
-  return layout.is_cpp ?
-         read_field<CppTypes>(operand.steps, message, out) :
-         read_field<CTypes>(operand.steps, message, out);
+  return introspection::with_traits(
+    layout, [&](auto traits, const auto *) {
+      return read_field<decltype(traits)>(operand.steps, message, out);
+    });
 }
 
 bool evaluate(const MessageLayout & layout, const Node & node, const void * message)

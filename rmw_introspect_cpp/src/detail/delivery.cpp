@@ -453,11 +453,10 @@ bool can_loan(const MessageLayout & layout)
   if (layout.members == nullptr) {
     return false;
   }
-  return layout.is_cpp ?
-         members::is_plain<members::CppTypes>(
-    static_cast<const members::CppTypes::Members *>(layout.members)) :
-         members::is_plain<members::CTypes>(
-    static_cast<const members::CTypes::Members *>(layout.members));
+  return introspection::with_traits(
+    layout, [](auto traits, const auto * members) {
+      return members::is_plain<decltype(traits)>(members);
+    });
 }
 
 namespace

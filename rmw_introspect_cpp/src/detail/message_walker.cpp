@@ -4,22 +4,12 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <exception>
 #include <limits>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "rosidl_runtime_c/string.h"
-#include "rosidl_runtime_c/string_functions.h"
-#include "rosidl_runtime_c/u16string.h"
-#include "rosidl_runtime_c/u16string_functions.h"
-#include "rosidl_typesupport_introspection_c/field_types.h"
-#include "rosidl_typesupport_introspection_c/message_introspection.h"
-#include "rosidl_typesupport_introspection_c/service_introspection.h"
-#include "rosidl_typesupport_introspection_cpp/field_types.hpp"
-#include "rosidl_typesupport_introspection_cpp/message_introspection.hpp"
-#include "rosidl_typesupport_introspection_cpp/service_introspection.hpp"
+#include "detail/introspection.hpp"
 
 namespace rmw_introspect
 {
@@ -27,7 +17,7 @@ namespace rmw_introspect
 namespace
 {
 
-// The field type ids are the same numbers in both type supports.
+// The primitive field type ids (the same numbers in both type supports).
 enum FieldType : uint8_t
 {
   kFloat = rosidl_typesupport_introspection_c__ROS_TYPE_FLOAT,
@@ -45,16 +35,7 @@ enum FieldType : uint8_t
   kInt32 = rosidl_typesupport_introspection_c__ROS_TYPE_INT32,
   kUint64 = rosidl_typesupport_introspection_c__ROS_TYPE_UINT64,
   kInt64 = rosidl_typesupport_introspection_c__ROS_TYPE_INT64,
-  kString = rosidl_typesupport_introspection_c__ROS_TYPE_STRING,
-  kWString = rosidl_typesupport_introspection_c__ROS_TYPE_WSTRING,
-  kMessage = rosidl_typesupport_introspection_c__ROS_TYPE_MESSAGE,
 };
-static_assert(
-  kMessage == rosidl_typesupport_introspection_cpp::ROS_TYPE_MESSAGE &&
-  kWString == rosidl_typesupport_introspection_cpp::ROS_TYPE_WSTRING &&
-  kFloat == rosidl_typesupport_introspection_cpp::ROS_TYPE_FLOAT &&
-  kInt64 == rosidl_typesupport_introspection_cpp::ROS_TYPE_INT64,
-  "C and C++ introspection field type ids differ");
 
 // ------------------------------------------------------------------ UTF-8 <-> UTF-16
 std::string utf16_to_utf8(const uint16_t * data, size_t n)
@@ -120,93 +101,9 @@ std::u16string utf8_to_utf16(const std::string & in)
   return out;
 }
 
-// ------------------------------------------------------------------ the two layouts
-struct CLayout
-{
-  using Members = rosidl_typesupport_introspection_c__MessageMembers;
-  using Member = rosidl_typesupport_introspection_c__MessageMember;
-  static const char * identifier() {return kIntrospectionC;}
-
-  static std::string read_string(const void * p)
-  {
-    const auto * s = static_cast<const rosidl_runtime_c__String *>(p);
-    return s->data != nullptr ? std::string(s->data, s->size) : std::string();
-  }
-  static bool write_string(void * p, const std::string & v)
-  {
-    return rosidl_runtime_c__String__assignn(
-      static_cast<rosidl_runtime_c__String *>(p), v.data(), v.size());
-  }
-  static std::string read_wstring(const void * p)
-  {
-    const auto * s = static_cast<const rosidl_runtime_c__U16String *>(p);
-    return s->data != nullptr ? utf16_to_utf8(s->data, s->size) : std::string();
-  }
-  static bool write_wstring(void * p, const std::string & v)
-  {
-    const std::u16string w = utf8_to_utf16(v);
-    return rosidl_runtime_c__U16String__assignn(
-      static_cast<rosidl_runtime_c__U16String *>(p),
-      reinterpret_cast<const uint16_t *>(w.data()), w.size());
-  }
-  static bool resize(const Member & m, void * p, size_t n)
-  {
-    return m.resize_function != nullptr && m.resize_function(p, n);
-  }
-};
-
-struct CppLayout
-{
-  using Members = rosidl_typesupport_introspection_cpp::MessageMembers;
-  using Member = rosidl_typesupport_introspection_cpp::MessageMember;
-  static const char * identifier() {return kIntrospectionCpp;}
-
-  static std::string read_string(const void * p) {return *static_cast<const std::string *>(p);}
-  static bool write_string(void * p, const std::string & v)
-  {
-    *static_cast<std::string *>(p) = v;
-    return true;
-  }
-  static std::string read_wstring(const void * p)
-  {
-    const auto & w = *static_cast<const std::u16string *>(p);
-    return utf16_to_utf8(reinterpret_cast<const uint16_t *>(w.data()), w.size());
-  }
-  static bool write_wstring(void * p, const std::string & v)
-  {
-    *static_cast<std::u16string *>(p) = utf8_to_utf16(v);
-    return true;
-  }
-  static bool resize(const Member & m, void * p, size_t n)
-  {
-    if (m.resize_function == nullptr) {
-      return false;
-    }
-    try {
-      m.resize_function(p, n);
-    } catch (const std::exception &) {
-      return false;  // std::array: a size other than its own
-    }
-    return true;
-  }
-};
+using introspection::primitive_size;
 
 // ------------------------------------------------------------------ primitives
-size_t primitive_size(uint8_t type)
-{
-  switch (type) {
-    case kFloat: return sizeof(float);
-    case kDouble: return sizeof(double);
-    case kLongDouble: return sizeof(long double);
-    case kChar: case kOctet: case kUint8: case kInt8: return 1;
-    case kBoolean: return sizeof(bool);
-    case kWChar: case kUint16: case kInt16: return 2;
-    case kUint32: case kInt32: return 4;
-    case kUint64: case kInt64: return 8;
-    default: return 0;
-  }
-}
-
 template<typename T>
 T load(const void * p)
 {
@@ -318,12 +215,12 @@ bool write_primitive(uint8_t type, const DynValue & v, void * p)
 }
 
 // ------------------------------------------------------------------ the walker
-template<typename L>
+template<typename T>
 class Walker
 {
 public:
-  using Members = typename L::Members;
-  using Member = typename L::Member;
+  using Members = typename T::Members;
+  using Member = typename T::Member;
 
   explicit Walker(std::string * error)
   : error_(error) {}
@@ -360,9 +257,9 @@ public:
       return fail("", "a message needs a struct value");
     }
     for (const auto & f : value.fields) {
-      const Member * m = find(members, f.first);
+      const Member * m = introspection::find_member<T>(members, f.first);
       if (m == nullptr) {
-        return fail(f.first, "no such field in " + type_name_of(members));
+        return fail(f.first, "no such field in " + introspection::type_name_of<T>(members));
       }
       void * field = static_cast<char *>(message) + m->offset_;
       Scope scope(path_, f.first);
@@ -373,114 +270,125 @@ public:
     return true;
   }
 
-  static std::string type_name_of(const Members * members)
-  {
-    return type_name_from_namespace(members->message_namespace_, members->message_name_);
-  }
-
 private:
-  static const Member * find(const Members * members, const std::string & name)
+  // One value into a DynValue: the visitor of introspection::dispatch.
+  struct Reader
   {
-    for (uint32_t k = 0; k < members->member_count_; ++k) {
-      if (name == members->members_[k].name_) {
-        return &members->members_[k];
-      }
-    }
-    return nullptr;
-  }
+    Walker & walker;
+    DynValue * out;
 
-  static const Members * nested(const Member & m)
-  {
-    const rosidl_message_type_support_t * ts = m.members_;
-    if (ts == nullptr) {
-      return nullptr;
-    }
-    if (ts->typesupport_identifier == nullptr ||
-      std::strcmp(ts->typesupport_identifier, L::identifier()) != 0)
+    bool primitive(const Member & m, const void * field, size_t)
     {
-      ts = ts->func != nullptr ? ts->func(ts, L::identifier()) : nullptr;
+      *out = read_primitive(m.type_id_, field);
+      return true;
     }
-    return ts != nullptr ? static_cast<const Members *>(ts->data) : nullptr;
-  }
+    bool string(const Member &, const void * field)
+    {
+      const char * data = nullptr;
+      size_t size = 0;
+      T::read_string(field, &data, &size);
+      *out = DynValue::string(std::string(data, size));
+      return true;
+    }
+    bool wstring(const Member &, const void * field)
+    {
+      const uint16_t * data = nullptr;
+      size_t size = 0;
+      T::read_u16string(field, &data, &size);
+      *out = DynValue::string(utf16_to_utf8(data, size));
+      return true;
+    }
+    bool message(const Member &, const void * field, const Members * nested)
+    {
+      return walker.read_struct(nested, field, out);
+    }
+    bool unknown(const Member & m, const void *)
+    {
+      return walker.fail("", "unknown field type " + std::to_string(m.type_id_));
+    }
+  };
+
+  // One value from a DynValue: the visitor of introspection::dispatch.
+  struct Writer
+  {
+    Walker & walker;
+    const DynValue & value;
+
+    bool primitive(const Member & m, void * field, size_t)
+    {
+      return write_primitive(m.type_id_, value, field) ||
+             walker.fail("", "value of the wrong kind or out of range");
+    }
+    bool string(const Member & m, void * field)
+    {
+      return bounded_string(m) &&
+             (T::write_string(field, value.s.data(), value.s.size()) ||
+             walker.fail("", "cannot assign the string"));
+    }
+    bool wstring(const Member & m, void * field)
+    {
+      if (!bounded_string(m)) {
+        return false;
+      }
+      const std::u16string w = utf8_to_utf16(value.s);
+      return T::write_u16string(field, reinterpret_cast<const uint16_t *>(w.data()), w.size()) ||
+             walker.fail("", "cannot assign the string");
+    }
+    bool message(const Member &, void * field, const Members * nested)
+    {
+      return walker.write_struct(nested, value, field);
+    }
+    bool unknown(const Member & m, void *)
+    {
+      return walker.fail("", "unknown field type " + std::to_string(m.type_id_));
+    }
+
+    bool bounded_string(const Member & m)
+    {
+      if (value.kind != DynValue::Kind::String) {
+        return walker.fail("", "expects a string");
+      }
+      if (m.string_upper_bound_ > 0 && value.s.size() > m.string_upper_bound_) {
+        return walker.fail(
+          "", "string longer than its bound " + std::to_string(m.string_upper_bound_));
+      }
+      return true;
+    }
+  };
 
   bool read_single(const Member & m, const void * field, DynValue * out)
   {
-    switch (m.type_id_) {
-      case kString: *out = DynValue::string(L::read_string(field)); return true;
-      case kWString: *out = DynValue::string(L::read_wstring(field)); return true;
-      case kMessage: return read_struct(nested(m), field, out);
-      default:
-        if (primitive_size(m.type_id_) == 0) {
-          return fail("", "unknown field type " + std::to_string(m.type_id_));
-        }
-        *out = read_primitive(m.type_id_, field);
-        return true;
-    }
-  }
-
-  bool read_array(const Member & m, const void * field, DynValue * out)
-  {
-    if (m.size_function == nullptr) {
-      return fail("", "array without a size function");
-    }
-    const size_t n = m.size_function(field);
-    *out = DynValue::sequence();
-    out->items.reserve(n);
-    for (size_t k = 0; k < n; ++k) {
-      DynValue item;
-      if (m.type_id_ == kString || m.type_id_ == kWString || m.type_id_ == kMessage) {
-        if (m.get_const_function == nullptr) {
-          return fail("", "array without a get function");
-        }
-        Scope scope(path_, "[" + std::to_string(k) + "]");
-        if (!read_single(m, m.get_const_function(field, k), &item)) {
-          return false;
-        }
-      } else {
-        if (primitive_size(m.type_id_) == 0) {
-          return fail("", "unknown field type " + std::to_string(m.type_id_));
-        }
-        alignas(16) unsigned char buffer[16] = {};
-        if (m.fetch_function != nullptr) {
-          m.fetch_function(field, k, buffer);  // std::vector<bool> has no get function
-        } else if (m.get_const_function != nullptr) {
-          std::memcpy(buffer, m.get_const_function(field, k), primitive_size(m.type_id_));
-        } else {
-          return fail("", "array without a fetch function");
-        }
-        item = read_primitive(m.type_id_, buffer);
-      }
-      out->items.push_back(std::move(item));
-    }
-    return true;
+    return introspection::dispatch<T>(m, field, Reader{*this, out});
   }
 
   bool write_single(const Member & m, const DynValue & value, void * field)
   {
-    switch (m.type_id_) {
-      case kString:
-      case kWString:
-        if (value.kind != DynValue::Kind::String) {
-          return fail("", "expects a string");
-        }
-        if (m.string_upper_bound_ > 0 && value.s.size() > m.string_upper_bound_) {
-          return fail("", "string longer than its bound " + std::to_string(m.string_upper_bound_));
-        }
-        if (!(m.type_id_ == kString ? L::write_string(field, value.s) : L::write_wstring(field, value.s))) {
-          return fail("", "cannot assign the string");
-        }
-        return true;
-      case kMessage:
-        return write_struct(nested(m), value, field);
-      default:
-        if (primitive_size(m.type_id_) == 0) {
-          return fail("", "unknown field type " + std::to_string(m.type_id_));
-        }
-        if (!write_primitive(m.type_id_, value, field)) {
-          return fail("", "value of the wrong kind or out of range");
-        }
-        return true;
+    return introspection::dispatch<T>(m, field, Writer{*this, value});
+  }
+
+  bool read_array(const Member & m, const void * field, DynValue * out)
+  {
+    size_t n = 0;
+    if (!introspection::element_count<T>(m, field, &n)) {
+      return fail("", "array without a size function");
     }
+    *out = DynValue::sequence();
+    out->items.reserve(n);
+    const bool named = primitive_size(m.type_id_) == 0;  // a primitive's read cannot fail
+    return introspection::for_each_element<T>(
+      m, field, n, [&](const void * element, size_t k) {
+        DynValue item;
+        if (named) {
+          Scope scope(path_, "[" + std::to_string(k) + "]");
+          if (!read_single(m, element, &item)) {
+            return false;
+          }
+        } else if (!read_single(m, element, &item)) {
+          return false;
+        }
+        out->items.push_back(std::move(item));
+        return true;
+      }) || fail("", "array without a way to reach its elements");
   }
 
   bool write_array(const Member & m, const DynValue & value, void * field)
@@ -489,40 +397,20 @@ private:
       return fail("", "expects a sequence");
     }
     const size_t n = value.items.size();
-    const bool is_sequence = m.array_size_ == 0 || m.is_upper_bound_;
-    if (m.array_size_ > 0 && n > m.array_size_) {
+    const FieldArray array = introspection::array_of<T>(m);
+    if (array != FieldArray::Unbounded && n > m.array_size_) {
       return fail(
         "", std::to_string(n) + " items for an array of " +
-        (is_sequence ? "at most " : "") + std::to_string(m.array_size_));
+        (array == FieldArray::Bounded ? "at most " : "") + std::to_string(m.array_size_));
     }
-    if (is_sequence && !L::resize(m, field, n)) {
+    if (array != FieldArray::Fixed && !introspection::resize<T>(m, field, n)) {
       return fail("", "cannot resize the sequence");
     }
-    for (size_t k = 0; k < n; ++k) {
-      const DynValue & item = value.items[k];
-      if (m.type_id_ == kString || m.type_id_ == kWString || m.type_id_ == kMessage) {
-        if (m.get_function == nullptr) {
-          return fail("", "array without a get function");
-        }
+    return introspection::for_each_element<T>(
+      m, field, n, [&](void * element, size_t k) {
         Scope scope(path_, "[" + std::to_string(k) + "]");
-        if (!write_single(m, item, m.get_function(field, k))) {
-          return false;
-        }
-        continue;
-      }
-      alignas(16) unsigned char buffer[16] = {};
-      if (primitive_size(m.type_id_) == 0 || !write_primitive(m.type_id_, item, buffer)) {
-        return fail("[" + std::to_string(k) + "]", "value of the wrong kind or out of range");
-      }
-      if (m.assign_function != nullptr) {
-        m.assign_function(field, k, buffer);  // std::vector<bool> has no get function
-      } else if (m.get_function != nullptr) {
-        std::memcpy(m.get_function(field, k), buffer, primitive_size(m.type_id_));
-      } else {
-        return fail("", "array without an assign function");
-      }
-    }
-    return true;
+        return write_single(m, value.items[k], element);
+      }) || fail("", "array without a way to reach its elements");
   }
 
   // The error names the field path: "descriptors[2].name: expects a string". The first
@@ -582,9 +470,10 @@ std::string layout_type_name(const MessageLayout & layout)
   if (layout.members == nullptr) {
     return std::string();
   }
-  return layout.is_cpp ?
-         Walker<CppLayout>::type_name_of(static_cast<const CppLayout::Members *>(layout.members)) :
-         Walker<CLayout>::type_name_of(static_cast<const CLayout::Members *>(layout.members));
+  return introspection::with_traits(
+    layout, [](auto traits, const auto * members) {
+      return introspection::type_name_of<decltype(traits)>(members);
+    });
 }
 
 bool read_message(
@@ -595,24 +484,20 @@ bool read_message(
     return false;
   }
   if (error != nullptr) {error->clear();}
-  if (layout.is_cpp) {
-    return Walker<CppLayout>(error).read_struct(
-      static_cast<const CppLayout::Members *>(layout.members), message, out);
-  }
-  return Walker<CLayout>(error).read_struct(
-    static_cast<const CLayout::Members *>(layout.members), message, out);
+  return introspection::with_traits(
+    layout, [&](auto traits, const auto * members) {
+      return Walker<decltype(traits)>(error).read_struct(members, message, out);
+    });
 }
 
 bool write_message(
   const MessageLayout & layout, const DynValue & value, void * message, std::string * error)
 {
   if (error != nullptr) {error->clear();}
-  if (layout.is_cpp) {
-    return Walker<CppLayout>(error).write_struct(
-      static_cast<const CppLayout::Members *>(layout.members), value, message);
-  }
-  return Walker<CLayout>(error).write_struct(
-    static_cast<const CLayout::Members *>(layout.members), value, message);
+  return introspection::with_traits(
+    layout, [&](auto traits, const auto * members) {
+      return Walker<decltype(traits)>(error).write_struct(members, value, message);
+    });
 }
 
 }  // namespace rmw_introspect

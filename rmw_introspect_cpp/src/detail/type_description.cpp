@@ -17,12 +17,8 @@
 #include <vector>
 
 #include "rosidl_runtime_c/type_description/type_source__struct.h"
-#include "rosidl_typesupport_introspection_c/field_types.h"
-#include "rosidl_typesupport_introspection_c/message_introspection.h"
-#include "rosidl_typesupport_introspection_c/service_introspection.h"
-#include "rosidl_typesupport_introspection_cpp/message_introspection.hpp"
-#include "rosidl_typesupport_introspection_cpp/service_introspection.hpp"
 
+#include "detail/introspection.hpp"
 #include "detail/typesupport.hpp"
 
 namespace rmw_introspect
@@ -229,26 +225,12 @@ const Sources * sources_of(const rosidl_message_type_support_t * handle)
   return handle->get_type_description_sources_func(handle);
 }
 
-// The C and C++ introspection structs differ in type, not in shape.
-struct IntrospectionC
-{
-  using MessageMembers = rosidl_typesupport_introspection_c__MessageMembers;
-  using ServiceMembers = rosidl_typesupport_introspection_c__ServiceMembers;
-  static const char * identifier() {return kIntrospectionC;}
-};
-struct IntrospectionCpp
-{
-  using MessageMembers = rosidl_typesupport_introspection_cpp::MessageMembers;
-  using ServiceMembers = rosidl_typesupport_introspection_cpp::ServiceMembers;
-  static const char * identifier() {return kIntrospectionCpp;}
-};
-
-template<typename Introspection>
+template<typename T>
 class Walker
 {
 public:
-  using MessageMembers = typename Introspection::MessageMembers;
-  using ServiceMembers = typename Introspection::ServiceMembers;
+  using MessageMembers = typename T::Members;
+  using ServiceMembers = typename T::ServiceMembers;
 
   /// Describe a message and, depth first, the types of its fields; returns its name.
   std::string message(const MessageMembers * members, const Sources * sources)
@@ -256,7 +238,7 @@ public:
     if (members == nullptr) {
       return "?";
     }
-    const std::string name = type_name_from_namespace(members->message_namespace_, members->message_name_);
+    const std::string name = introspection::type_name_of<T>(members);
     if (!seen_.insert(name).second) {
       return name;
     }
@@ -265,41 +247,15 @@ public:
     TypeDescription type;
     type.name = name;
     find_constants(type, sources);
-    std::vector<std::pair<const MessageMembers *, const Sources *>> nested;
+    Nested nested;
     for (uint32_t i = 0; members->members_ != nullptr && i < members->member_count_; ++i) {
       const auto & member = members->members_[i];
       FieldDescription field;
       field.name = member.name_ != nullptr ? member.name_ : "";
-      if (member.type_id_ == rosidl_typesupport_introspection_c__ROS_TYPE_MESSAGE) {
-        const rosidl_message_type_support_t * handle =
-          lookup_message_type_support(member.members_, Introspection::identifier());
-        const auto * nested_members =
-          handle != nullptr ? static_cast<const MessageMembers *>(handle->data) : nullptr;
-        field.type = nested_members != nullptr ?
-          type_name_from_namespace(nested_members->message_namespace_, nested_members->message_name_) :
-          std::string("?");
-        if (nested_members != nullptr) {
-          nested.emplace_back(nested_members, sources_of(handle));
-        }
-      } else {
-        field.type = primitive_name(member.type_id_);
-        if (member.type_id_ == rosidl_typesupport_introspection_c__ROS_TYPE_STRING ||
-          member.type_id_ == rosidl_typesupport_introspection_c__ROS_TYPE_WSTRING)
-        {
-          field.string_bound = member.string_upper_bound_;
-        }
-      }
-      if (member.is_array_) {
-        if (member.is_upper_bound_) {
-          field.array = FieldArray::Bounded;
-          field.array_size = member.array_size_;
-        } else if (member.array_size_ > 0) {
-          field.array = FieldArray::Fixed;
-          field.array_size = member.array_size_;
-        } else {
-          field.array = FieldArray::Unbounded;
-        }
-      }
+      introspection::dispatch<T>(member, nullptr, FieldType{&field, &nested});
+      field.array = introspection::array_of<T>(member);
+      field.array_size = field.array == FieldArray::Fixed || field.array == FieldArray::Bounded ?
+        member.array_size_ : 0u;
       type.fields.push_back(std::move(field));
     }
     out_[index] = std::move(type);
@@ -336,6 +292,38 @@ public:
   }
 
 private:
+  using Member = typename T::Member;
+  using Nested = std::vector<std::pair<const MessageMembers *, const Sources *>>;
+
+  // The `.msg` spelling of a field's (element) type, and nested types to describe next: the
+  // visitor of introspection::dispatch.
+  struct FieldType
+  {
+    FieldDescription * field;
+    Nested * nested;
+
+    void primitive(const Member & m, std::nullptr_t, size_t) {field->type = primitive_name(m.type_id_);}
+    void string(const Member & m, std::nullptr_t)
+    {
+      field->type = "string";
+      field->string_bound = m.string_upper_bound_;
+    }
+    void wstring(const Member & m, std::nullptr_t)
+    {
+      field->type = "wstring";
+      field->string_bound = m.string_upper_bound_;
+    }
+    void message(const Member & m, std::nullptr_t, const MessageMembers * members)
+    {
+      field->type = members != nullptr ? introspection::type_name_of<T>(members) : std::string("?");
+      if (members != nullptr) {
+        nested->emplace_back(
+          members, sources_of(lookup_message_type_support(m.members_, T::identifier())));
+      }
+    }
+    void unknown(const Member & m, std::nullptr_t) {field->type = primitive_name(m.type_id_);}
+  };
+
   TypeDescriptions out_;
   std::set<std::string> seen_;
 };
@@ -350,15 +338,15 @@ TypeDescriptionsPtr describe_message_type(
   }
   const Sources * sources = sources_of(introspection);
   if (is_cpp) {
-    Walker<IntrospectionCpp> walker;
+    Walker<introspection::Cpp> walker;
     walker.message(
-      static_cast<const rosidl_typesupport_introspection_cpp::MessageMembers *>(introspection->data),
+      static_cast<const introspection::Cpp::Members *>(introspection->data),
       sources);
     return walker.result();
   }
-  Walker<IntrospectionC> walker;
+  Walker<introspection::C> walker;
   walker.message(
-    static_cast<const rosidl_typesupport_introspection_c__MessageMembers *>(introspection->data),
+    static_cast<const introspection::C::Members *>(introspection->data),
     sources);
   return walker.result();
 }
@@ -370,11 +358,11 @@ TypeDescriptionsPtr describe_service_type(
     return nullptr;
   }
   if (is_cpp) {
-    Walker<IntrospectionCpp> walker;
+    Walker<introspection::Cpp> walker;
     walker.service(introspection);
     return walker.result();
   }
-  Walker<IntrospectionC> walker;
+  Walker<introspection::C> walker;
   walker.service(introspection);
   return walker.result();
 }

@@ -21,8 +21,6 @@ Rows (medians, ms):
 
 from __future__ import annotations
 
-import argparse
-import os
 import statistics
 import sys
 import tempfile
@@ -36,21 +34,12 @@ from bench_time_to_capture import recording_env, run_fastdds, run_recording, tim
 
 from pytest_rmw_introspect.run import middleware, ros_env  # noqa: E402
 
-IN_OVERLAY = "RMWI_BENCH_IN_OVERLAY"
-
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--reps", type=int, default=7)
-    args = parser.parse_args()
-    overlay = overlay_support.find_overlay()
-    if overlay is None:
-        print(f"bench_cpp_talker: skipped: {overlay_support.BUILD_HINT}")
+    started = overlay_support.start_bench("bench_cpp_talker", __doc__, reps=7)
+    if started is None:
         return 0
-    examples = overlay_support.build_cpp_examples(overlay)
-    if os.environ.get(IN_OVERLAY) != "1":
-        env = overlay_support.with_prefix(overlay.env({IN_OVERLAY: "1"}), examples)
-        os.execve(sys.executable, [sys.executable, *sys.orig_argv[1:]], env)
+    args, _, examples = started
 
     ros = ros_env.detect()
     library = middleware.ensure_library(ros)

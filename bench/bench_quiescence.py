@@ -11,7 +11,8 @@ the default options unless a row says otherwise. Floors: ``python -c 'import rcl
 talker's code that exits right after creating its node (``bench_time_to_capture``). The last row
 runs ``--items`` generated contract items with ``pytest -n 2`` (warm, default) against "import
 rclpy ITEMS times on 2 cores". On a machine shared with other work the figures move from run to
-run: compare the two columns of one run, not runs.
+run: compare the two columns of one run, not runs. Then bench_cpp_polling.py runs (rclcpp
+programs that poll or never block, against a plain rclcpp capture) when the C++ overlay is built.
 """
 
 from __future__ import annotations
@@ -130,6 +131,10 @@ def main() -> int:
     for label, numerator, denominator, goal in targets:
         old, new = before(numerator) / before(denominator), now(numerator) / now(denominator)
         print(f"  {label:<76} {old:5.2f} -> {new:5.2f}  (target <= {goal}: {'met' if new <= goal else 'NOT met'})")
+    # the rclcpp polling programs (issue 24 item 6), when the C++ overlay is built
+    print()
+    sys.stdout.flush()
+    subprocess.run([PY, str(Path(__file__).with_name("bench_cpp_polling.py")), "--reps", str(args.reps)], check=True)
     return 0
 
 

@@ -169,6 +169,11 @@ class VirtualTime:
     #: the warp ended early: the process kept running but never waited with a timeout (it polls
     #: or sleeps on its own clock), so virtual time had nothing to jump to
     warp_stalled: bool = False
+    #: what the program did in the warp (None: a capture that does not say): the real time the
+    #: warp lasted, its returns from rmw_wait without waiting and its activity calls
+    warp_real_ms: float | None = None
+    warp_polls: int | None = None
+    warp_activity: int | None = None
 
     @property
     def enabled(self) -> bool:
@@ -831,6 +836,11 @@ def _optional_float(value: Any) -> float | None:
     return None if value is None else float(value)
 
 
+# A loop that returns from rmw_wait at least this often (on average) polls without pausing; a
+# slower one sleeps between its polls (sleep_for(10ms) is 100 a second, a 2 Hz rate 2).
+_BUSY_POLLS_PER_SECOND = 500
+
+
 def _horizon_note(vt: VirtualTime, polls: int) -> str:
     """What a capture says when the warp stopped before the horizon (stalled, or its budget
     spent), and what was seen."""
@@ -838,12 +848,7 @@ def _horizon_note(vt: VirtualTime, polls: int) -> str:
              f"horizon after {vt.jumps} jumps")
     later = "; interfaces created later are not in the capture"
     if vt.warp_stalled:
-        polled = (f" ({polls} zero-timeout polls of its executor, or waits that returned at once on a guard "
-                  "condition it had just triggered itself)" if polls else "")
-        return (f"{where}: the program kept running but never waited with a timeout{polled}: it polls "
-                "(spin_some, spin_once(timeout_sec=0)), spins a task that awaits an answer that never comes "
-                "(spin_once with a pending call_async), or sleeps on its own clock (time.sleep, sleep_for, a "
-                "WallRate), which virtual time cannot advance" + later)
+        return f"{where}: the program kept running but never waited with a timeout: {_stalled_loop(vt, polls)}" + later
     if vt.jumps >= 1000:
         why = "each jump is one period of a very fast timer"
     elif polls:
@@ -852,6 +857,32 @@ def _horizon_note(vt: VirtualTime, polls: int) -> str:
     else:
         why = "the program kept running between its waits (a loop that sleeps or polls besides its timers)"
     return f"{where}: the warp used its real-time budget ({why})" + later
+
+
+def _stalled_loop(vt: VirtualTime, polls: int) -> str:
+    """Which loop kept a stalled warp from advancing, from what the middleware counted in it."""
+    sleeps = "sleep_for, time.sleep, a WallRate or Rate loop"
+    if vt.warp_polls is None or vt.warp_real_ms is None:  # a capture that does not say
+        polled = (f" ({polls} zero-timeout polls of its executor, or waits that returned at once on a guard "
+                  "condition it had just triggered itself)" if polls else "")
+        return (f"it polls{polled} (spin_some, spin_once(timeout_sec=0)), spins a task that awaits an answer that "
+                f"never comes (spin_once with a pending call_async), or sleeps on its own clock ({sleeps}), which "
+                "virtual time cannot advance")
+    seconds = vt.warp_real_ms / 1000
+    if vt.warp_polls == 0:
+        return (f"in {seconds:.2g} s it made {vt.warp_activity or 0} calls into ROS (publish, take, graph queries) "
+                f"and never waited in an executor: a loop that sleeps on its own clock ({sleeps}) without spinning, "
+                "which virtual time cannot advance")
+    rate = vt.warp_polls / seconds if seconds > 0 else float("inf")
+    counted = (f"{vt.warp_polls} zero-timeout poll{'s' if vt.warp_polls != 1 else ''} of its executor in "
+               f"{seconds:.2g} s (or waits that returned at once on a guard condition it had just triggered itself)")
+    if rate >= _BUSY_POLLS_PER_SECOND:
+        return (f"{counted}, without pausing: a busy loop at full CPU that polls its executor (spin_some or "
+                "spin_once(timeout_sec=0) until something is done) or spins a task that awaits an answer that "
+                "never comes (spin_once with a pending call_async); in a capture no answer or message arrives, so "
+                "it never ends, and it has no deadline virtual time could jump to")
+    return (f"{counted}, one every {1000 / rate:.3g} ms: between its polls it sleeps on the real clock ({sleeps}), "
+            "which virtual time does not advance")
 
 
 def _virtual_time(data: Any, path: Path | None) -> VirtualTime | None:
@@ -868,6 +899,9 @@ def _virtual_time(data: Any, path: Path | None) -> VirtualTime | None:
             horizon_reached=bool(data.get("horizon_reached", False)),
             warp_budget_exhausted=bool(data.get("warp_budget_exhausted", False)),
             warp_stalled=bool(data.get("warp_stalled", False)),
+            warp_real_ms=_optional_float(data.get("warp_real_ms")),
+            warp_polls=None if data.get("warp_polls") is None else int(data["warp_polls"]),
+            warp_activity=None if data.get("warp_activity") is None else int(data["warp_activity"]),
         )
     except (TypeError, ValueError, OverflowError) as exc:
         raise CaptureFormatError(path, f"`time`: malformed field ({exc})") from None

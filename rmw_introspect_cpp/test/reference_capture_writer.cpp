@@ -510,6 +510,9 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
   time.add("horizon_reached", Value::boolean(header.horizon_reached));
   time.add("warp_budget_exhausted", Value::boolean(header.warp_budget_exhausted));
   time.add("warp_stalled", Value::boolean(header.warp_stalled));
+  time.add("warp_real_ms", Value::number(header.warp_real_ms));
+  time.add("warp_polls", Value::integer(static_cast<int64_t>(header.warp_polls)));
+  time.add("warp_activity", Value::integer(static_cast<int64_t>(header.warp_activity)));
   doc.add("time", std::move(time));
   Value probe = Value::object();
   probe.add("state", Value::string(header.probe_state));

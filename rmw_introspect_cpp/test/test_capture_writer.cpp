@@ -136,7 +136,10 @@ TEST(CaptureWriter, json_exact)
     "warp_ms": 3000.000,
     "horizon_reached": false,
     "warp_budget_exhausted": false,
-    "warp_stalled": false
+    "warp_stalled": false,
+    "warp_real_ms": 0.000,
+    "warp_polls": 0,
+    "warp_activity": 0
   },
   "probe": {
     "state": "off",

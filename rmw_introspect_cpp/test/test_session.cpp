@@ -1100,8 +1100,34 @@ TEST_F(WarpTest, a_warp_that_sees_only_polls_stalls_and_says_so)
   EXPECT_TRUE(session.warping());
   clock.advance_ms(2);  // settle_ms (10) without a wait with a timeout
   session.on_poll();
-  EXPECT_NE(Session::Action::kSettle, session.poll().action);  // stalled: the final settle starts
+  // stalled before any jump with nothing changed since the first settle: that settle holds
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
   EXPECT_FALSE(session.warping());
+  CaptureHeader header;
+  session.fill_header("settled", &header);
+  EXPECT_TRUE(header.warp_stalled);
+  EXPECT_FALSE(header.warp_budget_exhausted);
+  EXPECT_FALSE(header.horizon_reached);
+  EXPECT_EQ("wait", header.settled_by);  // the first settle's
+  // what the warp saw, for the note that says which loop it was
+  EXPECT_EQ(5u, header.warp_polls);
+  EXPECT_EQ(0u, header.warp_activity);
+  EXPECT_DOUBLE_EQ(10.0, header.warp_real_ms);
+}
+
+TEST_F(WarpTest, a_stalled_warp_in_which_an_entity_changed_settles_again)
+{
+  settle_and_start_warp();
+  session.leave_wait(token);
+  session.on_change();  // created in the warp (real time: a sleep loop that goes on)
+  for (int i = 0; i < 5; ++i) {
+    session.on_poll();
+    session.on_activity();
+    clock.advance_ms(3);
+    session.poll();
+  }
+  EXPECT_FALSE(session.warping());  // stalled
+  EXPECT_NE(Session::Action::kSettle, session.poll().action);  // a final settle of its own
   session.on_poll();
   session.on_poll();
   clock.advance_ms(10);
@@ -1109,9 +1135,8 @@ TEST_F(WarpTest, a_warp_that_sees_only_polls_stalls_and_says_so)
   CaptureHeader header;
   session.fill_header("settled", &header);
   EXPECT_TRUE(header.warp_stalled);
-  EXPECT_FALSE(header.warp_budget_exhausted);
-  EXPECT_FALSE(header.horizon_reached);
   EXPECT_EQ("poll", header.settled_by);
+  EXPECT_LT(0u, header.warp_activity);  // those before the stall
 }
 
 TEST_F(WarpTest, a_warp_with_jumps_stalls_only_after_half_a_second_of_polls)

@@ -29,12 +29,16 @@ def test_a_loop_of_zero_timeout_polls_settles_and_says_the_horizon_was_not_obser
     assert vt["warp_stalled"] is True and vt["warp_budget_exhausted"] is False and vt["jumps"] == 0
 
 
-@pytest.mark.parametrize("script", ["poll_loop.py", "sleep_poll_loop.py"])
-def test_the_capture_of_a_polling_loop_notes_that_virtual_time_could_not_advance(script):
+@pytest.mark.parametrize("script,loop,not_loop", [
+    ("poll_loop.py", "without pausing: a busy loop", "sleeps on the real clock"),
+    ("sleep_poll_loop.py", "sleeps on the real clock", "busy loop"),
+])
+def test_the_capture_of_a_polling_loop_notes_that_virtual_time_could_not_advance(script, loop, not_loop):
     cap = runner.run(TargetSpec.from_mapping({"script": str(h.NODES / script), "timeout": 20}))
     assert cap.state == "settled"
     (note,) = [n for n in cap.notes() if "virtual time stopped" in n]
     assert "never waited with a timeout" in note and "zero-timeout polls of its executor" in note
+    assert loop in note and not_loop not in note, note  # which loop it was, as the middleware counted it
     assert "very fast timer" not in note  # it has no timer at all
 
 

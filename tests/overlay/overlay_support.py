@@ -18,8 +18,12 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 from types import ModuleType
+from typing import TYPE_CHECKING
 
 from source_trees import tree_hash
+
+if TYPE_CHECKING:
+    import argparse
 
 REPO = Path(__file__).resolve().parents[2]
 CPP_EXAMPLES = REPO / "examples" / "rmw_introspect_examples_cpp"
@@ -105,6 +109,28 @@ def with_prefix(env: dict[str, str], prefix: Path) -> dict[str, str]:
     env["AMENT_PREFIX_PATH"] = f"{prefix}:{env['AMENT_PREFIX_PATH']}"
     env["LD_LIBRARY_PATH"] = f"{prefix / 'lib'}:{env['LD_LIBRARY_PATH']}"
     return env
+
+
+def start_bench(name: str, doc: str | None, reps: int) -> tuple[argparse.Namespace, Overlay, Path] | None:
+    """The start of a bench script over the overlay: its options (``--reps``), the overlay and the
+    C++ examples' prefix built over it; None (after saying so) without an overlay. The script is
+    run again in the overlay's environment with the examples sourced on top, where the plugin
+    activates the middleware as on a standard install: this returns only in that second run."""
+    import argparse
+
+    parser = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--reps", type=int, default=reps)
+    args = parser.parse_args()
+    overlay = find_overlay()
+    if overlay is None:
+        print(f"{name}: skipped: {BUILD_HINT}")
+        return None
+    examples = build_cpp_examples(overlay)
+    marker = "RMWI_BENCH_IN_OVERLAY"
+    if os.environ.get(marker) != "1":
+        os.execve(sys.executable, [sys.executable, *sys.orig_argv[1:]],
+                  with_prefix(overlay.env({marker: "1"}), examples))
+    return args, overlay, examples
 
 
 def build_c_node(overlay: Overlay) -> Path:

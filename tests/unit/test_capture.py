@@ -426,6 +426,46 @@ def test_a_warp_that_ran_out_of_budget_is_noted(talker):
     assert "virtual time stopped at 2.5 s of the 10 s horizon" in note and "2500 jumps" in note
 
 
+STALLED = {"horizon_ms": 10000, "virtual_elapsed_ms": 400.0, "real_elapsed_ms": 400.0, "jumps": 0, "warp_ms": 0.0,
+           "horizon_reached": False, "warp_budget_exhausted": False, "warp_stalled": True}
+
+
+@pytest.mark.parametrize("counted,says,never", [
+    # spin_some until an answer that never comes: thousands of returns a second
+    ({"warp_real_ms": 100.0, "warp_polls": 2300, "warp_activity": 0},
+     ["2300 zero-timeout polls of its executor in 0.1 s", "without pausing", "busy loop at full CPU"],
+     ["sleeps on the real clock", "very fast timer"]),
+    # publish; sleep_for(10ms); spin_some
+    ({"warp_real_ms": 110.0, "warp_polls": 10, "warp_activity": 10},
+     ["10 zero-timeout polls of its executor in 0.11 s", "one every 11 ms", "sleeps on the real clock", "WallRate"],
+     ["busy loop", "very fast timer"]),
+    # a 2 Hz WallRate loop
+    ({"warp_real_ms": 525.0, "warp_polls": 1, "warp_activity": 1},
+     ["1 zero-timeout poll of its executor in 0.53 s", "one every 525 ms", "sleeps on the real clock"], ["busy loop"]),
+    # publish; time.sleep(0.1) without ever spinning
+    ({"warp_real_ms": 200.0, "warp_polls": 0, "warp_activity": 3},
+     ["made 3 calls into ROS", "never waited in an executor", "without spinning"], ["busy loop", "polls of"]),
+])
+def test_a_stalled_warp_is_noted_with_the_loop_that_was_seen(talker, counted, says, never):
+    talker.doc["time"] = {**STALLED, **counted}
+    (note,) = talker.capture().notes()
+    assert note.startswith("virtual time stopped at 0.4 s of the 10 s horizon after 0 jumps: the program kept "
+                           "running but never waited with a timeout: ")
+    assert note.endswith("interfaces created later are not in the capture")
+    for text in says:
+        assert text in note
+    for text in never:
+        assert text not in note
+
+
+def test_a_stalled_warp_of_an_older_capture_lists_what_it_may_have_been(talker):
+    talker.doc["time"] = STALLED
+    talker.doc["quiescence"] = {"detect": True, "detected": 0, "window": 2, "polls": 30, "not_idle": None}
+    (note,) = talker.capture().notes()
+    assert "30 zero-timeout polls of its executor" in note and "sleeps on its own clock" in note
+    assert talker.capture().virtual_time.warp_polls is None
+
+
 def test_a_node_on_sim_time_is_noted(talker):
     talker.ep(1, "subscription", "/clock", "rosgraph_msgs/msg/Clock")
     cap = talker.capture()

@@ -99,6 +99,7 @@ bool Session::on_poll()
 {
   if (phase_ == Phase::kWarping) {
     warp_loop_seen_ = true;
+    ++warp_polls_;
   }
   on_wait_entered();
   ++polls_;
@@ -185,6 +186,7 @@ bool Session::on_activity()
 {
   if (phase_ == Phase::kWarping) {
     warp_loop_seen_ = true;
+    ++warp_activity_;
   }
   ++activity_calls_;
   ++idle_version_;
@@ -205,7 +207,7 @@ bool Session::try_jump(int64_t target_ns)
   last_timed_wait_ns_ = now;
   if (now - warp_start_ns_ >= settings_.warp_budget_ms * kNsPerMs) {
     budget_exhausted_ = true;
-    end_warp();
+    end_warp(now);
     return false;
   }
   const int64_t virtual_now = now + virtual_clock_.offset_ns();
@@ -217,7 +219,7 @@ bool Session::try_jump(int64_t target_ns)
   }
   if (target_ns - t0_ns_ > settings_.horizon_ms * kNsPerMs) {
     horizon_reached_ = true;
-    end_warp();
+    end_warp(now);
     return false;
   }
   // A periodic timer that fired again and again and created nothing: jump to the horizon
@@ -253,9 +255,10 @@ bool Session::try_jump(int64_t target_ns)
   return true;
 }
 
-void Session::end_warp()
+void Session::end_warp(int64_t now)
 {
   phase_ = Phase::kFinalSettling;
+  warp_end_ns_ = now;
 }
 
 bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline)
@@ -295,10 +298,10 @@ Session::Step Session::poll()
     const int64_t horizon_at = t0_ns_ + horizon_ns - virtual_clock_.offset_ns();
     if (now >= budget_end) {
       budget_exhausted_ = true;
-      end_warp();
+      end_warp(now);
     } else if (now >= horizon_at) {
       horizon_reached_ = true;
-      end_warp();
+      end_warp(now);
     } else {
       propose(std::min(budget_end, horizon_at), &step.has_deadline, &step.deadline_ns);
       // No wait with a timeout for a while the process ran a loop (polls, activity): a loop
@@ -310,7 +313,7 @@ Session::Step Session::poll()
         last_timed_wait_ns_ + (jumps_ == 0 ? quiet_ns : std::max(quiet_ns, kStallAfterJumpsNs));
       if (blocked_.empty() && now >= stall_at && warp_loop_seen_) {
         warp_stalled_ = true;
-        end_warp();
+        end_warp(now);
       } else if (blocked_.empty()) {
         // (looked at again a window later when nothing ran yet)
         propose(
@@ -326,7 +329,7 @@ Session::Step Session::poll()
   } else {
     const bool in_warp = phase_ == Phase::kWarping || phase_ == Phase::kFinalSettling;
     if ((in_warp || settled_generation_ != generation_) &&
-      quiet_settled(now, &step.has_deadline, &step.deadline_ns))
+      (stalled_unchanged() || quiet_settled(now, &step.has_deadline, &step.deadline_ns)))
     {
       mark_settled(now);
       step.has_deadline = false;
@@ -361,6 +364,16 @@ Session::Step Session::poll()
     propose(census_answered_ns_ + kCensusRecheckNs, &step.has_deadline, &step.deadline_ns);
   }
   return step;
+}
+
+bool Session::stalled_unchanged() const
+{
+  // The warp stalled before its first jump and nothing was created or destroyed since the
+  // settle before it: virtual time never moved, so the process is where that settle found it,
+  // and a second quiet window (two more polls of a loop that sleeps 0.5 s between them: a
+  // second) would give the same capture.
+  return phase_ == Phase::kFinalSettling && warp_stalled_ && jumps_ == 0 &&
+         settled_generation_ == generation_;
 }
 
 void Session::mark_settled(int64_t now)
@@ -524,6 +537,10 @@ void Session::fill_header(const char * state, CaptureHeader * header) const
   header->polls = polls_;
   header->not_idle = not_idle_reason_;
   header->warp_stalled = warp_stalled_;
+  const bool warped = warp_start_ns_ != 0;
+  header->warp_real_ms = warped ? ns_to_ms((warp_end_ns_ != 0 ? warp_end_ns_ : now) - warp_start_ns_) : 0.0;
+  header->warp_polls = warp_polls_;
+  header->warp_activity = warp_activity_;
 }
 
 }  // namespace rmw_introspect

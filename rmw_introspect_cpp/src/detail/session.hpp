@@ -176,7 +176,9 @@ private:
 
   /// A change for the quiet rule: entity change, jump, warp start.
   void break_quiet(int64_t now);
-  void end_warp();
+  void end_warp(int64_t now);
+  /// The warp stalled without a jump and nothing changed since the first settle (poll()).
+  bool stalled_unchanged() const;
   /// A settle is written now (time to settle, generations).
   void mark_settled(int64_t now);
   /// After the first settle (and the probing): start the warp or settle for good.
@@ -222,6 +224,10 @@ private:
   int64_t last_timed_wait_ns_ = 0;
   bool warp_loop_seen_ = false;
   bool warp_stalled_ = false;
+  // What the process did in the warp (a stalled warp's note says which loop it was).
+  int64_t warp_end_ns_ = 0;
+  uint64_t warp_polls_ = 0;
+  uint64_t warp_activity_ = 0;
   // Detected quiescence: the threads blocked in rmw_wait now, by token.
   std::map<uint64_t, BlockedWait> blocked_;
   uint64_t next_wait_token_ = 0;

@@ -35,6 +35,7 @@ from ..compare.launch_given import Given
 from ..compare.options import ComparisonOptions
 from ..compare.system import CompatItem, LaunchedProcess, check_launched, check_system, propose_external
 from ..errors import RmwIntrospectError, TargetConfigError
+from ..launch import component_loads
 from ..model import contract as contract_module
 from ..model import system_contract
 from ..model.acceptance import Acceptance
@@ -43,7 +44,6 @@ from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.vocabulary import Severity, parse_threshold
-from ..run import component_loads
 from ..run import system as run_system
 from ..run.ros_env import RosEnvironment
 from ..run.system import LaunchSpec, ProcessCapture, SystemCapture

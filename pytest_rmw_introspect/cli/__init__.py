@@ -59,7 +59,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     # start client: its one target starts cold (cli.capture).
     if args.command == "capture":
         return _run_reporting_errors(args, command)
-    from ..run import warm
+    from ..run.warm import client as warm
 
     if len(getattr(args, "contracts", ())) < 2:
         # a warm start server pays for itself from the second capture of a run on

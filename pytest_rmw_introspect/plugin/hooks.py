@@ -18,7 +18,8 @@ from typing import Any
 import pytest
 
 from ..errors import RmwIntrospectError, SetupError
-from ..run import runner, warm
+from ..run import runner
+from ..run.warm import client as warm
 from . import items, lookahead, marker, marker_goldens, session, system_marker
 from . import items as items_module
 from . import session as session_module

@@ -2,7 +2,7 @@
 
 :func:`resolve_launch` turns a system contract's ``launch:`` block (or the command line's
 ``--launch``) into a :class:`LaunchSpec`; :func:`capture_system` reads the launch file
-(``launch_reader``), runs every process it starts through the runner (``runner.run``: its own
+(``launch.reader``), runs every process it starts through the runner (``runner.run``: its own
 capture file, settle, virtual time, timeout), in parallel with at most as many processes at a
 time as the machine has cores, each with the command line, parameters, remappings and
 environment the launch file gives it, and returns a :class:`SystemCapture`.
@@ -28,11 +28,13 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import NoNodeCreated, TargetConfigError, TargetError
+from ..launch import component_loads
+from ..launch import reader as launch_reader
+from ..launch.result import LaunchedNode, LaunchError, LaunchResult, Parameter
 from ..model.capture import Capture
 from ..model.paths import shown
 from ..model.vocabulary import LIFECYCLE, PARAMETERS
-from . import component_loads, launch_reader, middleware, ros_env, runner
-from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter
+from . import middleware, ros_env, runner
 from .target import TargetSpec
 
 #: keys of a ``launch:`` block

@@ -1,4 +1,4 @@
-"""The components a launch file loads into a container (run.component_loads): the requests
+"""The components a launch file loads into a container (launch.component_loads): the requests
 file the container's middleware reads, and what a capture says of each load."""
 
 from __future__ import annotations
@@ -6,8 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched
-from pytest_rmw_introspect.run import component_loads
-from pytest_rmw_introspect.run.launch_model import ComponentLoad, Where
+from pytest_rmw_introspect.launch import component_loads
+from pytest_rmw_introspect.launch.result import ComponentLoad, Where
 
 TALKER = ComponentLoad(package="demo", plugin="demo::Talker", where=Where(Path("/ws/robot.launch.py"), 12),
                        name="talker", namespace="/robot", remap_rules=("chatter:=status",),

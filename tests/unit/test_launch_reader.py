@@ -1,4 +1,4 @@
-"""The launch reader (run.launch_reader): XML and YAML launch files, substitutions, includes,
+"""The launch reader (launch.reader): XML and YAML launch files, substitutions, includes,
 conditions, groups, unsupported constructs, play_launch record.json files and Python launch
 files without launch_ros."""
 
@@ -11,8 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect.run import launch_reader, launch_substitutions
-from pytest_rmw_introspect.run.launch_model import LaunchError, Parameter
+from pytest_rmw_introspect.launch import reader as launch_reader
+from pytest_rmw_introspect.launch import substitutions as launch_substitutions
+from pytest_rmw_introspect.launch.result import LaunchError, Parameter
 
 # ---------------------------------------------------------------------------- helpers
 

@@ -11,10 +11,10 @@ from pytest_rmw_introspect.check import system_pipeline
 from pytest_rmw_introspect.compare import report
 from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched
 from pytest_rmw_introspect.errors import ContractError, TargetConfigError
+from pytest_rmw_introspect.launch.result import LaunchedNode, Parameter, Where
 from pytest_rmw_introspect.model import system_contract
 from pytest_rmw_introspect.model.vocabulary import Severity
 from pytest_rmw_introspect.run import system as run_system
-from pytest_rmw_introspect.run.launch_model import LaunchedNode, Parameter, Where
 from pytest_rmw_introspect.run.target import TargetSpec
 
 STRING = "std_msgs/msg/String"

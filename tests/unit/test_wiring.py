@@ -14,9 +14,9 @@ from pytest_rmw_introspect.compare import graph, launch_given, report, wiring
 from pytest_rmw_introspect.compare.launch_given import Given, GivenParameter, ParamsFile
 from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched, propose_external
 from pytest_rmw_introspect.errors import ContractError
+from pytest_rmw_introspect.launch.result import LaunchedNode, Parameter, Where
 from pytest_rmw_introspect.model import system_contract
 from pytest_rmw_introspect.model.vocabulary import Severity
-from pytest_rmw_introspect.run.launch_model import LaunchedNode, Parameter, Where
 
 SCAN = "sensor_msgs/msg/LaserScan"
 POSE = "geometry_msgs/msg/PoseWithCovarianceStamped"

@@ -16,7 +16,7 @@ docs/design.md, "System contracts"), without starting anything:
   parameters (``-p``, ``--params-file``) and remappings back from each command line, so that the
   system rules (``compare.launch_given``) judge them, and names a ``SetParameter``'s own line;
 * event handlers (``RegisterEventHandler`` and ``on_exit=``) get the meaning a capture can give
-  them (``launch_python_events``);
+  them (``python_events``);
 * a ``ComposableNodeContainer`` is a node (its process is captured) whose components, and those
   ``LoadComposableNodes`` loads into it, are the LoadNode requests launch_ros would send
   (``get_composable_node_load_request``: the scope's namespace, ``SetRemap`` and
@@ -48,9 +48,9 @@ from types import ModuleType
 from typing import Any
 
 from ..model.paths import shown
-from . import launch_model, launch_python_events
-from .launch_entities import yaml_value
-from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter, Unsupported, Where
+from . import python_events
+from .entities import yaml_value
+from .result import ComponentLoad, ComponentParameter, LaunchedNode, LaunchError, LaunchResult, Parameter, Unsupported, Where
 
 _NOT_AVAILABLE = (
     "{file} is a Python launch file, which is read through the ROS 2 `launch` and `launch_ros` packages; "
@@ -194,7 +194,7 @@ class _Walker:
         self.walk(description)
         while self.pending:
             registration = self.pending.pop(0)
-            handling = launch_python_events.handle(self.launch, registration.event_handler, self.started)
+            handling = python_events.handle(self.launch, registration.event_handler, self.started)
             if handling.unsupported:
                 self.unsupported(registration, handling.unsupported)
             for action in handling.now:
@@ -241,14 +241,14 @@ class _Walker:
         if isinstance(handler, self.launch.event_handlers.OnProcessStart):
             self.pending.append(entity)
             return
-        handling = launch_python_events.handle(self.launch, handler, self.started)
+        handling = python_events.handle(self.launch, handler, self.started)
         if handling.unsupported:
             self.unsupported(entity, handling.unsupported)
 
     def on_exit(self, process: Any) -> None:
         """``on_exit=`` of a process: as an OnProcessExit handler of it."""
-        actions = launch_python_events.actions_of(getattr(process, "_ExecuteLocal__on_exit", None))
-        why = launch_python_events.after_the_end(self.launch, actions, "after the process exits")
+        actions = python_events.actions_of(getattr(process, "_ExecuteLocal__on_exit", None))
+        why = python_events.after_the_end(self.launch, actions, "after the process exits")
         if why:
             self.unsupported(process, f"on_exit: {why}")
 
@@ -360,7 +360,7 @@ class _Walker:
             request = get_composable_node_load_request(description, self.context)
             if request is None:  # its condition is false
                 continue
-            loads.append(launch_model.ComponentLoad(
+            loads.append(ComponentLoad(
                 package=request.package_name, plugin=request.plugin_name, where=self.where(description),
                 name=request.node_name or None, namespace=request.node_namespace or None,
                 log_level=int(request.log_level), remap_rules=tuple(request.remap_rules),
@@ -377,7 +377,7 @@ _VALUE_FIELDS = {1: "bool_value", 2: "integer_value", 3: "double_value", 4: "str
                  6: "bool_array_value", 7: "integer_array_value", 8: "double_array_value", 9: "string_array_value"}
 
 
-def component_parameter(message: Any) -> launch_model.ComponentParameter:
+def component_parameter(message: Any) -> ComponentParameter:
     """An rcl_interfaces/msg/Parameter as (name, type, value)."""
     kind = int(message.value.type)
     value = getattr(message.value, _VALUE_FIELDS[kind]) if kind in _VALUE_FIELDS else None

@@ -1,8 +1,8 @@
 """What a launch file starts, as data: the nodes (:class:`LaunchedNode`), the arguments it
 declares, what the reader does not support, and the errors (:class:`LaunchError`).
 
-Shared by the readers of each kind of launch source (``launch_reader`` for XML and YAML,
-``launch_python`` for Python launch files, ``launch_record`` for play_launch's record.json)."""
+Shared by the readers of each kind of launch source (``reader`` for XML and YAML,
+``python_file`` for Python launch files, ``record`` for play_launch's record.json)."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import yaml
 
 from ..errors import TargetConfigError
 from ..model.paths import shown
-from .launch_substitutions import SubstitutionError
+from .substitutions import SubstitutionError
 
 
 class LaunchError(TargetConfigError):

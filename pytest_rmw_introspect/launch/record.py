@@ -21,8 +21,8 @@ from typing import Any
 
 from ..model import untrusted
 from ..model.paths import shown
-from .launch_entities import MAX_FILE_BYTES, yaml_value
-from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter, Unsupported, Where
+from .entities import MAX_FILE_BYTES, yaml_value
+from .result import LaunchedNode, LaunchError, LaunchResult, Parameter, Unsupported, Where
 
 
 def _fail(path: Path, reason: str) -> LaunchError:

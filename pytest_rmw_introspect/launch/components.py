@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from ..model import untrusted
-from .launch_model import ComponentParameter, Parameter
+from .result import ComponentParameter, Parameter
 
 
 class ComponentParameterError(ValueError):

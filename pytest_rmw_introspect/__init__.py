@@ -14,27 +14,28 @@ Outside pytest::
     cap.to_contract_nodes()        # the `nodes` mapping of a contract
 
 In a test, ``pytest_rmw_introspect.check_compatible("a.interfaces.yaml", "b.interfaces.yaml")``
-fails the test unless the nodes of the contracts fit together (a system check), and
+fails the test unless the nodes of the contracts fit together (a compatibility check), and
 ``diff_contracts(old, new)`` compares two contract files without running anything.
 
 The package is layered (docs/design.md): ``model`` (the vocabulary, captures, contracts),
-``compare`` (options, drift, system checks, reports) and ``run`` (targets, the runner, ROS
-detection, the middleware library), then ``check`` (the pipeline, outcomes, the golden
-writer) and the two front ends, ``plugin`` (pytest) and ``cli`` (``rmw-introspect``).
+``compare`` (options, drift, compatibility checks, reports), ``launch`` (reading launch files)
+and ``run`` (targets, the runner, ROS detection, the middleware library, system captures), then
+``check`` (the pipeline, outcomes, the golden writer) and the two front ends, ``plugin`` (pytest) and ``cli`` (``rmw-introspect``).
 """
 
 from __future__ import annotations
 
 import importlib
+import warnings
 from typing import TYPE_CHECKING, Any
 
 from ._version import __version__
 
 if TYPE_CHECKING:
-    from .check.pipeline import DiffResult, SystemResult, diff_contracts
+    from .check.pipeline import CompatibilityResult, DiffResult, diff_contracts
+    from .compare.compatibility import CompatItem
     from .compare.drift import DriftItem
     from .compare.options import ComparisonOptions
-    from .compare.system import CompatItem
     from .errors import (
         CaptureFormatError,
         ContractError,
@@ -64,12 +65,12 @@ if TYPE_CHECKING:
 #: in pytest (``check_compatible``) or the whole pipeline until it is used. Measured with
 #: `python -X importtime`: eager imports made `rmw-introspect --help` ~60 ms slower.
 _LAZY: dict[str, tuple[str, str]] = {
+    "CompatibilityResult": ("check.pipeline", "CompatibilityResult"),
     "DiffResult": ("check.pipeline", "DiffResult"),
-    "SystemResult": ("check.pipeline", "SystemResult"),
     "diff_contracts": ("check.pipeline", "diff_contracts"),
     "DriftItem": ("compare.drift", "DriftItem"),
     "ComparisonOptions": ("compare.options", "ComparisonOptions"),
-    "CompatItem": ("compare.system", "CompatItem"),
+    "CompatItem": ("compare.compatibility", "CompatItem"),
     "Capture": ("model.capture", "Capture"),
     "Endpoint": ("model.capture", "Endpoint"),
     "Interface": ("model.capture", "Interface"),
@@ -91,7 +92,18 @@ _LAZY: dict[str, tuple[str, str]] = {
 }
 
 
+#: deprecated public name → the name that replaced it (still importable, with a DeprecationWarning)
+_DEPRECATED: dict[str, str] = {
+    "SystemResult": "CompatibilityResult",  # "system" means system contracts (launch files) now
+}
+
+
 def __getattr__(name: str) -> Any:
+    if name in _DEPRECATED:
+        new = _DEPRECATED[name]
+        warnings.warn(f"pytest_rmw_introspect.{name} is deprecated: use pytest_rmw_introspect.{new}",
+                      DeprecationWarning, stacklevel=2)
+        return __getattr__(new)
     if name not in _LAZY:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     module, attribute = _LAZY[name]
@@ -108,6 +120,7 @@ __all__ = [
     "Capture",
     "CaptureFormatError",
     "CompatItem",
+    "CompatibilityResult",
     "ComparisonOptions",
     "Constant",
     "Contract",
@@ -132,7 +145,6 @@ __all__ = [
     "ServiceType",
     "SetupError",
     "StimulusFailed",
-    "SystemResult",
     "TargetConfigError",
     "TargetError",
     "TargetExited",

@@ -7,5 +7,5 @@ parsing and evaluation), ``python_file`` (Python launch files through ``launch``
 ``record.json``), ``components`` (composable nodes as LoadNode requests), ``component_loads``
 (the requests handed to a container's middleware, and what they came to) and ``result`` (what a
 launch file starts, as data). It may import ``model`` and ``errors``; ``run`` runs what it reads
-(``run.system`` is the one module that joins the two).
+(``run.system_capture`` is the one module that joins the two).
 """

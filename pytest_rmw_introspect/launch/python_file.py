@@ -14,7 +14,7 @@ docs/design.md, "System contracts"), without starting anything:
 * ``SetRemap``, ``SetParameter`` and ``SetParametersFromFile`` are visited like any action:
   launch_ros puts what they set in force on the command lines it prepares; the walker reads the
   parameters (``-p``, ``--params-file``) and remappings back from each command line, so that the
-  system rules (``compare.launch_given``) judge them, and names a ``SetParameter``'s own line;
+  compatibility rules (``compare.launch_given``) judge them, and names a ``SetParameter``'s own line;
 * event handlers (``RegisterEventHandler`` and ``on_exit=``) get the meaning a capture can give
   them (``python_events``);
 * a ``ComposableNodeContainer`` is a node (its process is captured) whose components, and those
@@ -50,7 +50,7 @@ from typing import Any
 from ..model.paths import shown
 from . import python_events
 from .entities import yaml_value
-from .result import ComponentLoad, ComponentParameter, LaunchedNode, LaunchError, LaunchResult, Parameter, Unsupported, Where
+from .result import ComponentLoad, ComponentParameter, LaunchedNode, LaunchError, LaunchParameter, LaunchResult, Unsupported, Where
 
 _NOT_AVAILABLE = (
     "{file} is a Python launch file, which is read through the ROS 2 `launch` and `launch_ros` packages; "
@@ -295,25 +295,25 @@ class _Walker:
             command=command,
         ))
 
-    def settings(self, command: Sequence[str]) -> tuple[tuple[Parameter, ...], tuple[tuple[str, str], ...],
+    def settings(self, command: Sequence[str]) -> tuple[tuple[LaunchParameter, ...], tuple[tuple[str, str], ...],
                                                          tuple[tuple[str, str], ...]]:
         """The parameters, the SetRemap rules and the node's own remappings on a prepared command
-        line (what the system rules judge), each global parameter (SetParameter) with the place
+        line (what the compatibility rules judge), each global parameter (SetParameter) with the place
         that set it. The SetRemap rules come first, as in XML (scope_remappings)."""
         origins = self.global_origins()
         scope_rules = [tuple(rule) for rule in self.context.launch_configurations.get("ros_remaps") or ()]
         words = list(command)
         ros = words[words.index("--ros-args") + 1:] if "--ros-args" in words else []
-        parameters: list[Parameter] = []
+        parameters: list[LaunchParameter] = []
         scope_remappings: list[tuple[str, str]] = []
         remappings: list[tuple[str, str]] = []
         for flag, value in zip(ros, ros[1:], strict=False):
             if flag in ("-p", "--param") and ":=" in value:
                 name, text = value.split(":=", 1)
                 # the global ones come first: a node's own parameter of the same name is its own
-                parameters.append(Parameter(name=name, value=yaml_value(text), where=origins.pop(name, None)))
+                parameters.append(LaunchParameter(name=name, value=yaml_value(text), where=origins.pop(name, None)))
             elif flag == "--params-file":
-                parameters.append(Parameter(file=Path(value), where=origins.pop(os.path.abspath(value), None)))
+                parameters.append(LaunchParameter(file=Path(value), where=origins.pop(os.path.abspath(value), None)))
             elif flag in ("-r", "--remap") and ":=" in value and not value.startswith(("__node:=", "__ns:=")):
                 source, target = value.split(":=", 1)
                 if len(scope_remappings) < len(scope_rules) and scope_rules[len(scope_remappings)] == (source, target):

@@ -82,8 +82,8 @@ from .result import (
     DeclaredArgument,
     LaunchedNode,
     LaunchError,
+    LaunchParameter,
     LaunchResult,
-    Parameter,
     Unsupported,
     Where,
     find_package_prefix,
@@ -144,7 +144,7 @@ class _Scope:
     #: settings: launch_ros keeps each kind as one list in the launch configurations (None: not
     #: set yet). A scope copies the configurations but shares these lists (see :meth:`copy`).
     remaps: list[tuple[str, str]] | None = None
-    parameters: list[Parameter] | None = None
+    parameters: list[LaunchParameter] | None = None
     #: the <include> that reads the current file (None: the top-level file)
     included_from: Where | None = None
 
@@ -416,17 +416,17 @@ class _Reader:
             value = entities.yaml_value(text)
         except ValueError as exc:
             raise SubstitutionError(str(exc)) from None
-        self.set_parameter(scope, Parameter(name=name, value=value, where=Where(file, entity.line)))
+        self.set_parameter(scope, LaunchParameter(name=name, value=value, where=Where(file, entity.line)))
 
     def tag_set_parameters_from_file(self, entity: Entity, scope: _Scope, file: Path,
                                      stack: tuple[Path, ...]) -> None:
         path = self.path(self.require(entity, file, "filename"), scope, file)
         if not path.is_file():
             raise self.error(Where(file, entity.line), f"parameters file {shown(path)} does not exist")
-        self.set_parameter(scope, Parameter(file=path, where=Where(file, entity.line)))
+        self.set_parameter(scope, LaunchParameter(file=path, where=Where(file, entity.line)))
 
     @staticmethod
-    def set_parameter(scope: _Scope, parameter: Parameter) -> None:
+    def set_parameter(scope: _Scope, parameter: LaunchParameter) -> None:
         scope.parameters = scope.parameters if scope.parameters is not None else []
         scope.parameters.append(parameter)
 
@@ -478,7 +478,7 @@ class _Reader:
         arguments = tuple(shlex.split(self.text(a["args"], scope, file))) if a.get("args") is not None else ()
         ros_arguments = tuple(shlex.split(self.text(a["ros_args"], scope, file))) if a.get("ros_args") is not None else ()
         cwd = self.path(a["cwd"], scope, file) if a.get("cwd") is not None else None
-        parameters: list[Parameter] = []
+        parameters: list[LaunchParameter] = []
         remappings: list[tuple[str, str]] = []
         env = dict(scope.env)
         for child in entity.children:
@@ -544,9 +544,9 @@ class _Reader:
         name = self.text(self.require(entity, file, "name"), scope, file)
         own_namespace = self.text(a["namespace"], scope, file) if a.get("namespace") is not None else None
         namespace = join_namespace(scope.namespace, own_namespace)
-        given: list[Parameter] = list(scope.parameters or ())
+        given: list[LaunchParameter] = list(scope.parameters or ())
         remaps = [f"{source}:={target}" for source, target in scope.remaps or ()]
-        extras: list[Parameter] = []
+        extras: list[LaunchParameter] = []
         for child in entity.children:
             if not self.condition(child, scope, file):
                 continue
@@ -558,7 +558,7 @@ class _Reader:
                               self.text(self.require(child, file, "to"), scope, file))
             elif child.tag == "extra_arg":
                 self.check_attributes(child, file, frozenset({"name", "value"}))
-                extras.append(Parameter(name=self.text(self.require(child, file, "name"), scope, file),
+                extras.append(LaunchParameter(name=self.text(self.require(child, file, "name"), scope, file),
                                         value=self.value(self.require(child, file, "value"), None, scope, file)))
         try:
             parameters = components.parameters(given, name, namespace)
@@ -570,7 +570,7 @@ class _Reader:
             plugin=self.text(self.require(entity, file, "plugin"), scope, file), where=where, name=name,
             namespace=namespace, remap_rules=tuple(remaps), parameters=parameters, extra_arguments=extra_arguments)
 
-    def parameters(self, entity: Entity, prefix: str, scope: _Scope, file: Path) -> list[Parameter]:
+    def parameters(self, entity: Entity, prefix: str, scope: _Scope, file: Path) -> list[LaunchParameter]:
         where = Where(file, entity.line)
         a = entity.attributes
         self.check_attributes(entity, file, frozenset({"name", "value", "value_sep", "from", "allow_substs"}))
@@ -580,18 +580,18 @@ class _Reader:
             path = self.path(a["from"], scope, file)
             if not path.is_file():
                 raise self.error(where, f"parameters file {shown(path)} does not exist")
-            return [Parameter(file=path)]
+            return [LaunchParameter(file=path)]
         name = prefix + str(self.text(self.require(entity, file, "name"), scope, file))
         nested = [c for c in entity.children if c.tag == "param"]
         if nested:
-            out: list[Parameter] = []
+            out: list[LaunchParameter] = []
             for child in nested:
                 if self.condition(child, scope, file):
                     out += self.parameters(child, name + ".", scope, file)
             return out
         if "value" not in a:
             raise self.error(where, f"<param name=\"{name}\"> needs `value`, `from` or nested <param> entries")
-        return [Parameter(name=name, value=self.value(a["value"], a.get("value_sep"), scope, file))]
+        return [LaunchParameter(name=name, value=self.value(a["value"], a.get("value_sep"), scope, file))]
 
     def value(self, raw: Any, separator: Any, scope: _Scope, file: Path) -> Any:
         """A parameter value typed as launch_ros types it."""
@@ -624,6 +624,6 @@ def guess_type(text: str) -> Any:
 
 
 __all__ = [
-    "DeclaredArgument", "LaunchError", "LaunchResult", "LaunchedNode", "Parameter", "Unsupported", "Where",
+    "DeclaredArgument", "LaunchError", "LaunchResult", "LaunchedNode", "LaunchParameter", "Unsupported", "Where",
     "find_package_prefix", "guess_type", "join_namespace", "launch_file_of_package", "read",
 ]

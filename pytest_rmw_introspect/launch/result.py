@@ -34,7 +34,7 @@ class Where:
 
 
 @dataclass(frozen=True)
-class Parameter:
+class LaunchParameter:
     """One ``-p name:=value``, or one ``--params-file`` (``file``, or ``file_text`` to be
     written to a temporary file before the process starts: record.json carries contents)."""
 
@@ -84,7 +84,7 @@ class LaunchedNode:
     namespace: str | None = None
     arguments: tuple[str, ...] = ()
     ros_arguments: tuple[str, ...] = ()
-    parameters: tuple[Parameter, ...] = ()
+    parameters: tuple[LaunchParameter, ...] = ()
     remappings: tuple[tuple[str, str], ...] = ()
     env: Mapping[str, str] = field(default_factory=dict)
     #: the <set_remap> rules in force where the node is started (before its own, as launch_ros
@@ -113,7 +113,7 @@ class LaunchedNode:
             what += f" in {self.namespace}"
         return f"{what} ({self.where})"
 
-    def ros_argument_list(self, params_file: Callable[[Parameter], Path] | None = None) -> list[str]:
+    def ros_argument_list(self, params_file: Callable[[LaunchParameter], Path] | None = None) -> list[str]:
         """``--ros-args ...`` as launch_ros builds it: node name, namespace, parameters in
         order, remappings (``<set_remap>`` ones first), then the ``ros_args`` given (empty list
         when there are none)."""

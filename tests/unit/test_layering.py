@@ -36,7 +36,7 @@ ALLOWED: dict[str, set[str]] = {
 
 #: the one module of ``run`` that reads launch files: it runs the processes a launch file starts
 #: (docs/design.md, "Layers"); the rest of ``run`` starts one target and knows no launch file
-LAUNCH_JOINER = "run.system"
+LAUNCH_JOINER = "run.system_capture"
 
 #: function-local imports that are there on purpose, each cutting start-up time:
 #: (module, imported module) → why
@@ -275,7 +275,7 @@ def test_the_public_api_exports_every_type_its_functions_return():
 NOT_FOR_CAPTURE = ("yaml", "deepdiff", "jsonschema", "numpy", "ctypes.util", "importlib.metadata",
                    "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.warm.client", "socket",
                    "pytest_rmw_introspect.check.pipeline", "pytest_rmw_introspect.check.golden",
-                   "pytest_rmw_introspect.compare.drift", "pytest_rmw_introspect.cli.system",
+                   "pytest_rmw_introspect.compare.drift", "pytest_rmw_introspect.cli.system_contracts",
                    "pytest_rmw_introspect.cli.commands", "pytest_rmw_introspect.launch.reader")
 
 
@@ -306,7 +306,7 @@ NOT_FOR_THE_CONTROLLER = ("yaml", "deepdiff", "jsonschema", "numpy", "pytest_rmw
 #: a session with no contract test never needs the pipelines (README, "Measured performance")
 NOT_FOR_THE_HOOKS = ("deepdiff", "jsonschema", "numpy", "pytest_rmw_introspect.check.pipeline",
                      "pytest_rmw_introspect.check.system_pipeline", "pytest_rmw_introspect.check.golden",
-                     "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.system",
+                     "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.system_capture",
                      "pytest_rmw_introspect.compare.drift")
 
 

@@ -20,7 +20,9 @@ fails the test unless the nodes of the contracts fit together (a compatibility c
 The package is layered (docs/design.md): ``model`` (the vocabulary, captures, contracts),
 ``compare`` (options, drift, compatibility checks, reports), ``launch`` (reading launch files)
 and ``run`` (targets, the runner, ROS detection, the middleware library, system captures), then
-``check`` (the pipeline, outcomes, the golden writer) and the two front ends, ``plugin`` (pytest) and ``cli`` (``rmw-introspect``).
+``check`` (the pipeline, outcomes, the golden writer) and the two front ends, ``plugin`` (pytest)
+and ``cli`` (``rmw-introspect``). Beside them: ``errors`` (every error a user can cause), ``_version`` (the one version) and
+``__main__`` (``python -m pytest_rmw_introspect``).
 """
 
 from __future__ import annotations

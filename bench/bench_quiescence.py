@@ -32,7 +32,8 @@ from bench_virtual_time import KILOHERTZ_NODE
 from bench_warm_start import executables, pytest_run, write_items
 
 import pytest_rmw_introspect
-from pytest_rmw_introspect.run import middleware, ros_env, warm
+from pytest_rmw_introspect.run import middleware, ros_env
+from pytest_rmw_introspect.run.warm import client as warm
 
 PY = sys.executable
 PACKAGE = "rmw_introspect_examples"

@@ -46,7 +46,8 @@ import time
 from pathlib import Path
 
 from pytest_rmw_introspect.check import pipeline
-from pytest_rmw_introspect.run import middleware, ros_env, runner, target, warm
+from pytest_rmw_introspect.run import middleware, ros_env, runner, target
+from pytest_rmw_introspect.run.warm import client as warm
 
 PY = sys.executable
 CLI = str(Path(PY).parent / "rmw-introspect")

@@ -14,29 +14,31 @@ Outside pytest::
     cap.to_contract_nodes()        # the `nodes` mapping of a contract
 
 In a test, ``pytest_rmw_introspect.check_compatible("a.interfaces.yaml", "b.interfaces.yaml")``
-fails the test unless the nodes of the contracts fit together (a system check), and
+fails the test unless the nodes of the contracts fit together (a compatibility check), and
 ``diff_contracts(old, new)`` compares two contract files without running anything.
 
 The package is layered (docs/design.md): ``model`` (the vocabulary, captures, contracts),
-``compare`` (options, drift, system checks, reports) and ``run`` (targets, the runner, ROS
-detection, the middleware library), then ``check`` (the pipeline, outcomes, the golden
-writer) and the two front ends, ``plugin`` (pytest) and ``cli`` (``rmw-introspect``).
-``options_reference`` renders the option tables (``model.option_tables``) as reference pages
-and writes the contract schema's generated definitions.
+``compare`` (options, drift, compatibility checks, reports), ``launch`` (reading launch files)
+and ``run`` (targets, the runner, ROS detection, the middleware library, system captures), then
+``check`` (the pipeline, outcomes, the golden writer) and the two front ends, ``plugin`` (pytest)
+and ``cli`` (``rmw-introspect``). Beside them: ``errors`` (every error a user can cause), ``_version`` (the one version) and
+``__main__`` (``python -m pytest_rmw_introspect``); ``options_reference`` renders the option tables
+(``model.option_tables``) as reference pages and writes the contract schema's generated definitions.
 """
 
 from __future__ import annotations
 
 import importlib
+import warnings
 from typing import TYPE_CHECKING, Any
 
 from ._version import __version__
 
 if TYPE_CHECKING:
-    from .check.pipeline import DiffResult, SystemResult, diff_contracts
+    from .check.pipeline import CompatibilityResult, DiffResult, diff_contracts
+    from .compare.compatibility import CompatItem
     from .compare.drift import DriftItem
     from .compare.options import ComparisonOptions
-    from .compare.system import CompatItem
     from .errors import (
         CaptureFormatError,
         ContractError,
@@ -66,12 +68,12 @@ if TYPE_CHECKING:
 #: in pytest (``check_compatible``) or the whole pipeline until it is used. Measured with
 #: `python -X importtime`: eager imports made `rmw-introspect --help` ~60 ms slower.
 _LAZY: dict[str, tuple[str, str]] = {
+    "CompatibilityResult": ("check.pipeline", "CompatibilityResult"),
     "DiffResult": ("check.pipeline", "DiffResult"),
-    "SystemResult": ("check.pipeline", "SystemResult"),
     "diff_contracts": ("check.pipeline", "diff_contracts"),
     "DriftItem": ("compare.drift", "DriftItem"),
     "ComparisonOptions": ("compare.options", "ComparisonOptions"),
-    "CompatItem": ("compare.system", "CompatItem"),
+    "CompatItem": ("compare.compatibility", "CompatItem"),
     "Capture": ("model.capture", "Capture"),
     "Endpoint": ("model.capture", "Endpoint"),
     "Interface": ("model.capture", "Interface"),
@@ -93,7 +95,18 @@ _LAZY: dict[str, tuple[str, str]] = {
 }
 
 
+#: deprecated public name → the name that replaced it (still importable, with a DeprecationWarning)
+_DEPRECATED: dict[str, str] = {
+    "SystemResult": "CompatibilityResult",  # "system" means system contracts (launch files) now
+}
+
+
 def __getattr__(name: str) -> Any:
+    if name in _DEPRECATED:
+        new = _DEPRECATED[name]
+        warnings.warn(f"pytest_rmw_introspect.{name} is deprecated: use pytest_rmw_introspect.{new}",
+                      DeprecationWarning, stacklevel=2)
+        return __getattr__(new)
     if name not in _LAZY:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     module, attribute = _LAZY[name]
@@ -110,6 +123,7 @@ __all__ = [
     "Capture",
     "CaptureFormatError",
     "CompatItem",
+    "CompatibilityResult",
     "ComparisonOptions",
     "Constant",
     "Contract",
@@ -134,7 +148,6 @@ __all__ = [
     "ServiceType",
     "SetupError",
     "StimulusFailed",
-    "SystemResult",
     "TargetConfigError",
     "TargetError",
     "TargetExited",

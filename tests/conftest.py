@@ -43,6 +43,6 @@ def pytest_sessionstart(session: pytest.Session) -> None:
     the servers of their process, so each test process keeps servers of its own, from before
     its collection (sharing is tested in processes of its own, tests/middleware/
     test_warm_shared.py and tests/plugin/test_plugin_warm.py)."""
-    from pytest_rmw_introspect.run import warm
+    from pytest_rmw_introspect.run.warm import client as warm
 
     warm.POOL.share_within(None)

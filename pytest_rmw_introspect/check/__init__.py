@@ -1,7 +1,19 @@
 """The check layer: the pipeline from a contract file to an outcome, and the one writer.
 
-``pipeline`` (contract → layered target and options → capture → drift → result; diff and
-system checks over files), ``outcome`` (the pure decision: pass, warn, fail, write, error) and
-``golden`` (every contract write: atomic, locked, CI-aware). It may import ``compare``, ``run``,
-``model`` and ``errors``; the front ends (``plugin``, ``cli``) sit on top of it.
+One line per module:
+
+- ``pipeline``: contract → layered target and options → capture → drift → result; diffs and
+  compatibility checks over files
+- ``system_pipeline``: the same for a system contract (a launch file's processes), its diffs and
+  the compatibility rules over contract files of either kind
+- ``launch_settings``: what a launch file gives each process, as ``compare.launch_given`` reads it
+- ``outcome``: the pure decision: pass, warn, fail, write, error
+- ``golden``: every contract write: atomic, locked, CI-aware
+- ``golden_record``: what a session wrote and whether it may write (the part a pytest-xdist
+  controller needs without the writer)
+- ``baselines``: a baseline file applied to check results
+- ``sharding``: which contracts one CI job of several checks
+
+It may import ``compare``, ``run``, ``launch``, ``model`` and ``errors``; the front ends
+(``plugin``, ``cli``) sit on top of it.
 """

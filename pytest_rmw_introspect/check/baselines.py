@@ -9,12 +9,12 @@ from pathlib import Path
 
 from ..compare.acceptance import Finding
 from ..compare.baseline import Baseline
+from ..compare.compatibility import CompatItem
 from ..compare.drift import DriftItem
-from ..compare.system import CompatItem
-from .pipeline import CheckResult, SystemResult
+from .pipeline import CheckResult, CompatibilityResult
 from .system_pipeline import SystemCheckResult
 
-Result = CheckResult | SystemCheckResult | SystemResult
+Result = CheckResult | SystemCheckResult | CompatibilityResult
 
 
 def apply(result: Result, baseline: Baseline) -> None:

@@ -1,6 +1,6 @@
 """What a launch file gives each process, as the rules of ``compare.launch_given`` read it.
 
-:func:`given` turns a launched node (``run.launch_model.LaunchedNode``) into a
+:func:`given` turns a launched node (``launch.result.LaunchedNode``) into a
 ``compare.launch_given.Given``: the parameters set on its command line (``<param>``, ``<set_parameter>``,
 ``-p`` in ``ros_args``), the node sections of its parameters files (read here, within the limits of
 untrusted input), and its remappings (``<remap>``, ``-r`` in ``ros_args``). A parameters file
@@ -17,9 +17,9 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ..compare.launch_given import Given, GivenParameter, MissingPath, ParamsFile, sections
+from ..launch.result import ComponentLoad, LaunchedNode
 from ..model import portable, untrusted
 from ..model.paths import shown
-from ..run.launch_model import ComponentLoad, LaunchedNode
 from ..run.ros_env import package_shares
 
 

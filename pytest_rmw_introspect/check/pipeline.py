@@ -16,7 +16,7 @@ command line), and ``strong`` layers, above it (marker keyword arguments, the ta
 
 :func:`check` does both and never raises an :class:`~pytest_rmw_introspect.errors.RmwIntrospectError`:
 it is put on ``result.error``. :func:`diff_contracts` compares two contract files without running
-anything; :func:`check_system` runs the system check over contract files.
+anything; :func:`check_compatibility` runs the compatibility check over contract files.
 """
 
 from __future__ import annotations
@@ -28,13 +28,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeAlias
 
-from ..compare import acceptance, drift, parameter_drift, report, system
+from ..compare import acceptance, compatibility, drift, parameter_drift, report
 from ..compare import type_lock as type_lock_check
 from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
+from ..compare.compatibility import CompatItem
 from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions, resolve
-from ..compare.system import CompatItem
 from ..errors import LifecycleTransitionFailed, RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
 from ..model import nodl, type_lock
@@ -312,7 +312,7 @@ def locked_type_items(prepared: Prepared, capture: Capture) -> list[DriftItem]:
     found = type_lock.find(prepared.path)
     if found is None:
         return []
-    return type_lock_check.check(capture.to_contract_nodes(), capture.types, type_lock.load(found))
+    return type_lock_check.lock_drift(capture.to_contract_nodes(), capture.types, type_lock.load(found))
 
 
 def run_capture(prepared: Prepared, *, library: str | Path | None = None,
@@ -331,7 +331,7 @@ def run(prepared: Prepared, *, library: str | Path | None = None, ros: RosEnviro
     return compare(prepared, run_capture(prepared, library=library, ros=ros))
 
 
-def check(
+def check_contract(
     contract_path: str | Path,
     *,
     library: str | Path | Callable[[], str | Path] | None = None,
@@ -431,12 +431,12 @@ def diff_contracts(
     return DiffResult(old, new, old_shown, new_shown, opts, items)
 
 
-# ---------------------------------------------------------------------------- system checks
+# --------------------------------------------------------------------- compatibility checks
 
 
 @dataclass
-class SystemResult:
-    """Whether the nodes of several contracts fit together (:func:`check_system`)."""
+class CompatibilityResult:
+    """Whether the nodes of several contracts fit together (:func:`check_compatibility`)."""
 
     labels: list[str]
     items: list[CompatItem]
@@ -453,7 +453,7 @@ class SystemResult:
 
     def render_text(self) -> str:
         return report.render_compat_text(self.items, threshold=self.threshold,
-                                         title=f"System check of {len(self.labels)} contract(s)",
+                                         title=f"Compatibility check of {len(self.labels)} contract(s)",
                                          accepted=self.accepted, stale=self.stale)
 
     def to_json(self) -> list[dict[str, Any]]:
@@ -461,8 +461,8 @@ class SystemResult:
                 *report.stale_to_json(self.stale)]
 
 
-def judge_system(items: Sequence[CompatItem], accept: Sequence[Acceptance],
-                 file_of: Callable[[str], str] = lambda label: label) -> acceptance.Judged:
+def judge_compatibility(items: Sequence[CompatItem], accept: Sequence[Acceptance],
+                        file_of: Callable[[str], str] = lambda label: label) -> acceptance.Judged:
     """The system problems sorted by the contracts' ``accept:`` entries: an entry accepts a
     problem one of whose ends is in its own contract (``file_of``: an end's label → its file)."""
     def applies(entry: Acceptance, item: acceptance.Finding) -> bool:
@@ -473,14 +473,14 @@ def judge_system(items: Sequence[CompatItem], accept: Sequence[Acceptance],
     return acceptance.judge(items, accept, rules=acceptance.SYSTEM_RULES, applies=applies)
 
 
-def check_system(
+def check_compatibility(
     contract_paths: Iterable[str | Path],
     *,
     fail_on: str = "breaking",
     strict_system_default: bool = False,
     base_dir: str | Path | None = None,
-) -> SystemResult:
-    """Load the contracts and check that their nodes fit together (``compare.system``).
+) -> CompatibilityResult:
+    """Load the contracts and check that their nodes fit together (``compare.compatibility``).
 
     Labels are the paths as shown (relative to the current directory). Relative paths are
     relative to ``base_dir`` (default: the current directory). Raises ContractError, or
@@ -503,7 +503,7 @@ def check_system(
         lines[label] = loaded.lines()
         accept += loaded.accept
     if not systems:
-        raise ValueError("no contracts given to the system check")
-    judged = judge_system(system.check_system(systems, strict_system_default=strict_system_default), accept)
-    return SystemResult(labels=list(systems), items=[i for i in judged.kept if isinstance(i, CompatItem)],
-                        threshold=threshold, lines=lines, accepted=judged.accepted, stale=judged.stale)
+        raise ValueError("no contracts given to the compatibility check")
+    judged = judge_compatibility(compatibility.check_compatibility(systems, strict_system_default=strict_system_default), accept)
+    return CompatibilityResult(labels=list(systems), items=[i for i in judged.kept if isinstance(i, CompatItem)],
+                               threshold=threshold, lines=lines, accepted=judged.accepted, stale=judged.stale)

@@ -3,19 +3,19 @@
 The same steps as ``pipeline`` for a node contract, and the same option layers
 (``pipeline.Layers``): load the system contract (``model.system_contract``), resolve its
 ``launch:`` block, the process-wide target options (``settle``, ``timeout``, ``horizon``,
-``lifecycle``, ``read_parameters``, ``env``) and the comparison options, capture every process (``run.system.capture_system``),
+``lifecycle``, ``read_parameters``, ``env``) and the comparison options, capture every process (``run.system_capture.capture_system``),
 then
 
 * compare the system's nodes with the contract's ``nodes`` (``compare.drift``: the drift rules
   of a node contract), and
-* run the system rules on the capture (``compare.system.check_launched``: type, hash and QoS
+* run the compatibility rules on the capture (``compare.compatibility.check_launched``: type, hash and QoS
   of every connection, requesters without providers, duplicate node names, several servers,
   launched processes that created no node), judged with ``system_fail_on`` (default
   ``breaking``, like ``rmw-introspect compat``).
 
 :class:`SystemCheckResult` is what ``check.outcome.decide`` reads, like a ``CheckResult``; its
 ``items`` are the drift and then the system problems, ``drifted`` says whether the golden
-differs. :func:`load_any` and :func:`check_contracts` run the system rules on contract files
+differs. :func:`load_any` and :func:`check_contracts` run the compatibility rules on contract files
 without capturing (``compat``, ``graph``); :func:`diff_system` compares two system contracts.
 """
 
@@ -30,11 +30,12 @@ from typing import Any
 from ..compare import acceptance, drift, parameter_drift, report
 from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
+from ..compare.compatibility import CompatItem, LaunchedProcess, check_compatibility, check_launched, propose_external
 from ..compare.drift import DriftItem
 from ..compare.launch_given import Given
 from ..compare.options import ComparisonOptions
-from ..compare.system import CompatItem, LaunchedProcess, check_launched, check_system, propose_external
 from ..errors import RmwIntrospectError, TargetConfigError
+from ..launch import component_loads
 from ..model import contract as contract_module
 from ..model import system_contract
 from ..model.acceptance import Acceptance
@@ -43,15 +44,14 @@ from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.vocabulary import Severity, parse_threshold
-from ..run import component_loads
-from ..run import system as run_system
+from ..run import system_capture
 from ..run.ros_env import RosEnvironment
-from ..run.system import LaunchSpec, ProcessCapture, SystemCapture
+from ..run.system_capture import LaunchSpec, ProcessCapture, SystemCapture
 from ..run.target import TargetSpec
 from . import golden, launch_settings
 from .pipeline import Layers, OptionLayer, read_as_asked
 
-#: the system rules fail on this unless ``system_fail_on`` says otherwise (as ``compat``)
+#: the compatibility rules fail on this unless ``system_fail_on`` says otherwise (as ``compat``)
 DEFAULT_SYSTEM_FAIL_ON = "breaking"
 NO_LAYERS = Layers()
 
@@ -125,8 +125,8 @@ def prepare(
     if launch_arguments:
         block = {**block, "arguments": {**(block.get("arguments") or {}), **launch_arguments}}
     env = ros() if callable(ros) else ros
-    spec = run_system.resolve_launch(block, base_dir=base, source=source,
-                                     prefixes=run_system.ament_prefixes(env))
+    spec = system_capture.resolve_launch(block, base_dir=base, source=source,
+                                         prefixes=system_capture.ament_prefixes(env))
     return SystemPrepared(path=path, shown=shown, contract=contract, launch=spec, target=target,
                           options=read_as_asked(target, options),
                           system_threshold=system_threshold(contract, system_fail_on), ros=env)
@@ -136,7 +136,7 @@ def prepare(
 
 
 def launched_processes(capture: SystemCapture) -> list[LaunchedProcess]:
-    """The processes of a capture as the system rules read them."""
+    """The processes of a capture as the compatibility rules read them."""
     return [LaunchedProcess(label=p.label, expected=p.launched.expected_fqn, nodes=p.contract_nodes(),
                             duplicates=tuple(p.capture.duplicate_node_names) if p.capture is not None else (),
                             where=str(p.launched.where), given=launch_settings.given(p.launched),
@@ -171,9 +171,9 @@ def unloaded_components(process: ProcessCapture) -> tuple[tuple[str, str], ...]:
 
 
 def contract_processes(contract: SystemContract, label: str | None = None) -> list[LaunchedProcess]:
-    """The processes of a system contract as the system rules read them (labels as in a capture)."""
+    """The processes of a system contract as the compatibility rules read them (labels as in a capture)."""
     entries = [p for p, _ in contract.process_nodes()]
-    names = run_system.labels([(p.get("package"), str(p.get("executable"))) for p in entries])
+    names = system_capture.labels([(p.get("package"), str(p.get("executable"))) for p in entries])
     prefix = f"{label}: " if label else ""
     return [LaunchedProcess(label=prefix + name, expected=p.get("name"), nodes=nodes)
             for name, (p, nodes) in zip(names, contract.process_nodes(), strict=True)]
@@ -307,12 +307,12 @@ class SystemCheckResult:
 
 
 def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResult:
-    """Compare a system capture with the prepared contract and run the system rules on it."""
+    """Compare a system capture with the prepared contract and run the compatibility rules on it."""
     result = SystemCheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
                                spec=prepared.launch, options=prepared.options,
                                system_threshold=prepared.system_threshold, capture=capture)
     external = prepared.contract.external if prepared.contract is not None else None
-    missing_path = launch_settings.missing_path(run_system.ament_prefixes(prepared.ros))
+    missing_path = launch_settings.missing_path(system_capture.ament_prefixes(prepared.ros))
     system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path)
     drift_items = []
     if prepared.contract is not None:
@@ -331,11 +331,11 @@ def run_capture(prepared: SystemPrepared, *, library: str | Path | None = None,
                 ros: RosEnvironment | None = None, jobs: int | None = None) -> SystemCapture:
     """Capture every process of the prepared system (raises a TargetError); ``jobs``: processes
     at a time (default: the number of cores)."""
-    return run_system.capture_system(prepared.launch, target=prepared.target, library=library, ros=ros,
-                                     include_infrastructure=prepared.options.include_infrastructure, jobs=jobs)
+    return system_capture.capture_system(prepared.launch, target=prepared.target, library=library, ros=ros,
+                                         include_infrastructure=prepared.options.include_infrastructure, jobs=jobs)
 
 
-def check(
+def check_system_contract(
     contract_path: str | Path,
     *,
     library: str | Path | Callable[[], str | Path] | None = None,
@@ -373,7 +373,7 @@ def check(
 
 @dataclass
 class LoadedContracts:
-    """Contract files of either kind, as the system rules and the graph read them."""
+    """Contract files of either kind, as the compatibility rules and the graph read them."""
 
     labels: list[str]
     processes: list[LaunchedProcess]
@@ -426,17 +426,17 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
             processes.append(LaunchedProcess(label=label, expected=None, nodes=contract.nodes, launched=False))
             accept += contract.accept
     if not labels:
-        raise ValueError("no contracts given to the system check")
+        raise ValueError("no contracts given to the compatibility check")
     acceptance.check_rules(accept)
     return LoadedContracts(labels, processes, any_system, accept, external)
 
 
 def system_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
-    """The system rules over loaded contracts: all of them when a system contract is among
+    """The compatibility rules over loaded contracts: all of them when a system contract is among
     them, the connection rules (``compat`` as before) for node contracts alone."""
     if loaded.any_system:
         return check_launched(loaded.processes, external=loaded.external, strict_system_default=strict_system_default)
-    return check_system(loaded.nodes_by_label(), strict_system_default=strict_system_default)
+    return check_compatibility(loaded.nodes_by_label(), strict_system_default=strict_system_default)
 
 
 @dataclass

@@ -1,8 +1,20 @@
 """The ``rmw-introspect`` command line: capture, check, diff, compat.
 
-``parser`` (arguments and help texts), ``option_flags`` (the flags of the option tables,
-``model.option_tables``), ``commands`` (each command over the check pipeline),
-``formats`` (what ``capture`` prints). :func:`main` is the console script.
+One line per module (:func:`main` here is the console script):
+
+- ``parser``: arguments and help texts
+- ``option_flags``: the flags of the option tables (``model.option_tables``)
+- ``commands``: ``check``, ``diff``, ``compat``, ``graph`` over the check pipeline
+- ``capture``: ``capture``: one target (or a launch file's processes), printed or written
+- ``formats``: what ``capture`` prints or writes (contract, JSON, NoDL, raw)
+- ``system_contracts``: system contracts on the command line (``capture --launch``, ``*.system.yaml``)
+- ``system_options``: the command-line options of system contracts
+- ``launch_options``: what the command line says of a launch file, without the system pipeline
+- ``baselines``: ``--baseline`` and ``--write-baseline``
+- ``init``: ``init --package P``: contract testing started on a package
+- ``validate``: ``validate``: contract files checked without running anything
+- ``lock``: ``lock``: the package's type-hash lockfile
+- ``ros_setup``: the ROS environment and middleware library, found on first use
 """
 
 from __future__ import annotations
@@ -60,7 +72,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     # start client: its one target starts cold (cli.capture).
     if args.command == "capture":
         return _run_reporting_errors(args, command)
-    from ..run import warm
+    from ..run.warm import client as warm
 
     if len(getattr(args, "contracts", ())) < 2:
         # a warm start server pays for itself from the second capture of a run on

@@ -18,10 +18,10 @@ from .ros_setup import Setup
 
 def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
     if launch_options.wants_launch(args):
-        from . import system  # the system pipeline and launch readers: only for a launch file
+        from . import system_contracts  # the system pipeline and launch readers: only for a launch file
 
         setup_ = Setup()
-        return system.cmd_capture(args, command, setup_.ros, setup_.library)
+        return system_contracts.cmd_capture(args, command, setup_.ros, setup_.library)
     launch_options.launch_block(args)  # launch options without a launch file are a usage error
     cwd = Path.cwd()
     target = target_from_args(args, command)

@@ -20,7 +20,7 @@ from ..compare import ci_report, sarif
 from ..errors import GoldenWriteError
 from ..model.contract import Contract
 from ..model.option_tables import COMPARISON, TARGET, FrontEnd
-from . import baselines, option_flags, system
+from . import baselines, option_flags, system_contracts
 from .formats import print_json
 from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, UsageError, compare_from_args, target_from_args
 from .ros_setup import Setup
@@ -46,7 +46,7 @@ def _no_target(contract: Contract | None, shown: str) -> str:
             "(--package P --executable E, --script FILE, --module M or -- COMMAND)")
 
 
-def _write_golden(result: pipeline.CheckResult | system.system_pipeline.SystemCheckResult, path: Path,
+def _write_golden(result: pipeline.CheckResult | system_contracts.system_pipeline.SystemCheckResult, path: Path,
                   shown: str) -> str:
     """Write the golden of ``result``; returns what to say on stderr (raises GoldenWriteError)."""
     if not isinstance(result, pipeline.CheckResult):  # a system contract writes its own header
@@ -78,18 +78,18 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     layers = pipeline.Layers(strong_target=[(target, cwd, "command line")] if target else [],
                              strong_options=[(compare_from_args(args), "command line")])
     setup = Setup()
-    checked: list[pipeline.CheckResult | system.system_pipeline.SystemCheckResult] = []
+    checked: list[pipeline.CheckResult | system_contracts.system_pipeline.SystemCheckResult] = []
     status = EXIT_OK
     all_items: list[dict[str, Any]] = []
     for_ci: list[ci_report.ContractOutcome] = []
     for shown in args.contracts:
         path = Path(shown)
-        result: pipeline.CheckResult | system.system_pipeline.SystemCheckResult
-        if system.is_system(path, args):
-            result = system.check(args, path, shown, command, setup.ros, setup.library)
+        result: pipeline.CheckResult | system_contracts.system_pipeline.SystemCheckResult
+        if system_contracts.is_system(path, args):
+            result = system_contracts.check_system_contract(args, path, shown, command, setup.ros, setup.library)
         else:
-            result = pipeline.check(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,
-                                    allow_missing=args.update, no_target=_no_target)
+            result = pipeline.check_contract(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,
+                                             allow_missing=args.update, no_target=_no_target)
         baselines.apply(baseline, result)
         checked.append(result)
         outcome = decide(result, update=args.update, accept_command=accept_command(args, shown, command))
@@ -153,8 +153,8 @@ def _append_summary(path: str, markdown: str) -> None:
 
 
 def cmd_diff(args: argparse.Namespace) -> int:
-    if system.any_system([args.old, args.new]):
-        return system.cmd_diff(args)
+    if system_contracts.any_system([args.old, args.new]):
+        return system_contracts.cmd_diff(args)
     result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])
     if args.format == "json":
         print(json.dumps(result.to_json(), indent=2, default=str))
@@ -170,11 +170,11 @@ def cmd_diff(args: argparse.Namespace) -> int:
 
 
 def cmd_compat(args: argparse.Namespace) -> int:
-    if system.any_system(args.contracts):
-        return system.cmd_compat(args)
+    if system_contracts.any_system(args.contracts):
+        return system_contracts.cmd_compat(args)
     baseline = baselines.load(args)
-    result = pipeline.check_system(args.contracts, fail_on=args.fail_on,
-                                   strict_system_default=args.strict_system_default)
+    result = pipeline.check_compatibility(args.contracts, fail_on=args.fail_on,
+                                          strict_system_default=args.strict_system_default)
     baselines.apply(baseline, result)
     baselines.finish(args, baseline, [result])
     if args.format == "json":
@@ -193,4 +193,4 @@ def cmd_compat(args: argparse.Namespace) -> int:
 
 
 def cmd_graph(args: argparse.Namespace) -> int:
-    return system.cmd_graph(args)
+    return system_contracts.cmd_graph(args)

@@ -150,7 +150,7 @@ All nodes of all contracts form one system. Every subscription, service client a
 client is matched with the publishers/servers of the same name: type, type hash and QoS
 compatibility (incompatible QoS is BREAKING, possibly incompatible RISKY); a requester without
 any provider is RISKY. A policy left at SYSTEM_DEFAULT on both ends is not reported unless
---strict-system-default. Rules: docs/drift-rules.md ("System checks").
+--strict-system-default. Rules: docs/drift-rules.md ("Compatibility rules").
 
 --fail-on defaults to `breaking` here (a partial system lacking some publisher is common).
 exit status: 0 compatible (or problems below --fail-on), 1 problems at or above --fail-on,
@@ -318,7 +318,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="the lockfile (default: interfaces.lock.json at the package root above the contracts)")
 
     com = sub.add_parser("compat", help="check that the nodes of several contracts fit together",
-                         description="System check: do the nodes of these contracts fit together?",
+                         description="Compatibility check: do the nodes of these contracts fit together?",
                          epilog=_COMPAT_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     com.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML)")
     com.add_argument("--fail-on", choices=FAIL_ON, default="breaking",

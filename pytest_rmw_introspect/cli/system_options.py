@@ -22,8 +22,8 @@ options apply to every process ({flags} only).
 
 GRAPH_EPILOG = """\
 Draws the nodes of the contracts (system contracts, node contracts, or both) with their topics,
-services and actions, and marks what the system rules find (docs/drift-rules.md, "System
-checks"): the edges of an incompatible connection, a requester without provider, duplicate
+services and actions, and marks what the compatibility rules find (docs/drift-rules.md, "Compatibility
+rules"): the edges of an incompatible connection, a requester without provider, duplicate
 node names, several servers, a launched process that created no node, in red (BREAKING) or
 orange (RISKY) with the rule id. Nothing is run.
 

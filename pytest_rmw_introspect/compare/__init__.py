@@ -1,7 +1,24 @@
 """The comparison layer: what differs and how much it matters.
 
-``options`` (comparison options and their validation), ``drift`` (contract vs capture, or two
-contracts: classified drift items), ``system`` (do the nodes of several contracts fit
-together) and ``report`` (text and JSON for both). It may import ``model`` and ``errors``;
-it never runs anything.
+One line per module:
+
+- ``options``: comparison options and their validation
+- ``drift``: contract vs capture, or two contracts: classified drift items
+- ``type_drift``: field-level differences between two descriptions of a type
+- ``parameter_drift``: parameters and lifecycle state, expected against actual
+- ``destruction_drift``: drift of when the program destroys a node or an interface
+- ``compatibility``: do the nodes of several contracts (or a launch file's processes) fit together
+- ``wiring``: dangling endpoints of a launched system, the declared outside world, mis-wired names
+- ``launch_given``: what a launch file gives a node that the node silently ignores
+- ``similarity``: how close two names are (one typo apart, or not)
+- ``acceptance``: which findings the contracts' ``accept:`` entries accept, and stale entries
+- ``baseline``: baseline files: today's findings, a later run's split into new and known
+- ``findings``: what identifies a finding across runs (rule and place)
+- ``type_lock``: a capture's interface types against the package's type lock
+- ``report``: text for people and JSON for machines
+- ``ci_report``: Markdown and GitHub workflow annotations
+- ``sarif``: SARIF 2.1.0 logs
+- ``graph``: a system drawn (Mermaid, Graphviz DOT, HTML) with the findings on it
+
+It may import ``model`` and ``errors``; it never runs anything.
 """

@@ -14,13 +14,13 @@ from dataclasses import dataclass, field
 
 from ..errors import ContractError
 from ..model.acceptance import Acceptance
-from . import drift, system
+from . import compatibility, drift
+from .compatibility import CompatItem
 from .drift import DriftItem
-from .system import CompatItem
 
-#: the rules a check of a node contract's drift can find, and those of the system checks
+#: the rules a check of a node contract's drift can find, and those of the compatibility checks
 DRIFT_RULES = frozenset(drift.RULES)
-SYSTEM_RULES = frozenset(system.RULES)
+SYSTEM_RULES = frozenset(compatibility.RULES)
 
 Finding = DriftItem | CompatItem
 
@@ -48,7 +48,7 @@ def check_rules(acceptances: Iterable[Acceptance]) -> None:
     for entry in acceptances:
         if entry.rule not in DRIFT_RULES | SYSTEM_RULES:
             raise ContractError(entry.source, "accept", f"unknown rule {entry.rule}: the rule ids are in "
-                                "docs/drift-rules.md (drift rules like PUB_REMOVED, system rules like "
+                                "docs/drift-rules.md (drift rules like PUB_REMOVED, compatibility rules like "
                                 "SUBSCRIPTION_WITHOUT_PUBLISHER)", line=entry.line)
 
 

@@ -15,8 +15,8 @@ from ..model.acceptance import Acceptance
 from ..model.locate import LineIndex, line_of
 from ..model.vocabulary import LABELS, THRESHOLD_WORDS, Severity
 from .acceptance import Accepted
+from .compatibility import CompatItem
 from .drift import DriftItem
-from .system import CompatItem
 
 
 @dataclass(frozen=True)
@@ -121,8 +121,8 @@ def _acceptance_bullets(accepted: Sequence[Accepted], stale: Sequence[Acceptance
 
 
 def compat_markdown(items: Sequence[CompatItem], *, threshold: Severity, labels: Sequence[str],
-                    title: str = "System check") -> str:
-    """The system check: a verdict, the contracts checked and the problems by severity."""
+                    title: str = "Compatibility check") -> str:
+    """The compatibility check: a verdict, the contracts checked and the problems by severity."""
     failing = any(i.severity >= threshold for i in items)
     verdict = "FAIL" if failing else "pass"
     lines = [f"## {title} of {len(labels)} contract(s): {verdict}", ""]

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import hashlib
 
+from .compatibility import CompatItem, ContractEndpoint
 from .drift import DriftItem
-from .system import CompatItem, Endpoint
 
 
-def _endpoint(endpoint: Endpoint | None) -> list[str]:
+def _endpoint(endpoint: ContractEndpoint | None) -> list[str]:
     return ["", "", ""] if endpoint is None else [endpoint.label, endpoint.node, endpoint.kind]
 
 

@@ -1,7 +1,7 @@
-"""A system drawn: nodes, topics, services and actions, with the system rules' findings on them.
+"""A system drawn: nodes, topics, services and actions, with the compatibility rules' findings on them.
 
-:func:`build` turns the processes of a system (``compare.system.LaunchedProcess``: a system
-contract's processes, or one per node contract) and the system rules' items into a
+:func:`build` turns the processes of a system (``compare.compatibility.LaunchedProcess``: a system
+contract's processes, or one per node contract) and the compatibility rules' items into a
 :class:`SystemGraph`: a vertex per node (grouped by process) and per topic, service and action,
 an edge per endpoint, from what offers to what requests (publisher → topic → subscription,
 service server → service → client, action server → action → action client). Every item marks
@@ -23,7 +23,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from ..model.vocabulary import DESTROYED_AT, LABELS, LISTS, OFFERING_LISTS, Severity
-from .system import CompatItem, LaunchedProcess
+from .compatibility import CompatItem, LaunchedProcess
 
 #: interface list → the kind of interface vertex it connects to
 CATEGORY = {

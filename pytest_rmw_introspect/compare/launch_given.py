@@ -7,7 +7,7 @@ misconfiguration a robot ships with. :func:`check` compares what each process of
 system was given (:class:`Given`, built from the launch file by ``check.system_pipeline``)
 with what its nodes declared and created (their capture), and returns one finding per ignored
 setting: ``PARAM_NOT_DECLARED``, ``PARAMS_FILE_SECTION_UNMATCHED``, ``REMAP_UNUSED`` (all
-BREAKING; rationale in docs/drift-rules.md, "System checks").
+BREAKING; rationale in docs/drift-rules.md, "Compatibility rules").
 
 Parameters files are matched as rclcpp and rclpy match them: a section key is a fully
 qualified node name (a leading ``/`` is added when missing, so ``lidar:`` is the node
@@ -122,8 +122,8 @@ class Finding:
     message: str
 
 
-def check(processes: Sequence[Any], missing_path: MissingPath | None = None) -> list[Finding]:
-    """Every ignored setting of the launched ``processes`` (``compare.system.LaunchedProcess``
+def given_findings(processes: Sequence[Any], missing_path: MissingPath | None = None) -> list[Finding]:
+    """Every ignored setting of the launched ``processes`` (``compare.compatibility.LaunchedProcess``
     with ``given``), and with ``missing_path`` every parameter value that points at a file that
     does not exist."""
     findings: list[Finding] = []

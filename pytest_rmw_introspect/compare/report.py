@@ -11,8 +11,8 @@ from ..model.acceptance import Acceptance
 from ..model.parameters import format_value
 from ..model.vocabulary import DESTROYED_AT, LABELS, PARAMETERS, THRESHOLD_WORDS, Severity
 from .acceptance import Accepted
+from .compatibility import CompatItem
 from .drift import DriftItem
-from .system import CompatItem
 
 #: the rule of a stale ``accept:`` entry in JSON and SARIF
 STALE_RULE = "ACCEPTANCE_STALE"
@@ -197,7 +197,7 @@ def to_json(items: Iterable[DriftItem]) -> list[dict[str, Any]]:
     ]
 
 
-# --------------------------------------------------------------------------- system checks
+# -------------------------------------------------------------------- compatibility checks
 
 
 def render_compat_text(
@@ -210,7 +210,7 @@ def render_compat_text(
 ) -> str:
     """The system-check report for people: grouped by severity, then topic/service name; then
     the accepted problems and the stale ``accept:`` entries."""
-    heading = title or "System check"
+    heading = title or "Compatibility check"
     if not items:
         return "\n".join([f"{heading}: all contracts fit together.", *render_acceptances(accepted, stale)]) + "\n"
     lines = [f"{heading}: {_plural(len(items), 'problem')} ({_counts(items)})",

@@ -3,7 +3,7 @@
 
 One run of the tool ``rmw-introspect`` (``tool_version``: the version the front end gives; the
 compare layer does not import it). Its ``rules`` are every rule of docs/drift-rules.md (drift,
-field-level type, parameter and system rules) plus the tool's own (a contract that could not be
+field-level type, parameter and compatibility rules) plus the tool's own (a contract that could not be
 checked or is invalid), each with its description and a default level from its severity
 (BREAKING error, RISKY warning, SAFE note). One result per drift item or system
 problem, on the contract line of its interface (else of its node, else the file). A result's
@@ -21,11 +21,11 @@ from urllib.parse import quote
 from ..model.acceptance import Acceptance
 from ..model.locate import LineIndex, line_of
 from ..model.vocabulary import LABELS, Severity
-from . import drift, findings, report, system
+from . import compatibility, drift, findings, report
 from .acceptance import Accepted
 from .ci_report import ContractOutcome
+from .compatibility import CompatItem
 from .drift import DriftItem
-from .system import CompatItem
 
 VERSION = "2.1.0"
 SCHEMA_URI = "https://json.schemastore.org/sarif-2.1.0.json"
@@ -54,7 +54,7 @@ _DEFAULT_LEVEL = {Severity.BREAKING: "error", Severity.RISKY: "warning", Severit
 def rules() -> dict[str, tuple[Severity, str]]:
     """Every rule a result can name: rule id → (severity, summary), in a stable order."""
     table = {rule_id: (rule.severity, rule.summary) for rule_id, rule in drift.RULES.items()}
-    table.update((rule_id, (severity, system.SUMMARIES[rule_id])) for rule_id, severity in system.RULES.items())
+    table.update((rule_id, (severity, compatibility.SUMMARIES[rule_id])) for rule_id, severity in compatibility.RULES.items())
     table.update(TOOL_RULES)
     return table
 

@@ -39,7 +39,7 @@ def _path(table: Mapping[str, TypeDescription], root: str, target: str) -> list[
     return [root, target]
 
 
-def check(nodes: Mapping[str, Any], table: Mapping[str, TypeDescription], lock: TypeLock) -> list[DriftItem]:
+def lock_drift(nodes: Mapping[str, Any], table: Mapping[str, TypeDescription], lock: TypeLock) -> list[DriftItem]:
     """The differences between the types the interfaces of ``nodes`` (a capture's, in contract
     form) use and ``lock``, as drift items under each interface."""
     items: list[DriftItem] = []

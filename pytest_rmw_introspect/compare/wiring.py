@@ -3,7 +3,7 @@
 A system contract is a whole robot, so a subscription nobody in it publishes (a client nobody
 serves, an action client nobody serves) is either fed from outside the launch files (rviz, a
 teleop, a driver started elsewhere: the contract declares it under ``external:``) or a
-mis-wiring. :func:`judge` turns the requesters without provider that ``compare.system`` found
+mis-wiring. :func:`judge` turns the requesters without provider that ``compare.compatibility`` found
 into what they are:
 
 * declared under ``external:``: nothing to report;
@@ -15,7 +15,7 @@ into what they are:
 
 A declaration under ``external:`` that no endpoint of the system uses is reported
 (``EXTERNAL_UNUSED``): it is stale, or it hides a typo on one side. Rules and severities:
-docs/drift-rules.md ("System checks").
+docs/drift-rules.md ("Compatibility rules").
 """
 
 from __future__ import annotations

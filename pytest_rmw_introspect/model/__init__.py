@@ -1,8 +1,25 @@
 """The model layer: the vocabulary every other layer speaks, defined once.
 
-``vocabulary`` (interface lists, labels, action parts, severities, ``fail_on`` words), ``qos``
-(QoS spellings, expansion, compatibility), ``capture`` (the middleware's capture file and the
-contract view of it), ``contract`` (contract files: load, validate, render), ``option_tables``
-(the comparison and target options, their front ends and precedence) and ``paths`` (how paths
-are shown). It may import ``errors`` and nothing else of the package.
+One line per module:
+
+- ``vocabulary``: interface lists, labels, action parts, severities, ``fail_on`` words
+- ``qos``: QoS spellings, expansion, named profiles, compatibility
+- ``capture``: the middleware's capture file and the contract view of it
+- ``types``: type descriptions in captures and contracts
+- ``type_hash``: RIHS01 type hashes computed from type descriptions
+- ``type_lock``: the package's type-hash lockfile (``rmw-introspect lock``)
+- ``parameters``: a node's parameters and lifecycle state, captured and in contracts
+- ``portable``: parameter values written portably (an install location as a token)
+- ``option_tables``: the comparison and target options, their front ends and precedence
+- ``contract``: contract files: load, validate, render, update
+- ``system_contract``: system contracts (``*.system.yaml``): a launch file's processes
+- ``nodl``: NoDL v2 documents as contracts, and contracts written as NoDL
+- ``acceptance``: the ``accept:`` entries of a contract
+- ``locate``: the line of each node and interface entry of a contract file
+- ``yaml_blocks``: where a top-level block sits in a YAML text, for updates that keep the rest
+- ``untrusted``: reading files people hand us: bounded, typed and fast
+- ``versioned_json``: the format and version check of the JSON files the tool writes
+- ``paths``: how paths are shown and written
+
+It may import ``errors`` and nothing else of the package.
 """

@@ -292,7 +292,8 @@ class Node:
         return [i.name for i in getattr(self, list_name)]
 
     def get(self, list_name: str, name: str) -> Interface | None:
-        for entry in getattr(self, list_name):
+        entries: list[Interface] = getattr(self, list_name)
+        for entry in entries:
             if entry.name == name:
                 return entry
         return None

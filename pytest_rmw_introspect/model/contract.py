@@ -75,7 +75,8 @@ DEFAULT_HEADER = (
 def schema() -> dict[str, Any]:
     """The JSON Schema of contract files shipped with the package."""
     text = resources.files("pytest_rmw_introspect").joinpath("schema", "contract.schema.json").read_text("utf-8")
-    return json.loads(text)
+    loaded: dict[str, Any] = json.loads(text)
+    return loaded
 
 
 @dataclass
@@ -227,7 +228,8 @@ def _inline_refs(document: dict[str, Any]) -> dict[str, Any]:
                 return inline(definitions[name], expanding + (name,))
         return {k: inline(v, expanding) for k, v in value.items()}
 
-    return inline(document, ())
+    inlined: dict[str, Any] = inline(document, ())
+    return inlined
 
 
 _ACCEPT_REASONS = {
@@ -243,7 +245,7 @@ def _schema_reason(error: Any) -> str:
     if "propertyNames" in error.absolute_schema_path:
         return f"node name {instance!r} is not a fully qualified node name (e.g. /talker or /ns/talker)"
     if error.absolute_path and error.absolute_path[0] == acceptance.SECTION_KEY and validator in ("pattern", "minLength"):
-        return _ACCEPT_REASONS.get(str(error.absolute_path[-1]), error.message).format(instance=instance)
+        return _ACCEPT_REASONS.get(str(error.absolute_path[-1]), str(error.message)).format(instance=instance)
     if validator == "pattern" and error.absolute_path and error.absolute_path[-1] == "name":
         return f"{instance!r} is not a fully resolved ROS name (it must start with '/')"
     if validator == "pattern" and error.absolute_path and "type_hash" in error.absolute_path:
@@ -256,7 +258,7 @@ def _schema_reason(error: Any) -> str:
     if validator == "const" and list(error.absolute_path) == ["contract_version"]:
         return f"contract_version {instance!r} is not supported; this plugin reads contract_version 1"
     if validator == "required":
-        return error.message.replace("is a required property", "is required")
+        return str(error.message).replace("is a required property", "is required")
     if validator == "additionalProperties":
         allowed_keys = sorted((error.schema.get("properties") or {}).keys())
         extra = sorted(set(error.instance) - set(allowed_keys)) if isinstance(error.instance, Mapping) else []
@@ -271,7 +273,7 @@ def _schema_reason(error: Any) -> str:
             return ("`parameters:` is empty; write `parameters: []` for a node without parameters, or leave the "
                     "key out not to compare them")
         return f"{instance!r} is not of type {expected}"
-    return error.message
+    return str(error.message)
 
 
 #: where the keys each part of a contract takes are listed, for messages too long to list them

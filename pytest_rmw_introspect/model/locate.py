@@ -20,7 +20,8 @@ def _child(mapping: yaml.Node, key: str) -> yaml.Node | None:
         return None
     for k, v in mapping.value:
         if _scalar(k) == key:
-            return v
+            child: yaml.Node = v
+            return child
     return None
 
 

@@ -88,7 +88,7 @@ _DURATION_INFINITE_RAW = 9_223_372_036_854_775_807
 _SECOND = 1_000_000_000
 
 
-def _profile(history, depth, reliability, durability, lifespan_ns=0) -> dict[str, Any]:
+def _profile(history: str, depth: int, reliability: str, durability: str, lifespan_ns: int = 0) -> dict[str, Any]:
     return {
         "history": history,
         "depth": depth,

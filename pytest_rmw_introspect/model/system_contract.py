@@ -24,7 +24,7 @@
 
 ``nodes`` is exactly the ``nodes`` block of a node contract, so a system drifts like a node
 contract does (``compare.drift``). ``processes`` says which process created which node: the
-system rules (``compare.system.check_launched``) read it for duplicate node names and for
+compatibility rules (``compare.compatibility.check_launched``) read it for duplicate node names and for
 launched processes that created no node. ``external`` declares the outside world: a
 requester nobody in the system provides for fails the check unless it is declared there
 (``compare.wiring``). Two processes creating one node name share one entry

@@ -186,7 +186,8 @@ def _compose_yaml(text: str, loader: type | None) -> yaml.Node | None:
     except yaml.YAMLError as exc:  # the pure reader refuses control characters at once
         raise _yaml_error(exc) from None
     try:
-        return parser.get_single_node()
+        root: yaml.Node | None = parser.get_single_node()
+        return root
     except yaml.YAMLError as exc:
         # libyaml refuses flow nesting past its own limit (1000 levels in PyYAML 6.0.4's wheels)
         # before our check sees the tree: say what our limit says, whichever parser refused it
@@ -230,7 +231,7 @@ def _nesting_error(text: str, max_depth: int = MAX_DEPTH) -> InputError | None:
     depth = 0
     try:
         while parser.check_event():
-            event = parser.get_event()
+            event = parser.get_event()  # type: ignore[no-untyped-call]  # unannotated in types-PyYAML
             if isinstance(event, yaml.CollectionEndEvent):
                 depth -= 1
             elif isinstance(event, (yaml.CollectionStartEvent, yaml.ScalarEvent, yaml.AliasEvent)):

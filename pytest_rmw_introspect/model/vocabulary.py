@@ -4,7 +4,7 @@ parameter types and lifecycle states, severities and the ``fail_on`` thresholds.
 
 A node's interface is six lists (the NoDL v2 names) plus its parameters and, for a managed
 node, the lifecycle state it is described in. The middleware records four raw endpoint kinds;
-actions are grouped from their services and topics. Drift and system checks rate what they find
+actions are grouped from their services and topics. Drift and compatibility checks rate what they find
 with a :class:`Severity`; ``fail_on`` names the least severe one that fails.
 """
 

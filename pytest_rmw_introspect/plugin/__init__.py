@@ -12,7 +12,9 @@ state and its summary. Everything else lives in the modules next to it:
 * ``items``: contract files collected as test items;
 * ``marker_goldens``: the items of contract files that a marker test checks are skipped;
 * ``verdict``: an outcome (``check.outcome``) as a pytest outcome;
-* ``assertions``: ``check_compatible``.
+* ``assertions``: ``check_compatible``;
+* ``system_marker``: the ``system_contract`` marker, the ``system_capture`` fixture, system contract items;
+* ``lookahead``: which items run next, for capturing ahead.
 
 Usage::
 

@@ -1,4 +1,4 @@
-"""Assertions a test calls directly: :func:`check_compatible` (a system check that fails the
+"""Assertions a test calls directly: :func:`check_compatible` (a compatibility check that fails the
 calling test)."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from ..check.pipeline import SystemResult, check_system
+from ..check.pipeline import CompatibilityResult, check_compatibility
 from ..errors import RmwIntrospectError
 
 
@@ -18,7 +18,7 @@ def check_compatible(
     fail_on: str = "breaking",
     strict_system_default: bool = False,
     base_dir: str | Path | None = None,
-) -> SystemResult:
+) -> CompatibilityResult:
     """Fail the calling test unless the nodes of the given contracts fit together.
 
     ::
@@ -34,15 +34,15 @@ def check_compatible(
     ``breaking``) is the least severe problem that fails; the failure message is the system
     check report (``report.render_compat_text``). Relative paths are relative to ``base_dir``,
     by default the directory of the calling test file (like the ``interfaces`` marker).
-    Returns the :class:`SystemResult` when the test does not fail, so it can assert more.
+    Returns the :class:`CompatibilityResult` when the test does not fail, so it can assert more.
     A contract that cannot be loaded fails the test with the loader's message.
     """
     if base_dir is None:
         caller = inspect.stack()[1].filename
         base_dir = Path(caller).parent if caller and os.path.exists(caller) else None
     try:
-        result = check_system(contract_paths, fail_on=fail_on,
-                              strict_system_default=strict_system_default, base_dir=base_dir)
+        result = check_compatibility(contract_paths, fail_on=fail_on,
+                                     strict_system_default=strict_system_default, base_dir=base_dir)
     except (RmwIntrospectError, ValueError) as exc:
         pytest.fail(str(exc), pytrace=False)
     if result.failed:

@@ -18,7 +18,8 @@ from typing import Any
 import pytest
 
 from ..errors import RmwIntrospectError, SetupError
-from ..run import runner, warm
+from ..run import runner
+from ..run.warm import client as warm
 from . import items, lookahead, marker, marker_goldens, session, system_marker
 from . import items as items_module
 from . import session as session_module
@@ -61,9 +62,9 @@ def pytest_runtest_call(item: pytest.Item) -> Generator[None, Any, Any]:
         # raised in the test body (e.g. by rmw_capture): a failure with the message, no traceback
         pytest.fail(str(exc), pytrace=False)
     if st is not None and st.capture is not None:
-        marker.check(item, st, session.state(item.config))
+        marker.check_marker_item(item, st, session.state(item.config))
     if system_st is not None and system_st.capture is not None:
-        system_marker.check(item, system_st, session.state(item.config))
+        system_marker.check_system_marker_item(item, system_st, session.state(item.config))
     return result
 
 

@@ -116,7 +116,7 @@ def prepare(item: pytest.Item, session_state: SessionState) -> ItemState:
     return st
 
 
-def check(item: pytest.Item, st: ItemState, session_state: SessionState) -> None:
+def check_marker_item(item: pytest.Item, st: ItemState, session_state: SessionState) -> None:
     """Compare the test's capture with its contract and apply the outcome."""
     from ..check import pipeline
 

@@ -11,7 +11,7 @@ The marker's first argument is the system contract (relative to the test file); 
 arguments: ``launch_arguments`` (on top of the contract's ``launch: arguments``), the
 target and comparison options a system contract takes (``model.option_tables``, the rows with
 ``FrontEnd.SYSTEM``) and ``system_fail_on``. Every process of the launch file is captured when the test sets
-up; after the test body the system is compared with the contract and the system rules run
+up; after the test body the system is compared with the contract and the compatibility rules run
 (``check.system_pipeline``), with the same outcomes as an ``interfaces`` test:
 ``--update-golden`` writes the contract, drift or system problems at or above their thresholds
 fail the test.
@@ -41,13 +41,13 @@ from .session import SessionState, state
 
 if TYPE_CHECKING:  # the system pipeline and launch readers: imported by the first system test that runs
     from ..check.system_pipeline import SystemPrepared
-    from ..run.system import SystemCapture
+    from ..run.system_capture import SystemCapture
 
 MARKER = "system_contract"
 OPTION_KEYS = COMPARISON.names(FrontEnd.SYSTEM)
 MARKER_DOC = (
     f"{MARKER}(contract, **options): capture every process the system contract's launch file starts and "
-    "compare the system with the contract (path relative to the test file); run the system rules. Keyword "
+    "compare the system with the contract (path relative to the test file); run the compatibility rules. Keyword "
     f"arguments: launch_arguments, target options ({', '.join(SYSTEM_TARGET_KEYS)}), comparison options "
     f"({', '.join(OPTION_KEYS)}) and system_fail_on."
 )
@@ -118,7 +118,7 @@ def prepare(item: pytest.Item, session_state: SessionState) -> SystemItemState:
     return st
 
 
-def check(item: pytest.Item, st: SystemItemState, session_state: SessionState) -> None:
+def check_system_marker_item(item: pytest.Item, st: SystemItemState, session_state: SessionState) -> None:
     """Compare the test's system capture with its contract and apply the outcome."""
     from ..check import system_pipeline
 
@@ -128,7 +128,7 @@ def check(item: pytest.Item, st: SystemItemState, session_state: SessionState) -
 
 @pytest.fixture
 def system_capture(request: pytest.FixtureRequest) -> SystemCapture | UnavailableCapture:
-    """The :class:`~pytest_rmw_introspect.run.system.SystemCapture` of the test's
+    """The :class:`~pytest_rmw_introspect.run.system_capture.SystemCapture` of the test's
     ``@pytest.mark.system_contract(...)``: every process of the launch file and what it created."""
     item = request.node
     if item.get_closest_marker(MARKER) is None:

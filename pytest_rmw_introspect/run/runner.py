@@ -71,7 +71,7 @@ from .target import TargetSpec, build_argv, module_main_hint
 
 if TYPE_CHECKING:
     from ..model.capture import Capture, OtherProcess
-    from .warm import WarmChild
+    from .warm.client import WarmChild
 
 # Imported when first needed, not here: the capture model (its dataclasses cost ~30 ms to create)
 # while the first target starts, so the two overlap (_import_capture_model_meanwhile), and the warm
@@ -203,7 +203,7 @@ def _start(spec: TargetSpec, argv: list[str], env: dict[str, str], python: str |
     if note is None:
         note = "cold_start asked for it" if spec.cold_start else None
     if note is None:
-        from . import warm
+        from .warm import client as warm
 
         if warm_wait is None:
             warm_wait = warm.DEFAULT_WAIT
@@ -311,7 +311,7 @@ def warm_up(spec: TargetSpec | None = None, *, library: str | Path | None = None
     ros = ros or ros_env.detect()
     if library is None:
         library = middleware.ensure_library(ros)
-    from . import warm
+    from .warm import client as warm
 
     env = environment(spec, Path(library), ros, Path(tempfile.gettempdir()) / _OUTPUT_PATTERN)
     cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
@@ -480,7 +480,7 @@ def _learn(captured: Capture, env: Mapping[str, str], spec: TargetSpec, python: 
     type_names = sorted({e.type for e in captured.raw_endpoints if e.type})
     if not type_names:
         return
-    from . import warm
+    from .warm import client as warm
 
     cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
     warm.POOL.learn(env, cwd, type_names, python)

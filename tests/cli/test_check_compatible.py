@@ -56,7 +56,7 @@ def test_incompatible_qos_fails_the_test_with_the_system_report(system):
     result = system("sensor_data")  # BEST_EFFORT publisher, RELIABLE subscription
     result.assert_outcomes(failed=1)
     result.stdout.fnmatch_lines([
-        "*System check of 2 contract(s): 2 problems (1 breaking, 1 risky, 0 safe)",
+        "*Compatibility check of 2 contract(s): 2 problems (1 breaking, 1 risky, 0 safe)",
         "Result: FAIL (fail on: breaking)",
         "*/scan",
         "*[[]QOS_INCOMPATIBLE[]] publisher of /driver (*driver.yaml) -> subscription of /planner (*planner.yaml)*",

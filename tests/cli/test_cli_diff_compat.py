@@ -91,7 +91,7 @@ def test_compat_finds_incompatible_qos_and_a_missing_publisher(cli_nodes_only):
     result = cli("compat", "talker.yaml", "listener.yaml")
     assert result.returncode == 1, result
     out = result.stdout
-    assert "System check of 2 contract(s): 2 problems (1 breaking, 1 risky, 0 safe)" in out
+    assert "Compatibility check of 2 contract(s): 2 problems (1 breaking, 1 risky, 0 safe)" in out
     assert ("[QOS_INCOMPATIBLE] publisher of /talker (talker.yaml) -> subscription of /listener (listener.yaml): "
             in out)
     assert "[SUBSCRIPTION_WITHOUT_PUBLISHER] subscription of /listener (listener.yaml): no publisher" in out
@@ -118,7 +118,7 @@ def test_compat_threshold(cli_nodes_only):
     assert cli("compat", "--fail-on", "risky", "talker.yaml", "listener.yaml").returncode == 1
     alone = cli("compat", "talker.yaml")
     assert alone.returncode == 0
-    assert alone.stdout == "System check of 1 contract(s): all contracts fit together.\n"
+    assert alone.stdout == "Compatibility check of 1 contract(s): all contracts fit together.\n"
 
 
 @pytest.mark.parametrize(
@@ -162,7 +162,7 @@ def test_diff_and_compat_in_the_ci_formats(cli_nodes_only):
     assert compat.returncode == 1, compat
     assert "::error file=listener.yaml,line=" in compat.stdout and "SUBSCRIPTION_WITHOUT_PUBLISHER" in compat.stdout
     compat_md = cli("compat", "new.yaml", "listener.yaml", "--format", "markdown")
-    assert compat_md.stdout.startswith("## System check of 2 contract(s): pass\n"), compat_md
+    assert compat_md.stdout.startswith("## Compatibility check of 2 contract(s): pass\n"), compat_md
 
 
 def test_validate_checks_files_without_running_anything(cli_nodes_only):

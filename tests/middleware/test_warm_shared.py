@@ -19,8 +19,9 @@ import pytest
 import warm_helpers as w
 from rmwi_processes import alive, wait_gone
 
-from pytest_rmw_introspect.run import ros_env, runner, warm
+from pytest_rmw_introspect.run import ros_env, runner
 from pytest_rmw_introspect.run.target import TargetSpec
+from pytest_rmw_introspect.run.warm import client as warm
 
 TALKER = str(w.NODES / "talker.py")
 
@@ -28,7 +29,8 @@ TALKER = str(w.NODES / "talker.py")
 # "capture SCRIPT [ENV_JSON]" prints {"started", "server", "owner", "pid"}; "quit" shuts down.
 _RUNNER = """
 import json, sys
-from pytest_rmw_introspect.run import runner, warm
+from pytest_rmw_introspect.run import runner
+from pytest_rmw_introspect.run.warm import client as warm
 from pytest_rmw_introspect.run.target import TargetSpec
 warm.POOL.share_within(sys.argv[1])
 for line in sys.stdin:

@@ -11,8 +11,9 @@ from typing import Any
 
 from pytest_rmw_introspect.errors import TargetError
 from pytest_rmw_introspect.model.capture import Capture
-from pytest_rmw_introspect.run import middleware, ros_env, runner, warm
+from pytest_rmw_introspect.run import middleware, ros_env, runner
 from pytest_rmw_introspect.run.target import TargetSpec
+from pytest_rmw_introspect.run.warm import client as warm
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]

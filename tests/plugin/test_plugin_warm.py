@@ -20,7 +20,7 @@ WARM_NODES = Path(__file__).resolve().parents[1] / "middleware" / "nodes_warm"
 #: each test records how it was started and which servers its process had (for the outer test)
 RECORDING_TESTS = """
 import os
-from pytest_rmw_introspect.run import warm
+from pytest_rmw_introspect.run.warm import client as warm
 
 def record(cap):
     servers = " ".join(str(s.pid) for s in warm.POOL.servers())
@@ -164,7 +164,7 @@ def test_the_next_contract_items_capture_while_the_current_one_runs(project, opt
 
 #: records, as each file's collection ends, how many warm start servers the session has asked for
 COLLECTION_RECORDER = """
-from pytest_rmw_introspect.run import warm
+from pytest_rmw_introspect.run.warm import client as warm
 
 def pytest_collectreport(report):
     if report.nodeid.endswith(".interfaces.yaml"):

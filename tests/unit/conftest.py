@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from pytest_rmw_introspect.run import warm
+from pytest_rmw_introspect.run.warm import client as warm
 
 
 @pytest.fixture(autouse=True)

@@ -10,8 +10,8 @@ import pytest
 from pytest_rmw_introspect.check import pipeline
 from pytest_rmw_introspect.check.outcome import Verdict, decide
 from pytest_rmw_introspect.compare import acceptance, report, sarif
+from pytest_rmw_introspect.compare.compatibility import check_compatibility
 from pytest_rmw_introspect.compare.drift import compare
-from pytest_rmw_introspect.compare.system import check_system
 from pytest_rmw_introspect.errors import ContractError
 from pytest_rmw_introspect.model.acceptance import Acceptance
 from pytest_rmw_introspect.model.contract import loads
@@ -82,13 +82,13 @@ def test_an_unknown_rule_is_refused_naming_the_entry():
 def system_items():
     talker = {"/talker": {"publishers": [{"name": "/chatter", "type": "std_msgs/msg/String"}]}}
     listener = loads(LISTENER, path="listener.yaml")
-    return check_system({"talker.yaml": talker, "listener.yaml": listener.nodes}), listener.accept
+    return check_compatibility({"talker.yaml": talker, "listener.yaml": listener.nodes}), listener.accept
 
 
 def test_entries_accept_the_findings_they_name_and_stale_ones_are_kept_apart():
     items, accept = system_items()
     assert [i.rule for i in items] == ["SUBSCRIPTION_WITHOUT_PUBLISHER"]
-    judged = pipeline.judge_system(items, accept)
+    judged = pipeline.judge_compatibility(items, accept)
     assert judged.kept == []
     assert [(a.item.name, a.acceptance.reason) for a in judged.accepted] == [("/initialpose", "published by rviz, not launched")]
     assert [s.rule for s in judged.stale] == ["CLIENT_WITHOUT_SERVER"]  # no client of that name any more
@@ -105,7 +105,7 @@ def test_an_entry_accepts_only_what_it_names():
     assert not acceptance.matches(Acceptance("SUBSCRIPTION_WITHOUT_PUBLISHER", "r", node="/talker"), item)
     # an entry of another contract does not accept a problem of this one
     other = Acceptance("SUBSCRIPTION_WITHOUT_PUBLISHER", "r", source="talker.yaml")
-    assert pipeline.judge_system(items, [other]).kept == items
+    assert pipeline.judge_compatibility(items, [other]).kept == items
 
 
 def test_stale_entries_are_only_those_of_the_checks_that_ran():
@@ -180,7 +180,7 @@ def test_compat_of_contract_files_applies_their_entries(tmp_path):
     (tmp_path / "listener.yaml").write_text(LISTENER)
     (tmp_path / "talker.yaml").write_text("contract_version: 1\nnodes:\n  /talker:\n    publishers:\n"
                                           "      - {name: /chatter, type: std_msgs/msg/String}\n")
-    result = pipeline.check_system([tmp_path / "talker.yaml", tmp_path / "listener.yaml"], fail_on="risky")
+    result = pipeline.check_compatibility([tmp_path / "talker.yaml", tmp_path / "listener.yaml"], fail_on="risky")
     assert result.items == [] and not result.failed
     assert [a.item.rule for a in result.accepted] == ["SUBSCRIPTION_WITHOUT_PUBLISHER"]
     assert [s.rule for s in result.stale] == ["CLIENT_WITHOUT_SERVER"]

@@ -11,8 +11,8 @@ import pytest
 from pytest_rmw_introspect.check import baselines, pipeline
 from pytest_rmw_introspect.check.outcome import Verdict, decide
 from pytest_rmw_introspect.compare import baseline
+from pytest_rmw_introspect.compare.compatibility import check_compatibility
 from pytest_rmw_introspect.compare.drift import compare
-from pytest_rmw_introspect.compare.system import check_system
 from pytest_rmw_introspect.errors import BaselineError
 from pytest_rmw_introspect.model.contract import loads
 from pytest_rmw_introspect.model.vocabulary import Severity
@@ -81,11 +81,11 @@ def test_writing_the_same_findings_again_changes_no_byte(tmp_path):
 
 def test_system_problems_go_through_a_baseline_too(tmp_path):
     listener = {"/listener": {"subscriptions": [{"name": "/orders", "type": "std_msgs/msg/String"}]}}
-    items = check_system({"listener.yaml": listener})
-    result = pipeline.SystemResult(labels=["listener.yaml"], items=items, threshold=Severity.RISKY)
+    items = check_compatibility({"listener.yaml": listener})
+    result = pipeline.CompatibilityResult(labels=["listener.yaml"], items=items, threshold=Severity.RISKY)
     file = tmp_path / "b.json"
     file.write_text(baseline.render(baselines.findings([result]), file))
-    again = pipeline.SystemResult(labels=["listener.yaml"], items=list(items), threshold=Severity.RISKY)
+    again = pipeline.CompatibilityResult(labels=["listener.yaml"], items=list(items), threshold=Severity.RISKY)
     baselines.apply(again, baseline.load(file))
     assert again.items == [] and not again.failed
     assert [a.item.rule for a in again.accepted] == ["SUBSCRIPTION_WITHOUT_PUBLISHER"]

@@ -17,8 +17,8 @@ from sample_contracts import REPORT_TALKER as TALKER
 
 from pytest_rmw_introspect.compare import ci_report
 from pytest_rmw_introspect.compare.ci_report import ContractOutcome
+from pytest_rmw_introspect.compare.compatibility import check_compatibility
 from pytest_rmw_introspect.compare.drift import compare
-from pytest_rmw_introspect.compare.system import check_system
 from pytest_rmw_introspect.model.contract import loads
 from pytest_rmw_introspect.model.locate import line_index, line_of
 from pytest_rmw_introspect.model.vocabulary import Severity
@@ -37,7 +37,7 @@ def outcomes() -> list[ContractOutcome]:
 
 def compat_items():
     systems = {"contracts/talker.interfaces.yaml": CAPTURED, "contracts/listener.interfaces.yaml": loads(LISTENER).nodes}
-    return check_system(systems)
+    return check_compatibility(systems)
 
 
 def check_golden(name: str, text: str) -> None:

@@ -1,12 +1,11 @@
-"""compat.check_system: pairs across contracts, missing peers, rendering."""
+"""compatibility.check_compatibility: pairs across contracts, missing peers, rendering."""
 
 import json
 
 import pytest
 
-from pytest_rmw_introspect.compare import report
-from pytest_rmw_introspect.compare import system as compat
-from pytest_rmw_introspect.compare.system import Endpoint, check_system
+from pytest_rmw_introspect.compare import compatibility, report
+from pytest_rmw_introspect.compare.compatibility import ContractEndpoint, check_compatibility
 from pytest_rmw_introspect.model.vocabulary import Severity
 
 H1 = "RIHS01_" + "1" * 64
@@ -27,8 +26,8 @@ def system(provider_kind, provider_entry, requester_kind, requester_entry):
     }
 
 
-PUB = Endpoint("a.yaml", "/talker", "publishers")
-SUB = Endpoint("b.yaml", "/listener", "subscriptions")
+PUB = ContractEndpoint("a.yaml", "/talker", "publishers")
+SUB = ContractEndpoint("b.yaml", "/listener", "subscriptions")
 
 
 # (publisher entry, subscription entry, rules expected)
@@ -62,23 +61,23 @@ TOPIC_ROWS = [
 @pytest.mark.parametrize(("case", "pub", "sub", "rules"), TOPIC_ROWS,
                          ids=[row[0] for row in TOPIC_ROWS])
 def test_topic_pairs(case, pub, sub, rules):
-    items = check_system(system("publishers", pub, "subscriptions", sub))
+    items = check_compatibility(system("publishers", pub, "subscriptions", sub))
     assert sorted(i.rule for i in items) == sorted(rules)
     for item in items:
         assert (item.name, item.requester, item.provider) == ("/chatter", SUB, PUB)
-        assert item.severity is compat.RULES[item.rule]
+        assert item.severity is compatibility.RULES[item.rule]
 
 
 def test_strict_reports_what_rmw_reports():
     contracts = system("publishers", entry(), "subscriptions", entry())
     # rmw's default profile leaves liveliness at SYSTEM_DEFAULT on both ends
-    item, = check_system(contracts, strict_system_default=True)
+    item, = check_compatibility(contracts, strict_system_default=True)
     assert item.rule == "QOS_MAYBE_INCOMPATIBLE" and item.severity is Severity.RISKY
     assert "liveliness" in item.message
 
 
 def test_qos_error_message_gives_the_reason():
-    item, = check_system(system("publishers", entry(qos="sensor_data"),
+    item, = check_compatibility(system("publishers", entry(qos="sensor_data"),
                                 "subscriptions", entry()))
     assert item.message == "BEST_EFFORT publisher and RELIABLE subscription"
     assert item.severity is Severity.BREAKING
@@ -97,18 +96,18 @@ def test_qos_error_message_gives_the_reason():
 def test_service_and_action_pairs(server_kind, client_kind, type_, client_changes, rules):
     server = entry("/do", type_, qos=None)
     client = {**server, **client_changes}
-    items = check_system(system(server_kind, server, client_kind, client))
+    items = check_compatibility(system(server_kind, server, client_kind, client))
     assert [i.rule for i in items] == rules
     for item in items:
-        assert item.provider == Endpoint("a.yaml", "/talker", server_kind)
-        assert item.requester == Endpoint("b.yaml", "/listener", client_kind)
+        assert item.provider == ContractEndpoint("a.yaml", "/talker", server_kind)
+        assert item.requester == ContractEndpoint("b.yaml", "/listener", client_kind)
 
 
 def test_action_hash_mappings_compared():
     hashes = {"send_goal": H1, "get_result": H1, "feedback": H1}
     server = {"name": "/fib", "type": "test_msgs/action/Fibonacci", "type_hash": hashes}
     client = {**server, "type_hash": {**hashes, "feedback": H2}}
-    item, = check_system(system("action_servers", server, "action_clients", client))
+    item, = check_compatibility(system("action_servers", server, "action_clients", client))
     assert item.rule == "TYPE_HASH_MISMATCH"
 
 
@@ -119,21 +118,21 @@ def test_action_hash_mappings_compared():
      ("action_clients", "ACTION_CLIENT_WITHOUT_SERVER", "no action server in these contracts")],
 )
 def test_missing_peers(kind, rule, text):
-    item, = check_system({"b.yaml": {"/listener": {kind: [entry("/lonely", qos=None)]}}})
+    item, = check_compatibility({"b.yaml": {"/listener": {kind: [entry("/lonely", qos=None)]}}})
     assert (item.rule, item.severity, item.name) == (rule, Severity.RISKY, "/lonely")
-    assert item.requester == Endpoint("b.yaml", "/listener", kind) and item.provider is None
+    assert item.requester == ContractEndpoint("b.yaml", "/listener", kind) and item.provider is None
     assert item.message == text
 
 
 def test_providers_without_requesters_are_fine():
-    assert check_system({"a.yaml": {"/t": {"publishers": [entry()],
-                                           "service_servers": [entry("/s", qos=None)],
-                                           "action_servers": [entry("/a", qos=None)]}}}) == []
+    assert check_compatibility({"a.yaml": {"/t": {"publishers": [entry()],
+                                                 "service_servers": [entry("/s", qos=None)],
+                                                 "action_servers": [entry("/a", qos=None)]}}}) == []
 
 
 def test_peers_in_the_same_contract_and_node_count():
     contracts = {"one.yaml": {"/n": {"publishers": [entry()], "subscriptions": [entry()]}}}
-    assert check_system(contracts) == []
+    assert check_compatibility(contracts) == []
 
 
 def test_every_pair_is_checked_and_sorted():
@@ -143,7 +142,7 @@ def test_every_pair_is_checked_and_sorted():
         "b.yaml": {"/r1": {"subscriptions": [entry(qos="default")]},
                    "/r2": {"subscriptions": [entry(qos="map"), entry("/missing")]}},
     }
-    items = check_system(contracts)
+    items = check_compatibility(contracts)
     assert [(i.rule, i.requester.node, i.provider.node if i.provider else None)
             for i in items] == [
         ("QOS_INCOMPATIBLE", "/r1", "/fast"),
@@ -152,15 +151,15 @@ def test_every_pair_is_checked_and_sorted():
         ("SUBSCRIPTION_WITHOUT_PUBLISHER", "/r2", None),
     ]
     assert "TRANSIENT_LOCAL" in items[1].message and "BEST_EFFORT" in items[1].message
-    assert check_system(dict(reversed(contracts.items()))) == items
+    assert check_compatibility(dict(reversed(contracts.items()))) == items
 
 
 def test_tolerates_missing_lists():
-    assert check_system({"a.yaml": {"/n": None, "/m": {"subscriptions": None}}, "b": None}) == []
+    assert check_compatibility({"a.yaml": {"/n": None, "/m": {"subscriptions": None}}, "b": None}) == []
 
 
 def test_rules_table_is_complete():
-    assert set(compat.RULES) == {row for rows in (
+    assert set(compatibility.RULES) == {row for rows in (
         ["TYPE_MISMATCH", "TYPE_HASH_MISMATCH", "QOS_INCOMPATIBLE", "QOS_MAYBE_INCOMPATIBLE",
          "SUBSCRIPTION_WITHOUT_PUBLISHER", "CLIENT_WITHOUT_SERVER",
          "ACTION_CLIENT_WITHOUT_SERVER"],
@@ -176,7 +175,7 @@ def test_rules_table_is_complete():
 
 
 def sample_items():
-    return check_system({
+    return check_compatibility({
         "a.yaml": {"/talker": {"publishers": [entry(qos="sensor_data")]}},
         "b.yaml": {"/listener": {"subscriptions": [entry(), entry("/other")]}},
     })
@@ -184,7 +183,7 @@ def sample_items():
 
 def test_render_compat_text():
     assert report.render_compat_text(sample_items(), threshold=Severity.BREAKING).splitlines() == [
-        "System check: 2 problems (1 breaking, 1 risky, 0 safe)",
+        "Compatibility check: 2 problems (1 breaking, 1 risky, 0 safe)",
         "Result: FAIL (fail on: breaking)",
         "",
         "BREAKING (1)",
@@ -200,7 +199,7 @@ def test_render_compat_text():
 
 
 def test_render_compat_text_empty():
-    assert report.render_compat_text([]) == "System check: all contracts fit together.\n"
+    assert report.render_compat_text([]) == "Compatibility check: all contracts fit together.\n"
 
 
 def test_compat_to_json():
@@ -229,7 +228,7 @@ def test_docs_list_every_system_rule_with_its_severity():
     text = (pathlib.Path(__file__).parents[2] / "docs" / "drift-rules.md").read_text()
     documented = dict(re.findall(r"^\| `([A-Z_]+)` \|[^|]*\| (BREAKING|RISKY|SAFE) \|", text,
                                  flags=re.MULTILINE))
-    for rule, severity in compat.RULES.items():
+    for rule, severity in compatibility.RULES.items():
         assert documented.get(rule) == severity.name, rule
 
 
@@ -238,8 +237,8 @@ def test_every_system_rule_has_the_summary_the_docs_give_it():
     import re
 
     text = (pathlib.Path(__file__).parents[2] / "docs" / "drift-rules.md").read_text()
-    section = text[text.index("## System checks"):]
+    section = text[text.index("## Compatibility rules"):]
     documented = dict(re.findall(r"^\| `([A-Z_]+)` \| ([^|]*) \|", section, flags=re.MULTILINE))
-    assert set(compat.SUMMARIES) == set(compat.RULES)
-    for rule, summary in compat.SUMMARIES.items():
+    assert set(compatibility.SUMMARIES) == set(compatibility.RULES)
+    for rule, summary in compatibility.SUMMARIES.items():
         assert documented.get(rule) == summary, rule

@@ -1,13 +1,13 @@
-"""The components a launch file loads into a container (run.component_loads): the requests
+"""The components a launch file loads into a container (launch.component_loads): the requests
 file the container's middleware reads, and what a capture says of each load."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched
-from pytest_rmw_introspect.run import component_loads
-from pytest_rmw_introspect.run.launch_model import ComponentLoad, Where
+from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
+from pytest_rmw_introspect.launch import component_loads
+from pytest_rmw_introspect.launch.result import ComponentLoad, Where
 
 TALKER = ComponentLoad(package="demo", plugin="demo::Talker", where=Where(Path("/ws/robot.launch.py"), 12),
                        name="talker", namespace="/robot", remap_rules=("chatter:=status",),
@@ -77,6 +77,6 @@ def test_a_component_is_judged_on_what_its_load_request_gives_it():
     assert sorted((i.rule, i.requester.node, i.name) for i in check_launched([container])) == [
         ("PARAM_NOT_DECLARED", "/robot/talker", "frame"), ("PARAM_NOT_DECLARED", "/robot/talker", "ids"),
         ("PARAM_NOT_DECLARED", "/robot/talker", "on")]
-    [frame, *_] = launch_given.check([container])
+    [frame, *_] = launch_given.given_findings([container])
     assert frame.message.startswith(
         f"parameter `frame` is given ({TALKER.where}) but /robot/talker does not declare it")

@@ -7,8 +7,8 @@ from __future__ import annotations
 import pytest
 
 from pytest_rmw_introspect.compare import graph, report
+from pytest_rmw_introspect.compare.compatibility import LaunchedProcess
 from pytest_rmw_introspect.compare.drift import compare
-from pytest_rmw_introspect.compare.system import LaunchedProcess
 from pytest_rmw_introspect.model import contract
 from pytest_rmw_introspect.model.capture import Capture
 from pytest_rmw_introspect.model.vocabulary import Severity

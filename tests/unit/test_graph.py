@@ -8,7 +8,7 @@ from html.parser import HTMLParser
 import pytest
 
 from pytest_rmw_introspect.compare import graph
-from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched
+from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
 from pytest_rmw_introspect.model.vocabulary import Severity
 
 STRING = "std_msgs/msg/String"

@@ -1,4 +1,4 @@
-"""Python launch files walked through ROS 2's own launch and launch_ros (run.launch_python).
+"""Python launch files walked through ROS 2's own launch and launch_ros (launch.python_file).
 
 These run only where launch_ros can be imported (a standard ROS 2 install); the ROS 2 PyPI
 wheels have no launch_ros, and there the error path is tested instead
@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect.run import launch_reader
+from pytest_rmw_introspect.launch import reader as launch_reader
 
 pytest.importorskip("launch_ros.actions", reason="launch_ros is not importable here (the ROS 2 PyPI wheels lack it)")
 

@@ -1,4 +1,4 @@
-"""The launch reader (run.launch_reader): XML and YAML launch files, substitutions, includes,
+"""The launch reader (launch.reader): XML and YAML launch files, substitutions, includes,
 conditions, groups, unsupported constructs, play_launch record.json files and Python launch
 files without launch_ros."""
 
@@ -11,8 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect.run import launch_reader, launch_substitutions
-from pytest_rmw_introspect.run.launch_model import LaunchError, Parameter
+from pytest_rmw_introspect.launch import reader as launch_reader
+from pytest_rmw_introspect.launch import substitutions as launch_substitutions
+from pytest_rmw_introspect.launch.result import LaunchError, LaunchParameter
 
 # ---------------------------------------------------------------------------- helpers
 
@@ -484,18 +485,18 @@ def test_set_parameter_applies_to_the_nodes_after_it_in_its_scope(tmp_path):
     result = read(path)
     at = {line: launch_reader.Where(path, line) for line in (3, 5, 7, 8)}
     globals_file = tmp_path / "globals.yaml"
-    sim_time, rate, from_file = (Parameter("use_sim_time", True, where=at[5]), Parameter("rate", 2.5, where=at[7]),
-                                 Parameter(file=globals_file, where=at[8]))
+    sim_time, rate, from_file = (LaunchParameter("use_sim_time", True, where=at[5]), LaunchParameter("rate", 2.5, where=at[7]),
+                                 LaunchParameter(file=globals_file, where=at[8]))
     # launch_ros (jazzy) as measured: a group copies the launch configurations, not the list of
     # global parameters in them, so what a group adds to a list that existed before it stays
     assert [(n.executable, n.parameters) for n in result.nodes] == [
-        ("first", (Parameter("scoped", "x", where=at[3]),)),
+        ("first", (LaunchParameter("scoped", "x", where=at[3]),)),
         ("before", ()),  # the first group made its own list
-        ("grouped", (sim_time, rate, from_file, Parameter("rate", 3))),
+        ("grouped", (sim_time, rate, from_file, LaunchParameter("rate", 3))),
         ("unforwarded", ()),
         ("included", (sim_time, rate, from_file)),
         ("after", (sim_time, rate, from_file,
-                   Parameter("from_include", 1, where=launch_reader.Where(tmp_path / "inc.launch.xml", 3)))),
+                   LaunchParameter("from_include", 1, where=launch_reader.Where(tmp_path / "inc.launch.xml", 3)))),
     ]
     # before the node's own parameters on the command line: the node's own value wins
     assert result.nodes[2].ros_argument_list()[1:] == [
@@ -508,8 +509,8 @@ def test_set_parameter_applies_to_the_nodes_after_it_in_its_scope(tmp_path):
           - node: {pkg: p, exec: e}
         """)
     yaml_result = read(yaml_path)
-    assert yaml_result.nodes[0].parameters == (Parameter("gain", 0.5, where=launch_reader.Where(yaml_path, 2)),
-                                               Parameter(file=globals_file, where=launch_reader.Where(yaml_path, 3)))
+    assert yaml_result.nodes[0].parameters == (LaunchParameter("gain", 0.5, where=launch_reader.Where(yaml_path, 2)),
+                                               LaunchParameter(file=globals_file, where=launch_reader.Where(yaml_path, 3)))
     assert yaml_result.unsupported == []
     missing = write(tmp_path / "m.launch.xml", """
         <launch><set_parameters_from_file filename="nowhere.yaml"/></launch>""")
@@ -705,8 +706,8 @@ def test_play_launch_record(tmp_path):
     result = read(path)
     talker, plain = result.nodes
     assert (talker.package, talker.executable, talker.name, talker.namespace) == ("demo", "talker", "talker", "/robot")
-    assert talker.parameters == (Parameter(file_text="/**:\n  ros__parameters: {a: 1}\n"), Parameter("rate", 5.0),
-                                 Parameter("label", "hi"))
+    assert talker.parameters == (LaunchParameter(file_text="/**:\n  ros__parameters: {a: 1}\n"), LaunchParameter("rate", 5.0),
+                                 LaunchParameter("label", "hi"))
     assert talker.remappings == (("chatter", "chat"),)
     assert talker.arguments == ("--x",)
     assert dict(talker.env) == {"K": "V"}

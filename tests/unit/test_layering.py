@@ -25,14 +25,19 @@ ALLOWED: dict[str, set[str]] = {
     "_version": set(),
     "model": {"errors"},
     "compare": {"errors", "model"},
-    "run": {"errors", "model"},
-    "check": {"errors", "model", "compare", "run"},
-    "plugin": {"errors", "_version", "model", "compare", "run", "check"},
-    "cli": {"errors", "_version", "model", "compare", "run", "check"},
+    "launch": {"errors", "model"},
+    "run": {"errors", "model", "launch"},
+    "check": {"errors", "model", "compare", "launch", "run"},
+    "plugin": {"errors", "_version", "model", "compare", "launch", "run", "check"},
+    "cli": {"errors", "_version", "model", "compare", "launch", "run", "check"},
     "__main__": {"cli"},
-    "__init__": {"errors", "_version", "model", "compare", "run", "check", "plugin"},
+    "__init__": {"errors", "_version", "model", "compare", "launch", "run", "check", "plugin"},
     "options_reference": {"model"},
 }
+
+#: the one module of ``run`` that reads launch files: it runs the processes a launch file starts
+#: (docs/design.md, "Layers"); the rest of ``run`` starts one target and knows no launch file
+LAUNCH_JOINER = "run.system_capture"
 
 #: function-local imports that are there on purpose, each cutting start-up time:
 #: (module, imported module) → why
@@ -45,9 +50,9 @@ LOCAL_IMPORTS = {
     ("compare.drift", "deepdiff"): "deepdiff costs 0.1-0.2 s; only comparing needs it",
     ("cli", "pytest_rmw_introspect.cli"): "`--help` and usage errors answer without the pipeline",
     ("cli", "pytest_rmw_introspect.cli.validate"): "`validate` (a pre-commit hook) loads only the contract reader",
-    ("cli", "pytest_rmw_introspect.run"): "`capture` (one target, started cold), `--help` and usage errors answer "
+    ("cli", "pytest_rmw_introspect.run.warm"): "`capture` (one target, started cold), `--help` and usage errors answer "
                                           "without the warm start client (~15 ms)",
-    ("run.runner", "pytest_rmw_introspect.run"): "the warm start client (~15 ms) only when a target may start warm: "
+    ("run.runner", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only when a target may start warm: "
                                                  "`rmw-introspect capture` starts its one target cold without it",
     ("run.runner", "pytest_rmw_introspect.model.capture"): "the capture model (~30 ms of dataclass creation) is "
                                                            "imported while the first target starts, not before it",
@@ -77,7 +82,7 @@ LOCAL_IMPORTS = {
                                                 "controller runs no test and starts its workers sooner",
     ("plugin.session", "pytest_rmw_introspect.check.pipeline"): "the pipeline (~80 ms): an xdist controller "
                                                                 "reads the options but runs no test",
-    ("run.warm", "pytest_rmw_introspect.run.warm_server"): "the server's own module (ctypes, runpy, selectors, "
+    ("run.warm.client", "pytest_rmw_introspect.run.warm.server"): "the server's own module (ctypes, runpy, selectors, "
                                                           "~5 ms); only runners sharing servers (xdist workers) "
                                                           "check a peer's uid with it",
     ("check.golden", "filelock"): "filelock (+ logging) costs ~15 ms; only writing a file needs it",
@@ -200,6 +205,12 @@ def test_imports_are_at_module_level_unless_they_cut_start_up_time(module):
                       "import in LOCAL_IMPORTS with the start-up time it saves"
 
 
+def test_only_the_launch_joiner_of_run_reads_launch_files():
+    readers = sorted(module for module, tree in MODULES.items() if module.startswith("run.")
+                     for _node, imported, _names, _top in _imports(module, tree) if _layer(imported) == "launch")
+    assert set(readers) == {LAUNCH_JOINER}, readers
+
+
 def test_the_listed_local_imports_exist():
     for (module, imported), _why in LOCAL_IMPORTS.items():
         assert any(i == imported and not top for _n, i, _names, top in _imports(module, MODULES[module])), (module, imported)
@@ -263,10 +274,10 @@ def test_the_public_api_exports_every_type_its_functions_return():
 #: model (imported while the target starts), the warm start client (its one target starts cold),
 #: and the slow parts of the standard library the CLI used to load (docs/performance.md)
 NOT_FOR_CAPTURE = ("yaml", "deepdiff", "jsonschema", "numpy", "ctypes.util", "importlib.metadata",
-                   "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.warm", "socket",
+                   "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.warm.client", "socket",
                    "pytest_rmw_introspect.check.pipeline", "pytest_rmw_introspect.check.golden",
-                   "pytest_rmw_introspect.compare.drift", "pytest_rmw_introspect.cli.system",
-                   "pytest_rmw_introspect.cli.commands", "pytest_rmw_introspect.run.launch_reader")
+                   "pytest_rmw_introspect.compare.drift", "pytest_rmw_introspect.cli.system_contracts",
+                   "pytest_rmw_introspect.cli.commands", "pytest_rmw_introspect.launch.reader")
 
 
 def _modules_loaded_by(code: str) -> set[str]:
@@ -296,7 +307,7 @@ NOT_FOR_THE_CONTROLLER = ("yaml", "deepdiff", "jsonschema", "numpy", "pytest_rmw
 #: a session with no contract test never needs the pipelines (docs/performance.md)
 NOT_FOR_THE_HOOKS = ("deepdiff", "jsonschema", "numpy", "pytest_rmw_introspect.check.pipeline",
                      "pytest_rmw_introspect.check.system_pipeline", "pytest_rmw_introspect.check.golden",
-                     "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.system",
+                     "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.system_capture",
                      "pytest_rmw_introspect.compare.drift")
 
 

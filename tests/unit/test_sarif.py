@@ -20,10 +20,10 @@ from sample_contracts import REPORT_CAPTURED as CAPTURED
 from sample_contracts import REPORT_LISTENER as LISTENER
 from sample_contracts import REPORT_TALKER as TALKER
 
-from pytest_rmw_introspect.compare import drift, sarif, system
+from pytest_rmw_introspect.compare import compatibility, drift, sarif
 from pytest_rmw_introspect.compare.ci_report import ContractOutcome
+from pytest_rmw_introspect.compare.compatibility import check_compatibility
 from pytest_rmw_introspect.compare.drift import compare
-from pytest_rmw_introspect.compare.system import check_system
 from pytest_rmw_introspect.model.contract import loads
 from pytest_rmw_introspect.model.locate import line_index
 from pytest_rmw_introspect.model.vocabulary import Severity
@@ -66,8 +66,8 @@ def talker_outcome(threshold: Severity = Severity.RISKY) -> ContractOutcome:
 
 
 def compat_items():
-    return check_system({"contracts/talker.interfaces.yaml": CAPTURED,
-                         "contracts/listener.interfaces.yaml": loads(LISTENER).nodes})
+    return check_compatibility({"contracts/talker.interfaces.yaml": CAPTURED,
+                               "contracts/listener.interfaces.yaml": loads(LISTENER).nodes})
 
 
 def logs() -> dict[str, dict]:
@@ -98,7 +98,7 @@ def test_the_schema_check_rejects_a_broken_log(sarif_validator):
 def test_the_rules_are_every_documented_rule_with_description_and_default_level():
     rules = logs()["drift"]["runs"][0]["tool"]["driver"]["rules"]
     by_id = {rule["id"]: rule for rule in rules}
-    assert set(by_id) == set(drift.RULES) | set(system.RULES) | set(sarif.TOOL_RULES)
+    assert set(by_id) == set(drift.RULES) | set(compatibility.RULES) | set(sarif.TOOL_RULES)
     assert by_id["PUB_REMOVED"]["defaultConfiguration"] == {"level": "error"}
     assert by_id["PUB_REMOVED"]["shortDescription"]["text"] == "publisher removed"
     assert by_id["SUB_ADDED"]["defaultConfiguration"] == {"level": "warning"}
@@ -174,7 +174,7 @@ def test_invalid_files_are_results_with_uris_encoded_and_absolute_paths_as_file_
 
 
 def test_system_problems_of_a_launched_system_point_at_the_launch_file_too(sarif_validator):
-    from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched
+    from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
 
     talker = {"/robot/reporter": {"publishers": []}}
     processes = [LaunchedProcess("demo/talker", None, talker, where="launch/robot.launch.xml:7"),

@@ -1,5 +1,5 @@
-"""System contracts (model.system_contract), the system rules (compare.system.check_launched),
-system checks without capturing (check.system_pipeline) and the labels of processes (run.system)."""
+"""System contracts (model.system_contract), the system rules (compare.compatibility.check_launched),
+system checks without capturing (check.system_pipeline) and the labels of processes (run.system_capture)."""
 
 from __future__ import annotations
 
@@ -9,12 +9,12 @@ import pytest
 
 from pytest_rmw_introspect.check import system_pipeline
 from pytest_rmw_introspect.compare import report
-from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched
+from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
 from pytest_rmw_introspect.errors import ContractError, TargetConfigError
+from pytest_rmw_introspect.launch.result import LaunchedNode, LaunchParameter, Where
 from pytest_rmw_introspect.model import system_contract
 from pytest_rmw_introspect.model.vocabulary import Severity
-from pytest_rmw_introspect.run import system as run_system
-from pytest_rmw_introspect.run.launch_model import LaunchedNode, Parameter, Where
+from pytest_rmw_introspect.run import system_capture
 from pytest_rmw_introspect.run.target import TargetSpec
 
 STRING = "std_msgs/msg/String"
@@ -245,34 +245,34 @@ def test_diff_of_system_contracts(tmp_path):
 
 
 def test_process_labels_and_targets(tmp_path):
-    assert run_system.labels([("demo", "talker"), ("demo", "talker"), (None, "/opt/bin/tool"), ("demo", "talker")]) == [
+    assert system_capture.labels([("demo", "talker"), ("demo", "talker"), (None, "/opt/bin/tool"), ("demo", "talker")]) == [
         "demo/talker", "demo/talker #2", "tool", "demo/talker #3"]
     launched = LaunchedNode(
         executable="talker", package="demo", where=Where(tmp_path / "a.launch.xml", 3), name="t", namespace="/r",
-        arguments=("--x",), parameters=(Parameter("rate", 2.0), Parameter(file_text="/**: {}\n")),
+        arguments=("--x",), parameters=(LaunchParameter("rate", 2.0), LaunchParameter(file_text="/**: {}\n")),
         remappings=(("a", "b"),), env={"K": "V"})
-    spec = run_system.process_spec(launched, TargetSpec(timeout=7.0, env={"BASE": "1", "K": "base"}), tmp_path)
+    spec = system_capture.process_spec(launched, TargetSpec(timeout=7.0, env={"BASE": "1", "K": "base"}), tmp_path)
     assert (spec.package, spec.executable, spec.timeout) == ("demo", "talker", 7.0)
     assert dict(spec.env) == {"BASE": "1", "K": "V"}
     assert spec.arguments == ("--x", "--ros-args", "-r", "__node:=t", "-r", "__ns:=/r", "-p", "rate:=2.0",
                               "--params-file", str(tmp_path / "params_1.yaml"), "-r", "a:=b")
     assert (tmp_path / "params_1.yaml").read_text() == "/**: {}\n"
     plain = LaunchedNode(executable="/opt/bin/tool", package=None, where=launched.where, cwd=tmp_path)
-    spec = run_system.process_spec(plain, TargetSpec(), tmp_path)
+    spec = system_capture.process_spec(plain, TargetSpec(), tmp_path)
     assert spec.command == ("/opt/bin/tool",) and spec.cwd == tmp_path
     given = LaunchedNode(executable="talker", package="demo", where=launched.where, command=("/x/talker", "--ros-args"))
-    assert run_system.process_spec(given, TargetSpec(), tmp_path).command == ("/x/talker", "--ros-args")
+    assert system_capture.process_spec(given, TargetSpec(), tmp_path).command == ("/x/talker", "--ros-args")
 
 
 def test_launch_blocks(tmp_path):
     (tmp_path / "robot.launch.xml").write_text("<launch/>")
-    spec = run_system.resolve_launch({"path": "robot.launch.xml", "arguments": {"a": True, "b": 2}},
-                                     base_dir=tmp_path, source="test", prefixes=[])
+    spec = system_capture.resolve_launch({"path": "robot.launch.xml", "arguments": {"a": True, "b": 2}},
+                                         base_dir=tmp_path, source="test", prefixes=[])
     assert spec.path == tmp_path / "robot.launch.xml"
     assert dict(spec.arguments) == {"a": "true", "b": "2"}
     assert spec.describe().endswith("robot.launch.xml a:=true b:=2")
     assert spec.to_block(tmp_path) == {"path": "robot.launch.xml", "arguments": {"a": "true", "b": "2"}}
     with pytest.raises(TargetConfigError, match="unknown launch key"):
-        run_system.resolve_launch({"path": "x", "nope": 1}, base_dir=tmp_path, source="test", prefixes=[])
+        system_capture.resolve_launch({"path": "x", "nope": 1}, base_dir=tmp_path, source="test", prefixes=[])
     with pytest.raises(TargetConfigError, match="`arguments` must be a mapping"):
-        run_system.resolve_launch({"path": "x", "arguments": [1]}, base_dir=tmp_path, source="test", prefixes=[])
+        system_capture.resolve_launch({"path": "x", "arguments": [1]}, base_dir=tmp_path, source="test", prefixes=[])

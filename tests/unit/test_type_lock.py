@@ -78,28 +78,28 @@ def test_a_nested_type_that_changed_is_reported_with_the_path_to_it(tmp_path):
     table = type_tables.describe(IMAGE)
     lock = _lock(tmp_path, _camera(), table)
     assert set(lock.types) == {IMAGE, HEADER, TIME} and lock.contracts == ("camera.interfaces.yaml",)
-    assert lock_check.check(_camera(), table, lock) == []
+    assert lock_check.lock_drift(_camera(), table, lock) == []
 
     header_changed = _with_field(table, HEADER, Field("seq", "uint32"))
-    (item,) = lock_check.check(_camera(), header_changed, lock)
+    (item,) = lock_check.lock_drift(_camera(), header_changed, lock)
     assert (item.node, item.kind, item.name, item.rule, item.severity.name) == \
         ("/camera", "publishers", "/image", "TYPE_LOCK_CHANGED", "BREAKING")
     assert item.message.startswith(f"{IMAGE} -> {HEADER} changed since interfaces.lock.json locked it ")
     assert item.old == lock.types[HEADER] and item.new == type_hash.message_hash(header_changed, HEADER)
 
     time_changed = _with_field(table, TIME, Field("leap", "int8"))
-    (item,) = lock_check.check(_camera(), time_changed, lock)
+    (item,) = lock_check.lock_drift(_camera(), time_changed, lock)
     assert item.message.startswith(f"{IMAGE} -> {HEADER} -> {TIME} changed")
 
     own_changed = _with_field(table, IMAGE, Field("gain", "float32"))
-    (item,) = lock_check.check(_camera(), own_changed, lock)
+    (item,) = lock_check.lock_drift(_camera(), own_changed, lock)
     assert item.message.startswith(f"{IMAGE} changed since")
 
 
 def test_a_type_the_lock_does_not_list_is_not_locked(tmp_path):
     table = type_tables.describe(IMAGE, "sensor_msgs/msg/CameraInfo")
     lock = _lock(tmp_path, _camera(), table)
-    items = lock_check.check(_camera("sensor_msgs/msg/CameraInfo"), table, lock)
+    items = lock_check.lock_drift(_camera("sensor_msgs/msg/CameraInfo"), table, lock)
     assert {(i.rule, i.change) for i in items} == {
         ("TYPE_NOT_LOCKED", "type:sensor_msgs/msg/CameraInfo"),
         ("TYPE_NOT_LOCKED", "type:sensor_msgs/msg/RegionOfInterest")}

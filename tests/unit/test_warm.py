@@ -18,8 +18,10 @@ from pathlib import Path
 import pytest
 
 from pytest_rmw_introspect.errors import TargetConfigError
-from pytest_rmw_introspect.run import runner, warm, warm_server
+from pytest_rmw_introspect.run import runner
 from pytest_rmw_introspect.run.target import TARGET_KEYS, TargetSpec
+from pytest_rmw_introspect.run.warm import client as warm
+from pytest_rmw_introspect.run.warm import server as warm_server
 
 PY = sys.executable
 

@@ -11,12 +11,12 @@ import pytest
 
 from pytest_rmw_introspect.check import launch_settings, system_pipeline
 from pytest_rmw_introspect.compare import graph, launch_given, report, wiring
+from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched, propose_external
 from pytest_rmw_introspect.compare.launch_given import Given, GivenParameter, ParamsFile
-from pytest_rmw_introspect.compare.system import LaunchedProcess, check_launched, propose_external
 from pytest_rmw_introspect.errors import ContractError
+from pytest_rmw_introspect.launch.result import LaunchedNode, LaunchParameter, Where
 from pytest_rmw_introspect.model import system_contract
 from pytest_rmw_introspect.model.vocabulary import Severity
-from pytest_rmw_introspect.run.launch_model import LaunchedNode, Parameter, Where
 
 SCAN = "sensor_msgs/msg/LaserScan"
 POSE = "geometry_msgs/msg/PoseWithCovarianceStamped"
@@ -76,8 +76,8 @@ def test_a_declaration_that_matches_nothing_is_reported():
 
 def test_node_contracts_alone_keep_the_risky_missing_peer_rules():
     # compat over node contracts (not a whole system) is unchanged
-    from pytest_rmw_introspect.compare.system import check_system
-    items = check_system({"a.yaml": {"/a": node(subs=[("/x", SCAN)])}})
+    from pytest_rmw_introspect.compare.compatibility import check_compatibility
+    items = check_compatibility({"a.yaml": {"/a": node(subs=[("/x", SCAN)])}})
     assert [(i.rule, i.severity) for i in items] == [("SUBSCRIPTION_WITHOUT_PUBLISHER", Severity.RISKY)]
 
 
@@ -296,9 +296,9 @@ def test_the_settings_of_a_launched_node(tmp_path):
     params.write_text("/**/lidar:\n  ros__parameters: {rate: 2.0, frame: {id: x}}\n")
     launched = LaunchedNode(
         executable="laser", package="demo", where=Where(tmp_path / "robot.launch.xml", 4), name="lidar",
-        parameters=(Parameter("use_sim_time", True, where=Where(tmp_path / "robot.launch.xml", 2)),
-                    Parameter("rate", 3.0), Parameter(file=params), Parameter(file_text="/**:\n  ros__parameters: {a: 1}\n"),
-                    Parameter(file=tmp_path / "missing.yaml")),
+        parameters=(LaunchParameter("use_sim_time", True, where=Where(tmp_path / "robot.launch.xml", 2)),
+                    LaunchParameter("rate", 3.0), LaunchParameter(file=params), LaunchParameter(file_text="/**:\n  ros__parameters: {a: 1}\n"),
+                    LaunchParameter(file=tmp_path / "missing.yaml")),
         remappings=(("scan", "lidar/scan"),),
         ros_arguments=("-p", "gain:=2", "-r", "odom:=wheel/odom", "--params-file", str(params)))
     settings = launch_settings.given(launched)

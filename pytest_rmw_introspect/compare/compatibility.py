@@ -1,9 +1,9 @@
-"""System checks across contracts: do the nodes of several contracts fit together?
+"""Compatibility checks across contracts: do the nodes of several contracts fit together?
 
 All nodes of all contracts form one system. Per topic, every publisher × subscription pair is
 checked (type, type hash, QoS with ``qos.check_compatible``); per service and action, every
 client × server pair (type, type hash). Requesting endpoints without any provider are reported.
-The rules and their severities are in docs/drift-rules.md ("System checks").
+The rules and their severities are in docs/drift-rules.md ("Compatibility rules").
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ RULES: dict[str, Severity] = {
 }
 
 #: rule id → what it reports, for the docs and SARIF's rule descriptions (the "what" column of
-#: docs/drift-rules.md, "System checks")
+#: docs/drift-rules.md, "Compatibility rules")
 SUMMARIES: dict[str, str] = {
     "TYPE_MISMATCH": "the two ends use different type names",
     "TYPE_HASH_MISMATCH": "same type name, different hash (or action hash mapping)",
@@ -96,7 +96,7 @@ SUMMARIES: dict[str, str] = {
 
 
 @dataclass(frozen=True, order=True)
-class Endpoint:
+class ContractEndpoint:
     label: str  # which contract (e.g. its file path)
     node: str  # fully qualified node name
     kind: str  # one of the six contract list names
@@ -110,8 +110,8 @@ class CompatItem:
     rule: str
     severity: Severity
     name: str  # topic, service or action name
-    requester: Endpoint  # subscription / service client / action client
-    provider: Endpoint | None  # publisher / service server / action server; None if missing
+    requester: ContractEndpoint  # subscription / service client / action client
+    provider: ContractEndpoint | None  # publisher / service server / action server; None if missing
     message: str
     #: the provider's name when it differs from ``name`` (a mis-wired name: ``*_NAME_MISMATCH``)
     other_name: str | None = None
@@ -119,11 +119,11 @@ class CompatItem:
 
 @dataclass(frozen=True)
 class _Found:
-    endpoint: Endpoint
+    endpoint: ContractEndpoint
     entry: Mapping[str, Any]
 
 
-def check_system(
+def check_compatibility(
     contracts: Mapping[str, Mapping], *, strict_system_default: bool = False
 ) -> list[CompatItem]:
     """Incompatibilities between the nodes of several contracts, most severe first.
@@ -138,7 +138,7 @@ def check_system(
         for node_name, node in (nodes or {}).items():
             for kind in (*_PAIRS, *(provider for provider, _ in _PAIRS.values())):
                 for entry in (node or {}).get(kind) or []:
-                    found = _Found(Endpoint(label, node_name, kind), entry)
+                    found = _Found(ContractEndpoint(label, node_name, kind), entry)
                     endpoints.setdefault(kind, {}).setdefault(entry.get("name"), []).append(found)
 
     items: list[CompatItem] = []
@@ -209,7 +209,7 @@ def _strip_levels(reason: str) -> str:
 
 
 def _sort_key(item: CompatItem) -> tuple:
-    provider = item.provider or Endpoint("", "", "")
+    provider = item.provider or ContractEndpoint("", "", "")
     return (-item.severity, item.name, item.rule, item.requester, provider)
 
 
@@ -247,20 +247,20 @@ _MULTIPLE = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "A
 def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[str, Mapping[str, str]] | None = None,
                    missing_path: launch_given.MissingPath | None = None,
                    strict_system_default: bool = False) -> list[CompatItem]:
-    """Every system rule over the processes a launch file starts: the connections between all
-    their nodes (:func:`check_system`, one label per process), with requesters nobody provides
+    """Every compatibility rule over the processes a launch file starts: the connections between all
+    their nodes (:func:`check_compatibility`, one label per process), with requesters nobody provides
     judged against the declared outside world ``external`` (``compare.wiring``: declared, a
     mis-wired name, or dangling), plus node names held by more than one node, services and
     actions with more than one server, processes that did not create the node the launch file
     names (or created none), and what the launch file gives a node that it ignores
     (``compare.launch_given``; with ``missing_path``, parameter values that point at files that
     do not exist). Most severe first."""
-    connections = check_system({p.label: p.nodes for p in processes}, strict_system_default=strict_system_default)
+    connections = check_compatibility({p.label: p.nodes for p in processes}, strict_system_default=strict_system_default)
     missing = set(_WITHOUT_PROVIDER.values())
     items = [item for item in connections if item.rule not in missing]
     items += _judge_dangling(processes, [item for item in connections if item.rule in missing], external)
-    items += [CompatItem(f.rule, RULES[f.rule], f.name, Endpoint(f.label, f.node, "node"), None, f.message)
-              for f in launch_given.check(processes, missing_path)]
+    items += [CompatItem(f.rule, RULES[f.rule], f.name, ContractEndpoint(f.label, f.node, "node"), None, f.message)
+              for f in launch_given.given_findings(processes, missing_path)]
     holders: dict[str, list[str]] = {}
     for process in processes:
         for fqn in process.nodes:
@@ -272,12 +272,12 @@ def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[st
             at = f" at {process.where}" if process.where else " here"
             items.append(CompatItem(
                 "LAUNCHED_NODE_NOT_CREATED", RULES["LAUNCHED_NODE_NOT_CREATED"], process.expected or process.label,
-                Endpoint(process.label, process.expected or "(unnamed)", "node"), None,
+                ContractEndpoint(process.label, process.expected or "(unnamed)", "node"), None,
                 f"the launch file starts {wanted}{at}, but the process created {created}"))
         for component, why in process.unloaded:
             items.append(CompatItem(
                 "LAUNCHED_NODE_NOT_CREATED", RULES["LAUNCHED_NODE_NOT_CREATED"], component,
-                Endpoint(process.label, component, "node"), None, why))
+                ContractEndpoint(process.label, component, "node"), None, why))
     for process in processes:
         for fqn in process.duplicates:
             holders[fqn].append(process.label)
@@ -285,15 +285,15 @@ def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[st
         for label in labels[1:]:
             items.append(CompatItem(
                 "DUPLICATE_NODE_NAME", RULES["DUPLICATE_NODE_NAME"], fqn,
-                Endpoint(label, fqn, "node"), Endpoint(labels[0], fqn, "node"),
+                ContractEndpoint(label, fqn, "node"), ContractEndpoint(labels[0], fqn, "node"),
                 f"{len(labels)} nodes are named {fqn}: ROS 2 cannot tell them apart (parameter services, "
                 "logging and `ros2 node` address nodes by name); give each a name of its own"))
     for kind, rule in _MULTIPLE.items():
-        servers: dict[str, list[Endpoint]] = {}
+        servers: dict[str, list[ContractEndpoint]] = {}
         for process in processes:
             for fqn, node in process.nodes.items():
                 for entry in (node or {}).get(kind) or []:
-                    servers.setdefault(entry.get("name"), []).append(Endpoint(process.label, fqn, kind))
+                    servers.setdefault(entry.get("name"), []).append(ContractEndpoint(process.label, fqn, kind))
         for name, found in servers.items():
             for other in found[1:]:
                 items.append(CompatItem(
@@ -310,13 +310,13 @@ def _judge_dangling(processes: Sequence[LaunchedProcess], missing: Sequence[Comp
                 if wiring.declared(external, PROVIDER_OF[d.kind], d.name) is None]
     items = []
     for rule, item, offer, message in wiring.judge(dangling, wiring.unconsumed_offers(processes, external)):
-        provider = Endpoint(offer.label, offer.node, offer.kind) if offer is not None else None
-        items.append(CompatItem(rule, RULES[rule], item.name, Endpoint(item.label, item.node, item.kind), provider,
+        provider = ContractEndpoint(offer.label, offer.node, offer.kind) if offer is not None else None
+        items.append(CompatItem(rule, RULES[rule], item.name, ContractEndpoint(item.label, item.node, item.kind), provider,
                                 message, other_name=offer.name if offer is not None else None))
     for kind, name, who in wiring.unused_declarations(processes, external):
         wanted = LABELS[wiring.REQUESTER_OF.get(kind) or PROVIDER_OF[kind]]
         items.append(CompatItem("EXTERNAL_UNUSED", RULES["EXTERNAL_UNUSED"], name,
-                                Endpoint(wiring.EXTERNAL_LABEL, who, kind), None,
+                                ContractEndpoint(wiring.EXTERNAL_LABEL, who, kind), None,
                                 f"`external:` declares {who} as a {LABELS[kind]} of {name}, but no {wanted} of the "
                                 "system uses that name: remove the declaration, or check the name on both sides"))
     return items
@@ -338,7 +338,7 @@ def dangling_requesters(processes: Sequence[LaunchedProcess], missing: Sequence[
 def propose_external(processes: Sequence[LaunchedProcess]) -> str:
     """A commented-out ``external:`` block for a new system contract: every requester nobody in
     the system provides for, except the near misses (mis-wirings to fix, not outside inputs)."""
-    missing = [item for item in check_system({p.label: p.nodes for p in processes})
+    missing = [item for item in check_compatibility({p.label: p.nodes for p in processes})
                if item.rule in _WITHOUT_PROVIDER.values()]
     dangling = dangling_requesters(processes, missing)
     paired = [item for rule, item, offer, _ in wiring.judge(dangling, wiring.unconsumed_offers(processes, None))

@@ -2,12 +2,12 @@
 
 :func:`resolve_launch` turns a system contract's ``launch:`` block (or the command line's
 ``--launch``) into a :class:`LaunchSpec`; :func:`capture_system` reads the launch file
-(``launch_reader``), runs every process it starts through the runner (``runner.run``: its own
+(``launch.reader``), runs every process it starts through the runner (``runner.run``: its own
 capture file, settle, virtual time, timeout), in parallel with at most as many processes at a
 time as the machine has cores, each with the command line, parameters, remappings and
 environment the launch file gives it, and returns a :class:`SystemCapture`.
 
-A process that runs but creates no node is part of the result (the system rule
+A process that runs but creates no node is part of the result (the compatibility rule
 ``LAUNCHED_NODE_NOT_CREATED`` reports it); a process that cannot be captured (not found,
 crashes, hangs) makes the whole capture a :class:`SystemCaptureError` listing every such
 process. No data moves between the processes, so capturing them apart is the same as
@@ -28,11 +28,13 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import NoNodeCreated, TargetConfigError, TargetError
+from ..launch import component_loads
+from ..launch import reader as launch_reader
+from ..launch.result import LaunchedNode, LaunchError, LaunchParameter, LaunchResult
 from ..model.capture import Capture
 from ..model.paths import shown
 from ..model.vocabulary import LIFECYCLE, PARAMETERS
-from . import component_loads, launch_reader, middleware, ros_env, runner
-from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter
+from . import middleware, ros_env, runner
 from .target import TargetSpec
 
 #: keys of a ``launch:`` block
@@ -214,7 +216,7 @@ def process_spec(node: LaunchedNode, base: TargetSpec, params_dir: Path) -> Targ
     system's process-wide options (``base``: settle, timeout, horizon, lifecycle, read_parameters, env)."""
     counter = [0]
 
-    def params_file(parameter: Parameter) -> Path:
+    def params_file(parameter: LaunchParameter) -> Path:
         counter[0] += 1
         path = params_dir / f"params_{counter[0]}.yaml"
         path.write_text(parameter.file_text or "", encoding="utf-8")

@@ -21,8 +21,8 @@ from typing import Any
 
 from ..model import untrusted
 from ..model.paths import shown
-from .launch_entities import MAX_FILE_BYTES, yaml_value
-from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter, Unsupported, Where
+from .entities import MAX_FILE_BYTES, yaml_value
+from .result import LaunchedNode, LaunchError, LaunchParameter, LaunchResult, Unsupported, Where
 
 
 def _fail(path: Path, reason: str) -> LaunchError:
@@ -77,11 +77,11 @@ def read(path: Path, result: LaunchResult) -> None:
             # a fully qualified name: split it
             prefix, _, name = name.rpartition("/")
             namespace = namespace or prefix or "/"
-        parameters = [Parameter(file_text=str(text)) for text in record.get("params_files") or []]
+        parameters = [LaunchParameter(file_text=str(text)) for text in record.get("params_files") or []]
         for key, value in _pairs(record.get("params"), path, "params", index):
             if ":=" in key:  # `name:=value` as launch_ros passes it after -p
                 key, _, value = key.partition(":=")
-            parameters.append(Parameter(name=key, value=_value(value, path, index)))
+            parameters.append(LaunchParameter(name=key, value=_value(value, path, index)))
         env = {k: str(v) for k, v in _pairs(record.get("env"), path, "env", index)}
         package = record.get("package")
         cmd = record.get("cmd") or []

@@ -2,8 +2,8 @@
 
 :func:`read` reads an XML or YAML launch file itself (no ``launch``/``launch_ros`` needed, so
 it works with the ROS 2 PyPI wheels), a Python launch file through ``launch``/``launch_ros``
-when they are importable (``launch_python``), or a ``record.json`` written by play_launch's
-``dump_launch`` (``launch_record``), and gives a :class:`LaunchResult`: the nodes it starts
+when they are importable (``python_file``), or a ``record.json`` written by play_launch's
+``dump_launch`` (``record``), and gives a :class:`LaunchResult`: the nodes it starts
 (:class:`LaunchedNode`: package, executable, name, namespace, arguments, parameters,
 remappings, environment, and the file and line that starts it), the launch arguments it
 declares, and everything it contains that this reader does not support.
@@ -33,7 +33,7 @@ Supported (XML and YAML, ``-`` and ``_`` spellings alike):
                             children are loaded into it
 ``load_composable_node``    ``target`` (a container this launch starts); ``composable_node`` children
 ``composable_node``         ``pkg``, ``plugin``, ``name``, ``namespace``; children ``param``, ``remap``,
-                            ``extra_arg``: the LoadNode request launch_ros makes (``launch_components``),
+                            ``extra_arg``: the LoadNode request launch_ros makes (``components``),
                             kept on the container's :class:`LaunchedNode` (``components``)
 ``if``, ``unless``          on every entity
 ==========================  ===============================================================
@@ -45,7 +45,7 @@ written inside a group also applies after the group when a rule of the same kind
 before the group (in an enclosing scope or an earlier include); a group with
 ``forwarding="false"`` starts without any.
 
-Substitutions: ``launch_substitutions``. Relative paths (``include file``, ``param from``,
+Substitutions: ``substitutions``. Relative paths (``include file``, ``param from``,
 ``node cwd``) are relative to the directory of the launch file that names them (``ros2 launch``
 takes them relative to where it is started; ``$(dirname)`` or ``$(find-pkg-share ...)`` make a
 launch file independent of both). Attributes that do not change what a node creates
@@ -55,7 +55,7 @@ is an :class:`Unsupported` entry with its file and line; :meth:`LaunchResult.req
 turns them into one :class:`LaunchError`.
 
 Launch files may come from anywhere, so reading one is bounded like reading a contract: the
-files themselves (``launch_entities``), substitutions (``launch_substitutions``), and here the
+files themselves (``entities``), substitutions (``substitutions``), and here the
 work of a launch: each file is parsed once however often it is included, at most
 :data:`MAX_INCLUDES` includes are followed and :data:`MAX_ENTITIES` entities interpreted, and
 groups and includes nest at most :data:`MAX_NESTING` levels together. Each limit is a
@@ -75,21 +75,21 @@ from typing import Any
 
 from ..model import untrusted
 from ..model.paths import shown
-from . import launch_components, launch_entities, launch_python, launch_record, launch_substitutions
-from .launch_entities import Entity, EntityFormatError
-from .launch_model import (
+from . import components, entities, python_file, record, substitutions
+from .entities import Entity, EntityFormatError
+from .result import (
     ComponentLoad,
     DeclaredArgument,
     LaunchedNode,
     LaunchError,
+    LaunchParameter,
     LaunchResult,
-    Parameter,
     Unsupported,
     Where,
     find_package_prefix,
     join_namespace,
 )
-from .launch_substitutions import Context, SubstitutionError, UnsupportedSubstitution
+from .substitutions import Context, SubstitutionError, UnsupportedSubstitution
 
 #: attributes that do not change what a node creates: accepted, no effect
 IGNORED_NODE_ATTRIBUTES = frozenset({
@@ -144,7 +144,7 @@ class _Scope:
     #: settings: launch_ros keeps each kind as one list in the launch configurations (None: not
     #: set yet). A scope copies the configurations but shares these lists (see :meth:`copy`).
     remaps: list[tuple[str, str]] | None = None
-    parameters: list[Parameter] | None = None
+    parameters: list[LaunchParameter] | None = None
     #: the <include> that reads the current file (None: the top-level file)
     included_from: Where | None = None
 
@@ -201,7 +201,7 @@ def read(
     if problem is not None:
         raise LaunchError(f"launch file {shown(path)} {problem}")
     if path.name.endswith(".json"):
-        launch_record.read(path, result)
+        record.read(path, result)
         return result
     reader = _Reader(result, list(prefixes))
     reader.read_file(path, _Scope(dict(given), None, {}), None, ())
@@ -228,7 +228,7 @@ class _Reader:
         self.result = result
         self.prefixes = prefixes
         self.anon: dict[str, str] = {}
-        self.budget = launch_substitutions.Budget()
+        self.budget = substitutions.Budget()
         self.parsed: dict[Path, Entity] = {}  # each file is parsed once, however often it is included
         self.includes = 0
         self.interpreted = 0
@@ -238,7 +238,7 @@ class _Reader:
 
     # ------------------------------------------------------------ helpers
     def context(self, scope: _Scope, file: Path) -> Context:
-        return Context(scope.configurations, launch_substitutions.environment_view(scope.env), file,
+        return Context(scope.configurations, substitutions.environment_view(scope.env), file,
                        self.find_package, self.anon, self.budget)
 
     def find_package(self, package: str) -> Path:
@@ -247,9 +247,9 @@ class _Reader:
     def text(self, value: Any, scope: _Scope, file: Path) -> str:
         if not isinstance(value, str):
             return argument_text(value)
-        if not launch_substitutions.has_substitution(value):
+        if not substitutions.has_substitution(value):
             return value
-        return launch_substitutions.substitute(value, self.context(scope, file))
+        return substitutions.substitute(value, self.context(scope, file))
 
     def unsupported(self, where: Where, what: str) -> None:
         self.result.unsupported.append(Unsupported(where, what))
@@ -304,7 +304,7 @@ class _Reader:
             raise LaunchError(f"{included_from or Where(path)}: launch file {shown(path)} {problem}")
         self.result.files.append(path)
         if path.suffix == ".py":
-            launch_python.read(path, scope.configurations, scope.namespace, dict(scope.env), self.result,
+            python_file.read(path, scope.configurations, scope.namespace, dict(scope.env), self.result,
                                self.prefixes, included_from)
             return
         root = self.parsed.get(path)
@@ -317,7 +317,7 @@ class _Reader:
     def parse(self, path: Path, included_from: Where | None) -> Entity:
         where = included_from or Where(path)
         try:
-            root = launch_entities.parse_file(path)
+            root = entities.parse_file(path)
         except FileNotFoundError:
             raise LaunchError(f"{where}: launch file {shown(path)} does not exist") from None
         except OSError as exc:
@@ -413,20 +413,20 @@ class _Reader:
         # launch_ros reads the value as YAML once its substitutions are performed
         text = self.text(self.require(entity, file, "value"), scope, file)
         try:
-            value = launch_entities.yaml_value(text)
+            value = entities.yaml_value(text)
         except ValueError as exc:
             raise SubstitutionError(str(exc)) from None
-        self.set_parameter(scope, Parameter(name=name, value=value, where=Where(file, entity.line)))
+        self.set_parameter(scope, LaunchParameter(name=name, value=value, where=Where(file, entity.line)))
 
     def tag_set_parameters_from_file(self, entity: Entity, scope: _Scope, file: Path,
                                      stack: tuple[Path, ...]) -> None:
         path = self.path(self.require(entity, file, "filename"), scope, file)
         if not path.is_file():
             raise self.error(Where(file, entity.line), f"parameters file {shown(path)} does not exist")
-        self.set_parameter(scope, Parameter(file=path, where=Where(file, entity.line)))
+        self.set_parameter(scope, LaunchParameter(file=path, where=Where(file, entity.line)))
 
     @staticmethod
-    def set_parameter(scope: _Scope, parameter: Parameter) -> None:
+    def set_parameter(scope: _Scope, parameter: LaunchParameter) -> None:
         scope.parameters = scope.parameters if scope.parameters is not None else []
         scope.parameters.append(parameter)
 
@@ -478,7 +478,7 @@ class _Reader:
         arguments = tuple(shlex.split(self.text(a["args"], scope, file))) if a.get("args") is not None else ()
         ros_arguments = tuple(shlex.split(self.text(a["ros_args"], scope, file))) if a.get("ros_args") is not None else ()
         cwd = self.path(a["cwd"], scope, file) if a.get("cwd") is not None else None
-        parameters: list[Parameter] = []
+        parameters: list[LaunchParameter] = []
         remappings: list[tuple[str, str]] = []
         env = dict(scope.env)
         for child in entity.children:
@@ -544,9 +544,9 @@ class _Reader:
         name = self.text(self.require(entity, file, "name"), scope, file)
         own_namespace = self.text(a["namespace"], scope, file) if a.get("namespace") is not None else None
         namespace = join_namespace(scope.namespace, own_namespace)
-        given: list[Parameter] = list(scope.parameters or ())
+        given: list[LaunchParameter] = list(scope.parameters or ())
         remaps = [f"{source}:={target}" for source, target in scope.remaps or ()]
-        extras: list[Parameter] = []
+        extras: list[LaunchParameter] = []
         for child in entity.children:
             if not self.condition(child, scope, file):
                 continue
@@ -558,19 +558,19 @@ class _Reader:
                               self.text(self.require(child, file, "to"), scope, file))
             elif child.tag == "extra_arg":
                 self.check_attributes(child, file, frozenset({"name", "value"}))
-                extras.append(Parameter(name=self.text(self.require(child, file, "name"), scope, file),
+                extras.append(LaunchParameter(name=self.text(self.require(child, file, "name"), scope, file),
                                         value=self.value(self.require(child, file, "value"), None, scope, file)))
         try:
-            parameters = launch_components.parameters(given, name, namespace)
-            extra_arguments = launch_components.parameters(extras, name, namespace)
-        except (launch_components.ComponentParameterError, OSError, untrusted.InputError) as exc:
+            parameters = components.parameters(given, name, namespace)
+            extra_arguments = components.parameters(extras, name, namespace)
+        except (components.ComponentParameterError, OSError, untrusted.InputError) as exc:
             raise self.error(where, f"<composable_node name=\"{name}\">: {exc}") from None
         return ComponentLoad(
             package=self.text(self.require(entity, file, "pkg"), scope, file),
             plugin=self.text(self.require(entity, file, "plugin"), scope, file), where=where, name=name,
             namespace=namespace, remap_rules=tuple(remaps), parameters=parameters, extra_arguments=extra_arguments)
 
-    def parameters(self, entity: Entity, prefix: str, scope: _Scope, file: Path) -> list[Parameter]:
+    def parameters(self, entity: Entity, prefix: str, scope: _Scope, file: Path) -> list[LaunchParameter]:
         where = Where(file, entity.line)
         a = entity.attributes
         self.check_attributes(entity, file, frozenset({"name", "value", "value_sep", "from", "allow_substs"}))
@@ -580,18 +580,18 @@ class _Reader:
             path = self.path(a["from"], scope, file)
             if not path.is_file():
                 raise self.error(where, f"parameters file {shown(path)} does not exist")
-            return [Parameter(file=path)]
+            return [LaunchParameter(file=path)]
         name = prefix + str(self.text(self.require(entity, file, "name"), scope, file))
         nested = [c for c in entity.children if c.tag == "param"]
         if nested:
-            out: list[Parameter] = []
+            out: list[LaunchParameter] = []
             for child in nested:
                 if self.condition(child, scope, file):
                     out += self.parameters(child, name + ".", scope, file)
             return out
         if "value" not in a:
             raise self.error(where, f"<param name=\"{name}\"> needs `value`, `from` or nested <param> entries")
-        return [Parameter(name=name, value=self.value(a["value"], a.get("value_sep"), scope, file))]
+        return [LaunchParameter(name=name, value=self.value(a["value"], a.get("value_sep"), scope, file))]
 
     def value(self, raw: Any, separator: Any, scope: _Scope, file: Path) -> Any:
         """A parameter value typed as launch_ros types it."""
@@ -603,9 +603,9 @@ class _Reader:
         if separator is not None:
             sep = self.text(separator, scope, file)
             return [guess_type(part) for part in text.split(sep)] if text else []
-        if launch_substitutions.has_substitution(raw):
+        if substitutions.has_substitution(raw):
             try:
-                return launch_entities.yaml_value(text)
+                return entities.yaml_value(text)
             except ValueError as exc:
                 raise SubstitutionError(str(exc)) from None
         return guess_type(text)
@@ -624,6 +624,6 @@ def guess_type(text: str) -> Any:
 
 
 __all__ = [
-    "DeclaredArgument", "LaunchError", "LaunchResult", "LaunchedNode", "Parameter", "Unsupported", "Where",
+    "DeclaredArgument", "LaunchError", "LaunchResult", "LaunchedNode", "LaunchParameter", "Unsupported", "Where",
     "find_package_prefix", "guess_type", "join_namespace", "launch_file_of_package", "read",
 ]

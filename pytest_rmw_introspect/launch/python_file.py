@@ -14,9 +14,9 @@ docs/design.md, "System contracts"), without starting anything:
 * ``SetRemap``, ``SetParameter`` and ``SetParametersFromFile`` are visited like any action:
   launch_ros puts what they set in force on the command lines it prepares; the walker reads the
   parameters (``-p``, ``--params-file``) and remappings back from each command line, so that the
-  system rules (``compare.launch_given``) judge them, and names a ``SetParameter``'s own line;
+  compatibility rules (``compare.launch_given``) judge them, and names a ``SetParameter``'s own line;
 * event handlers (``RegisterEventHandler`` and ``on_exit=``) get the meaning a capture can give
-  them (``launch_python_events``);
+  them (``python_events``);
 * a ``ComposableNodeContainer`` is a node (its process is captured) whose components, and those
   ``LoadComposableNodes`` loads into it, are the LoadNode requests launch_ros would send
   (``get_composable_node_load_request``: the scope's namespace, ``SetRemap`` and
@@ -48,9 +48,9 @@ from types import ModuleType
 from typing import Any
 
 from ..model.paths import shown
-from . import launch_model, launch_python_events
-from .launch_entities import yaml_value
-from .launch_model import LaunchedNode, LaunchError, LaunchResult, Parameter, Unsupported, Where
+from . import python_events
+from .entities import yaml_value
+from .result import ComponentLoad, ComponentParameter, LaunchedNode, LaunchError, LaunchParameter, LaunchResult, Unsupported, Where
 
 _NOT_AVAILABLE = (
     "{file} is a Python launch file, which is read through the ROS 2 `launch` and `launch_ros` packages; "
@@ -194,7 +194,7 @@ class _Walker:
         self.walk(description)
         while self.pending:
             registration = self.pending.pop(0)
-            handling = launch_python_events.handle(self.launch, registration.event_handler, self.started)
+            handling = python_events.handle(self.launch, registration.event_handler, self.started)
             if handling.unsupported:
                 self.unsupported(registration, handling.unsupported)
             for action in handling.now:
@@ -241,14 +241,14 @@ class _Walker:
         if isinstance(handler, self.launch.event_handlers.OnProcessStart):
             self.pending.append(entity)
             return
-        handling = launch_python_events.handle(self.launch, handler, self.started)
+        handling = python_events.handle(self.launch, handler, self.started)
         if handling.unsupported:
             self.unsupported(entity, handling.unsupported)
 
     def on_exit(self, process: Any) -> None:
         """``on_exit=`` of a process: as an OnProcessExit handler of it."""
-        actions = launch_python_events.actions_of(getattr(process, "_ExecuteLocal__on_exit", None))
-        why = launch_python_events.after_the_end(self.launch, actions, "after the process exits")
+        actions = python_events.actions_of(getattr(process, "_ExecuteLocal__on_exit", None))
+        why = python_events.after_the_end(self.launch, actions, "after the process exits")
         if why:
             self.unsupported(process, f"on_exit: {why}")
 
@@ -295,25 +295,25 @@ class _Walker:
             command=command,
         ))
 
-    def settings(self, command: Sequence[str]) -> tuple[tuple[Parameter, ...], tuple[tuple[str, str], ...],
+    def settings(self, command: Sequence[str]) -> tuple[tuple[LaunchParameter, ...], tuple[tuple[str, str], ...],
                                                          tuple[tuple[str, str], ...]]:
         """The parameters, the SetRemap rules and the node's own remappings on a prepared command
-        line (what the system rules judge), each global parameter (SetParameter) with the place
+        line (what the compatibility rules judge), each global parameter (SetParameter) with the place
         that set it. The SetRemap rules come first, as in XML (scope_remappings)."""
         origins = self.global_origins()
         scope_rules = [tuple(rule) for rule in self.context.launch_configurations.get("ros_remaps") or ()]
         words = list(command)
         ros = words[words.index("--ros-args") + 1:] if "--ros-args" in words else []
-        parameters: list[Parameter] = []
+        parameters: list[LaunchParameter] = []
         scope_remappings: list[tuple[str, str]] = []
         remappings: list[tuple[str, str]] = []
         for flag, value in zip(ros, ros[1:], strict=False):
             if flag in ("-p", "--param") and ":=" in value:
                 name, text = value.split(":=", 1)
                 # the global ones come first: a node's own parameter of the same name is its own
-                parameters.append(Parameter(name=name, value=yaml_value(text), where=origins.pop(name, None)))
+                parameters.append(LaunchParameter(name=name, value=yaml_value(text), where=origins.pop(name, None)))
             elif flag == "--params-file":
-                parameters.append(Parameter(file=Path(value), where=origins.pop(os.path.abspath(value), None)))
+                parameters.append(LaunchParameter(file=Path(value), where=origins.pop(os.path.abspath(value), None)))
             elif flag in ("-r", "--remap") and ":=" in value and not value.startswith(("__node:=", "__ns:=")):
                 source, target = value.split(":=", 1)
                 if len(scope_remappings) < len(scope_rules) and scope_rules[len(scope_remappings)] == (source, target):
@@ -360,7 +360,7 @@ class _Walker:
             request = get_composable_node_load_request(description, self.context)
             if request is None:  # its condition is false
                 continue
-            loads.append(launch_model.ComponentLoad(
+            loads.append(ComponentLoad(
                 package=request.package_name, plugin=request.plugin_name, where=self.where(description),
                 name=request.node_name or None, namespace=request.node_namespace or None,
                 log_level=int(request.log_level), remap_rules=tuple(request.remap_rules),
@@ -377,7 +377,7 @@ _VALUE_FIELDS = {1: "bool_value", 2: "integer_value", 3: "double_value", 4: "str
                  6: "bool_array_value", 7: "integer_array_value", 8: "double_array_value", 9: "string_array_value"}
 
 
-def component_parameter(message: Any) -> launch_model.ComponentParameter:
+def component_parameter(message: Any) -> ComponentParameter:
     """An rcl_interfaces/msg/Parameter as (name, type, value)."""
     kind = int(message.value.type)
     value = getattr(message.value, _VALUE_FIELDS[kind]) if kind in _VALUE_FIELDS else None

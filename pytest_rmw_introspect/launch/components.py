@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from ..model import untrusted
-from .launch_model import ComponentParameter, Parameter
+from .result import ComponentParameter, LaunchParameter
 
 
 class ComponentParameterError(ValueError):
@@ -76,7 +76,7 @@ def file_sections(path: Path) -> dict[str, dict[str, Any]]:
     return found
 
 
-def parameters(given: Sequence[Parameter], name: str, namespace: str | None) -> tuple[ComponentParameter, ...]:
+def parameters(given: Sequence[LaunchParameter], name: str, namespace: str | None) -> tuple[ComponentParameter, ...]:
     """The LoadNode parameters of the component ``namespace``/``name`` from ``given`` (values and
     parameters files, in order; raises ComponentParameterError, OSError, untrusted.InputError)."""
     full = f"{namespace.strip('/')}/{name}" if namespace and namespace != "/" else name

@@ -13,15 +13,15 @@ from typing import Any
 
 from .._version import __version__
 from ..check import system_pipeline
-from ..check.pipeline import Layers, SystemResult, judge_system
+from ..check.pipeline import CompatibilityResult, Layers, judge_compatibility
 from ..compare import graph as graph_module
 from ..compare import sarif
-from ..compare.system import CompatItem, propose_external
+from ..compare.compatibility import CompatItem, propose_external
 from ..errors import TargetConfigError
 from ..model import system_contract
 from ..model.locate import line_index
 from ..model.vocabulary import parse_threshold
-from ..run import system as run_system
+from ..run import system_capture
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
 from . import baselines, formats
@@ -59,12 +59,12 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None, ros: Callab
     assert block is not None
     target = _process_target(args, command)
     env = ros()
-    spec = run_system.resolve_launch(block, base_dir=cwd, source="command line",
-                                     prefixes=run_system.ament_prefixes(env))
+    spec = system_capture.resolve_launch(block, base_dir=cwd, source="command line",
+                                         prefixes=system_capture.ament_prefixes(env))
     process_target = TargetSpec.from_mapping(target, base_dir=cwd, source="command line")
     include = bool(args.include_infrastructure)
-    cap = run_system.capture_system(spec, target=process_target, library=library(), ros=env,
-                                    include_infrastructure=include, jobs=args.jobs)
+    cap = system_capture.capture_system(spec, target=process_target, library=library(), ros=env,
+                                        include_infrastructure=include, jobs=args.jobs)
     for note in cap.notes():
         print(f"note: {note}", file=sys.stderr)
     nodes = cap.to_contract_nodes()
@@ -83,8 +83,9 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None, ros: Callab
     return EXIT_OK
 
 
-def check(args: argparse.Namespace, path: Path, shown: str, command: list[str] | None,
-          ros: Callable[[], RosEnvironment], library: Callable[[], Path]) -> system_pipeline.SystemCheckResult:
+def check_system_contract(args: argparse.Namespace, path: Path, shown: str, command: list[str] | None,
+                          ros: Callable[[], RosEnvironment],
+                          library: Callable[[], Path]) -> system_pipeline.SystemCheckResult:
     """``check`` of one system contract (errors end up in ``result.error``)."""
     cwd = Path.cwd()
     try:
@@ -100,9 +101,9 @@ def check(args: argparse.Namespace, path: Path, shown: str, command: list[str] |
                                                  error=TargetConfigError(str(exc)))
     layers = Layers(strong_target=[(target, cwd, "command line")] if target else [],
                     strong_options=[(compare_from_args(args), "command line")])
-    return system_pipeline.check(path, library=library, ros=ros, layers=layers, launch=block, launch_base=cwd,
-                                 launch_arguments=arguments, system_fail_on=getattr(args, "system_fail_on", None),
-                                 shown=shown, allow_missing=args.update, jobs=args.jobs)
+    return system_pipeline.check_system_contract(
+        path, library=library, ros=ros, layers=layers, launch=block, launch_base=cwd, launch_arguments=arguments,
+        system_fail_on=getattr(args, "system_fail_on", None), shown=shown, allow_missing=args.update, jobs=args.jobs)
 
 
 def cmd_diff(args: argparse.Namespace) -> int:
@@ -121,15 +122,15 @@ def any_system(paths: Sequence[str]) -> bool:
 
 
 def cmd_compat(args: argparse.Namespace) -> int:
-    """``compat`` with system contracts among the files: every system rule."""
+    """``compat`` with system contracts among the files: every compatibility rule."""
     baseline = baselines.load(args)
     loaded = system_pipeline.load_any(args.contracts)
     threshold = parse_threshold(args.fail_on)
-    judged = judge_system(system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default),
-                          loaded.accept, loaded.file_of)
+    judged = judge_compatibility(system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default),
+                                 loaded.accept, loaded.file_of)
     items = [item for item in judged.kept if isinstance(item, CompatItem)]
-    result = SystemResult(labels=loaded.labels, items=items, threshold=threshold, accepted=judged.accepted,
-                          stale=judged.stale)
+    result = CompatibilityResult(labels=loaded.labels, items=items, threshold=threshold, accepted=judged.accepted,
+                                 stale=judged.stale)
     baselines.apply(baseline, result)
     baselines.finish(args, baseline, [result])
     if args.format == "json":

@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from .launch_model import ComponentLoad, ComponentParameter
+from .result import ComponentLoad, ComponentParameter
 
 #: the variable that names the requests file
 VARIABLE = "RMW_INTROSPECT_LOAD_NODES"

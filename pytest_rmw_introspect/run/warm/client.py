@@ -2,7 +2,7 @@
 
 Starting Python, importing rclpy and creating the first ``rclpy.node.Node`` (which imports numpy
 and the parameter and type-description service types) is most of a capture's time, and the same
-for every target. A warm start server (:mod:`.warm_server`) pays it once per interpreter and
+for every target. A warm start server (:mod:`.server`) pays it once per interpreter and
 import-relevant environment: the runner asks it to fork a child per capture, and the child becomes
 the target (see the server's module for what the child sets up). This module is the runner's side:
 
@@ -51,7 +51,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
-from . import process
+from .. import process
 
 #: exact names of environment variables a server is keyed on (besides the prefixes below)
 KEY_NAMES = frozenset({
@@ -83,14 +83,14 @@ SPAWN_TIMEOUT = 10.0
 _BOOTSTRAP = (
     "import sys\n"
     "sys.path.insert(0, {package_parent!r})\n"
-    "from pytest_rmw_introspect.run import warm_server as _w\n"
+    "from pytest_rmw_introspect.run.warm import server as warm_server\n"
     "del sys.path[0]\n"
-    "_job = _w.main(*map(int, sys.argv[1:3]))\n"
+    "_job = warm_server.main(*map(int, sys.argv[1:3]))\n"
     "if _job is None:\n"
-    "    _w.exit_server()\n"
-    "_w.run(_job)\n"
+    "    warm_server.exit_server()\n"
+    "warm_server.run(_job)\n"
 )
-_PACKAGE_PARENT = str(Path(__file__).resolve().parents[2])
+_PACKAGE_PARENT = str(Path(__file__).resolve().parents[3])  # the directory holding pytest_rmw_introspect/
 _ZIP_MAGIC = b"PK\x03\x04"
 _PYTHON_NAME = re.compile(r"python[0-9.]*")
 _ELF_MAGIC = b"\x7fELF"
@@ -232,7 +232,7 @@ def shared_address(scope: str, key: tuple[Any, ...]) -> bytes:
 
 def _connect(address: bytes) -> socket.socket | None:
     """A connection to the shared server at ``address`` (run by this user), or None."""
-    from .warm_server import peer_uid  # only runners that share servers need it
+    from .server import peer_uid  # only runners that share servers need it
 
     sock = socket.socket(socket.AF_UNIX, socket.SOCK_SEQPACKET)
     try:

@@ -1,8 +1,8 @@
 """The warm start server: a Python process that has imported rclpy, ``rclpy.node``, numpy and
 common message packages once, and forks one child per capture that becomes the target.
 
-It runs as ``python -c BOOTSTRAP FD`` (``warm.server_command``) with the middleware preloaded
-and the import-relevant part of the targets' environment (``warm.server_key``), talking to its
+It runs as ``python -c BOOTSTRAP FD`` (``client.server_command``) with the middleware preloaded
+and the import-relevant part of the targets' environment (``client.server_key``), talking to its
 runner over FD, a ``SOCK_SEQPACKET`` Unix socket (one JSON message per packet):
 
 * server → runner, once: ``{"ready": true, "pid": ..., "preloaded": [...]}`` after the imports;
@@ -16,13 +16,13 @@ runner over FD, a ``SOCK_SEQPACKET`` Unix socket (one JSON message per packet):
   supports) later targets will probably use, imported while the server is idle;
 * end of file on FD (the runner closed it or died): every child's group is killed, the server exits.
 
-A server may be **shared** (pytest-xdist workers of one run, see ``warm.Pool.share_within``): it is
+A server may be **shared** (pytest-xdist workers of one run, see ``client.Pool.share_within``): it is
 then also given a listening socket (``LISTEN_FD``) and serves every runner that connects to it
 with this user's uid (``SO_PEERCRED``), each connection like FD: the ready message, then spawn
 and preload requests. A runner closing its connection only ends its own children (their reply
 sockets close with it). When FD (its owner) reaches end of file, a shared server stops accepting,
 tells the owner how many runners are still connected (``{"clients": N}``, and again whenever one
-leaves) and exits when the last one is gone; the owner waits for that (``warm.WarmServer.close``).
+leaves) and exits when the last one is gone; the owner waits for that (``client.WarmServer.close``).
 
 The child (:meth:`Server.become_target`) does what a cold start would have done: a session and
 process group of its own (``setsid``), the parent-death signal SIGKILL (tied to the server, which

@@ -1,8 +1,8 @@
 """What a launch file starts, as data: the nodes (:class:`LaunchedNode`), the arguments it
 declares, what the reader does not support, and the errors (:class:`LaunchError`).
 
-Shared by the readers of each kind of launch source (``launch_reader`` for XML and YAML,
-``launch_python`` for Python launch files, ``launch_record`` for play_launch's record.json)."""
+Shared by the readers of each kind of launch source (``reader`` for XML and YAML,
+``python_file`` for Python launch files, ``record`` for play_launch's record.json)."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import yaml
 
 from ..errors import TargetConfigError
 from ..model.paths import shown
-from .launch_substitutions import SubstitutionError
+from .substitutions import SubstitutionError
 
 
 class LaunchError(TargetConfigError):
@@ -34,7 +34,7 @@ class Where:
 
 
 @dataclass(frozen=True)
-class Parameter:
+class LaunchParameter:
     """One ``-p name:=value``, or one ``--params-file`` (``file``, or ``file_text`` to be
     written to a temporary file before the process starts: record.json carries contents)."""
 
@@ -84,7 +84,7 @@ class LaunchedNode:
     namespace: str | None = None
     arguments: tuple[str, ...] = ()
     ros_arguments: tuple[str, ...] = ()
-    parameters: tuple[Parameter, ...] = ()
+    parameters: tuple[LaunchParameter, ...] = ()
     remappings: tuple[tuple[str, str], ...] = ()
     env: Mapping[str, str] = field(default_factory=dict)
     #: the <set_remap> rules in force where the node is started (before its own, as launch_ros
@@ -113,7 +113,7 @@ class LaunchedNode:
             what += f" in {self.namespace}"
         return f"{what} ({self.where})"
 
-    def ros_argument_list(self, params_file: Callable[[Parameter], Path] | None = None) -> list[str]:
+    def ros_argument_list(self, params_file: Callable[[LaunchParameter], Path] | None = None) -> list[str]:
         """``--ros-args ...`` as launch_ros builds it: node name, namespace, parameters in
         order, remappings (``<set_remap>`` ones first), then the ``ros_args`` given (empty list
         when there are none)."""

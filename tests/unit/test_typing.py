@@ -1,0 +1,22 @@
+"""mypy checks the model and check layers as ``mypy --strict`` does (issue 28 item 5): every flag
+that ``--strict`` sets is set for them in pyproject.toml (``make typecheck`` runs mypy with it)."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+from mypy.main import define_options
+
+PYPROJECT = Path(__file__).resolve().parents[2] / "pyproject.toml"
+STRICT_LAYERS = ("pytest_rmw_introspect.model.*", "pytest_rmw_introspect.check.*")
+
+
+def test_the_model_and_check_layers_are_checked_strictly():
+    _parser, _flags, strict_assignments = define_options()  # what `mypy --strict` sets, from mypy itself
+    config = tomllib.loads(PYPROJECT.read_text(encoding="utf-8"))["tool"]["mypy"]
+    overrides = [o for o in config.get("overrides", []) if set(STRICT_LAYERS) <= set(o["module"])]
+    assert len(overrides) == 1, f"pyproject.toml: one [[tool.mypy.overrides]] for {STRICT_LAYERS}"
+    settings = {**config, **overrides[0]}
+    missing = {name: value for name, value in strict_assignments if settings.get(name) != value}
+    assert missing == {}, f"pyproject.toml: [[tool.mypy.overrides]] for {STRICT_LAYERS} lacks these --strict settings"

@@ -65,3 +65,27 @@ def test_every_test_directory_is_shown_in_the_design_page():
     assert "unit" in directories  # the probe reads the real tree
     missing = [f"tests/{d}" for d in directories if f"`tests/{d}`" not in text]
     assert missing == [], f"docs/design.md: add each test directory to the table of test directories: {missing}"
+
+
+def _tracked_directories() -> list[str]:
+    """The repository's top-level directories that hold tracked files (build outputs, venvs and
+    the built site are untracked), from git when there is a checkout."""
+    import subprocess
+
+    listed = subprocess.run(["git", "-C", str(REPO), "ls-files"], capture_output=True, text=True)
+    if listed.returncode != 0:
+        pytest.skip("not a git checkout: the tracked directories are unknown")
+    return sorted({line.split("/", 1)[0] for line in listed.stdout.splitlines() if "/" in line})
+
+
+def test_the_repository_layout_table_names_every_directory():
+    """docs/development.md's layout table (the README links to it) names each top-level
+    directory and each test directory."""
+    text = (REPO / "docs" / "development.md").read_text(encoding="utf-8")
+    table = text.split("## Repository layout", 1)[1].split("\n## ", 1)[0]
+    directories = _tracked_directories()
+    assert "tests" in directories and "pytest_rmw_introspect" in directories
+    missing = [f"{d}/" for d in directories if f"`{d}/`" not in table]
+    tests = sorted(p.name for p in (REPO / "tests").iterdir() if p.is_dir() and not p.name.startswith((".", "__")))
+    missing += [f"tests/{d}/" for d in tests if f"`{d}/`" not in table]
+    assert missing == [], f"docs/development.md, \"Repository layout\": add a row or a mention for {missing}"

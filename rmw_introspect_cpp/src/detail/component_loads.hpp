@@ -25,7 +25,7 @@ struct ComponentLoad
 };
 
 /// RMW_INTROSPECT_LOAD_NODES names a file of requests, written by the Python side
-/// (run/component_loads.py): UTF-8 lines of tab-separated fields, each field escaped (`\\`,
+/// (launch/component_loads.py): UTF-8 lines of tab-separated fields, each field escaped (`\\`,
 /// `\t`, `\n`); `#` lines are comments. A request is
 ///
 ///   load <TAB> SERVICE

@@ -2,7 +2,7 @@
 
     python bench/bench_cpp_polling.py [--reps 5]      (run by bench_quiescence.py, so `make bench`)
 
-Needs the C++ and launch overlay (`make overlay`, README "C++ and launch overlay"); without one it
+Needs the C++ and launch overlay (`make overlay`, docs/overlay.md); without one it
 says so and exits 0. Like bench_cpp_talker.py it re-runs itself in the overlay's environment and
 builds what it runs over the overlay (once, cached): the C++ example talker (the plain capture)
 and tests/overlay/cpp_polling (the programs of tests/overlay/test_cpp_polling.py).

@@ -283,6 +283,12 @@ class _Reader:
         for name in sorted(set(entity.attributes) - allowed - _CONDITION):
             self.unsupported(Where(file, entity.line), f"attribute `{name}` of <{entity.tag}> is not supported")
 
+    def remap_rule(self, entity: Entity, scope: _Scope, file: Path) -> tuple[str, str]:
+        """A ``<remap from= to=>`` child of a node or a component: (from, to), substituted."""
+        self.check_attributes(entity, file, frozenset({"from", "to"}))
+        return (self.text(self.require(entity, file, "from"), scope, file),
+                self.text(self.require(entity, file, "to"), scope, file))
+
     def require(self, entity: Entity, file: Path, name: str) -> Any:
         if name not in entity.attributes or entity.attributes[name] is None:
             raise self.error(Where(file, entity.line), f"<{entity.tag}> needs the attribute `{name}`")
@@ -487,9 +493,7 @@ class _Reader:
             if child.tag == "param":
                 parameters += self.parameters(child, "", scope, file)
             elif child.tag == "remap":
-                self.check_attributes(child, file, frozenset({"from", "to"}))
-                remappings.append((self.text(self.require(child, file, "from"), scope, file),
-                                   self.text(self.require(child, file, "to"), scope, file)))
+                remappings.append(self.remap_rule(child, scope, file))
             elif child.tag == "env":
                 self.check_attributes(child, file, frozenset({"name", "value"}))
                 env[self.text(self.require(child, file, "name"), scope, file)] = self.text(
@@ -553,9 +557,7 @@ class _Reader:
             if child.tag == "param":
                 given += self.parameters(child, "", scope, file)
             elif child.tag == "remap":
-                self.check_attributes(child, file, frozenset({"from", "to"}))
-                remaps.append(self.text(self.require(child, file, "from"), scope, file) + ":=" +
-                              self.text(self.require(child, file, "to"), scope, file))
+                remaps.append(":=".join(self.remap_rule(child, scope, file)))
             elif child.tag == "extra_arg":
                 self.check_attributes(child, file, frozenset({"name", "value"}))
                 extras.append(LaunchParameter(name=self.text(self.require(child, file, "name"), scope, file),

@@ -1,7 +1,7 @@
 """Compatibility checks across contracts: do the nodes of several contracts fit together?
 
 All nodes of all contracts form one system. Per topic, every publisher × subscription pair is
-checked (type, type hash, QoS with ``qos.check_compatible``); per service and action, every
+checked (type, type hash, QoS with ``qos.profile_compatibility``); per service and action, every
 client × server pair (type, type hash). Requesting endpoints without any provider are reported.
 The rules and their severities are in docs/drift-rules.md ("Compatibility rules").
 """
@@ -51,8 +51,8 @@ RULES: dict[str, Severity] = {
 SUMMARIES: dict[str, str] = {
     "TYPE_MISMATCH": "the two ends use different type names",
     "TYPE_HASH_MISMATCH": "same type name, different hash (or action hash mapping)",
-    "QOS_INCOMPATIBLE": "`check_compatible` says ERROR (topics)",
-    "QOS_MAYBE_INCOMPATIBLE": "`check_compatible` says WARNING (topics)",
+    "QOS_INCOMPATIBLE": "rmw's QoS rules (`qos.profile_compatibility`) say ERROR (topics)",
+    "QOS_MAYBE_INCOMPATIBLE": "rmw's QoS rules (`qos.profile_compatibility`) say WARNING (topics)",
     "SUBSCRIPTION_WITHOUT_PUBLISHER": "nobody publishes a subscribed topic",
     "CLIENT_WITHOUT_SERVER": "nobody serves a called service",
     "ACTION_CLIENT_WITHOUT_SERVER": "nobody serves an action with a client",
@@ -182,7 +182,7 @@ def _check_pair(name: str, provider: _Found, requester: _Found, strict: bool) ->
         pub_qos, sub_qos = qos.expand(offered["qos"]), qos.expand(requested["qos"])
         if not strict:
             pub_qos, sub_qos = _settle_shared_system_defaults(pub_qos, sub_qos)
-        compatibility, reason = qos.check_compatible(pub_qos, sub_qos)
+        compatibility, reason = qos.profile_compatibility(pub_qos, sub_qos)
         if compatibility is qos.Compatibility.ERROR:
             items.append(_item("QOS_INCOMPATIBLE", name, requester, provider,
                                _strip_levels(reason)))

@@ -51,7 +51,7 @@ class Liveliness(enum.StrEnum):
 
 
 class Compatibility(enum.IntEnum):
-    """Result of ``check_compatible``; same order as rmw's ``rmw_qos_compatibility_type_t``."""
+    """Result of ``profile_compatibility``; same order as rmw's ``rmw_qos_compatibility_type_t``."""
 
     OK = 0
     WARNING = 1
@@ -334,7 +334,7 @@ def _policy_warning(policy: str, offered: str, requested: str, weak: str, strong
     return []
 
 
-def check_compatible(offered: Any, requested: Any) -> tuple[Compatibility, str]:
+def profile_compatibility(offered: Any, requested: Any) -> tuple[Compatibility, str]:
     """Can a publisher with QoS ``offered`` reach a subscription with QoS ``requested``?
 
     Accepts any QoS shape (raw capture, contract or explicit). Returns the compatibility and a

@@ -431,7 +431,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
     return LoadedContracts(labels, processes, any_system, accept, external)
 
 
-def system_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
+def compatibility_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
     """The compatibility rules over loaded contracts: all of them when a system contract is among
     them, the connection rules (``compat`` as before) for node contracts alone."""
     if loaded.any_system:

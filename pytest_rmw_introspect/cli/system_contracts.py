@@ -126,7 +126,7 @@ def compatibility(args: argparse.Namespace) -> tuple[CompatibilityResult, Callab
     file each end's label is in (a system contract's process labels name its file)."""
     loaded = system_pipeline.load_any(args.contracts)
     threshold = parse_threshold(args.fail_on)
-    judged = judge_compatibility(system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default),
+    judged = judge_compatibility(system_pipeline.compatibility_items(loaded, strict_system_default=args.strict_system_default),
                                  loaded.accept, loaded.file_of)
     items = [item for item in judged.kept if isinstance(item, CompatItem)]
     lines = {label: line_index(Path(label).read_text(encoding="utf-8")) for label in loaded.labels}
@@ -137,7 +137,7 @@ def compatibility(args: argparse.Namespace) -> tuple[CompatibilityResult, Callab
 
 def cmd_graph(args: argparse.Namespace) -> int:
     loaded = system_pipeline.load_any(args.contracts)
-    items = system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default)
+    items = system_pipeline.compatibility_items(loaded, strict_system_default=args.strict_system_default)
     title = args.title or "System " + ", ".join(Path(p).name for p in args.contracts)
     drawing = graph_module.build(loaded.processes, items, title=title)
     formats.emit(graph_module.render(drawing, args.format, threshold=parse_threshold(args.fail_on)), args.output)

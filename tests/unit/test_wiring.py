@@ -204,7 +204,7 @@ def test_compat_and_graph_of_a_system_contract_read_its_external_block(tmp_path)
               - {{name: /odom, type: nav_msgs/msg/Odometry}}
         """))
     loaded = system_pipeline.load_any(["robot.system.yaml"], base_dir=tmp_path)
-    assert found(system_pipeline.system_items(loaded)) == [("DANGLING_SUBSCRIPTION", "/odom", None)]
+    assert found(system_pipeline.compatibility_items(loaded)) == [("DANGLING_SUBSCRIPTION", "/odom", None)]
 
 
 # ---------------------------------------------------------------------------- what a node ignores

@@ -16,6 +16,9 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 
+# the first test of a session may build the middleware and the C++ examples over the overlay
+pytestmark = pytest.mark.timeout(1800)
+
 ROBOT = """
 from launch import LaunchDescription
 from launch.actions import GroupAction

@@ -141,7 +141,9 @@ def given_findings(processes: Sequence[Any], missing_path: MissingPath | None = 
             findings += _undeclared(process, components.get(fqn, given), fqn, node)
             if missing_path is not None:
                 findings += _missing_paths(process, fqn, node, missing_path)
-        findings += _unused_remappings(process, given)
+            if fqn in components:  # its LoadNode request's remappings reach this node alone
+                findings += _unused_remappings(process, components[fqn], {fqn: node}, fqn)
+        findings += _unused_remappings(process, given, process.nodes, process.expected)
     everyone = sorted({fqn for process in processes for fqn in process.nodes})
     seen: set[tuple[str, str]] = set()
     for process in processes:
@@ -211,9 +213,11 @@ def _closest(name: str, declared: set[str]) -> str | None:
     return min(near)[1] if near else None
 
 
-def _unused_remappings(process: Any, given: Given) -> list[Finding]:
+def _unused_remappings(process: Any, given: Given, nodes: Mapping[str, Mapping[str, Any]],
+                       expected: str | None) -> list[Finding]:
+    """The remappings of ``given`` that change none of the names of ``nodes`` (a process's
+    nodes, or the one node a component's load request made)."""
     out: list[Finding] = []
-    nodes = process.nodes
     if not nodes:
         return out
     for source, target in given.remappings:
@@ -225,7 +229,7 @@ def _unused_remappings(process: Any, given: Given) -> list[Finding]:
         fqn = sorted(nodes)[0]
         wanted = resolve(source, fqn)
         out.append(Finding(
-            "REMAP_UNUSED", process.label, process.expected or fqn, f"{source}:={target}",
+            "REMAP_UNUSED", process.label, expected or fqn, f"{source}:={target}",
             f"the remapping {source} -> {target} (at {given.where or 'the launch file'}) changed none of the names of "
             f"{', '.join(sorted(nodes))}: no topic, service or action is named {resolve(target, fqn)}, so the node "
             f"never used {wanted}; check the `from` name against the node's own names"))

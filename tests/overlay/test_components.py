@@ -128,6 +128,18 @@ def test_a_component_the_container_cannot_load_is_a_node_not_created(tmp_path, e
             "Failed to find class with the requested plugin name.") in json.dumps(unloaded)
 
 
+def test_a_component_s_remapping_that_changes_none_of_its_names_is_found(tmp_path, env):
+    # the talker component's own rule misspells its topic; the scope's SetRemap (chatter:=status,
+    # used by the monitor only) is not the talker's to use
+    robot = ROBOT.replace("PLUGIN", "rmw_introspect_examples_cpp::Listener").replace(
+        "remappings=[('chatter', 'status')]", "remappings=[('chater', 'status')]")
+    unused, line = one_finding(tmp_path, env, robot, "REMAP_UNUSED", "plugin='rmw_introspect_examples_cpp::Talker'")
+    assert (unused["name"], unused["severity"]) == ("chater:=status", "BREAKING"), unused
+    assert "/robot/talker" in json.dumps(unused)
+    assert f"the remapping chater -> status (at robot.launch.py:{line}) changed none of the names of /robot/talker:" \
+        in unused["message"], unused
+
+
 def test_the_python_launch_walker_runs_on_real_launch_ros(overlay):
     """tests/unit/test_launch_python.py, skipped where launch_ros cannot be imported, runs here."""
     ran = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-rs",

@@ -25,6 +25,7 @@ import sys
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ExecutableNotFound, TargetConfigError
@@ -692,7 +693,8 @@ def environment(
 @dataclass(frozen=True)
 class ResolvedTarget:
     """A target resolved into what the runner starts (:func:`resolve`): everything the runner
-    needs to start it, wait for it and word its errors, so that it asks the spec nothing more."""
+    needs to start it, wait for it and word its errors, so that it asks the spec nothing more.
+    Frozen, its mappings read-only."""
 
     #: a short name for messages (``TargetSpec.describe``)
     name: str
@@ -776,7 +778,7 @@ def resolve(
         name=describe,
         output=output,
         argv=tuple(argv),
-        env=env,
+        env=MappingProxyType(env),
         cwd=spec.cwd,
         timeout=spec.effective_timeout(),
         lifecycle=spec.effective_lifecycle(),
@@ -784,7 +786,7 @@ def resolve(
         warm=warm,
         cold_because=because,
         module=spec.module,
-        own_env=spec.env,
+        own_env=MappingProxyType(dict(spec.env)),
         prefixes=tuple(prefixes),
         ros_distribution=getattr(ros, "distro", None),
     )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import json
 
 import pytest
@@ -10,8 +11,9 @@ from sample_contracts import STRING_HASH
 
 import pytest_rmw_introspect
 from pytest_rmw_introspect.errors import CaptureFormatError
-from pytest_rmw_introspect.model import capture as capture_module
-from pytest_rmw_introspect.model.capture import Capture, is_infrastructure
+from pytest_rmw_introspect.model.capture import Capture, OtherProcess, RunFacts
+from pytest_rmw_introspect.model.capture_file import Endpoint
+from pytest_rmw_introspect.model.capture_view import is_infrastructure
 
 HASH = "RIHS01_" + "ab" * 32
 
@@ -233,7 +235,7 @@ def test_parameter_service_of_another_node_is_not_infrastructure():
 
 
 def test_is_infrastructure_for_the_root_namespace():
-    ep = capture_module.Endpoint(seq=1, kind="service", node_id=1, node="/t", name="/t/set_parameters",
+    ep = Endpoint(seq=1, kind="service", node_id=1, node="/t", name="/t/set_parameters",
                                  type="x", type_hash=None, qos={})
     assert is_infrastructure(ep, "/t")
     assert not is_infrastructure(ep, "/u")
@@ -394,8 +396,7 @@ def test_entities_destroyed_in_the_final_teardown_are_in_the_view(talker):
     assert all(e.destroyed and e.in_teardown for e in cap.raw_endpoints)  # the raw truth
     assert cap.ended_before_settle is True and not cap.settled_once
     assert not cap.ended_by_itself  # the runner knows the exit status; the file alone does not
-    cap.returncode = 0
-    assert cap.ended_by_itself
+    assert cap.with_facts(RunFacts(returncode=0)).ended_by_itself
 
 
 def test_an_endpoint_destroyed_before_the_final_teardown_stays_out(talker):
@@ -518,3 +519,25 @@ def test_a_client_of_a_service_of_the_same_process_is_noted():
     assert notes[0].startswith("node /caller has a client of /ping, a service of its own node in this process")
     assert notes[1].startswith("node /asker has a client of /ping, a service of node /caller in this process")
     assert "never answered in a capture" in notes[1]
+
+
+def test_the_runners_facts_are_one_frozen_value_given_once(talker, tmp_path):
+    cap = Capture.from_dict(copy.deepcopy(talker.doc), path=tmp_path / "capture.1.json")
+    assert cap.facts == RunFacts() and cap.returncode is None and cap.started is None  # read from a file
+    child = OtherProcess(pid=7, argv=["python3", "child.py"], node_names=["/child"])
+    facts = RunFacts(returncode=-2, stderr="tail", wall_time=1.5, command=("python3", "talker.py"),
+                     other_processes=(child,), from_child=None, ros_distribution="jazzy", started="warm",
+                     start_note=None)
+    given = cap.with_facts(facts, argv=["python3", "talker.py"], keep_path=False)
+    assert (given.returncode, given.stderr, given.wall_time, given.command, given.other_processes) == (
+        -2, "tail", 1.5, ["python3", "talker.py"], [child])
+    assert (given.ros_distribution, given.started, given.start_note, given.from_child) == ("jazzy", "warm", None, None)
+    assert given.argv == ["python3", "talker.py"] and given.path is None
+    assert cap.facts == RunFacts() and cap.path == tmp_path / "capture.1.json"  # the capture read is unchanged
+    assert given.nodes is cap.nodes  # the contract view is shared, not built again
+    with pytest.raises(AttributeError):
+        given.returncode = 0  # type: ignore[misc]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        facts.returncode = 0  # type: ignore[misc]
+    again = given.with_infrastructure(True)
+    assert again.facts is facts and again.argv == given.argv and "/rosout" in again["/talker"].names("publishers")

@@ -331,7 +331,8 @@ def test_install_prefixes_are_written_as_a_package_token(tmp_path):
 
 
 def test_a_capture_records_parameter_values_portably(tmp_path):
-    from pytest_rmw_introspect.model.capture import Capture, Node
+    from pytest_rmw_introspect.model.capture import Capture
+    from pytest_rmw_introspect.model.capture_view import Node
     from pytest_rmw_introspect.model.parameters import Parameter as CapturedParameter
 
     captured = Node(fqn="/map_server", name="map_server", namespace="/",

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 from ..model import qos
+from ..model.contract_shapes import QosFields
 from ..model.vocabulary import LABELS, PROVIDER_OF, Severity
 from . import launch_given, wiring
 
@@ -193,11 +194,12 @@ def _check_pair(name: str, provider: _Found, requester: _Found, strict: bool) ->
 
 
 # Identical weak values: neither an error nor a warning under any rule.
-_SETTLED = {"reliability": "BEST_EFFORT", "durability": "VOLATILE", "liveliness": "AUTOMATIC"}
+_SETTLED: dict[Literal["reliability", "durability", "liveliness"], str] = {
+    "reliability": "BEST_EFFORT", "durability": "VOLATILE", "liveliness": "AUTOMATIC"}
 
 
-def _settle_shared_system_defaults(pub: dict, sub: dict) -> tuple[dict, dict]:
-    pub, sub = dict(pub), dict(sub)
+def _settle_shared_system_defaults(pub: QosFields, sub: QosFields) -> tuple[QosFields, QosFields]:
+    pub, sub = pub.copy(), sub.copy()
     for policy, settled in _SETTLED.items():
         if pub[policy] == sub[policy] == "SYSTEM_DEFAULT":
             pub[policy] = sub[policy] = settled

@@ -10,11 +10,11 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Literal
 
 from ..model import qos
-from ..model.contract_shapes import QosFields
-from ..model.vocabulary import LABELS, PROVIDER_OF, Severity
+from ..model.contract_shapes import ContractNode, InterfaceEntry, QosFields
+from ..model.vocabulary import LABELS, LISTS, PROVIDER_OF, ListName, Severity
 from . import launch_given, wiring
 
 _WITHOUT_PROVIDER = {
@@ -23,8 +23,8 @@ _WITHOUT_PROVIDER = {
     "action_clients": "ACTION_CLIENT_WITHOUT_SERVER",
 }
 # requesting list → providing list, and the rule for a requester without any provider
-_PAIRS: dict[str, tuple[str, str]] = {
-    requester: (provider, _WITHOUT_PROVIDER[requester]) for requester, provider in PROVIDER_OF.items()
+_PAIRS: dict[ListName, tuple[ListName, str]] = {
+    requester: (PROVIDER_OF[requester], _WITHOUT_PROVIDER[requester]) for requester in LISTS if requester in PROVIDER_OF
 }
 
 #: rule id → severity
@@ -121,11 +121,11 @@ class CompatItem:
 @dataclass(frozen=True)
 class _Found:
     endpoint: ContractEndpoint
-    entry: Mapping[str, Any]
+    entry: InterfaceEntry
 
 
 def check_compatibility(
-    contracts: Mapping[str, Mapping], *, strict_system_default: bool = False
+    contracts: Mapping[str, Mapping[str, ContractNode]], *, strict_system_default: bool = False
 ) -> list[CompatItem]:
     """Incompatibilities between the nodes of several contracts, most severe first.
 
@@ -226,7 +226,7 @@ class LaunchedProcess:
 
     label: str
     expected: str | None
-    nodes: Mapping[str, Mapping[str, Any]]
+    nodes: Mapping[str, ContractNode]
     #: node names held by more than one node of this one process (its capture lists them once)
     duplicates: tuple[str, ...] = ()
     #: a process the launch file starts (False: a node contract checked along, which promises no node)
@@ -243,7 +243,7 @@ class LaunchedProcess:
     component_given: Mapping[str, launch_given.Given] = field(default_factory=dict)
 
 
-_MULTIPLE = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "ACTION_MULTIPLE_SERVERS"}
+_MULTIPLE: dict[ListName, str] = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "ACTION_MULTIPLE_SERVERS"}
 
 
 def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[str, Mapping[str, str]] | None = None,

@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 from . import untrusted
 from .contract_shapes import ParameterEntry, RangeEntry
@@ -54,7 +54,8 @@ ENTRY_KEYS: tuple[str, ...] = (
     "floating_point_range",
     "declared_in",
 )
-RANGE_KEYS: tuple[Literal["from_value", "to_value", "step"], ...] = ("from_value", "to_value", "step")
+RangeField = Literal["from_value", "to_value", "step"]
+RANGE_KEYS: tuple[RangeField, ...] = get_args(RangeField)
 #: the keys of a parameter entry that hold a range
 RangeKey = Literal["integer_range", "floating_point_range"]
 #: what the capture writes for the doubles JSON cannot hold

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Mapping
-from typing import Any, Literal, cast
+from typing import Any, Literal, cast, get_args
 
 from .contract_shapes import QosFields
 
@@ -60,21 +60,12 @@ class Compatibility(enum.IntEnum):
     ERROR = 2
 
 
-#: The name of a QoS field (a key of ``QosFields`` but ``profile``).
+#: The name of a QoS field (a key of ``QosFields`` but ``profile``), in the order they are
+#: written in contracts.
 QosField = Literal["history", "depth", "reliability", "durability", "liveliness", "deadline_ns", "lifespan_ns",
                    "liveliness_lease_duration_ns", "avoid_ros_namespace_conventions"]
 #: All QoS fields, in the order they are written in contracts.
-FIELDS: tuple[QosField, ...] = (
-    "history",
-    "depth",
-    "reliability",
-    "durability",
-    "liveliness",
-    "deadline_ns",
-    "lifespan_ns",
-    "liveliness_lease_duration_ns",
-    "avoid_ros_namespace_conventions",
-)
+FIELDS: tuple[QosField, ...] = get_args(QosField)
 ENUM_FIELDS: dict[str, type[enum.StrEnum]] = {
     "history": History,
     "reliability": Reliability,
@@ -82,7 +73,7 @@ ENUM_FIELDS: dict[str, type[enum.StrEnum]] = {
     "liveliness": Liveliness,
 }
 DurationField = Literal["deadline_ns", "lifespan_ns", "liveliness_lease_duration_ns"]
-DURATION_FIELDS: tuple[DurationField, ...] = ("deadline_ns", "lifespan_ns", "liveliness_lease_duration_ns")
+DURATION_FIELDS: tuple[DurationField, ...] = get_args(DurationField)
 
 DURATION_UNSPECIFIED = 0
 DURATION_INFINITE = -1

@@ -43,7 +43,7 @@ import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal, cast
+from typing import Any, Literal, cast, get_args
 
 import yaml
 
@@ -60,7 +60,9 @@ SYSTEM_VERSION = 1
 SUFFIX = ".system.yaml"
 #: target options that apply to every process of a system
 SYSTEM_TARGET_KEYS = TARGET.names(FrontEnd.SYSTEM)
-PROCESS_KEYS: tuple[Literal["package", "executable", "name", "nodes"], ...] = ("package", "executable", "name", "nodes")
+#: the keys of a process entry, in the order they are written
+ProcessKey = Literal["package", "executable", "name", "nodes"]
+PROCESS_KEYS: tuple[ProcessKey, ...] = get_args(ProcessKey)
 
 DEFAULT_HEADER = (
     "# System contract checked by pytest-rmw-introspect: every process a launch file starts,\n"

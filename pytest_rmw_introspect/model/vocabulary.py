@@ -11,21 +11,14 @@ with a :class:`Severity`; ``fail_on`` names the least severe one that fails.
 from __future__ import annotations
 
 import enum
-from typing import Final, Literal
+from typing import Final, Literal, get_args
 
-#: The name of one of a node's six interface lists (a key of a contract node).
+#: The name of one of a node's six interface lists (a key of a contract node), in contract order.
 ListName = Literal["publishers", "subscriptions", "service_servers", "service_clients", "action_servers",
                    "action_clients"]
 
 #: The six interface lists of a node, in contract order.
-LISTS: tuple[ListName, ...] = (
-    "publishers",
-    "subscriptions",
-    "service_servers",
-    "service_clients",
-    "action_servers",
-    "action_clients",
-)
+LISTS: tuple[ListName, ...] = get_args(ListName)
 TOPIC_LISTS: tuple[ListName, ...] = ("publishers", "subscriptions")
 SERVICE_LISTS: tuple[ListName, ...] = ("service_servers", "service_clients")
 ACTION_LISTS: tuple[ListName, ...] = ("action_servers", "action_clients")

@@ -9,7 +9,7 @@ import json
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from .._version import __version__
 from ..check import system_pipeline
@@ -19,6 +19,7 @@ from ..compare import sarif
 from ..compare.compatibility import CompatItem, propose_external
 from ..errors import TargetConfigError
 from ..model import system_contract
+from ..model.contract_shapes import TargetBlock
 from ..model.locate import line_index
 from ..model.vocabulary import parse_threshold
 from ..run import system_capture
@@ -75,7 +76,8 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None, ros: Callab
     else:
         base = Path(args.output).absolute().parent if args.output else cwd
         proposal = propose_external(system_pipeline.launched_processes(cap))
-        header = system_contract.new_header(spec.to_block(base), target=target or None,
+        # TargetSpec.from_mapping accepted these flags above: a target block
+        header = system_contract.new_header(spec.to_block(base), target=cast(TargetBlock, target) or None,
                                             options={"include_infrastructure": True} if include else None,
                                             external_proposal=proposal)
         text = system_contract.render(cap.process_entries(), nodes, header=header)

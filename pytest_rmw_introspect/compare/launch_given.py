@@ -22,6 +22,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from ..model.contract_shapes import ContractNode
 from ..model.vocabulary import LISTS, PARAMETERS, Severity, is_infrastructure_parameter
 from .similarity import typo_distance
 
@@ -109,7 +110,7 @@ def resolve(name: str, node_fqn: str) -> str:
     return f"{namespace}/{name}"
 
 
-def _names(node: Mapping[str, Any]) -> set[str]:
+def _names(node: ContractNode) -> set[str]:
     return {str(entry.get("name")) for kind in LISTS for entry in (node or {}).get(kind) or []}
 
 
@@ -169,7 +170,7 @@ def given_findings(processes: Sequence[Any], missing_path: MissingPath | None = 
     return findings
 
 
-def _undeclared(process: Any, given: Given, fqn: str, node: Mapping[str, Any]) -> list[Finding]:
+def _undeclared(process: Any, given: Given, fqn: str, node: ContractNode) -> list[Finding]:
     if node.get(PARAMETERS) is None:  # parameters not read: nothing to compare with
         return []
     declared = {str(p.get("name")) for p in node[PARAMETERS]}
@@ -193,7 +194,7 @@ def _undeclared(process: Any, given: Given, fqn: str, node: Mapping[str, Any]) -
     return out
 
 
-def _missing_paths(process: Any, fqn: str, node: Mapping[str, Any], missing_path: MissingPath) -> list[Finding]:
+def _missing_paths(process: Any, fqn: str, node: ContractNode, missing_path: MissingPath) -> list[Finding]:
     out = []
     for parameter in node.get(PARAMETERS) or []:
         value = parameter.get("default_value")
@@ -213,7 +214,7 @@ def _closest(name: str, declared: set[str]) -> str | None:
     return min(near)[1] if near else None
 
 
-def _unused_remappings(process: Any, given: Given, nodes: Mapping[str, Mapping[str, Any]],
+def _unused_remappings(process: Any, given: Given, nodes: Mapping[str, ContractNode],
                        expected: str | None) -> list[Finding]:
     """The remappings of ``given`` that change none of the names of ``nodes`` (a process's
     nodes, or the one node a component's load request made)."""

@@ -15,6 +15,7 @@ One line per module:
 - ``portable``: parameter values written portably (an install location as a token)
 - ``option_tables``: the comparison and target options, their front ends and precedence
 - ``contract``: contract files: load, validate, render, update
+- ``contract_shapes``: the contract's mappings as ``TypedDict``s: node, entries, QoS, blocks
 - ``system_contract``: system contracts (``*.system.yaml``): a launch file's processes
 - ``nodl``: NoDL v2 documents as contracts, and contracts written as NoDL
 - ``acceptance``: the ``accept:`` entries of a contract

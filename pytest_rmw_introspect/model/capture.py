@@ -25,6 +25,7 @@ from . import parameters as parameter_model
 from . import types as type_model
 from .capture_file import Endpoint, RawNode, VirtualTime
 from .capture_view import Node, build_view
+from .contract_shapes import ContractNodes
 from .parameters import Probe
 from .vocabulary import TRANSITION_FROM_STATE
 
@@ -301,7 +302,7 @@ class Capture:
         return [e for e in self.raw_endpoints if include_destroyed or not e.destroyed]
 
     def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True,
-                          with_parameters: bool = True) -> dict[str, dict[str, Any]]:
+                          with_parameters: bool = True) -> ContractNodes:
         """The ``nodes`` mapping of a contract (sorted; see docs/design.md section 2)."""
         return {
             fqn: self.nodes[fqn].to_contract(with_type_hash=with_type_hash, with_qos=with_qos,

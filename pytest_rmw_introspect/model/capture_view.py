@@ -29,10 +29,11 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 from . import qos as qos_module
 from .capture_file import Endpoint, RawNode
+from .contract_shapes import ActionTypeHash, ContractNode, InterfaceEntry, QosFields
 from .parameters import Lifecycle, Parameter
 from .vocabulary import (
     ACTION_HASHED_PARTS,
@@ -87,14 +88,15 @@ class Interface:
         return self.endpoints[0].created_in if self.endpoints else None
 
     def to_contract(self, *, with_type_hash: bool = True, with_qos: bool = True,
-                    node_destroyed_at: float | None = None) -> dict[str, Any]:
+                    node_destroyed_at: float | None = None) -> InterfaceEntry:
         """The contract entry; ``destroyed_at`` only when the entry went before its node
         (``node_destroyed_at``: when the node went, None: it lived to the end)."""
-        entry: dict[str, Any] = {"name": self.name, "type": self.type}
+        entry: InterfaceEntry = {"name": self.name, "type": self.type}
         if with_type_hash and self.type_hash:
-            entry["type_hash"] = dict(self.type_hash) if isinstance(self.type_hash, Mapping) else self.type_hash
+            entry["type_hash"] = (cast(ActionTypeHash, dict(self.type_hash)) if isinstance(self.type_hash, Mapping)
+                                  else self.type_hash)
         if with_qos and self.qos is not None:
-            entry["qos"] = dict(self.qos)
+            entry["qos"] = cast(QosFields, dict(self.qos))
         if self.destroyed_at is not None and self.destroyed_at != node_destroyed_at:
             entry[DESTROYED_AT] = self.destroyed_at
         return entry
@@ -170,10 +172,10 @@ class Node:
         return None
 
     def to_contract(self, *, with_type_hash: bool = True, with_qos: bool = True,
-                    with_parameters: bool = True) -> dict[str, Any]:
+                    with_parameters: bool = True) -> ContractNode:
         """The node's contract entry: ``lifecycle`` (a lifecycle node), the six lists, and
         ``parameters`` when they were read (and ``with_parameters``)."""
-        out: dict[str, Any] = {}
+        out = ContractNode()
         if self.lifecycle_state is not None:
             out[LIFECYCLE] = self.lifecycle_state
         if self.destroyed_at is not None:
@@ -279,7 +281,7 @@ def _add_parameters(node: Node, raw_node: RawNode, include_infrastructure: bool)
     node.parameters = sorted([*(node.parameters or ()), *wanted], key=lambda p: p.name)
 
 
-def _contract_qos(raw: Mapping[str, Any]) -> dict[str, Any]:
+def _contract_qos(raw: Mapping[str, Any]) -> QosFields:
     return qos_module.from_capture(raw)
 
 

@@ -34,7 +34,7 @@ from ..launch.result import LaunchedNode, LaunchError, LaunchParameter, LaunchRe
 from ..model.capture import Capture
 from ..model.contract_shapes import ContractNode, ContractNodes, LaunchBlock, ProcessEntry, TargetBlock
 from ..model.paths import shown
-from ..model.vocabulary import LIFECYCLE, PARAMETERS
+from ..model.vocabulary import DESTROYED_AT, LIFECYCLE, PARAMETERS
 from . import middleware, ros_env, runner
 from .target import TargetSpec
 
@@ -141,14 +141,21 @@ class SystemCapture:
 
     def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> ContractNodes:
         """All nodes of the system (a node name held by several processes: the union of their
-        interfaces and parameters, the first one's lifecycle state)."""
+        interfaces and parameters, the first one's lifecycle state, and ``destroyed_at`` only when
+        every holder destroyed it: the latest, since the name lived until then)."""
         merged: dict[str, dict[str, Any]] = {}
         for process in self.processes:
             for fqn, node in process.contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos).items():
+                first = fqn not in merged
                 into = merged.setdefault(fqn, {})
                 keys: Mapping[str, Any] = node  # merged key by key, whatever the key
+                if not first and DESTROYED_AT not in keys:  # this holder lived on
+                    into.pop(DESTROYED_AT, None)
                 for key, value in keys.items():
-                    if key == LIFECYCLE:
+                    if key == DESTROYED_AT:
+                        if first or DESTROYED_AT in into:
+                            into[key] = max(value, into.get(key, value))
+                    elif key == LIFECYCLE:
                         into.setdefault(key, value)
                     elif key == PARAMETERS:
                         have = {e["name"] for e in into.setdefault(key, [])}

@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import json
+from pathlib import Path
 
 import pytest
 from sample_contracts import STRING_HASH
@@ -262,6 +263,31 @@ def test_destroyed_endpoints_and_nodes_are_left_out_of_the_view_but_kept_raw():
     assert "/gone" not in [e.name for e in cap.endpoints()]
     assert "/gone" in [e.name for e in cap.endpoints(include_destroyed=True)]
     assert [n.fqn for n in cap.raw_nodes] == ["/talker", "/temporary"]
+
+
+def test_a_node_a_launched_process_destroyed_is_kept_in_the_system_s_nodes():
+    from pytest_rmw_introspect.launch.result import LaunchedNode, Where
+    from pytest_rmw_introspect.run.system_capture import ProcessCapture, SystemCapture
+
+    def process(label: str, destroyed_ms: float | None) -> ProcessCapture:
+        b = Builder()
+        n = b.node("worker", infrastructure=False)
+        b.ep(n, "publisher", "/work", "std_msgs/msg/String", type_hash=STRING_HASH)
+        if destroyed_ms is not None:  # the program destroyed it while it ran (not its final teardown)
+            b.doc["nodes"][0].update(destroyed=True, destroyed_virtual_ms=destroyed_ms)
+        launched = LaunchedNode(executable=label, package="demo", where=Where(Path("robot.launch.xml"), 3))
+        return ProcessCapture(launched=launched, label=label, capture=b.capture())
+
+    def nodes(*processes: ProcessCapture) -> dict:
+        return SystemCapture(spec=None, launch=None, processes=list(processes)).to_contract_nodes()
+
+    # used to fail: the node's destroyed_at was merged like a list of entries
+    [(fqn, node)] = nodes(process("a", 8100.0)).items()
+    assert (fqn, node["destroyed_at"], [p["name"] for p in node["publishers"]]) == ("/worker", 8.1, ["/work"])
+    # a name several processes hold: destroyed when the last holder was; alive when one lived on
+    assert nodes(process("a", 3000.0), process("b", 8100.0))["/worker"]["destroyed_at"] == 8.1
+    assert "destroyed_at" not in nodes(process("a", 3000.0), process("b", None))["/worker"]
+    assert "destroyed_at" not in nodes(process("a", None), process("b", 3000.0))["/worker"]
 
 
 def test_same_topic_twice_gives_one_entry_with_both_endpoints():

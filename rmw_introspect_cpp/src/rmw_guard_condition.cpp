@@ -9,6 +9,7 @@
 #include "detail/common.hpp"
 #include "detail/handles.hpp"
 #include "detail/runtime.hpp"
+#include "detail/thread_census.hpp"
 #include "detail/wait_hub.hpp"
 
 using rmw_introspect::GuardConditionImpl;
@@ -42,7 +43,7 @@ rmw_ret_t rmw_trigger_guard_condition(const rmw_guard_condition_t * guard_condit
 {
   RMWI_CHECK_HANDLE(guard_condition);
   auto * impl = static_cast<GuardConditionImpl *>(guard_condition->data);
-  rmw_introspect::Runtime::instance().wait_hub().trigger(&impl->gc);
+  rmw_introspect::Runtime::instance().wait_hub().trigger(&impl->gc, rmw_introspect::current_tid());
   return RMW_RET_OK;
 }
 

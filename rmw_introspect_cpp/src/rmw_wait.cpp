@@ -15,6 +15,7 @@
 #include "detail/injector.hpp"
 #include "detail/rmw_api.hpp"
 #include "detail/runtime.hpp"
+#include "detail/thread_census.hpp"
 #include "detail/wait_hub.hpp"
 
 using rmw_introspect::GuardConditionImpl;
@@ -24,15 +25,18 @@ using rmw_introspect::WaitSetImpl;
 namespace
 {
 
-// rcl stores each guard condition's `data` (our GuardConditionImpl) in the array.
-bool any_triggered(const rmw_guard_conditions_t * gcs)
+// rcl stores each guard condition's `data` (our GuardConditionImpl) in the array. A trigger of
+// thread `except_tid` (non-zero) does not count.
+bool any_triggered(const rmw_guard_conditions_t * gcs, pid_t except_tid = 0)
 {
   if (gcs == nullptr) {
     return false;
   }
   for (size_t i = 0; i < gcs->guard_condition_count; ++i) {
     auto * impl = static_cast<GuardConditionImpl *>(gcs->guard_conditions[i]);
-    if (impl != nullptr && impl->gc.triggered.load()) {
+    if (impl != nullptr && impl->gc.triggered.load() &&
+      (except_tid == 0 || impl->gc.triggered_by.load() != except_tid))
+    {
       return true;
     }
   }
@@ -120,8 +124,17 @@ rmw_ret_t rmw_wait(
              rmw_introspect::any_ready(subscriptions, services, clients, events) ||
              (ws->context != nullptr && ws->context->is_shutdown.load());
     };
+  // Work for the thread from outside: anything ready but the guard conditions it triggered
+  // itself (rclpy's spin_once(node) adds and removes the node, each a trigger, before every
+  // wait). A poll that finds none is an idle poll (detected quiescence).
+  const pid_t tid = rmw_introspect::current_tid();
+  auto work = [ws, guard_conditions, subscriptions, services, clients, events, tid]() {
+      return any_triggered(guard_conditions, tid) ||
+             rmw_introspect::any_ready(subscriptions, services, clients, events) ||
+             (ws->context != nullptr && ws->context->is_shutdown.load());
+    };
   // Blocks, or in the warp jumps virtual time by the timeout and returns at once.
-  rmw_introspect::Runtime::instance().wait(ready, timeout_ns(wait_timeout));
+  rmw_introspect::Runtime::instance().wait(ready, work, timeout_ns(wait_timeout));
 
   // Consume the triggers of the ready guard conditions; NULL out everything not ready.
   bool any_ready = false;

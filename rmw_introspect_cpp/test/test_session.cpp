@@ -1206,3 +1206,265 @@ TEST_F(WarpTest, a_few_late_waits_of_a_preempted_process_do_not_stop_the_fast_fo
   }
   EXPECT_TRUE(session.fast_forwarded());
 }
+
+// Idle pollers (docs/design.md, "Detected quiescence"): a thread that polls rmw_wait back to back
+// and finds nothing ready.
+namespace
+{
+// `count` polls of thread `tid` that find nothing, `gap_us` apart; `sleeps`: the thread sleeps
+// between them (a voluntary context switch each), else it is at most preempted.
+void idle_polls(
+  Session & session, ManualClock & clock, int count, int64_t gap_us, pid_t tid = 42,
+  bool sleeps = false)
+{
+  static uint64_t switches = 0;
+  for (int i = 0; i < count; ++i) {
+    clock.now += gap_us * 1000;
+    switches += sleeps ? 1 : 0;
+    session.on_poll(tid, true, switches);
+  }
+}
+
+// Start, and settle by 10 ms of idle polls into the warp.
+#define poll_into_the_warp(session) \
+  do { \
+    (session).start(); \
+    (session).on_change(); \
+    idle_polls((session), clock, 101, 100); \
+    ASSERT_EQ(Session::Action::kStartWarp, poll(session).action); \
+  } while (false)
+
+CaptureHeader header_of(const Session & session, const char * state = "settled")
+{
+  CaptureHeader header;
+  session.fill_header(state, &header);
+  return header;
+}
+}  // namespace
+
+TEST_F(IdleTest, back_to_back_polls_that_find_nothing_for_10_ms_settle_as_idle)
+{
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.set_monitor_tid(99);
+  session.on_change();
+  idle_polls(session, clock, 91, 100);  // 9 ms from the first poll to the last
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(0, census.calls);
+  idle_polls(session, clock, 10, 100);  // 10 ms
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  EXPECT_EQ((std::vector<pid_t>{99, 42}), census.last_known);  // the poller is not read
+  const CaptureHeader header = header_of(session);
+  EXPECT_EQ("poll", header.settled_by);
+  EXPECT_EQ(1u, header.idle_settles);
+  EXPECT_EQ(0u, header.window_settles);
+  EXPECT_NEAR(10.0, header.time_to_settle_ms, 0.2);
+}
+
+TEST_F(IdleTest, many_polls_in_less_than_10_ms_prove_nothing)
+{
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  idle_polls(session, clock, 2000, 4);  // 8 ms: a bounded loop of polls, say, then ...
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  session.on_change();  // ... it creates its publisher: the next run starts from there
+  idle_polls(session, clock, 2000, 4);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(0, census.calls);
+}
+
+TEST_F(IdleTest, a_poller_that_pauses_between_polls_is_not_proven_idle)
+{
+  // publish; sleep_for(10 ms); spin_some without the publish: every gap starts a new run.
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  idle_polls(session, clock, 16, 6000, 42, true);  // 96 ms
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(0, census.calls);
+  idle_polls(session, clock, 1, 6000, 42, true);  // the quiet window (100 ms) decides
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  const CaptureHeader header = header_of(session);
+  EXPECT_EQ(0u, header.idle_settles);
+  EXPECT_EQ(1u, header.window_settles);  // settled_by poll, after the quiet window
+}
+
+TEST_F(IdleTest, a_poller_preempted_on_a_busy_machine_is_still_polling_back_to_back)
+{
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  idle_polls(session, clock, 20, 100);
+  idle_polls(session, clock, 1, 9000);  // 9 ms without the CPU, but it never slept or blocked
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+}
+
+TEST_F(IdleTest, activity_or_a_ready_poll_starts_the_run_again)
+{
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  idle_polls(session, clock, 60, 100);
+  session.on_activity();  // a loop that publishes is not idle
+  idle_polls(session, clock, 60, 100);
+  session.on_poll(42, false);  // something was ready: it has work
+  idle_polls(session, clock, 60, 100);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(0, census.calls);
+  idle_polls(session, clock, 41, 100);  // 10 ms of this run
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+}
+
+TEST_F(IdleTest, a_poller_with_another_thread_not_blocked_falls_back_to_the_quiet_window)
+{
+  census.blocked = false;
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  idle_polls(session, clock, 200, 100);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(1, census.calls);
+  idle_polls(session, clock, 800, 100);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  const CaptureHeader header = header_of(session);
+  EXPECT_EQ(0u, header.idle_settles);
+}
+
+TEST_F(IdleTest, idle_polls_stall_the_warp_before_any_jump_and_the_unchanged_capture_is_final)
+{
+  Session session{clock, virtual_clock, idle_settings(100, 10000)};
+  poll_into_the_warp(session);
+  idle_polls(session, clock, 90, 100);  // nothing to jump to: a poll is no wait with a timeout
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  idle_polls(session, clock, 11, 100);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  const CaptureHeader header = header_of(session);
+  EXPECT_TRUE(header.warp_stalled);
+  EXPECT_EQ(0u, header.jumps);
+  EXPECT_NEAR(20.0, header.elapsed_ms, 0.2);  // not a quiet window in sight
+  EXPECT_EQ(101u, header.warp_polls);
+}
+
+TEST_F(IdleTest, a_poller_that_creates_in_the_warp_settles_after_10_ms_more_of_idle_polls)
+{
+  Session session{clock, virtual_clock, idle_settings(100, 10000)};
+  poll_into_the_warp(session);
+  idle_polls(session, clock, 50, 100);
+  session.on_change();  // a bounded loop of polls ended and created its publisher
+  idle_polls(session, clock, 100, 100);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  idle_polls(session, clock, 1, 100);  // 10 ms of polls since: the warp stalls, and the
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);  // same proof ends the settle
+  const CaptureHeader header = header_of(session);
+  EXPECT_TRUE(header.warp_stalled);
+  EXPECT_EQ(2u, header.idle_settles);
+  EXPECT_EQ(0u, header.window_settles);
+}
+
+TEST_F(IdleTest, after_jumps_idle_polls_leave_the_warp_to_its_stall_rule)
+{
+  // A timer due in real time on a busy machine makes rcl poll until it has caught up.
+  Session session{clock, virtual_clock, idle_settings(100, 10000)};
+  session.start();
+  session.on_change();
+  session.enter_wait(42, clock.now + 1000 * kMs);
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  session.on_wake();
+  EXPECT_TRUE(session.try_jump(session.virtual_now_ns() + 1000 * kMs));
+  idle_polls(session, clock, 400, 100, 43);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_TRUE(session.warping());
+}
+
+TEST_F(IdleTest, before_the_warp_a_deadline_inside_the_window_does_not_hold_the_settle)
+{
+  // A 1 kHz timer: the warp jumps to its next deadline anyway, so the settle is taken now.
+  Session session{clock, virtual_clock, idle_settings(100, 10000)};
+  session.start();
+  session.on_change();
+  session.enter_wait(42, clock.now + 1 * kMs);
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  const CaptureHeader header = header_of(session, "warping");
+  EXPECT_EQ(1u, header.idle_settles);
+}
+
+TEST_F(IdleTest, after_the_horizon_a_deadline_past_it_does_not_hold_the_final_settle)
+{
+  Session session{clock, virtual_clock, idle_settings(100, 10000)};
+  session.start();
+  session.on_change();
+  uint64_t token = session.enter_wait(42, clock.now + 1 * kMs);
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  session.on_wake();
+  session.leave_wait(token);
+  int jumps = 0;
+  while (session.try_jump(session.virtual_now_ns() + 1 * kMs) && jumps < 20000) {
+    clock.now += 50 * 1000;  // the callback
+    ++jumps;
+  }
+  EXPECT_LT(jumps, 200);  // fast-forwarded
+  // The timer's next deadlines are real milliseconds away, all past the 10 s horizon.
+  token = session.enter_wait(42, clock.now + 1 * kMs);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  const CaptureHeader header = header_of(session);
+  EXPECT_TRUE(header.horizon_reached);
+  EXPECT_EQ(2u, header.idle_settles);
+  EXPECT_EQ(0u, header.window_settles);
+}
+
+TEST_F(IdleTest, a_deadline_inside_the_window_still_holds_the_final_settle_of_a_warp_out_of_budget)
+{
+  Session::Settings s = idle_settings(100, 10000);
+  s.warp_budget_ms = 5;
+  Session session{clock, virtual_clock, s};
+  session.start();
+  session.on_change();
+  session.enter_wait(42, clock.now + 1000 * kMs);
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  clock.advance_ms(6);
+  EXPECT_FALSE(session.try_jump(session.virtual_now_ns() + 1 * kMs));  // budget spent
+  session.enter_wait(43, clock.now + 1 * kMs);  // due long before the horizon
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+}
+
+TEST_F(IdleTest, a_pollers_own_triggers_keep_the_census_answer_and_another_threads_do_not)
+{
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change();
+  idle_polls(session, clock, 101, 100);
+  ASSERT_EQ(Session::Action::kCheckIdle, session.poll().action);
+  Session::CensusRequest request = session.census_request();
+  session.on_wake(42);  // spin_once(node) adds and removes the node: its own triggers
+  session.census_done(request.version, true, "");
+  EXPECT_EQ(Session::Action::kSettle, session.poll().action);
+
+  Session other{clock, virtual_clock, idle_settings()};
+  other.start();
+  other.on_change();
+  idle_polls(other, clock, 101, 100);
+  ASSERT_EQ(Session::Action::kCheckIdle, other.poll().action);
+  request = other.census_request();
+  other.on_wake(7);  // another thread triggered something: the poller may have work now
+  other.census_done(request.version, true, "");
+  EXPECT_EQ(Session::Action::kCheckIdle, other.poll().action);  // asked again
+}
+
+TEST_F(IdleTest, a_poller_preempted_when_the_monitor_looks_is_looked_at_again_soon)
+{
+  Session session{clock, virtual_clock, idle_settings(1000)};
+  session.start();
+  session.on_change();
+  clock.advance_ms(25);
+  EXPECT_EQ(Session::Action::kWriteRunning, session.poll().action);  // (its deadline is past)
+  idle_polls(session, clock, 101, 100);  // announced: the monitor is woken ...
+  clock.advance_ms(6);  // ... but by then the poller has been off the CPU for 6 ms
+  Session::Step step = poll(session);
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  ASSERT_TRUE(step.has_deadline);
+  EXPECT_LE(step.deadline_ns, clock.now + 5 * kMs);  // not the quiet window's end, 1 s away
+  clock.now += 5 * kMs;
+  idle_polls(session, clock, 1, 100);  // it polls again (it never slept)
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+}

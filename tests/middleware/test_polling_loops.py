@@ -1,7 +1,8 @@
 """Programs that poll or never wait (issue 24): a poll of rmw_wait (timeout 0) counts towards the
-settle like an activity call, the warp ends as soon as it sees that the program never waits with
-a timeout (nothing to jump to) and says so, and a capture that does not settle names what was
-seen instead of blaming changes that never happened."""
+settle like an activity call, a thread that polls back to back and finds nothing is proven idle
+(docs/design.md, "Detected quiescence", idle pollers), the warp ends as soon as it sees that the
+program never waits with a timeout (nothing to jump to) and says so, and a capture that does not
+settle names what was seen instead of blaming changes that never happened."""
 
 from __future__ import annotations
 
@@ -14,6 +15,10 @@ from pytest_rmw_introspect.run import runner
 from pytest_rmw_introspect.run.target import TargetSpec
 
 HORIZON = {"RMW_INTROSPECT_HORIZON_MS": "10000", "RMW_INTROSPECT_SETTLE_MS": "100"}
+# A quiet window far longer than an idle run (10 ms): on a busy machine a process that is still
+# warming up (page faults, lazy imports: it blocks between its first polls) may otherwise reach
+# the 100 ms window first, which is the fallback working, not what these tests look at.
+DETECT = {"RMW_INTROSPECT_HORIZON_MS": "10000", "RMW_INTROSPECT_SETTLE_MS": "1000"}
 
 
 def test_a_loop_of_zero_timeout_polls_settles_and_says_the_horizon_was_not_observed(run):
@@ -27,6 +32,24 @@ def test_a_loop_of_zero_timeout_polls_settles_and_says_the_horizon_was_not_obser
     assert result.capture["quiescence"]["polls"] >= 2
     vt = result.capture["time"]
     assert vt["warp_stalled"] is True and vt["warp_budget_exhausted"] is False and vt["jumps"] == 0
+
+
+def test_a_loop_of_idle_polls_is_proven_idle_instead_of_waited_for(run):
+    """Its first settle ends by detection (not the quiet window), the warp stalls on the same
+    proof, and the final settle is the first one again: no settle waits for the window."""
+    result = run(h.python_node("poll_loop.py"), env=DETECT, timeout=20)
+    h.assert_settled_process(result)
+    q = result.capture["quiescence"]
+    assert q["detected"] == 1 and q["window"] == 0, q
+    assert result.capture["settled_by"] == "poll"
+    assert result.capture["time"]["warp_stalled"] is True
+
+
+def test_the_same_loop_without_detection_waits_for_the_quiet_window(run):
+    result = run(h.python_node("poll_loop.py"), env={**DETECT, "RMW_INTROSPECT_IDLE": "0"}, timeout=20)
+    h.assert_settled_process(result)
+    q = result.capture["quiescence"]
+    assert q["detected"] == 0 and q["window"] == 1, q
 
 
 @pytest.mark.parametrize("script,loop,not_loop", [
@@ -70,6 +93,25 @@ def test_an_rcl_c_node_that_polls_rcl_wait_with_a_zero_timeout_settles_by_its_po
     vt = result.capture["time"]
     assert vt["warp_stalled"] is True and vt["warp_budget_exhausted"] is False and vt["jumps"] == 0
     assert [n["name"] for n in result.capture["nodes"]] == ["c_timer"]
+
+
+def test_an_rcl_c_node_polling_rcl_wait_is_proven_idle(run, c_node):
+    result = run([c_node.parent / "rmwi_c_timer_node", "poll"], env=DETECT, timeout=20)
+    h.assert_settled_process(result)
+    q = result.capture["quiescence"]
+    assert q["detected"] == 1 and q["window"] == 0, q  # proven idle, not waited for
+    assert result.capture["settled_by"] == "poll" and result.capture["time"]["warp_stalled"] is True
+
+
+@pytest.mark.parametrize("polls", [200, 1000])
+def test_a_bounded_loop_of_polls_that_then_creates_a_publisher_is_captured_with_it(run, c_node, polls):
+    """rmwi_c_timer_node poll N: N zero-timeout polls that find nothing (far more than the 20 of an
+    idle run, in a few milliseconds: much less than the settle), then a publisher, then polls on.
+    A count of polls alone proves nothing: the run must also last 10 ms, so the publisher is in."""
+    result = run([c_node.parent / "rmwi_c_timer_node", "poll", str(polls)], env=DETECT, timeout=20)
+    h.assert_settled_process(result)
+    assert "/c/after_polls" in [e["name"] for e in result.capture["endpoints"] if e["kind"] == "publisher"]
+    assert result.capture["quiescence"]["detected"] >= 1
 
 
 def test_a_program_waiting_on_its_own_nodes_service_is_captured_with_a_note():

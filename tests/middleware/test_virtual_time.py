@@ -93,6 +93,19 @@ def test_1khz_timer_is_bounded_in_real_time(run):
     assert result.wall_s < TIMEOUT_S - 5, str(result)
 
 
+def test_the_settles_around_the_warp_of_a_1khz_timer_are_detected(run):
+    """Its next deadline is always inside the quiet window. Before the warp that does not hold
+    the settle (the warp jumps to that deadline next); after the fast-forward every deadline is
+    past the horizon (docs/design.md, "Detected quiescence"). A 1 s window makes a fallback to
+    it unmistakable; the capture is the one the quiet window gives (test_idle_equivalence)."""
+    result = vt_run(run, h.python_node("vt_1khz.py"), env={"RMW_INTROSPECT_SETTLE_MS": "1000"})
+    h.assert_settled_process(result)
+    time = result.capture["time"]
+    assert time["horizon_reached"] and time["jumps"] < 1000, time  # fast-forwarded
+    q = result.capture["quiescence"]
+    assert q["detected"] == 2 and q["window"] == 0, q
+
+
 def test_multithreaded_executor_with_two_callback_groups(run):
     result = vt_run(run, h.python_node("vt_mt_groups.py"))
     assert_warped_capture(result, 4000)

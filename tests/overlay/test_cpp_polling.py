@@ -29,9 +29,9 @@ def programs(overlay) -> Path:
     return cmake_build(overlay, SOURCES, "cpp_polling") / "install" / "lib" / "rmwi_cpp_polling"
 
 
-def capture(overlay, command: list[str]) -> tuple[dict, list[str]]:
-    """The raw capture of ``command`` (default options) and the notes the CLI printed."""
-    out = subprocess.run([*CLI, "capture", "--raw", "--format", "json", "--", *command], env=overlay.env(),
+def capture(overlay, command: list[str], options: tuple[str, ...] = ()) -> tuple[dict, list[str]]:
+    """The raw capture of ``command`` (default options but ``options``) and the notes the CLI printed."""
+    out = subprocess.run([*CLI, "capture", "--raw", "--format", "json", *options, "--", *command], env=overlay.env(),
                          capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
     notes = [line.removeprefix("note: ") for line in out.stderr.splitlines() if line.startswith("note: ")]
@@ -70,6 +70,16 @@ def test_an_action_client_polled_by_spin_some_until_an_answer_that_never_comes(o
     assert vt["warp_polls"] > 0
     note = horizon_note(notes)
     assert "without pausing" in note and "busy loop at full CPU" in note, note
+
+
+def test_the_spin_some_action_client_is_proven_idle_by_its_polls(overlay, programs):
+    """Its spin_some polls find nothing (docs/design.md, "Detected quiescence", idle pollers): the
+    settle is detected, not waited for, and the warp stalls on the same proof. A 1 s quiet window
+    makes a fallback to it unmistakable on a busy machine."""
+    doc, _notes = capture(overlay, [str(programs / "action_poller")], ("--settle", "1"))
+    assert doc["state"] == "settled" and doc["settled_by"] == "poll"
+    assert doc["quiescence"]["detected"] >= 1 and doc["quiescence"]["window"] == 0, doc["quiescence"]
+    assert doc["time"]["warp_stalled"] and doc["time"]["jumps"] == 0
 
 
 @pytest.mark.parametrize("executor", [[], ["multi"]], ids=["spin", "multi_threaded"])

@@ -2,6 +2,7 @@
 #include "detail/runtime.hpp"
 
 #include <pthread.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -92,9 +93,9 @@ Runtime::Runtime()
   thread_census_.set_busy_futexes(
     {reinterpret_cast<uintptr_t>(session_mutex_.native_handle()), wait_hub_.lock_address()});
   wait_hub_.set_wake_listener(
-    [this]() {
+    [this](pid_t by) {
       std::lock_guard<std::mutex> lock(session_mutex_);
-      session_.on_wake();
+      session_.on_wake(by);
     });
   {
     std::lock_guard<std::mutex> lock(stimuli_mutex_);
@@ -212,13 +213,16 @@ void Runtime::note_wait_entered()
   }
 }
 
-void Runtime::note_poll()
+void Runtime::note_poll(bool found_nothing)
 {
   const bool first = !ever_waited_.exchange(true);
+  const pid_t tid = current_tid();
+  rusage usage{};
+  getrusage(RUSAGE_THREAD, &usage);  // blocked or slept since the last poll? (Session::on_poll)
   bool wake = false;
   {
     std::lock_guard<std::mutex> lock(session_mutex_);
-    wake = session_.on_poll();
+    wake = session_.on_poll(tid, found_nothing, static_cast<uint64_t>(usage.ru_nvcsw));
   }
   if (first || wake) {
     session_cv_.notify_all();

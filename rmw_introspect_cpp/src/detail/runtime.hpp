@@ -75,9 +75,11 @@ public:
   void on_init();
   /// The blocking part of rmw_wait: until `ready()` (evaluated under the wait hub's lock)
   /// holds or `timeout_ns` passes (0: poll, negative: forever). In the warp, a finite wait
-  /// with nothing ready jumps virtual time instead and returns at once.
-  template<typename ReadyFn>
-  void wait(ReadyFn ready, int64_t timeout_ns);
+  /// with nothing ready jumps virtual time instead and returns at once. `work()`: whether
+  /// anything is ready that the calling thread did not trigger itself (a poll that finds
+  /// nothing is an idle poll: Session::on_poll).
+  template<typename ReadyFn, typename WorkFn>
+  void wait(ReadyFn ready, WorkFn work, int64_t timeout_ns);
   /// publish, take*, send_*, graph queries...: the process is in its loop (settle rule).
   void on_activity();
   /// The process's virtual and real age now (creation times).
@@ -112,8 +114,8 @@ private:
   uint64_t enter_wait(int64_t deadline_ns);
   void leave_wait(uint64_t token);
   void note_wait_entered();
-  /// A poll (timeout 0; see Session::on_poll).
-  void note_poll();
+  /// A poll (timeout 0, or a wait that found something ready at once; see Session::on_poll).
+  void note_poll(bool found_nothing);
   /// In the warp and with nothing ready: jump virtual time to `target_ns` (see Session).
   template<typename ReadyFn>
   bool try_jump(ReadyFn & ready, int64_t target_ns);
@@ -176,19 +178,19 @@ bool Runtime::try_jump(ReadyFn & ready, int64_t target_ns)
   return jumped;
 }
 
-template<typename ReadyFn>
-void Runtime::wait(ReadyFn ready, int64_t timeout_ns)
+template<typename ReadyFn, typename WorkFn>
+void Runtime::wait(ReadyFn ready, WorkFn work, int64_t timeout_ns)
 {
   if (timeout_ns == 0) {
     // A poll: rmw_wait reads the guard conditions itself; a loop of polls is in its loop.
-    note_poll();
+    note_poll(!wait_hub_.poll(work));
     return;
   }
   if (ready()) {
     // Returns without waiting, like a poll: a loop that triggers its own guard condition before
     // every wait (rclpy's spin_once(node) adds and removes the node, each a trigger) and runs a
     // task that awaits an answer that never comes waits this way forever (issue 24 item 5).
-    note_poll();
+    note_poll(!work());
     return;
   }
   note_wait_entered();

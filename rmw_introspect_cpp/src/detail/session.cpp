@@ -39,6 +39,14 @@ constexpr uint64_t kOddJumpsForgiven = 10;
 // A census that found a thread not blocked (a sleep loop, a callback running) is taken again
 // this long after, while nothing else changes (each costs a few hundred microseconds).
 constexpr int64_t kCensusRecheckNs = 5 * 1000 * 1000;
+// Idle pollers (docs/design.md, "Detected quiescence"): a thread that polled rmw_wait back to
+// back (never a gap over kPollGapNs in which it blocked or slept: a preempted thread on a busy
+// machine did neither) and found nothing ready, at least
+// kIdlePolls times over at least kIdlePollingNs (or settle_ms, if shorter), with nothing
+// created, destroyed, jumped or called meanwhile, is idle like a blocked one.
+constexpr uint64_t kIdlePolls = 20;
+constexpr int64_t kIdlePollingNs = 10 * 1000 * 1000;
+constexpr int64_t kPollGapNs = 5 * 1000 * 1000;
 
 void propose(int64_t when, bool * has_deadline, int64_t * deadline)
 {
@@ -68,9 +76,12 @@ bool Session::start()
   return true;
 }
 
-void Session::break_quiet(int64_t now)
+void Session::break_quiet(int64_t now, bool voids_polls)
 {
-  ++idle_version_;
+  if (voids_polls) {
+    ++poll_epoch_;
+    ++idle_version_;  // (a poll of the warp changes nothing a census answered)
+  }
   ++quiet_epoch_;
   quiet_since_ns_ = now;
   waiters_current_ = 0;
@@ -95,20 +106,46 @@ void Session::on_wait_entered()
   }
 }
 
-bool Session::on_poll()
+bool Session::on_poll(pid_t tid, bool found_nothing, uint64_t voluntary_switches)
 {
+  const int64_t now = clock_.now_ns();
+  ever_waited_ = true;
   if (phase_ == Phase::kWarping) {
     warp_loop_seen_ = true;
     ++warp_polls_;
+    break_quiet(now, false);
   }
-  on_wait_entered();
   ++polls_;
-  return ++polls_current_ == kSettlingActivity;
+  bool look = ++polls_current_ == kSettlingActivity;
+  if (!found_nothing) {
+    poll_runs_.erase(tid);  // it had something to do
+    return look;
+  }
+  PollRun & run = poll_runs_[tid];
+  const bool paused =
+    now - run.last_ns > kPollGapNs && voluntary_switches != run.voluntary_switches;
+  if (run.epoch != poll_epoch_ || paused) {
+    run = PollRun();  // a new run: something happened, or the thread slept or blocked
+    run.epoch = poll_epoch_;
+    run.since_ns = now;
+  }
+  run.last_ns = now;
+  run.voluntary_switches = voluntary_switches;
+  ++run.polls;
+  const int64_t long_enough =
+    std::min(kIdlePollingNs, static_cast<int64_t>(settings_.settle_ms) * kNsPerMs);
+  if (!run.announced && run.polls >= kIdlePolls && now - run.since_ns >= long_enough) {
+    run.announced = true;
+    ++idle_version_;
+    look = look || settings_.detect_idle;
+  }
+  return look;
 }
 
 uint64_t Session::enter_wait(pid_t tid, int64_t deadline_ns)
 {
   ever_waited_ = true;
+  poll_runs_.erase(tid);  // it blocks now: the blocked wait proves what it can
   ++waiters_current_;
   ++idle_version_;
   const uint64_t token = next_wait_token_++;
@@ -133,10 +170,13 @@ void Session::leave_wait(uint64_t token)
   ++idle_version_;
 }
 
-void Session::on_wake()
+void Session::on_wake(pid_t by)
 {
   ++wake_epoch_;
-  ++idle_version_;
+  const auto run = poll_runs_.find(by);
+  if (by == 0 || run == poll_runs_.end() || run->second.epoch != poll_epoch_) {
+    ++idle_version_;
+  }
 }
 
 void Session::census_done(uint64_t version, bool idle, const std::string & culprit)
@@ -147,9 +187,55 @@ void Session::census_done(uint64_t version, bool idle, const std::string & culpr
   not_idle_reason_ = idle ? std::string() : culprit;
 }
 
+bool Session::deadline_matters(int64_t deadline_ns) const
+{
+  if (deadline_ns < 0) {
+    return false;
+  }
+  const int64_t horizon_ns = settings_.horizon_ms * kNsPerMs;
+  if (horizon_ns <= 0) {
+    return true;  // no warp: the quiet window is all the time the process gets
+  }
+  // Before the warp, the warp jumps to it next; a deadline past the horizon (the settle after
+  // the warp) is later than anything the capture covers.
+  const bool warp_to_come = phase_ == Phase::kSettling || phase_ == Phase::kProbing;
+  return !warp_to_come && deadline_ns + virtual_clock_.offset_ns() - t0_ns_ <= horizon_ns;
+}
+
+bool Session::idle_pollers(int64_t now, std::vector<pid_t> * proven)
+{
+  const int64_t long_enough =
+    std::min(kIdlePollingNs, static_cast<int64_t>(settings_.settle_ms) * kNsPerMs);
+  for (const auto & entry : poll_runs_) {
+    const PollRun & run = entry.second;
+    if (run.epoch != poll_epoch_) {
+      continue;  // not polling since the last change: the census says what it does
+    }
+    if (now - run.last_ns > kPollGapNs) {
+      poller_recheck_ = poller_recheck_ || run.announced;  // preempted, or stopped polling
+      continue;
+    }
+    if (run.polls < kIdlePolls || now - run.since_ns < long_enough) {
+      return false;  // still polling, not yet long enough
+    }
+    proven->push_back(entry.first);
+  }
+  return true;
+}
+
 bool Session::provably_idle(int64_t now)
 {
-  if (!settings_.detect_idle || blocked_.empty()) {
+  if (!settings_.detect_idle) {
+    return false;
+  }
+  std::vector<pid_t> pollers;
+  if (!idle_pollers(now, &pollers) || (blocked_.empty() && pollers.empty())) {
+    return false;
+  }
+  idle_by_polls_ = !pollers.empty();
+  if (phase_ == Phase::kWarping && !pollers.empty() && (jumps_ > 0 || !warp_loop_seen_)) {
+    // After jumps, rcl polls while a timer due in real time catches up: the stall rule of
+    // poll() decides. Before any, idle polls stall the warp (poll()), they do not settle it.
     return false;
   }
   // Nothing may happen before the quiet window would end: a deadline inside it is waited for.
@@ -162,7 +248,9 @@ bool Session::provably_idle(int64_t now)
     if (blocked.wake_epoch != wake_epoch_) {
       return false;  // woken: it has not looked at its wait set again yet
     }
-    if (blocked.deadline_ns >= 0 && blocked.deadline_ns < settle_at) {
+    if (blocked.deadline_ns >= 0 && blocked.deadline_ns < settle_at &&
+      deadline_matters(blocked.deadline_ns))
+    {
       return false;  // its timer (or timeout) comes first; it waits again after it
     }
   }
@@ -178,6 +266,7 @@ bool Session::provably_idle(int64_t now)
   for (const auto & entry : blocked_) {
     census_request_.known.push_back(entry.second.tid);
   }
+  census_request_.known.insert(census_request_.known.end(), pollers.begin(), pollers.end());
   census_wanted_ = true;
   return false;
 }
@@ -190,6 +279,7 @@ bool Session::on_activity()
   }
   ++activity_calls_;
   ++idle_version_;
+  ++poll_epoch_;  // a loop that publishes or takes is not an idle poller
   return ++activity_current_ == kSettlingActivity;
 }
 
@@ -264,7 +354,7 @@ void Session::end_warp(int64_t now)
 bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline)
 {
   if (provably_idle(now)) {
-    settled_by_ = "wait";
+    settled_by_ = idle_by_polls_ ? "poll" : "wait";
     ++idle_settles_;
     return true;
   }
@@ -287,6 +377,7 @@ Session::Step Session::poll()
 {
   Step step;
   census_wanted_ = false;
+  poller_recheck_ = false;
   if (!started_ || exiting_) {
     return step;
   }
@@ -312,6 +403,11 @@ Session::Step Session::poll()
       const int64_t stall_at =
         last_timed_wait_ns_ + (jumps_ == 0 ? quiet_ns : std::max(quiet_ns, kStallAfterJumpsNs));
       if (blocked_.empty() && now >= stall_at && warp_loop_seen_) {
+        warp_stalled_ = true;
+        end_warp(now);
+      } else if (jumps_ == 0 && warp_loop_seen_ && !poll_runs_.empty() && provably_idle(now)) {
+        // Every thread polls with nothing ready, or is blocked, and nothing changes: nothing
+        // to jump to, proven without waiting for the stall window.
         warp_stalled_ = true;
         end_warp(now);
       } else if (blocked_.empty()) {
@@ -356,6 +452,9 @@ Session::Step Session::poll()
       return step;
     }
     propose(snapshot_at, &step.has_deadline, &step.deadline_ns);
+  }
+  if (poller_recheck_) {
+    propose(now + kCensusRecheckNs, &step.has_deadline, &step.deadline_ns);
   }
   if (census_wanted_) {
     census_wanted_ = false;

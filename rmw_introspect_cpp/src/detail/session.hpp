@@ -27,7 +27,9 @@ namespace rmw_introspect
 ///    after the warp) ends at once when the process is provably idle (docs/design.md,
 ///    "Detected quiescence"): a thread blocked in rmw_wait and not woken since, every other
 ///    thread blocked until woken (the ThreadCensus), and no deadline of a blocked wait inside
-///    the rest of the quiet window. The quiet window is the fallback.
+///    the rest of the quiet window (before the warp, or past the horizon after it, a deadline
+///    does not count). A thread that polls back to back and finds nothing for 10 ms (an idle
+///    poller, on_poll) counts like a blocked one. The quiet window is the fallback.
 /// 1b. probing (Settings::probe): a "probing" snapshot
 ///    is written, then the middleware asks the nodes' own services, one request at a time
 ///    (the Runtime's ProbeDriver): kProbe = send the next request now; the answer (or no
@@ -75,11 +77,16 @@ public:
   /// a process that keeps entering waits that jump or poll is still driven by its timers
   /// (on a busy machine real time alone can keep its short timers due).
   void on_wait_entered();
-  /// A thread polled rmw_wait (timeout 0): a wait entry (on_wait_entered), and, like an
-  /// activity call, a sign of a loop (spin_some, spin_once(timeout_sec=0)): at least two after
-  /// the last change settle the process once it was quiet for settle_ms (settled_by "poll").
-  /// True when the monitor should look again.
-  bool on_poll();
+  /// Thread `tid` polled rmw_wait (timeout 0, or a wait that found something ready as it
+  /// entered): a wait entry (on_wait_entered), and, like an activity call, a sign of a loop
+  /// (spin_some, spin_once(timeout_sec=0)): at least two after the last change settle the
+  /// process once it was quiet for settle_ms (settled_by "poll"). `found_nothing`: nothing of
+  /// its wait set was ready; back-to-back polls that find nothing can prove the thread idle
+  /// (docs/design.md, "Detected quiescence", idle pollers). True when the monitor should look
+  /// again.
+  /// `voluntary_switches`: how often the thread has blocked or slept so far (getrusage): a gap
+  /// between two polls in which it did is a pause of its own (a sleep), not a preemption.
+  bool on_poll(pid_t tid = 0, bool found_nothing = false, uint64_t voluntary_switches = 0);
   /// Whether the warp jumped straight to the horizon (a steady periodic timer; try_jump).
   bool fast_forwarded() const {return fast_forwarded_;}
   /// Thread `tid` blocks in rmw_wait until real time `deadline_ns` (negative: no deadline);
@@ -88,8 +95,10 @@ public:
   uint64_t enter_wait(pid_t tid = 0, int64_t deadline_ns = -1);
   void leave_wait(uint64_t token);
   /// The wait hub woke its waiters (a trigger, a request, a delivery, a shutdown): a blocked
-  /// wait proves nothing until its thread has looked again and blocked again.
-  void on_wake();
+  /// wait proves nothing until its thread has looked again and blocked again. `by`: the
+  /// triggering thread (0: none of the program's); an idle poller's own trigger (rclpy's
+  /// spin_once(node) before every wait) keeps what a census found.
+  void on_wake(pid_t by = 0);
   /// The middleware's own monitor thread (left out of the census).
   void set_monitor_tid(pid_t tid) {monitor_tid_ = tid;}
 
@@ -174,8 +183,17 @@ public:
 private:
   enum class Phase { kSettling, kProbing, kWarping, kFinalSettling, kDone };
 
-  /// A change for the quiet rule: entity change, jump, warp start.
-  void break_quiet(int64_t now);
+  /// A change for the quiet rule: entity change, jump, warp start. `voids_polls`: false for the
+  /// polls of the warp (they break its quiet but are what an idle poller does).
+  void break_quiet(int64_t now, bool voids_polls = true);
+  /// Whether a blocked wait's deadline inside the rest of the quiet window keeps the settle
+  /// from being detected (see provably_idle).
+  bool deadline_matters(int64_t deadline_ns) const;
+  /// The threads that polled back to back with nothing ready for long enough (`*proven`), or
+  /// false when one still polls but not yet for long enough.
+  /// A poller that was proven long enough but had not polled for a moment (preempted) is
+  /// looked at again soon (`poller_recheck_`): nothing else would wake the monitor for it.
+  bool idle_pollers(int64_t now, std::vector<pid_t> * proven);
   void end_warp(int64_t now);
   /// The warp stalled without a jump and nothing changed since the first settle (poll()).
   bool stalled_unchanged() const;
@@ -189,6 +207,17 @@ private:
   bool quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline);
   /// Detected quiescence at `now` (see the class comment).
   bool provably_idle(int64_t now);
+
+  /// A thread's run of back-to-back polls that found nothing ready, in one poll epoch.
+  struct PollRun
+  {
+    uint64_t epoch = 0;
+    int64_t since_ns = 0;
+    int64_t last_ns = 0;
+    uint64_t polls = 0;
+    uint64_t voluntary_switches = 0;
+    bool announced = false;  // the monitor was woken when it became long enough
+  };
 
   struct BlockedWait
   {
@@ -232,8 +261,14 @@ private:
   std::map<uint64_t, BlockedWait> blocked_;
   uint64_t next_wait_token_ = 0;
   uint64_t wake_epoch_ = 0;
+  // Idle pollers: each polling thread's current run; a change, a jump or an activity call
+  // starts a new epoch (every run starts again).
+  std::map<pid_t, PollRun> poll_runs_;
+  uint64_t poll_epoch_ = 0;
+  bool poller_recheck_ = false;
   pid_t monitor_tid_ = 0;
   uint64_t idle_settles_ = 0;    // settles that ended by detection
+  bool idle_by_polls_ = false;   // the latest proof counted idle pollers
   // Anything that may change whether the process is idle bumps it: a census answer is for
   // one version.
   uint64_t idle_version_ = 0;

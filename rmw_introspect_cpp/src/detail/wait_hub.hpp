@@ -10,6 +10,8 @@
 #include <mutex>
 #include <utility>
 
+#include <sys/types.h>
+
 namespace rmw_introspect
 {
 
@@ -17,6 +19,9 @@ namespace rmw_introspect
 struct GuardCondition
 {
   std::atomic<bool> triggered{false};
+  /// The thread of the latest trigger (0: the middleware's own, a graph change): a trigger of
+  /// the polling thread itself is no work for it (detected quiescence, idle pollers).
+  std::atomic<pid_t> triggered_by{0};
 };
 
 /// The one mutex + condition variable every rmw_wait sleeps on. Triggering any guard
@@ -24,7 +29,8 @@ struct GuardCondition
 class WaitHub
 {
 public:
-  void trigger(GuardCondition * gc);
+  /// `by`: the triggering thread (0: none of the program's).
+  void trigger(GuardCondition * gc, pid_t by = 0);
   /// Run `change` under the hub's lock, then wake every waiter (a context shutdown).
   void update_and_wake(const std::function<void()> & change);
 
@@ -39,9 +45,10 @@ public:
   /// The futex word of the hub's mutex (a thread blocked on it is not idle: ThreadCensus).
   uintptr_t lock_address() {return reinterpret_cast<uintptr_t>(mutex_.native_handle());}
 
-  /// Called under the hub's lock whenever the waiters are woken (trigger, update_and_wake):
-  /// a blocked registration no longer proves anything (detected quiescence).
-  void set_wake_listener(std::function<void()> listener) {wake_listener_ = std::move(listener);}
+  /// Called under the hub's lock whenever the waiters are woken (trigger, update_and_wake),
+  /// with the triggering thread (0: none of the program's): a blocked registration no longer
+  /// proves anything (detected quiescence).
+  void set_wake_listener(std::function<void(pid_t)> listener) {wake_listener_ = std::move(listener);}
 
   /// Block until `ready()` (evaluated under the hub's lock) holds or `timeout_ns` passes
   /// (0: poll, negative: forever). `make_guard()` is called under the lock before every sleep
@@ -77,7 +84,7 @@ public:
 private:
   std::mutex mutex_;
   std::condition_variable cv_;
-  std::function<void()> wake_listener_;
+  std::function<void(pid_t)> wake_listener_;
 };
 
 }  // namespace rmw_introspect

@@ -6,7 +6,9 @@
 //   destroy  node "c_timer" also publishes "doomed" from the start; the timer fires after 8 s
 //            and destroys that publisher instead (a program that destroys what it offered);
 //   poll     as without a mode, but the loop polls: rcl_wait with a zero timeout, never
-//            blocking (a zero-timeout polling rcl node).
+//            blocking (a zero-timeout polling rcl node). `poll N`: after its N-th poll
+//            the loop also creates a publisher on "after_polls" (a bounded loop of polls
+//            that ends in a new interface), then polls on.
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,6 +29,17 @@ static bool g_created = false;
 static rcl_publisher_t g_doomed;
 static bool g_doomed_alive = false;
 
+static void create_publisher(rcl_publisher_t * publisher, const char * topic)
+{
+  *publisher = rcl_get_zero_initialized_publisher();
+  rcl_publisher_options_t options = rcl_publisher_get_default_options();
+  const rosidl_message_type_support_t * ts = ROSIDL_GET_MSG_TYPE_SUPPORT(std_msgs, msg, String);
+  if (rcl_publisher_init(publisher, &g_node, ts, topic, &options) != RCL_RET_OK) {
+    fprintf(stderr, "rcl_publisher_init failed: %s\n", rcl_get_error_string().str);
+    exit(1);
+  }
+}
+
 static void on_timer(rcl_timer_t * timer, int64_t last_call_time)
 {
   (void)timer;
@@ -43,13 +56,7 @@ static void on_timer(rcl_timer_t * timer, int64_t last_call_time)
   if (g_created) {
     return;
   }
-  g_publisher = rcl_get_zero_initialized_publisher();
-  rcl_publisher_options_t options = rcl_publisher_get_default_options();
-  const rosidl_message_type_support_t * ts = ROSIDL_GET_MSG_TYPE_SUPPORT(std_msgs, msg, String);
-  if (rcl_publisher_init(&g_publisher, &g_node, ts, "timed", &options) != RCL_RET_OK) {
-    fprintf(stderr, "rcl_publisher_init failed: %s\n", rcl_get_error_string().str);
-    exit(1);
-  }
+  create_publisher(&g_publisher, "timed");
   g_created = true;
 }
 
@@ -66,6 +73,9 @@ int main(int argc, char ** argv)
   CHECK(rcl_node_init(&g_node, "c_timer", "/c", &context, &node_options));
   const bool destroy = argc > 1 && strcmp(argv[1], "destroy") == 0;
   const bool poll = argc > 1 && strcmp(argv[1], "poll") == 0;
+  const long polls_before_publisher = poll && argc > 2 ? strtol(argv[2], NULL, 10) : -1;
+  long polls = 0;
+  rcl_publisher_t after_polls;
   if (destroy) {
     g_doomed = rcl_get_zero_initialized_publisher();
     rcl_publisher_options_t options = rcl_publisher_get_default_options();
@@ -86,6 +96,9 @@ int main(int argc, char ** argv)
     CHECK(rcl_wait_set_clear(&wait_set));
     CHECK(rcl_wait_set_add_timer(&wait_set, &timer, NULL));
     rcl_ret_t ret = rcl_wait(&wait_set, poll ? 0 : -1);
+    if (++polls == polls_before_publisher) {
+      create_publisher(&after_polls, "after_polls");
+    }
     if (ret == RCL_RET_TIMEOUT) {
       continue;
     }

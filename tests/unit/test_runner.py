@@ -753,3 +753,70 @@ def test_the_capture_model_is_imported_beside_the_target_not_in_the_main_thread(
                            capture_output=True, text=True, timeout=60)
     assert probe.returncode == 0, probe.stderr
     assert probe.stdout.strip() == "['/fake'] ['rmw-introspect import']"
+
+
+def test_a_capture_is_returned_without_waiting_for_its_files_to_be_removed(tmp_path, ros, library, monkeypatch):
+    """Removing a capture's working directory waits for the file system (~7 ms a capture on this
+    project's machine): the runner returns the capture and a thread of its own removes the files;
+    ``flush_removals`` (run at exit) waits for them."""
+    import shutil
+    import tempfile
+    import threading
+
+    temp = tmp_path / "tmp"
+    temp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(temp))
+    release = threading.Event()
+    real_rmtree = shutil.rmtree
+
+    def slow_rmtree(path, *args, **kwargs):
+        if str(path).startswith(str(temp)):  # a file system that takes its time, for this test's files only
+            release.wait(30)
+        return real_rmtree(path, *args, **kwargs)
+
+    monkeypatch.setattr(shutil, "rmtree", slow_rmtree)
+    returned: list[object] = []
+    capturing = threading.Thread(target=lambda: returned.append(run(tmp_path, ros, library, "write()\n")))
+    capturing.start()
+    capturing.join(20)
+    try:
+        assert returned, "run() waited for its working directory to be removed"
+        assert [p.name.startswith("rmw_introspect_") for p in temp.iterdir()] == [True]  # still there
+    finally:
+        release.set()
+        capturing.join(20)
+    runner.flush_removals()
+    assert list(temp.iterdir()) == []
+
+
+#: a runner process whose file removals are slow, so that its capture's files are still queued
+#: for removal when it exits
+_EXIT_WITH_REMOVALS_QUEUED = """
+import shutil, sys, time
+from pathlib import Path
+from pytest_rmw_introspect.run import runner
+from pytest_rmw_introspect.run.ros_env import RosEnvironment
+from pytest_rmw_introspect.run.target import TargetSpec
+
+real_rmtree = shutil.rmtree
+def slow_rmtree(path, *args, **kwargs):
+    time.sleep(0.3)
+    return real_rmtree(path, *args, **kwargs)
+shutil.rmtree = slow_rmtree
+script, library, prefix = sys.argv[1:4]
+ros = RosEnvironment(kind="system", prefix=Path(prefix), distro="jazzy", ament_prefixes=(Path(prefix),), library_dirs=())
+for _ in range(2):
+    runner.run(TargetSpec.from_mapping({"script": script}), library=library, ros=ros, cold_note="no server")
+print("captured")
+"""
+
+
+def test_the_files_of_captures_are_removed_before_the_runner_exits(tmp_path, ros, library):
+    temp = tmp_path / "tmp"
+    temp.mkdir()
+    script = fake(tmp_path, "write()\n")
+    result = subprocess.run([sys.executable, "-c", _EXIT_WITH_REMOVALS_QUEUED, str(script), str(library), str(ros.prefix)],
+                            capture_output=True, text=True, timeout=60, env={**os.environ, "TMPDIR": str(temp)})
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "captured"
+    assert list(temp.iterdir()) == []

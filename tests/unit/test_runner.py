@@ -631,6 +631,48 @@ def test_a_hung_target_dies_with_its_runner(tmp_path, ros, library):
         time.sleep(0.05)
 
 
+#: a program that prints its parent-death signal (prctl PR_GET_PDEATHSIG)
+_PRINT_PDEATHSIG = "import ctypes\nv = ctypes.c_int()\nctypes.CDLL('libc.so.6').prctl(2, ctypes.byref(v), 0, 0, 0)\nprint(v.value)"
+
+
+@pytest.mark.parametrize("wrapped", [True, False], ids=["setpriv", "preexec_fn"])
+def test_a_target_starts_with_sigkill_as_its_parent_death_signal(monkeypatch, wrapped):
+    """Armed by ``setpriv --pdeathsig`` (which execs the target: vfork and exec instead of a fork
+    that runs Python in the child) where it is there, else by a preexec_fn."""
+    import signal
+
+    wrapper = process.death_signal_wrapper()
+    if wrapped and wrapper is None:
+        pytest.skip("no setpriv with --pdeathsig on this machine")
+    if not wrapped:
+        monkeypatch.setattr(process, "death_signal_wrapper", lambda: None)
+    proc = process.start([sys.executable, "-c", _PRINT_PDEATHSIG], env=os.environ, cwd=None)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 0, err
+    assert out.decode().strip() == str(int(signal.SIGKILL))
+    started_by = list(proc.args)[: len(wrapper or ())]
+    assert (started_by == list(wrapper or ()) and bool(wrapper)) == wrapped
+
+
+def test_a_program_that_cannot_start_is_an_oserror_with_or_without_the_wrapper(tmp_path, monkeypatch):
+    plain = tmp_path / "not_executable.sh"
+    plain.write_text("#!/bin/sh\n")
+    relative = tmp_path / "bin"
+    relative.mkdir()
+    (relative / "rmwi_here").write_text("#!/bin/sh\n")
+    (relative / "rmwi_here").chmod(0o755)
+    for argv, error in (([str(tmp_path / "missing")], FileNotFoundError),
+                        (["rmwi-no-such-program"], FileNotFoundError),
+                        ([str(plain)], PermissionError)):
+        with pytest.raises(error):
+            process.start(argv, env=os.environ, cwd=None)
+    # a relative PATH entry is the child's to resolve, in its own working directory (here the
+    # runner's would find it, the target's does not)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(FileNotFoundError):
+        process.start(["rmwi_here"], env={**os.environ, "PATH": "bin"}, cwd=tmp_path / "bin")
+
+
 def test_one_thread_reads_the_tails_of_both_pipes():
     (r1, w1), (r2, w2) = os.pipe(), os.pipe()
     out, err = process.OutputTail.read_together(os.fdopen(r1, "rb"), os.fdopen(r2, "rb"), limit=10)

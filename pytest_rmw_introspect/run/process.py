@@ -6,7 +6,9 @@ output kept as a bounded tail, stopped with escalating signals.
   of being reparented to init. util-linux's ``setpriv --pdeathsig`` arms it and execs the target
   (same process, same pid) when it is there: the target then starts with vfork and exec, ~0.3 ms,
   where a Python ``preexec_fn`` (the fallback) makes subprocess fork and run Python in the child,
-  8-13 ms for a small runner and more for a large one.
+  8-13 ms for a small runner and more for a large one. The fallback also ends a child whose
+  runner died before the signal was armed; setpriv leaves that window (the ~1 ms between the
+  vfork and its prctl) open.
 * stdout and stderr are read by one thread into :class:`OutputTail` buffers of a fixed size: a
   target logging in a loop cannot fill the disk (only the tail is ever shown).
 * :func:`stop`: SIGINT, SIGTERM, then SIGKILL to the whole group, with short grace periods.

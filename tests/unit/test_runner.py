@@ -862,3 +862,17 @@ def test_the_files_of_captures_are_removed_before_the_runner_exits(tmp_path, ros
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "captured"
     assert list(temp.iterdir()) == []
+
+
+def test_openblas_threads_of_a_target_sleep_at_once_unless_the_user_says_otherwise(tmp_path, library):
+    """Spinning OpenBLAS workers (numpy, imported by rclpy) kept a cold target from being proven
+    idle for ~40 ms and took a core meanwhile."""
+    ros = RosEnvironment(kind="wheels", prefix=tmp_path, distro="jazzy", ament_prefixes=(tmp_path,))
+    output = tmp_path / "work" / "capture.<pid>.json"
+    base = {"PATH": os.environ["PATH"]}
+    spec = TargetSpec.from_mapping({"module": "m"})
+    assert runner.environment(spec, library, ros, output, base=base)["OPENBLAS_THREAD_TIMEOUT"] == "4"
+    assert runner.environment(spec, library, ros, output,
+                              base={**base, "OPENBLAS_THREAD_TIMEOUT": "28"})["OPENBLAS_THREAD_TIMEOUT"] == "28"
+    own = TargetSpec.from_mapping({"module": "m", "env": {"OPENBLAS_THREAD_TIMEOUT": "30"}})
+    assert runner.environment(own, library, ros, output, base=base)["OPENBLAS_THREAD_TIMEOUT"] == "30"

@@ -25,7 +25,7 @@ from pathlib import Path
 
 from bench_time_to_capture import NODE_SETUP_ONLY, recording_env, timed
 
-from pytest_rmw_introspect.run import middleware, process, ros_env, runner, target
+from pytest_rmw_introspect.run import middleware, process, ros_env, target
 
 PY = sys.executable
 #: (mark, text of the first stderr line that sets it)
@@ -43,9 +43,9 @@ STAGES = [
 
 
 def timeline(spec: target.TargetSpec, library: Path, ros: ros_env.RosEnvironment) -> dict[str, float]:
-    argv = runner.build_argv(spec, ros_env.ament_prefixes(tuple(ros.ament_prefixes)))
+    argv = target.build_argv(spec, ros_env.ament_prefixes(tuple(ros.ament_prefixes)))
     with tempfile.TemporaryDirectory(prefix="bench_cold_capture_") as d:
-        env = runner.environment(spec, library, ros, Path(d) / "capture.<pid>.json")
+        env = target.environment(spec, library, ros, Path(d) / "capture.<pid>.json")
         env["RMW_INTROSPECT_VERBOSE"] = "1"
         marks: dict[str, float] = {}
         t0 = time.monotonic()

@@ -3,7 +3,7 @@
     python bench/bench_time_to_capture.py [--reps 7]
 
 Targets: the example package's Python `talker` and compiled rcl `c_talker` (installed into the
-venv by `make bootstrap`), run exactly as the plugin runs them (``runner.environment``: the
+venv by `make bootstrap`), run exactly as the plugin runs them (``target.environment``: the
 middleware preloaded, the wheels' interpreter re-exec skipped, RMW_INTROSPECT_EXIT=1).
 
 Rows (medians, ms):
@@ -31,7 +31,6 @@ import time
 from pathlib import Path
 
 from pytest_rmw_introspect.run import middleware, ros_env, target
-from pytest_rmw_introspect.run.runner import environment
 
 PY = sys.executable
 PACKAGE = "rmw_introspect_examples"
@@ -72,7 +71,7 @@ LINK_ONLY_C = "int main(void) { return 0; }\n"
 
 def recording_env(library: Path, ros: ros_env.RosEnvironment, output: Path, **extra: str) -> dict[str, str]:
     spec = target.TargetSpec(command=("true",))
-    env = environment(spec, library, ros, output)
+    env = target.environment(spec, library, ros, output)
     env["RMW_INTROSPECT_SETTLE_MS"] = extra.pop("settle_ms", "10")
     env.update(extra)
     return env

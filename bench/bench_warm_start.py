@@ -46,7 +46,7 @@ import time
 from pathlib import Path
 
 from pytest_rmw_introspect.check import pipeline
-from pytest_rmw_introspect.run import middleware, ros_env, runner, target
+from pytest_rmw_introspect.run import middleware, prewarm, ros_env, runner, target
 from pytest_rmw_introspect.run.warm import client as warm
 
 PY = sys.executable
@@ -76,7 +76,7 @@ def machine() -> str:
 
 
 def bench_one_capture(reps: int, library: Path, ros: ros_env.RosEnvironment) -> dict[str, float]:
-    env = runner.environment(target.TargetSpec(), library, ros, Path(tempfile.gettempdir()) / "unused.json")
+    env = target.environment(target.TargetSpec(), library, ros, Path(tempfile.gettempdir()) / "unused.json")
     env["RMW_INTROSPECT_AUTO_EXPORT"] = "0"
     specs = {
         "cold": target.TargetSpec(package=PACKAGE, executable="talker", settle=0.01, cold_start=True),
@@ -84,7 +84,7 @@ def bench_one_capture(reps: int, library: Path, ros: ros_env.RosEnvironment) -> 
         "cold, settle 0.1": target.TargetSpec(package=PACKAGE, executable="talker", cold_start=True),
         "warm, settle 0.1": target.TargetSpec(package=PACKAGE, executable="talker"),
     }
-    reason = runner.warm_up(library=library, ros=ros, wait=60)
+    reason = prewarm.warm_up(library=library, ros=ros, wait=60)
     if reason is not None:
         raise SystemExit(f"the warm start server did not start: {reason}")
     samples: dict[str, list[float]] = {"import rclpy": [], **{k: [] for k in specs}}
@@ -182,7 +182,7 @@ def captures_alone(directory: Path, library: Path, ros: ros_env.RosEnvironment) 
     ``runner.run``, ``ALONE_CONCURRENCY`` at a time, in this process: no pytest. Warm, as the
     pytest run's default (compiled targets, ``c_talker``, start cold in both)."""
     specs = [pipeline.prepare(path).spec for path in sorted(directory.glob("*.interfaces.yaml"))]
-    runner.warm_up(library=library, ros=ros, wait=60)
+    prewarm.warm_up(library=library, ros=ros, wait=60)
     runner.run(specs[0], library=library, ros=ros)  # the server is ready and has learned the types
     t0 = time.perf_counter()
     with concurrent.futures.ThreadPoolExecutor(ALONE_CONCURRENCY) as pool:

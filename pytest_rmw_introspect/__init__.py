@@ -53,7 +53,9 @@ if TYPE_CHECKING:
         TargetExited,
         TargetTimeout,
     )
-    from .model.capture import Capture, Endpoint, Interface, Node, RawNode, VirtualTime
+    from .model.capture import Capture
+    from .model.capture_file import Endpoint, RawNode, VirtualTime
+    from .model.capture_view import Interface, Node
     from .model.contract import Contract
     from .model.contract import load as load_contract
     from .model.parameters import Lifecycle, Parameter, ParameterRange, Probe, Transition
@@ -75,11 +77,11 @@ _LAZY: dict[str, tuple[str, str]] = {
     "ComparisonOptions": ("compare.options", "ComparisonOptions"),
     "CompatItem": ("compare.compatibility", "CompatItem"),
     "Capture": ("model.capture", "Capture"),
-    "Endpoint": ("model.capture", "Endpoint"),
-    "Interface": ("model.capture", "Interface"),
-    "Node": ("model.capture", "Node"),
-    "RawNode": ("model.capture", "RawNode"),
-    "VirtualTime": ("model.capture", "VirtualTime"),
+    "Endpoint": ("model.capture_file", "Endpoint"),
+    "Interface": ("model.capture_view", "Interface"),
+    "Node": ("model.capture_view", "Node"),
+    "RawNode": ("model.capture_file", "RawNode"),
+    "VirtualTime": ("model.capture_file", "VirtualTime"),
     "Contract": ("model.contract", "Contract"),
     "load_contract": ("model.contract", "load"),
     **{name: ("model.parameters", name) for name in ("Lifecycle", "Parameter", "ParameterRange", "Probe", "Transition")},

@@ -35,6 +35,7 @@ from ..errors import ContractError, GoldenWriteError
 from ..model import contract as contract_module
 from ..model import types as type_model
 from ..model import untrusted
+from ..model.contract_shapes import ContractNode
 from ..model.paths import relative_or_absolute
 from ..run.target import TargetSpec
 from .golden_record import CREATED, UPDATED
@@ -211,7 +212,7 @@ def write_text(path: str | Path, text: str, *, timeout: float = LOCK_TIMEOUT) ->
     return _write_locked(Path(path), lambda _old: text, timeout)
 
 
-def update(path: str | Path, nodes: Mapping[str, Any], *, new_header: str | None = None,
+def update(path: str | Path, nodes: Mapping[str, ContractNode], *, new_header: str | None = None,
            types: Mapping[str, type_model.TypeDescription] | None = None,
            distribution: str | None = None, timeout: float = LOCK_TIMEOUT) -> str | None:
     """Write the golden at ``path`` with ``nodes``; return ``CREATED``, ``UPDATED`` or None
@@ -307,7 +308,7 @@ def new_contract_header(*, spec: TargetSpec, base: Path, include_infrastructure:
     return header
 
 
-def new_contract_text(nodes: Mapping[str, Any], *, spec: TargetSpec, base: Path,
+def new_contract_text(nodes: Mapping[str, ContractNode], *, spec: TargetSpec, base: Path,
                       include_infrastructure: bool = False, how: str = "rmw-introspect capture",
                       run_dir: Path | None = None, distribution: str | None = None) -> str:
     """A complete new contract: :func:`new_contract_header`, then ``nodes``; ``distribution``

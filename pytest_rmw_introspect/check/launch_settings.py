@@ -50,10 +50,12 @@ def given(node: LaunchedNode) -> Given:
 
 def component_given(load: ComponentLoad) -> Given:
     """The parameters a component's LoadNode request gives it (parameters files already expanded
-    into parameters by launch_ros, so each is named where the component is loaded); judged by
-    PARAM_NOT_DECLARED (its remappings are not judged: REMAP_UNUSED reads a process's)."""
+    into parameters by launch_ros, so each is named where the component is loaded), judged by
+    PARAM_NOT_DECLARED, and its own remappings (not the scope's), judged by REMAP_UNUSED against
+    the component's node alone."""
     where = str(load.where)
-    return Given(parameters=tuple(GivenParameter(name, where) for name, _, _ in load.parameters), where=where)
+    return Given(parameters=tuple(GivenParameter(name, where) for name, _, _ in load.parameters),
+                 remappings=load.own_remappings, where=where)
 
 
 def _file(path: Path | None, text: str | None, name: str | None = None) -> list[ParamsFile]:

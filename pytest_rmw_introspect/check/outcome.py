@@ -18,6 +18,7 @@ from typing import Any, Protocol
 
 from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError
+from ..model.contract_shapes import ContractNode
 
 
 class _Described(Protocol):
@@ -30,7 +31,7 @@ class _Summarised(Protocol):
 
 class _WithNodes(Protocol):
     @property
-    def nodes(self) -> Mapping[str, Any]: ...
+    def nodes(self) -> Mapping[str, ContractNode]: ...
 
 
 class Checked(Protocol):

@@ -42,6 +42,7 @@ from ..model import types as type_model
 from ..model.acceptance import Acceptance
 from ..model.capture import Capture
 from ..model.contract import Contract
+from ..model.contract_shapes import ContractNodes
 from ..model.locate import LineIndex
 from ..model.option_tables import PRECEDENCE, Source, stack
 from ..model.paths import shown as display
@@ -201,7 +202,7 @@ class CheckResult:
         """An error, a missing contract, or drift at or above the fail threshold."""
         return self.error is not None or self.missing or report.fails(self.items, self.threshold)
 
-    def golden_nodes(self) -> dict[str, Any]:
+    def golden_nodes(self) -> ContractNodes:
         """The ``nodes`` to write when accepting the capture as the new contract (ignored
         parameters as the contract has them)."""
         assert self.capture is not None, "no capture to accept"
@@ -487,7 +488,7 @@ def check_compatibility(
     ValueError for a bad ``fail_on``.
     """
     threshold = parse_threshold(fail_on)
-    systems: dict[str, Any] = {}
+    systems: dict[str, ContractNodes] = {}
     lines: dict[str, LineIndex] = {}
     accept: list[Acceptance] = []
     for p in contract_paths:

@@ -40,6 +40,7 @@ from ..model import contract as contract_module
 from ..model import system_contract
 from ..model.acceptance import Acceptance
 from ..model.contract import Contract
+from ..model.contract_shapes import ContractNode, ContractNodes
 from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
@@ -239,7 +240,7 @@ class SystemCheckResult:
             if self.capture is not None else {},
         )
 
-    def golden_nodes(self) -> dict[str, Any]:
+    def golden_nodes(self) -> ContractNodes:
         assert self.capture is not None, "no capture to accept"
         nodes = self.capture.to_contract_nodes(with_type_hash=not self.options.ignore_type_hash,
                                                with_qos=not self.options.ignores_all_qos)
@@ -383,7 +384,7 @@ class LoadedContracts:
     #: the outside world the system contracts among them declare (``external:``, merged)
     external: dict[str, dict[str, str]] = field(default_factory=dict)
 
-    def nodes_by_label(self) -> dict[str, Mapping[str, Any]]:
+    def nodes_by_label(self) -> dict[str, Mapping[str, ContractNode]]:
         return {p.label: p.nodes for p in self.processes}
 
     def file_of(self, label: str) -> str:
@@ -431,7 +432,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
     return LoadedContracts(labels, processes, any_system, accept, external)
 
 
-def system_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
+def compatibility_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
     """The compatibility rules over loaded contracts: all of them when a system contract is among
     them, the connection rules (``compat`` as before) for node contracts alone."""
     if loaded.any_system:

@@ -10,6 +10,7 @@ import json
 import os
 import shlex
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -170,11 +171,13 @@ def cmd_diff(args: argparse.Namespace) -> int:
 
 
 def cmd_compat(args: argparse.Namespace) -> int:
-    if system_contracts.any_system(args.contracts):
-        return system_contracts.cmd_compat(args)
     baseline = baselines.load(args)
-    result = pipeline.check_compatibility(args.contracts, fail_on=args.fail_on,
-                                          strict_system_default=args.strict_system_default)
+    file_of: Callable[[str], str] | None = None
+    if system_contracts.any_system(args.contracts):
+        result, file_of = system_contracts.compatibility(args)
+    else:
+        result = pipeline.check_compatibility(args.contracts, fail_on=args.fail_on,
+                                              strict_system_default=args.strict_system_default)
     baselines.apply(baseline, result)
     baselines.finish(args, baseline, [result])
     if args.format == "json":
@@ -183,9 +186,9 @@ def cmd_compat(args: argparse.Namespace) -> int:
         sys.stdout.write(ci_report.compat_markdown(result.items, threshold=result.threshold, labels=result.labels))
     elif args.format == "github":
         sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines,
-                                                 accepted=result.accepted, stale=result.stale))
+                                                 file_of=file_of, accepted=result.accepted, stale=result.stale))
     elif args.format == "sarif":
-        print_json(sarif.compat_log(result.items, threshold=result.threshold, lines=result.lines,
+        print_json(sarif.compat_log(result.items, threshold=result.threshold, lines=result.lines, file_of=file_of,
                                     tool_version=__version__, accepted=result.accepted, stale=result.stale))
     else:
         sys.stdout.write(result.render_text())

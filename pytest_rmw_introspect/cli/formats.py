@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING, Any
 
 from ..model import nodl
 from ..model import qos as qos_module
-from ..model.vocabulary import KIND_TO_LIST, LIFECYCLE, LIFECYCLE_UNKNOWN, LISTS, PARAMETERS
+from ..model.contract_shapes import ContractNodes, InterfaceEntry, empty_node
+from ..model.vocabulary import KIND_TO_LIST, LIFECYCLE, LIFECYCLE_UNKNOWN, PARAMETERS
 from ..run.target import TargetSpec
 
 if TYPE_CHECKING:  # the capture model is imported by the runner while the target starts
@@ -21,10 +22,10 @@ def nodl_documents(cap: Capture, *, raw: bool) -> str:
     endpoint as created, ungrouped and unfiltered."""
     if not raw:
         return nodl.render(cap.to_contract_nodes())
-    nodes: dict[str, dict[str, Any]] = {}
+    nodes: ContractNodes = {}
     live = {n.id: n for n in cap.raw_nodes if n.alive}
     for n in sorted(live.values(), key=lambda n: n.seq):
-        node = nodes.setdefault(n.fqn, {name: [] for name in LISTS})
+        node = nodes.setdefault(n.fqn, empty_node())
         if n.parameters is not None and PARAMETERS not in node:
             node[PARAMETERS] = [p.to_contract() for p in n.parameters]
         if n.lifecycle is not None:
@@ -33,7 +34,7 @@ def nodl_documents(cap: Capture, *, raw: bool) -> str:
         owner = live.get(e.node_id)
         if owner is None or not e.alive:
             continue
-        entry: dict[str, Any] = {"name": e.name, "type": e.type}
+        entry: InterfaceEntry = {"name": e.name, "type": e.type}
         if e.kind in ("publisher", "subscription"):
             entry["qos"] = qos_module.from_capture(e.qos)
         nodes[owner.fqn][KIND_TO_LIST[e.kind]].append(entry)

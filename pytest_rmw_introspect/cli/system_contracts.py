@@ -9,7 +9,7 @@ import json
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from .._version import __version__
 from ..check import system_pipeline
@@ -19,12 +19,13 @@ from ..compare import sarif
 from ..compare.compatibility import CompatItem, propose_external
 from ..errors import TargetConfigError
 from ..model import system_contract
+from ..model.contract_shapes import TargetBlock
 from ..model.locate import line_index
 from ..model.vocabulary import parse_threshold
 from ..run import system_capture
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
-from . import baselines, formats
+from . import formats
 from .launch_options import launch_arguments, launch_block, wants_launch
 from .parser import EXIT_DRIFT, EXIT_OK, UsageError, compare_from_args, target_from_args
 
@@ -75,7 +76,8 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None, ros: Callab
     else:
         base = Path(args.output).absolute().parent if args.output else cwd
         proposal = propose_external(system_pipeline.launched_processes(cap))
-        header = system_contract.new_header(spec.to_block(base), target=target or None,
+        # TargetSpec.from_mapping accepted these flags above: a target block
+        header = system_contract.new_header(spec.to_block(base), target=cast(TargetBlock, target) or None,
                                             options={"include_infrastructure": True} if include else None,
                                             external_proposal=proposal)
         text = system_contract.render(cap.process_entries(), nodes, header=header)
@@ -121,33 +123,23 @@ def any_system(paths: Sequence[str]) -> bool:
     return any(Path(p).exists() and system_contract.is_system_contract(p) for p in paths)
 
 
-def cmd_compat(args: argparse.Namespace) -> int:
-    """``compat`` with system contracts among the files: every compatibility rule."""
-    baseline = baselines.load(args)
+def compatibility(args: argparse.Namespace) -> tuple[CompatibilityResult, Callable[[str], str]]:
+    """``compat`` with system contracts among the files: every compatibility rule, and which
+    file each end's label is in (a system contract's process labels name its file)."""
     loaded = system_pipeline.load_any(args.contracts)
     threshold = parse_threshold(args.fail_on)
-    judged = judge_compatibility(system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default),
+    judged = judge_compatibility(system_pipeline.compatibility_items(loaded, strict_system_default=args.strict_system_default),
                                  loaded.accept, loaded.file_of)
     items = [item for item in judged.kept if isinstance(item, CompatItem)]
-    result = CompatibilityResult(labels=loaded.labels, items=items, threshold=threshold, accepted=judged.accepted,
-                                 stale=judged.stale)
-    baselines.apply(baseline, result)
-    baselines.finish(args, baseline, [result])
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    elif args.format == "sarif":
-        lines = {label: line_index(Path(label).read_text(encoding="utf-8")) for label in loaded.labels}
-        formats.print_json(sarif.compat_log(result.items, threshold=threshold, lines=lines,
-                                            file_of=loaded.file_of, accepted=result.accepted, stale=result.stale,
-                                            tool_version=__version__))
-    else:
-        sys.stdout.write(result.render_text())
-    return EXIT_DRIFT if result.failed and not args.write_baseline else EXIT_OK
+    lines = {label: line_index(Path(label).read_text(encoding="utf-8")) for label in loaded.labels}
+    result = CompatibilityResult(labels=loaded.labels, items=items, threshold=threshold, lines=lines,
+                                 accepted=judged.accepted, stale=judged.stale)
+    return result, loaded.file_of
 
 
 def cmd_graph(args: argparse.Namespace) -> int:
     loaded = system_pipeline.load_any(args.contracts)
-    items = system_pipeline.system_items(loaded, strict_system_default=args.strict_system_default)
+    items = system_pipeline.compatibility_items(loaded, strict_system_default=args.strict_system_default)
     title = args.title or "System " + ", ".join(Path(p).name for p in args.contracts)
     drawing = graph_module.build(loaded.processes, items, title=title)
     formats.emit(graph_module.render(drawing, args.format, threshold=parse_threshold(args.fail_on)), args.output)

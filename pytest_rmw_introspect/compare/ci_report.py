@@ -8,7 +8,7 @@ items below it warnings.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from ..model.acceptance import Acceptance
@@ -196,13 +196,15 @@ def acceptance_github(accepted: Sequence[Accepted], stale: Sequence[Acceptance])
 
 def compat_github(items: Sequence[CompatItem], *, threshold: Severity,
                   lines: Mapping[str, LineIndex] | None = None, file: str | None = None,
+                  file_of: Callable[[str], str] | None = None,
                   accepted: Sequence[Accepted] = (), stale: Sequence[Acceptance] = ()) -> str:
-    """An annotation per system-check problem, on the requesting end's contract (or ``file``,
-    a system contract holding every end) and line."""
+    """An annotation per system-check problem, on the requesting end's contract and line:
+    ``file`` when one contract holds every end, else ``file_of(label)`` (a system contract's
+    process label → its file), else the end's label (a node contract's path)."""
     out = []
     for item in items:
         level = "error" if item.severity >= threshold else "warning"
-        where = file or item.requester.label
+        where = file or (file_of(item.requester.label) if file_of else item.requester.label)
         index = (lines or {}).get(where, {})
         ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
         out.append(annotation(level, f"{item.name}: {ends}: {item.message}", file=where,

@@ -1,7 +1,7 @@
 """Compatibility checks across contracts: do the nodes of several contracts fit together?
 
 All nodes of all contracts form one system. Per topic, every publisher × subscription pair is
-checked (type, type hash, QoS with ``qos.check_compatible``); per service and action, every
+checked (type, type hash, QoS with ``qos.profile_compatibility``); per service and action, every
 client × server pair (type, type hash). Requesting endpoints without any provider are reported.
 The rules and their severities are in docs/drift-rules.md ("Compatibility rules").
 """
@@ -10,10 +10,11 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Literal
 
 from ..model import qos
-from ..model.vocabulary import LABELS, PROVIDER_OF, Severity
+from ..model.contract_shapes import ContractNode, InterfaceEntry, QosFields
+from ..model.vocabulary import LABELS, LISTS, PROVIDER_OF, ListName, Severity
 from . import launch_given, wiring
 
 _WITHOUT_PROVIDER = {
@@ -22,8 +23,8 @@ _WITHOUT_PROVIDER = {
     "action_clients": "ACTION_CLIENT_WITHOUT_SERVER",
 }
 # requesting list → providing list, and the rule for a requester without any provider
-_PAIRS: dict[str, tuple[str, str]] = {
-    requester: (provider, _WITHOUT_PROVIDER[requester]) for requester, provider in PROVIDER_OF.items()
+_PAIRS: dict[ListName, tuple[ListName, str]] = {
+    requester: (PROVIDER_OF[requester], _WITHOUT_PROVIDER[requester]) for requester in LISTS if requester in PROVIDER_OF
 }
 
 #: rule id → severity
@@ -51,8 +52,8 @@ RULES: dict[str, Severity] = {
 SUMMARIES: dict[str, str] = {
     "TYPE_MISMATCH": "the two ends use different type names",
     "TYPE_HASH_MISMATCH": "same type name, different hash (or action hash mapping)",
-    "QOS_INCOMPATIBLE": "`check_compatible` says ERROR (topics)",
-    "QOS_MAYBE_INCOMPATIBLE": "`check_compatible` says WARNING (topics)",
+    "QOS_INCOMPATIBLE": "rmw's QoS rules (`qos.profile_compatibility`) say ERROR (topics)",
+    "QOS_MAYBE_INCOMPATIBLE": "rmw's QoS rules (`qos.profile_compatibility`) say WARNING (topics)",
     "SUBSCRIPTION_WITHOUT_PUBLISHER": "nobody publishes a subscribed topic",
     "CLIENT_WITHOUT_SERVER": "nobody serves a called service",
     "ACTION_CLIENT_WITHOUT_SERVER": "nobody serves an action with a client",
@@ -120,11 +121,11 @@ class CompatItem:
 @dataclass(frozen=True)
 class _Found:
     endpoint: ContractEndpoint
-    entry: Mapping[str, Any]
+    entry: InterfaceEntry
 
 
 def check_compatibility(
-    contracts: Mapping[str, Mapping], *, strict_system_default: bool = False
+    contracts: Mapping[str, Mapping[str, ContractNode]], *, strict_system_default: bool = False
 ) -> list[CompatItem]:
     """Incompatibilities between the nodes of several contracts, most severe first.
 
@@ -182,7 +183,7 @@ def _check_pair(name: str, provider: _Found, requester: _Found, strict: bool) ->
         pub_qos, sub_qos = qos.expand(offered["qos"]), qos.expand(requested["qos"])
         if not strict:
             pub_qos, sub_qos = _settle_shared_system_defaults(pub_qos, sub_qos)
-        compatibility, reason = qos.check_compatible(pub_qos, sub_qos)
+        compatibility, reason = qos.profile_compatibility(pub_qos, sub_qos)
         if compatibility is qos.Compatibility.ERROR:
             items.append(_item("QOS_INCOMPATIBLE", name, requester, provider,
                                _strip_levels(reason)))
@@ -193,11 +194,12 @@ def _check_pair(name: str, provider: _Found, requester: _Found, strict: bool) ->
 
 
 # Identical weak values: neither an error nor a warning under any rule.
-_SETTLED = {"reliability": "BEST_EFFORT", "durability": "VOLATILE", "liveliness": "AUTOMATIC"}
+_SETTLED: dict[Literal["reliability", "durability", "liveliness"], str] = {
+    "reliability": "BEST_EFFORT", "durability": "VOLATILE", "liveliness": "AUTOMATIC"}
 
 
-def _settle_shared_system_defaults(pub: dict, sub: dict) -> tuple[dict, dict]:
-    pub, sub = dict(pub), dict(sub)
+def _settle_shared_system_defaults(pub: QosFields, sub: QosFields) -> tuple[QosFields, QosFields]:
+    pub, sub = pub.copy(), sub.copy()
     for policy, settled in _SETTLED.items():
         if pub[policy] == sub[policy] == "SYSTEM_DEFAULT":
             pub[policy] = sub[policy] = settled
@@ -224,7 +226,7 @@ class LaunchedProcess:
 
     label: str
     expected: str | None
-    nodes: Mapping[str, Mapping[str, Any]]
+    nodes: Mapping[str, ContractNode]
     #: node names held by more than one node of this one process (its capture lists them once)
     duplicates: tuple[str, ...] = ()
     #: a process the launch file starts (False: a node contract checked along, which promises no node)
@@ -241,7 +243,7 @@ class LaunchedProcess:
     component_given: Mapping[str, launch_given.Given] = field(default_factory=dict)
 
 
-_MULTIPLE = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "ACTION_MULTIPLE_SERVERS"}
+_MULTIPLE: dict[ListName, str] = {"service_servers": "SERVICE_MULTIPLE_SERVERS", "action_servers": "ACTION_MULTIPLE_SERVERS"}
 
 
 def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[str, Mapping[str, str]] | None = None,

@@ -15,10 +15,11 @@ of a bigger change are not separate drift).
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
+from ..model.contract_shapes import ContractNode, InterfaceEntry
 from ..model.vocabulary import DESTROYED_AT, DESTROYED_AT_TOLERANCE_S, LABELS, OFFERING_LISTS, Severity
 
 RULES: dict[str, tuple[Severity, str]] = {
@@ -74,8 +75,8 @@ def classify(kind: str, name: str, old: float | None, new: float | None) -> Dest
     return DestructionChange(kind, name, old, new, rule, message)
 
 
-def compare_node(fqn: str, old_node: Mapping[str, Any], new_node: Mapping[str, Any],
-                 interfaces: Iterator[tuple[str, str, Mapping[str, Any], Mapping[str, Any]]]) -> list[DestructionChange]:
+def compare_node(fqn: str, old_node: ContractNode, new_node: ContractNode,
+                 interfaces: Iterator[tuple[str, str, InterfaceEntry, InterfaceEntry]]) -> list[DestructionChange]:
     """The destruction items of node ``fqn`` (present on both sides) and of its ``interfaces``
     present on both sides: ``(list name, key, old entry, new entry)``."""
     old_node_age, new_node_age = _age(old_node.get(DESTROYED_AT)), _age(new_node.get(DESTROYED_AT))

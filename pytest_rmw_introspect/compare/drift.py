@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..model import qos, untrusted
 from ..model import types as type_model
+from ..model.contract_shapes import ContractNode, InterfaceEntry
 from ..model.vocabulary import (
     ACTION_HASHED_PARTS,
     DESTROYED_AT,
@@ -154,8 +155,8 @@ TYPE_CHANGE_PREFIX = "type:"
 
 
 def compare(
-    expected_nodes: Mapping | None,
-    actual_nodes: Mapping | None,
+    expected_nodes: Mapping[str, ContractNode] | None,
+    actual_nodes: Mapping[str, ContractNode] | None,
     options: ComparisonOptions | None = None,
     *,
     expected_types: Mapping[str, type_model.TypeDescription] | None = None,
@@ -323,7 +324,7 @@ def _ignored_qos_fields(ignore_qos: bool | Iterable[str]) -> frozenset[str]:
 
 @dataclass
 class _Interface:
-    original: Any  # the entry as given, for added/removed items
+    original: InterfaceEntry  # the entry as given, for added/removed items
     compared: dict[str, Any] = field(default_factory=dict)  # type, type_hash, qos (explicit)
 
 
@@ -331,21 +332,20 @@ class _Interface:
 _Index = dict[str, dict[str, dict[str, _Interface]]]
 
 
-def _index(nodes: Mapping | None) -> _Index:
+def _index(nodes: Mapping[str, ContractNode] | None) -> _Index:
     index: _Index = {}
     for node_name, node in (nodes or {}).items():
-        node = node or {}
+        node = node or ContractNode()
         index[node_name] = {
             kind: _keyed_interfaces(node_name, kind, node.get(kind) or []) for kind in LISTS
         }
     return index
 
 
-def _keyed_interfaces(node: str, kind: str, entries: Iterable[Mapping]) -> dict[str, _Interface]:
+def _keyed_interfaces(node: str, kind: str, entries: Iterable[InterfaceEntry]) -> dict[str, _Interface]:
     by_name: dict[str | None, list[_Interface]] = {}
     for entry in entries:
-        name = entry.get("name")
-        by_name.setdefault(name, []).append(_Interface(entry, _compared(node, kind, entry)))
+        by_name.setdefault(entry.get("name"), []).append(_Interface(entry, _compared(node, kind, entry)))
     keyed: dict[Any, _Interface] = {}  # a nameless entry (a hand-written contract) is keyed None
     for name, interfaces in by_name.items():
         # The same name twice in one list (e.g. two publishers on one topic) stays visible:
@@ -356,11 +356,14 @@ def _keyed_interfaces(node: str, kind: str, entries: Iterable[Mapping]) -> dict[
     return keyed
 
 
-def _compared(node: str, kind: str, entry: Mapping) -> dict[str, Any]:
+def _compared(node: str, kind: str, entry: InterfaceEntry) -> dict[str, Any]:
+    """What is compared of an entry, as plain data for DeepDiff: ``type``, ``type_hash`` and the
+    explicit ``qos``, those the entry states."""
     compared: dict[str, Any] = {}
-    for key in ("type", "type_hash"):
-        if entry.get(key) is not None:
-            compared[key] = entry[key]
+    if entry.get("type") is not None:
+        compared["type"] = entry["type"]
+    if entry.get("type_hash") is not None:
+        compared["type_hash"] = entry["type_hash"]
     if kind in TOPIC_LISTS and entry.get("qos") is not None:
         try:
             compared["qos"] = qos.expand(entry["qos"])
@@ -518,21 +521,21 @@ def _node_presence_items(node: str, expected: _Index, actual: _Index) -> list[Dr
     return items
 
 
-def _parameter_and_lifecycle_items(expected_nodes: Mapping, actual_nodes: Mapping,
+def _parameter_and_lifecycle_items(expected_nodes: Mapping[str, ContractNode], actual_nodes: Mapping[str, ContractNode],
                                    options: ComparisonOptions) -> list[DriftItem]:
     """``compare.parameter_drift`` on the nodes both sides have. The parameters of a node added
     or removed are not items of their own: they have no peers, and setting them goes with
     launching the node (consequences of a bigger change are not separate drift)."""
     items = []
     for node in sorted(set(expected_nodes) & set(actual_nodes)):
-        old, new = expected_nodes[node] or {}, actual_nodes[node] or {}
+        old, new = expected_nodes[node] or ContractNode(), actual_nodes[node] or ContractNode()
         changes = [*parameter_drift.compare_lifecycle(node, old, new),
                    *parameter_drift.compare_parameters(node, old, new, options)]
         items += [_item(node, c.kind, c.name, c.change, c.old, c.new, c.rule, c.message) for c in changes]
     return items
 
 
-def _destruction_items(expected_nodes: Mapping, actual_nodes: Mapping,
+def _destruction_items(expected_nodes: Mapping[str, ContractNode], actual_nodes: Mapping[str, ContractNode],
                        expected: _Index, actual: _Index) -> list[DriftItem]:
     """``compare.destruction_drift`` on the nodes, and their interfaces, both sides have."""
     items = []
@@ -540,7 +543,8 @@ def _destruction_items(expected_nodes: Mapping, actual_nodes: Mapping,
         both = ((kind, key, interface.original, actual[node][kind][key].original)
                 for kind in LISTS for key, interface in expected[node][kind].items()
                 if key in actual[node][kind])
-        changes = destruction_drift.compare_node(node, expected_nodes[node] or {}, actual_nodes[node] or {}, both)
+        changes = destruction_drift.compare_node(node, expected_nodes[node] or ContractNode(),
+                                                 actual_nodes[node] or ContractNode(), both)
         items += [_item(node, c.kind, c.name, DESTROYED_AT, c.old, c.new, c.rule, c.message) for c in changes]
     return items
 

@@ -22,6 +22,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from ..model.contract_shapes import ContractNode
 from ..model.vocabulary import LISTS, PARAMETERS, Severity, is_infrastructure_parameter
 from .similarity import typo_distance
 
@@ -109,7 +110,7 @@ def resolve(name: str, node_fqn: str) -> str:
     return f"{namespace}/{name}"
 
 
-def _names(node: Mapping[str, Any]) -> set[str]:
+def _names(node: ContractNode) -> set[str]:
     return {str(entry.get("name")) for kind in LISTS for entry in (node or {}).get(kind) or []}
 
 
@@ -141,7 +142,9 @@ def given_findings(processes: Sequence[Any], missing_path: MissingPath | None = 
             findings += _undeclared(process, components.get(fqn, given), fqn, node)
             if missing_path is not None:
                 findings += _missing_paths(process, fqn, node, missing_path)
-        findings += _unused_remappings(process, given)
+            if fqn in components:  # its LoadNode request's remappings reach this node alone
+                findings += _unused_remappings(process, components[fqn], {fqn: node}, fqn)
+        findings += _unused_remappings(process, given, process.nodes, process.expected)
     everyone = sorted({fqn for process in processes for fqn in process.nodes})
     seen: set[tuple[str, str]] = set()
     for process in processes:
@@ -167,7 +170,7 @@ def given_findings(processes: Sequence[Any], missing_path: MissingPath | None = 
     return findings
 
 
-def _undeclared(process: Any, given: Given, fqn: str, node: Mapping[str, Any]) -> list[Finding]:
+def _undeclared(process: Any, given: Given, fqn: str, node: ContractNode) -> list[Finding]:
     if node.get(PARAMETERS) is None:  # parameters not read: nothing to compare with
         return []
     declared = {str(p.get("name")) for p in node[PARAMETERS]}
@@ -191,7 +194,7 @@ def _undeclared(process: Any, given: Given, fqn: str, node: Mapping[str, Any]) -
     return out
 
 
-def _missing_paths(process: Any, fqn: str, node: Mapping[str, Any], missing_path: MissingPath) -> list[Finding]:
+def _missing_paths(process: Any, fqn: str, node: ContractNode, missing_path: MissingPath) -> list[Finding]:
     out = []
     for parameter in node.get(PARAMETERS) or []:
         value = parameter.get("default_value")
@@ -211,9 +214,11 @@ def _closest(name: str, declared: set[str]) -> str | None:
     return min(near)[1] if near else None
 
 
-def _unused_remappings(process: Any, given: Given) -> list[Finding]:
+def _unused_remappings(process: Any, given: Given, nodes: Mapping[str, ContractNode],
+                       expected: str | None) -> list[Finding]:
+    """The remappings of ``given`` that change none of the names of ``nodes`` (a process's
+    nodes, or the one node a component's load request made)."""
     out: list[Finding] = []
-    nodes = process.nodes
     if not nodes:
         return out
     for source, target in given.remappings:
@@ -225,7 +230,7 @@ def _unused_remappings(process: Any, given: Given) -> list[Finding]:
         fqn = sorted(nodes)[0]
         wanted = resolve(source, fqn)
         out.append(Finding(
-            "REMAP_UNUSED", process.label, process.expected or fqn, f"{source}:={target}",
+            "REMAP_UNUSED", process.label, expected or fqn, f"{source}:={target}",
             f"the remapping {source} -> {target} (at {given.where or 'the launch file'}) changed none of the names of "
             f"{', '.join(sorted(nodes))}: no topic, service or action is named {resolve(target, fqn)}, so the node "
             f"never used {wanted}; check the `from` name against the node's own names"))

@@ -21,11 +21,12 @@ import os
 import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 from ..model import parameters as parameter_model
 from ..model import untrusted
-from ..model.parameters import ParameterRange, format_value
+from ..model.contract_shapes import ContractNode, ContractNodes, ParameterEntry
+from ..model.parameters import ParameterRange, RangeKey, format_value
 from ..model.vocabulary import LIFECYCLE, LIFECYCLE_TRANSITIONS, LIFECYCLE_UNKNOWN, PARAMETERS, Severity
 from .options import ComparisonOptions
 from .similarity import typo_distance
@@ -81,7 +82,7 @@ class Change:
     message: str
 
 
-def states_lifecycle(node: Mapping[str, Any]) -> bool:
+def states_lifecycle(node: ContractNode) -> bool:
     """Whether a contract node entry says if it is a lifecycle node: it has ``lifecycle`` (it is
     one) or ``parameters`` (written by a version that records both: it is not one)."""
     return LIFECYCLE in node or PARAMETERS in node
@@ -90,7 +91,7 @@ def states_lifecycle(node: Mapping[str, Any]) -> bool:
 # ---------------------------------------------------------------------- lifecycle
 
 
-def compare_lifecycle(node: str, expected: Mapping[str, Any], actual: Mapping[str, Any]) -> list[Change]:
+def compare_lifecycle(node: str, expected: ContractNode, actual: ContractNode) -> list[Change]:
     """The lifecycle of one node present on both sides."""
     if not states_lifecycle(expected) or not states_lifecycle(actual):
         return []
@@ -114,11 +115,11 @@ def compare_lifecycle(node: str, expected: Mapping[str, Any], actual: Mapping[st
 # ---------------------------------------------------------------------- parameters
 
 
-def _visible(entries: Iterable[Mapping[str, Any]], options: ComparisonOptions) -> dict[str, Mapping[str, Any]]:
+def _visible(entries: Iterable[ParameterEntry], options: ComparisonOptions) -> dict[str, ParameterEntry]:
     return {str(e.get("name")): e for e in entries if not options.ignores_parameter(str(e.get("name")))}
 
 
-def compare_parameters(node: str, expected: Mapping[str, Any], actual: Mapping[str, Any],
+def compare_parameters(node: str, expected: ContractNode, actual: ContractNode,
                        options: ComparisonOptions) -> list[Change]:
     """The parameters of one node present on both sides (nothing when the contract does not
     state them, or ``ignore_parameters`` is true)."""
@@ -144,13 +145,13 @@ def compare_parameters(node: str, expected: Mapping[str, Any], actual: Mapping[s
     return changes
 
 
-def removed(name: str, entry: Mapping[str, Any]) -> Change:
+def removed(name: str, entry: ParameterEntry) -> Change:
     return Change(PARAMETERS, name, "removed", dict(entry), None, "PARAM_REMOVED",
                   f"parameter removed: launch files, parameter files and -p overrides that set {name} are silently "
                   "ignored, and `ros2 param set` of it fails")
 
 
-def added(name: str, entry: Mapping[str, Any], others: Iterable[str] = ()) -> Change:
+def added(name: str, entry: ParameterEntry, others: Iterable[str] = ()) -> Change:
     """A new parameter; ``others``: the node's other parameters (a name one typo away from one
     of them is not SAFE: it is usually an override that created it, ``automatically_declare_
     parameters_from_overrides``, or a declaration with a typo)."""
@@ -190,21 +191,21 @@ def _suspicion(name: str, others: Iterable[str]) -> str | None:
     return None
 
 
-def _range(entry: Mapping[str, Any], key: str) -> ParameterRange | None:
+def _range(entry: ParameterEntry, key: RangeKey) -> ParameterRange | None:
     try:
         return parameter_model.entry_range(entry, key)
     except (KeyError, TypeError, ValueError):
         return None
 
 
-def _value(entry: Mapping[str, Any]) -> Any:
+def _value(entry: ParameterEntry) -> Any:
     try:
         return parameter_model.normalize_value(entry.get("type"), entry.get("default_value"))
     except ValueError:
         return entry.get("default_value")
 
 
-def _changed(name: str, old: Mapping[str, Any], new: Mapping[str, Any], options: ComparisonOptions) -> list[Change]:
+def _changed(name: str, old: ParameterEntry, new: ParameterEntry, options: ComparisonOptions) -> list[Change]:
     def change(attribute: str, old_value: Any, new_value: Any, rule: str, message: str) -> Change:
         return Change(PARAMETERS, name, attribute, old_value, new_value, rule, message)
 
@@ -237,17 +238,19 @@ def _changed(name: str, old: Mapping[str, Any], new: Mapping[str, Any], options:
         if was != now:
             out.append(change(flag, was, now, added_rule if now else removed_rule, added_text if now else removed_text))
     if not retyped:
-        for key in ("integer_range", "floating_point_range"):
+        range_keys: tuple[RangeKey, ...] = ("integer_range", "floating_point_range")
+        for key in range_keys:
             judged = _range_change(_range(old, key), _range(new, key), key.replace("_", " "))
             if judged is not None:
                 rule, message = judged
                 out.append(change(key, old.get(key), new.get(key), rule, message))
-    for key, rule in (("description", "PARAM_DESCRIPTION_CHANGED"),
-                      ("additional_constraints", "PARAM_CONSTRAINTS_CHANGED")):
-        was_text, now_text = old.get(key) or "", new.get(key) or ""
+    text_rules: tuple[tuple[Literal["description", "additional_constraints"], str], ...] = (
+        ("description", "PARAM_DESCRIPTION_CHANGED"), ("additional_constraints", "PARAM_CONSTRAINTS_CHANGED"))
+    for text_key, rule in text_rules:
+        was_text, now_text = old.get(text_key) or "", new.get(text_key) or ""
         if was_text != now_text:
-            out.append(change(key, was_text, now_text, rule,
-                              f"{key.replace('_', ' ')} {_short(was_text)} -> {_short(now_text)}"))
+            out.append(change(text_key, was_text, now_text, rule,
+                              f"{text_key.replace('_', ' ')} {_short(was_text)} -> {_short(now_text)}"))
     was_in, now_in = old.get("declared_in"), new.get("declared_in")
     if was_in != now_in:
         later = _transition_rank(now_in) >= _transition_rank(was_in)
@@ -338,44 +341,44 @@ def _range_change(old: ParameterRange | None, new: ParameterRange | None, word: 
 # ---------------------------------------------------------------------- golden contracts
 
 
-def keep_ignored(expected_nodes: Mapping[str, Any] | None, actual_nodes: Mapping[str, Any],
-                 options: ComparisonOptions) -> dict[str, Any]:
+def keep_ignored(expected_nodes: Mapping[str, ContractNode] | None, actual_nodes: Mapping[str, ContractNode],
+                 options: ComparisonOptions) -> ContractNodes:
     """``actual_nodes`` (what a golden is written from) with the ignored parameters as the
     contract has them: ``ignore_parameters: true`` keeps the node's ``parameters`` as written
     (none when it has none), ignored names keep their entries (or are left out), and
     ``ignore_parameter_values`` keeps the written ``default_value`` (or leaves it out). A node
     whose parameters the capture could not read keeps the contract's too (the capture does not
     say they are gone; ``PARAMS_NOT_READ`` stays until they can be read or are ignored)."""
-    out: dict[str, Any] = {}
+    out: ContractNodes = {}
     for fqn, node in actual_nodes.items():
-        node = dict(node)
-        old_node = (expected_nodes or {}).get(fqn) or {}
+        node = node.copy()
+        old_node = (expected_nodes or {}).get(fqn) or ContractNode()
         if PARAMETERS not in node and PARAMETERS in old_node:
-            node[PARAMETERS] = [dict(e) for e in old_node[PARAMETERS]]
+            node[PARAMETERS] = [e.copy() for e in old_node[PARAMETERS]]
         elif options.ignore_parameters is True:
             node.pop(PARAMETERS, None)
             if PARAMETERS in old_node:
-                node[PARAMETERS] = [dict(e) for e in old_node[PARAMETERS]]
+                node[PARAMETERS] = [e.copy() for e in old_node[PARAMETERS]]
         elif PARAMETERS in node:
             old_entries = {e.get("name"): e for e in old_node.get(PARAMETERS) or []}
-            entries: list[dict[str, Any]] = []
+            entries: list[ParameterEntry] = []
             for entry in node[PARAMETERS]:
                 if options.ignores_parameter(entry["name"]):
                     continue
-                entry = dict(entry)
+                entry = entry.copy()
                 if options.ignores_parameter_value(entry["name"]):
                     entry.pop("default_value", None)
                     old = old_entries.get(entry["name"])
                     if old is not None and "default_value" in old:
                         entry["default_value"] = old["default_value"]
                 entries.append(entry)
-            entries += [dict(e) for name, e in old_entries.items() if options.ignores_parameter(str(name))]
+            entries += [e.copy() for name, e in old_entries.items() if options.ignores_parameter(str(name))]
             node[PARAMETERS] = sorted(entries, key=lambda e: str(e.get("name")))
         out[fqn] = node
     return out
 
 
-def gains(expected_nodes: Mapping[str, Any], golden_nodes: Mapping[str, Any]) -> list[str]:
+def gains(expected_nodes: Mapping[str, ContractNode], golden_nodes: Mapping[str, ContractNode]) -> list[str]:
     """What writing ``golden_nodes`` would add to a contract whose nodes do not state it yet
     (``/n parameters``, ``/n lifecycle``), for nodes both have: a contract written before
     parameters and lifecycle states were recorded matches, but is incomplete."""

@@ -11,9 +11,9 @@ interface that uses it. A type the lock does not list is ``TYPE_NOT_LOCKED`` (lo
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
 
 from ..model import type_lock
+from ..model.contract_shapes import ContractNode
 from ..model.type_lock import TypeLock
 from ..model.types import TypeDescription, closure, interface_roots
 from ..model.vocabulary import LABELS, LISTS
@@ -39,7 +39,7 @@ def _path(table: Mapping[str, TypeDescription], root: str, target: str) -> list[
     return [root, target]
 
 
-def lock_drift(nodes: Mapping[str, Any], table: Mapping[str, TypeDescription], lock: TypeLock) -> list[DriftItem]:
+def lock_drift(nodes: Mapping[str, ContractNode], table: Mapping[str, TypeDescription], lock: TypeLock) -> list[DriftItem]:
     """The differences between the types the interfaces of ``nodes`` (a capture's, in contract
     form) use and ``lock``, as drift items under each interface."""
     items: list[DriftItem] = []

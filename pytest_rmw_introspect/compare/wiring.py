@@ -38,7 +38,7 @@ RULES: dict[str, Severity] = {
     "EXTERNAL_UNUSED": Severity.RISKY,
 }
 #: providing list → requesting list
-REQUESTER_OF = {provider: requester for requester, provider in PROVIDER_OF.items()}
+REQUESTER_OF: dict[str, str] = {provider: requester for requester, provider in PROVIDER_OF.items()}
 _WHAT = {"subscriptions": "topic", "service_clients": "service", "action_clients": "action"}
 #: the label of endpoints declared under ``external:``
 EXTERNAL_LABEL = "external"
@@ -159,7 +159,7 @@ def unused_declarations(processes: Iterable[Any], external: Mapping[str, Mapping
             for kind in LISTS:
                 for entry in (node or {}).get(kind) or []:
                     used.add((kind, str(entry.get("name"))))
-    counterpart = {**PROVIDER_OF, **REQUESTER_OF}
+    counterpart: dict[str, str] = {**PROVIDER_OF, **REQUESTER_OF}
     return [(kind, name, str(who)) for kind in LISTS for name, who in ((external or {}).get(kind) or {}).items()
             if (counterpart[kind], name) not in used]
 

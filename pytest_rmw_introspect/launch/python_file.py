@@ -355,15 +355,19 @@ class _Walker:
         """The LoadNode requests launch_ros makes of ``descriptions`` now, onto the container."""
         get_composable_node_load_request = importlib.import_module(
             "launch_ros.actions.load_composable_nodes").get_composable_node_load_request
+        scope_rules = [f"{source}:={target}" for source, target in self.context.launch_configurations.get("ros_remaps") or ()]
         loads = []
         for description in descriptions or ():
             request = get_composable_node_load_request(description, self.context)
             if request is None:  # its condition is false
                 continue
+            rules = tuple(request.remap_rules)
             loads.append(ComponentLoad(
                 package=request.package_name, plugin=request.plugin_name, where=self.where(description),
                 name=request.node_name or None, namespace=request.node_namespace or None,
-                log_level=int(request.log_level), remap_rules=tuple(request.remap_rules),
+                log_level=int(request.log_level), remap_rules=rules,
+                # launch_ros puts the SetRemap rules first; should it ever not, none is judged as the component's own
+                scope_remap_rules=len(scope_rules) if list(rules[:len(scope_rules)]) == scope_rules else len(rules),
                 parameters=tuple(component_parameter(p) for p in request.parameters),
                 extra_arguments=tuple(component_parameter(p) for p in request.extra_arguments)))
         if loads:

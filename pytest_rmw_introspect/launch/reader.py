@@ -570,7 +570,8 @@ class _Reader:
         return ComponentLoad(
             package=self.text(self.require(entity, file, "pkg"), scope, file),
             plugin=self.text(self.require(entity, file, "plugin"), scope, file), where=where, name=name,
-            namespace=namespace, remap_rules=tuple(remaps), parameters=parameters, extra_arguments=extra_arguments)
+            namespace=namespace, remap_rules=tuple(remaps), scope_remap_rules=len(scope.remaps or ()),
+            parameters=parameters, extra_arguments=extra_arguments)
 
     def parameters(self, entity: Entity, prefix: str, scope: _Scope, file: Path) -> list[LaunchParameter]:
         where = Where(file, entity.line)

@@ -65,8 +65,17 @@ class ComponentLoad:
     namespace: str | None = None
     log_level: int = 0
     remap_rules: tuple[str, ...] = ()
+    #: how many of ``remap_rules`` (the first ones) are the scope's ``<set_remap>``/``SetRemap``
+    #: rules rather than the component's own ``<remap>``/``remappings=``
+    scope_remap_rules: int = 0
     parameters: tuple[ComponentParameter, ...] = ()
     extra_arguments: tuple[ComponentParameter, ...] = ()
+
+    @property
+    def own_remappings(self) -> tuple[tuple[str, str], ...]:
+        """The component's own remappings (``from``, ``to``), without the scope's."""
+        pairs = (rule.partition(":=") for rule in self.remap_rules[self.scope_remap_rules:])
+        return tuple((source, target) for source, sep, target in pairs if sep)
 
     def describe(self) -> str:
         named = f" as {(self.namespace or '').rstrip('/')}/{self.name}" if self.name else ""

@@ -4,7 +4,10 @@ One line per module:
 
 - ``vocabulary``: interface lists, labels, action parts, severities, ``fail_on`` words
 - ``qos``: QoS spellings, expansion, named profiles, compatibility
-- ``capture``: the middleware's capture file and the contract view of it
+- ``capture``: one process's capture (``Capture``) and the runner's facts about its run (``RunFacts``)
+- ``capture_file``: the middleware's capture file: its format, its raw records, reading and checking it
+- ``capture_view``: the contract view of a capture: nodes, their six interface lists, actions grouped
+- ``capture_notes``: what a report's reader should know about how a capture came about
 - ``types``: type descriptions in captures and contracts
 - ``type_hash``: RIHS01 type hashes computed from type descriptions
 - ``type_lock``: the package's type-hash lockfile (``rmw-introspect lock``)
@@ -12,6 +15,7 @@ One line per module:
 - ``portable``: parameter values written portably (an install location as a token)
 - ``option_tables``: the comparison and target options, their front ends and precedence
 - ``contract``: contract files: load, validate, render, update
+- ``contract_shapes``: the contract's mappings as ``TypedDict``s: node, entries, QoS, blocks
 - ``system_contract``: system contracts (``*.system.yaml``): a launch file's processes
 - ``nodl``: NoDL v2 documents as contracts, and contracts written as NoDL
 - ``acceptance``: the ``accept:`` entries of a contract

@@ -47,7 +47,7 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import yaml
 
@@ -56,6 +56,7 @@ from . import acceptance, nodl, untrusted, yaml_blocks
 from . import parameters as parameter_model
 from . import qos as qos_module
 from . import types as type_model
+from .contract_shapes import ContractNode, ContractNodes, ContractOptions, InterfaceEntry, ParameterEntry, TargetBlock
 from .locate import LineIndex, line_index
 from .paths import shown
 from .vocabulary import ACTION_HASHED_PARTS, DESTROYED_AT, DESTROYED_AT_TOLERANCE_S, LABELS, LIFECYCLE, LISTS, PARAMETERS
@@ -86,9 +87,9 @@ class Contract:
     :meth:`expanded_nodes` gives QoS as explicit fields."""
 
     path: Path | None
-    nodes: dict[str, dict[str, Any]]
-    target: dict[str, Any] | None = None
-    options: dict[str, Any] = field(default_factory=dict)
+    nodes: ContractNodes
+    target: TargetBlock | None = None
+    options: ContractOptions = field(default_factory=lambda: ContractOptions())
     contract_version: int = CONTRACT_VERSION
     text: str = ""
     #: the generated ``types:`` section (``model.types``); None when the file has none
@@ -100,20 +101,27 @@ class Contract:
     #: read from a NoDL file (``model.nodl``): its documents, and what is not compared
     nodl: nodl.NodlSource | None = None
 
-    def expanded_nodes(self) -> dict[str, dict[str, Any]]:
+    def expanded_nodes(self) -> ContractNodes:
         """``nodes`` with every topic QoS expanded to all fields (``qos.expand``)."""
 
-        out: dict[str, dict[str, Any]] = {}
+        out: ContractNodes = {}
         for fqn, node in self.nodes.items():
-            out[fqn] = {k: node[k] for k in (LIFECYCLE, DESTROYED_AT, PARAMETERS) if k in node}
+            expanded = ContractNode()
+            if LIFECYCLE in node:
+                expanded["lifecycle"] = node["lifecycle"]
+            if DESTROYED_AT in node:
+                expanded["destroyed_at"] = node["destroyed_at"]
+            if PARAMETERS in node:
+                expanded["parameters"] = node["parameters"]
             for list_name in LISTS:
                 entries = []
                 for entry in node[list_name]:
-                    entry = dict(entry)
+                    entry = entry.copy()
                     if "qos" in entry:
                         entry["qos"] = qos_module.expand(entry["qos"])
                     entries.append(entry)
-                out[fqn][list_name] = entries
+                expanded[list_name] = entries
+            out[fqn] = expanded
         return out
 
     def lines(self) -> LineIndex:
@@ -335,8 +343,9 @@ def _loads(text: str, path: Path | None) -> Contract:
     return Contract(
         path=path,
         nodes=nodes,
-        target=dict(data["target"]) if data.get("target") is not None else None,
-        options=dict(data.get("options") or {}),
+        # validated by the schema: the blocks have the keys and value types of their shapes
+        target=cast(TargetBlock, dict(data["target"])) if data.get("target") is not None else None,
+        options=cast(ContractOptions, dict(data.get("options") or {})),
         contract_version=int(data["contract_version"]),
         text=text,
         types=types,
@@ -346,27 +355,28 @@ def _loads(text: str, path: Path | None) -> Contract:
     )
 
 
-def normalize_nodes(nodes: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+def normalize_nodes(nodes: Mapping[str, Any]) -> ContractNodes:
     """Every node with the six lists (a list left out or ``null`` is empty), its ``lifecycle``
     state when it states one, and its ``parameters`` when it states them (left out: not stated,
-    not compared)."""
-    out: dict[str, dict[str, Any]] = {}
+    not compared). ``nodes`` is a ``nodes:`` block the schema has accepted (a node may be
+    ``null``), or nodes this package made."""
+    out: ContractNodes = {}
     for fqn, node in nodes.items():
         node = node or {}
-        entry: dict[str, Any] = {}
+        entry = ContractNode()
         if node.get(LIFECYCLE) is not None:
-            entry[LIFECYCLE] = node[LIFECYCLE]
+            entry["lifecycle"] = node[LIFECYCLE]
         if node.get(DESTROYED_AT) is not None:
-            entry[DESTROYED_AT] = node[DESTROYED_AT]
+            entry["destroyed_at"] = node[DESTROYED_AT]
         for list_name in LISTS:
-            entry[list_name] = [dict(e) for e in (node.get(list_name) or [])]
+            entry[list_name] = [cast(InterfaceEntry, dict(e)) for e in (node.get(list_name) or [])]
         if node.get(PARAMETERS) is not None:
-            entry[PARAMETERS] = [dict(e) for e in node[PARAMETERS]]
+            entry["parameters"] = [cast(ParameterEntry, dict(e)) for e in node[PARAMETERS]]
         out[fqn] = entry
     return out
 
 
-def check_parameters(root: yaml.Node | None, nodes: Mapping[str, Any], path: Path | None) -> None:
+def check_parameters(root: yaml.Node | None, nodes: Mapping[str, ContractNode], path: Path | None) -> None:
     """What the schema cannot say about the nodes' ``parameters`` (``parameters.check_contract_parameters``:
     unique names, values of the stated type); raises ContractError with the place and line."""
     for fqn, node in nodes.items():
@@ -378,7 +388,7 @@ def check_parameters(root: yaml.Node | None, nodes: Mapping[str, Any], path: Pat
                                 line=_line(root, where)) from None
 
 
-def _check_semantics(root: yaml.Node | None, nodes: Mapping[str, Any], path: Path | None) -> None:
+def _check_semantics(root: yaml.Node | None, nodes: ContractNodes, path: Path | None) -> None:
     check_parameters(root, nodes, path)
 
     for fqn, node in nodes.items():
@@ -459,7 +469,7 @@ def _value_text(value: Any) -> str:
     return _scalar(value)
 
 
-def _parameter_lines(entry: Mapping[str, Any], indent: str) -> list[str]:
+def _parameter_lines(entry: Mapping[str, object], indent: str) -> list[str]:
     order = parameter_model.ENTRY_KEYS
     keys = [k for k in order if k in entry] + sorted(k for k in entry if k not in order)
     lines = []
@@ -471,7 +481,7 @@ def _parameter_lines(entry: Mapping[str, Any], indent: str) -> list[str]:
     return lines
 
 
-def _entry_lines(entry: Mapping[str, Any], indent: str) -> list[str]:
+def _entry_lines(entry: Mapping[str, object], indent: str) -> list[str]:
     keys = [k for k in ENTRY_KEYS if k in entry] + sorted(k for k in entry if k not in ENTRY_KEYS)
     lines: list[str] = []
     for n, key in enumerate(keys):
@@ -489,7 +499,7 @@ def _entry_lines(entry: Mapping[str, Any], indent: str) -> list[str]:
     return lines
 
 
-def dump_nodes(nodes: Mapping[str, Any]) -> str:
+def dump_nodes(nodes: Mapping[str, ContractNode]) -> str:
     """The ``nodes:`` block, deterministic (see the module docstring)."""
     nodes = normalize_nodes(nodes)
     if not nodes:
@@ -518,7 +528,7 @@ def dump_nodes(nodes: Mapping[str, Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def render(nodes: Mapping[str, Any], header: str = DEFAULT_HEADER) -> str:
+def render(nodes: Mapping[str, ContractNode], header: str = DEFAULT_HEADER) -> str:
     """A complete new contract file."""
     if header and not header.endswith("\n"):
         header += "\n"
@@ -539,7 +549,7 @@ def split_text(text: str) -> tuple[str, str] | None:
     return header, trailer
 
 
-def update_text(old_text: str, nodes: Mapping[str, Any]) -> str:
+def update_text(old_text: str, nodes: Mapping[str, ContractNode]) -> str:
     """``old_text`` with only its ``nodes`` block replaced (see the module docstring). Files are
     written by :mod:`pytest_rmw_introspect.check.golden`, the one writer."""
     parts = split_text(old_text) if old_text.strip() else None
@@ -576,7 +586,7 @@ def with_distribution(text: str, distribution: str | None, *, add_missing: bool 
     return "".join(lines) + text[len(header):]
 
 
-def _keep_destroyed_at(old: Mapping[str, Any], new: dict[str, Any]) -> None:
+def _keep_destroyed_at(old: ContractNode | InterfaceEntry, new: ContractNode | InterfaceEntry) -> None:
     """``new`` keeps ``old``'s ``destroyed_at`` when both are ages of the same destruction."""
     before, now = old.get(DESTROYED_AT), new.get(DESTROYED_AT)
     if isinstance(before, (int, float)) and isinstance(now, (int, float)) \
@@ -584,7 +594,7 @@ def _keep_destroyed_at(old: Mapping[str, Any], new: dict[str, Any]) -> None:
         new[DESTROYED_AT] = before
 
 
-def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]) -> dict[str, Any]:
+def preserve_spelling(old_nodes: Mapping[str, ContractNode], new_nodes: Mapping[str, ContractNode]) -> ContractNodes:
     """Adopt the contract's own spelling where it means the same as the capture.
 
     For an entry present in both: a QoS written as a profile name (or with fewer fields) that
@@ -602,17 +612,19 @@ def preserve_spelling(old_nodes: Mapping[str, Any], new_nodes: Mapping[str, Any]
             continue
         _keep_destroyed_at(old_node, node)
         old_params = {e.get("name"): e for e in old_node.get(PARAMETERS) or []}
-        for i, entry in enumerate(node.get(PARAMETERS) or []):
-            old = old_params.get(entry.get("name"))
-            if old is not None and "default_value" not in old and "default_value" in entry:
-                node[PARAMETERS][i] = {k: v for k, v in entry.items() if k != "default_value"}
+        for i, parameter in enumerate(node.get(PARAMETERS) or []):
+            old_parameter = old_params.get(parameter.get("name"))
+            if old_parameter is not None and "default_value" not in old_parameter and "default_value" in parameter:
+                parameter = parameter.copy()
+                del parameter["default_value"]
+                node[PARAMETERS][i] = parameter
         for list_name in LISTS:
             old_by_name = {e.get("name"): e for e in old_node[list_name]}
             for i, entry in enumerate(node[list_name]):
                 old = old_by_name.get(entry.get("name"))
                 if old is None:
                     continue
-                entry = dict(entry)
+                entry = entry.copy()
                 _keep_destroyed_at(old, entry)
                 if "type_hash" not in old:
                     entry.pop("type_hash", None)

@@ -30,12 +30,13 @@ import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from ..errors import ContractError
 from . import parameters as parameter_model
 from . import qos as qos_module
 from . import untrusted
+from .contract_shapes import ContractNode, ContractNodes, InterfaceEntry, ParameterEntry, QosFields
 from .vocabulary import ACTION_LISTS, LIFECYCLE, LISTS, PARAMETER_TYPES, PARAMETERS, TOPIC_LISTS
 
 VERSION = 2
@@ -47,7 +48,7 @@ TOP_KEYS = ("nodl_version", "description", "codegen", "include", PARAMETERS, *LI
 #: the keys of a parameter, an endpoint, a QoS profile in NoDL v2
 PARAMETER_KEYS = ("type", "default_value", "description", "read_only", "additional_constraints", "validation")
 ENDPOINT_KEYS = ("name", "type", "qos", "description")
-QOS_KEYS = ("history", "depth", "reliability", "durability", "deadline_ns", "lifespan_ns", "liveliness",
+QOS_KEYS: tuple[qos_module.QosField, ...] = ("history", "depth", "reliability", "durability", "deadline_ns", "lifespan_ns", "liveliness",
             "liveliness_lease_duration_ns")
 NOT_EXPRESSIBLE = ("type hashes", "lifecycle states", "parameter ranges and dynamic typing",
                    "service QoS", "avoid_ros_namespace_conventions")
@@ -61,7 +62,7 @@ _NODE_COMMENT = re.compile(r"^#\s*node:\s*(\S+)\s*$")
 _NODE_NAME = re.compile(r"^(/[A-Za-z_][A-Za-z0-9_]*)+$")
 _ROS_NAME = re.compile(r"^[A-Za-z]$|^[/~A-Za-z][A-Za-z0-9_/]*[A-Za-z0-9_]$")
 _ROS_TYPE = re.compile(r"^([a-zA-Z][a-zA-Z0-9_]*)(?:/(msg|srv|action))?/([A-Z][a-zA-Z0-9]*)$")
-_INTERFACE_KIND = {**dict.fromkeys(TOPIC_LISTS, "msg"), "service_servers": "srv", "service_clients": "srv",
+_INTERFACE_KIND: dict[str, str] = {**dict.fromkeys(TOPIC_LISTS, "msg"), "service_servers": "srv", "service_clients": "srv",
                    **dict.fromkeys(ACTION_LISTS, "action")}
 
 
@@ -165,9 +166,9 @@ class NodlSource:
         """One document that names no node: it describes the target's one node."""
         return len(self.documents) == 1 and self.documents[0].node is None
 
-    def nodes(self, bound: str | None = None) -> dict[str, dict[str, Any]]:
+    def nodes(self, bound: str | None = None) -> ContractNodes:
         """The documents as contract ``nodes`` (the unnamed one as ``bound``, when given)."""
-        out: dict[str, dict[str, Any]] = {}
+        out: ContractNodes = {}
         for doc in self.documents:
             fqn = doc.node or bound or self.default_node
             out[fqn] = to_contract_node(doc.merged, fqn)
@@ -410,10 +411,10 @@ def _check(doc: Document, path: Path | None) -> None:
         extra = [k for k in definition if k not in PARAMETER_KEYS]
         if extra:
             raise fail([PARAMETERS, name, extra[0]], f"unknown key {extra[0]!r}; allowed: {', '.join(PARAMETER_KEYS)}")
-        entry = _parameter_entry(name, definition)
-        if entry is not None:
+        parameter_entry = _parameter_entry(name, definition)
+        if parameter_entry is not None:
             try:
-                parameter_model.check_contract_parameters([entry])
+                parameter_model.check_contract_parameters([parameter_entry])
             except parameter_model.EntryProblem as problem:
                 raise fail([PARAMETERS, name], problem.reason) from None
     for list_name in LISTS:
@@ -455,15 +456,21 @@ def _parameter_type(nodl_type: str) -> str | None:
     return ours if ours in PARAMETER_TYPES else None
 
 
-def _parameter_entry(name: str, definition: Mapping[str, Any]) -> dict[str, Any] | None:
+def _parameter_entry(name: str, definition: Mapping[str, Any]) -> ParameterEntry | None:
     """A contract parameter entry of a NoDL parameter (None for type ``none``: not compared)."""
     ours = _parameter_type(definition["type"])
     if ours is None:
         return None
-    entry: dict[str, Any] = {"name": name, "type": ours}
-    for key in ("default_value", "read_only", "description", "additional_constraints"):
-        if key in definition:
-            entry[key] = definition[key]
+    entry: ParameterEntry = {"name": name, "type": ours}
+    # the document passed NoDL's checks (_check_document): these have the contract's value types
+    if "default_value" in definition:
+        entry["default_value"] = definition["default_value"]
+    if "read_only" in definition:
+        entry["read_only"] = definition["read_only"]
+    if "description" in definition:
+        entry["description"] = definition["description"]
+    if "additional_constraints" in definition:
+        entry["additional_constraints"] = definition["additional_constraints"]
     return entry
 
 
@@ -484,15 +491,15 @@ def _full_type(type_name: str, list_name: str) -> str:
     return f"{match.group(1)}/{_INTERFACE_KIND[list_name]}/{match.group(3)}"
 
 
-def to_contract_node(data: Mapping[str, Any], fqn: str) -> dict[str, Any]:
-    """One NoDL document as a contract node (six lists and its parameters)."""
-    node: dict[str, Any] = {}
+def to_contract_node(data: Mapping[str, Any], fqn: str) -> ContractNode:
+    """One NoDL document (checked) as a contract node (six lists and its parameters)."""
+    node = ContractNode()
     for list_name in LISTS:
         entries = []
         for entry in data.get(list_name) or ():
-            out: dict[str, Any] = {"name": resolve_name(entry["name"], fqn), "type": _full_type(entry["type"], list_name)}
+            out: InterfaceEntry = {"name": resolve_name(entry["name"], fqn), "type": _full_type(entry["type"], list_name)}
             if list_name in TOPIC_LISTS and "qos" in entry:
-                out["qos"] = dict(entry["qos"])
+                out["qos"] = cast(QosFields, dict(entry["qos"]))
             entries.append(out)
         node[list_name] = entries
     parameters = [_parameter_entry(name, d) for name, d in (data.get(PARAMETERS) or {}).items()]
@@ -503,18 +510,18 @@ def to_contract_node(data: Mapping[str, Any], fqn: str) -> dict[str, Any]:
 # ---------------------------------------------------------------------------- comparing
 
 
-def project(actual: Mapping[str, Any], expected: Mapping[str, Any]) -> dict[str, Any]:
+def project(actual: Mapping[str, ContractNode], expected: Mapping[str, ContractNode]) -> ContractNodes:
     """``actual`` (a capture's nodes in contract form) cut down to what NoDL can state and the
     document (``expected``, its contract nodes) does state, so that nothing else is compared."""
-    out: dict[str, Any] = {}
+    out: ContractNodes = {}
     for fqn, node in actual.items():
-        wanted = expected.get(fqn) or {}
-        projected: dict[str, Any] = {}
+        wanted = expected.get(fqn) or ContractNode()
+        projected = ContractNode()
         for list_name in LISTS:
             stated = {e["name"]: e for e in wanted.get(list_name) or ()}
             entries = []
             for entry in node.get(list_name) or ():
-                kept = {"name": entry["name"], "type": entry["type"]}
+                kept: InterfaceEntry = {"name": entry["name"], "type": entry["type"]}
                 if list_name in TOPIC_LISTS and "qos" in entry:
                     fields = qos_module.expand(entry["qos"])
                     if entry["name"] in stated:
@@ -522,18 +529,18 @@ def project(actual: Mapping[str, Any], expected: Mapping[str, Any]) -> dict[str,
                     else:
                         keys = set(nodl_qos(entry["qos"]))
                     if keys:
-                        kept["qos"] = {k: fields[k] for k in QOS_KEYS if k in keys}
+                        kept["qos"] = cast(QosFields, {k: fields[k] for k in QOS_KEYS if k in keys})
                 entries.append(kept)
             projected[list_name] = entries
         if PARAMETERS in node:
             stated_params = {e["name"]: e for e in wanted.get(PARAMETERS) or ()}
             params = []
-            for entry in node[PARAMETERS]:
-                if entry.get("type") is None:
+            for parameter in node[PARAMETERS]:
+                if parameter.get("type") is None:
                     continue
-                keys = set(stated_params[entry["name"]]) if entry["name"] in stated_params else set(entry)
-                params.append({k: v for k, v in entry.items()
-                               if k in ("name", "type") or (k in keys and k not in _PARAMETER_ONLY_HERE)})
+                keys = set(stated_params[parameter["name"]]) if parameter["name"] in stated_params else set(parameter)
+                params.append(cast(ParameterEntry, {k: v for k, v in parameter.items()
+                                                    if k in ("name", "type") or (k in keys and k not in _PARAMETER_ONLY_HERE)}))
             projected[PARAMETERS] = params
         out[fqn] = projected
     return out
@@ -542,23 +549,24 @@ def project(actual: Mapping[str, Any], expected: Mapping[str, Any]) -> dict[str,
 # ---------------------------------------------------------------------------- writing
 
 
-def nodl_qos(qos: Any) -> dict[str, Any]:
+def nodl_qos(qos: Any) -> QosFields:
     """A contract QoS (any spelling) as NoDL writes it: history, depth (KEEP_LAST), reliability,
     durability, and the other policies that differ from their default."""
     contract_form = qos_module.from_capture(qos_module.expand(qos))
-    return {k: contract_form[k] for k in QOS_KEYS if k in contract_form}
+    return cast(QosFields, {k: contract_form[k] for k in QOS_KEYS if k in contract_form})
 
 
-def nodl_parameters(entries: Sequence[Mapping[str, Any]]) -> tuple[dict[str, Any], list[str]]:
+def nodl_parameters(entries: Sequence[ParameterEntry]) -> tuple[dict[str, Any], list[str]]:
     """NoDL ``parameters`` of contract parameter entries, and a comment line for each one NoDL
     cannot describe (no type)."""
     out: dict[str, Any] = {}
     left_out: list[str] = []
     for p in sorted(entries, key=lambda p: str(p["name"])):
-        if p.get("type") is None:
+        type_name = p.get("type")
+        if type_name is None:
             left_out.append(f"# parameter {p['name']} (no type) left out: NoDL v2 has no such type")
             continue
-        definition: dict[str, Any] = {"type": _TO_NODL_TYPE.get(p["type"], p["type"])}
+        definition: dict[str, Any] = {"type": _TO_NODL_TYPE.get(type_name, type_name)}
         if p.get("default_value") is not None:
             definition["default_value"] = p["default_value"]
         for key in ("description", "additional_constraints"):
@@ -570,14 +578,14 @@ def nodl_parameters(entries: Sequence[Mapping[str, Any]]) -> tuple[dict[str, Any
     return out, left_out
 
 
-def _written_entry(list_name: str, entry: Mapping[str, Any]) -> dict[str, Any]:
+def _written_entry(list_name: str, entry: InterfaceEntry) -> dict[str, Any]:
     written: dict[str, Any] = {"name": entry["name"], "type": entry["type"]}
     if list_name in TOPIC_LISTS and entry.get("qos") is not None:
         written["qos"] = nodl_qos(entry["qos"])
     return written
 
 
-def _left_to_includes(fqn: str, node: Mapping[str, Any], previous: Document) -> tuple[set[tuple[str, str]], set[str]]:
+def _left_to_includes(fqn: str, node: ContractNode, previous: Document) -> tuple[set[tuple[str, str]], set[str]]:
     """The entities and parameters of ``node`` that ``previous``'s ``include:`` references still
     describe as they are (so the rewritten document keeps the references and leaves them out).
     Raises ValueError when the node changed one of them: that change belongs in the included file."""
@@ -601,7 +609,7 @@ def _left_to_includes(fqn: str, node: Mapping[str, Any], previous: Document) -> 
     return entities, set(previous.included.get(PARAMETERS) or {})
 
 
-def _document(fqn: str, node: Mapping[str, Any], previous: Document | None) -> str:
+def _document(fqn: str, node: ContractNode, previous: Document | None) -> str:
     import yaml  # ~20 ms: only writing NoDL needs it
 
     doc: dict[str, Any] = {"nodl_version": VERSION}
@@ -627,7 +635,7 @@ def _document(fqn: str, node: Mapping[str, Any], previous: Document | None) -> s
                                                        allow_unicode=True)
 
 
-def bind(source: NodlSource, nodes: Mapping[str, Any], node_names: Sequence[str], shown: str) -> dict[str, Any]:
+def bind(source: NodlSource, nodes: Mapping[str, ContractNode], node_names: Sequence[str], shown: str) -> ContractNodes:
     """The contract ``nodes`` of ``source`` for a capture of ``node_names``: a document that names
     no node describes the target's one node (raises ContractError when it created several)."""
     if not source.unnamed or source.default_node in node_names:
@@ -640,7 +648,7 @@ def bind(source: NodlSource, nodes: Mapping[str, Any], node_names: Sequence[str]
                         "describes")
 
 
-def render(nodes: Mapping[str, Mapping[str, Any]], previous: NodlSource | None = None,
+def render(nodes: Mapping[str, ContractNode], previous: NodlSource | None = None,
            path: Path | None = None) -> str:
     """The NoDL file of contract ``nodes``: a document per node, each under its ``# node:``
     line (a YAML stream), with the description, codegen and include blocks of ``previous`` (read

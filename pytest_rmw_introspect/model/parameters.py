@@ -35,9 +35,10 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal, get_args
 
 from . import untrusted
+from .contract_shapes import ParameterEntry, RangeEntry
 from .vocabulary import LIFECYCLE_TARGETS, PARAMETER_TYPES, is_infrastructure_parameter
 
 #: keys of a contract parameter entry, in the order they are written
@@ -53,7 +54,10 @@ ENTRY_KEYS: tuple[str, ...] = (
     "floating_point_range",
     "declared_in",
 )
-RANGE_KEYS: tuple[str, ...] = ("from_value", "to_value", "step")
+RangeField = Literal["from_value", "to_value", "step"]
+RANGE_KEYS: tuple[RangeField, ...] = get_args(RangeField)
+#: the keys of a parameter entry that hold a range
+RangeKey = Literal["integer_range", "floating_point_range"]
 #: what the capture writes for the doubles JSON cannot hold
 _SPECIAL_DOUBLES = {"nan": math.nan, "inf": math.inf, "-inf": -math.inf}
 
@@ -155,7 +159,7 @@ class ParameterRange:
     to_value: int | float
     step: int | float
 
-    def to_contract(self) -> dict[str, int | float]:
+    def to_contract(self) -> RangeEntry:
         return {"from_value": self.from_value, "to_value": self.to_value, "step": self.step}
 
     def describe(self) -> str:
@@ -188,10 +192,10 @@ class Parameter:
         """Declared by the client library itself (``use_sim_time``, ...: vocabulary)."""
         return is_infrastructure_parameter(self.name)
 
-    def to_contract(self, *, with_value: bool = True) -> dict[str, Any]:
+    def to_contract(self, *, with_value: bool = True) -> ParameterEntry:
         """The contract entry: ``name``, ``type``, ``default_value`` (unless ``with_value`` is
         False), and the descriptor's fields that differ from their defaults."""
-        entry: dict[str, Any] = {"name": self.name, "type": self.type}
+        entry: ParameterEntry = {"name": self.name, "type": self.type}
         if with_value:
             entry["default_value"] = list(self.value) if isinstance(self.value, list) else self.value
         if self.read_only:
@@ -426,7 +430,7 @@ def check_contract_parameters(entries: Sequence[Mapping[str, Any]]) -> None:
                                              f"(only {' and '.join(fits)} parameters can)")
 
 
-def entry_range(entry: Mapping[str, Any], key: str) -> ParameterRange | None:
+def entry_range(entry: ParameterEntry, key: RangeKey) -> ParameterRange | None:
     """The range ``key`` of a contract entry as a :class:`ParameterRange` (None: no range)."""
     data = entry.get(key)
     if not isinstance(data, Mapping):

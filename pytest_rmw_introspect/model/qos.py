@@ -16,7 +16,9 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, Literal, cast, get_args
+
+from .contract_shapes import QosFields
 
 
 class History(enum.StrEnum):
@@ -51,32 +53,27 @@ class Liveliness(enum.StrEnum):
 
 
 class Compatibility(enum.IntEnum):
-    """Result of ``check_compatible``; same order as rmw's ``rmw_qos_compatibility_type_t``."""
+    """Result of ``profile_compatibility``; same order as rmw's ``rmw_qos_compatibility_type_t``."""
 
     OK = 0
     WARNING = 1
     ERROR = 2
 
 
+#: The name of a QoS field (a key of ``QosFields`` but ``profile``), in the order they are
+#: written in contracts.
+QosField = Literal["history", "depth", "reliability", "durability", "liveliness", "deadline_ns", "lifespan_ns",
+                   "liveliness_lease_duration_ns", "avoid_ros_namespace_conventions"]
 #: All QoS fields, in the order they are written in contracts.
-FIELDS: tuple[str, ...] = (
-    "history",
-    "depth",
-    "reliability",
-    "durability",
-    "liveliness",
-    "deadline_ns",
-    "lifespan_ns",
-    "liveliness_lease_duration_ns",
-    "avoid_ros_namespace_conventions",
-)
+FIELDS: tuple[QosField, ...] = get_args(QosField)
 ENUM_FIELDS: dict[str, type[enum.StrEnum]] = {
     "history": History,
     "reliability": Reliability,
     "durability": Durability,
     "liveliness": Liveliness,
 }
-DURATION_FIELDS: tuple[str, ...] = ("deadline_ns", "lifespan_ns", "liveliness_lease_duration_ns")
+DurationField = Literal["deadline_ns", "lifespan_ns", "liveliness_lease_duration_ns"]
+DURATION_FIELDS: tuple[DurationField, ...] = get_args(DurationField)
 
 DURATION_UNSPECIFIED = 0
 DURATION_INFINITE = -1
@@ -88,7 +85,7 @@ _DURATION_INFINITE_RAW = 9_223_372_036_854_775_807
 _SECOND = 1_000_000_000
 
 
-def _profile(history: str, depth: int, reliability: str, durability: str, lifespan_ns: int = 0) -> dict[str, Any]:
+def _profile(history: str, depth: int, reliability: str, durability: str, lifespan_ns: int = 0) -> QosFields:
     return {
         "history": history,
         "depth": depth,
@@ -105,7 +102,7 @@ def _profile(history: str, depth: int, reliability: str, durability: str, lifesp
 #: The named profiles a contract may use, in the order ``profile_name`` prefers them
 #: (``default`` and ``services_default`` are identical, as are ``parameters`` and
 #: ``parameter_events``: the first one wins).
-PROFILES: dict[str, dict[str, Any]] = {
+PROFILES: dict[str, QosFields] = {
     "default": _profile("KEEP_LAST", 10, "RELIABLE", "VOLATILE"),
     "system_default": _profile("SYSTEM_DEFAULT", 0, "SYSTEM_DEFAULT", "SYSTEM_DEFAULT"),
     "sensor_data": _profile("KEEP_LAST", 5, "BEST_EFFORT", "VOLATILE"),
@@ -119,7 +116,7 @@ PROFILES: dict[str, dict[str, Any]] = {
 }
 
 #: Value of every field a contract leaves out (rmw_qos_profile_default).
-DEFAULTS: dict[str, Any] = PROFILES["default"]
+DEFAULTS: QosFields = PROFILES["default"]
 
 
 # --------------------------------------------------------------------------- validation
@@ -175,13 +172,13 @@ def _parse_field(field: str, value: Any) -> Any:
     raise ValueError(f"unknown QoS key {field!r}: expected one of profile, {', '.join(FIELDS)}")
 
 
-def _profile_by_name(name: Any) -> dict[str, Any]:
+def _profile_by_name(name: Any) -> QosFields:
     if not isinstance(name, str) or name not in PROFILES:
         raise ValueError(f"unknown QoS profile {name!r}: expected one of {', '.join(PROFILES)}")
-    return dict(PROFILES[name])
+    return PROFILES[name].copy()
 
 
-def _resolve(value: Any) -> dict[str, Any]:
+def _resolve(value: Any) -> QosFields:
     """Any accepted QoS shape → every field present and validated (durations kept as given)."""
     if isinstance(value, str):
         return _profile_by_name(value)
@@ -190,20 +187,18 @@ def _resolve(value: Any) -> dict[str, Any]:
             f"invalid QoS {value!r}: expected a profile name or a mapping of QoS fields"
         )
     overrides = dict(value)
-    if "profile" in overrides:
-        resolved = _profile_by_name(overrides.pop("profile"))
-    else:
-        resolved = dict(DEFAULTS)
+    # the fields of a named profile or of DEFAULTS, then each override validated by _parse_field
+    # (which refuses a key that is not a QoS field): every field, in FIELDS order
+    resolved: dict[str, Any] = dict(_profile_by_name(overrides.pop("profile")) if "profile" in overrides else DEFAULTS)
     for field, field_value in overrides.items():
         resolved[field] = _parse_field(field, field_value)
-    # keep FIELDS order whatever order the input had
-    return {field: resolved[field] for field in FIELDS}
+    return cast(QosFields, {field: resolved[field] for field in FIELDS})
 
 
 # --------------------------------------------------------------------------- public forms
 
 
-def expand(value: Any) -> dict[str, Any]:
+def expand(value: Any) -> QosFields:
     """Contract QoS (profile name, ``{profile: ..., **overrides}`` or fields) → explicit form.
 
     The explicit form has every field of ``FIELDS``. It is canonical: ``depth`` is 0 unless
@@ -220,7 +215,7 @@ def expand(value: Any) -> dict[str, Any]:
     return resolved
 
 
-def from_capture(raw_qos: Mapping[str, Any]) -> dict[str, Any]:
+def from_capture(raw_qos: Mapping[str, Any]) -> QosFields:
     """Raw capture QoS (design.md section 1) → contract form (design.md section 2).
 
     Always written: history, depth (KEEP_LAST only), reliability, durability. The others only
@@ -228,7 +223,7 @@ def from_capture(raw_qos: Mapping[str, Any]) -> dict[str, Any]:
     Missing raw fields are taken as their default.
     """
     explicit = expand(raw_qos)
-    contract: dict[str, Any] = {"history": explicit["history"]}
+    contract: QosFields = {"history": explicit["history"]}
     if explicit["history"] == History.KEEP_LAST:
         contract["depth"] = explicit["depth"]
     contract["reliability"] = explicit["reliability"]
@@ -334,7 +329,7 @@ def _policy_warning(policy: str, offered: str, requested: str, weak: str, strong
     return []
 
 
-def check_compatible(offered: Any, requested: Any) -> tuple[Compatibility, str]:
+def profile_compatibility(offered: Any, requested: Any) -> tuple[Compatibility, str]:
     """Can a publisher with QoS ``offered`` reach a subscription with QoS ``requested``?
 
     Accepts any QoS shape (raw capture, contract or explicit). Returns the compatibility and a

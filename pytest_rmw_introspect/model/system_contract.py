@@ -43,7 +43,7 @@ import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, cast, get_args
 
 import yaml
 
@@ -51,6 +51,7 @@ from ..errors import ContractError
 from . import acceptance, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
+from .contract_shapes import ContractNode, ContractNodes, ContractOptions, LaunchBlock, ProcessEntry, TargetBlock, empty_node
 from .option_tables import TARGET, FrontEnd
 from .paths import shown
 from .vocabulary import FAIL_ON, LABELS, LISTS
@@ -59,7 +60,9 @@ SYSTEM_VERSION = 1
 SUFFIX = ".system.yaml"
 #: target options that apply to every process of a system
 SYSTEM_TARGET_KEYS = TARGET.names(FrontEnd.SYSTEM)
-PROCESS_KEYS = ("package", "executable", "name", "nodes")
+#: the keys of a process entry, in the order they are written
+ProcessKey = Literal["package", "executable", "name", "nodes"]
+PROCESS_KEYS: tuple[ProcessKey, ...] = get_args(ProcessKey)
 
 DEFAULT_HEADER = (
     "# System contract checked by pytest-rmw-introspect: every process a launch file starts,\n"
@@ -152,11 +155,11 @@ class SystemContract:
     """A loaded system contract (``nodes`` normalised like a node contract's)."""
 
     path: Path | None
-    launch: dict[str, Any]
-    processes: list[dict[str, Any]]
-    nodes: dict[str, dict[str, Any]]
-    target: dict[str, Any] | None = None
-    options: dict[str, Any] = field(default_factory=dict)
+    launch: LaunchBlock
+    processes: list[ProcessEntry]
+    nodes: ContractNodes
+    target: TargetBlock | None = None
+    options: ContractOptions = field(default_factory=lambda: ContractOptions())
     text: str = ""
     #: the findings it accepts on purpose (``accept:``)
     accept: tuple[acceptance.Acceptance, ...] = ()
@@ -164,18 +167,20 @@ class SystemContract:
     external: dict[str, dict[str, str]] = field(default_factory=dict)
 
     @property
-    def comparison_options(self) -> dict[str, Any]:
+    def comparison_options(self) -> ContractOptions:
         """``options`` without ``system_fail_on`` (the comparison options of the nodes)."""
-        return {k: v for k, v in self.options.items() if k != "system_fail_on"}
+        options = self.options.copy()
+        options.pop("system_fail_on", None)
+        return options
 
     @property
     def system_fail_on(self) -> str | None:
         value = self.options.get("system_fail_on")
         return str(value) if value is not None else None
 
-    def process_nodes(self) -> list[tuple[dict[str, Any], dict[str, Any]]]:
+    def process_nodes(self) -> list[tuple[ProcessEntry, ContractNodes]]:
         """Each process with the contract entries of the nodes it created."""
-        return [(p, {fqn: self.nodes.get(fqn, {name: [] for name in LISTS}) for fqn in p.get("nodes") or []})
+        return [(p, {fqn: self.nodes.get(fqn) or empty_node() for fqn in p.get("nodes") or []})
                 for p in self.processes]
 
 
@@ -232,7 +237,8 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                             "a system contract (`system_version: 1` and `launch:`)",
                             line=_where(root, ["contract_version"]))
     _validate(root, data, path)
-    launch = dict(data["launch"])
+    # validated by the schema from here on: the blocks have the keys and value types of their shapes
+    launch = cast(LaunchBlock, dict(data["launch"]))
     has_file = "file" in launch or "package" in launch
     if has_file == ("path" in launch) or ("file" in launch) != ("package" in launch):
         raise ContractError(path, "launch", "name the launch file with `package` and `file` (like ros2 launch), "
@@ -255,15 +261,15 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                         raise ContractError(path, contract_module.format_location(location + ["qos"]), str(exc),
                                             line=_where(root, location + ["qos"])) from None
     contract_module.check_parameters(root, nodes, path)
-    processes = [dict(p) for p in data.get("processes") or []]
+    processes = [cast(ProcessEntry, dict(p)) for p in data.get("processes") or []]
     for i, process in enumerate(processes):
         for fqn in process.get("nodes") or []:
             if fqn not in nodes:
                 raise ContractError(path, f"processes[{i}].nodes", f"node {fqn} is not listed under `nodes:`",
                                     line=_where(root, ["processes", i, "nodes"]))
     return SystemContract(path=path, launch=launch, processes=processes, nodes=nodes,
-                          target=dict(data["target"]) if data.get("target") is not None else None,
-                          options=dict(data.get("options") or {}), text=text,
+                          target=cast(TargetBlock, dict(data["target"])) if data.get("target") is not None else None,
+                          options=cast(ContractOptions, dict(data.get("options") or {})), text=text,
                           accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY),
                                                          source=shown(path) if path else "<system contract>",
                                                          line_of=lambda i: _where(root, [acceptance.SECTION_KEY, i])),
@@ -306,7 +312,7 @@ def _scalar(value: Any) -> str:
     return yaml.safe_dump(value, default_flow_style=True, width=float("inf")).strip().removesuffix("\n...").strip()
 
 
-def dump_processes(processes: Sequence[Mapping[str, Any]]) -> str:
+def dump_processes(processes: Sequence[ProcessEntry]) -> str:
     """The ``processes:`` block, deterministic (launch order kept)."""
     if not processes:
         return "processes: []\n"
@@ -315,16 +321,15 @@ def dump_processes(processes: Sequence[Mapping[str, Any]]) -> str:
         keys = [k for k in PROCESS_KEYS if k in process]
         for n, key in enumerate(keys):
             lead = "  - " if n == 0 else "    "
-            value = process[key]
             if key == "nodes":
-                text = "[" + ", ".join(_scalar(v) for v in value) + "]"
+                text = "[" + ", ".join(_scalar(v) for v in process["nodes"]) + "]"
             else:
-                text = _scalar(value)
+                text = _scalar(process[key])
             lines.append(f"{lead}{key}: {text}")
     return "\n".join(lines) + "\n"
 
 
-def render(processes: Sequence[Mapping[str, Any]], nodes: Mapping[str, Any], header: str = DEFAULT_HEADER) -> str:
+def render(processes: Sequence[ProcessEntry], nodes: Mapping[str, ContractNode], header: str = DEFAULT_HEADER) -> str:
     """A complete system contract: ``header`` (with ``system_version`` and ``launch:``), then
     ``processes`` and ``nodes``."""
     if header and not header.endswith("\n"):
@@ -332,7 +337,7 @@ def render(processes: Sequence[Mapping[str, Any]], nodes: Mapping[str, Any], hea
     return header + dump_processes(processes) + contract_module.dump_nodes(nodes)
 
 
-def update_text(old_text: str, processes: Sequence[Mapping[str, Any]], nodes: Mapping[str, Any]) -> str:
+def update_text(old_text: str, processes: Sequence[ProcessEntry], nodes: Mapping[str, ContractNode]) -> str:
     """``old_text`` with its ``processes`` and ``nodes`` blocks regenerated: the text above the
     first of them is kept byte for byte, and so are top-level keys after them."""
     try:
@@ -355,8 +360,8 @@ def update_text(old_text: str, processes: Sequence[Mapping[str, Any]], nodes: Ma
     return header + dump_processes(processes) + contract_module.dump_nodes(nodes) + trailer
 
 
-def new_header(launch: Mapping[str, Any], *, target: Mapping[str, Any] | None = None,
-               options: Mapping[str, Any] | None = None, how: str = "rmw-introspect capture --launch",
+def new_header(launch: LaunchBlock, *, target: TargetBlock | None = None,
+               options: ContractOptions | None = None, how: str = "rmw-introspect capture --launch",
                external_proposal: str = "") -> str:
     """The header of a new system contract: how it was written, ``system_version``, ``launch:``
     (and ``target:``, ``options:`` when given), then ``external_proposal`` (a commented-out

@@ -29,10 +29,10 @@ import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from ..errors import TypeLockError
 from . import type_hash, versioned_json
+from .contract_shapes import ContractNode
 from .types import ACTION_PART_SUFFIXES, TypeDescription, closure, interface_roots
 from .vocabulary import ACTION_HASHED_PARTS, ACTION_LISTS, LISTS
 
@@ -53,7 +53,7 @@ class TypeLock:
     contracts: tuple[str, ...] = ()
 
 
-def recorded_hashes(nodes: Mapping[str, Any]) -> dict[str, str]:
+def recorded_hashes(nodes: Mapping[str, ContractNode]) -> dict[str, str]:
     """The hashes a contract's entries record (``type_hash``), by the type they belong to: an
     interface's own type, or for an action its three hashed parts (``pkg/action/X_SendGoal``, ...)."""
     suffix_of = dict(zip(ACTION_HASHED_PARTS, ACTION_PART_SUFFIXES, strict=True))
@@ -71,7 +71,7 @@ def recorded_hashes(nodes: Mapping[str, Any]) -> dict[str, str]:
     return out
 
 
-def interface_types(nodes: Mapping[str, Any]) -> list[str]:
+def interface_types(nodes: Mapping[str, ContractNode]) -> list[str]:
     """The described types the interfaces of ``nodes`` stand for (``types.interface_roots``)."""
     roots: dict[str, None] = {}
     for node in nodes.values():
@@ -81,14 +81,14 @@ def interface_types(nodes: Mapping[str, Any]) -> list[str]:
     return list(roots)
 
 
-def current_hashes(nodes: Mapping[str, Any], table: Mapping[str, TypeDescription]) -> dict[str, str]:
+def current_hashes(nodes: Mapping[str, ContractNode], table: Mapping[str, TypeDescription]) -> dict[str, str]:
     """Every type the interfaces of ``nodes`` use, nested ones included, with its hash: the
     hashes the entries record, the others computed from ``table``."""
     computed = type_hash.message_hashes({name: table[name] for name in closure(table, interface_types(nodes))})
     return {**computed, **recorded_hashes(nodes)}
 
 
-def locked_hashes(nodes: Mapping[str, Any], table: Mapping[str, TypeDescription] | None, shown: str) -> dict[str, str]:
+def locked_hashes(nodes: Mapping[str, ContractNode], table: Mapping[str, TypeDescription] | None, shown: str) -> dict[str, str]:
     """What a lock records for one contract (its ``nodes`` and ``types:`` section): every type
     its interfaces use, nested ones included, with its hash. Raises TypeLockError naming the
     contract when its ``types:`` section is missing or does not describe a type it needs."""

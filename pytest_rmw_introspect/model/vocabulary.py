@@ -11,35 +11,33 @@ with a :class:`Severity`; ``fail_on`` names the least severe one that fails.
 from __future__ import annotations
 
 import enum
+from typing import Final, Literal, get_args
+
+#: The name of one of a node's six interface lists (a key of a contract node), in contract order.
+ListName = Literal["publishers", "subscriptions", "service_servers", "service_clients", "action_servers",
+                   "action_clients"]
 
 #: The six interface lists of a node, in contract order.
-LISTS: tuple[str, ...] = (
-    "publishers",
-    "subscriptions",
-    "service_servers",
-    "service_clients",
-    "action_servers",
-    "action_clients",
-)
-TOPIC_LISTS: tuple[str, ...] = ("publishers", "subscriptions")
-SERVICE_LISTS: tuple[str, ...] = ("service_servers", "service_clients")
-ACTION_LISTS: tuple[str, ...] = ("action_servers", "action_clients")
+LISTS: tuple[ListName, ...] = get_args(ListName)
+TOPIC_LISTS: tuple[ListName, ...] = ("publishers", "subscriptions")
+SERVICE_LISTS: tuple[ListName, ...] = ("service_servers", "service_clients")
+ACTION_LISTS: tuple[ListName, ...] = ("action_servers", "action_clients")
 #: Lists whose peers depend on them (they offer something). The others request.
-OFFERING_LISTS: frozenset[str] = frozenset({"publishers", "service_servers", "action_servers"})
+OFFERING_LISTS: frozenset[ListName] = frozenset({"publishers", "service_servers", "action_servers"})
 #: Requesting list → the list that provides to it.
-PROVIDER_OF: dict[str, str] = {
+PROVIDER_OF: dict[str, ListName] = {
     "subscriptions": "publishers",
     "service_clients": "service_servers",
     "action_clients": "action_servers",
 }
 
 #: A node's parameters in a contract (beside the six lists; drift items of kind ``parameters``).
-PARAMETERS = "parameters"
+PARAMETERS: Final = "parameters"
 #: A managed node's lifecycle state in a contract (a key of the node, drift of kind ``node``).
-LIFECYCLE = "lifecycle"
+LIFECYCLE: Final = "lifecycle"
 #: When the program itself destroyed a node or an interface, in seconds of its virtual age (a key
 #: of a node and of an interface entry; absent: alive to the end). See docs/design.md section 2.
-DESTROYED_AT = "destroyed_at"
+DESTROYED_AT: Final = "destroyed_at"
 #: Two ``destroyed_at`` ages this close (seconds) are the same destruction: a virtual age includes
 #: the real time the program ran before and between its waits (start-up: warm or cold), which
 #: differs a little from run to run.
@@ -58,7 +56,7 @@ LABELS: dict[str, str] = {
 }
 
 #: Raw endpoint kind (as the middleware records it) → interface list.
-KIND_TO_LIST: dict[str, str] = {
+KIND_TO_LIST: dict[str, ListName] = {
     "publisher": "publishers",
     "subscription": "subscriptions",
     "service": "service_servers",

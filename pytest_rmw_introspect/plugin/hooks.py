@@ -18,7 +18,7 @@ from typing import Any
 import pytest
 
 from ..errors import RmwIntrospectError, SetupError
-from ..run import runner
+from ..run import prewarm
 from ..run.warm import client as warm
 from . import items, lookahead, marker, marker_goldens, session, system_marker
 from . import items as items_module
@@ -125,7 +125,7 @@ def _warm_up(config: pytest.Config) -> None:
         spec = session_state.layers().target()
         if spec.cold_start:
             return
-        runner.warm_up(spec, library=session_state.library(), ros=session_state.ros())
+        prewarm.warm_up(spec, library=session_state.library(), ros=session_state.ros())
     except (SetupError, RmwIntrospectError):
         pass  # the tests themselves report it
 

@@ -2,11 +2,13 @@
 
 One line per module:
 
-- ``target``: what to run and how, as one validated spec
+- ``target``: what to run and how, as one validated spec, resolved into what the runner starts
 - ``ros_env``: the detected ROS 2 install and the middleware's activation environment
 - ``middleware``: finding or building ``librmw_introspect_cpp.so``
 - ``process``: a cold start's process: its group, output tails and stop
-- ``runner``: start (warm or cold), wait, read the capture, classify the ending
+- ``runner``: start a resolved target (warm or cold), wait, read the capture, classify the ending
+- ``failure_hints``: what to do next, for a target that could not import a module or created no node
+- ``prewarm``: starting a warm start server ahead of the captures (the plugin's session start)
 - ``api``: the library's one-call ``capture``
 - ``system_capture``: every process a launch file starts, captured (the one module that reads ``launch``)
 - ``warm``: warm starts (subpackage: ``warm.client``, ``warm.server``)

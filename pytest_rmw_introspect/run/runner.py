@@ -1,5 +1,7 @@
 """Run a target on the recording middleware and read its capture.
 
+The runner starts what ``target.resolve`` made of the target (``ResolvedTarget``: command line,
+environment, working directory, warm or cold start) and asks the target module nothing else.
 The process gets the middleware's activation environment (``ros_env.activation_env``), a
 capture file of its own (``RMW_INTROSPECT_OUTPUT`` in a fresh temporary directory, so
 captures never collide, not even under pytest-xdist), ``RMW_INTROSPECT_EXIT=1`` (the
@@ -45,7 +47,6 @@ import atexit
 import importlib
 import os
 import queue
-import re
 import shutil
 import signal
 import subprocess
@@ -68,11 +69,12 @@ from ..errors import (
     TargetExited,
     TargetTimeout,
 )
-from . import middleware, process, ros_env
-from .target import TargetSpec, build_argv, module_main_hint
+from . import failure_hints, process, ros_env
+from .target import resolve
 
 if TYPE_CHECKING:
     from ..model.capture import Capture, OtherProcess
+    from .target import ResolvedTarget, TargetSpec
     from .warm.client import WarmChild
 
 # Imported when first needed, not here: the capture model (its dataclasses cost ~30 ms to create)
@@ -87,12 +89,7 @@ _STALE_AFTER_S = 600.0
 #: a runner sweeps stale working directories at its first capture and then at most this often
 _SWEEP_EVERY_S = 60.0
 _last_sweep = -_SWEEP_EVERY_S
-#: the middleware substitutes the process id: every ROS process of the target writes its own file
-_OUTPUT_PATTERN = "capture.<pid>.json"
-#: the directory of a capture's files that rcl's log files go to (``ROS_LOG_DIR``)
-LOG_DIR = "ros_log"
 _CAPTURE_MODEL = f"{__name__.rsplit('.', 2)[0]}.model.capture"
-_MISSING_MODULE = re.compile(r"ModuleNotFoundError: No module named '([^']+)'")
 
 
 def stop(proc: process.Handle, sigint_grace: float | None = None,
@@ -188,46 +185,6 @@ def _try_load(path: Path, include_infrastructure: bool) -> Capture | None:
         return None
 
 
-def environment(
-    spec: TargetSpec,
-    library: Path,
-    ros: Any,
-    output: Path,
-    base: Mapping[str, str] | None = None,
-) -> dict[str, str]:
-    """The complete environment of the target process; ``output`` may contain ``<pid>``, which
-    the middleware replaces with each process's id. rcl's log files of the capture go to
-    ``ros_log`` beside ``output`` (``ROS_LOG_DIR``), unless the environment or the target's
-    ``env`` says where logs go (``ROS_LOG_DIR`` or ``ROS_HOME``)."""
-    env = dict(os.environ if base is None else base)
-    # the target's own variables first, then the activation merged with them: a target's
-    # LD_PRELOAD, LD_LIBRARY_PATH or AMENT_PREFIX_PATH extends the middleware's, never drops it
-    env.update(spec.env)
-    if "ROS_LOG_DIR" not in env and "ROS_HOME" not in env:
-        # A capture is an analysis of the node, not a run of it: its log file (one per process,
-        # as `ros2 run` writes) is removed with the capture's files instead of piling up in
-        # ~/.ros/log, a file per capture and CI run; RMW_INTROSPECT_KEEP_FILES keeps it.
-        env["ROS_LOG_DIR"] = str(Path(output).parent / LOG_DIR)
-    env.update(ros_env.activation_env(library, ros, base=env))
-    env["RMW_INTROSPECT_OUTPUT"] = str(output)
-    env["RMW_INTROSPECT_FORMAT"] = "json"
-    env["RMW_INTROSPECT_EXIT"] = "1"
-    env["RMW_INTROSPECT_AUTO_EXPORT"] = "1"
-    env["RMW_INTROSPECT_SETTLE_MS"] = str(max(0, round(spec.effective_settle() * 1000)))
-    env["RMW_INTROSPECT_HORIZON_MS"] = str(max(0, round(spec.effective_horizon() * 1000)))
-    env["RMW_INTROSPECT_LIFECYCLE"] = spec.effective_lifecycle()
-    env["RMW_INTROSPECT_PARAMETERS"] = "1" if spec.effective_read_parameters() else "0"
-    if spec.stimuli:
-        env["RMW_INTROSPECT_STIMULI"] = ",".join(spec.stimuli)
-    env.setdefault("PYTHONUNBUFFERED", "1")
-    # numpy's OpenBLAS (rclpy imports numpy) starts a worker thread per core that spins for 2^28
-    # cycles before it sleeps: ~40 ms of a core, at the start of every cold Python target, during
-    # which the middleware cannot prove the process idle. 2^4 cycles: they sleep at once. (A warm
-    # child has no such threads: its server loaded OpenBLAS single-threaded.)
-    env.setdefault("OPENBLAS_THREAD_TIMEOUT", "4")
-    return env
-
-
 @dataclass
 class _Started:
     proc: process.Handle
@@ -245,39 +202,37 @@ class _Started:
         return "cold" if self.warm_child is None else "warm"
 
 
-def _start(spec: TargetSpec, argv: list[str], env: dict[str, str], python: str | None,
-           warm_wait: float | None, cold_note: str | None = None) -> _Started:
-    """Start the target: forked from a warm start server when it can be, else a new process
-    (``cold_note``: why it must start cold; ``warm_wait``: default ``warm.DEFAULT_WAIT``)."""
-    describe = spec.describe()
-    note = cold_note
-    if note is None:
-        note = "cold_start asked for it" if spec.cold_start else None
-    if note is None:
+def _server_cwd(target: ResolvedTarget) -> str:
+    """The working directory a warm start server for ``target`` runs in."""
+    return str(target.cwd) if target.cwd is not None else os.getcwd()
+
+
+def _start(target: ResolvedTarget, python: str | None, warm_wait: float | None) -> _Started:
+    """Start the target: forked from a warm start server when it can be (``target.warm``), else a
+    new process (``warm_wait``: default ``warm.DEFAULT_WAIT``)."""
+    note = target.cold_because
+    argv, env = list(target.argv), dict(target.env)
+    if target.warm is not None:
         from .warm import client as warm
 
         if warm_wait is None:
             warm_wait = warm.DEFAULT_WAIT
-        how = warm.plan(argv, env, python)
-        if isinstance(how, warm.Plan):
-            cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
-            server = warm.POOL.server(env, cwd, python, wait=warm_wait)
-            if isinstance(server, warm.WarmServer):
-                try:
-                    child = server.spawn(how, env=env, cwd=cwd)
-                    return _Started(child, child.stdout, child.stderr, None, list(how.orig_argv), child)
-                except warm.WarmStartFailed as exc:
-                    note = str(exc)
-            else:
-                note = server
+        cwd = _server_cwd(target)
+        server = warm.POOL.server(env, cwd, python, wait=warm_wait)
+        if isinstance(server, warm.WarmServer):
+            try:
+                child = server.spawn(target.warm, env=env, cwd=cwd)
+                return _Started(child, child.stdout, child.stderr, None, list(target.warm.orig_argv), child)
+            except warm.WarmStartFailed as exc:
+                note = str(exc)
         else:
-            note = how
+            note = server
     try:
-        proc = process.start(argv, env=env, cwd=spec.cwd)
+        proc = process.start(argv, env=env, cwd=target.cwd)
     except OSError as exc:
         raise ExecutableNotFound(
-            f"Cannot start the target {describe}: {exc.strerror or exc} ({argv[0]}).",
-            target=describe,
+            f"Cannot start the target {target.name}: {exc.strerror or exc} ({argv[0]}).",
+            target=target.name,
             searched=[argv[0]],
         ) from None
     assert proc.stdout is not None and proc.stderr is not None
@@ -352,24 +307,6 @@ def _wait(start: _Started, timeout: float, cancel: threading.Event | None = None
     return _Ended(returncode, timed_out, stdout_tail.text(), stderr_tail.text())
 
 
-def warm_up(spec: TargetSpec | None = None, *, library: str | Path | None = None, ros: Any = None,
-            wait: float = 0.0, python: str | None = None) -> str | None:
-    """Start the warm start server for targets like ``spec`` (default: a target with no `env` of
-    its own, in the current directory) ahead of their captures, waiting up to ``wait`` seconds
-    for it to be ready. Returns None when it is ready, else why not (still starting, or why it
-    cannot be)."""
-    spec = spec or TargetSpec()
-    ros = ros or ros_env.detect()
-    if library is None:
-        library = middleware.ensure_library(ros)
-    from .warm import client as warm
-
-    env = environment(spec, Path(library), ros, Path(tempfile.gettempdir()) / _OUTPUT_PATTERN)
-    cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
-    server = warm.POOL.server(env, cwd, python, wait=wait)
-    return None if isinstance(server, warm.WarmServer) else server
-
-
 def run(
     spec: TargetSpec,
     *,
@@ -391,13 +328,6 @@ def run(
     target is started cold instead (default ``warm.DEFAULT_WAIT``); ``cold_note``: start it cold,
     for this reason (``Capture.start_note``), without looking for a warm start server.
     """
-    spec.validate()
-    ros = ros or ros_env.detect()
-    if library is None:
-        library = middleware.ensure_library(ros)
-    # like `ros2 run`: AMENT_PREFIX_PATH as it is now, then the prefixes of the detected install
-    prefixes = ros_env.ament_prefixes(tuple(getattr(ros, "ament_prefixes", ())))
-    argv = build_argv(spec, prefixes, python=python)
     if keep_files is None:
         keep_files = os.environ.get("RMW_INTROSPECT_KEEP_FILES", "") not in ("", "0", "false")
 
@@ -406,19 +336,18 @@ def run(
         _last_sweep = time.monotonic()
         sweep_stale_workdirs()
     workdir = Path(tempfile.mkdtemp(prefix=f"{_WORKDIR_PREFIX}{os.getpid()}_"))
-    env = environment(spec, Path(library), ros, workdir / _OUTPUT_PATTERN)
-    describe = spec.describe()
-    timeout = spec.effective_timeout()
-    cwd = spec.cwd
-    if cwd is not None and not cwd.is_dir():
+    try:
+        target = resolve(spec, workdir=workdir, library=library, ros=ros, python=python, cold_note=cold_note)
+    except BaseException:
         shutil.rmtree(workdir, ignore_errors=True)
-        raise ExecutableNotFound(f"Working directory {cwd} of target {describe} does not exist.", target=describe)
+        raise
+    describe, timeout, argv = target.name, target.timeout, list(target.argv)
 
     started = time.monotonic()
     try:
         if cancel is not None and cancel.is_set():
             raise Cancelled()
-        start = _start(spec, argv, env, python, warm_wait, cold_note)
+        start = _start(target, python, warm_wait)
         _import_capture_model_meanwhile()
         ended = _wait(start, timeout, cancel)
         if start.warm_child is not None and start.warm_child.server_lost:
@@ -428,8 +357,7 @@ def run(
                     shutil.rmtree(leftover, ignore_errors=True)
                 else:
                     leftover.unlink()
-            start = _start(spec, argv, env, python, warm_wait,
-                           cold_note="the warm start server ended during the capture")
+            start = _start(target.started_cold("the warm start server ended during the capture"), python, warm_wait)
             ended = _wait(start, timeout, cancel)
         returncode, stderr = ended.returncode, ended.stderr
         wall = time.monotonic() - started
@@ -437,23 +365,22 @@ def run(
             (workdir / "stderr.txt").write_text(stderr, encoding="utf-8")
             (workdir / "stdout.txt").write_text(ended.stdout, encoding="utf-8")
 
-        output, others, from_child = _outputs(workdir, start.proc.pid, include_infrastructure)
+        output, others, from_child = _outputs(target.output, start.proc.pid, include_infrastructure)
         if ended.timed_out:
             raise _tag(TargetTimeout(describe, timeout, _mark(_try_load(output, include_infrastructure), start),
                                      stderr, argv), start)
-        captured = _try_load(output, include_infrastructure) if returncode != 0 else None
+        loaded = _try_load(output, include_infrastructure) if returncode != 0 else None
         crashed = returncode != 0 and crash_evidence(returncode, stderr)
-        if crashed and spec.stimuli and captured is not None and captured.settled_once:
+        if crashed and target.stimuli and loaded is not None and loaded.settled_once:
             # a crash on a stimulus: the stimulus report says which one it was
-            problems = stimulus_problems(captured.raw, returncode)
+            problems = stimulus_problems(loaded.raw, returncode)
             if problems:
-                raise _tag(StimulusFailed(describe, problems, _mark(captured, start), stderr, argv), start)
-        if returncode != 0 and (captured is None or not captured.settled_once or crashed):
-            raise _tag(TargetExited(describe, returncode, stderr, _mark(captured, start), argv,
-                                    hint=_missing_module_hint(stderr),
+                raise _tag(StimulusFailed(describe, problems, _mark(loaded, start), stderr, argv), start)
+        if returncode != 0 and (loaded is None or not loaded.settled_once or crashed):
+            raise _tag(TargetExited(describe, returncode, stderr, _mark(loaded, start), argv,
+                                    hint=failure_hints.missing_module_hint(stderr),
                                     crashed=crashed), start)
-        no_node_hint = module_main_hint(spec.module, _module_origin(argv[0], spec, cwd)) if spec.module else None
-        if captured is None:
+        if loaded is None:
             if not output.exists():
                 raise _tag(NoNodeCreated(
                     describe,
@@ -462,33 +389,27 @@ def run(
                     argv,
                     detail="it exited with status 0 and wrote no capture: it never initialised ROS 2, "
                     "or it did not run on the recording middleware",
-                    hint=no_node_hint,
+                    hint=_no_node_hint(target),
                 ), start)
             from ..model.capture import Capture
 
-            captured = Capture.load(output, include_infrastructure=include_infrastructure)
-        _mark(captured, start)
-        if not captured.raw_nodes:
-            raise _tag(NoNodeCreated(describe, stderr, captured, argv, hint=no_node_hint), start)
-        captured.returncode = returncode
-        captured.stderr = stderr
-        captured.wall_time = wall
-        captured.command = argv
-        captured.path = output if keep_files else None
-        captured.other_processes = others
-        captured.from_child = from_child
-        captured.ros_distribution = getattr(ros, "distro", None)
-        captured.make_values_portable(ros_env.package_shares(prefixes))
+            loaded = Capture.load(output, include_infrastructure=include_infrastructure)
+        if not loaded.raw_nodes:
+            raise _tag(NoNodeCreated(describe, stderr, _mark(loaded, start), argv, hint=_no_node_hint(target)), start)
+        captured = _with_facts(loaded, start, returncode=returncode, stderr=stderr, wall_time=wall,
+                               command=tuple(argv), other_processes=tuple(others), from_child=from_child,
+                               ros_distribution=target.ros_distribution, keep_path=keep_files)
+        captured.make_values_portable(ros_env.package_shares(target.prefixes))
         failures = captured.failed_transitions()
         if failures:
-            raise _tag(LifecycleTransitionFailed(describe, failures, wanted=spec.effective_lifecycle(),
+            raise _tag(LifecycleTransitionFailed(describe, failures, wanted=target.lifecycle,
                                                  partial=captured, stderr_tail=stderr, argv=argv), start)
-        if spec.stimuli:
+        if target.stimuli:
             problems = stimulus_problems(captured.raw, returncode)
             if problems:
                 raise _tag(StimulusFailed(describe, problems, captured, stderr, argv), start)
         if cold_note is None:  # a run that never starts warm has no server to tell
-            _learn(captured, env, spec, python)
+            _learn(captured, target, python)
         return captured
     finally:
         if not keep_files:
@@ -515,26 +436,34 @@ def _tag(exc: TargetError, start: _Started) -> TargetError:
     return exc
 
 
-def _mark(captured: Capture | None, start: _Started) -> Capture | None:
-    """Record how the target was started. A warm child's command line (``/proc/self/cmdline``,
-    which the middleware reads for ``argv``) is the server's: the capture gets the one a cold
-    start would have had."""
-    if captured is not None:
-        captured.started, captured.start_note = start.how, start.note
-        if start.cmdline is not None:
-            captured.argv = list(start.cmdline)
-    return captured
+def _no_node_hint(target: ResolvedTarget) -> str | None:
+    """Why a target that created no node may not have run its node (a subprocess: only then)."""
+    return failure_hints.no_node_hint(target.module, target.argv[0], target.own_env, target.cwd)
 
 
-def _learn(captured: Capture, env: Mapping[str, str], spec: TargetSpec, python: str | None) -> None:
+def _with_facts(loaded: Capture, start: _Started, *, keep_path: bool = True, **facts: Any) -> Capture:
+    """``loaded`` with the runner's facts: how the target was started, and ``facts``. A warm
+    child's command line (``/proc/self/cmdline``, which the middleware reads for ``argv``) is the
+    server's: the capture gets the one a cold start would have had."""
+    from ..model.capture import RunFacts
+
+    return loaded.with_facts(RunFacts(started=start.how, start_note=start.note, **facts),
+                             argv=start.cmdline, keep_path=keep_path)
+
+
+def _mark(loaded: Capture | None, start: _Started) -> Capture | None:
+    """A partial capture (of a target that failed) with how the target was started."""
+    return None if loaded is None else _with_facts(loaded, start)
+
+
+def _learn(captured: Capture, target: ResolvedTarget, python: str | None) -> None:
     """Tell the warm start server for targets like this one which message types they use."""
     type_names = sorted({e.type for e in captured.raw_endpoints if e.type})
     if not type_names:
         return
     from .warm import client as warm
 
-    cwd = str(spec.cwd) if spec.cwd is not None else os.getcwd()
-    warm.POOL.learn(env, cwd, type_names, python)
+    warm.POOL.learn(dict(target.env), _server_cwd(target), type_names, python)
 
 
 def stimulus_problems(raw: Mapping[str, Any], returncode: int | None) -> list[str]:
@@ -589,40 +518,14 @@ def _describe_process(path: Path, include_infrastructure: bool) -> OtherProcess:
     return OtherProcess(pid=other.pid, argv=list(other.argv), node_names=names)
 
 
-def _outputs(workdir: Path, pid: int, include_infrastructure: bool) -> tuple[Path, list[OtherProcess], OtherProcess | None]:
-    """The target's capture file, the other ROS processes it started, and (when the target
-    itself wrote nothing but exactly one child did) that child, whose file becomes the capture."""
-    own = workdir / _OUTPUT_PATTERN.replace("<pid>", str(pid))
+def _outputs(pattern: Path, pid: int, include_infrastructure: bool) -> tuple[Path, list[OtherProcess], OtherProcess | None]:
+    """The target's capture file (``pattern``: with ``<pid>`` for the process id), the other ROS
+    processes it started, and (when the target itself wrote nothing but exactly one child did)
+    that child, whose file becomes the capture."""
+    own = pattern.with_name(pattern.name.replace("<pid>", str(pid)))
     # written atomically by the middleware (<file>.tmp.<pid>, then a rename): skip temporaries
-    others = sorted(p for p in workdir.glob(_OUTPUT_PATTERN.replace("<pid>", "*"))
+    others = sorted(p for p in pattern.parent.glob(pattern.name.replace("<pid>", "*"))
                     if p != own and not p.name.endswith(".json.tmp") and ".tmp." not in p.name)
     if own.exists() or len(others) != 1:
         return own, [_describe_process(p, include_infrastructure) for p in others], None
     return others[0], [], _describe_process(others[0], include_infrastructure)
-
-
-def _module_origin(python: str, spec: TargetSpec, cwd: Path | None) -> Path | None:
-    """The file ``python -m <module>`` ran, as the target's interpreter and environment find it
-    (editable installs have their own finders): asked only after the target created no node."""
-    assert spec.module is not None
-    code = "import importlib.util, sys\ns = importlib.util.find_spec(sys.argv[1])\nprint(s.origin if s and s.origin else '')"
-    try:
-        found = subprocess.run([python, "-c", code, spec.module], env={**os.environ, **spec.env},
-                               cwd=str(cwd) if cwd else None, capture_output=True, text=True, timeout=30)
-    except (OSError, subprocess.TimeoutExpired):
-        return None
-    origin = found.stdout.strip()
-    return Path(origin) if found.returncode == 0 and origin else None
-
-
-def _missing_module_hint(stderr: str) -> str | None:
-    """What to do when the target could not import a module, or None."""
-    missing = _MISSING_MODULE.findall(stderr)
-    if not missing:
-        return None
-    return (
-        f"Hint: the target could not import {missing[-1]!r}. It runs with the environment of the process "
-        "that checks it plus the target's `env:`, and a contract records only what `env:` lists: if the "
-        "module comes from a workspace or another virtual environment, give PYTHONPATH (or "
-        "AMENT_PREFIX_PATH) in the target's `env:`, or run the check where the node's environment is set up."
-    )

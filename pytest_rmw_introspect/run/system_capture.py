@@ -25,15 +25,16 @@ from collections.abc import Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from ..errors import NoNodeCreated, TargetConfigError, TargetError
 from ..launch import component_loads
 from ..launch import reader as launch_reader
 from ..launch.result import LaunchedNode, LaunchError, LaunchParameter, LaunchResult
 from ..model.capture import Capture
+from ..model.contract_shapes import ContractNode, ContractNodes, LaunchBlock, ProcessEntry, TargetBlock
 from ..model.paths import shown
-from ..model.vocabulary import LIFECYCLE, PARAMETERS
+from ..model.vocabulary import DESTROYED_AT, LIFECYCLE, PARAMETERS
 from . import middleware, ros_env, runner
 from .target import TargetSpec
 
@@ -56,11 +57,13 @@ class LaunchSpec:
         args = " ".join(f"{k}:={shlex.quote(v)}" for k, v in self.arguments.items())
         return f"launch {where}" + (f" {args}" if args else "")
 
-    def to_block(self, base: Path | None = None) -> dict[str, Any]:
+    def to_block(self, base: Path | None = None) -> LaunchBlock:
         """The ``launch:`` block of a system contract (``path`` relative to ``base``)."""
-        block: dict[str, Any] = {}
+        block = LaunchBlock()
         if self.package:
-            block.update(package=self.package, file=self.file)
+            block["package"] = self.package
+            if self.file is not None:
+                block["file"] = self.file
         else:
             block["path"] = os.path.relpath(self.path, base) if base is not None else str(self.path)
         if self.arguments:
@@ -114,20 +117,18 @@ class ProcessCapture:
     def node_names(self) -> list[str]:
         return self.capture.node_names if self.capture is not None else []
 
-    def contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> dict[str, Any]:
+    def contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> ContractNodes:
         if self.capture is None:
             return {}
         return self.capture.to_contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos)
 
-    def entry(self) -> dict[str, Any]:
+    def entry(self) -> ProcessEntry:
         """This process in a system contract's ``processes:`` block."""
-        out: dict[str, Any] = {}
-        if self.launched.package:
-            out["package"] = self.launched.package
-        out["executable"] = self.launched.executable
-        out["name"] = self.launched.expected_fqn
-        out["nodes"] = self.node_names
-        return out
+        launched = self.launched
+        if launched.package:
+            return {"package": launched.package, "executable": launched.executable, "name": launched.expected_fqn,
+                    "nodes": self.node_names}
+        return {"executable": launched.executable, "name": launched.expected_fqn, "nodes": self.node_names}
 
 
 @dataclass
@@ -138,15 +139,23 @@ class SystemCapture:
     launch: LaunchResult
     processes: list[ProcessCapture]
 
-    def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> dict[str, Any]:
+    def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> ContractNodes:
         """All nodes of the system (a node name held by several processes: the union of their
-        interfaces and parameters, the first one's lifecycle state)."""
+        interfaces and parameters, the first one's lifecycle state, and ``destroyed_at`` only when
+        every holder destroyed it: the latest, since the name lived until then)."""
         merged: dict[str, dict[str, Any]] = {}
         for process in self.processes:
             for fqn, node in process.contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos).items():
+                first = fqn not in merged
                 into = merged.setdefault(fqn, {})
-                for key, value in node.items():
-                    if key == LIFECYCLE:
+                keys: Mapping[str, Any] = node  # merged key by key, whatever the key
+                if not first and DESTROYED_AT not in keys:  # this holder lived on
+                    into.pop(DESTROYED_AT, None)
+                for key, value in keys.items():
+                    if key == DESTROYED_AT:
+                        if first or DESTROYED_AT in into:
+                            into[key] = max(value, into.get(key, value))
+                    elif key == LIFECYCLE:
                         into.setdefault(key, value)
                     elif key == PARAMETERS:
                         have = {e["name"] for e in into.setdefault(key, [])}
@@ -156,9 +165,10 @@ class SystemCapture:
                         for entry in value:
                             if entry not in into.setdefault(key, []):
                                 into[key].append(entry)
-        return {fqn: merged[fqn] for fqn in sorted(merged)}
+        # the union of contract nodes is a contract node
+        return {fqn: cast(ContractNode, merged[fqn]) for fqn in sorted(merged)}
 
-    def process_entries(self) -> list[dict[str, Any]]:
+    def process_entries(self) -> list[ProcessEntry]:
         return [p.entry() for p in self.processes]
 
     @property
@@ -228,14 +238,15 @@ def process_spec(node: LaunchedNode, base: TargetSpec, params_dir: Path) -> Targ
         requests = params_dir / f"component_loads_{counter[0]}.txt"
         requests.write_text(component_loads.requests_text(node.expected_fqn or "", node.components), encoding="utf-8")
         env[component_loads.VARIABLE] = str(requests)
-    options: dict[str, Any] = {"env": env} if env else {}
+    options: TargetBlock = {"env": env} if env else {}
     if node.cwd is not None:
         options["cwd"] = str(node.cwd)
     if node.command is not None:
         options["command"] = list(node.command)
     elif node.package:
-        options.update(package=node.package, executable=node.executable,
-                       arguments=[*node.arguments, *node.ros_argument_list(params_file)])
+        options["package"] = node.package
+        options["executable"] = node.executable
+        options["arguments"] = [*node.arguments, *node.ros_argument_list(params_file)]
     else:
         options["command"] = [node.executable, *node.arguments, *node.ros_argument_list(params_file)]
     spec = TargetSpec(settle=base.settle, timeout=base.timeout, horizon=base.horizon, lifecycle=base.lifecycle,

@@ -245,15 +245,22 @@ def test_graph_of_a_system_contract(cli_nodes_only):
     assert missing.returncode == 2 and "nowhere.system.yaml" in missing.stderr
 
 
-def test_system_contracts_in_sarif(cli_nodes_only):
+def test_system_contracts_in_the_ci_formats(cli_nodes_only):
     cli = cli_nodes_only
     text = (EXAMPLES / "system_demo" / "broken_robot.system-demo.yaml").read_text()
-    cli.write("robot.system.yaml", text)
-    compat = cli("compat", "robot.system.yaml", "--format", "sarif")
-    assert compat.returncode == 1, compat
-    results = json.loads(compat.stdout)["runs"][0]["results"]
-    assert {"TYPE_MISMATCH", "DUPLICATE_NODE_NAME"} <= {r["ruleId"] for r in results}
     lines = text.splitlines()
+    cli.write("robot.system.yaml", text)
+    compat = {fmt: cli("compat", "robot.system.yaml", "--format", fmt) for fmt in ("sarif", "markdown", "github")}
+    assert all(result.returncode == 1 for result in compat.values()), compat
+    # markdown and github: `compat` of system contracts printed its text report for these two
+    assert compat["markdown"].stdout.startswith("## Compatibility check of 1 contract(s): FAIL\n"), compat
+    assert "| BREAKING | `/robot1/map` | `TYPE_MISMATCH` |" in compat["markdown"].stdout, compat
+    annotations = [line for line in compat["github"].stdout.splitlines() if "TYPE_MISMATCH" in line]
+    assert annotations and all(a.startswith("::error file=robot.system.yaml,line=") for a in annotations), compat
+    line = int(annotations[0].split("line=")[1].split(",")[0])  # at the requesting end's entry
+    assert lines[line - 1].strip() == "- name: /robot1/map", (line, annotations)
+    results = json.loads(compat["sarif"].stdout)["runs"][0]["results"]
+    assert {"TYPE_MISMATCH", "DUPLICATE_NODE_NAME"} <= {r["ruleId"] for r in results}
     for result in results:  # each on the system contract, at the entry of its requesting end
         location = result["locations"][0]["physicalLocation"]
         assert location["artifactLocation"] == {"uri": "robot.system.yaml", "uriBaseId": "%SRCROOT%"}, result

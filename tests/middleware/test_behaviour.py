@@ -130,6 +130,26 @@ def test_default_output_path(middleware_library, tmp_path):
         default.unlink(missing_ok=True)
 
 
+def test_a_planted_symlink_at_the_temporary_name_is_not_followed(middleware_library, tmp_path):
+    # The capture used to be written to `<output>.tmp.<pid>` opened with O_TRUNC: in /tmp (the
+    # default output) another user could plant a symlink there and have the capture overwrite
+    # any file the user may write. `exec` keeps the shell's pid, so the link sits at exactly the
+    # name the old writer used.
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious\n")
+    output = tmp_path / "capture.json"
+    script = f'ln -s {victim} {output}.tmp.$$ && exec "$@"'
+    proc = h.spawn(middleware_library, ["sh", "-c", script, "sh", *h.python_node("talker.py")], output,
+                   {"RMW_INTROSPECT_EXIT": "1"})
+    out, err = proc.communicate(timeout=30)
+    assert proc.returncode == 0, err
+    assert victim.read_text() == "precious\n"
+    h.assert_capture(h.load_capture(output), [node("talker")], infra("/talker") + TALKER)
+    assert oct(output.stat().st_mode & 0o777) == oct(0o644)
+    # only the planted link is left: every temporary file was renamed over the output
+    assert [p.name for p in tmp_path.glob("capture.json.tmp.*")] == [f"capture.json.tmp.{proc.pid}"]
+
+
 def test_pid_placeholder_in_output(middleware_library, tmp_path):
     proc = h.spawn(middleware_library, h.python_node("talker.py"), tmp_path / "cap_<pid>.json",
                    {"RMW_INTROSPECT_EXIT": "1"})

@@ -19,8 +19,8 @@ import pytest
 import warm_helpers as w
 from rmwi_processes import alive, wait_gone
 
-from pytest_rmw_introspect.run import ros_env, runner
-from pytest_rmw_introspect.run.target import TargetSpec
+from pytest_rmw_introspect.run import ros_env
+from pytest_rmw_introspect.run.target import TargetSpec, environment
 from pytest_rmw_introspect.run.warm import client as warm
 
 TALKER = str(w.NODES / "talker.py")
@@ -183,7 +183,7 @@ def test_a_runner_of_another_user_is_refused(runners, middleware_library):
     owner = runners()
     owner.capture()
     scope = owner.proc.args[-1]
-    env = runner.environment(TargetSpec.from_mapping({"script": TALKER}), middleware_library,
+    env = environment(TargetSpec.from_mapping({"script": TALKER}), middleware_library,
                              ros_env.detect(), Path("/unused"))
     address = warm.shared_address(scope, warm.server_key(env, os.getcwd()))
     read_end, write_end = os.pipe()

@@ -20,7 +20,7 @@ from rmwi_processes import wait_gone
 
 from pytest_rmw_introspect.errors import TargetExited, TargetTimeout
 from pytest_rmw_introspect.run import process, runner
-from pytest_rmw_introspect.run.target import TargetSpec
+from pytest_rmw_introspect.run.target import LOG_DIR, TargetSpec
 from pytest_rmw_introspect.run.warm import client as warm
 
 TALKER = str(w.NODES / "talker.py")
@@ -357,7 +357,7 @@ def test_a_capture_keeps_its_log_file_with_its_files_not_in_the_users_log_direct
     assert kept.started == ("cold" if cold_start else "warm")
     assert kept.path is not None
     try:
-        assert list((kept.path.parent / runner.LOG_DIR).glob("python_*.log"))
+        assert list((kept.path.parent / LOG_DIR).glob("python_*.log"))
     finally:
         shutil.rmtree(kept.path.parent, ignore_errors=True)
     mine = tmp_path / "my_logs"

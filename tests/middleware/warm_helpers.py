@@ -11,7 +11,7 @@ from typing import Any
 
 from pytest_rmw_introspect.errors import TargetError
 from pytest_rmw_introspect.model.capture import Capture
-from pytest_rmw_introspect.run import middleware, ros_env, runner
+from pytest_rmw_introspect.run import middleware, prewarm, ros_env, runner, target
 from pytest_rmw_introspect.run.target import TargetSpec
 from pytest_rmw_introspect.run.warm import client as warm
 
@@ -109,10 +109,10 @@ def cold_and_warm(spec_options: dict[str, Any], base_dir: Path | None = None) ->
 def server_for(spec_options: dict[str, Any] | None = None) -> warm.WarmServer:
     """The (ready) warm start server for targets with these options."""
     spec = TargetSpec.from_mapping(spec_options or {})
-    reason = runner.warm_up(spec, wait=60.0)
+    reason = prewarm.warm_up(spec, wait=60.0)
     assert reason is None, reason
     library = middleware.ensure_library()
-    env = runner.environment(spec, Path(library), ros_env.detect(), Path("/unused"))
+    env = target.environment(spec, Path(library), ros_env.detect(), Path("/unused"))
     server = warm.POOL.server(env, str(spec.cwd or os.getcwd()), wait=60.0)
     assert isinstance(server, warm.WarmServer), server
     return server

@@ -18,6 +18,7 @@ def overlay() -> overlay_support.Overlay:
     found = overlay_support.find_overlay()
     if found is None:
         pytest.skip(overlay_support.BUILD_HINT)
+    overlay_support.build_middleware(found)
     return found
 
 

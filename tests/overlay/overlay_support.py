@@ -98,6 +98,18 @@ def cmake_build(overlay: Overlay, src: Path, name: str, *args: str) -> Path:
     return dest
 
 
+def build_middleware(overlay: Overlay) -> Path:
+    """The middleware library a capture over ``overlay`` runs on (the cache keys it by the
+    overlay's prefix, so it is a build of its own), built before any test captures: a first
+    capture would otherwise build it inside its own timeout (minutes on 2 cores after a change
+    of the middleware's sources)."""
+    code = "from pytest_rmw_introspect.run import middleware; print(middleware.ensure_library())"
+    built = subprocess.run([sys.executable, "-c", code], env=overlay.env(), capture_output=True, text=True,
+                           timeout=1800, check=False)
+    assert built.returncode == 0, f"building the middleware over the overlay failed:\n{built.stderr}"
+    return Path(built.stdout.strip().splitlines()[-1])
+
+
 def build_cpp_examples(overlay: Overlay) -> Path:
     """The install prefix of rmw_introspect_examples_cpp built over ``overlay``."""
     return cmake_build(overlay, CPP_EXAMPLES, "examples-cpp") / "install"

@@ -16,6 +16,9 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 
+# the first test of a session may build the middleware and the C++ examples over the overlay
+pytestmark = pytest.mark.timeout(1800)
+
 ROBOT = """
 from launch import LaunchDescription
 from launch.actions import GroupAction
@@ -123,6 +126,18 @@ def test_a_component_the_container_cannot_load_is_a_node_not_created(tmp_path, e
     assert (f"the launch file loads component rmw_introspect_examples_cpp::Listner as /robot/monitor "
             f"(robot.launch.py:{line}) into /robot/container, but no node came of it: the container refused it: "
             "Failed to find class with the requested plugin name.") in json.dumps(unloaded)
+
+
+def test_a_component_s_remapping_that_changes_none_of_its_names_is_found(tmp_path, env):
+    # the talker component's own rule misspells its topic; the scope's SetRemap (chatter:=status,
+    # used by the monitor only) is not the talker's to use
+    robot = ROBOT.replace("PLUGIN", "rmw_introspect_examples_cpp::Listener").replace(
+        "remappings=[('chatter', 'status')]", "remappings=[('chater', 'status')]")
+    unused, line = one_finding(tmp_path, env, robot, "REMAP_UNUSED", "plugin='rmw_introspect_examples_cpp::Talker'")
+    assert (unused["name"], unused["severity"]) == ("chater:=status", "BREAKING"), unused
+    assert "/robot/talker" in json.dumps(unused)
+    assert f"the remapping chater -> status (at robot.launch.py:{line}) changed none of the names of /robot/talker:" \
+        in unused["message"], unused
 
 
 def test_the_python_launch_walker_runs_on_real_launch_ros(overlay):

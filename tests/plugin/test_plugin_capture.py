@@ -10,7 +10,7 @@ import pytest
 
 import pytest_rmw_introspect
 from pytest_rmw_introspect import Capture, NoNodeCreated, TargetExited
-from pytest_rmw_introspect.model.capture import Interface, Node
+from pytest_rmw_introspect.model.capture_view import Interface, Node
 
 NODES = Path(__file__).parent / "nodes"
 

@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import json
+from pathlib import Path
 
 import pytest
 from sample_contracts import STRING_HASH
 
 import pytest_rmw_introspect
 from pytest_rmw_introspect.errors import CaptureFormatError
-from pytest_rmw_introspect.model import capture as capture_module
-from pytest_rmw_introspect.model.capture import Capture, is_infrastructure
+from pytest_rmw_introspect.model.capture import Capture, OtherProcess, RunFacts
+from pytest_rmw_introspect.model.capture_file import Endpoint
+from pytest_rmw_introspect.model.capture_view import is_infrastructure
 
 HASH = "RIHS01_" + "ab" * 32
 
@@ -233,7 +236,7 @@ def test_parameter_service_of_another_node_is_not_infrastructure():
 
 
 def test_is_infrastructure_for_the_root_namespace():
-    ep = capture_module.Endpoint(seq=1, kind="service", node_id=1, node="/t", name="/t/set_parameters",
+    ep = Endpoint(seq=1, kind="service", node_id=1, node="/t", name="/t/set_parameters",
                                  type="x", type_hash=None, qos={})
     assert is_infrastructure(ep, "/t")
     assert not is_infrastructure(ep, "/u")
@@ -260,6 +263,31 @@ def test_destroyed_endpoints_and_nodes_are_left_out_of_the_view_but_kept_raw():
     assert "/gone" not in [e.name for e in cap.endpoints()]
     assert "/gone" in [e.name for e in cap.endpoints(include_destroyed=True)]
     assert [n.fqn for n in cap.raw_nodes] == ["/talker", "/temporary"]
+
+
+def test_a_node_a_launched_process_destroyed_is_kept_in_the_system_s_nodes():
+    from pytest_rmw_introspect.launch.result import LaunchedNode, Where
+    from pytest_rmw_introspect.run.system_capture import ProcessCapture, SystemCapture
+
+    def process(label: str, destroyed_ms: float | None) -> ProcessCapture:
+        b = Builder()
+        n = b.node("worker", infrastructure=False)
+        b.ep(n, "publisher", "/work", "std_msgs/msg/String", type_hash=STRING_HASH)
+        if destroyed_ms is not None:  # the program destroyed it while it ran (not its final teardown)
+            b.doc["nodes"][0].update(destroyed=True, destroyed_virtual_ms=destroyed_ms)
+        launched = LaunchedNode(executable=label, package="demo", where=Where(Path("robot.launch.xml"), 3))
+        return ProcessCapture(launched=launched, label=label, capture=b.capture())
+
+    def nodes(*processes: ProcessCapture) -> dict:
+        return SystemCapture(spec=None, launch=None, processes=list(processes)).to_contract_nodes()
+
+    # used to fail: the node's destroyed_at was merged like a list of entries
+    [(fqn, node)] = nodes(process("a", 8100.0)).items()
+    assert (fqn, node["destroyed_at"], [p["name"] for p in node["publishers"]]) == ("/worker", 8.1, ["/work"])
+    # a name several processes hold: destroyed when the last holder was; alive when one lived on
+    assert nodes(process("a", 3000.0), process("b", 8100.0))["/worker"]["destroyed_at"] == 8.1
+    assert "destroyed_at" not in nodes(process("a", 3000.0), process("b", None))["/worker"]
+    assert "destroyed_at" not in nodes(process("a", None), process("b", 3000.0))["/worker"]
 
 
 def test_same_topic_twice_gives_one_entry_with_both_endpoints():
@@ -394,8 +422,7 @@ def test_entities_destroyed_in_the_final_teardown_are_in_the_view(talker):
     assert all(e.destroyed and e.in_teardown for e in cap.raw_endpoints)  # the raw truth
     assert cap.ended_before_settle is True and not cap.settled_once
     assert not cap.ended_by_itself  # the runner knows the exit status; the file alone does not
-    cap.returncode = 0
-    assert cap.ended_by_itself
+    assert cap.with_facts(RunFacts(returncode=0)).ended_by_itself
 
 
 def test_an_endpoint_destroyed_before_the_final_teardown_stays_out(talker):
@@ -518,3 +545,25 @@ def test_a_client_of_a_service_of_the_same_process_is_noted():
     assert notes[0].startswith("node /caller has a client of /ping, a service of its own node in this process")
     assert notes[1].startswith("node /asker has a client of /ping, a service of node /caller in this process")
     assert "never answered in a capture" in notes[1]
+
+
+def test_the_runners_facts_are_one_frozen_value_given_once(talker, tmp_path):
+    cap = Capture.from_dict(copy.deepcopy(talker.doc), path=tmp_path / "capture.1.json")
+    assert cap.facts == RunFacts() and cap.returncode is None and cap.started is None  # read from a file
+    child = OtherProcess(pid=7, argv=["python3", "child.py"], node_names=["/child"])
+    facts = RunFacts(returncode=-2, stderr="tail", wall_time=1.5, command=("python3", "talker.py"),
+                     other_processes=(child,), from_child=None, ros_distribution="jazzy", started="warm",
+                     start_note=None)
+    given = cap.with_facts(facts, argv=["python3", "talker.py"], keep_path=False)
+    assert (given.returncode, given.stderr, given.wall_time, given.command, given.other_processes) == (
+        -2, "tail", 1.5, ["python3", "talker.py"], [child])
+    assert (given.ros_distribution, given.started, given.start_note, given.from_child) == ("jazzy", "warm", None, None)
+    assert given.argv == ["python3", "talker.py"] and given.path is None
+    assert cap.facts == RunFacts() and cap.path == tmp_path / "capture.1.json"  # the capture read is unchanged
+    assert given.nodes is cap.nodes  # the contract view is shared, not built again
+    with pytest.raises(AttributeError):
+        given.returncode = 0  # type: ignore[misc]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        facts.returncode = 0  # type: ignore[misc]
+    again = given.with_infrastructure(True)
+    assert again.facts is facts and again.argv == given.argv and "/rosout" in again["/talker"].names("publishers")

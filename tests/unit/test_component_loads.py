@@ -68,7 +68,8 @@ def test_a_component_is_judged_on_what_its_load_request_gives_it():
     from pytest_rmw_introspect.check import launch_settings
     from pytest_rmw_introspect.compare import launch_given
 
-    node = {"parameters": [{"name": "rate_hz", "type": "double", "default_value": 5.5}]}
+    node = {"parameters": [{"name": "rate_hz", "type": "double", "default_value": 5.5}],
+            "publishers": [{"name": "/robot/status"}]}  # its remapping chatter:=status is used
     container = LaunchedProcess("rclcpp_components/component_container", "/robot/container",
                                 {"/robot/container": {"parameters": []}, "/robot/talker": node},
                                 given=launch_given.Given(where="robot.launch.py:8"),
@@ -80,3 +81,33 @@ def test_a_component_is_judged_on_what_its_load_request_gives_it():
     [frame, *_] = launch_given.given_findings([container])
     assert frame.message.startswith(
         f"parameter `frame` is given ({TALKER.where}) but /robot/talker does not declare it")
+
+
+def test_a_component_s_own_remappings_are_judged_on_its_own_node():
+    from dataclasses import replace
+
+    from pytest_rmw_introspect.check import launch_settings
+    from pytest_rmw_introspect.compare import launch_given
+
+    # the scope's rule (first) and the component's own: `chatter:=status` is its own here
+    talker = replace(TALKER, parameters=(), remap_rules=("/tf:=tf", "chatter:=status"), scope_remap_rules=1)
+    listener = replace(LISTENER, name="listener", namespace="/robot", remap_rules=("/tf:=tf",), scope_remap_rules=1)
+
+    def findings(talker_topic: str) -> list[tuple[str, str, str, str]]:
+        nodes = {"/robot/container": {}, "/robot/talker": {"publishers": [{"name": talker_topic}]},
+                 "/robot/listener": {"subscriptions": [{"name": "/robot/status"}]}}
+        container = LaunchedProcess("rclcpp_components/component_container", "/robot/container", nodes,
+                                    given=launch_given.Given(where="robot.launch.py:8"),
+                                    component_given={"/robot/talker": launch_settings.component_given(talker),
+                                                     "/robot/listener": launch_settings.component_given(listener)})
+        return [(f.rule, f.node, f.name, f.message) for f in launch_given.given_findings([container])]
+
+    # used: the talker publishes the remapped name; and the scope's /tf rule, which reaches every
+    # node after it and that none of these uses, is never judged against one component
+    assert findings("/robot/status") == []
+    # unused: the talker's publisher is not named `chatter` (a typo in the component or the rule);
+    # the listener's subscription to /robot/status does not count for the talker's own rule
+    [(rule, node, name, message)] = findings("/robot/chater")
+    assert (rule, node, name) == ("REMAP_UNUSED", "/robot/talker", "chatter:=status")
+    assert message.startswith(f"the remapping chatter -> status (at {TALKER.where}) changed none of the names of "
+                              "/robot/talker:")

@@ -201,3 +201,68 @@ def test_unsupported_python_actions_name_their_file_and_line(tmp_path, prefix):
     [unsupported] = launch_reader.read(path, {"use_lidar": "true"}, prefixes=[prefix]).unsupported
     assert unsupported.where == launch_reader.Where(path, line_of(path, "TimerAction(period="))
     assert str(unsupported.where).endswith(f"robot.launch.py:{unsupported.where.line}")
+
+
+#: XML scoping the project's own reader implements: groups, scoped="false", <include>, and the
+#: <set_remap>/<set_parameter> rules at every level
+SCOPED_XML = """
+<launch>
+  <set_remap from="/tf" to="tf"/>
+  <set_parameter name="use_sim_time" value="true"/>
+  <group>
+    <push_ros_namespace namespace="robot1"/>
+    <set_remap from="scan" to="lidar/scan"/>
+    <set_parameter name="rate" value="2.5"/>
+    <node pkg="demo" exec="laser" name="lidar"><remap from="odom" to="wheel/odom"/></node>
+    <include file="$(dirname)/inner.launch.xml"/>
+    <node pkg="demo" exec="listener" name="after_include"/>
+  </group>
+  <group scoped="false">
+    <set_remap from="cmd" to="cmd_vel"/>
+    <set_parameter name="unscoped" value="7"/>
+  </group>
+  <node pkg="demo" exec="listener" name="after_groups"/>
+  <include file="$(dirname)/inner.launch.xml"/>
+  <node pkg="demo" exec="talker" name="last"/>
+</launch>
+"""
+INNER_XML = """
+<launch>
+  <set_remap from="inner" to="from_inner"/>
+  <set_parameter name="inner_param" value="1"/>
+  <node pkg="demo" exec="talker" name="t"/>
+</launch>
+"""
+
+
+@pytest.mark.parametrize("top_level", [True, False], ids=["rules-set-before-the-groups", "no-rule-before-the-groups"])
+def test_xml_scoping_of_the_reader_equals_launch_ros(tmp_path, prefix, top_level):
+    """The XML reader's scopes (what each node is given) against launch_ros's own, which walks the
+    same file included from a Python launch file: the same nodes, remapping rules in the same
+    order, and the same named parameters. launch_ros's scoping depends on whether a rule was set
+    before a group (the group then adds to the same list, and its rules outlive it), so both."""
+    xml = textwrap.dedent(SCOPED_XML)
+    if not top_level:
+        xml = xml.replace('<set_remap from="/tf" to="tf"/>\n', "").replace('<set_parameter name="use_sim_time" value="true"/>\n', "")
+    assert ('"/tf"' in xml and "use_sim_time" in xml) == top_level
+    (tmp_path / "robot.launch.xml").write_text(xml)
+    (tmp_path / "inner.launch.xml").write_text(textwrap.dedent(INNER_XML))
+    (tmp_path / "wrapper.launch.py").write_text(textwrap.dedent(f"""
+        from launch import LaunchDescription
+        from launch.actions import IncludeLaunchDescription
+        from launch.launch_description_sources import AnyLaunchDescriptionSource
+
+
+        def generate_launch_description():
+            return LaunchDescription([IncludeLaunchDescription(AnyLaunchDescriptionSource('{tmp_path / "robot.launch.xml"}'))])
+        """))
+
+    def given(path: Path) -> list[tuple[str | None, tuple[tuple[str, str], ...], list[tuple[str, object]]]]:
+        return [(node.expected_fqn, (*node.scope_remappings, *node.remappings),
+                 [(p.name, p.value) for p in node.parameters if p.name])
+                for node in launch_reader.read(path, prefixes=[prefix]).nodes]
+
+    ours, theirs = given(tmp_path / "robot.launch.xml"), given(tmp_path / "wrapper.launch.py")
+    assert [fqn for fqn, _, _ in theirs] == ["/robot1/lidar", "/robot1/t", "/robot1/after_include", "/after_groups",
+                                             "/t", "/last"]
+    assert ours == theirs

@@ -557,12 +557,14 @@ def test_components_are_the_load_requests_launch_ros_makes(tmp_path):
     assert (talker.package, talker.plugin, talker.name, talker.namespace, talker.where.line) == (
         "demo", "demo::Talker", "talker", "/robot", 6)
     assert talker.remap_rules == ("chatter:=status", "out:=talk")
+    assert talker.own_remappings == (("out", "talk"),)  # the <set_remap> of the scope is not its own
     # the `/**` and exact-name sections of the file (launch_ros's rule for components), typed
     assert talker.parameters == (("use_sim_time", 1, True), ("frame", 4, "map"), ("rate_hz", 3, 4.0),
                                  ("limits.max", 2, 2), ("ids", 7, (1, 2)))
     assert talker.extra_arguments == (("use_intra_process_comms", 1, True),)
     assert (listener.plugin, listener.namespace, listener.remap_rules, listener.parameters) == (
         "demo::Listener", "/abs", ("chatter:=status",), (("use_sim_time", 1, True),))
+    assert listener.own_remappings == ()
     bad = write(tmp_path / "bad.launch.xml", """
         <launch>
           <node_container pkg="rclcpp_components" exec="component_container" name="c">

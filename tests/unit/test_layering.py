@@ -54,6 +54,10 @@ LOCAL_IMPORTS = {
                                           "without the warm start client (~15 ms)",
     ("run.runner", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only when a target may start warm: "
                                                  "`rmw-introspect capture` starts its one target cold without it",
+    ("run.target", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only to plan a start that may be "
+                                                 "warm: `rmw-introspect capture` resolves its one target cold without it",
+    ("run.prewarm", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only when a session starts a "
+                                                  "warm start server ahead of its captures",
     ("run.runner", "pytest_rmw_introspect.model.capture"): "the capture model (~30 ms of dataclass creation) is "
                                                            "imported while the first target starts, not before it",
     ("run.ros_env", "importlib"): "importlib.metadata (+ email) costs ~10 ms; only a venv without the "
@@ -274,7 +278,9 @@ def test_the_public_api_exports_every_type_its_functions_return():
 #: model (imported while the target starts), the warm start client (its one target starts cold),
 #: and the slow parts of the standard library the CLI used to load (docs/performance.md)
 NOT_FOR_CAPTURE = ("yaml", "deepdiff", "jsonschema", "numpy", "ctypes.util", "importlib.metadata",
-                   "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.warm.client", "socket",
+                   "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.model.capture_file",
+                   "pytest_rmw_introspect.model.capture_view", "pytest_rmw_introspect.model.capture_notes",
+                   "pytest_rmw_introspect.run.warm.client", "socket",
                    "pytest_rmw_introspect.check.pipeline", "pytest_rmw_introspect.check.golden",
                    "pytest_rmw_introspect.compare.drift", "pytest_rmw_introspect.cli.system_contracts",
                    "pytest_rmw_introspect.cli.commands", "pytest_rmw_introspect.launch.reader")
@@ -300,6 +306,7 @@ def test_the_capture_command_starts_without_the_pipeline_and_yaml():
 NOT_FOR_THE_CONTROLLER = ("yaml", "deepdiff", "jsonschema", "numpy", "pytest_rmw_introspect.check.pipeline",
                           "pytest_rmw_introspect.check.system_pipeline", "pytest_rmw_introspect.check.golden",
                           "pytest_rmw_introspect.run.runner", "pytest_rmw_introspect.model.capture",
+                          "pytest_rmw_introspect.model.capture_file", "pytest_rmw_introspect.model.capture_view",
                           "pytest_rmw_introspect.plugin.hooks")
 
 
@@ -307,7 +314,8 @@ NOT_FOR_THE_CONTROLLER = ("yaml", "deepdiff", "jsonschema", "numpy", "pytest_rmw
 #: a session with no contract test never needs the pipelines (docs/performance.md)
 NOT_FOR_THE_HOOKS = ("deepdiff", "jsonschema", "numpy", "pytest_rmw_introspect.check.pipeline",
                      "pytest_rmw_introspect.check.system_pipeline", "pytest_rmw_introspect.check.golden",
-                     "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.run.system_capture",
+                     "pytest_rmw_introspect.model.capture", "pytest_rmw_introspect.model.capture_file",
+                     "pytest_rmw_introspect.model.capture_view", "pytest_rmw_introspect.run.system_capture",
                      "pytest_rmw_introspect.compare.drift")
 
 

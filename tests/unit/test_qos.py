@@ -238,7 +238,7 @@ def test_errors(case, pub, sub, reason):
     # liveliness AUTOMATIC on both sides unless the row says otherwise: no stray warning
     pub = {"liveliness": "AUTOMATIC", **pub}
     sub = {"liveliness": "AUTOMATIC", **sub}
-    compatibility, text = qos.check_compatible(*pair(pub, sub))
+    compatibility, text = qos.profile_compatibility(*pair(pub, sub))
     assert compatibility is Compatibility.ERROR
     assert text == f"ERROR: {reason}" or text.startswith(f"ERROR: {reason}")
     assert "WARNING" not in text
@@ -286,7 +286,7 @@ NEUTRAL = {"reliability": "RELIABLE", "durability": "VOLATILE", "liveliness": "A
 
 @pytest.mark.parametrize(("policy", "offered", "requested"), WARNING_ROWS)
 def test_warnings(policy, offered, requested):
-    compatibility, text = qos.check_compatible(
+    compatibility, text = qos.profile_compatibility(
         *pair({**NEUTRAL, policy: offered}, {**NEUTRAL, policy: requested}))
     assert compatibility is Compatibility.WARNING
     assert text.startswith("WARNING: ") and policy in text
@@ -295,7 +295,7 @@ def test_warnings(policy, offered, requested):
 
 @pytest.mark.parametrize(("policy", "offered", "requested"), OK_ROWS)
 def test_ok(policy, offered, requested):
-    assert qos.check_compatible(
+    assert qos.profile_compatibility(
         *pair({**NEUTRAL, policy: offered}, {**NEUTRAL, policy: requested})
     ) == (Compatibility.OK, "")
 
@@ -323,12 +323,12 @@ def test_ok(policy, offered, requested):
 def test_duration_and_ignored_fields_ok(pub, sub):
     pub = {"liveliness": "AUTOMATIC", **pub}
     sub = {"liveliness": "AUTOMATIC", **sub}
-    assert qos.check_compatible(*pair(pub, sub)) == (Compatibility.OK, "")
+    assert qos.profile_compatibility(*pair(pub, sub)) == (Compatibility.OK, "")
 
 
 def test_warnings_are_only_reported_without_errors():
     # reliability error plus a durability situation that alone would be a warning
-    compatibility, text = qos.check_compatible(
+    compatibility, text = qos.profile_compatibility(
         *pair({"reliability": "BEST_EFFORT", "durability": "SYSTEM_DEFAULT"},
               {"reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}))
     assert compatibility is Compatibility.ERROR
@@ -336,7 +336,7 @@ def test_warnings_are_only_reported_without_errors():
 
 
 def test_all_errors_are_reported_in_rule_order():
-    _, text = qos.check_compatible(
+    _, text = qos.profile_compatibility(
         *pair({"reliability": "BEST_EFFORT", "liveliness": "AUTOMATIC"},
               {"durability": "TRANSIENT_LOCAL", "deadline_ns": S, "liveliness": "MANUAL_BY_TOPIC"}))
     assert [part.split(" ")[1] for part in text.split("; ")] == [
@@ -345,12 +345,12 @@ def test_all_errors_are_reported_in_rule_order():
 
 def test_default_profiles_warn_about_system_default_liveliness():
     # rmw's own profiles leave liveliness at SYSTEM_DEFAULT: rmw answers WARNING, so do we
-    assert qos.check_compatible("default", "default")[0] is Compatibility.WARNING
+    assert qos.profile_compatibility("default", "default")[0] is Compatibility.WARNING
 
 
-def test_check_compatible_accepts_contract_forms():
-    assert qos.check_compatible("sensor_data", "default")[0] is Compatibility.ERROR
-    assert qos.check_compatible({"profile": "map", "liveliness": "AUTOMATIC"},
+def test_profile_compatibility_accepts_contract_forms():
+    assert qos.profile_compatibility("sensor_data", "default")[0] is Compatibility.ERROR
+    assert qos.profile_compatibility({"profile": "map", "liveliness": "AUTOMATIC"},
                                 {"profile": "map", "liveliness": "AUTOMATIC"}) == (
         Compatibility.OK, "")
 
@@ -382,7 +382,7 @@ def _assert_matches_rmw(cases):
     for pub, sub in cases:
         expected = rclpy_qos.qos_check_compatible(
             _rclpy_profile(rclpy_qos, pub), _rclpy_profile(rclpy_qos, sub))[0]
-        actual = qos.check_compatible(pub, sub)[0]
+        actual = qos.profile_compatibility(pub, sub)[0]
         if int(expected) != int(actual):
             mismatches.append((pub, sub, expected, actual))
     assert not mismatches, mismatches[:5]

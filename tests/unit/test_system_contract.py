@@ -216,15 +216,15 @@ def test_system_rules_on_contract_files(tmp_path):
         """))
     loaded = system_pipeline.load_any(["robot.system.yaml"], base_dir=tmp_path)
     assert [p.label for p in loaded.processes] == ["demo/talker", "demo/listener"]
-    assert rules(system_pipeline.system_items(loaded)) == [("QOS_INCOMPATIBLE", "/robot/chatter", "demo/listener", "demo/talker")]
+    assert rules(system_pipeline.compatibility_items(loaded)) == [("QOS_INCOMPATIBLE", "/robot/chatter", "demo/listener", "demo/talker")]
     both = system_pipeline.load_any(["robot.system.yaml", "talker.interfaces.yaml"], base_dir=tmp_path)
     labels = [p.label for p in both.processes]
     assert labels[0].endswith("robot.system.yaml: demo/talker") and labels[1].endswith("robot.system.yaml: demo/listener")
     assert labels[2].endswith("talker.interfaces.yaml")
-    found = rules(system_pipeline.system_items(both))
+    found = rules(system_pipeline.compatibility_items(both))
     assert ("DUPLICATE_NODE_NAME", "/robot/talker") in [(r, n) for r, n, _a, _b in found]
     nodes_only = system_pipeline.load_any(["talker.interfaces.yaml"], base_dir=tmp_path)
-    assert not nodes_only.any_system and system_pipeline.system_items(nodes_only) == []
+    assert not nodes_only.any_system and system_pipeline.compatibility_items(nodes_only) == []
 
 
 def test_diff_of_system_contracts(tmp_path):

@@ -14,7 +14,7 @@ from pytest_rmw_introspect.errors import (
     TargetConfigError,
     TargetError,
 )
-from pytest_rmw_introspect.run import target
+from pytest_rmw_introspect.run import failure_hints, target
 from pytest_rmw_introspect.run.target import (
     TargetSpec,
     build_argv,
@@ -394,12 +394,12 @@ def test_a_module_with_main_but_no_main_block_gets_a_hint(tmp_path):
     (tmp_path / "pkg_a" / "__init__.py").write_text("")
     (tmp_path / "pkg_a" / "camera.py").write_text("def main():\n    pass\n")
     (tmp_path / "pkg_a" / "runs.py").write_text("def main():\n    pass\n\nif __name__ == '__main__':\n    main()\n")
-    hint = target.module_main_hint("pkg_a.camera", tmp_path / "pkg_a" / "camera.py")
+    hint = failure_hints.module_main_hint("pkg_a.camera", tmp_path / "pkg_a" / "camera.py")
     assert hint is not None and "defines main() but has no `if __name__ == \"__main__\":` block" in hint
     assert "`entry_point: pkg_a.camera:main`" in hint
-    assert target.module_main_hint("pkg_a.runs", tmp_path / "pkg_a" / "runs.py") is None
-    assert target.module_main_hint("pkg_a.missing", tmp_path / "pkg_a" / "missing.py") is None
-    assert target.module_main_hint("pkg_a.missing", None) is None
+    assert failure_hints.module_main_hint("pkg_a.runs", tmp_path / "pkg_a" / "runs.py") is None
+    assert failure_hints.module_main_hint("pkg_a.missing", tmp_path / "pkg_a" / "missing.py") is None
+    assert failure_hints.module_main_hint("pkg_a.missing", None) is None
 
 
 def test_lifecycle_and_read_parameters_defaults_and_layers():

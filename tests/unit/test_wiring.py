@@ -204,7 +204,7 @@ def test_compat_and_graph_of_a_system_contract_read_its_external_block(tmp_path)
               - {{name: /odom, type: nav_msgs/msg/Odometry}}
         """))
     loaded = system_pipeline.load_any(["robot.system.yaml"], base_dir=tmp_path)
-    assert found(system_pipeline.system_items(loaded)) == [("DANGLING_SUBSCRIPTION", "/odom", None)]
+    assert found(system_pipeline.compatibility_items(loaded)) == [("DANGLING_SUBSCRIPTION", "/odom", None)]
 
 
 # ---------------------------------------------------------------------------- what a node ignores
@@ -331,7 +331,8 @@ def test_install_prefixes_are_written_as_a_package_token(tmp_path):
 
 
 def test_a_capture_records_parameter_values_portably(tmp_path):
-    from pytest_rmw_introspect.model.capture import Capture, Node
+    from pytest_rmw_introspect.model.capture import Capture
+    from pytest_rmw_introspect.model.capture_view import Node
     from pytest_rmw_introspect.model.parameters import Parameter as CapturedParameter
 
     captured = Node(fqn="/map_server", name="map_server", namespace="/",

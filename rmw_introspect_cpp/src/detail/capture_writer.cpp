@@ -2,12 +2,14 @@
 #include "detail/capture_writer.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cassert>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -623,12 +625,16 @@ std::string render_capture(
 
 bool write_file_atomically(const std::string & path, const std::string & content, std::string * error)
 {
-  const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(getpid()));
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // A new file of an unpredictable name, created exclusively (mkostemp): the default output
+  // lies in /tmp, where a name derived from the pid could be a symlink planted by another user,
+  // which an O_TRUNC open would follow. rename() then replaces `path` itself, never a link's target.
+  std::string tmp = path + ".tmp.XXXXXX";
+  const int fd = ::mkostemp(tmp.data(), O_CLOEXEC);
   if (fd < 0) {
-    if (error) {*error = "cannot open " + tmp + ": " + std::strerror(errno);}
+    if (error) {*error = "cannot create a temporary file next to " + path + ": " + std::strerror(errno);}
     return false;
   }
+  (void)::fchmod(fd, 0644);  // mkostemp creates 0600; a capture is read by whoever runs the tests
   size_t written = 0;
   while (written < content.size()) {
     const ssize_t n = ::write(fd, content.data() + written, content.size() - written);

@@ -91,7 +91,7 @@ std::string render_capture_yaml(const CaptureHeader & header, const RecorderSnap
 std::string render_capture(
   CaptureFormat format, const CaptureHeader & header, const RecorderSnapshot & snapshot);
 
-/// Write `content` to `<path>.tmp.<pid>`, fsync-free flush, then rename over `path`.
+/// Write `content` to a new `<path>.tmp.XXXXXX` (created exclusively), then rename over `path`.
 /// Returns false and fills `error` on failure (the target is then left untouched).
 bool write_file_atomically(const std::string & path, const std::string & content, std::string * error);
 

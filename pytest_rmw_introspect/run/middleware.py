@@ -173,9 +173,22 @@ def build(src: Path, ros: ros_env.RosEnvironment, dest: Path) -> Path:
     return library
 
 
+#: ensure_library's answers in this process, by (RMW_INTROSPECT_LIBRARY, ROS install, cache directory)
+_ensured: dict[tuple[str | None, ros_env.RosEnvironment | None, str], Path] = {}
+
+
 def ensure_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path | None = None) -> Path:
-    """Path of the middleware library to run targets on, building it if need be."""
-    return resolve_library(ros, cache_dir).path
+    """Path of the middleware library to run targets on, building it if need be. Remembered for
+    the rest of the process while the file is there, as ``ros_env.detect`` is: finding a built
+    library hashes the listing of the middleware's ~600 source files (4-10 ms), which
+    ``capture()`` without a ``library`` paid at every capture. A source edited while a process
+    runs is built by the next process (a pytest session resolves the library once anyway)."""
+    key = (os.environ.get("RMW_INTROSPECT_LIBRARY"), ros, str(cache_dir if cache_dir else cache_root()))
+    known = _ensured.get(key)
+    if known is not None and known.is_file():
+        return known
+    found = _ensured[key] = resolve_library(ros, cache_dir).path
+    return found
 
 
 def resolve_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path | None = None) -> MiddlewareLibrary:

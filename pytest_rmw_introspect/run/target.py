@@ -687,6 +687,11 @@ def environment(
     if spec.stimuli:
         env["RMW_INTROSPECT_STIMULI"] = ",".join(spec.stimuli)
     env.setdefault("PYTHONUNBUFFERED", "1")
+    # numpy's OpenBLAS (rclpy imports numpy) starts a worker thread per core that spins for 2^28
+    # cycles before it sleeps: ~40 ms of a core, at the start of every cold Python target, during
+    # which the middleware cannot prove the process idle. 2^4 cycles: they sleep at once. (A warm
+    # child has no such threads: its server loaded OpenBLAS single-threaded.)
+    env.setdefault("OPENBLAS_THREAD_TIMEOUT", "4")
     return env
 
 

@@ -122,3 +122,35 @@ def test_failed_build_reports_the_step_and_the_log_tail(tmp_path, monkeypatch):
     assert "CMake configure step" in message
     assert "deliberately broken" in message
     assert str(tmp_path / "out" / "build.log") in message
+
+
+def test_the_library_is_looked_up_once_per_process_while_it_is_there(tmp_path, monkeypatch):
+    """capture() without a library used to hash the middleware's source listing at every capture."""
+    monkeypatch.delenv("RMW_INTROSPECT_LIBRARY", raising=False)
+    monkeypatch.setattr(middleware, "_ensured", {})
+    hashed = []
+    real_hash = middleware.sources_hash
+
+    def counting_hash(*args, **kwargs):
+        hashed.append(args)
+        return real_hash(*args, **kwargs)
+
+    def fake_build(src, ros, dest):
+        lib = dest / "install" / "lib" / middleware.LIBRARY_FILE
+        lib.parent.mkdir(parents=True, exist_ok=True)
+        lib.write_bytes(b"")
+        return lib
+
+    monkeypatch.setattr(middleware, "sources_hash", counting_hash)
+    monkeypatch.setattr(middleware, "build", fake_build)
+    ros = fake_ros(tmp_path / "empty-prefix")
+    first = middleware.ensure_library(ros, tmp_path / "cache")
+    assert middleware.ensure_library(ros, tmp_path / "cache") == first
+    assert len(hashed) == 1
+    first.unlink()  # gone (a cache cleared): looked up, and built, again
+    assert middleware.ensure_library(ros, tmp_path / "cache") == first and first.is_file()
+    assert len(hashed) == 2
+    chosen = tmp_path / "mine.so"
+    chosen.write_bytes(b"")
+    monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(chosen))  # the environment's choice still wins
+    assert middleware.ensure_library(ros, tmp_path / "cache") == chosen.resolve()

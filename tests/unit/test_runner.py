@@ -632,6 +632,48 @@ def test_a_hung_target_dies_with_its_runner(tmp_path, ros, library):
         time.sleep(0.05)
 
 
+#: a program that prints its parent-death signal (prctl PR_GET_PDEATHSIG)
+_PRINT_PDEATHSIG = "import ctypes\nv = ctypes.c_int()\nctypes.CDLL('libc.so.6').prctl(2, ctypes.byref(v), 0, 0, 0)\nprint(v.value)"
+
+
+@pytest.mark.parametrize("wrapped", [True, False], ids=["setpriv", "preexec_fn"])
+def test_a_target_starts_with_sigkill_as_its_parent_death_signal(monkeypatch, wrapped):
+    """Armed by ``setpriv --pdeathsig`` (which execs the target: vfork and exec instead of a fork
+    that runs Python in the child) where it is there, else by a preexec_fn."""
+    import signal
+
+    wrapper = process.death_signal_wrapper()
+    if wrapped and wrapper is None:
+        pytest.skip("no setpriv with --pdeathsig on this machine")
+    if not wrapped:
+        monkeypatch.setattr(process, "death_signal_wrapper", lambda: None)
+    proc = process.start([sys.executable, "-c", _PRINT_PDEATHSIG], env=os.environ, cwd=None)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 0, err
+    assert out.decode().strip() == str(int(signal.SIGKILL))
+    started_by = list(proc.args)[: len(wrapper or ())]
+    assert (started_by == list(wrapper or ()) and bool(wrapper)) == wrapped
+
+
+def test_a_program_that_cannot_start_is_an_oserror_with_or_without_the_wrapper(tmp_path, monkeypatch):
+    plain = tmp_path / "not_executable.sh"
+    plain.write_text("#!/bin/sh\n")
+    relative = tmp_path / "bin"
+    relative.mkdir()
+    (relative / "rmwi_here").write_text("#!/bin/sh\n")
+    (relative / "rmwi_here").chmod(0o755)
+    for argv, error in (([str(tmp_path / "missing")], FileNotFoundError),
+                        (["rmwi-no-such-program"], FileNotFoundError),
+                        ([str(plain)], PermissionError)):
+        with pytest.raises(error):
+            process.start(argv, env=os.environ, cwd=None)
+    # a relative PATH entry is the child's to resolve, in its own working directory (here the
+    # runner's would find it, the target's does not)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(FileNotFoundError):
+        process.start(["rmwi_here"], env={**os.environ, "PATH": "bin"}, cwd=tmp_path / "bin")
+
+
 def test_one_thread_reads_the_tails_of_both_pipes():
     (r1, w1), (r2, w2) = os.pipe(), os.pipe()
     out, err = process.OutputTail.read_together(os.fdopen(r1, "rb"), os.fdopen(r2, "rb"), limit=10)
@@ -756,6 +798,85 @@ def test_the_capture_model_is_imported_beside_the_target_not_in_the_main_thread(
     assert probe.stdout.strip() == "['/fake'] ['rmw-introspect import']"
 
 
+def test_a_capture_is_returned_without_waiting_for_its_files_to_be_removed(tmp_path, ros, library, monkeypatch):
+    """Removing a capture's working directory waits for the file system (~7 ms a capture on this
+    project's machine): the runner returns the capture and a thread of its own removes the files;
+    ``flush_removals`` (run at exit) waits for them."""
+    import shutil
+    import tempfile
+    import threading
+
+    temp = tmp_path / "tmp"
+    temp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(temp))
+    release = threading.Event()
+    real_rmtree = shutil.rmtree
+
+    def slow_rmtree(path, *args, **kwargs):
+        if str(path).startswith(str(temp)):  # a file system that takes its time, for this test's files only
+            release.wait(30)
+        return real_rmtree(path, *args, **kwargs)
+
+    monkeypatch.setattr(shutil, "rmtree", slow_rmtree)
+    returned: list[object] = []
+    capturing = threading.Thread(target=lambda: returned.append(run(tmp_path, ros, library, "write()\n")))
+    capturing.start()
+    capturing.join(20)
+    try:
+        assert returned, "run() waited for its working directory to be removed"
+        assert [p.name.startswith("rmw_introspect_") for p in temp.iterdir()] == [True]  # still there
+    finally:
+        release.set()
+        capturing.join(20)
+    runner.flush_removals()
+    assert list(temp.iterdir()) == []
+
+
+#: a runner process whose file removals are slow, so that its capture's files are still queued
+#: for removal when it exits
+_EXIT_WITH_REMOVALS_QUEUED = """
+import shutil, sys, time
+from pathlib import Path
+from pytest_rmw_introspect.run import runner
+from pytest_rmw_introspect.run.ros_env import RosEnvironment
+from pytest_rmw_introspect.run.target import TargetSpec
+
+real_rmtree = shutil.rmtree
+def slow_rmtree(path, *args, **kwargs):
+    time.sleep(0.3)
+    return real_rmtree(path, *args, **kwargs)
+shutil.rmtree = slow_rmtree
+script, library, prefix = sys.argv[1:4]
+ros = RosEnvironment(kind="system", prefix=Path(prefix), distro="jazzy", ament_prefixes=(Path(prefix),), library_dirs=())
+for _ in range(2):
+    runner.run(TargetSpec.from_mapping({"script": script}), library=library, ros=ros, cold_note="no server")
+print("captured")
+"""
+
+
+def test_the_files_of_captures_are_removed_before_the_runner_exits(tmp_path, ros, library):
+    temp = tmp_path / "tmp"
+    temp.mkdir()
+    script = fake(tmp_path, "write()\n")
+    result = subprocess.run([sys.executable, "-c", _EXIT_WITH_REMOVALS_QUEUED, str(script), str(library), str(ros.prefix)],
+                            capture_output=True, text=True, timeout=60, env={**os.environ, "TMPDIR": str(temp)})
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "captured"
+    assert list(temp.iterdir()) == []
+
+
+def test_openblas_threads_of_a_target_sleep_at_once_unless_the_user_says_otherwise(tmp_path, library):
+    """Spinning OpenBLAS workers (numpy, imported by rclpy) kept a cold target from being proven
+    idle for ~40 ms and took a core meanwhile."""
+    ros = RosEnvironment(kind="wheels", prefix=tmp_path, distro="jazzy", ament_prefixes=(tmp_path,))
+    output = tmp_path / "work" / "capture.<pid>.json"
+    base = {"PATH": os.environ["PATH"]}
+    spec = TargetSpec.from_mapping({"module": "m"})
+    assert target_module.environment(spec, library, ros, output, base=base)["OPENBLAS_THREAD_TIMEOUT"] == "4"
+    assert target_module.environment(spec, library, ros, output,
+                              base={**base, "OPENBLAS_THREAD_TIMEOUT": "28"})["OPENBLAS_THREAD_TIMEOUT"] == "28"
+    own = TargetSpec.from_mapping({"module": "m", "env": {"OPENBLAS_THREAD_TIMEOUT": "30"}})
+    assert target_module.environment(own, library, ros, output, base=base)["OPENBLAS_THREAD_TIMEOUT"] == "30"
 def _runtime_imports_from_target(tree: ast.AST) -> list[str]:
     """The names a module imports from ``run.target`` at run time (``TYPE_CHECKING`` blocks
     left out), at any depth; the module itself counts as ``<module>``."""

@@ -64,6 +64,7 @@ bench: bootstrap
 	$(VENV)/bin/python bench/bench_parameters_lifecycle.py
 	$(VENV)/bin/python bench/bench_cpp_talker.py
 	$(VENV)/bin/python bench/bench_quiescence.py
+	$(VENV)/bin/python bench/bench_cold_capture.py
 
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap

@@ -94,8 +94,9 @@ class Capture:
     time_to_settle_ms: float | None = None
     elapsed_ms: float | None = None
     #: "wait" (a thread waited quietly in an executor), "poll" (a thread polled rmw_wait and found
-    #: nothing, again and again) or "activity" (a steady loop that never waits kept using the
-    #: middleware); None before any settle
+    #: nothing, again and again), "activity" (a steady loop that never waits kept using the
+    #: middleware) or "sleep" (a loop that uses ROS and sleeps, proven idle while it slept);
+    #: None before any settle
     settled_by: str | None = None
     ever_waited: bool | None = None
     activity_calls: int | None = None

@@ -1468,3 +1468,114 @@ TEST_F(IdleTest, a_poller_preempted_when_the_monitor_looks_is_looked_at_again_so
   idle_polls(session, clock, 1, 100);  // it polls again (it never slept)
   EXPECT_EQ(Session::Action::kSettle, poll(session).action);
 }
+
+// ------------------------------------------------------------------ sleeps (src/sleep.cpp)
+
+namespace
+{
+Session::Settings sleep_settings(int64_t horizon_ms = 10000)
+{
+  Session::Settings s = idle_settings(100, horizon_ms);
+  s.virtual_sleeps = true;
+  return s;
+}
+}  // namespace
+
+TEST_F(IdleTest, a_thread_that_used_ros_and_sleeps_is_in_its_loop_and_settles_before_the_warp)
+{
+  // `while rclpy.ok(): publish(); time.sleep(0.5)`: the first sleep after the publish.
+  Session session{clock, virtual_clock, sleep_settings()};
+  session.start();
+  session.set_monitor_tid(99);
+  session.on_change();
+  clock.advance_ms(1);
+  session.on_activity(42);
+  const uint64_t token = session.enter_sleep(42, clock.now + 500 * kMs);
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);  // no quiet window
+  EXPECT_EQ((std::vector<pid_t>{99, 42}), census.last_known);
+  EXPECT_EQ("sleep", header_of(session, "warping").settled_by);
+  session.leave_sleep(token);
+}
+
+TEST_F(IdleTest, a_sleeper_that_did_not_use_ros_since_the_last_change_proves_nothing)
+{
+  // A driver that logs while it waits for its device, then creates its publisher (item 7):
+  // its sleeps are not a loop's.
+  Session session{clock, virtual_clock, sleep_settings()};
+  session.start();
+  session.on_activity(42);
+  session.on_change();  // created after the activity
+  session.on_activity(43);  // another thread's
+  session.enter_sleep(42, clock.now + 500 * kMs);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ(0, census.calls);
+}
+
+TEST_F(IdleTest, without_virtual_time_or_with_sleeps_off_a_sleeper_proves_nothing)
+{
+  for (const bool sleeps_on : {true, false}) {
+    Session::Settings s = sleep_settings(sleeps_on ? 0 : 10000);
+    s.virtual_sleeps = sleeps_on;
+    Session session{clock, virtual_clock, s};
+    session.start();
+    session.on_change();
+    session.on_activity(42);
+    session.enter_sleep(42, clock.now + 500 * kMs);
+    EXPECT_EQ(Session::Action::kNone, poll(session).action) << "sleeps on: " << sleeps_on;
+    EXPECT_EQ(0, census.calls);
+  }
+}
+
+TEST_F(IdleTest, a_sleep_that_ends_inside_the_window_holds_the_settle_only_without_a_warp_to_come)
+{
+  Session session{clock, virtual_clock, sleep_settings()};
+  session.start();
+  session.on_change();
+  session.on_activity(42);
+  uint64_t token = session.enter_sleep(42, clock.now + 10 * kMs);
+  // Before the warp, the warp steps the sleep next: taken now.
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  // In the warp, a sleep from before it proves nothing: it is about to come back and jump.
+  EXPECT_NE(Session::Action::kSettle, poll(session).action);
+  session.leave_sleep(token);
+  int jumps = 0;
+  while (session.try_jump(session.virtual_now_ns() + 10 * kMs) && jumps < 20000) {
+    clock.now += 100 * 1000;  // the loop's publish
+    session.on_activity(42);
+    ++jumps;
+  }
+  EXPECT_LT(jumps, 200);  // fast-forwarded like a timer
+  // Past the horizon the sleep is real; its end lies beyond what the capture covers.
+  session.on_activity(42);
+  token = session.enter_sleep(42, clock.now + 10 * kMs);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  const CaptureHeader header = header_of(session);
+  EXPECT_TRUE(header.horizon_reached);
+  EXPECT_EQ(2u, header.idle_settles);
+  EXPECT_EQ("sleep", header.settled_by);
+  session.leave_sleep(token);
+}
+
+TEST_F(IdleTest, a_sleep_loop_is_not_kept_waiting_for_an_executor_that_cannot_start_before_it_wakes)
+{
+  // No thread ever waited: the probing waits a grace for an executor to start spinning, unless
+  // every thread is asleep in its loop (or blocked) until after the grace.
+  for (const int64_t sleep_ms : {500, 100}) {
+    Session::Settings s = sleep_settings();
+    s.probe = true;
+    Session session{clock, virtual_clock, s};
+    session.start();
+    session.on_change();
+    session.on_activity(42);
+    session.enter_sleep(42, clock.now + sleep_ms * kMs);
+    EXPECT_EQ(Session::Action::kStartProbe, poll(session).action);
+    const Session::Step step = poll(session);
+    if (sleep_ms == 500) {
+      EXPECT_EQ(Session::Action::kStartWarp, step.action);
+      EXPECT_STREQ("skipped", session.probe_state());
+    } else {
+      EXPECT_EQ(Session::Action::kNone, step.action);  // it may start to spin when it wakes
+      EXPECT_EQ(clock.now + 250 * kMs, step.deadline_ns);
+    }
+  }
+}

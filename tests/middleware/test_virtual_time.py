@@ -124,14 +124,31 @@ def test_multithreaded_executor_with_two_callback_groups(run):
     assert created["/from_group_a"] >= 2000 and created["/from_group_b"] >= 4000, created
 
 
-def test_old_school_loop_settles_by_activity(run):
-    result = vt_run(run, h.python_node("vt_old_school.py"))
+def test_old_school_loop_is_stepped_by_the_warp_through_its_sleeps(run):
+    """`while rclpy.ok(): publish(); time.sleep(0.2)` never waits in ROS: its sleeps are the
+    middleware's (src/sleep.cpp). The first sleep after the publish proves it idle (no quiet
+    window), the warp jumps each sleep like a timer up to the horizon, and the final settle is
+    proven on the sleep past it."""
+    # A quiet window far longer than the loop's 0.2 s: every settle must be proven.
+    result = vt_run(run, h.python_node("vt_old_school.py"), env={"RMW_INTROSPECT_SETTLE_MS": "1000"})
     h.assert_settled_process(result)
     n = "/old_school"
     h.assert_capture(result.capture, [node("old_school")],
                      infra(n) + [ep("publisher", n, "/topic", "std_msgs/msg/String")])
-    assert result.capture["settled_by"] == "activity"
+    assert result.capture["settled_by"] == "sleep"
     assert result.capture["ever_waited"] is False
+    vt = result.capture["time"]
+    assert vt["horizon_reached"] is True and vt["warp_stalled"] is False, vt
+    assert vt["jumps"] >= 40, vt  # 0.2 s steps through the 10 s horizon
+    assert result.capture["quiescence"]["window"] == 0, result.capture["quiescence"]
+
+
+def test_old_school_loop_with_sleeps_on_the_real_clock_settles_by_activity(run):
+    """RMW_INTROSPECT_SLEEPS=0: the process's sleeps are real (the rule before), the loop settles
+    by its publishes and the warp has nothing to jump."""
+    result = vt_run(run, h.python_node("vt_old_school.py"), env={"RMW_INTROSPECT_SLEEPS": "0"})
+    h.assert_settled_process(result)
+    assert result.capture["settled_by"] == "activity"
     assert result.capture["activity_calls"] >= 2
     assert result.capture["time"]["jumps"] == 0  # nothing ever waits: nothing to warp
 

@@ -2,8 +2,9 @@
 tests/overlay/cpp_polling over the overlay and captured with the default options (10 s horizon):
 an action client driven by `while (!done) spin_some(node)` whose goal is never answered, a node
 whose timers all cancel themselves (spun by rclcpp::spin and by a MultiThreadedExecutor), a
-`publish; sleep_for(10ms); spin_some` loop and a 2 Hz WallRate loop. Each is captured with every
-entity it creates, and the notes say what the program did when the horizon was not observed.
+`publish; sleep_for(10ms); spin_some` loop (its sleeps stepped by the warp) and a 2 Hz WallRate
+loop. Each is captured with every entity it creates, and the notes say what the program did when
+the horizon was not observed.
 How long each takes against a plain capture is measured in bench/ (bench_cpp_polling.py), never
 asserted here."""
 
@@ -96,11 +97,23 @@ def test_a_node_whose_timers_all_cancel_themselves(overlay, programs, executor):
     assert not [n for n in notes if n.startswith("virtual time stopped")]
 
 
-def test_a_sleep_for_loop_is_noted_as_sleeping_on_the_real_clock(overlay, programs):
+def test_a_sleep_for_loop_is_stepped_by_the_warp(overlay, programs):
+    """`publish; sleep_for(10ms); spin_some`: std::this_thread::sleep_for reaches the middleware's
+    nanosleep (docs/design.md, "Sleeps"): the loop is proven idle while it sleeps, the warp jumps
+    its sleeps like a 10 ms timer (fast-forwarded to the horizon), and no horizon note is due."""
     doc, notes = capture(overlay, [str(programs / "sleep_loop")])
     assert doc["state"] == "settled"
     assert own_endpoints(doc, "/sleep_loop") == {("publisher", "/sleep_chatter", "std_msgs/msg/String"),
                                                  ("subscription", "/sleep_commands", "std_msgs/msg/String")}
+    vt = doc["time"]
+    assert vt["horizon_reached"] and not vt["warp_stalled"] and vt["jumps"] >= 100, vt
+    assert doc["settled_by"] == "sleep"
+    assert not [n for n in notes if n.startswith("virtual time stopped")]
+
+
+def test_a_sleep_for_loop_with_real_sleeps_is_noted_as_sleeping_on_the_real_clock(overlay, programs):
+    doc, notes = capture(overlay, [str(programs / "sleep_loop")], ("--env", "RMW_INTROSPECT_SLEEPS=0"))
+    assert doc["state"] == "settled"
     assert doc["time"]["warp_stalled"] and doc["time"]["jumps"] == 0
     note = horizon_note(notes)
     assert "sleeps on the real clock" in note and "busy loop" not in note, note

@@ -3,9 +3,10 @@
 Interface: publisher ``chatter`` (std_msgs/msg/String) with the default QoS.
 
 ``while rclpy.ok(): publish(); time.sleep(0.5)`` never calls an executor, so no thread ever
-waits in the middleware. The recording middleware still sees the node settle: it keeps using
-the middleware (``publish``) after its last new interface, which is what a steady loop looks
-like. Note that ``time.sleep`` is Python's own time, which virtual time does not shorten.
+waits in the middleware. The recording middleware still sees the node settle: it used the
+middleware (``publish``) after its last new interface and sleeps, which is what a steady loop
+looks like; in the warp each ``time.sleep`` jumps virtual time like a timer (the preloaded
+middleware defines the process's sleeps).
 """
 
 import time

@@ -26,7 +26,7 @@ struct CaptureHeader
   bool has_time_to_settle = false;
   double time_to_settle_ms = 0.0;
   double elapsed_ms = 0.0;
-  std::string settled_by;         // "wait" | "activity" | "" (null: not settled)
+  std::string settled_by;         // "wait" | "poll" | "activity" | "sleep" | "" (null: not settled)
   bool ever_waited = false;
   uint64_t activity_calls = 0;
   // "quiescence": how the settles ended (docs/design.md, "Detected quiescence")

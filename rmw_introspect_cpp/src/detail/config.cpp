@@ -86,6 +86,7 @@ Config Config::from_environment(long pid)
   config.server_available = parse_flag(std::getenv("RMW_INTROSPECT_SERVER_AVAILABLE"), true);
   config.delivery = parse_flag(std::getenv("RMW_INTROSPECT_DELIVERY"), false);
   config.detect_idle = parse_flag(std::getenv("RMW_INTROSPECT_IDLE"), true);
+  config.virtual_sleeps = parse_flag(std::getenv("RMW_INTROSPECT_SLEEPS"), true);
   config.probe.parameters = parse_flag(std::getenv("RMW_INTROSPECT_PARAMETERS"), true);
   const char * lifecycle = std::getenv("RMW_INTROSPECT_LIFECYCLE");
   if (lifecycle != nullptr && lifecycle[0] != '\0' &&

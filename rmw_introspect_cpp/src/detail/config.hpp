@@ -26,6 +26,7 @@ struct Config
   bool server_available = true;   // RMW_INTROSPECT_SERVER_AVAILABLE
   bool delivery = false;          // RMW_INTROSPECT_DELIVERY: in-process delivery
   bool detect_idle = true;        // RMW_INTROSPECT_IDLE: settle at once when provably idle
+  bool virtual_sleeps = true;     // RMW_INTROSPECT_SLEEPS: the warp steps the process's sleeps
   int64_t horizon_ms = 0;         // RMW_INTROSPECT_HORIZON_MS (0: virtual time off)
   int64_t warp_budget_ms = 3000;  // RMW_INTROSPECT_WARP_BUDGET_MS
   /// RMW_INTROSPECT_PARAMETERS (read the nodes' parameters), RMW_INTROSPECT_LIFECYCLE (drive

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <thread>
 
+#include "detail/sleep.hpp"
+
 namespace rmw_introspect
 {
 
@@ -61,7 +63,8 @@ void flush_python_streams()
   }
   std::thread(
     []() {
-      std::this_thread::sleep_for(kFlushWatchdog);
+      // For real: the interposed sleep (src/sleep.cpp) would jump virtual time in the warp.
+      real_sleep_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(kFlushWatchdog).count());
       std::fflush(nullptr);
       _exit(0);
     }).detach();

@@ -61,6 +61,15 @@ Runtime & Runtime::instance()
   return *runtime;
 }
 
+Runtime * Runtime::started_instance()
+{
+  if (!g_started.load(std::memory_order_acquire)) {
+    return nullptr;
+  }
+  Runtime * runtime = g_runtime.load(std::memory_order_acquire);
+  return runtime != nullptr && runtime->init_pid_ == getpid() ? runtime : nullptr;
+}
+
 namespace
 {
 Session::Settings session_settings(const Config & config)
@@ -74,6 +83,7 @@ Session::Settings session_settings(const Config & config)
   settings.probe = config.probe.enabled() || !config.stimuli.empty() || !config.component_loads.empty();
   settings.answer_timeout_ms = config.answer_timeout_ms;
   settings.detect_idle = config.detect_idle;
+  settings.virtual_sleeps = config.virtual_sleeps;
   return settings;
 }
 }  // namespace
@@ -81,7 +91,8 @@ Session::Settings session_settings(const Config & config)
 Runtime::Runtime()
 : config_(Config::from_environment(static_cast<long>(getpid()))),
   probe_driver_(config_.probe, config_.stimuli, config_.component_loads, recorder_, injector_),
-  session_(clock_, virtual_clock_, session_settings(config_), &main_thread_state_)
+  session_(clock_, virtual_clock_, session_settings(config_), &main_thread_state_),
+  sleeps_stepped_(config_.virtual_sleeps && config_.horizon_ms > 0)
 {
   for (const auto & warning : config_.warnings) {
     std::fprintf(stderr, "[rmw_introspect] warning: %s\n", warning.c_str());
@@ -117,6 +128,7 @@ void Runtime::on_init()
     if (!session_.start()) {
       return;
     }
+    init_pid_ = getpid();
     g_started.store(true);
     argv_ = read_process_argv();
   }
@@ -231,14 +243,51 @@ void Runtime::note_poll(bool found_nothing)
 
 void Runtime::on_activity()
 {
+  const pid_t tid = current_tid();
   bool wake = false;
   {
     std::lock_guard<std::mutex> lock(session_mutex_);
-    wake = session_.on_activity();
+    wake = session_.on_activity(tid);
   }
   if (wake) {
     session_cv_.notify_all();
   }
+}
+
+bool Runtime::jump_sleep(int64_t duration_ns)
+{
+  if (duration_ns <= 0 || !warping_.load()) {
+    return false;
+  }
+  bool jumped = false;
+  bool warp_over = false;
+  {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    jumped = session_.try_jump(session_.virtual_now_ns() + duration_ns);
+    warp_over = !session_.warping();
+    warping_.store(!warp_over);
+  }
+  if (warp_over) {
+    session_cv_.notify_all();  // the final settle may be taken now
+  }
+  return jumped;
+}
+
+Runtime::Sleeping::Sleeping(Runtime & runtime, int64_t deadline_ns)
+: runtime_(runtime)
+{
+  const pid_t tid = current_tid();
+  {
+    std::lock_guard<std::mutex> lock(runtime_.session_mutex_);
+    token_ = runtime_.session_.enter_sleep(tid, deadline_ns);
+  }
+  runtime_.session_cv_.notify_all();  // a sleeper may complete a proof of idleness
+}
+
+Runtime::Sleeping::~Sleeping()
+{
+  std::lock_guard<std::mutex> lock(runtime_.session_mutex_);
+  runtime_.session_.leave_sleep(token_);
 }
 
 CreationTime Runtime::creation_time()

@@ -54,6 +54,9 @@ public:
   /// A process forked before its parent's rmw_init (a warm start server's child) makes its own
   /// on first use, so the configuration is read from the child's environment, after the fork.
   static Runtime & instance();
+  /// The runtime when rmw_init reached it in this very process (not in a parent it was forked
+  /// from), else null; never makes one (the interposed sleeps of any process ask it).
+  static Runtime * started_instance();
 
   Runtime(const Runtime &) = delete;
   Runtime & operator=(const Runtime &) = delete;
@@ -82,6 +85,29 @@ public:
   void wait(ReadyFn ready, WorkFn work, int64_t timeout_ns);
   /// publish, take*, send_*, graph queries...: the process is in its loop (settle rule).
   void on_activity();
+
+  /// Sleeps (detail/sleep.hpp): whether the warp steps this process's sleeps (virtual time
+  /// and RMW_INTROSPECT_SLEEPS on).
+  bool sleeps_stepped() const {return sleeps_stepped_;}
+  /// In the warp: jump virtual time by `duration_ns` for the calling thread's sleep; true when
+  /// the sleep is over (false: no warp, or it ended at the horizon or by its budget).
+  bool jump_sleep(int64_t duration_ns);
+  /// How often the warp started (0 or 1), and whether it is still to come.
+  uint64_t warp_starts() const {return warp_starts_.load();}
+  bool warp_to_come() const {return sleeps_stepped_ && warp_starts_.load() == 0;}
+  /// RAII registration of the calling thread's real sleep until `deadline_ns` (Session::enter_sleep).
+  class Sleeping
+  {
+public:
+    Sleeping(Runtime & runtime, int64_t deadline_ns);
+    ~Sleeping();
+    Sleeping(const Sleeping &) = delete;
+    Sleeping & operator=(const Sleeping &) = delete;
+
+private:
+    Runtime & runtime_;
+    uint64_t token_;
+  };
   /// The process's virtual and real age now (creation times).
   CreationTime creation_time();
   /// rmw_shutdown: write a capture with state "shutdown".
@@ -164,6 +190,8 @@ private:
   std::atomic<bool> ever_waited_{false};
   std::atomic<bool> warping_{false};
   std::atomic<uint64_t> warp_starts_{0};  // bumped under the wait hub's lock
+  const bool sleeps_stepped_;
+  pid_t init_pid_ = 0;  // the process whose rmw_init started the session (started_instance)
 };
 
 template<typename ReadyFn>

@@ -2,6 +2,7 @@
 #include "detail/session.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -157,6 +158,40 @@ uint64_t Session::enter_wait(pid_t tid, int64_t deadline_ns)
   return token;
 }
 
+uint64_t Session::enter_sleep(pid_t tid, int64_t deadline_ns)
+{
+  poll_runs_.erase(tid);
+  ++idle_version_;
+  const uint64_t token = next_sleep_token_++;
+  sleepers_[token] = Sleeper{tid, deadline_ns};
+  return token;
+}
+
+void Session::leave_sleep(uint64_t token)
+{
+  if (sleepers_.erase(token) > 0) {
+    ++idle_version_;
+  }
+}
+
+std::vector<const Session::Sleeper *> Session::counted_sleepers() const
+{
+  std::vector<const Sleeper *> counted;
+  if (!settings_.virtual_sleeps || settings_.horizon_ms <= 0) {
+    return counted;  // nothing steps a sleep: it proves nothing (the census says it sleeps)
+  }
+  if (phase_ == Phase::kWarping) {
+    return counted;  // a sleep from before the warp is about to come back and jump
+  }
+  for (const auto & entry : sleepers_) {
+    const auto active = activity_generation_.find(entry.second.tid);
+    if (active != activity_generation_.end() && active->second == generation_) {
+      counted.push_back(&entry.second);
+    }
+  }
+  return counted;
+}
+
 void Session::leave_wait(uint64_t token)
 {
   const auto it = blocked_.find(token);
@@ -229,10 +264,15 @@ bool Session::provably_idle(int64_t now)
     return false;
   }
   std::vector<pid_t> pollers;
-  if (!idle_pollers(now, &pollers) || (blocked_.empty() && pollers.empty())) {
+  if (!idle_pollers(now, &pollers)) {
+    return false;
+  }
+  const std::vector<const Sleeper *> sleepers = counted_sleepers();
+  if (blocked_.empty() && pollers.empty() && sleepers.empty()) {
     return false;
   }
   idle_by_polls_ = !pollers.empty();
+  idle_by_sleeps_ = blocked_.empty() && pollers.empty();
   if (phase_ == Phase::kWarping && !pollers.empty() && (jumps_ > 0 || !warp_loop_seen_)) {
     // After jumps, rcl polls while a timer due in real time catches up: the stall rule of
     // poll() decides. Before any, idle polls stall the warp (poll()), they do not settle it.
@@ -254,6 +294,23 @@ bool Session::provably_idle(int64_t now)
       return false;  // its timer (or timeout) comes first; it waits again after it
     }
   }
+  for (const Sleeper * sleeper : sleepers) {
+    if (sleeper->deadline_ns < settle_at && deadline_matters(sleeper->deadline_ns)) {
+      return false;  // it wakes first, and uses ROS again
+    }
+  }
+  // Any other sleeper proves what the census would read of a real sleep (it sleeps in slices
+  // before the warp): idle when it sleeps past the window, with no exception for a warp to come.
+  std::vector<pid_t> asleep;
+  for (const auto & entry : sleepers_) {
+    if (std::find(sleepers.begin(), sleepers.end(), &entry.second) != sleepers.end()) {
+      continue;
+    }
+    if (phase_ == Phase::kWarping || entry.second.deadline_ns < settle_at) {
+      return false;  // it wakes (or, in the warp, comes back to jump) first
+    }
+    asleep.push_back(entry.second.tid);
+  }
   if (census_answer_version_ == idle_version_) {
     if (census_answer_idle_ || now < census_answered_ns_ + kCensusRecheckNs) {
       return census_answer_idle_;
@@ -267,12 +324,19 @@ bool Session::provably_idle(int64_t now)
     census_request_.known.push_back(entry.second.tid);
   }
   census_request_.known.insert(census_request_.known.end(), pollers.begin(), pollers.end());
+  for (const Sleeper * sleeper : sleepers) {
+    census_request_.known.push_back(sleeper->tid);
+  }
+  census_request_.known.insert(census_request_.known.end(), asleep.begin(), asleep.end());
   census_wanted_ = true;
   return false;
 }
 
-bool Session::on_activity()
+bool Session::on_activity(pid_t tid)
 {
+  if (tid != 0) {
+    activity_generation_[tid] = generation_;
+  }
   if (phase_ == Phase::kWarping) {
     warp_loop_seen_ = true;
     ++warp_activity_;
@@ -354,21 +418,23 @@ void Session::end_warp(int64_t now)
 bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline)
 {
   if (provably_idle(now)) {
-    settled_by_ = idle_by_polls_ ? "poll" : "wait";
+    settled_by_ = idle_by_polls_ ? "poll" : (idle_by_sleeps_ ? "sleep" : "wait");
     ++idle_settles_;
     return true;
   }
   const bool by_wait = waiters_current_ > 0;
   const bool by_poll = !by_wait && polls_current_ >= kSettlingActivity;
-  if (!by_wait && !by_poll && activity_current_ < kSettlingActivity) {
-    return false;  // the next wait or activity call wakes the monitor
+  // A thread asleep in its loop (it used ROS since the last change) is evidence like a wait.
+  const bool by_sleep = !by_wait && !by_poll && !counted_sleepers().empty();
+  if (!by_wait && !by_poll && !by_sleep && activity_current_ < kSettlingActivity) {
+    return false;  // the next wait, sleep or activity call wakes the monitor
   }
   const int64_t settle_at = quiet_since_ns_ + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
   if (now < settle_at) {
     propose(settle_at, has_deadline, deadline);
     return false;
   }
-  settled_by_ = by_wait ? "wait" : (by_poll ? "poll" : "activity");
+  settled_by_ = by_wait ? "wait" : (by_poll ? "poll" : (by_sleep ? "sleep" : "activity"));
   ++window_settles_;
   return true;
 }
@@ -434,6 +500,17 @@ Session::Step Session::poll()
         probed_ = true;
         probe_started_ns_ = now;
         first_wait_give_up_ns_ = now + kFirstWaitGraceNs;
+        if (!ever_waited_ && settled_by_ != nullptr && std::strcmp(settled_by_, "sleep") == 0) {
+          // Proven idle with every thread blocked or asleep in its loop: nothing can start to
+          // wait before the first sleeper wakes, so a grace that ends first is not waited for.
+          int64_t first_wake = INT64_MAX;
+          for (const Sleeper * sleeper : counted_sleepers()) {
+            first_wake = std::min(first_wake, sleeper->deadline_ns);
+          }
+          if (first_wake >= first_wait_give_up_ns_) {
+            first_wait_give_up_ns_ = now;
+          }
+        }
         // Settled by activity before any wait: the first request waits for a settle by wait.
         probe_settle_first_ = !ever_waited_;
         step.action = Action::kStartProbe;

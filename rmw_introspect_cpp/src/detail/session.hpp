@@ -60,6 +60,7 @@ public:
     bool probe = false;               // ask the nodes' services after the first settle
     int64_t answer_timeout_ms = 5000;  // real time a node has to answer one request
     bool detect_idle = false;         // settle at once when provably idle (RMW_INTROSPECT_IDLE)
+    bool virtual_sleeps = false;      // the warp jumps the process's sleeps (RMW_INTROSPECT_SLEEPS)
   };
 
   /// `main_thread`: whether the main thread is runnable (null: taken as never; unit tests).
@@ -117,8 +118,16 @@ public:
   /// Why the latest census found the process not idle ("" when it did, or none ran).
   const std::string & not_idle_reason() const {return not_idle_reason_;}
   /// publish, take*, send_request/response, take_request/response, graph queries, counts of
-  /// matched endpoints, server_is_available. True when the monitor should look again.
-  bool on_activity();
+  /// matched endpoints, server_is_available, by thread `tid`. True when the monitor should
+  /// look again.
+  bool on_activity(pid_t tid = 0);
+
+  /// Thread `tid` sleeps (an interposed nanosleep, clock_nanosleep, usleep or sleep: src/sleep.cpp)
+  /// until real time `deadline_ns`; returns the token for leave_sleep. A sleeper that used ROS
+  /// (an activity call) since the last change is in its loop, and with virtual sleeps the warp
+  /// steps it: it counts like a blocked wait with that deadline (docs/design.md, "Sleeps").
+  uint64_t enter_sleep(pid_t tid, int64_t deadline_ns);
+  void leave_sleep(uint64_t token);
 
   /// In the warp: a wait with nothing ready would sleep until virtual time `target_ns` (the
   /// virtual time at its entry + its timeout). True: virtual time is now past it (jumped, or
@@ -181,6 +190,13 @@ public:
   double virtual_age_ms() const;
 
 private:
+  /// A thread in an interposed sleep (enter_sleep).
+  struct Sleeper
+  {
+    pid_t tid = 0;
+    int64_t deadline_ns = 0;
+  };
+
   enum class Phase { kSettling, kProbing, kWarping, kFinalSettling, kDone };
 
   /// A change for the quiet rule: entity change, jump, warp start. `voids_polls`: false for the
@@ -207,6 +223,8 @@ private:
   bool quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline);
   /// Detected quiescence at `now` (see the class comment).
   bool provably_idle(int64_t now);
+  /// The sleepers that count as blocked (see enter_sleep): none without virtual sleeps.
+  std::vector<const Sleeper *> counted_sleepers() const;
 
   /// A thread's run of back-to-back polls that found nothing ready, in one poll epoch.
   struct PollRun
@@ -260,6 +278,11 @@ private:
   // Detected quiescence: the threads blocked in rmw_wait now, by token.
   std::map<uint64_t, BlockedWait> blocked_;
   uint64_t next_wait_token_ = 0;
+  // Sleeps: the threads asleep now, by token, and the generation of each thread's latest
+  // activity call (a sleeper counts when it used ROS since the last change).
+  std::map<uint64_t, Sleeper> sleepers_;
+  uint64_t next_sleep_token_ = 0;
+  std::map<pid_t, uint64_t> activity_generation_;
   uint64_t wake_epoch_ = 0;
   // Idle pollers: each polling thread's current run; a change, a jump or an activity call
   // starts a new epoch (every run starts again).
@@ -269,6 +292,7 @@ private:
   pid_t monitor_tid_ = 0;
   uint64_t idle_settles_ = 0;    // settles that ended by detection
   bool idle_by_polls_ = false;   // the latest proof counted idle pollers
+  bool idle_by_sleeps_ = false;  // ... only sleepers
   // Anything that may change whether the process is idle bumps it: a census answer is for
   // one version.
   uint64_t idle_version_ = 0;

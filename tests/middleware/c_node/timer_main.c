@@ -9,10 +9,15 @@
 //            blocking (a zero-timeout polling rcl node). `poll N`: after its N-th poll
 //            the loop also creates a publisher on "after_polls" (a bounded loop of polls
 //            that ends in a new interface), then polls on.
+//   sleep    no wait at all: a loop that publishes on "looped" and sleeps 0.1 s (nanosleep and
+//            usleep by turns, the C library's sleeps), and after its 30th sleep (3 s) also
+//            creates a publisher on "after_sleeps", then loops on.
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "rcl/error_handling.h"
 #include "rcl/rcl.h"
@@ -82,6 +87,26 @@ int main(int argc, char ** argv)
     CHECK(rcl_publisher_init(
         &g_doomed, &g_node, ROSIDL_GET_MSG_TYPE_SUPPORT(std_msgs, msg, String), "doomed", &options));
     g_doomed_alive = true;
+  }
+
+  if (argc > 1 && strcmp(argv[1], "sleep") == 0) {
+    rcl_publisher_t looped;
+    rcl_publisher_t after_sleeps;
+    create_publisher(&looped, "looped");
+    std_msgs__msg__String message;
+    std_msgs__msg__String__init(&message);
+    for (long sleeps = 1; ; ++sleeps) {
+      CHECK(rcl_publish(&looped, &message, NULL));
+      if (sleeps % 2 == 0) {
+        const struct timespec tenth = {0, 100 * 1000 * 1000};
+        nanosleep(&tenth, NULL);
+      } else {
+        usleep(100 * 1000);
+      }
+      if (sleeps == 30) {
+        create_publisher(&after_sleeps, "after_sleeps");
+      }
+    }
   }
 
   rcl_clock_t clock;

@@ -32,12 +32,21 @@ FORMAT_VERSIONS = (1,)
 # ---------------------------------------------------------------------- raw records
 
 
+@dataclass(frozen=True, kw_only=True)
 class _Lifetime:
-    """How long a recorded node or endpoint lived (shared by :class:`RawNode` and :class:`Endpoint`)."""
+    """How long a recorded node or endpoint lived (shared by :class:`RawNode` and :class:`Endpoint`;
+    keyword-only, so the records' own fields stay positional)."""
 
-    destroyed: bool
-    in_teardown: bool
-    destroyed_virtual_ms: float | None
+    destroyed: bool = False
+    #: destroyed in the run of destructions that ended the process (alive before its teardown)
+    in_teardown: bool = False
+    #: its virtual and real age (ms since the first rmw_init) when it was created
+    created_virtual_ms: float | None = None
+    created_real_ms: float | None = None
+    #: its virtual and real age when the program destroyed it (None: not destroyed by the
+    #: program while it ran, or a capture older than format_minor 4)
+    destroyed_virtual_ms: float | None = None
+    destroyed_real_ms: float | None = None
 
     @property
     def alive(self) -> bool:
@@ -67,16 +76,6 @@ class RawNode(_Lifetime):
     namespace: str
     fqn: str
     enclave: str = "/"
-    destroyed: bool = False
-    #: destroyed in the run of destructions that ended the process (alive before its teardown)
-    in_teardown: bool = False
-    #: the node's virtual and real age (ms since the first rmw_init) when it was created
-    created_virtual_ms: float | None = None
-    created_real_ms: float | None = None
-    #: the node's virtual and real age when the program destroyed it (None: not destroyed by the
-    #: program while it ran, or a capture older than format_minor 4)
-    destroyed_virtual_ms: float | None = None
-    destroyed_real_ms: float | None = None
     #: every parameter as the node's own services answered (None: not read, see
     #: ``parameters_error``), in the order the node listed them
     parameters: tuple[Parameter, ...] | None = None
@@ -103,12 +102,6 @@ class Endpoint(_Lifetime):
     type_hash: str | None
     qos: Mapping[str, Any]
     typesupport: str | None = None
-    destroyed: bool = False
-    in_teardown: bool = False
-    created_virtual_ms: float | None = None
-    created_real_ms: float | None = None
-    destroyed_virtual_ms: float | None = None
-    destroyed_real_ms: float | None = None
     #: the lifecycle transition the middleware had last driven on the node when the endpoint was
     #: created (``configure``, ``activate``); None: created at start-up (or by a node that
     #: drives itself)
@@ -241,12 +234,7 @@ def parse(data: Any, *, path: Path | None) -> CaptureFields:
                     namespace=namespace,
                     fqn=str(n.get("fqn") or _fqn(namespace, name)),
                     enclave=str(n.get("enclave", "/")),
-                    destroyed=bool(n.get("destroyed", False)),
-                    in_teardown=bool(n.get("in_teardown", False)),
-                    created_virtual_ms=_optional_float(n.get("created_virtual_ms")),
-                    created_real_ms=_optional_float(n.get("created_real_ms")),
-                    destroyed_virtual_ms=_optional_float(n.get("destroyed_virtual_ms")),
-                    destroyed_real_ms=_optional_float(n.get("destroyed_real_ms")),
+                    **_lifetime(n),
                     parameters=_node_parameters(n, where, path),
                     parameters_error=_optional_str(n, "parameters_error", where, path),
                     lifecycle=_node_lifecycle(n, where, path),
@@ -277,12 +265,7 @@ def parse(data: Any, *, path: Path | None) -> CaptureFields:
                     type_hash=e.get("type_hash") or None,
                     qos=dict(qos),
                     typesupport=e.get("typesupport"),
-                    destroyed=bool(e.get("destroyed", False)),
-                    in_teardown=bool(e.get("in_teardown", False)),
-                    created_virtual_ms=_optional_float(e.get("created_virtual_ms")),
-                    created_real_ms=_optional_float(e.get("created_real_ms")),
-                    destroyed_virtual_ms=_optional_float(e.get("destroyed_virtual_ms")),
-                    destroyed_real_ms=_optional_float(e.get("destroyed_real_ms")),
+                    **_lifetime(e),
                     created_in=_optional_str(e, "created_in", where, path),
                 )
             )
@@ -350,6 +333,18 @@ def _optional_str(record: Mapping[str, Any], key: str, where: str, path: Path | 
     value = record.get(key)
     _require(value is None or isinstance(value, str), path, f"{where}.{key} is not a string")
     return value
+
+
+def _lifetime(record: Mapping[str, Any]) -> dict[str, Any]:
+    """The :class:`_Lifetime` fields of a node or endpoint record."""
+    return {
+        "destroyed": bool(record.get("destroyed", False)),
+        "in_teardown": bool(record.get("in_teardown", False)),
+        "created_virtual_ms": _optional_float(record.get("created_virtual_ms")),
+        "created_real_ms": _optional_float(record.get("created_real_ms")),
+        "destroyed_virtual_ms": _optional_float(record.get("destroyed_virtual_ms")),
+        "destroyed_real_ms": _optional_float(record.get("destroyed_real_ms")),
+    }
 
 
 def _optional_float(value: Any) -> float | None:

@@ -120,7 +120,10 @@ def horizon_note(vt: VirtualTime, polls: int) -> str:
 
 def stalled_loop(vt: VirtualTime, polls: int) -> str:
     """Which loop kept a stalled warp from advancing, from what the middleware counted in it."""
-    sleeps = "sleep_for, time.sleep, a WallRate or Rate loop"
+    # time.sleep, sleep_for, nanosleep and usleep are the middleware's and stepped by the warp
+    # (docs/design.md, "Sleeps"), unless RMW_INTROSPECT_SLEEPS=0 made them real
+    sleeps = ("a WallRate or Rate loop, a timed condition wait or select(); or time.sleep / sleep_for with "
+              "RMW_INTROSPECT_SLEEPS=0")
     if vt.warp_polls is None or vt.warp_real_ms is None:  # a capture that does not say
         polled = (f" ({polls} zero-timeout polls of its executor, or waits that returned at once on a guard "
                   "condition it had just triggered itself)" if polls else "")

@@ -118,21 +118,20 @@ rmw_ret_t rmw_wait(
   mark_served(services, subscriptions);
   // Once the context is shut down (rmw_shutdown wakes every waiter), waits return at once:
   // an executor woken by its SIGINT guard condition just before the shutdown must not go
-  // back to sleep forever.
-  auto ready = [ws, guard_conditions, subscriptions, services, clients, events]() {
-      return any_triggered(guard_conditions) ||
+  // back to sleep forever. `except_tid`: a guard condition last triggered by that thread does
+  // not count (0: every trigger does).
+  auto ready_except =
+    [ws, guard_conditions, subscriptions, services, clients, events](pid_t except_tid) {
+      return any_triggered(guard_conditions, except_tid) ||
              rmw_introspect::any_ready(subscriptions, services, clients, events) ||
              (ws->context != nullptr && ws->context->is_shutdown.load());
     };
+  auto ready = [&ready_except]() {return ready_except(0);};
   // Work for the thread from outside: anything ready but the guard conditions it triggered
   // itself (rclpy's spin_once(node) adds and removes the node, each a trigger, before every
   // wait). A poll that finds none is an idle poll (detected quiescence).
   const pid_t tid = rmw_introspect::current_tid();
-  auto work = [ws, guard_conditions, subscriptions, services, clients, events, tid]() {
-      return any_triggered(guard_conditions, tid) ||
-             rmw_introspect::any_ready(subscriptions, services, clients, events) ||
-             (ws->context != nullptr && ws->context->is_shutdown.load());
-    };
+  auto work = [&ready_except, tid]() {return ready_except(tid);};
   // Blocks, or in the warp jumps virtual time by the timeout and returns at once.
   rmw_introspect::Runtime::instance().wait(ready, work, timeout_ns(wait_timeout));
 

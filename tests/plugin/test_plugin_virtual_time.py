@@ -61,10 +61,11 @@ def test_service_created_at_30_s_needs_a_60_s_horizon():
     assert interfaces(cap, "/vt_slow_server") == {"service_servers": ["/ready_after_30s"]}
 
 
-def test_old_school_loop_settles_by_activity():
+def test_old_school_loop_settles_on_its_sleep_and_is_stepped_through_the_horizon():
     cap = pytest_rmw_introspect.capture(script=str(VT_NODES / "vt_old_school.py"))
     assert interfaces(cap, "/old_school") == {"publishers": ["/topic"]}
-    assert cap.settled_by == "activity" and cap.ever_waited is False
+    assert cap.settled_by == "sleep" and cap.ever_waited is False
+    assert cap.virtual_time is not None and cap.virtual_time.horizon_reached
 
 
 def test_program_that_finishes_by_itself_is_captured_and_marked():

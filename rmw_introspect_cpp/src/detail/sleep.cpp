@@ -96,7 +96,8 @@ int virtual_sleep(int64_t duration_ns, int64_t * unslept_ns)
     }
     const uint64_t warp_starts = runtime->warp_starts();
     const bool warp_to_come = runtime->warp_to_come();
-    const int rc = real_sleep_until(warp_to_come ? std::min(deadline_ns, now + kSliceNs) : deadline_ns);
+    const int rc =
+      real_sleep_until(warp_to_come ? std::min(deadline_ns, now + kSliceNs) : deadline_ns);
     if (rc != 0) {
       *unslept_ns = std::max<int64_t>(0, deadline_ns - monotonic_now_ns());
       return rc;

@@ -26,8 +26,9 @@ bool valid(const struct timespec * ts)
 
 int64_t to_ns(const struct timespec & ts)
 {
-  // A sleep of more than ~290 years saturates (it never ends within a capture either way).
-  constexpr int64_t kMaxSeconds = INT64_MAX / kNsPerSecond - 1;
+  // A sleep of more than 100 years saturates (it never ends within a capture either way), so
+  // that a deadline (now + duration) cannot overflow.
+  constexpr int64_t kMaxSeconds = 100LL * 365 * 24 * 3600;
   const int64_t seconds = ts.tv_sec > kMaxSeconds ? kMaxSeconds : static_cast<int64_t>(ts.tv_sec);
   return seconds * kNsPerSecond + ts.tv_nsec;
 }

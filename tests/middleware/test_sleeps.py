@@ -100,3 +100,11 @@ def test_a_process_that_never_starts_ros_sleeps_for_real(middleware_library):
     t0 = time.monotonic()
     done = subprocess.run(["sleep", "0.2"], env=env, timeout=10)
     assert done.returncode == 0 and time.monotonic() - t0 >= 0.2
+
+
+def test_a_child_forked_in_the_warp_sleeps_for_real(run):
+    result = run(h.python_node("fork_sleep.py"), env=HORIZON, exit_on_settle=False, timeout=30)
+    assert result.returncode == 0, result
+    assert result.capture is not None and result.capture["time"]["jumps"] >= 1  # forked in the warp
+    slept = float(result.stdout.split("child slept")[1].split()[0])
+    assert slept >= 0.2, result.stdout

@@ -29,7 +29,9 @@ namespace rmw_introspect
 ///    thread blocked until woken (the ThreadCensus), and no deadline of a blocked wait inside
 ///    the rest of the quiet window (before the warp, or past the horizon after it, a deadline
 ///    does not count). A thread that polls back to back and finds nothing for 10 ms (an idle
-///    poller, on_poll) counts like a blocked one. The quiet window is the fallback.
+///    poller, on_poll) counts like a blocked one, and so does a thread asleep in an interposed
+///    sleep after using ROS (enter_sleep), until its sleep's end. The quiet window is the
+///    fallback.
 /// 1b. probing (Settings::probe): a "probing" snapshot
 ///    is written, then the middleware asks the nodes' own services, one request at a time
 ///    (the Runtime's ProbeDriver): kProbe = send the next request now; the answer (or no

@@ -1576,6 +1576,17 @@ TEST_F(IdleTest, a_sleep_loop_is_not_kept_waiting_for_an_executor_that_cannot_st
     } else {
       EXPECT_EQ(Session::Action::kNone, step.action);  // it may start to spin when it wakes
       EXPECT_EQ(clock.now + 250 * kMs, step.deadline_ns);
+      // It wakes, publishes and sleeps again, and no thread waited: its loop went round, the
+      // grace ends 20 ms later instead of 250 ms after the settle.
+      clock.advance_ms(100);
+      session.on_activity(42);
+      session.enter_sleep(42, clock.now + sleep_ms * kMs);
+      const Session::Step again = poll(session);
+      EXPECT_EQ(Session::Action::kNone, again.action);
+      EXPECT_EQ(clock.now + 20 * kMs, again.deadline_ns);
+      clock.advance_ms(20);
+      EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+      EXPECT_STREQ("skipped", session.probe_state());
     }
   }
 }

@@ -25,6 +25,10 @@ constexpr uint64_t kSettlingActivity = 2;
 constexpr int64_t kFirstWaitGraceNs = 250 * 1000 * 1000;
 constexpr int64_t kFirstWaitRecheckNs = 50 * 1000 * 1000;
 constexpr int64_t kFirstWaitMaxNs = 2000 * 1000 * 1000;
+// A process proven idle by a sleep loop (settled_by "sleep") whose loop goes round once more in
+// that grace - the sleeper wakes, uses ROS and sleeps again, and still no thread waited - is in
+// its steady loop: the grace ends this long after (time for a thread it woke to start to spin).
+constexpr int64_t kSleepLoopAgainNs = 20 * 1000 * 1000;
 // The warp of a process that made jumps stalls after this long without a wait with a timeout.
 constexpr int64_t kStallAfterJumpsNs = 500 * 1000 * 1000;
 // Fast-forward (docs/design.md, "Fast-forward of a steady periodic timer"): after this many jumps
@@ -162,6 +166,14 @@ uint64_t Session::enter_sleep(pid_t tid, int64_t deadline_ns)
 {
   poll_runs_.erase(tid);
   ++idle_version_;
+  const auto active = activity_generation_.find(tid);
+  if (phase_ == Phase::kProbing && !ever_waited_ && !probe_done_ && settled_by_ != nullptr &&
+    std::strcmp(settled_by_, "sleep") == 0 && active != activity_generation_.end() &&
+    active->second == generation_)
+  {
+    // Its loop went round again since the probing began (see kSleepLoopAgainNs).
+    first_wait_give_up_ns_ = std::min(first_wait_give_up_ns_, clock_.now_ns() + kSleepLoopAgainNs);
+  }
   const uint64_t token = next_sleep_token_++;
   sleepers_[token] = Sleeper{tid, deadline_ns};
   return token;

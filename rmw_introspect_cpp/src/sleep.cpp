@@ -33,12 +33,6 @@ int64_t to_ns(const struct timespec & ts)
   return seconds * kNsPerSecond + ts.tv_nsec;
 }
 
-void to_timespec(int64_t ns, struct timespec * ts)
-{
-  ts->tv_sec = static_cast<time_t>(ns / kNsPerSecond);
-  ts->tv_nsec = static_cast<long>(ns % kNsPerSecond);
-}
-
 // The relative duration of a clock_nanosleep request, or false when it is not stepped.
 bool stepped_duration(clockid_t clock, int flags, const struct timespec * request, int64_t * ns)
 {
@@ -73,7 +67,7 @@ RMWI_INTERPOSED int clock_nanosleep(
   int64_t unslept_ns = 0;
   const int rc = rmw_introspect::virtual_sleep(duration_ns, &unslept_ns);
   if (rc == EINTR && remain != nullptr && (flags & TIMER_ABSTIME) == 0) {
-    to_timespec(unslept_ns, remain);
+    *remain = rmw_introspect::timespec_from_ns(unslept_ns);
   }
   return rc;
 }
@@ -90,8 +84,8 @@ RMWI_INTERPOSED int nanosleep(const struct timespec * request, struct timespec *
 
 RMWI_INTERPOSED int usleep(useconds_t microseconds)
 {
-  struct timespec request {};
-  to_timespec(static_cast<int64_t>(microseconds) * 1000, &request);
+  const struct timespec request =
+    rmw_introspect::timespec_from_ns(static_cast<int64_t>(microseconds) * 1000);
   return nanosleep(&request, nullptr);
 }
 

@@ -166,10 +166,8 @@ uint64_t Session::enter_sleep(pid_t tid, int64_t deadline_ns)
 {
   poll_runs_.erase(tid);
   ++idle_version_;
-  const auto active = activity_generation_.find(tid);
-  if (phase_ == Phase::kProbing && !ever_waited_ && !probe_done_ && settled_by_ != nullptr &&
-    std::strcmp(settled_by_, "sleep") == 0 && active != activity_generation_.end() &&
-    active->second == generation_)
+  if (phase_ == Phase::kProbing && !ever_waited_ && !probe_done_ && settled_by_sleep() &&
+    used_ros_since_change(tid))
   {
     // Its loop went round again since the probing began (see kSleepLoopAgainNs).
     first_wait_give_up_ns_ = std::min(first_wait_give_up_ns_, clock_.now_ns() + kSleepLoopAgainNs);
@@ -186,22 +184,37 @@ void Session::leave_sleep(uint64_t token)
   }
 }
 
+bool Session::used_ros_since_change(pid_t tid) const
+{
+  const auto active = activity_generation_.find(tid);
+  return active != activity_generation_.end() && active->second == generation_;
+}
+
+bool Session::sleeper_counts(const Sleeper & sleeper) const
+{
+  if (!settings_.virtual_sleeps || settings_.horizon_ms <= 0) {
+    return false;  // nothing steps a sleep: it proves nothing (the census says it sleeps)
+  }
+  if (phase_ == Phase::kWarping) {
+    return false;  // a sleep from before the warp is about to come back and jump
+  }
+  return used_ros_since_change(sleeper.tid);
+}
+
 std::vector<const Session::Sleeper *> Session::counted_sleepers() const
 {
   std::vector<const Sleeper *> counted;
-  if (!settings_.virtual_sleeps || settings_.horizon_ms <= 0) {
-    return counted;  // nothing steps a sleep: it proves nothing (the census says it sleeps)
-  }
-  if (phase_ == Phase::kWarping) {
-    return counted;  // a sleep from before the warp is about to come back and jump
-  }
   for (const auto & entry : sleepers_) {
-    const auto active = activity_generation_.find(entry.second.tid);
-    if (active != activity_generation_.end() && active->second == generation_) {
+    if (sleeper_counts(entry.second)) {
       counted.push_back(&entry.second);
     }
   }
   return counted;
+}
+
+bool Session::settled_by_sleep() const
+{
+  return settled_by_ != nullptr && std::strcmp(settled_by_, "sleep") == 0;
 }
 
 void Session::leave_wait(uint64_t token)
@@ -315,8 +328,8 @@ bool Session::provably_idle(int64_t now)
   // before the warp): idle when it sleeps past the window, with no exception for a warp to come.
   std::vector<pid_t> asleep;
   for (const auto & entry : sleepers_) {
-    if (std::find(sleepers.begin(), sleepers.end(), &entry.second) != sleepers.end()) {
-      continue;
+    if (sleeper_counts(entry.second)) {
+      continue;  // (above)
     }
     if (phase_ == Phase::kWarping || entry.second.deadline_ns < settle_at) {
       return false;  // it wakes (or, in the warp, comes back to jump) first
@@ -512,7 +525,7 @@ Session::Step Session::poll()
         probed_ = true;
         probe_started_ns_ = now;
         first_wait_give_up_ns_ = now + kFirstWaitGraceNs;
-        if (!ever_waited_ && settled_by_ != nullptr && std::strcmp(settled_by_, "sleep") == 0) {
+        if (!ever_waited_ && settled_by_sleep()) {
           // Proven idle with every thread blocked or asleep in its loop: nothing can start to
           // wait before the first sleeper wakes, so a grace that ends first is not waited for.
           int64_t first_wake = INT64_MAX;

@@ -225,8 +225,15 @@ private:
   bool quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline);
   /// Detected quiescence at `now` (see the class comment).
   bool provably_idle(int64_t now);
-  /// The sleepers that count as blocked (see enter_sleep): none without virtual sleeps.
+  /// Thread `tid` made an activity call since the last change (it is in its loop).
+  bool used_ros_since_change(pid_t tid) const;
+  /// Whether `sleeper` counts as blocked (see enter_sleep): never without virtual sleeps, nor
+  /// in the warp.
+  bool sleeper_counts(const Sleeper & sleeper) const;
+  /// The sleepers that count.
   std::vector<const Sleeper *> counted_sleepers() const;
+  /// The latest settle was proven by sleepers alone (settled_by "sleep").
+  bool settled_by_sleep() const;
 
   /// A thread's run of back-to-back polls that found nothing ready, in one poll epoch.
   struct PollRun

@@ -36,21 +36,21 @@ int64_t monotonic_now_ns()
   return static_cast<int64_t>(now.tv_sec) * kNsPerSecond + now.tv_nsec;
 }
 
-struct timespec to_timespec(int64_t ns)
+// Sleep for real until CLOCK_MONOTONIC reaches `until_ns`: 0, or the error (EINTR).
+int real_sleep_until(int64_t until_ns)
+{
+  const struct timespec until = timespec_from_ns(until_ns);
+  return real_clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &until, nullptr);
+}
+}  // namespace
+
+struct timespec timespec_from_ns(int64_t ns)
 {
   struct timespec ts {};
   ts.tv_sec = static_cast<time_t>(ns / kNsPerSecond);
   ts.tv_nsec = static_cast<long>(ns % kNsPerSecond);
   return ts;
 }
-
-// Sleep for real until CLOCK_MONOTONIC reaches `until_ns`: 0, or the error (EINTR).
-int real_sleep_until(int64_t until_ns)
-{
-  const struct timespec until = to_timespec(until_ns);
-  return real_clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &until, nullptr);
-}
-}  // namespace
 
 int real_clock_nanosleep(
   clockid_t clock, int flags, const struct timespec * request, struct timespec * remain)

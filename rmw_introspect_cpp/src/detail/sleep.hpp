@@ -32,6 +32,9 @@ int real_clock_nanosleep(
 /// The middleware's own real sleep of `duration_ns` (EINTR resumed).
 void real_sleep_ns(int64_t duration_ns);
 
+/// `ns` (>= 0) as a timespec.
+struct timespec timespec_from_ns(int64_t ns);
+
 }  // namespace rmw_introspect
 
 #endif  // DETAIL__SLEEP_HPP_

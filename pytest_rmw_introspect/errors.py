@@ -23,6 +23,7 @@ Hierarchy::
 
 from __future__ import annotations
 
+import shlex
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -97,6 +98,37 @@ def _tail(text: str | None, lines: int = 20) -> str:
     return "\n".join(text.rstrip().splitlines()[-lines:])
 
 
+#: the last line of the traceback a Python target prints when the runner's SIGINT stops it
+_INTERRUPT_ENDS = ("KeyboardInterrupt", "rclpy.executors.ExternalShutdownException")
+_CHAINED = ("During handling of the above exception, another exception occurred:",
+            "The above exception was the direct cause of the following exception:")
+
+
+def without_our_interrupt(stderr: str) -> tuple[str, bool]:
+    """``stderr`` without the traceback that ends it when it is the one our own SIGINT caused (the
+    runner stops a target that did not settle that way): it reads like the node's own crash.
+    Chained tracebacks leading to it go too; anything before them stays. Returns the text and
+    whether something was left out."""
+    lines = stderr.rstrip().splitlines()
+    if not lines or not lines[-1].strip().startswith(_INTERRUPT_ENDS):
+        return stderr, False
+    headers = [i for i, line in enumerate(lines) if line.strip() == "Traceback (most recent call last):"]
+    if not headers:
+        return stderr, False
+    start = headers[-1]
+    while True:  # a chained traceback ("During handling of ...") goes with the one it leads to
+        above = start - 1
+        while above >= 0 and not lines[above].strip():
+            above -= 1
+        earlier = [i for i in headers if i < above]
+        if above < 0 or lines[above].strip() not in _CHAINED or not earlier:
+            break
+        start = earlier[-1]
+    while start > 0 and not lines[start - 1].strip():
+        start -= 1
+    return "\n".join(lines[:start]), True
+
+
 def _indent(text: str, prefix: str = "    ") -> str:
     return "\n".join(prefix + line for line in text.splitlines())
 
@@ -145,7 +177,7 @@ class _WithPartialCapture(TargetError):
         """The command, the tail of its stderr (if any) and what was captured."""
         parts = []
         if self.argv:
-            parts.append("Command: " + " ".join(self.argv))
+            parts.append("Command: " + shlex.join(self.argv))
         if self.stderr_tail:
             parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
         parts.append(self._partial_summary())
@@ -190,7 +222,7 @@ class TargetExited(_WithPartialCapture):
         else:
             parts = [f"The target {target} {how} before its interfaces settled."]
         if self.argv:
-            parts.append("Command: " + " ".join(self.argv))
+            parts.append("Command: " + shlex.join(self.argv))
         if self.stderr_tail:
             parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
         else:
@@ -225,7 +257,7 @@ class NoNodeCreated(_WithPartialCapture):
             "and spin before it exits?"
         ]
         if self.argv:
-            parts.append("Command: " + " ".join(self.argv))
+            parts.append("Command: " + shlex.join(self.argv))
         if self.stderr_tail:
             parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
         if hint:
@@ -246,10 +278,15 @@ class TargetTimeout(_WithPartialCapture):
     ) -> None:
         self.timeout = timeout
         self.partial = partial
+        stderr_tail, self.interrupt_left_out = without_our_interrupt(stderr_tail)
         self.stderr_tail = _tail(stderr_tail)
         self.argv = list(argv)
         parts = [f"The target {target} did not settle within {timeout:g} s and was stopped. {diagnose_unsettled(partial)}"]
-        super().__init__("\n".join(parts + self._process_details()), target=target)
+        details = self._process_details()
+        if self.interrupt_left_out:
+            details.insert(len(details) - 1, "The tool stopped it with SIGINT; the KeyboardInterrupt traceback "
+                                             "that printed is left out (it is not the node's own crash).")
+        super().__init__("\n".join(parts + details), target=target)
 
 
 class StimulusFailed(_WithPartialCapture):
@@ -319,7 +356,7 @@ class LifecycleTransitionFailed(_WithPartialCapture):
             "leave lifecycle nodes alone."
         )
         if self.argv:
-            parts.append("Command: " + " ".join(self.argv))
+            parts.append("Command: " + shlex.join(self.argv))
         if self.stderr_tail:
             parts.append("Last lines of its stderr:\n" + _indent(self.stderr_tail))
         parts.append(self._partial_summary())

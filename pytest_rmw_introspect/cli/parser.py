@@ -19,23 +19,13 @@ _DESCRIPTION = """\
 Interface contracts of ROS 2 nodes: run a node on the recording middleware (rmw_introspect_cpp)
 and write down, check or compare the publishers, subscriptions, services and actions it creates.
 
-commands:
-  capture   run a target and print its interfaces (a contract, JSON, NoDL, or the raw capture)
-  check     run the target of each contract and compare it with the contract (drift report)
-  diff      compare two contract files without running anything
-  compat    check that the nodes of several contracts fit together (types, hashes, QoS, peers)
-  validate  check that contract files are valid, without running anything (a pre-commit hook)
-  init      write a contract for every executable of an installed package
-  lock      write the RIHS01 hashes of every interface type the contracts use (nested ones too)
-  graph     draw a system (Mermaid, Graphviz DOT or HTML) with what does not fit marked
-
 A launch file is a target too: `capture --launch robot.launch.xml -o robot.system.yaml` captures
 every process it starts into a system contract, which check, diff, compat and graph read.
 
 Run `rmw-introspect COMMAND --help` for the options of a command.
 
 examples:
-  rmw-introspect capture --package demo_nodes_py --executable talker -o talker.interfaces.yaml
+  rmw-introspect capture --package my_pkg --executable talker -o talker.interfaces.yaml
   rmw-introspect capture --format nodl --script my_node.py --param rate:=10.0
   rmw-introspect check contracts/*.interfaces.yaml --fail-on risky
   rmw-introspect check --update contracts/talker.interfaces.yaml
@@ -52,14 +42,9 @@ terminated (SIGTERM) 143; a running target is stopped first.
 """
 
 _TARGET_HELP = """\
-what to run (exactly one of):
-  --package P --executable E   an executable of an ament package, found like `ros2 run`
-                               (or a console script of the Python distribution P, as
-                               `pip install -e .` installs an ament_python package)
-  --script FILE                a Python file, run with this interpreter
-  --module M                   a Python module, run as `python -m M`
-  --entry-point MOD:FUNC       a Python function, called like its console script
-  -- COMMAND ARGS...           any command (everything after `--`)
+What to run, exactly one of: --package P with --executable E (found like `ros2 run`, or a console
+script of the Python distribution P as `pip install -e .` installs an ament_python package),
+--script, --module, --entry-point, or `-- COMMAND ARGS...` (any command: everything after `--`).
 The other target options (--namespace, --remap, --param, ...) are added as `--ros-args`.
 """
 
@@ -240,13 +225,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="rmw-introspect", description=_DESCRIPTION,
                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser, title="commands")
     sub.required = True
 
-    cap = sub.add_parser("capture", help="run a target and print its interfaces",
+    cap = sub.add_parser("capture", help="run a target and print its interfaces (a contract, JSON, NoDL or the raw capture)",
                          description="Run a target on the recording middleware and print its interfaces.",
                          epilog=_CAPTURE_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
-                         usage="%(prog)s [options] (--package P --executable E | --script F | --module M | -- COMMAND ...)")
+                         usage="%(prog)s [options] (--package P --executable E | --script F | --module M "
+                               "| --entry-point MOD:FUNC | -- COMMAND ...)")
     _add_target(cap)
     out = cap.add_argument_group("output")
     out.add_argument("--format", choices=("yaml", "json", "nodl"), default="yaml",
@@ -259,7 +245,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="when the target fails or hangs, still write what was captured (exit status stays 2)")
     system_options.add_launch(cap)
 
-    chk = sub.add_parser("check", help="capture each contract's target and compare",
+    chk = sub.add_parser("check", help="run the target of each contract and compare it with the contract (drift report)",
                          description="Capture the target of each contract and compare it with the contract.",
                          epilog=_CHECK_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
                          usage="%(prog)s [options] CONTRACT... [-- COMMAND ...]")

@@ -32,7 +32,7 @@ MIDDLEWARE_NAME = "rmw_introspect_cpp"
 
 INSTALL_HINT = (
     "Install ROS 2 Jazzy into this virtual environment with\n"
-    "    pip install 'pytest-rmw-introspect[ros-wheels]'\n"
+    "    pip install 'pytest-rmw-introspect[jazzy]'      # or [kilted] for ROS 2 Kilted\n"
     "or, on a machine with a standard ROS 2 install, source it first:\n"
     "    source /opt/ros/jazzy/setup.bash"
 )

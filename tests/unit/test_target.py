@@ -236,6 +236,33 @@ def test_two_targets_in_one_layer_is_ambiguous():
         TargetSpec.from_mapping({"module": "m", "script": "x.py"}).validate()
 
 
+def test_a_package_without_executable_lists_the_executables_it_has(tmp_path, monkeypatch):
+    (tmp_path / "share" / "ament_index" / "resource_index" / "packages").mkdir(parents=True)
+    (tmp_path / "share" / "ament_index" / "resource_index" / "packages" / "cam_pkg").write_text("")
+    (tmp_path / "lib" / "cam_pkg").mkdir(parents=True)
+    for name in ("camera_node", "lidar_node"):
+        (tmp_path / "lib" / "cam_pkg" / name).write_text("#!/bin/sh\n")
+        (tmp_path / "lib" / "cam_pkg" / name).chmod(0o755)
+    monkeypatch.setenv("AMENT_PREFIX_PATH", str(tmp_path))
+    with pytest.raises(TargetConfigError) as info:
+        TargetSpec.from_mapping({"package": "cam_pkg"}).validate()
+    message = str(info.value)
+    assert message == ("Target package/executable is incomplete: `executable` is missing for package 'cam_pkg'. "
+                       "The package has these executables: camera_node, lidar_node; choose one with `executable` "
+                       "(--executable on the command line).")
+    assert "None" not in message
+    with pytest.raises(TargetConfigError, match="`package` is missing \\(executable 'camera_node' was given\\)"):
+        TargetSpec.from_mapping({"executable": "camera_node"}).validate()
+
+
+def test_a_timeout_set_after_loading_is_checked_with_the_same_words():
+    spec = TargetSpec.from_mapping({"module": "m"})
+    from dataclasses import replace
+
+    with pytest.raises(TargetConfigError, match="`timeout` must be a number of seconds more than 0 and at most 86400, got 0"):
+        replace(spec, timeout=0.0).validate()
+
+
 def test_unknown_key_is_reported_with_the_source():
     with pytest.raises(TargetConfigError) as info:
         TargetSpec.from_mapping({"pakage": "x"}, source="contracts/a.yaml: target")
@@ -253,6 +280,9 @@ def test_unknown_key_is_reported_with_the_source():
         ({"timeout": float("nan")}, "`timeout` must be a number of seconds, got nan"),
         ({"settle": 90_000}, "`settle` must be a number of seconds from 0 to 86400"),
         ({"horizon": -1}, "`horizon` must be a number of seconds from 0 to 86400"),
+        # -1 and 0 are refused with the same words: the range a timeout takes
+        ({"timeout": -1}, "`timeout` must be a number of seconds more than 0 and at most 86400, got -1"),
+        ({"timeout": 0}, "`timeout` must be a number of seconds more than 0 and at most 86400, got 0"),
         ({"horizon": "10s"}, "`horizon` must be a number of seconds"),
         ({"remappings": 3}, "`remappings` must be"),
         ({"parameters": ["a"]}, "`parameters` must be a mapping"),
@@ -386,7 +416,77 @@ def test_a_package_executable_falls_back_to_a_console_script(tmp_path):
     with pytest.raises(ExecutableNotFound) as info:
         target.build_argv(TargetSpec.from_mapping({"package": "my_camera_pkg", "executable": "lidar",
                                                    "env": {"PYTHONPATH": str(site)}}), prefixes=[])
-    assert "No console script 'lidar' in a Python distribution named 'my_camera_pkg' either" in str(info.value)
+    assert str(info.value) == ("Executable 'lidar' not found in package 'my_camera_pkg': the package is installed as "
+                               "a Python distribution (pip), not in the ament index, and its console scripts are: camera.")
+
+
+def test_a_mistyped_console_script_lists_the_packages_scripts_and_suggests_the_closest(tmp_path):
+    # `pip install -e .` of an ament_python package: no ament index entry, console scripts only
+    site = tmp_path / "site"
+    _fake_distribution(site, "sensor_relay", {"relay": "sensor_relay.relay:main", "monitor": "sensor_relay.mon:main"})
+    spec = TargetSpec.from_mapping({"package": "sensor_relay", "executable": "rleay", "env": {"PYTHONPATH": str(site)}})
+    with pytest.raises(ExecutableNotFound) as info:
+        target.build_argv(spec, prefixes=[tmp_path / "empty_prefix"])
+    message = str(info.value)
+    assert message.startswith("Executable 'rleay' not found in package 'sensor_relay': the package is installed "
+                              "as a Python distribution (pip), not in the ament index"), message
+    assert "its console scripts are: monitor, relay. Did you mean 'relay'?" in message
+    assert "was not found in the ament index" not in message
+    assert info.value.found == ["monitor", "relay"]
+
+
+def test_a_distribution_without_console_scripts_says_how_to_declare_them(tmp_path):
+    site = tmp_path / "site"
+    _fake_distribution(site, "sensor_relay", {})
+    spec = TargetSpec.from_mapping({"package": "sensor_relay", "executable": "relay", "env": {"PYTHONPATH": str(site)}})
+    with pytest.raises(ExecutableNotFound, match=r"it has no console scripts \(declare them under `entry_points="):
+        target.build_argv(spec, prefixes=[])
+
+
+def test_a_package_in_neither_place_says_both_were_searched(tmp_path):
+    spec = TargetSpec.from_mapping({"package": "no_such_pkg", "executable": "x", "env": {"PYTHONPATH": str(tmp_path)}})
+    with pytest.raises(ExecutableNotFound) as info:
+        target.build_argv(spec, prefixes=[tmp_path])
+    message = str(info.value)
+    assert message.startswith("Package 'no_such_pkg' was not found in the ament index.")
+    assert "No Python distribution named 'no_such_pkg' is installed either" in message
+
+
+def test_a_mistyped_executable_of_an_ament_package_gets_the_closest_suggested(tmp_path):
+    (tmp_path / "share" / "ament_index" / "resource_index" / "packages").mkdir(parents=True)
+    (tmp_path / "share" / "ament_index" / "resource_index" / "packages" / "cam_pkg").write_text("")
+    (tmp_path / "lib" / "cam_pkg").mkdir(parents=True)
+    for name in ("camera_node", "lidar_node"):
+        exe = tmp_path / "lib" / "cam_pkg" / name
+        exe.write_text("#!/bin/sh\n")
+        exe.chmod(0o755)
+    spec = TargetSpec.from_mapping({"package": "cam_pkg", "executable": "camera_nod", "env": {"PYTHONPATH": str(tmp_path)}})
+    with pytest.raises(ExecutableNotFound) as info:
+        target.build_argv(spec, prefixes=[tmp_path])
+    assert str(info.value).endswith("The package has these executables: camera_node, lidar_node. "
+                                    "Did you mean 'camera_node'?"), str(info.value)
+
+
+def test_messages_show_a_console_script_as_the_users_command_shell_quoted(tmp_path):
+    site = tmp_path / "site"
+    _fake_distribution(site, "sensor_relay", {"relay": "sensor_relay.relay:main"})
+    bin_dir = tmp_path / "venv" / "bin"
+    bin_dir.mkdir(parents=True)
+    python = bin_dir / "python"
+    spec = TargetSpec.from_mapping({"package": "sensor_relay", "executable": "relay", "env": {"PYTHONPATH": str(site)},
+                                    "parameters": {"label": "a b"}})
+    argv = target.build_argv(spec, prefixes=[], python=str(python))
+    assert argv[1] == "-c"  # started through our launcher ...
+    assert target.command_as_typed(argv) == ["relay", "--ros-args", "-p", "label:=a b"]  # ... shown as the script
+    (bin_dir / "relay").write_text("#!/bin/sh\n")
+    shown = target.command_as_typed(argv)
+    assert shown[0] == str(bin_dir / "relay")
+    from pytest_rmw_introspect.errors import TargetExited
+
+    message = str(TargetExited("sensor_relay/relay", 1, "boom", argv=shown))
+    assert f"Command: {bin_dir / 'relay'} --ros-args -p 'label:=a b'" in message
+    assert "importlib" not in message
+    assert target.command_as_typed(["/usr/bin/env", "x"]) == ["/usr/bin/env", "x"]  # anything else as it is
 
 
 def test_a_module_with_main_but_no_main_block_gets_a_hint(tmp_path):

@@ -66,20 +66,33 @@ class ContractError(RmwIntrospectError):
         location: str | None,
         reason: str,
         line: int | None = None,
+        others: Sequence[tuple[str | None, str, int | None]] = (),
     ) -> None:
         self.path = Path(path) if path is not None else None
         self.location = location
         self.reason = reason
         self.line = line
+        #: the file's other problems, (location, reason, line) each, by line
+        self.others = list(others)
         super().__init__(self._format())
 
     def _format(self) -> str:
         where = str(self.path) if self.path is not None else "<contract>"
-        if self.line is not None:
-            where += f":{self.line}"
-        if self.location:
-            where += f": at {self.location}"
-        return f"invalid contract {where}: {self.reason}"
+        text = f"invalid contract {self._place(where, self.line, self.location)}: {self.reason}"
+        if self.others:
+            count = len(self.others)
+            text += f"\n{count} more problem{'s' if count > 1 else ''} in the file:"
+            for location, reason, line in self.others:
+                text += f"\n  {self._place(where, line, location)}: {reason}"
+        return text
+
+    @staticmethod
+    def _place(where: str, line: int | None, location: str | None) -> str:
+        if line is not None:
+            where += f":{line}"
+        if location:
+            where += f": at {location}"
+        return where
 
 
 class CaptureFormatError(RmwIntrospectError):

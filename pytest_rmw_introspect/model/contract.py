@@ -43,7 +43,7 @@ import difflib
 import functools
 import json
 import math
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -192,22 +192,46 @@ def _compose(text: str, path: Path | None) -> tuple[yaml.Node | None, Any]:
 
 
 def _schema_error(root: yaml.Node | None, data: Any, path: Path | None) -> ContractError | None:
-    # Imported here, not at the top: jsonschema costs ~80 ms, and `rmw-introspect --help` or a
-    # capture without a contract never needs it.
-    import jsonschema
-
     errors = list(_validator().iter_errors(data))
-    if not errors:
-        return None
+    return schema_error(root, errors, path, _schema_reason) if errors else None
+
+
+def _key_line(root: yaml.Node | None, location: list[Any], key: str) -> int | None:
+    """The line of ``key`` itself in the mapping at ``location`` (None: not found)."""
+    node = _node_at(root, location)
+    if isinstance(node, yaml.MappingNode):
+        for k, _ in node.value:
+            if isinstance(k, yaml.ScalarNode) and k.value == key:
+                return k.start_mark.line + 1
+    return None
+
+
+def _problem(root: yaml.Node | None, error: Any, reason_of: Callable[[Any], str]) -> tuple[list[Any], str, int | None]:
+    """Where a schema error is (its location and line: an unknown key's own line, not its
+    mapping's) and what it says."""
+    location = list(error.absolute_path)
+    if "propertyNames" in error.absolute_schema_path and isinstance(error.instance, str):
+        location.append(error.instance)  # point at the offending key itself
+    line = _line(root, location)
+    if error.validator == "additionalProperties" and isinstance(error.instance, Mapping):
+        unknown = [k for k in error.instance if k not in (error.schema.get("properties") or {})]
+        if unknown:
+            line = _key_line(root, location, str(unknown[0])) or line
+    return location, reason_of(error), line
+
+
+def schema_error(root: yaml.Node | None, errors: list[Any], path: Path | None,
+                 reason_of: Callable[[Any], str]) -> ContractError:
+    """One error for every problem the schema found in a file: the most relevant first (jsonschema's
+    ``best_match``), then every other one by line, each with its own line and location."""
+    import jsonschema  # ~80 ms: only an invalid file needs it here (the caller has it loaded)
+
     best = jsonschema.exceptions.best_match(errors)
-    location = list(best.absolute_path)
-    if "propertyNames" in best.absolute_schema_path and isinstance(best.instance, str):
-        location.append(best.instance)  # point at the offending key itself
-    reason = _schema_reason(best)
-    more = len(errors) - 1
-    if more > 0:
-        reason += f" (and {more} more problem{'s' if more > 1 else ''} in the file)"
-    return ContractError(path, format_location(location) or None, reason, line=_line(root, location))
+    location, reason, line = _problem(root, best, reason_of)
+    others = sorted((_problem(root, error, reason_of) for error in errors if error is not best),
+                    key=lambda problem: (problem[2] or 0, format_location(problem[0])))
+    return ContractError(path, format_location(location) or None, reason, line=line,
+                         others=[(format_location(where) or None, why, at) for where, why, at in others])
 
 
 @functools.lru_cache(maxsize=1)

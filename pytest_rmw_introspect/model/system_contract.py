@@ -281,26 +281,23 @@ def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:
     import jsonschema
 
     errors = list(jsonschema.Draft7Validator(schema()).iter_errors(data))
-    if not errors:
-        return
-    best = jsonschema.exceptions.best_match(errors)
-    location = list(best.absolute_path)
-    if best.validator == "additionalProperties" and isinstance(best.instance, Mapping):
-        allowed = sorted((best.schema.get("properties") or {}).keys())
-        extra = sorted(set(best.instance) - set(allowed))
-        reason = f"unknown key(s) {', '.join(map(repr, extra))}; allowed: {', '.join(allowed)}"
-    elif best.validator == "required":
-        reason = best.message.replace("is a required property", "is required")
-    elif best.validator == "enum":
-        reason = f"{best.instance!r} is not one of: {', '.join(map(str, best.validator_value))}"
-    elif best.validator == "const" and location == ["system_version"]:
-        reason = f"system_version {best.instance!r} is not supported; this plugin reads system_version {SYSTEM_VERSION}"
-    else:
-        reason = best.message
-    more = len(errors) - 1
-    if more:
-        reason += f" (and {more} more problem{'s' if more > 1 else ''} in the file)"
-    raise ContractError(path, contract_module.format_location(location) or None, reason, line=_where(root, location))
+    if errors:
+        raise contract_module.schema_error(root, errors, path, _reason)
+
+
+def _reason(error: Any) -> str:
+    """What a schema error of a system contract says."""
+    if error.validator == "additionalProperties" and isinstance(error.instance, Mapping):
+        allowed = sorted((error.schema.get("properties") or {}).keys())
+        extra = sorted(set(error.instance) - set(allowed))
+        return f"unknown key(s) {', '.join(map(repr, extra))}; allowed: {', '.join(allowed)}"
+    if error.validator == "required":
+        return str(error.message).replace("is a required property", "is required")
+    if error.validator == "enum":
+        return f"{error.instance!r} is not one of: {', '.join(map(str, error.validator_value))}"
+    if error.validator == "const" and list(error.absolute_path) == ["system_version"]:
+        return f"system_version {error.instance!r} is not supported; this plugin reads system_version {SYSTEM_VERSION}"
+    return str(error.message)
 
 
 # ---------------------------------------------------------------------------- writing

@@ -180,7 +180,7 @@ BAD = [
     ("contract_version: 1\nnodes:\n  /ok: {}\n  talker: {}\n", "nodes.talker", 4, "not a fully qualified node name"),
     ("contract_version: 2\nnodes: {}\n", "contract_version", 1, "contract_version 2 is not supported"),
     ("nodes: {}\n", None, 1, "'contract_version' is required"),
-    ("contract_version: 1\nfoo: 1\nnodes: {}\n", None, 1, "unknown key 'foo'; allowed: accept, contract_version, nodes, options, ros_distribution, target, types"),
+    ("contract_version: 1\nfoo: 1\nnodes: {}\n", None, 2, "unknown key 'foo'; allowed: accept, contract_version, nodes, options, ros_distribution, target, types"),
     (
         (
             "contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String}\n"
@@ -243,9 +243,49 @@ def test_yaml_syntax_error_has_line_and_column(tmp_path):
     assert info.value.line is not None and info.value.location is None
 
 
-def test_several_problems_are_counted():
-    with pytest.raises(ContractError, match=r"and 1 more problem in the file"):
-        loads("contract_version: 2\nfoo: 1\nnodes: {}\n")
+def test_every_problem_of_a_file_is_listed_with_its_own_line():
+    with pytest.raises(ContractError) as info:
+        loads("contract_version: 2\nfoo: 1\nnodes: {}\n", path="c.yaml")
+    assert str(info.value).splitlines() == [
+        "invalid contract c.yaml:2: unknown key 'foo'; allowed: accept, contract_version, nodes, options, "
+        "ros_distribution, target, types",
+        "1 more problem in the file:",
+        "  c.yaml:1: at contract_version: contract_version 2 is not supported; this plugin reads contract_version 1",
+    ]
+    assert [(where, line) for where, _, line in info.value.others] == [("contract_version", 1)]
+
+
+UNKNOWN_KEYS_FAR_DOWN = """\
+contract_version: 1
+nodes:
+  /talker:
+    publishers:
+      - name: /chatter
+        type: std_msgs/msg/String
+    subscriptions: []
+    service_servers: []
+    service_clients: []
+    action_servers: []
+    action_clients: []
+    parameters:
+      - name: rate
+        type: double
+        default_value: 10.0
+        wat: 1
+    publisher: []
+"""
+
+
+def test_an_unknown_key_is_reported_at_its_own_line_not_its_mappings():
+    with pytest.raises(ContractError) as info:
+        loads(UNKNOWN_KEYS_FAR_DOWN, path="c.yaml")
+    err = info.value
+    lines = {err.line, *(line for _, _, line in err.others)}
+    assert lines == {16, 17}, str(err)  # `wat:` and `publisher:` themselves, not lines 3 and 13
+    assert "1 more problem in the file:" in str(err)
+    text = str(err)
+    assert "c.yaml:16: at nodes./talker.parameters[0]: unknown key 'wat'" in text
+    assert "c.yaml:17: at nodes./talker: unknown key 'publisher'" in text
 
 
 @pytest.mark.parametrize("text, reason", [("", "the file is empty"), ("# only a comment\n", "the file is empty"),

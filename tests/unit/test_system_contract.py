@@ -127,6 +127,17 @@ def test_malformed_system_contracts(tmp_path, text, error):
         system_contract.load(path)
 
 
+def test_a_system_contract_lists_every_problem_each_at_its_own_line(tmp_path):
+    path = tmp_path / "robot.system.yaml"
+    path.write_text("system_version: 1\nlaunch:\n  path: a.xml\n  bogus: 1\ntarget:\n  timeout: 5\n  package: p\n")
+    with pytest.raises(ContractError) as info:
+        system_contract.load(path)
+    text = str(info.value)
+    assert f"{path}:4: at launch: unknown key(s) 'bogus'" in text  # the key's own line, not the mapping's (3)
+    assert f"{path}:7: at target: unknown key(s) 'package'" in text
+    assert "1 more problem in the file:" in text
+
+
 # ---------------------------------------------------------------------------- system rules
 
 

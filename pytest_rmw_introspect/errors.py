@@ -24,7 +24,7 @@ Hierarchy::
 from __future__ import annotations
 
 import shlex
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -76,8 +76,12 @@ class ContractError(RmwIntrospectError):
         self.others = list(others)
         super().__init__(self._format())
 
-    def _format(self) -> str:
-        where = str(self.path) if self.path is not None else "<contract>"
+    def shown_from(self, display: Callable[[Path], str]) -> str:
+        """The message with the file shown by ``display`` (e.g. relative to where pytest started)."""
+        return self._format(display(self.path) if self.path is not None else None)
+
+    def _format(self, where: str | None = None) -> str:
+        where = where or (str(self.path) if self.path is not None else "<contract>")
         text = f"invalid contract {self._place(where, self.line, self.location)}: {self.reason}"
         if self.others:
             count = len(self.others)

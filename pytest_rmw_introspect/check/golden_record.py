@@ -20,6 +20,8 @@ from ..model.paths import shown
 USER_PROPERTY = "rmw_introspect_golden_written"
 CREATED = "created"
 UPDATED = "updated"
+#: a golden --update-golden could not rewrite: the file is not a valid contract
+INVALID = "invalid"
 
 
 def ci_refusal(environ: Mapping[str, str] | None = None) -> str | None:
@@ -57,4 +59,17 @@ class GoldenSession:
                 self.written[p] = action
 
     def summary_lines(self, base: Path | None = None) -> list[str]:
-        return [f"{self.written[p]:8} {shown(p, base) if base is not None else p}" for p in sorted(self.written)]
+        """One line per golden written (``created``/``updated``), then one per golden left as it was
+        because it is invalid; then the counts."""
+        def line(p: Path) -> str:
+            return f"{self.written[p]:8} {shown(p, base) if base is not None else p}"
+
+        written = [line(p) for p in sorted(self.written) if self.written[p] != INVALID]
+        invalid = [line(p) + "  (not written: fix or delete it, then run --update-golden again)"
+                   for p in sorted(self.written) if self.written[p] == INVALID]
+        if not written and not invalid:
+            return ["no golden contract needed changes"]
+        counts = [f"{len(written)} golden contract(s) written"]
+        if invalid:
+            counts.append(f"{len(invalid)} invalid golden contract(s) not written")
+        return [*written, *invalid, "; ".join(counts)]

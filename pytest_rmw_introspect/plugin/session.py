@@ -255,11 +255,6 @@ def terminal_summary(terminalreporter: pytest.TerminalReporter, config: pytest.C
     session_state = config.stash.get(SESSION, None)
     if session_state is None or not session_state.update:
         return
-    lines = session_state.golden.summary_lines(session_state.invocation_dir)
     terminalreporter.section("rmw-introspect: golden contracts")
-    if lines:
-        for line in lines:
-            terminalreporter.write_line(line)
-        terminalreporter.write_line(f"{len(lines)} golden contract(s) written")
-    else:
-        terminalreporter.write_line("no golden contract needed changes")
+    for line in session_state.golden.summary_lines(session_state.invocation_dir):
+        terminalreporter.write_line(line)

@@ -57,6 +57,27 @@ def test_update_golden_creates_the_contract_and_then_it_passes(project):
     assert project.read("contracts/talker.yaml") == EXPECTED_TALKER_CONTRACT
 
 
+def test_update_golden_on_an_invalid_golden_says_so_and_leaves_it(project):
+    project.test(TALKER_TEST)
+    broken = "contract_version: 1\nnodes:\n  /talker:\n    publishers: [\n"
+    project.write("contracts/talker.yaml", broken)
+    result = project.run("--update-golden")
+    result.assert_outcomes(failed=1)
+    out = result.stdout.str()
+    # the path as everywhere else in pytest's messages: relative to where pytest was started
+    assert "invalid contract contracts/talker.yaml:5: YAML syntax error" in out
+    failure = out.split("FAILURES")[1].split("rmw-introspect: golden contracts")[0]
+    assert str(project.path) not in failure
+    assert "--update-golden does not overwrite an invalid contract" in out
+    result.stdout.fnmatch_lines([
+        "*rmw-introspect: golden contracts*",
+        "invalid  contracts/talker.yaml  (not written: fix or delete it, then run --update-golden again)",
+        "0 golden contract(s) written; 1 invalid golden contract(s) not written",
+    ])
+    assert "no golden contract needed changes" not in out
+    assert project.read("contracts/talker.yaml") == broken
+
+
 def test_update_rewrites_a_drifted_golden_keeping_header_target_and_options(project):
     header = (
         "# The talker's interface. Owner: team-demo.\n"

@@ -89,7 +89,18 @@ def test_session_collects_reports_and_lists_files(tmp_path):
     session.record_report([(golden_record.USER_PROPERTY, golden_record.property_value(golden.UPDATED, b)),
                            (golden_record.USER_PROPERTY, "garbage")])
     assert session.written == {a.resolve(): golden.CREATED, b.resolve(): golden.UPDATED}
-    assert session.summary_lines(tmp_path) == ["created  a.yaml", "updated  sub/b.yaml"]
+    assert session.summary_lines(tmp_path) == ["created  a.yaml", "updated  sub/b.yaml", "2 golden contract(s) written"]
+    assert golden_record.GoldenSession(enabled=True).summary_lines(tmp_path) == ["no golden contract needed changes"]
+
+
+def test_an_invalid_golden_is_listed_as_not_written_with_what_to_do(tmp_path):
+    session = golden_record.GoldenSession(enabled=True)
+    session.record_report([(golden_record.USER_PROPERTY,
+                            golden_record.property_value(golden_record.INVALID, tmp_path / "contracts" / "t.yaml"))])
+    assert session.summary_lines(tmp_path) == [
+        "invalid  contracts/t.yaml  (not written: fix or delete it, then run --update-golden again)",
+        "0 golden contract(s) written; 1 invalid golden contract(s) not written",
+    ]
 
 
 # ---------------------------------------------------------------------------- links, modes, line endings, errors

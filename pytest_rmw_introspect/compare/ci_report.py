@@ -161,8 +161,18 @@ def annotation(level: str, message: str, *, file: str | None = None, line: int |
     return f"::{level} {','.join(props)}::{_escape_data(message)}" if props else f"::{level}::{_escape_data(message)}"
 
 
+def annotation_level(severity: Severity, threshold: Severity) -> str:
+    """The annotation a finding gets: ``error`` when it fails the gate, except a SAFE one (it breaks
+    nothing: ``warning`` even when ``--fail-on any`` fails on it); below the threshold ``warning``,
+    or ``notice`` for a SAFE one."""
+    fails = severity >= threshold
+    if severity == Severity.SAFE:
+        return "warning" if fails else "notice"
+    return "error" if fails else "warning"
+
+
 def drift_github(outcomes: Sequence[ContractOutcome]) -> str:
-    """An annotation per drift item (error at or above the threshold, warning below), on the
+    """An annotation per drift item (:func:`annotation_level`: error when it fails the gate), on the
     contract's line of the interface (or of its node), and one per contract that could not be
     checked."""
     lines = []
@@ -171,7 +181,7 @@ def drift_github(outcomes: Sequence[ContractOutcome]) -> str:
             lines.append(annotation("error", o.error.rstrip("\n"), file=o.contract, title="contract not checked"))
             continue
         for item in o.items:
-            level = "error" if item.severity >= o.threshold else "warning"
+            level = annotation_level(item.severity, o.threshold)
             what = item.node if item.kind == "node" else f"{item.node} {LABELS.get(item.kind, item.kind)} {item.name}"
             lines.append(annotation(level, f"{what}: {item.message}", file=o.contract,
                                     line=line_of(o.lines, item.node, item.kind, item.name),
@@ -203,7 +213,7 @@ def compat_github(items: Sequence[CompatItem], *, threshold: Severity,
     process label → its file), else the end's label (a node contract's path)."""
     out = []
     for item in items:
-        level = "error" if item.severity >= threshold else "warning"
+        level = annotation_level(item.severity, threshold)
         where = file or (file_of(item.requester.label) if file_of else item.requester.label)
         index = (lines or {}).get(where, {})
         ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)

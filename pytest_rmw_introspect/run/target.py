@@ -16,6 +16,7 @@ first element contains a ``/``) are relative to the file that named them.
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 import re
@@ -548,8 +549,6 @@ def package_executables(package: str, prefixes: Sequence[Path], python_path: Seq
 
 def closest(name: str, candidates: Sequence[str]) -> str:
     """`` Did you mean 'x'?`` for the candidate closest to a mistyped ``name`` (empty if none is close)."""
-    import difflib  # only a mistyped name needs it
-
     match = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
     return f" Did you mean '{match[0]}'?" if match else ""
 

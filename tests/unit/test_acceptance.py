@@ -54,7 +54,7 @@ def test_entries_are_read_with_their_lines():
     ("  - rule: SUB_REMOVED\n    reason: '   '\n", 4, "an accepted finding needs a reason"),
     ("  - rule: sub_removed\n    reason: r\n", 3, "'sub_removed' is not a rule id"),
     ("  - rule: SUB_REMOVED\n    node: listener\n    reason: r\n", 4, "'listener' is not a fully qualified node name"),
-    ("  - rule: SUB_REMOVED\n    topic: /x\n    reason: r\n", 3, "unknown key 'topic'"),
+    ("  - rule: SUB_REMOVED\n    topic: /x\n    reason: r\n", 4, "unknown key 'topic'"),  # the key's own line
 ])
 def test_bad_entries_name_the_file_line_and_what_to_write(entry, line, reason):
     with pytest.raises(ContractError) as caught:

@@ -37,12 +37,14 @@ from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError, TargetConfigError
 from ..launch import component_loads
 from ..model import contract as contract_module
+from ..model import stand_ins as stand_in_model
 from ..model import system_contract
 from ..model.acceptance import Acceptance
 from ..model.contract import Contract
 from ..model.contract_shapes import ContractNode, ContractNodes
 from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
+from ..model.stand_ins import StoodIn
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.vocabulary import Severity, parse_threshold
 from ..run import system_capture
@@ -70,6 +72,8 @@ class SystemPrepared:
     system_threshold: Severity
     #: the ROS environment the processes run in (the ament prefixes that paths resolve against)
     ros: RosEnvironment | None = None
+    #: the processes not run here and the nodes that stand in for them (``stand_ins:``)
+    stand_ins: list[StoodIn] = field(default_factory=list)
 
 
 def _as_contract(system: SystemContract | None) -> Contract | None:
@@ -104,9 +108,11 @@ def prepare(
     path = Path(contract_path)
     shown = shown or display(path)
     contract = None
+    stood_in: list[StoodIn] = []
     if path.exists() or not allow_missing:
         contract = system_contract.load(path)
         acceptance.check_rules(contract.accept)
+        stood_in = stand_in_model.load_all(contract.stand_ins, path)
     as_contract = _as_contract(contract)
     options = layers.options(as_contract, shown=shown)
     target = layers.target(as_contract, path=path, shown=shown)
@@ -130,7 +136,8 @@ def prepare(
                                          prefixes=system_capture.ament_prefixes(env))
     return SystemPrepared(path=path, shown=shown, contract=contract, launch=spec, target=target,
                           options=read_as_asked(target, options),
-                          system_threshold=system_threshold(contract, system_fail_on), ros=env)
+                          system_threshold=system_threshold(contract, system_fail_on), ros=env,
+                          stand_ins=stood_in)
 
 
 # ---------------------------------------------------------------------------- result
@@ -206,6 +213,13 @@ class SystemCheckResult:
     @property
     def missing(self) -> bool:
         return self.contract is None and self.error is None
+
+    @property
+    def stood_in(self) -> list[str]:
+        """The processes not run here, each with the file that stood in for it."""
+        if self.capture is None:
+            return []
+        return [f"{p.label} by {p.stood_in.shown}" for p in self.capture.stood_in if p.stood_in is not None]
 
     @property
     def threshold(self) -> Severity:
@@ -333,7 +347,8 @@ def run_capture(prepared: SystemPrepared, *, library: str | Path | None = None,
     """Capture every process of the prepared system (raises a TargetError); ``jobs``: processes
     at a time (default: the number of cores)."""
     return system_capture.capture_system(prepared.launch, target=prepared.target, library=library, ros=ros,
-                                         include_infrastructure=prepared.options.include_infrastructure, jobs=jobs)
+                                         include_infrastructure=prepared.options.include_infrastructure, jobs=jobs,
+                                         stand_ins=prepared.stand_ins)
 
 
 def check_system_contract(

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import acceptance, drift, parameter_drift, report
+from ..compare import acceptance, drift, launch_given, parameter_drift, report
 from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
 from ..compare.compatibility import CompatItem, LaunchedProcess, check_compatibility, check_launched, propose_external
@@ -205,6 +205,15 @@ class SystemCheckResult:
     #: findings the contract's ``accept:`` entries accept (in neither list), and entries that accepted nothing
     accepted: list[Accepted] = field(default_factory=list)
     stale: list[Acceptance] = field(default_factory=list)
+    #: what the system rules note without finding a problem (``launch_given.NOTES``: a device the
+    #: capture machine lacks)
+    rule_notes: list[CompatItem] = field(default_factory=list)
+
+    @property
+    def notes(self) -> list[str]:
+        """The notes of this check: the rules' and the capture's."""
+        ours = [f"{item.requester.node}: {item.message} [{item.rule}]" for item in self.rule_notes]
+        return ours + (self.capture.notes() if self.capture is not None else [])
 
     @property
     def items(self) -> list[DriftItem | CompatItem]:
@@ -308,7 +317,7 @@ class SystemCheckResult:
         text = "\n".join(p.rstrip("\n") + "\n" for p in parts)
         if self.accepted or self.stale:
             text += "\n".join(report.render_acceptances(self.accepted, self.stale)).lstrip("\n") + "\n"
-        notes = self.capture.notes() if self.capture is not None else []
+        notes = self.notes
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes) + "\n"
         return text
@@ -329,6 +338,8 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
     external = prepared.contract.external if prepared.contract is not None else None
     missing_path = launch_settings.missing_path(system_capture.ament_prefixes(prepared.ros))
     system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path)
+    result.rule_notes = [item for item in system_items if item.rule in launch_given.NOTES]
+    system_items = [item for item in system_items if item.rule not in launch_given.NOTES]
     drift_items = []
     if prepared.contract is not None:
         drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)

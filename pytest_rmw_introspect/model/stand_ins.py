@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import yaml
+
 from ..errors import ContractError
 from . import contract as contract_module
 from .contract_shapes import ContractNodes, StandInEntry
@@ -137,8 +139,6 @@ def load_all(stand_ins: Sequence[StandIn], system_path: Path | None) -> list[Sto
 def proposal(processes: Sequence[tuple[str | None, str, str | None, str]]) -> str:
     """A ``stand_ins:`` block for processes that failed for lack of a device: (package,
     executable, node name, the device), as YAML text to paste into the system contract."""
-    import yaml
-
     entries = []
     for package, executable, name, device in processes:
         stem = (name or Path(executable).name).strip("/").replace("/", "_")

@@ -203,8 +203,11 @@ class SystemCapture:
                 notes += [f"{process.label}: {note}" for note in process.capture.notes()]
             elif process.no_node is not None:
                 stderr = process.no_node.stderr_tail.strip().splitlines()
+                device = device_of(process.launched, str(process.no_node))
                 notes.append(f"{process.label} ({process.launched.where}) created no node"
-                             + (f"; the end of its stderr: {stderr[-1]}" if stderr else ""))
+                             + (f"; the end of its stderr: {stderr[-1]}" if stderr else "")
+                             + (f"; it needs {device}, which this machine lacks: stand in for it (`stand_ins:`, "
+                                "docs/system-contracts.md, \"Hardware processes\")" if device else ""))
         return notes
 
     def stand_in_proposal(self) -> str:

@@ -51,6 +51,7 @@ from ..errors import ContractError
 from . import acceptance, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
+from . import unstable_names as unstable_model
 from .contract_shapes import ContractNode, ContractNodes, ContractOptions, LaunchBlock, ProcessEntry, TargetBlock, empty_node
 from .option_tables import TARGET, FrontEnd
 from .paths import shown
@@ -145,6 +146,7 @@ def schema() -> dict[str, Any]:
             "processes": {"type": ["array", "null"], "items": {"$ref": "#/definitions/process"}},
             "nodes": copy.deepcopy(base["properties"]["nodes"]) | {"type": ["object", "null"]},
             "accept": {"$ref": "#/definitions/accept"},
+            "unstable_names": {"$ref": "#/definitions/unstable_names"},
         },
         "definitions": definitions,
     }
@@ -165,6 +167,8 @@ class SystemContract:
     accept: tuple[acceptance.Acceptance, ...] = ()
     #: the declared outside world: list name → interface name → who provides or requests it
     external: dict[str, dict[str, str]] = field(default_factory=dict)
+    #: the patterns of node names that change every run it declares (``unstable_names:``)
+    unstable_names: tuple[unstable_model.NamePattern, ...] = ()
 
     @property
     def comparison_options(self) -> ContractOptions:
@@ -273,7 +277,8 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                           accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY),
                                                          source=shown(path) if path else "<system contract>",
                                                          line_of=lambda i: _where(root, [acceptance.SECTION_KEY, i])),
-                          external={k: dict(v) for k, v in (data.get("external") or {}).items() if v})
+                          external={k: dict(v) for k, v in (data.get("external") or {}).items() if v},
+                          unstable_names=unstable_model.from_entries(data.get(unstable_model.SECTION_KEY)))
 
 
 def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:

@@ -38,11 +38,12 @@ SECTION_KEY = "unstable_names"
 NODE_KEY = "unstable_name"
 #: the separator of a pattern's second, third, ... node (``/static_transform_publisher_*#2``)
 INSTANCE_MARK = "#"
-#: a pattern as a contract may write it: a fully qualified name whose segments may hold ``*``
-PATTERN_SYNTAX = r"^/([A-Za-z0-9_*]+/)*[A-Za-z0-9_*]*\*[A-Za-z0-9_*]*$"
+#: a pattern as a contract may write it: a fully qualified name with at least one ``*`` (in any
+#: segment); the schema (``unstable_names`` and the ``nodes`` keys) spells the same expressions
+PATTERN_SYNTAX = r"^(?=.*\*)/([A-Za-z0-9_*]+/)*[A-Za-z0-9_*]+$"
 #: a node key of a contract: a name, or a pattern with an optional ``#N`` (N >= 2)
 NODE_KEY_SYNTAX = (r"^/([A-Za-z_][A-Za-z0-9_]*/)*[A-Za-z_][A-Za-z0-9_]*$"
-                   r"|^/([A-Za-z0-9_*]+/)*[A-Za-z0-9_*]*\*[A-Za-z0-9_*]*(#[2-9]|#[1-9][0-9]+)?$")
+                   r"|^(?=[^#]*\*)/([A-Za-z0-9_*]+/)*[A-Za-z0-9_*]+(#[2-9]|#[1-9][0-9]+)?$")
 
 
 @dataclass(frozen=True)

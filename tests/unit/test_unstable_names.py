@@ -9,7 +9,14 @@ from pytest_rmw_introspect.check import golden
 from pytest_rmw_introspect.compare import drift
 from pytest_rmw_introspect.errors import ContractError
 from pytest_rmw_introspect.model import contract
-from pytest_rmw_introspect.model.unstable_names import NamePattern, NameRules, contract_keys, recognise
+from pytest_rmw_introspect.model.unstable_names import (
+    NODE_KEY_SYNTAX,
+    PATTERN_SYNTAX,
+    NamePattern,
+    NameRules,
+    contract_keys,
+    recognise,
+)
 
 
 def node(*publishers: str, services: tuple[str, ...] = ()) -> dict:
@@ -148,3 +155,15 @@ def test_bad_patterns_are_errors_with_their_place(text, where):
     with pytest.raises(ContractError) as raised:
         contract.loads(text, path="bad.interfaces.yaml")
     assert "bad.interfaces.yaml:" in str(raised.value) and where in str(raised.value)
+
+
+def test_the_schema_spells_the_module_s_pattern_syntax():
+    document = contract.schema()
+    assert document["properties"]["nodes"]["propertyNames"]["pattern"] == NODE_KEY_SYNTAX
+    assert document["definitions"]["unstable_names"]["items"]["properties"]["pattern"]["pattern"] == PATTERN_SYNTAX
+
+
+def test_a_declared_pattern_may_stand_in_a_namespace():
+    loaded = contract.loads("contract_version: 1\nunstable_names:\n  - {pattern: /robot_*/camera, reason: r}\n"
+                            "nodes:\n  /robot_*/camera: {}\n")
+    assert dict(contract_keys([("/robot_7f3a/camera", node(), None)], loaded.name_rules())).keys() == {"/robot_*/camera"}

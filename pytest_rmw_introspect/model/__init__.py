@@ -20,6 +20,7 @@ One line per module:
 - ``stand_ins``: a system contract's processes not run where it is checked, and what stands in for them
 - ``nodl``: NoDL v2 documents as contracts, and contracts written as NoDL
 - ``acceptance``: the ``accept:`` entries of a contract
+- ``unstable_names``: node names that change every run, and the pattern a contract keys them by
 - ``locate``: the line of each node and interface entry of a contract file
 - ``yaml_blocks``: where a top-level block sits in a YAML text, for updates that keep the rest
 - ``untrusted``: reading files people hand us: bounded, typed and fast

@@ -53,6 +53,7 @@ from ..errors import ContractError
 from . import acceptance, stand_ins, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
+from . import unstable_names as unstable_model
 from .contract_shapes import ContractNode, ContractNodes, ContractOptions, LaunchBlock, ProcessEntry, TargetBlock, empty_node
 from .option_tables import TARGET, FrontEnd
 from .paths import shown
@@ -150,6 +151,7 @@ def schema() -> dict[str, Any]:
             "processes": {"type": ["array", "null"], "items": {"$ref": "#/definitions/process"}},
             "nodes": copy.deepcopy(base["properties"]["nodes"]) | {"type": ["object", "null"]},
             "accept": {"$ref": "#/definitions/accept"},
+            "unstable_names": {"$ref": "#/definitions/unstable_names"},
         },
         "definitions": definitions,
     }
@@ -172,6 +174,8 @@ class SystemContract:
     external: dict[str, dict[str, str]] = field(default_factory=dict)
     #: processes not run where the system is checked, and the files their interfaces come from
     stand_ins: tuple[StandIn, ...] = ()
+    #: the patterns of node names that change every run it declares (``unstable_names:``)
+    unstable_names: tuple[unstable_model.NamePattern, ...] = ()
 
     @property
     def comparison_options(self) -> ContractOptions:
@@ -282,7 +286,8 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                                                          line_of=lambda i: _where(root, [acceptance.SECTION_KEY, i])),
                           external={k: dict(v) for k, v in (data.get("external") or {}).items() if v},
                           stand_ins=stand_ins.from_entries(data.get(stand_ins.SECTION_KEY),
-                                                           line_of=lambda i: _where(root, [stand_ins.SECTION_KEY, i])))
+                                                           line_of=lambda i: _where(root, [stand_ins.SECTION_KEY, i])),
+                          unstable_names=unstable_model.from_entries(data.get(unstable_model.SECTION_KEY)))
 
 
 def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:

@@ -90,7 +90,7 @@ nodes:
     ("contract_version: 1\nnodes:\n  /t:\n    parameters:\n      - {name: a, type: bool, wat: 1}\n",
      "at nodes./t.parameters[0]: unknown key 'wat' (allowed keys: see the contract schema"),
     ("contract_version: 1\nnodes:\n  /t:\n    publisher: []\n",
-     "unknown key 'publisher'; allowed: action_clients, action_servers, destroyed_at, lifecycle, parameters, publishers"),
+     "unknown key 'publisher'; did you mean 'publishers'? (allowed keys: see the contract schema"),
 ])
 def test_unknown_keys_are_named_and_long_lists_of_allowed_keys_point_at_the_schema(text, wanted):
     """A message listing the 21 keys `target:` takes was one line of 300-375 characters."""
@@ -248,7 +248,7 @@ def test_every_problem_of_a_file_is_listed_with_its_own_line():
         loads("contract_version: 2\nfoo: 1\nnodes: {}\n", path="c.yaml")
     assert str(info.value).splitlines() == [
         "invalid contract c.yaml:2: unknown key 'foo'; allowed: accept, contract_version, nodes, options, "
-        "ros_distribution, target, types",
+        "ros_distribution, target, types, unstable_names",
         "1 more problem in the file:",
         "  c.yaml:1: at contract_version: contract_version 2 is not supported; this plugin reads contract_version 1",
     ]

@@ -1,12 +1,15 @@
 """Where the project says it lives: pyproject.toml's ``[project.urls]`` (the wheel's Project-URL
-lines) and the links the package writes into its output (``model.project_urls``) name one
-repository, and every page and anchor they link to exists in docs/."""
+lines), the documentation site's ``repo_url`` (mkdocs.yml) and the links the package writes into
+its output (``model.project_urls``) name one repository, and every page and anchor they link to
+exists in docs/."""
 
 from __future__ import annotations
 
 import re
 import tomllib
 from pathlib import Path
+
+import yaml
 
 from pytest_rmw_introspect.compare import graph
 from pytest_rmw_introspect.model import project_urls
@@ -30,6 +33,12 @@ def test_pyproject_names_the_repository_and_its_pages():
     assert all(url.startswith(project_urls.REPOSITORY) for url in urls.values()), urls
     assert urls["Changelog"].endswith("/blob/main/CHANGELOG.md") and (ROOT / "CHANGELOG.md").is_file()
     assert urls["Documentation"].endswith("/tree/main/docs") and (ROOT / "docs").is_dir()
+
+
+def test_the_documentation_site_links_the_same_repository():
+    # mkdocs.yml has Python tags of its own (none here); plain YAML reads the keys wanted
+    config = yaml.safe_load((ROOT / "mkdocs.yml").read_text(encoding="utf-8"))
+    assert config["repo_url"] == project_urls.REPOSITORY
 
 
 def test_the_links_into_the_documentation_reach_a_heading():

@@ -93,9 +93,13 @@ overlay: bootstrap
 
 ## docs: the documentation site into site/ (mkdocs.yml): warnings are errors, and among them every
 ## broken internal link or anchor (MkDocs' validation and scripts/docs/site_hooks.py); external
-## links are not checked (no network here). Open site/index.html.
-docs: bootstrap
-	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict
+## links are not checked (no network here). Open site/index.html. Built in a venv of its own,
+## .venv-docs, from requirements/docs.txt alone (MkDocs, Material, the package's dependencies:
+## no ROS 2, no middleware build), so it takes seconds once that venv exists
+DOCS_VENV ?= $(CURDIR)/.venv-docs
+docs:
+	VENV=$(DOCS_VENV) LOCK_FILE=$(CURDIR)/requirements/docs.txt PYTHON_ONLY=1 scripts/bootstrap.sh
+	NO_MKDOCS_2_WARNING=1 $(DOCS_VENV)/bin/mkdocs build --strict
 
 clean:
-	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted $(CURDIR)/.venv-py312 $(CURDIR)/.venv-kilted-py312 build .pytest_cache
+	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted $(CURDIR)/.venv-py312 $(CURDIR)/.venv-kilted-py312 $(DOCS_VENV) build .pytest_cache

@@ -4,6 +4,7 @@
 
     # comments and keys above `processes:` survive updates
     system_version: 1
+    interface_version: 2.0.0         # optional: the version the `diff --against` gate compares
     launch:                          # what starts the system
       package: my_robot_bringup      # with `file`: found like `ros2 launch PACKAGE FILE`
       file: robot.launch.xml         # (or `path: launch/robot.launch.xml`, relative to this file)
@@ -138,6 +139,7 @@ def schema() -> dict[str, Any]:
         "additionalProperties": False,
         "properties": {
             "system_version": {"const": SYSTEM_VERSION},
+            contract_module.VERSION_KEY: {"$ref": "#/definitions/interface_version"},
             "launch": {"$ref": "#/definitions/launch"},
             "target": {"$ref": "#/definitions/system_target"},
             "options": {"$ref": "#/definitions/options"},
@@ -165,6 +167,8 @@ class SystemContract:
     accept: tuple[acceptance.Acceptance, ...] = ()
     #: the declared outside world: list name → interface name → who provides or requests it
     external: dict[str, dict[str, str]] = field(default_factory=dict)
+    #: the version of the interface it promises (``interface_version: MAJOR.MINOR.PATCH``), if stated
+    interface_version: str | None = None
 
     @property
     def comparison_options(self) -> ContractOptions:
@@ -273,7 +277,8 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                           accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY),
                                                          source=shown(path) if path else "<system contract>",
                                                          line_of=lambda i: _where(root, [acceptance.SECTION_KEY, i])),
-                          external={k: dict(v) for k, v in (data.get("external") or {}).items() if v})
+                          external={k: dict(v) for k, v in (data.get("external") or {}).items() if v},
+                          interface_version=data.get(contract_module.VERSION_KEY))
 
 
 def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:

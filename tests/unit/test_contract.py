@@ -180,7 +180,7 @@ BAD = [
     ("contract_version: 1\nnodes:\n  /ok: {}\n  talker: {}\n", "nodes.talker", 4, "not a fully qualified node name"),
     ("contract_version: 2\nnodes: {}\n", "contract_version", 1, "contract_version 2 is not supported"),
     ("nodes: {}\n", None, 1, "'contract_version' is required"),
-    ("contract_version: 1\nfoo: 1\nnodes: {}\n", None, 1, "unknown key 'foo'; allowed: accept, contract_version, nodes, options, ros_distribution, target, types"),
+    ("contract_version: 1\nfoo: 1\nnodes: {}\n", None, 1, "unknown key 'foo'; allowed: accept, contract_version, interface_version, nodes, options, ros_distribution, target, types"),
     (
         (
             "contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String}\n"

@@ -111,6 +111,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             if args.format == "text" and outcome.report:
                 sys.stdout.write(outcome.report)
             print(said, file=sys.stderr)
+            if outcome.version_advice:  # an update never changes interface_version itself
+                print(f"note: {outcome.version_advice}", file=sys.stderr)
             for_ci.append(result.for_ci(written=said.split(" ", 1)[0]))
             continue
         for_ci.append(result.for_ci())

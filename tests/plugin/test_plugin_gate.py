@@ -4,6 +4,7 @@ session over a git repository with real history."""
 from __future__ import annotations
 
 from git_history import GitRepo, endpoint, node_contract
+from sample_contracts import talker_contract
 
 TALKER = "contracts/talker.interfaces.yaml"
 LISTENER = "contracts/listener.interfaces.yaml"
@@ -46,3 +47,14 @@ def test_a_ref_that_does_not_exist_is_a_usage_error(project):
     result = project.run("--against", "nope", "--rmw-introspect-contracts", "none")
     assert result.ret == 4
     assert "--against nope: revision 'nope' does not exist in this repository" in result.stderr.str()
+
+
+def test_update_golden_keeps_the_interface_version_and_says_which_bump_the_update_needs(project):
+    versioned = "interface_version: 2.0.0\n"
+    project.write("talker.interfaces.yaml", talker_contract(target=f"script: {project.node('talker.py')}", depth=20,
+                                                             header=versioned))
+    result = project.run("--update-golden", "-W", "default")
+    result.assert_outcomes(passed=1)
+    assert ("talker.interfaces.yaml: interface_version 2.0.0 was not changed: this update holds RISKY change(s), "
+            "which need a MINOR bump: write interface_version: 2.1.0") in result.stdout.str()
+    assert project.read("talker.interfaces.yaml").startswith(versioned)

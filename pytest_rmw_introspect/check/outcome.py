@@ -16,9 +16,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
 
-from ..compare import versioning
 from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError
+from ..model import interface_version
 from ..model.contract_shapes import ContractNode
 
 
@@ -133,7 +133,7 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None) 
         return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}){hint}", json=items if result.accepted else [])
     if update and result.drifted:
         text = result.render_text() if result.items else f"{result.shown}: adds {', '.join(gains)}\n"
-        advice = versioning.advice(result.items, getattr(result.contract, "interface_version", None))
+        advice = interface_version.advice(result.items, getattr(result.contract, "interface_version", None))
         return Outcome(Verdict.WRITE, text, report=text, json=items,
                        version_advice=f"{result.shown}: {advice}" if advice else "")
     # a system check can find problems without drift: nothing to accept then

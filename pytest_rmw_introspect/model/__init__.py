@@ -19,6 +19,7 @@ One line per module:
 - ``system_contract``: system contracts (``*.system.yaml``): a launch file's processes
 - ``nodl``: NoDL v2 documents as contracts, and contracts written as NoDL
 - ``acceptance``: the ``accept:`` entries of a contract
+- ``interface_version``: ``interface_version: MAJOR.MINOR.PATCH``: bumps by semantic versioning
 - ``locate``: the line of each node and interface entry of a contract file
 - ``yaml_blocks``: where a top-level block sits in a YAML text, for updates that keep the rest
 - ``untrusted``: reading files people hand us: bounded, typed and fast

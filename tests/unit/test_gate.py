@@ -13,7 +13,8 @@ from git_history import GitRepo, endpoint, node_contract, system_contract
 from pytest_rmw_introspect.cli import main
 from pytest_rmw_introspect.compare import versioning
 from pytest_rmw_introspect.compare.drift import DriftItem
-from pytest_rmw_introspect.compare.versioning import Bump, Version
+from pytest_rmw_introspect.model import interface_version
+from pytest_rmw_introspect.model.interface_version import Bump, Version
 from pytest_rmw_introspect.model.vocabulary import Severity
 
 TALKER = "contracts/talker.interfaces.yaml"
@@ -343,7 +344,7 @@ def _item(severity: Severity) -> DriftItem:
     ("0.3.1", "1.0.0", Bump.MAJOR),
 ])
 def test_the_bump_made(old, new, bump):
-    assert versioning.made(Version.parse(old), Version.parse(new)) is bump
+    assert interface_version.made(Version.parse(old), Version.parse(new)) is bump
 
 
 @pytest.mark.parametrize(("version", "bump", "expected"), [
@@ -362,10 +363,10 @@ def test_a_safe_change_without_a_bump_is_a_note_and_a_patch_covers_it():
 
 
 def test_the_update_advice():
-    assert versioning.advice([_item(Severity.BREAKING)], "1.4.2") == (
+    assert interface_version.advice([_item(Severity.BREAKING)], "1.4.2") == (
         "interface_version 1.4.2 was not changed: this update holds BREAKING change(s), which need a MAJOR bump: "
         "write interface_version: 2.0.0 (docs/ci.md)")
-    assert versioning.advice([], "1.4.2") is None and versioning.advice([_item(Severity.SAFE)], None) is None
+    assert interface_version.advice([], "1.4.2") is None and interface_version.advice([_item(Severity.SAFE)], None) is None
 
 
 def test_a_malformed_version_is_refused_by_the_schema(tmp_path):

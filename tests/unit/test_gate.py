@@ -10,10 +10,12 @@ import json
 import pytest
 from git_history import GitRepo, endpoint, node_contract, system_contract
 
+from pytest_rmw_introspect.check import gate as gate_module
 from pytest_rmw_introspect.cli import main
-from pytest_rmw_introspect.compare import versioning
+from pytest_rmw_introspect.compare import baseline, versioning
 from pytest_rmw_introspect.compare.drift import DriftItem
-from pytest_rmw_introspect.model import interface_version
+from pytest_rmw_introspect.errors import ContractError
+from pytest_rmw_introspect.model import contract, interface_version
 from pytest_rmw_introspect.model.interface_version import Bump, Version
 from pytest_rmw_introspect.model.vocabulary import Severity
 
@@ -169,6 +171,18 @@ def test_accept_entries_apply(repo, capsys):
     repo.commit("Int32, accepted")
     status, out, _ = gate(capsys, "main")
     assert status == 0 and "nobody listens yet" in out
+
+
+def test_a_baseline_applies(repo, capsys):
+    repo.write(TALKER, node_contract(publishers=endpoint("/chatter", "std_msgs/msg/Int32")))
+    repo.commit("Int32, no version")
+    (compared,) = gate_module.run("main").contracts
+    assert compared.failed
+    repo.write("gate.baseline.json", baseline.render([(compared.path, item) for item in compared.items],
+                                                     repo.path / "gate.baseline.json"))
+    status, out, _ = gate(capsys, "main", "--baseline", "gate.baseline.json")
+    assert status == 0, out
+    assert "in the baseline" in out
 
 
 def test_fail_on_from_the_command_line(repo, capsys):
@@ -370,9 +384,6 @@ def test_the_update_advice():
 
 
 def test_a_malformed_version_is_refused_by_the_schema(tmp_path):
-    from pytest_rmw_introspect.errors import ContractError
-    from pytest_rmw_introspect.model import contract
-
     with pytest.raises(ContractError, match="interface_version"):
         contract.loads(node_contract(version="1.2"), path="x.interfaces.yaml")
     assert contract.loads(node_contract(version="1.2.0")).interface_version == "1.2.0"

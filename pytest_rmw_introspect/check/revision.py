@@ -165,6 +165,10 @@ def open_revision(ref: str, cwd: str | Path | None = None) -> Revision:
                             "check the repository out with git), or compare two files with `diff OLD NEW`")
     top_line, shallow_line = (probe.stdout.splitlines() + ["", ""])[:2]
     top, shallow = Path(top_line), shallow_line.strip() == "true"
+    if ".." in ref and "..." not in ref:
+        raise RevisionError(f"--against {ref}: a range of two dots compares two commits, but the gate compares the "
+                            f"work tree with one revision: give one (`{ref.split('..')[0] or 'HEAD'}`), or "
+                            f"`{ref.replace('..', '...')}` for the merge base of the two")
     if "..." in ref:
         left, _, right = ref.partition("...")
         left, right = left or "HEAD", right or "HEAD"

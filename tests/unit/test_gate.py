@@ -297,6 +297,11 @@ def test_a_ref_that_does_not_exist(repo, capsys):
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
 
 
+def test_a_two_dot_range_is_refused_with_what_to_give_instead(repo, capsys):
+    status, _, err = gate(capsys, "main..HEAD")
+    assert status == 2 and "give one (`main`), or `main...HEAD` for the merge base of the two" in err, err
+
+
 def test_not_a_git_repository(tmp_path, monkeypatch, capsys):
     (tmp_path / "plain").mkdir()
     (tmp_path / "plain" / "t.interfaces.yaml").write_text(node_contract())

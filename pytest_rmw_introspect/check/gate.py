@@ -38,6 +38,7 @@ from ..model import contract as contract_module
 from ..model import system_contract
 from ..model.contract import Contract
 from ..model.contract_shapes import ContractNodes
+from ..model.interface_version import Bump
 from ..model.locate import LineIndex
 from ..model.vocabulary import Severity, parse_threshold
 from .pipeline import Layers, OptionLayer, compare_contracts
@@ -66,7 +67,7 @@ class GateContract:
     nodes: list[str] = field(default_factory=list)
     lines: LineIndex = field(default_factory=dict)
     #: the bump the drift needs under semantic versioning, and the versions at REF and now
-    needs: versioning.Bump = versioning.Bump.NONE
+    needs: Bump = Bump.NONE
     versions: tuple[str | None, str | None] = (None, None)
 
     @property
@@ -268,68 +269,84 @@ def run(against: str, contracts: Sequence[str | Path] = (), *, systems: Sequence
 def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractNodes], *,
                  options: Sequence[OptionLayer] = (), threshold: Severity = Severity.BREAKING,
                  baseline: Baseline | None = None) -> GateContract:
+    """One contract against its file at REF (a file unchanged since REF is not loaded)."""
     name = pair.new or pair.old
     assert name is not None
     shown = revision.shown(name)
     result = GateContract(shown=shown, path=revision.top / name, status=pair.status, threshold=threshold,
                           before=revision.at_ref(pair.old) if pair.old else None)
-    if pair.old is not None and pair.new is not None:
-        try:
-            same = revision.text(pair.old) == (revision.top / pair.new).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError):
-            same = False
-        if same:  # nothing to compare, nothing to load (most contracts of a pull request)
-            result.status = "unchanged" if pair.old == pair.new else "renamed"
-            result.nodes = sorted(_NODE_LINE.findall(revision.text(pair.old) or ""))
-            return result
-    empty = Contract(path=None, nodes={})
-    old = new = empty
-    if pair.old is not None:
-        text = revision.text(pair.old)
-        assert text is not None
-        try:
-            old = load_text(text, revision.at_ref(pair.old))
-        except ContractError as exc:
-            result.error = (f"{exc}\n  This is the contract as it was at {revision.ref}; the gate cannot compare with "
-                            f"a contract that was invalid there: compare with a later revision (--against COMMIT), "
-                            f"or compare two files with `rmw-introspect diff OLD NEW`")
-            return result
+    if _unchanged(revision, pair):  # nothing to compare, nothing to load (most contracts of a pull request)
+        result.status = "unchanged" if pair.old == pair.new else "renamed"
+        result.nodes = sorted(_NODE_LINE.findall(revision.text(pair.old or "") or ""))
+        return result
+    loaded = _load_pair(revision, pair, shown)
+    if isinstance(loaded, str):
+        result.error = loaded
+        return result
+    old, new = loaded
     try:
-        if pair.new is not None:
-            new = load_text((revision.top / pair.new).read_text(encoding="utf-8"), shown)
         opts = Layers(strong_options=options).options(new if pair.new is not None else old, shown=shown)
     except ContractError as exc:
         result.error = str(exc)
         return result
-    except (OSError, UnicodeDecodeError) as exc:
-        result.error = f"{shown}: cannot be read ({exc})"
-        return result
-    opts = dataclasses.replace(opts, fail_on=threshold.name.lower())
-    items = compare_contracts(old, new, opts)
+    items = compare_contracts(old, new, dataclasses.replace(opts, fail_on=threshold.name.lower()))
     if systems and not is_system_text(name, new.text or old.text):
         items = consumers.judge(items, new.nodes, old.nodes, systems)
-    items = drift.sort_items(items)
-    versioned = versioning.judge(items, old.interface_version, new.interface_version, source=shown,
+    _judge(result, drift.sort_items(items), old, new, baseline)
+    result.nodes = sorted((new if pair.new is not None else old).nodes)
+    result.lines = _lines(new) if pair.new is not None else {}
+    return result
+
+
+def _unchanged(revision: Revision, pair: Pair) -> bool:
+    if pair.old is None or pair.new is None:
+        return False
+    try:
+        return revision.text(pair.old) == (revision.top / pair.new).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return False  # loading it says what is wrong
+
+
+def _load_pair(revision: Revision, pair: Pair, shown: str) -> tuple[Contract, Contract] | str:
+    """The contract at REF and now (an empty one where the file is not), or the error to report."""
+    old = new = Contract(path=None, nodes={})
+    if pair.old is not None:
+        try:
+            old = load_text(revision.text(pair.old) or "", revision.at_ref(pair.old))
+        except ContractError as exc:
+            return (f"{exc}\n  This is the contract as it was at {revision.ref}; the gate cannot compare with a "
+                    "contract that was invalid there: compare with a later revision (--against COMMIT), or compare "
+                    "two files with `rmw-introspect diff OLD NEW`")
+    if pair.new is not None:
+        try:
+            new = load_text((revision.top / pair.new).read_text(encoding="utf-8"), shown)
+        except ContractError as exc:
+            return str(exc)
+        except (OSError, UnicodeDecodeError) as exc:
+            return f"{shown}: cannot be read ({exc})"
+    return old, new
+
+
+def _judge(result: GateContract, items: list[DriftItem], old: Contract, new: Contract,
+           baseline: Baseline | None) -> None:
+    """The versions, then the contract's ``accept:`` entries, then the baseline."""
+    present = new if result.status != "removed" else old
+    versioned = versioning.judge(items, old.interface_version, new.interface_version, source=result.shown,
                                  line=_version_line(new.text))
-    if pair.status in ("added", "removed"):  # a version appears or goes with the file: nothing to say
-        versioned.notes = [n for n in versioned.notes if not n.startswith("interface_version")]
-    judged = acceptance.judge([*versioned.findings, *versioned.kept], (new if pair.new else old).accept,
-                              rules=frozenset())
+    judged = acceptance.judge([*versioned.findings, *versioned.kept], present.accept, rules=frozenset())
     kept = [item for item in judged.kept if isinstance(item, DriftItem)]
     result.accepted = [*versioned.accepted, *judged.accepted]
     if baseline is not None:
-        new_items, known = baseline.split(result.path, kept)
-        kept = [item for item in new_items if isinstance(item, DriftItem)]
+        fresh, known = baseline.split(result.path, kept)
+        kept = [item for item in fresh if isinstance(item, DriftItem)]
         result.accepted += known
     result.items = kept
-    result.notes = versioned.notes
     result.needs = versioned.needs
     result.versions = (old.interface_version, new.interface_version)
-    if versioned.needs is not versioning.Bump.NONE and (old.interface_version is None or new.interface_version is None):
+    if result.status in ("added", "removed"):  # the file comes or goes with its version: nothing to say of it
+        return
+    result.notes = versioned.notes
+    if versioned.needs is not Bump.NONE and (old.interface_version is None or new.interface_version is None):
         worst = max(item.severity for item in items)
         result.notes.append(f"under semantic versioning these {worst.name} change(s) need a {versioned.needs.name} "
-                            f"bump; state `interface_version: MAJOR.MINOR.PATCH` for the gate to judge it (docs/ci.md)")
-    source = new if pair.new is not None else old
-    result.nodes = sorted(source.nodes)
-    result.lines = _lines(new) if pair.new is not None else {}
-    return result
+                            "bump; state `interface_version: MAJOR.MINOR.PATCH` for the gate to judge it (docs/ci.md)")

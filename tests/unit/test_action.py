@@ -1,5 +1,6 @@
 """The GitHub Action at the repository root (action.yml): linted with actionlint, and its inputs
-used and documented consistently.
+used and documented consistently; the CI recipes of docs/ci.md linted too (GitHub Actions with
+actionlint, GitLab CI against GitLab's own CI schema with check-jsonschema).
 
 actionlint reads an action's metadata only where a workflow uses it (``uses: ./``), and lints
 scripts and expressions only inside workflows. So the lint runs on two workflows made here: one

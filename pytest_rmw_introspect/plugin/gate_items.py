@@ -10,8 +10,9 @@ break), or passes. The contracts are those git tracks under the directory pytest
 (and those it tracked at REF: a removed contract is an item too); the system contracts among them
 judge consumers, or those ``--against-system`` names. Comparison options come from pytest's
 command line (``--rmw-introspect-fail-on``, ``--rmw-introspect-ignore-qos``, ...) over each
-contract's ``options:``. A REF that cannot be read (no git repository, no such revision, a
-shallow clone without it) is a usage error: one message, nothing collected.
+contract's ``options:``; the session's baseline (ini ``rmw_introspect_baseline``) applies. A
+REF that cannot be read (no git repository, no such revision, a shallow clone without it) is a
+usage error: one message, nothing collected.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ import pytest
 from ..errors import RmwIntrospectError
 from ..model.option_tables import COMPARISON
 from . import option_flags
+from .session import state
 
 if TYPE_CHECKING:  # the gate (and the comparison pipeline) is imported when --against is given
     from ..check.gate import GateContract
@@ -69,12 +71,16 @@ def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config
     if not against:
         return
     from ..check import gate  # the gate and the comparison pipeline (~40 ms): only with --against
+    from ..compare import baseline
 
     options = option_flags.flag_values(config, COMPARISON)
     fail_on = options.pop("fail_on", None)
+    session_state = state(config)
     try:
+        known = (baseline.load(session_state.baseline_path, session_state.display(session_state.baseline_path))
+                 if session_state.baseline_path is not None else None)
         result = gate.run(against, systems=config.getoption("rmw_introspect_against_system", None),
-                          options=[(options, "pytest command line")], fail_on=fail_on,
+                          options=[(options, "pytest command line")], fail_on=fail_on, baseline=known,
                           cwd=config.invocation_params.dir)
     except RmwIntrospectError as exc:
         raise pytest.UsageError(f"--against {against}: {exc}") from None

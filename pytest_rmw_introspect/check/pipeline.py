@@ -435,15 +435,20 @@ def diff_contracts(
         else:
             layers = options or ()
         opts = Layers(strong_options=layers).options(old, shown=old_shown)
+    return DiffResult(old, new, old_shown, new_shown, opts, compare_contracts(old, new, opts))
+
+
+def compare_contracts(old: Contract, new: Contract, options: ComparisonOptions) -> list[DriftItem]:
+    """The drift from ``old`` (playing the contract) to ``new`` (playing the capture): what a NoDL
+    side does not state is not compared; type sections field by field; distributions noted."""
     old_nodes, new_nodes = old.nodes, new.nodes
     if old.nodl is not None:  # what a NoDL side does not state is not compared
         new_nodes = nodl.project(new_nodes, old_nodes)
     if new.nodl is not None:
         old_nodes = nodl.project(old_nodes, new_nodes)
-    items = drift.attribute_to_distribution(
-        drift.compare(old_nodes, new_nodes, opts, expected_types=old.types, actual_types=new.types),
+    return drift.attribute_to_distribution(
+        drift.compare(old_nodes, new_nodes, options, expected_types=old.types, actual_types=new.types),
         old.ros_distribution, new.ros_distribution)
-    return DiffResult(old, new, old_shown, new_shown, opts, items)
 
 
 # --------------------------------------------------------------------- compatibility checks

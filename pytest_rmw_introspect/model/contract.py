@@ -5,6 +5,7 @@ A contract (docs/design.md section 2) is YAML::
     # comments, the target block and the options block above `nodes:` survive updates
     contract_version: 1
     ros_distribution: jazzy   # optional: the distribution it was captured on
+    interface_version: 1.2.0  # optional: the version the `diff --against` gate compares
     target: {...}      # optional
     options: {...}     # optional
     nodes:
@@ -66,6 +67,8 @@ CONTRACT_VERSION = 1
 ENTRY_KEYS = ("name", "type", "type_hash", "qos", DESTROYED_AT)
 #: the top-level key recording the ROS 2 distribution a contract was captured on
 DISTRIBUTION_KEY = "ros_distribution"
+#: the top-level key of the interface version (node and system contracts; ``compare.versioning``)
+VERSION_KEY = "interface_version"
 
 DEFAULT_HEADER = (
     "# Interface contract checked by pytest-rmw-introspect.\n"
@@ -99,6 +102,8 @@ class Contract:
     ros_distribution: str | None = None
     #: the findings it accepts on purpose (``accept:``)
     accept: tuple[acceptance.Acceptance, ...] = ()
+    #: the version of the interface it promises (``interface_version: MAJOR.MINOR.PATCH``), if stated
+    interface_version: str | None = None
     #: read from a NoDL file (``model.nodl``): its documents, and what is not compared
     nodl: nodl.NodlSource | None = None
     #: the patterns of node names that change every run it declares (``unstable_names:``)
@@ -390,6 +395,7 @@ def _loads(text: str, path: Path | None) -> Contract:
         text=text,
         types=types,
         ros_distribution=data.get(DISTRIBUTION_KEY),
+        interface_version=data.get(VERSION_KEY),
         accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY), source=shown(path) if path else "<contract>",
                                        line_of=lambda i: _line(root, [acceptance.SECTION_KEY, i])),
         unstable_names=unstable_model.from_entries(data.get(unstable_model.SECTION_KEY)),

@@ -14,7 +14,8 @@ state and its summary. Everything else lives in the modules next to it:
 * ``verdict``: an outcome (``check.outcome``) as a pytest outcome;
 * ``assertions``: ``check_compatible``;
 * ``system_marker``: the ``system_contract`` marker, the ``system_capture`` fixture, system contract items;
-* ``lookahead``: which items run next, for capturing ahead.
+* ``lookahead``: which items run next, for capturing ahead;
+* ``gate_items``: ``--against REF``, the pull-request gate: one item per contract.
 
 Usage::
 
@@ -35,13 +36,15 @@ from __future__ import annotations
 
 import pytest
 
-from . import session
+from . import gate_items, session
 
 HOOKS_PLUGIN = "rmw-introspect-hooks"
+GATE_PLUGIN = "rmw-introspect-gate"
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
     session.addoption(parser)
+    gate_items.addoption(parser)
 
 
 def pytest_configure(config: pytest.Config) -> None:
@@ -52,6 +55,7 @@ def pytest_configure(config: pytest.Config) -> None:
         from . import hooks  # ~50 ms (the target options, the runner): only where tests run
 
         config.pluginmanager.register(hooks, HOOKS_PLUGIN)
+        config.pluginmanager.register(gate_items, GATE_PLUGIN)
 
 
 def _xdist_controller(config: pytest.Config) -> bool:

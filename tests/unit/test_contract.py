@@ -180,7 +180,7 @@ BAD = [
     ("contract_version: 1\nnodes:\n  /ok: {}\n  talker: {}\n", "nodes.talker", 4, "not a fully qualified node name"),
     ("contract_version: 2\nnodes: {}\n", "contract_version", 1, "contract_version 2 is not supported"),
     ("nodes: {}\n", None, 1, "'contract_version' is required"),
-    ("contract_version: 1\nfoo: 1\nnodes: {}\n", None, 2, "unknown key 'foo'; allowed: accept, contract_version, nodes, options, ros_distribution, target, types"),
+    ("contract_version: 1\nfoo: 1\nnodes: {}\n", None, 2, "unknown key 'foo'; allowed: accept, contract_version, interface_version, nodes, options, ros_distribution, target, types, unstable_names"),
     (
         (
             "contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String}\n"
@@ -247,8 +247,8 @@ def test_every_problem_of_a_file_is_listed_with_its_own_line():
     with pytest.raises(ContractError) as info:
         loads("contract_version: 2\nfoo: 1\nnodes: {}\n", path="c.yaml")
     assert str(info.value).splitlines() == [
-        "invalid contract c.yaml:2: unknown key 'foo'; allowed: accept, contract_version, nodes, options, "
-        "ros_distribution, target, types, unstable_names",
+        "invalid contract c.yaml:2: unknown key 'foo'; allowed: accept, contract_version, interface_version, "
+        "nodes, options, ros_distribution, target, types, unstable_names",
         "1 more problem in the file:",
         "  c.yaml:1: at contract_version: contract_version 2 is not supported; this plugin reads contract_version 1",
     ]

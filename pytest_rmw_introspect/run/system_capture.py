@@ -254,13 +254,17 @@ def process_spec(node: LaunchedNode, base: TargetSpec, params_dir: Path) -> Targ
     return spec.merged(options, source=f"launch file {node.where}")
 
 
+#: seconds between two lines of a long system capture's progress
+PROGRESS_EVERY = 5.0
+
+
 def _results(pool: ThreadPoolExecutor, run_one: Callable[[int], TargetError | None], count: int,
              elapsed: Callable[[], float] | None) -> list[TargetError | None]:
     """Each process's error (or None), in the launch file's order; with ``elapsed``, a progress
     line every few seconds says how many of them are captured."""
     futures = [pool.submit(run_one, i) for i in range(count)]
     if elapsed is not None:
-        throttle = progress.Throttle(5.0)
+        throttle = progress.Throttle(PROGRESS_EVERY)
         for done, _future in enumerate(as_completed(futures), start=1):
             if throttle.due() and done < count:
                 progress.say(f"captured {done} of {count} processes, {progress.seconds(elapsed())} so far")

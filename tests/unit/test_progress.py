@@ -8,6 +8,7 @@ import subprocess
 import sys
 import textwrap
 import time
+import types
 from pathlib import Path
 
 import pytest
@@ -85,7 +86,7 @@ def test_a_real_build_step_streams_its_output_to_the_log_and_says_its_progress(s
     script = "import time\nfor p in (10, 55, 100):\n    print(f'[{p:3d}%] step', flush=True); time.sleep(0.6)\n"
     middleware._run_logged([sys.executable, "-c", script], log, {}, "compile", middleware._Progress(lambda: 1.0))
     assert "[ 55%] step" in log.read_text()
-    assert said and all(line.startswith("building the middleware: compile ") for line in said)
+    assert said and all(line.startswith("building the middleware: compile") for line in said)
     assert any("55%" in line or "100%" in line for line in said)
 
 
@@ -161,3 +162,69 @@ def test_a_worker_waiting_for_a_worker_of_its_own_run_says_nothing(said, tmp_pat
     middleware.source_build(ros, tmp_path / "cache")
     holder.wait(timeout=30)
     assert said == []
+
+
+class _FakePool:
+    """The warm start pool's answers, in order, and the waits it was asked for."""
+
+    def __init__(self, answers):
+        self.answers, self.waits = list(answers), []
+
+    def server(self, env, cwd, python, *, wait):
+        self.waits.append(wait)
+        return self.answers.pop(0)
+
+
+def _fake_warm(answers):
+    from pytest_rmw_introspect.run.warm import client
+
+    class Ready:
+        pass
+
+    return types.SimpleNamespace(POOL=_FakePool(answers), STILL_STARTING=client.STILL_STARTING, WarmServer=Ready), Ready
+
+
+def test_a_capture_waiting_for_the_warm_start_server_says_so_and_when_it_is_ready(said):
+    from pytest_rmw_introspect.run import runner
+    from pytest_rmw_introspect.run.warm import client
+
+    warm, ready = _fake_warm([client.STILL_STARTING, None])
+    warm.POOL.answers[1] = ready()
+    assert isinstance(runner._warm_server(warm, {}, "/", None, 3.0), ready)
+    assert warm.POOL.waits == [1.0, 2.0]
+    assert said[0].startswith("the warm start server (one Python process that imports rclpy once") and "up to 3 s" in said[0]
+    assert said[1].startswith("the warm start server is ready after ")
+
+
+def test_a_warm_start_server_that_never_gets_ready_is_said_with_the_cold_start(said):
+    from pytest_rmw_introspect.run import runner
+    from pytest_rmw_introspect.run.warm import client
+
+    warm, _ready = _fake_warm([client.STILL_STARTING, client.STILL_STARTING])
+    assert runner._warm_server(warm, {}, "/", None, 3.0) == client.STILL_STARTING
+    assert said[1].startswith("no warm start server after ") and said[1].endswith(
+        f"({client.STILL_STARTING}): the target starts cold")
+
+
+def test_a_ready_warm_start_server_and_a_short_wait_say_nothing(said):
+    from pytest_rmw_introspect.run import runner
+    from pytest_rmw_introspect.run.warm import client
+
+    warm, ready = _fake_warm([])
+    warm.POOL.answers = [ready()]
+    runner._warm_server(warm, {}, "/", None, 3.0)
+    warm.POOL.answers = [client.STILL_STARTING]
+    assert runner._warm_server(warm, {}, "/", None, 0.5) == client.STILL_STARTING  # a short wait is quiet
+    assert said == []
+
+
+def test_a_system_capture_of_many_processes_says_how_many_are_captured(said, monkeypatch):
+    from concurrent.futures import ThreadPoolExecutor
+
+    from pytest_rmw_introspect.run import system_capture
+
+    monkeypatch.setattr(system_capture, "PROGRESS_EVERY", 0.0)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        errors = system_capture._results(pool, lambda index: time.sleep(0.05 * index), 4, lambda: 2.0)
+    assert errors == [None] * 4
+    assert said == [f"captured {done} of 4 processes, 2.0 s so far" for done in (1, 2, 3)]

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from wheel_support import wheel_distros
 
 ROOT = Path(__file__).resolve().parents[2]
 #: names of the build tools a user without a compiler lacks: hidden from the fresh venv's PATH
@@ -69,9 +70,11 @@ def _path_without_build_tools(where: Path) -> str:
 
 @pytest.fixture(scope="session")
 def built_wheel(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The Linux x86_64 wheel of scripts/dist.py, with the middleware prebuilt for Jazzy."""
+    """The Linux x86_64 wheel of scripts/dist.py, with the middleware prebuilt for Jazzy (and
+    Kilted, where its venv is)."""
     out = tmp_path_factory.mktemp("dist")
-    result = subprocess.run([sys.executable, str(ROOT / "scripts" / "dist.py"), "--out", str(out), "--distros", "jazzy"],
+    result = subprocess.run([sys.executable, str(ROOT / "scripts" / "dist.py"), "--out", str(out),
+                             "--distros", ",".join(wheel_distros())],
                             cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, f"scripts/dist.py failed:\n{result.stdout}\n{result.stderr}"
     (wheel,) = out.glob("pytest_rmw_introspect-*manylinux*_x86_64.whl")

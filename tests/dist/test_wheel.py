@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import io
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -14,9 +15,9 @@ import zipfile
 from pathlib import Path
 
 import pytest
-
 from elftools.elf.dynamic import DynamicSection
 from elftools.elf.elffile import ELFFile
+from wheel_support import KILTED_VENV, wheel_distros
 
 #: the wheel is built and installed by the first test that needs it (minutes on a loaded machine)
 pytestmark = pytest.mark.timeout(1200)
@@ -50,8 +51,9 @@ def test_the_wheel_carries_the_prebuilt_middleware_and_bundles_nothing_of_ros(bu
     assert re.fullmatch(r"pytest_rmw_introspect-[^-]+-py3-none-manylinux_2_\d+_x86_64\.whl", built_wheel.name)
     with zipfile.ZipFile(built_wheel) as archive:
         names = archive.namelist()
-        libraries = [name for name in names if re.search(r"\.so(\.|$)", name)]
-        assert libraries == [PREBUILT], "the wheel bundles shared libraries besides the middleware (unzip -l)"
+        libraries = sorted(name for name in names if re.search(r"\.so(\.|$)", name))
+        expected = sorted(PREBUILT.replace("jazzy", distro) for distro in wheel_distros())
+        assert libraries == expected, "the wheel bundles shared libraries besides the middleware (unzip -l)"
         assert not [name for name in names if ".libs/" in name], "auditwheel grafted libraries into the wheel"
         # the sources stay: the fallback build of other distributions and standard installs
         assert "pytest_rmw_introspect/rmw_introspect_cpp/CMakeLists.txt" in names
@@ -83,3 +85,20 @@ def test_a_user_without_a_compiler_captures_a_node_on_the_prebuilt_middleware(in
                            cwd=tmp_path, env=env, capture_output=True, text=True, timeout=60)
     origin, path = found.stdout.split()
     assert origin == "prebuilt" and Path(path).is_relative_to(installed_wheel.venv), found
+
+
+def test_the_wheels_kilted_library_captures_a_node_on_the_kilted_wheels(built_wheel: Path, tmp_path: Path):
+    """The Kilted library of the wheel, built against Kilted's rmw, on the Kilted wheels of
+    `make bootstrap DISTRO=kilted` (taken out of the wheel: the venv has this checkout installed)."""
+    if "kilted" not in wheel_distros():
+        pytest.skip(f"no Kilted venv at {KILTED_VENV} (`make bootstrap DISTRO=kilted`): the wheel was built for Jazzy only")
+    library = tmp_path / "librmw_introspect_cpp.so"
+    with zipfile.ZipFile(built_wheel) as archive:
+        library.write_bytes(archive.read(PREBUILT.replace("jazzy", "kilted")))
+    (tmp_path / "talker.py").write_text(TALKER)
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("RMW_INTROSPECT", "_ROS_WHEELS", "AMENT_"))}
+    env.update(RMW_INTROSPECT_LIBRARY=str(library), RMW_INTROSPECT_CACHE=str(tmp_path / "cache"))
+    result = subprocess.run([str(KILTED_VENV / "bin" / "rmw-introspect"), "capture", "--format", "json", "--script", "talker.py"],
+                            cwd=tmp_path, env=env, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert [pub["name"] for pub in json.loads(result.stdout)["/talker"]["publishers"]] == ["/chatter"]

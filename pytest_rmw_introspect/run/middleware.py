@@ -42,7 +42,7 @@ _PACKAGE_DIR = Path(__file__).resolve().parent.parent  # the pytest_rmw_introspe
 PREBUILT_DIR = _PACKAGE_DIR / "prebuilt"
 _BUILD_LOG_TAIL = 40
 #: what a build takes, as the build's first line says (measured, docs/install.md)
-BUILD_TIME = "45-60 s on 2 idle cores, minutes on a loaded machine"
+BUILD_TIME = "45-61 s on 2 idle cores, minutes on a loaded machine"
 #: seconds between two lines of a build's progress
 PROGRESS_EVERY = 5.0
 #: seconds on another process's build lock before the user is told why nothing happens

@@ -15,8 +15,6 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from elftools.elf.dynamic import DynamicSection
-from elftools.elf.elffile import ELFFile
 from wheel_support import KILTED_VENV, wheel_distros
 
 #: the wheel is built and installed by the first test that needs it (minutes on a loaded machine)
@@ -35,6 +33,10 @@ rclpy.spin(node)
 
 
 def _dynamic(library: bytes) -> dict[str, list[str]]:
+    # pyelftools comes with auditwheel (requirements/tools.in): not in every venv that collects this file
+    from elftools.elf.dynamic import DynamicSection
+    from elftools.elf.elffile import ELFFile
+
     tags: dict[str, list[str]] = {}
     for section in ELFFile(io.BytesIO(library)).iter_sections():
         if isinstance(section, DynamicSection):

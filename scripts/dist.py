@@ -13,7 +13,7 @@
    excluded from the repair, so the wheel bundles none of them (the check at the end fails the
    build if it did).
 
-Usage: python scripts/dist.py [--out DIR] [--distros jazzy,kilted] [--python-for DISTRO=PYTHON ...]
+Usage: python scripts/dist.py [--out DIR] [--distros jazzy,kilted]
 """
 
 from __future__ import annotations

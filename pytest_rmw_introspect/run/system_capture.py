@@ -25,8 +25,8 @@ import shlex
 import shutil
 import tempfile
 import threading
-from collections.abc import Mapping, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, cast
@@ -44,7 +44,7 @@ from ..model.stand_ins import StoodIn
 from ..model.unstable_names import NODE_KEY as UNSTABLE_NAME
 from ..model.unstable_names import NameRules, contract_keys
 from ..model.vocabulary import DESTROYED_AT, LIFECYCLE, PARAMETERS
-from . import middleware, ros_env, runner
+from . import middleware, progress, ros_env, runner
 from .target import TargetSpec
 
 #: keys of a ``launch:`` block
@@ -374,6 +374,23 @@ def process_spec(node: LaunchedNode, base: TargetSpec, params_dir: Path) -> Targ
     return spec.merged(options, source=f"launch file {node.where}")
 
 
+#: seconds between two lines of a long system capture's progress
+PROGRESS_EVERY = 5.0
+
+
+def _results(pool: ThreadPoolExecutor, run_one: Callable[[int], TargetError | None], count: int,
+             elapsed: Callable[[], float] | None) -> list[TargetError | None]:
+    """Each process's error (or None), in the launch file's order; with ``elapsed``, a progress
+    line every few seconds says how many of them are captured."""
+    futures = [pool.submit(run_one, i) for i in range(count)]
+    if elapsed is not None:
+        throttle = progress.Throttle(PROGRESS_EVERY)
+        for done, _future in enumerate(as_completed(futures), start=1):
+            if throttle.due() and done < count:
+                progress.say(f"captured {done} of {count} processes, {progress.seconds(elapsed())} so far")
+    return [future.result() for future in futures]
+
+
 def capture_system(
     spec: LaunchSpec,
     *,
@@ -431,7 +448,13 @@ def capture_system(
                              jobs or os.cpu_count() or 2))
         pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="rmw-introspect-system")
         try:
-            errors = [future.result() for future in [pool.submit(run_one, i) for i in range(len(processes))]]
+            if len(processes) > workers:  # more than one round of captures: seconds, said on the terminal
+                with progress.step(f"capturing the {len(processes)} processes of {shown(spec.path)}, {workers} at a time",
+                                   f"captured the {len(processes)} processes of {shown(spec.path)} in {{time}}",
+                                   f"capturing the processes of {shown(spec.path)} ended") as elapsed:
+                    errors = _results(pool, run_one, len(processes), elapsed)
+            else:
+                errors = _results(pool, run_one, len(processes), None)
         except BaseException:
             # Ctrl-C or SIGTERM (the CLI's Terminated) reaches this thread only: the workers' targets
             # are stopped now and the processes not started yet never start, instead of each

@@ -7,8 +7,9 @@ untrusted input), and its remappings (``<remap>``, ``-r`` in ``ros_args``). A pa
 that cannot be read is left out: the process itself fails on it, and the capture says so.
 
 :func:`missing_path` says whether a parameter value points at a file that is not there, on this
-machine, now (``model.portable.resolve``: absolute paths, ``file://``, ``package://`` and the
-``$(find-pkg-share)`` token).
+machine, now (``model.portable.resolve``: absolute paths, ``file://``, ``package://``, the
+``$(find-pkg-share)`` and ``$(env HOME)`` tokens, devices), and whose file it is: an installed
+package's (inside an ament prefix), the machine's (outside every prefix) or a device.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..compare.launch_given import Given, GivenParameter, MissingPath, ParamsFile, sections
+from ..compare.launch_given import Given, GivenParameter, MissingFile, MissingPath, ParamsFile, sections
 from ..launch.result import ComponentLoad, LaunchedNode
 from ..model import portable, untrusted
 from ..model.paths import shown
@@ -73,19 +74,23 @@ def _file(path: Path | None, text: str | None, name: str | None = None) -> list[
     return [ParamsFile(label, sections(data))]
 
 
-def missing_path(prefixes: Sequence[Path]) -> MissingPath:
-    """A ``compare.launch_given.MissingPath`` that finds packages in the ament ``prefixes``."""
+def missing_path(prefixes: Sequence[Path], home: str | None = None) -> MissingPath:
+    """A ``compare.launch_given.MissingPath`` that finds packages in the ament ``prefixes`` and
+    ``$(env HOME)`` in ``home`` (default: this user's)."""
     shares = {package: Path(share) for share, package in package_shares(prefixes).items()}
+    roots = [Path(p).absolute() for p in prefixes]
 
-    def why_missing(value: str) -> str | None:
-        found = portable.resolve(value, shares.get)
+    def why_missing(value: str) -> MissingFile | None:
+        found = portable.resolve(value, shares.get, home)
         if found is None:
             return None
-        path, package = found
-        if path is None:
-            return f"package {package}, which is not installed (not in the ament index)"
-        if path.exists():
+        if found.path is None:
+            return MissingFile(f"package {found.package}, which is not installed (not in the ament index)", "package")
+        if found.path.exists():
             return None
-        return f"{shown(path)}, which does not exist"
+        if found.device:
+            return MissingFile(f"the device {found.path}, which this machine does not have", "device")
+        inside = found.package is not None or any(found.path.is_relative_to(root) for root in roots)
+        return MissingFile(f"{shown(found.path)}, which does not exist", "package" if inside else "machine")
 
     return why_missing

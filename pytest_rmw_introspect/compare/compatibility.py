@@ -83,15 +83,31 @@ SUMMARIES: dict[str, str] = {
         "a parameters file given to processes has a node section that matches none of the nodes it is given "
         "to"
     ),
+    "PARAM_NAME_INVALID": (
+        "a parameter name the launch file gives a node (a parameters file key, `<param>`, `-p`) that cannot be a "
+        "ROS parameter name: a space, a parenthesis, a colon, a comma"
+    ),
     "REMAP_UNUSED": (
-        "a remapping the launch file gives a node changed none of its names: no topic, service or action of "
-        "the node has the remapping's target name"
+        "a remapping the launch file gives a node changed none of its names, and a connection was meant: another "
+        "node of the system uses the remapping's target, or its `from` is a near miss of a name the node created"
+    ),
+    "REMAP_UNUSED_UNCONNECTED": (
+        "a remapping the launch file gives a node changed none of its names, and nothing shows a connection was "
+        "meant (no other node uses its target, its `from` is no near miss); identity remappings are not judged"
     ),
     "PARAM_PATH_MISSING": (
-        "a node's string parameter (as captured, overrides applied) points at a file that does not exist when"
-        " the system is captured: an absolute path whose top directory exists (`/opt/maps/office.yaml`; "
-        "`/robot1/scan` is a name, not a path), `file://...`, `package://PACKAGE/...` or `$(find-pkg-share "
-        "PACKAGE)/...` (a package that is not installed counts as missing)"
+        "a node's string parameter (as captured, overrides applied) points at a file of a package that is missing:"
+        " `package://PACKAGE/...`, `$(find-pkg-share PACKAGE)/...` (also inside `file://`), an absolute path "
+        "inside a ROS prefix, or a package that is not installed"
+    ),
+    "PARAM_PATH_MACHINE_LOCAL": (
+        "a node's string parameter points at a missing file outside every ROS prefix (a home directory, `/tmp`, "
+        "`/mnt`, `/data`: an absolute path whose top directory exists, or `$(env HOME)/...`), and the parameter "
+        "is not one the node writes (`output_*`, `save_*`, `log_*`, `*_dir`, ...)"
+    ),
+    "PARAM_DEVICE_ABSENT": (
+        "a node's string parameter names a hardware device the capture machine lacks: `/dev/...` (with or "
+        "without a `:baud` suffix), `serial:///dev/...`"
     ),
 }
 

@@ -6,8 +6,15 @@ of the node's names. Each is a configuration that "works" and has no effect, the
 misconfiguration a robot ships with. :func:`check` compares what each process of a launched
 system was given (:class:`Given`, built from the launch file by ``check.system_pipeline``)
 with what its nodes declared and created (their capture), and returns one finding per ignored
-setting: ``PARAM_NOT_DECLARED``, ``PARAMS_FILE_SECTION_UNMATCHED``, ``REMAP_UNUSED`` (all
-BREAKING; rationale in docs/drift-rules.md, "Compatibility rules").
+setting: ``PARAM_NOT_DECLARED``, ``PARAMS_FILE_SECTION_UNMATCHED``, ``REMAP_UNUSED``, and a
+given parameter name that no ROS parameter can have, ``PARAM_NAME_INVALID``. Each rule's severity
+is the one its record on real bring-ups supports (docs/drift-rules.md, "Compatibility rules"): a
+remapping that changed nothing is BREAKING only with evidence that a connection was meant
+(``REMAP_UNUSED``; without: ``REMAP_UNUSED_UNCONNECTED``, RISKY), and a parameter value that
+points at nothing is BREAKING only for the files of an installed package
+(``PARAM_PATH_MISSING``), RISKY for a file of the capture machine (``PARAM_PATH_MACHINE_LOCAL``,
+never for a parameter the node writes: :func:`node_writes`) and a note for a hardware device
+(``PARAM_DEVICE_ABSENT``: the capture machine is not the robot).
 
 Parameters files are matched as rclcpp and rclpy match them: a section key is a fully
 qualified node name (a leading ``/`` is added when missing, so ``lidar:`` is the node
@@ -20,20 +27,59 @@ from __future__ import annotations
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 from ..model.contract_shapes import ContractNode
 from ..model.vocabulary import LISTS, PARAMETERS, Severity, is_infrastructure_parameter
 from .similarity import typo_distance
+from .wiring import near_miss
 
 RULES: dict[str, Severity] = {
     "PARAM_NOT_DECLARED": Severity.BREAKING,
+    "PARAM_NAME_INVALID": Severity.BREAKING,
     "PARAMS_FILE_SECTION_UNMATCHED": Severity.BREAKING,
     "REMAP_UNUSED": Severity.BREAKING,
+    "REMAP_UNUSED_UNCONNECTED": Severity.RISKY,
     "PARAM_PATH_MISSING": Severity.BREAKING,
+    "PARAM_PATH_MACHINE_LOCAL": Severity.RISKY,
+    "PARAM_DEVICE_ABSENT": Severity.SAFE,
 }
-#: a parameter value → why the file it points at is missing (None: not a path, or it exists)
-MissingPath = Callable[[str], "str | None"]
+
+
+@dataclass(frozen=True)
+class MissingFile:
+    """What a parameter value points at that is not there: ``why`` ends a sentence ("...
+    points at ``why``"); ``where`` says whose file it is: ``package`` (an installed package's, or
+    a package that is not installed: missing on every machine), ``machine`` (outside every ROS
+    prefix: a file of one machine) or ``device`` (hardware)."""
+
+    why: str
+    where: Literal["package", "machine", "device"]
+
+
+#: a parameter value → what it points at that is missing (None: not a path, or it exists)
+MissingPath = Callable[[str], "MissingFile | None"]
+
+#: the words of a parameter name that say the node writes the file (it need not exist before)
+_WRITES = frozenset({"output", "out", "save", "saved", "log", "logs", "logging", "record", "recording", "dump",
+                     "write", "export", "cache"})
+_DIRECTORY = frozenset({"dir", "directory", "folder"})
+#: what a parameter name may hold: name tokens joined by dots; ``/`` for rclcpp's
+#: ``qos_overrides./topic.publisher.depth``, ``-`` as some drivers spell names
+_PARAMETER_NAME = re.compile(r"[A-Za-z0-9_/-]+(?:\.[A-Za-z0-9_/-]+)*")
+
+
+def node_writes(name: str) -> bool:
+    """Whether the parameter ``name`` names a file or directory the node writes (by its words:
+    ``output_file``, ``save_path``, ``log_dir``, ``waypoints_output``, ``map.out_file``)."""
+    words = [w for w in re.split(r"[._/-]+", name.lower()) if w]
+    return bool(words) and (any(w in _WRITES for w in words) or words[-1] in _DIRECTORY)
+
+
+def valid_parameter_name(name: str) -> bool:
+    """Whether ``name`` can be a ROS parameter name (no spaces, parentheses, colons, commas:
+    a YAML comment that lost its ``#`` becomes a key like ``(see x description) (bool, default``)."""
+    return _PARAMETER_NAME.fullmatch(name) is not None
 
 
 @dataclass(frozen=True)
@@ -130,6 +176,7 @@ def given_findings(processes: Sequence[Any], missing_path: MissingPath | None = 
     findings: list[Finding] = []
     # a file given to several processes (one file for the whole robot) is matched against them all
     receivers: dict[str, list[tuple[Any, str]]] = {}
+    system = _System(processes)
     for process in processes:
         given: Given | None = getattr(process, "given", None)
         if given is None:
@@ -138,13 +185,14 @@ def given_findings(processes: Sequence[Any], missing_path: MissingPath | None = 
             receivers.setdefault(params_file.shown, []).extend((process, fqn) for fqn in process.nodes)
         # a component of a container gets what its LoadNode request gives it, not the container
         components: Mapping[str, Given] = getattr(process, "component_given", None) or {}
+        findings += _invalid_names(process, [given, *components.values()], system)
         for fqn, node in process.nodes.items():
             findings += _undeclared(process, components.get(fqn, given), fqn, node)
             if missing_path is not None:
                 findings += _missing_paths(process, fqn, node, missing_path)
             if fqn in components:  # its LoadNode request's remappings reach this node alone
-                findings += _unused_remappings(process, components[fqn], {fqn: node}, fqn)
-        findings += _unused_remappings(process, given, process.nodes, process.expected)
+                findings += _unused_remappings(process, components[fqn], {fqn: node}, fqn, system)
+        findings += _unused_remappings(process, given, process.nodes, process.expected, system)
     everyone = sorted({fqn for process in processes for fqn in process.nodes})
     seen: set[tuple[str, str]] = set()
     for process in processes:
@@ -170,6 +218,41 @@ def given_findings(processes: Sequence[Any], missing_path: MissingPath | None = 
     return findings
 
 
+class _System:
+    """The names every node of a system uses, and the invalid parameter names already reported."""
+
+    def __init__(self, processes: Sequence[Any]) -> None:
+        self.users: dict[str, set[str]] = {}  # topic, service or action name → the nodes that use it
+        for process in processes:
+            for fqn, node in process.nodes.items():
+                for name in _names(node):
+                    self.users.setdefault(name, set()).add(fqn)
+        self.reported: set[tuple[str, str]] = set()
+
+    def used_elsewhere(self, name: str, nodes: Mapping[str, ContractNode]) -> list[str]:
+        """The nodes other than ``nodes`` that use ``name``."""
+        return sorted(self.users.get(name, set()) - set(nodes))
+
+
+def _invalid_names(process: Any, givens: Sequence[Given], system: _System) -> list[Finding]:
+    """Every parameter name given to ``process`` that no ROS parameter can have, once per source."""
+    out = []
+    node = process.expected or (sorted(process.nodes)[0] if process.nodes else process.label)
+    for given in givens:
+        named = [(p.name, p.source) for p in given.parameters]
+        named += [(name, f"{f.shown} [{key}]") for f in given.files for key, names in f.sections for name in names]
+        for name, source in named:
+            if valid_parameter_name(name) or (source, name) in system.reported:
+                continue
+            system.reported.add((source, name))
+            out.append(Finding(
+                "PARAM_NAME_INVALID", process.label, node, name,
+                f"`{name}` ({source}) cannot be a ROS parameter name (a parameter name is words of letters, digits "
+                "and `_` joined by `.`): no node reads it, whatever it declares or accepts; a comment that lost "
+                "its `#`? Restore the `#`, or fix the name"))
+    return out
+
+
 def _undeclared(process: Any, given: Given, fqn: str, node: ContractNode) -> list[Finding]:
     if node.get(PARAMETERS) is None:  # parameters not read: nothing to compare with
         return []
@@ -184,8 +267,8 @@ def _undeclared(process: Any, given: Given, fqn: str, node: ContractNode) -> lis
         sources[parameter.name] = parameter.source
     out = []
     for name, source in sorted(sources.items()):
-        if name in declared or is_infrastructure_parameter(name):
-            continue
+        if name in declared or is_infrastructure_parameter(name) or not valid_parameter_name(name):
+            continue  # an invalid name is PARAM_NAME_INVALID's
         close = _closest(name, declared)
         hint = f"; did you mean `{close}`?" if close else f"; it declares: {', '.join(sorted(declared)) or 'none'}"
         out.append(Finding("PARAM_NOT_DECLARED", process.label, fqn, name,
@@ -194,17 +277,29 @@ def _undeclared(process: Any, given: Given, fqn: str, node: ContractNode) -> lis
     return out
 
 
+_PATH_RULES = {"package": "PARAM_PATH_MISSING", "machine": "PARAM_PATH_MACHINE_LOCAL", "device": "PARAM_DEVICE_ABSENT"}
+_PATH_CONSEQUENCES = {
+    "package": "the node reads nothing (or fails when it needs it), on every machine this package is installed "
+               "on; install the file or fix the value",
+    "machine": "a file of one machine, outside every ROS prefix: the node finds it only where it was put by "
+               "hand; check that the machines that run the node have it, or install it with a package",
+    "device": "needs hardware the capture machine lacks (a device is not a file: the robot has it); stand the "
+              "process in for where the hardware is missing (docs/system-contracts.md, \"Hardware processes\")",
+}
+
+
 def _missing_paths(process: Any, fqn: str, node: ContractNode, missing_path: MissingPath) -> list[Finding]:
     out = []
     for parameter in node.get(PARAMETERS) or []:
         value = parameter.get("default_value")
+        name = str(parameter.get("name"))
         for text in value if isinstance(value, list) else [value]:
-            why = missing_path(text) if isinstance(text, str) else None
-            if why is not None:
-                name = str(parameter.get("name"))
-                out.append(Finding("PARAM_PATH_MISSING", process.label, fqn, name,
-                                   f"parameter `{name}` of {fqn} is {text!r}, which points at {why}: the node "
-                                   "reads nothing (or fails when it needs it); install the file or fix the value"))
+            missing = missing_path(text) if isinstance(text, str) else None
+            if missing is None or (missing.where != "device" and node_writes(name)):
+                continue  # a file the node writes need not exist before it runs
+            out.append(Finding(_PATH_RULES[missing.where], process.label, fqn, name,
+                               f"parameter `{name}` of {fqn} is {text!r}, which points at {missing.why}: "
+                               f"{_PATH_CONSEQUENCES[missing.where]}"))
     return out
 
 
@@ -215,23 +310,37 @@ def _closest(name: str, declared: set[str]) -> str | None:
 
 
 def _unused_remappings(process: Any, given: Given, nodes: Mapping[str, ContractNode],
-                       expected: str | None) -> list[Finding]:
+                       expected: str | None, system: _System) -> list[Finding]:
     """The remappings of ``given`` that change none of the names of ``nodes`` (a process's
-    nodes, or the one node a component's load request made)."""
+    nodes, or the one node a component's load request made): BREAKING with evidence that a
+    connection was meant (another node uses the target; the source is a near miss of a name
+    the node created), RISKY without (a name the node creates in some configurations only)."""
     out: list[Finding] = []
     if not nodes:
         return out
     for source, target in given.remappings:
         if source.startswith("__") or ":" in source:  # __node, __ns, node-prefixed rules
             continue
-        used = any(resolve(target, fqn) in _names(node) for fqn, node in nodes.items())
-        if used:
-            continue
         fqn = sorted(nodes)[0]
-        wanted = resolve(source, fqn)
+        wanted, meant = resolve(source, fqn), resolve(target, fqn)
+        if wanted == meant:  # an identity remapping changes nothing and means nothing
+            continue
+        own = set().union(*(_names(node) for node in nodes.values()))
+        if meant in own:
+            continue
+        others = system.used_elsewhere(meant, nodes)
+        near = sorted((found[0], name) for name in own if (found := near_miss(wanted, name)) is not None)
+        if others:
+            evidence = f"; {', '.join(others)} use{'s' if len(others) == 1 else ''} {meant}, so a connection was meant"
+        elif near:
+            evidence = f"; did you mean `{near[0][1]}`, a name the node did create?"
+        else:
+            evidence = ("; no other node uses the target either (a name the node creates in some configurations "
+                        "only?)")
         out.append(Finding(
-            "REMAP_UNUSED", process.label, expected or fqn, f"{source}:={target}",
+            "REMAP_UNUSED" if others or near else "REMAP_UNUSED_UNCONNECTED", process.label, expected or fqn,
+            f"{source}:={target}",
             f"the remapping {source} -> {target} (at {given.where or 'the launch file'}) changed none of the names of "
-            f"{', '.join(sorted(nodes))}: no topic, service or action is named {resolve(target, fqn)}, so the node "
-            f"never used {wanted}; check the `from` name against the node's own names"))
+            f"{', '.join(sorted(nodes))}: no topic, service or action is named {meant}, so the node never used "
+            f"{wanted}{evidence}"))
     return out

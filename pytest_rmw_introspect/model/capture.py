@@ -253,13 +253,14 @@ class Capture:
         (``model.capture_notes``)."""
         return capture_notes.notes(self)
 
-    def make_values_portable(self, shares: Mapping[str, str]) -> None:
+    def make_values_portable(self, shares: Mapping[str, str], home: str | None = None) -> None:
         """Write every package share directory (``shares``: directory → package) in the nodes'
-        parameter values as ``$(find-pkg-share PACKAGE)`` (``model.portable``), so that the
-        values are the same on every machine."""
+        parameter values as ``$(find-pkg-share PACKAGE)``, and the home directory ``home`` as
+        ``$(env HOME)`` (``model.portable``), so that the values are the same on every machine."""
         for node in self.nodes.values():
             if node.parameters:
-                node.parameters = [replace(p, value=portable.portable_value(p.value, shares)) for p in node.parameters]
+                node.parameters = [replace(p, value=portable.portable_value(p.value, shares, home))
+                                   for p in node.parameters]
 
     @property
     def polls(self) -> int:

@@ -399,7 +399,7 @@ def run(
         captured = _with_facts(loaded, start, returncode=returncode, stderr=stderr, wall_time=wall,
                                command=tuple(argv), other_processes=tuple(others), from_child=from_child,
                                ros_distribution=target.ros_distribution, keep_path=keep_files)
-        captured.make_values_portable(ros_env.package_shares(target.prefixes))
+        captured.make_values_portable(ros_env.package_shares(target.prefixes), home=_home(target))
         failures = captured.failed_transitions()
         if failures:
             raise _tag(LifecycleTransitionFailed(describe, failures, wanted=target.lifecycle,
@@ -434,6 +434,11 @@ def crash_evidence(returncode: int, stderr: str) -> bool:
 def _tag(exc: TargetError, start: _Started) -> TargetError:
     exc.started = start.how
     return exc
+
+
+def _home(target: ResolvedTarget) -> str | None:
+    """The home directory the target ran with (its environment's HOME)."""
+    return dict(target.env).get("HOME") or os.environ.get("HOME")
 
 
 def _no_node_hint(target: ResolvedTarget) -> str | None:

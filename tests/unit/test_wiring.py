@@ -273,7 +273,7 @@ def test_one_file_for_the_whole_robot_is_matched_against_every_node_it_is_given_
     assert "/c would match it but is not given this file" in items[0].message
 
 
-def test_a_remapping_that_changed_no_name_is_breaking():
+def test_a_remapping_that_changed_no_name_is_breaking_with_evidence_and_risky_without():
     lidar = node(pubs=[("/robot1/lidar/scan", SCAN)])
     ok = given(remappings=[("scan", "lidar/scan"), ("__ns", "/robot1")])
     assert check_launched([LaunchedProcess("l", "/robot1/lidar", {"/robot1/lidar": lidar}, given=ok)],
@@ -282,13 +282,42 @@ def test_a_remapping_that_changed_no_name_is_breaking():
     lidar = node(pubs=[("/robot1/scan", SCAN)])
     items = check_launched([LaunchedProcess("l", "/robot1/lidar", {"/robot1/lidar": lidar}, given=typo)],
                            external={"subscriptions": {"/robot1/scan": "rviz"}})
-    assert found(items) == [("REMAP_UNUSED", "sacn:=lidar/scan", None), ("REMAP_UNUSED", "~/out:=status", None)]
-    assert items[0].severity is Severity.BREAKING
-    message = {i.name: i.message for i in items}["sacn:=lidar/scan"]
-    assert message == ("the remapping sacn -> lidar/scan (at robot.launch.xml:7) changed none of the names of "
-                       "/robot1/lidar: no topic, service or action is named /robot1/lidar/scan, so the node never "
-                       "used /robot1/sacn; check the `from` name against the node's own names")
+    # `sacn` is a near miss of the node's own /robot1/scan; nothing says `~/out` was meant to connect
+    assert found(items) == [("REMAP_UNUSED", "sacn:=lidar/scan", None),
+                            ("REMAP_UNUSED_UNCONNECTED", "~/out:=status", None)]
+    by_name = {i.name: i for i in items}
+    assert by_name["sacn:=lidar/scan"].severity is Severity.BREAKING
+    assert by_name["~/out:=status"].severity is Severity.RISKY
+    assert by_name["sacn:=lidar/scan"].message == (
+        "the remapping sacn -> lidar/scan (at robot.launch.xml:7) changed none of the names of /robot1/lidar: no "
+        "topic, service or action is named /robot1/lidar/scan, so the node never used /robot1/sacn; did you mean "
+        "`/robot1/scan`, a name the node did create?")
+    assert by_name["~/out:=status"].message.endswith(
+        "so the node never used /robot1/lidar/out; no other node uses the target either (a name the node creates "
+        "in some configurations only?)")
+    assert not report.fails(items[1:], Severity.BREAKING)
     assert launch_given.resolve("~/out", "/robot1/lidar") == "/robot1/lidar/out"
+
+
+def test_a_remapping_whose_target_another_node_uses_is_breaking():
+    # the camera driver creates `image` only with `publish_raw: true`; the remap was for the detector
+    camera = node(pubs=[("/cam/compressed", "sensor_msgs/msg/CompressedImage")])
+    detector = node(subs=[("/cam/image_raw", "sensor_msgs/msg/Image")])
+    remap = given(remappings=[("image", "/cam/image_raw")])
+    items = check_launched([LaunchedProcess("cam", "/cam/driver", {"/cam/driver": camera}, given=remap),
+                            LaunchedProcess("det", "/detector", {"/detector": detector})],
+                           external={"publishers": {"/cam/image_raw": "bag"},
+                                     "subscriptions": {"/cam/compressed": "rviz"}})
+    assert found(items) == [("REMAP_UNUSED", "image:=/cam/image_raw", None)]
+    assert items[0].severity is Severity.BREAKING
+    assert items[0].message.endswith("; /detector uses /cam/image_raw, so a connection was meant")
+
+
+def test_identity_remappings_are_no_finding():
+    lidar = node(pubs=[("/robot1/scan", SCAN)])
+    same = given(remappings=[("cmd_vel", "cmd_vel"), ("odom", "/robot1/odom"), ("~/x", "/robot1/lidar/x")])
+    assert check_launched([LaunchedProcess("l", "/robot1/lidar", {"/robot1/lidar": lidar}, given=same)],
+                          external={"subscriptions": {"/robot1/scan": "rviz"}}) == []
 
 
 def test_the_settings_of_a_launched_node(tmp_path):
@@ -351,28 +380,140 @@ def test_parameter_values_that_point_at_missing_files(tmp_path):
     (prefix / "share" / "ament_index" / "resource_index" / "packages" / "robot").write_text("")
     (prefix / "share" / "robot" / "maps").mkdir(parents=True)
     (prefix / "share" / "robot" / "maps" / "office.yaml").write_text("image: office.pgm\n")
-    why = missing_path([prefix])
+    home = tmp_path / "home" / "alice"
+    (home / ".robot").mkdir(parents=True)
+    (home / ".robot" / "route.csv").write_text("0,0\n")
+    why = missing_path([prefix], home=str(home))
     for fine in ("$(find-pkg-share robot)/maps/office.yaml", "package://robot/maps/office.yaml",
                  f"file://{prefix}/share/robot/maps/office.yaml", f"{prefix}/share/robot/maps/office.yaml",
+                 "file://$(find-pkg-share robot)/maps/office.yaml", "file://package://robot/maps/office.yaml",
+                 "$(env HOME)/.robot/route.csv", "file://$(env HOME)/.robot/route.csv", "/dev/null",
+                 "udp://:14540@127.0.0.1:14557", "tcp://192.168.1.2:5760", "udp-b://@:14550",
                  "/robot1/scan", "/map", "map", "", "base_link", "/"):
         assert why(fine) is None, fine
-    assert why("package://robot/maps/lab.yaml").endswith("maps/lab.yaml, which does not exist")
-    assert why("$(find-pkg-share robot)/maps/lab.yaml").endswith("maps/lab.yaml, which does not exist")
-    assert why(f"{tmp_path}/nowhere.yaml").endswith("nowhere.yaml, which does not exist")
-    assert why("package://office_maps/lab.yaml") == "package office_maps, which is not installed (not in the ament index)"
+    # an installed package's file that is missing: a packaging bug on every machine
+    for text in ("package://robot/maps/lab.yaml", "$(find-pkg-share robot)/maps/lab.yaml",
+                 "file://$(find-pkg-share robot)/maps/lab.yaml", f"{prefix}/share/robot/maps/lab.yaml",
+                 f"file://{prefix}/share/robot/maps/lab.yaml", f"{prefix}/lib/robot/plugin.so"):
+        missing = why(text)
+        assert missing is not None and missing.where == "package", text
+        assert missing.why.endswith(", which does not exist"), text
+    assert why("package://office_maps/lab.yaml") == launch_given.MissingFile(
+        "package office_maps, which is not installed (not in the ament index)", "package")
+    # a file of one machine, outside every ROS prefix
+    for text in (f"{tmp_path}/nowhere.yaml", "$(env HOME)/.autoware/route.csv", f"file://{tmp_path}/a.yaml",
+                 "/tmp/no-such-dir-37/x.csv"):
+        missing = why(text)
+        assert missing is not None and missing.where == "machine", text
+    # a device: never a missing file
+    for text in ("/dev/ttyFAKE37", "/dev/ttyFAKE37:57600", "serial:///dev/ttyFAKE37:921600",
+                 "serial-hwfc:///dev/ttyFAKE37:57600?ids=1,240", "/dev/input/js37", "file:///dev/ttyFAKE37"):
+        missing = why(text)
+        assert missing is not None and missing.where == "device", text
+        assert missing.why == f"the device /dev/{text.split('/dev/')[1].split(':')[0].split('?')[0]}, which this " \
+                              "machine does not have", text
+
+
+def test_a_device_value_and_its_baud_rate_are_told_from_a_file():
+    from pathlib import Path
+
+    from pytest_rmw_introspect.model import portable
+
+    def share(package):
+        return None
+
+    assert portable.resolve("/dev/ttyACM0:57600", share) == portable.Located(Path("/dev/ttyACM0"), device=True)
+    assert portable.resolve("serial:///dev/kobuki", share) == portable.Located(Path("/dev/kobuki"), device=True)
+    assert portable.resolve("udp://@10.0.0.2:14555", share) is None
+    assert portable.resolve("package://absent/x.yaml", share) == portable.Located(None, "absent")
+    assert portable.resolve("file://package://absent/x.yaml", share) == portable.Located(None, "absent")
+    assert portable.resolve("$(env HOME)/x", share, "/home/bob") == portable.Located(Path("/home/bob/x"))
+
+
+def test_the_home_directory_is_written_as_a_token(tmp_path):
+    from pytest_rmw_introspect.model import portable
+
+    assert portable.portable_value("/home/alice/.robot/route.csv", {}, "/home/alice") == "$(env HOME)/.robot/route.csv"
+    assert portable.portable_value("file:///home/alice/cal.yaml", {}, "/home/alice/") == "file://$(env HOME)/cal.yaml"
+    assert portable.portable_value(["/home/alice", "/home/alicex/a", 3], {}, "/home/alice") == [
+        "$(env HOME)", "/home/alicex/a", 3]
+    # a home directory of / is no home: nothing is rewritten
+    assert portable.portable_value("/opt/a", {}, "/") == "/opt/a"
+    assert portable.portable_value("/home/alice/a", {}, None) == "/home/alice/a"
 
 
 def test_a_path_parameter_to_a_missing_file_is_breaking():
     loader = node(parameters=["map_file"])
     loader["parameters"][0]["default_value"] = "package://robot/maps/lab.yaml"
     processes = [LaunchedProcess("demo/map", "/map_server", {"/map_server": loader}, given=given())]
-    items = check_launched(processes, missing_path=lambda v: "maps/lab.yaml, which does not exist"
-                           if v.endswith("lab.yaml") else None)
+    items = check_launched(processes, missing_path=lambda v: launch_given.MissingFile(
+        "maps/lab.yaml, which does not exist", "package") if v.endswith("lab.yaml") else None)
     assert found(items) == [("PARAM_PATH_MISSING", "map_file", None)]
     assert items[0].severity is Severity.BREAKING
     assert items[0].message == ("parameter `map_file` of /map_server is 'package://robot/maps/lab.yaml', which points "
                                 "at maps/lab.yaml, which does not exist: the node reads nothing (or fails when it "
-                                "needs it); install the file or fix the value")
+                                "needs it), on every machine this package is installed on; install the file or fix "
+                                "the value")
     # stored contracts (no launch file: compat, graph) are not judged on this machine's files
     assert check_launched([LaunchedProcess("demo/map", "/map_server", {"/map_server": loader})],
-                          missing_path=lambda v: "gone") == []
+                          missing_path=lambda v: launch_given.MissingFile("gone", "package")) == []
+
+
+@pytest.mark.parametrize("where, rule, severity", [
+    ("package", "PARAM_PATH_MISSING", Severity.BREAKING),
+    ("machine", "PARAM_PATH_MACHINE_LOCAL", Severity.RISKY),
+    ("device", "PARAM_DEVICE_ABSENT", Severity.SAFE),
+])
+def test_whose_file_is_missing_decides_the_rule(where, rule, severity):
+    driver = node(parameters=["port", "output_file", "log_dir", "save_path", "map.out_file", "data_folder"])
+    for parameter in driver["parameters"]:
+        parameter["default_value"] = "/x/y"
+    items = check_launched([LaunchedProcess("d", "/driver", {"/driver": driver}, given=given())],
+                           missing_path=lambda v: launch_given.MissingFile("/x/y, which does not exist", where))
+    # a file the node writes need not exist before it runs; a device is judged whatever its name
+    assert found(items) == ([(rule, name, None) for name in ("data_folder", "log_dir", "map.out_file", "output_file",
+                                                             "port", "save_path")]
+                            if where == "device" else [(rule, "port", None)])
+    assert {i.severity for i in items} == {severity}
+    if where == "device":
+        assert "needs hardware the capture machine lacks" in items[0].message
+        assert not report.fails(items, Severity.RISKY)
+
+
+@pytest.mark.parametrize("name, writes", [
+    ("output_file", True), ("waypoints_output", True), ("save_path", True), ("log_dir", True),
+    ("map.out_file", True), ("record_directory", True), ("cache_folder", True), ("dump", True),
+    ("map_file", False), ("calibration_file", False), ("port", False), ("route_csv", False),
+    ("directory_of_maps.file", False), ("outline_file", False), ("", False),
+])
+def test_which_parameters_a_node_writes(name, writes):
+    assert launch_given.node_writes(name) is writes
+
+
+@pytest.mark.parametrize("name, valid", [
+    ("rate", True), ("frame.id", True), ("qos_overrides./scan.publisher.depth", True), ("a-b", True),
+    ("Kp_2", True), ("(see x description) (bool, default", False), ("use sim time", False), ("rate:", False),
+    ("a,b", False), ("", False), ("a..b", False), (".a", False), ("#rate", False),
+])
+def test_which_names_can_be_ros_parameter_names(name, valid):
+    assert launch_given.valid_parameter_name(name) is valid
+
+
+def test_a_parameter_name_no_ros_parameter_can_have_is_breaking_even_for_an_accepting_node():
+    lost_hash = ParamsFile("config/driver.yaml", (("/driver", ("rate", "(see x description) (bool, default")),))
+    # a node that accepts undeclared parameters, or whose parameters were not read: nothing to compare
+    accepting = node()
+    items = check_launched([LaunchedProcess("d", "/driver", {"/driver": accepting}, given=given(files=[lost_hash])),
+                            LaunchedProcess("e", "/other", {"/other": node()}, given=given(files=[lost_hash]))])
+    assert found(items) == [("PARAM_NAME_INVALID", "(see x description) (bool, default", None)]
+    assert items[0].severity is Severity.BREAKING
+    assert items[0].message == (
+        "`(see x description) (bool, default` (config/driver.yaml [/driver]) cannot be a ROS parameter name (a "
+        "parameter name is words of letters, digits and `_` joined by `.`): no node reads it, whatever it declares "
+        "or accepts; a comment that lost its `#`? Restore the `#`, or fix the name")
+    # a node that declares its parameters: the same one finding, not PARAM_NOT_DECLARED as well
+    declaring = node(parameters=["rate"])
+    items = check_launched([LaunchedProcess("d", "/driver", {"/driver": declaring},
+                                            given=given(files=[lost_hash], parameters=["max speed"]))])
+    assert found(items) == [("PARAM_NAME_INVALID", "(see x description) (bool, default", None),
+                            ("PARAM_NAME_INVALID", "max speed", None)]

@@ -27,9 +27,8 @@ from rclpy.action import ActionClient, ActionServer
 from rclpy.executors import ExternalShutdownException
 from rclpy.lifecycle import LifecycleNode
 from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data, qos_profile_system_default
 from rclpy.utilities import remove_ros_args
-from rclpy.qos import (DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data,
-                       qos_profile_system_default)
 
 PROFILES = {
     "default": QoSProfile(depth=10),
@@ -90,7 +89,7 @@ def build(node: Node, spec: dict[str, Any]) -> list[Any]:
                 elif kind == "service_clients":
                     entities.append(node.create_client(cls, name))
                 elif kind == "action_servers":
-                    entities.append(ActionServer(node, cls, name, lambda goal: cls.Result()))
+                    entities.append(ActionServer(node, cls, name, lambda goal, result=cls.Result: result()))
                 else:
                     entities.append(ActionClient(node, cls, name))
     return entities

@@ -65,6 +65,7 @@ bench: bootstrap
 	$(VENV)/bin/python bench/bench_cpp_talker.py
 	$(VENV)/bin/python bench/bench_quiescence.py
 	$(VENV)/bin/python bench/bench_cold_capture.py
+	$(VENV)/bin/python bench/bench_system_rules.py
 
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap

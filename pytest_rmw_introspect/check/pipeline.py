@@ -175,6 +175,11 @@ class CheckResult:
     stale: list[Acceptance] = field(default_factory=list)
 
     @property
+    def stood_in(self) -> list[str]:
+        """Processes stood in for (a system check's); a node contract's target always runs."""
+        return []
+
+    @property
     def missing(self) -> bool:
         """The contract file does not exist (and there was a capture to create it from)."""
         return self.contract is None and self.error is None

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import acceptance, drift, parameter_drift, report
+from ..compare import acceptance, drift, launch_given, parameter_drift, report
 from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
 from ..compare.compatibility import CompatItem, LaunchedProcess, check_compatibility, check_launched, propose_external
@@ -37,12 +37,14 @@ from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError, TargetConfigError
 from ..launch import component_loads
 from ..model import contract as contract_module
+from ..model import stand_ins as stand_in_model
 from ..model import system_contract
 from ..model.acceptance import Acceptance
 from ..model.contract import Contract
 from ..model.contract_shapes import ContractNode, ContractNodes
 from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
+from ..model.stand_ins import StoodIn
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.vocabulary import Severity, parse_threshold
 from ..run import system_capture
@@ -70,6 +72,8 @@ class SystemPrepared:
     system_threshold: Severity
     #: the ROS environment the processes run in (the ament prefixes that paths resolve against)
     ros: RosEnvironment | None = None
+    #: the processes not run here and the nodes that stand in for them (``stand_ins:``)
+    stand_ins: list[StoodIn] = field(default_factory=list)
 
 
 def _as_contract(system: SystemContract | None) -> Contract | None:
@@ -104,9 +108,11 @@ def prepare(
     path = Path(contract_path)
     shown = shown or display(path)
     contract = None
+    stood_in: list[StoodIn] = []
     if path.exists() or not allow_missing:
         contract = system_contract.load(path)
         acceptance.check_rules(contract.accept)
+        stood_in = stand_in_model.load_all(contract.stand_ins, path)
     as_contract = _as_contract(contract)
     options = layers.options(as_contract, shown=shown)
     target = layers.target(as_contract, path=path, shown=shown)
@@ -130,7 +136,8 @@ def prepare(
                                          prefixes=system_capture.ament_prefixes(env))
     return SystemPrepared(path=path, shown=shown, contract=contract, launch=spec, target=target,
                           options=read_as_asked(target, options),
-                          system_threshold=system_threshold(contract, system_fail_on), ros=env)
+                          system_threshold=system_threshold(contract, system_fail_on), ros=env,
+                          stand_ins=stood_in)
 
 
 # ---------------------------------------------------------------------------- result
@@ -198,6 +205,15 @@ class SystemCheckResult:
     #: findings the contract's ``accept:`` entries accept (in neither list), and entries that accepted nothing
     accepted: list[Accepted] = field(default_factory=list)
     stale: list[Acceptance] = field(default_factory=list)
+    #: what the system rules note without finding a problem (``launch_given.NOTES``: a device the
+    #: capture machine lacks)
+    rule_notes: list[CompatItem] = field(default_factory=list)
+
+    @property
+    def notes(self) -> list[str]:
+        """The notes of this check: the rules' and the capture's."""
+        ours = [f"{item.requester.node}: {item.message} [{item.rule}]" for item in self.rule_notes]
+        return ours + (self.capture.notes() if self.capture is not None else [])
 
     @property
     def items(self) -> list[DriftItem | CompatItem]:
@@ -206,6 +222,13 @@ class SystemCheckResult:
     @property
     def missing(self) -> bool:
         return self.contract is None and self.error is None
+
+    @property
+    def stood_in(self) -> list[str]:
+        """The processes not run here, each with the file that stood in for it."""
+        if self.capture is None:
+            return []
+        return [f"{p.label} by {p.stood_in.shown}" for p in self.capture.stood_in if p.stood_in is not None]
 
     @property
     def threshold(self) -> Severity:
@@ -294,7 +317,7 @@ class SystemCheckResult:
         text = "\n".join(p.rstrip("\n") + "\n" for p in parts)
         if self.accepted or self.stale:
             text += "\n".join(report.render_acceptances(self.accepted, self.stale)).lstrip("\n") + "\n"
-        notes = self.capture.notes() if self.capture is not None else []
+        notes = self.notes
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes) + "\n"
         return text
@@ -315,6 +338,8 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
     external = prepared.contract.external if prepared.contract is not None else None
     missing_path = launch_settings.missing_path(system_capture.ament_prefixes(prepared.ros))
     system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path)
+    result.rule_notes = [item for item in system_items if item.rule in launch_given.NOTES]
+    system_items = [item for item in system_items if item.rule not in launch_given.NOTES]
     drift_items = []
     if prepared.contract is not None:
         drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)
@@ -333,7 +358,8 @@ def run_capture(prepared: SystemPrepared, *, library: str | Path | None = None,
     """Capture every process of the prepared system (raises a TargetError); ``jobs``: processes
     at a time (default: the number of cores)."""
     return system_capture.capture_system(prepared.launch, target=prepared.target, library=library, ros=ros,
-                                         include_infrastructure=prepared.options.include_infrastructure, jobs=jobs)
+                                         include_infrastructure=prepared.options.include_infrastructure, jobs=jobs,
+                                         stand_ins=prepared.stand_ins)
 
 
 def check_system_contract(

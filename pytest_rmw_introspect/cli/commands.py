@@ -114,10 +114,12 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             for_ci.append(result.for_ci(written=said.split(" ", 1)[0]))
             continue
         for_ci.append(result.for_ci())
-        nodl_notes = (result.contract.nodl.notes if isinstance(result, pipeline.CheckResult)
-                      and result.contract is not None and result.contract.nodl is not None else [])
+        if isinstance(result, pipeline.CheckResult):  # what the NoDL document could not state
+            notes = result.contract.nodl.notes if result.contract is not None and result.contract.nodl else []
+        else:  # what the system rules note: devices this machine lacks
+            notes = [f"{item.requester.node}: {item.message}" for item in result.rule_notes]
         if not (args.format == "text" and outcome.report):  # (a drift report lists them itself)
-            for note in nodl_notes:  # what the NoDL document could not state
+            for note in notes:
                 print(f"note: {shown}: {note}", file=sys.stderr)
         if args.format == "text":
             if outcome.report:

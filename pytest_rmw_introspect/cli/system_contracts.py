@@ -68,6 +68,10 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None, ros: Callab
                                         include_infrastructure=include, jobs=args.jobs)
     for note in cap.notes():
         print(f"note: {note}", file=sys.stderr)
+    proposal = cap.stand_in_proposal()
+    if proposal:
+        print(f"note: a process created no node for lack of a device. {system_capture.STAND_IN_ADVICE}\n{proposal}",
+              file=sys.stderr)
     nodes = cap.to_contract_nodes()
     if args.format == "json":
         processes = [{**p.entry(), "launched_at": str(p.launched.where),

@@ -44,6 +44,8 @@ RULES: dict[str, Severity] = {
     "PARAM_PATH_MACHINE_LOCAL": Severity.RISKY,
     "PARAM_DEVICE_ABSENT": Severity.SAFE,
 }
+#: rules reported among the notes of a check, not as findings (a note never fails, at any threshold)
+NOTES = frozenset({"PARAM_DEVICE_ABSENT"})
 
 
 @dataclass(frozen=True)

@@ -12,11 +12,12 @@ One line per module:
 - ``type_hash``: RIHS01 type hashes computed from type descriptions
 - ``type_lock``: the package's type-hash lockfile (``rmw-introspect lock``)
 - ``parameters``: a node's parameters and lifecycle state, captured and in contracts
-- ``portable``: parameter values written portably (an install location as a token)
+- ``portable``: parameter values written portably (an install location as a token), what they point at
 - ``option_tables``: the comparison and target options, their front ends and precedence
 - ``contract``: contract files: load, validate, render, update
 - ``contract_shapes``: the contract's mappings as ``TypedDict``s: node, entries, QoS, blocks
 - ``system_contract``: system contracts (``*.system.yaml``): a launch file's processes
+- ``stand_ins``: a system contract's processes not run where it is checked, and what stands in for them
 - ``nodl``: NoDL v2 documents as contracts, and contracts written as NoDL
 - ``acceptance``: the ``accept:`` entries of a contract
 - ``locate``: the line of each node and interface entry of a contract file

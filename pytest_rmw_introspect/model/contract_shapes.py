@@ -172,6 +172,18 @@ class LaunchBlock(TypedDict, total=False):
     allow_unsupported: bool
 
 
+class StandInEntry(TypedDict, total=False):
+    """One entry of a system contract's ``stand_ins:``: a launched process (``executable``, and
+    ``package``, ``name`` to tell it apart) not run where the system is checked, and the node
+    contract or NoDL document (``contract``) its interfaces come from instead."""
+
+    package: str | None
+    executable: Required[str]
+    name: str | None
+    contract: Required[str]
+    reason: str
+
+
 class ProcessEntry(TypedDict, total=False):
     """One process of a system contract's ``processes:``, in launch order: what ran
     (``package`` None or left out: a bare executable), the node name the launch file gives

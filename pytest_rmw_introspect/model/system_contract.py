@@ -14,6 +14,8 @@
     external:                        # what comes from outside the launch files, and who provides it
       publishers: {/initialpose: rviz, /cmd_vel: teleop}
       service_servers: {/robot/set_map: fleet manager}
+    stand_ins:                       # processes not run here (they need hardware): model.stand_ins
+      - {executable: lidar_driver, contract: contracts/lidar.interfaces.yaml}
     processes:                       # every process the launch file starts, in launch order
       - package: my_robot_bringup
         executable: lidar_driver
@@ -48,12 +50,13 @@ from typing import Any, Literal, cast, get_args
 import yaml
 
 from ..errors import ContractError
-from . import acceptance, untrusted
+from . import acceptance, stand_ins, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
 from .contract_shapes import ContractNode, ContractNodes, ContractOptions, LaunchBlock, ProcessEntry, TargetBlock, empty_node
 from .option_tables import TARGET, FrontEnd
 from .paths import shown
+from .stand_ins import StandIn
 from .vocabulary import FAIL_ON, LABELS, LISTS
 
 SYSTEM_VERSION = 1
@@ -119,6 +122,7 @@ def schema() -> dict[str, Any]:
         "additionalProperties": False,
         "properties": {list_name: declarations for list_name in LISTS},
     }
+    definitions["stand_ins"] = copy.deepcopy(stand_ins.SCHEMA)
     definitions["process"] = {
         "type": "object",
         "additionalProperties": False,
@@ -142,6 +146,7 @@ def schema() -> dict[str, Any]:
             "target": {"$ref": "#/definitions/system_target"},
             "options": {"$ref": "#/definitions/options"},
             "external": {"$ref": "#/definitions/external"},
+            stand_ins.SECTION_KEY: {"$ref": "#/definitions/stand_ins"},
             "processes": {"type": ["array", "null"], "items": {"$ref": "#/definitions/process"}},
             "nodes": copy.deepcopy(base["properties"]["nodes"]) | {"type": ["object", "null"]},
             "accept": {"$ref": "#/definitions/accept"},
@@ -165,6 +170,8 @@ class SystemContract:
     accept: tuple[acceptance.Acceptance, ...] = ()
     #: the declared outside world: list name → interface name → who provides or requests it
     external: dict[str, dict[str, str]] = field(default_factory=dict)
+    #: processes not run where the system is checked, and the files their interfaces come from
+    stand_ins: tuple[StandIn, ...] = ()
 
     @property
     def comparison_options(self) -> ContractOptions:
@@ -273,7 +280,9 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                           accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY),
                                                          source=shown(path) if path else "<system contract>",
                                                          line_of=lambda i: _where(root, [acceptance.SECTION_KEY, i])),
-                          external={k: dict(v) for k, v in (data.get("external") or {}).items() if v})
+                          external={k: dict(v) for k, v in (data.get("external") or {}).items() if v},
+                          stand_ins=stand_ins.from_entries(data.get(stand_ins.SECTION_KEY),
+                                                           line_of=lambda i: _where(root, [stand_ins.SECTION_KEY, i])))
 
 
 def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:

@@ -10,13 +10,17 @@ environment the launch file gives it, and returns a :class:`SystemCapture`.
 A process that runs but creates no node is part of the result (the compatibility rule
 ``LAUNCHED_NODE_NOT_CREATED`` reports it); a process that cannot be captured (not found,
 crashes, hangs) makes the whole capture a :class:`SystemCaptureError` listing every such
-process. No data moves between the processes, so capturing them apart is the same as
+process, with a ``stand_ins:`` block to add for those that failed for lack of a device
+(:func:`device_of`). A process a stand-in names (``model.stand_ins``: a driver that needs
+hardware) is not started: its nodes are the stand-in's. No data moves between the processes, so capturing them apart is the same as
 capturing them together.
 """
 
 from __future__ import annotations
 
+import copy
 import os
+import re
 import shlex
 import shutil
 import tempfile
@@ -31,9 +35,12 @@ from ..errors import NoNodeCreated, TargetConfigError, TargetError
 from ..launch import component_loads
 from ..launch import reader as launch_reader
 from ..launch.result import LaunchedNode, LaunchError, LaunchParameter, LaunchResult
+from ..model import stand_ins as stand_in_model
+from ..model import untrusted
 from ..model.capture import Capture
 from ..model.contract_shapes import ContractNode, ContractNodes, LaunchBlock, ProcessEntry, TargetBlock
 from ..model.paths import shown
+from ..model.stand_ins import StoodIn
 from ..model.vocabulary import DESTROYED_AT, LIFECYCLE, PARAMETERS
 from . import middleware, ros_env, runner
 from .target import TargetSpec
@@ -112,12 +119,19 @@ class ProcessCapture:
     label: str
     capture: Capture | None = None
     no_node: NoNodeCreated | None = None
+    #: not run here: its nodes come from this stand-in (``model.stand_ins``)
+    stood_in: StoodIn | None = None
 
     @property
     def node_names(self) -> list[str]:
+        if self.stood_in is not None:
+            return sorted(self.stood_in.nodes)
         return self.capture.node_names if self.capture is not None else []
 
     def contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> ContractNodes:
+        if self.stood_in is not None:
+            return _without(self.stood_in.nodes, () if with_type_hash else ("type_hash",),
+                            () if with_qos else ("qos",))
         if self.capture is None:
             return {}
         return self.capture.to_contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos)
@@ -175,16 +189,30 @@ class SystemCapture:
     def node_names(self) -> list[str]:
         return sorted({n for p in self.processes for n in p.node_names})
 
+    @property
+    def stood_in(self) -> list[ProcessCapture]:
+        """The processes not run here, their nodes taken from a stand-in."""
+        return [p for p in self.processes if p.stood_in is not None]
+
     def notes(self) -> list[str]:
         notes = [f"not captured ({u.where}): {u.what}" for u in self.launch.unsupported]
         for process in self.processes:
-            if process.capture is not None:
+            if process.stood_in is not None:
+                notes.append(f"{process.label} ({process.launched.where}) stood in for: {process.stood_in.note()}")
+            elif process.capture is not None:
                 notes += [f"{process.label}: {note}" for note in process.capture.notes()]
             elif process.no_node is not None:
                 stderr = process.no_node.stderr_tail.strip().splitlines()
+                device = device_of(process.launched, str(process.no_node))
                 notes.append(f"{process.label} ({process.launched.where}) created no node"
-                             + (f"; the end of its stderr: {stderr[-1]}" if stderr else ""))
+                             + (f"; the end of its stderr: {stderr[-1]}" if stderr else "")
+                             + (f"; it needs {device}, which this machine lacks: stand in for it (`stand_ins:`, "
+                                "docs/system-contracts.md, \"Hardware processes\")" if device else ""))
         return notes
+
+    def stand_in_proposal(self) -> str:
+        """The ``stand_ins:`` block for the processes that created no node for lack of a device."""
+        return _stand_in_proposal([(p, p.no_node) for p in self.processes if p.no_node is not None])
 
     def summary(self) -> str:
         lines = [f"{self.spec.describe()}: {len(self.processes)} process(es), {len(self.node_names)} node(s)"]
@@ -202,7 +230,65 @@ class SystemCaptureError(TargetError):
         parts = [f"{len(failures)} of the {total} processes of `{spec.describe()}` could not be captured:"]
         for process, error in failures:
             parts.append(f"\n[{process.label}] started at {process.launched.where}:\n" + _indent(str(error)))
+        #: the ``stand_ins:`` block for the processes that failed for lack of a device ("" if none)
+        self.stand_in_proposal = _stand_in_proposal(failures)
+        if self.stand_in_proposal:
+            parts.append("\n" + STAND_IN_ADVICE + "\n" + _indent(self.stand_in_proposal.rstrip("\n")))
         super().__init__("\n".join(parts), target=spec.describe())
+
+
+#: what to do with a ``stand_ins:`` proposal
+STAND_IN_ADVICE = (
+    "A process that needs hardware this machine lacks can be stood in for (docs/system-contracts.md, \"Hardware "
+    "processes\"): capture it once where the hardware is (`rmw-introspect capture ... -o FILE` on the robot, FILE "
+    "as named below), then add this block to the system contract above `processes:` (no contract yet: write one "
+    "with `system_version: 1`, the `launch:` block and this block, and run `rmw-introspect check FILE --update`):")
+
+#: a device path in a process's error output or parameters
+_DEVICE = re.compile(r"(?<![\w/])/dev/(?:[A-Za-z0-9_.+-]+/)*[A-Za-z0-9_.+-]+")
+
+
+def device_of(process: LaunchedNode, error_text: str) -> str | None:
+    """The device a process that failed probably lacks: a ``/dev/...`` path that is not on this
+    machine, named in its error output or in the parameters the launch file gives it."""
+    candidates = _DEVICE.findall(error_text)
+    for parameter in process.parameters:
+        candidates += _DEVICE.findall(str(parameter.value)) if parameter.value is not None else []
+        candidates += _DEVICE.findall(parameter.file_text or "")
+        if parameter.file is not None:
+            try:
+                candidates += _DEVICE.findall(untrusted.read_text(Path(parameter.file)))
+            except (OSError, untrusted.InputError):
+                pass
+    candidates += [m for word in process.ros_arguments for m in _DEVICE.findall(word)]
+    return next((c for c in candidates if not os.path.exists(c)), None)
+
+
+def _stand_in_proposal(failures: Sequence[tuple[ProcessCapture, Exception]]) -> str:
+    """The ``stand_ins:`` block for the processes of ``failures`` (with their errors) that lack a
+    device ("" when none does)."""
+    lacking = []
+    for process, error in failures:
+        device = device_of(process.launched, str(error))
+        if device is not None:
+            launched = process.launched
+            lacking.append((launched.package, launched.executable, launched.expected_fqn, device))
+    return stand_in_model.proposal(lacking) if lacking else ""
+
+
+def _without(nodes: ContractNodes, *dropped: Sequence[str]) -> ContractNodes:
+    """A copy of ``nodes`` without the ``dropped`` keys of their interface entries."""
+    keys = {key for group in dropped for key in group}
+    out: dict[str, Any] = copy.deepcopy(dict(nodes))
+    if keys:
+        for node in out.values():
+            for value in node.values():
+                if isinstance(value, list):
+                    for entry in value:
+                        if isinstance(entry, dict):
+                            for key in keys:
+                                entry.pop(key, None)
+    return cast(ContractNodes, out)
 
 
 def _indent(text: str) -> str:
@@ -263,10 +349,12 @@ def capture_system(
     include_infrastructure: bool = False,
     jobs: int | None = None,
     launch: LaunchResult | None = None,
+    stand_ins: Sequence[StoodIn] = (),
 ) -> SystemCapture:
     """Read ``spec``'s launch file and capture every process it starts (raises LaunchError,
     SystemCaptureError, SetupError). ``target``: process-wide options (settle, timeout,
-    horizon, env); ``jobs``: processes at a time (default: the number of cores)."""
+    horizon, env); ``jobs``: processes at a time (default: the number of cores);
+    ``stand_ins``: processes not to start, their nodes taken from the stand-in instead."""
     ros = ros or ros_env.detect()
     if library is None:
         library = middleware.ensure_library(ros)
@@ -280,6 +368,7 @@ def capture_system(
     base = target or TargetSpec()
     names = labels([(n.package, n.executable) for n in launch.nodes])
     processes = [ProcessCapture(node, label) for node, label in zip(launch.nodes, names, strict=True)]
+    _stand_in_for(processes, stand_ins, spec)
     params_dir = Path(tempfile.mkdtemp(prefix="rmw_introspect_params_"))
     try:
         specs = []
@@ -291,6 +380,8 @@ def capture_system(
         cancel = threading.Event()
 
         def run_one(index: int) -> TargetError | None:
+            if processes[index].stood_in is not None:
+                return None
             try:
                 processes[index].capture = runner.run(specs[index], library=library, ros=ros,
                                                       include_infrastructure=include_infrastructure, cancel=cancel)
@@ -302,7 +393,8 @@ def capture_system(
                 return None  # the capture as a whole is being abandoned
             return None
 
-        workers = max(1, min(len(processes), jobs or os.cpu_count() or 2))
+        workers = max(1, min(len(processes) - len([p for p in processes if p.stood_in]) or 1,
+                             jobs or os.cpu_count() or 2))
         pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="rmw-introspect-system")
         try:
             errors = [future.result() for future in [pool.submit(run_one, i) for i in range(len(processes))]]
@@ -320,3 +412,19 @@ def capture_system(
     if failures:
         raise SystemCaptureError(spec, failures, len(processes))
     return SystemCapture(spec=spec, launch=launch, processes=processes)
+
+
+def _stand_in_for(processes: Sequence[ProcessCapture], stand_ins: Sequence[StoodIn], spec: LaunchSpec) -> None:
+    """Give each process a stand-in names its stand-in (raises TargetConfigError for a stand-in
+    that names no process the launch file starts)."""
+    for stood_in in stand_ins:
+        wanted = stood_in.stand_in
+        matched = [p for p in processes
+                   if wanted.matches(p.launched.package, p.launched.executable, p.launched.expected_fqn)]
+        if not matched:
+            started = "; ".join(f"{p.label} ({p.launched.expected_fqn or 'its own node name'})" for p in processes)
+            raise TargetConfigError(
+                f"the stand-in for {wanted.describe()} ({stood_in.shown}) names no process that `{spec.describe()}` "
+                f"starts; it starts: {started}. Fix `package`, `executable` or `name` of the `stand_ins:` entry")
+        for process in matched:
+            process.stood_in = stood_in

@@ -66,6 +66,9 @@ def test_the_system_contract_blocks_have_the_system_schema_keys():
     assert _keys(contract_shapes.ProcessEntry) == set(process["properties"])
     assert contract_shapes.ProcessEntry.__required_keys__ == set(process["required"])
     assert set(_definition("options", schema)["properties"]) == _keys(contract_shapes.ContractOptions)
+    stand_in = schema["definitions"]["stand_ins"]["items"]
+    assert _keys(contract_shapes.StandInEntry) == set(stand_in["properties"])
+    assert contract_shapes.StandInEntry.__required_keys__ == set(stand_in["required"])
 
 
 def test_a_loaded_contract_is_made_of_the_shapes():

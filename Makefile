@@ -10,7 +10,7 @@ endif
 LOCK_FILE ?= $(CURDIR)/requirements/$(DISTRO).txt
 export VENV LOCK_FILE
 
-.PHONY: example test test-fast typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs clean
+.PHONY: example test test-fast typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs precision-table clean
 
 ## bootstrap: .venv/ with exactly the packages of requirements/jazzy.txt (hash-checked), the
 ## package editable, the middleware built and the example package installed
@@ -88,6 +88,12 @@ overlay: bootstrap
 ## links are not checked (no network here). Open site/index.html.
 docs: bootstrap
 	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict
+
+## precision-table: run every modelled bring-up of tests/precision and its seeded bugs through the
+## default system gate (minutes), record tests/precision/results.json and write the precision and
+## recall table into docs/drift-rules.md (PRECISION_ARGS: e.g. --jobs 2, --system nav2_bringup)
+precision-table: bootstrap
+	$(VENV)/bin/python scripts/precision_table.py --run $(PRECISION_ARGS)
 
 clean:
 	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted build .pytest_cache

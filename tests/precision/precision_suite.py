@@ -315,14 +315,15 @@ def render_table(results: Mapping[str, Any]) -> str:
         f"{clean} of {len(recorded)} correct systems pass the default gate with no finding (notes aside), "
         f"{passing} of {len(recorded)} pass it; {failing_total} of {seeded} seeded bugs fail it.",
         "",
-        "| rule | severity | findings on correct systems (false) | findings on seeded bugs | bugs it should name "
+        "| rule (severity) | findings on correct systems (false) | findings on seeded bugs | bugs it should name "
         "| named (failing) | precision | recall |",
-        "|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|",
     ]
     for rule in sorted(rules):
         r = rules[rule]
         precision = "note" if rule in NOTE_RULES else _ratio(r["true"], r["true"] + r["false"])
-        lines.append(f"| `{rule}` | {', '.join(sorted(r['severities'])) or '-'} | {r['false']} | {r['true']} "
+        # the severity inside the first cell: the rule tables above own rows that begin "| `RULE` |"
+        lines.append(f"| `{rule}` ({', '.join(sorted(r['severities'])) or '-'}) | {r['false']} | {r['true']} "
                      f"| {r['expected']} | {r['named']} | {precision} | {_ratio(r['named'], r['expected'])} |")
     lines += ["", "| seeded bug | systems | fail the default gate | named by the expected rule |", "|---|---|---|---|"]
     for kind, counts in kinds.items():

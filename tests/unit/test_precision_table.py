@@ -81,12 +81,12 @@ def test_the_table_counts_false_and_true_findings_per_rule():
     table = suite.render_table(RECORD)
     assert table.startswith("1 of 2 correct systems pass the default gate with no finding (notes aside), "
                             "1 of 2 pass it; 2 of 3 seeded bugs fail it.")
-    assert _row(table, "`DANGLING_SERVICE_CLIENT`") == [
-        "`DANGLING_SERVICE_CLIENT`", "BREAKING", "2", "0", "0", "0", "0/2 (0 %)", "n/a"]
-    assert _row(table, "`TYPE_MISMATCH`") == ["`TYPE_MISMATCH`", "BREAKING", "0", "1", "2", "1", "1/1 (100 %)",
-                                              "1/2 (50 %)"]
-    assert _row(table, "`REMAP_UNUSED`")[2:6] == ["0", "1", "0", "0"]
-    assert _row(table, "`PARAM_DEVICE_ABSENT`")[6] == "note"
+    assert _row(table, "`DANGLING_SERVICE_CLIENT` (BREAKING)") == [
+        "`DANGLING_SERVICE_CLIENT` (BREAKING)", "2", "0", "0", "0", "0/2 (0 %)", "n/a"]
+    assert _row(table, "`TYPE_MISMATCH` (BREAKING)") == ["`TYPE_MISMATCH` (BREAKING)", "0", "1", "2", "1",
+                                                         "1/1 (100 %)", "1/2 (50 %)"]
+    assert _row(table, "`REMAP_UNUSED` (BREAKING)")[1:5] == ["0", "1", "0", "0"]
+    assert _row(table, "`PARAM_DEVICE_ABSENT` (SAFE)")[5] == "note"
     assert _row(table, "a retyped topic") == ["a retyped topic", "2", "1", "1"]
     assert "| `flagged` | a robot a rule gets wrong |" in table
 

@@ -23,9 +23,15 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import SetupError
-from . import ros_env
+from . import locks, ros_env
 
 LIBRARY_FILE = "librmw_introspect_cpp.so"
+#: seconds one step of the build (configure, build, install) may take: a cold build takes 1-5
+#: minutes on a loaded 2-core machine
+BUILD_STEP_TIMEOUT = 1800.0
+#: seconds a process waits for another that is building the same library (the build lock); a
+#: stopped or hung builder then makes it fail with that builder's pid and state instead of waiting
+BUILD_LOCK_TIMEOUT = BUILD_STEP_TIMEOUT + 60.0
 _PACKAGE_DIR = Path(__file__).resolve().parent.parent  # the pytest_rmw_introspect package
 _BUILD_LOG_TAIL = 40
 
@@ -134,7 +140,11 @@ def _run_logged(cmd: list[str], log: Path, env: dict[str, str], what: str) -> No
     with log.open("a") as out:
         out.write("$ " + " ".join(cmd) + "\n")
         out.flush()
-        result = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT, env=env)
+        try:
+            result = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT, env=env, timeout=BUILD_STEP_TIMEOUT)
+        except subprocess.TimeoutExpired:
+            raise SetupError(f"Building the recording middleware did not finish its {what} step within "
+                             f"{BUILD_STEP_TIMEOUT:g} s (BUILD_STEP_TIMEOUT) and was stopped. Full log: {log}") from None
     if result.returncode != 0:
         tail = "\n".join(log.read_text(errors="replace").splitlines()[-_BUILD_LOG_TAIL:])
         raise SetupError(
@@ -214,13 +224,18 @@ def resolve_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path |
     stamp = dest / "complete"
     if stamp.exists() and library.is_file():  # built already: no lock needed to read it
         return MiddlewareLibrary(library, "built")
-    from filelock import FileLock
-
     root.mkdir(parents=True, exist_ok=True)
-    with FileLock(str(root / f"{ros.distro}-{key}.lock")):
-        if not (stamp.exists() and library.is_file()):
-            build(src, ros, dest)
-            stamp.write_text(str(library) + "\n")
+    try:
+        with locks.held(root / f"{ros.distro}-{key}.lock", BUILD_LOCK_TIMEOUT):
+            if not (stamp.exists() and library.is_file()):
+                build(src, ros, dest)
+                stamp.write_text(str(library) + "\n")
+    except locks.LockTimeout as exc:
+        raise SetupError(
+            f"Another process has been building the recording middleware for over {exc.timeout:g} s and holds its "
+            f"build lock {exc.path} ({exc.holder}). If that process is stopped or hung, end it (kill <pid>); one "
+            "that ended releases the lock by itself. Or point RMW_INTROSPECT_LIBRARY at a built library."
+        ) from None
     return MiddlewareLibrary(library, "built")
 
 

@@ -363,7 +363,10 @@ def run(
 
     started = time.monotonic()
     # the last resort behind every bounded wait below: status 2 with every stack (run/deadline.py)
-    watchdog = Watchdog.for_target(describe, timeout, on_expiry=lambda: shutil.rmtree(workdir, ignore_errors=True))
+    def remove_workdir() -> None:
+        shutil.rmtree(workdir, ignore_errors=True)
+
+    watchdog = Watchdog.for_target(describe, timeout, on_expiry=remove_workdir)
     try:
         if cancel is not None and cancel.is_set():
             raise Cancelled()
@@ -380,7 +383,7 @@ def run(
                 else:
                     leftover.unlink()
             watchdog.cancel()  # a second run: a deadline of its own
-            watchdog = Watchdog.for_target(describe, timeout).start()
+            watchdog = Watchdog.for_target(describe, timeout, on_expiry=remove_workdir).start()
             lost = ("the warm start server stopped answering during the capture" if start.warm_child.server_silent
                     else "the warm start server ended during the capture")
             with watchdog.waiting(f"the target to start cold ({lost})"):

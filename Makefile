@@ -18,7 +18,7 @@ endif
 LOCK_FILE ?= $(CURDIR)/requirements/$(DISTRO).txt
 export VENV LOCK_FILE PYTHON_VERSION
 
-.PHONY: example test test-fast test-slow dist typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs precision-table clean
+.PHONY: example test test-fast test-slow dist typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs precision-table soak clean
 
 ## bootstrap: .venv/ with exactly the packages of requirements/jazzy.txt (hash-checked), the
 ## package editable, the middleware built and the example package installed
@@ -89,6 +89,14 @@ bench: bootstrap
 	$(VENV)/bin/python bench/bench_cold_capture.py
 	$(VENV)/bin/python bench/bench_system_rules.py
 	$(VENV)/bin/python bench/bench_gate.py
+
+## soak: the example package's contracts checked SOAK_RUNS times (default 1000; -n 2, warm and cold
+## alternating): every run's outcomes identical, no process, fd, shared memory segment or temporary
+## directory left behind (scripts/soak/soak.py; hours: not in CI)
+SOAK_RUNS ?= 1000
+soak: bootstrap
+	VENV=$(VENV) scripts/install-examples.sh
+	$(VENV)/bin/python scripts/soak/soak.py --runs $(SOAK_RUNS) $(SOAK_ARGS)
 
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap

@@ -74,6 +74,7 @@ bench: bootstrap
 	$(VENV)/bin/python bench/bench_quiescence.py
 	$(VENV)/bin/python bench/bench_cold_capture.py
 	$(VENV)/bin/python bench/bench_system_rules.py
+	$(VENV)/bin/python bench/bench_system_scale.py
 
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap

@@ -18,7 +18,7 @@ endif
 LOCK_FILE ?= $(CURDIR)/requirements/$(DISTRO).txt
 export VENV LOCK_FILE PYTHON_VERSION
 
-.PHONY: example test test-fast typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs clean
+.PHONY: example test test-fast test-slow dist typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs clean
 
 ## bootstrap: .venv/ with exactly the packages of requirements/jazzy.txt (hash-checked), the
 ## package editable, the middleware built and the example package installed
@@ -54,6 +54,20 @@ test: bootstrap typecheck
 test-fast: bootstrap
 	$(VENV)/bin/pytest -m "not e2e and not plugin" $(PYTEST_ARGS)
 
+## test-slow: the slow tier alone (tests/dist: the wheels of `make dist` installed into fresh venvs,
+## a new user's first hour); deselected from every other run (tests/conftest.py)
+test-slow: bootstrap
+	$(VENV)/bin/pytest -m slow $(PYTEST_ARGS)
+
+## dist: the sdist, the platform-independent wheel and the Linux x86_64 wheel with the middleware
+## prebuilt for each of DIST_DISTROS (each built with its own venv: `make bootstrap DISTRO=<d>`)
+DIST_DISTROS ?= jazzy,kilted
+dist: bootstrap
+	for distro in $$(echo $(DIST_DISTROS) | tr , ' '); do \
+	  [ "$$distro" = jazzy ] || $(MAKE) bootstrap DISTRO=$$distro VENV=$(CURDIR)/.venv-$$distro LOCK_FILE=$(CURDIR)/requirements/$$distro.txt || exit 1; \
+	done
+	$(VENV)/bin/python scripts/dist.py --distros $(DIST_DISTROS)
+
 ## fuzz: the input fuzz tests with many more cases (RMWI_FUZZ_CASES, RMWI_FUZZ_SEED to vary)
 fuzz: bootstrap
 	RMWI_FUZZ_CASES=$${RMWI_FUZZ_CASES:-5000} $(VENV)/bin/pytest -p no:cacheprovider tests/unit/test_fuzz_inputs.py $(PYTEST_ARGS)
@@ -75,6 +89,7 @@ bench: bootstrap
 	$(VENV)/bin/python bench/bench_cold_capture.py
 	$(VENV)/bin/python bench/bench_system_rules.py
 	$(VENV)/bin/python bench/bench_system_scale.py
+	$(VENV)/bin/python bench/bench_gate.py
 
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap
@@ -94,9 +109,13 @@ overlay: bootstrap
 
 ## docs: the documentation site into site/ (mkdocs.yml): warnings are errors, and among them every
 ## broken internal link or anchor (MkDocs' validation and scripts/docs/site_hooks.py); external
-## links are not checked (no network here). Open site/index.html.
-docs: bootstrap
-	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict
+## links are not checked (no network here). Open site/index.html. Built in a venv of its own,
+## .venv-docs, from requirements/docs.txt alone (MkDocs, Material, the package's dependencies:
+## no ROS 2, no middleware build), so it takes seconds once that venv exists
+DOCS_VENV ?= $(CURDIR)/.venv-docs
+docs:
+	VENV=$(DOCS_VENV) LOCK_FILE=$(CURDIR)/requirements/docs.txt PYTHON_ONLY=1 scripts/bootstrap.sh
+	NO_MKDOCS_2_WARNING=1 $(DOCS_VENV)/bin/mkdocs build --strict
 
 clean:
-	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted $(CURDIR)/.venv-py312 $(CURDIR)/.venv-kilted-py312 build .pytest_cache
+	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted $(CURDIR)/.venv-py312 $(CURDIR)/.venv-kilted-py312 $(DOCS_VENV) build dist .pytest_cache

@@ -10,6 +10,7 @@ Hierarchy::
     ├── SetupError          ROS 2 / compiler / CMake / middleware library missing
     ├── ContractError       malformed contract file (YAML, schema, QoS, duplicates)
     ├── CaptureFormatError  a capture file that is not a valid capture
+    ├── RevisionError       ``diff --against REF``: no git repository, no such revision, a shallow clone
     └── TargetError         the target could not be captured
         ├── TargetConfigError   inconsistent target options (no target, two targets...)
         ├── ExecutableNotFound  package/executable/script not found
@@ -34,6 +35,7 @@ __all__ = [
     "ExecutableNotFound",
     "LifecycleTransitionFailed",
     "NoNodeCreated",
+    "RevisionError",
     "RmwIntrospectError",
     "SetupError",
     "StimulusFailed",
@@ -514,3 +516,8 @@ class TypeLockError(RmwIntrospectError):
         advice = advice or (f"Write it anew with `rmw-introspect lock CONTRACT... -o {path}`, or delete it "
                             "to check without it.")
         super().__init__(f"{subject} {path}: {reason}. {advice}")
+
+
+class RevisionError(RmwIntrospectError):
+    """``diff --against REF`` cannot read the contracts at REF: the directory is not in a git
+    repository, REF names no commit, or a shallow clone does not hold it."""

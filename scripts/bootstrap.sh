@@ -10,7 +10,8 @@
 # differ from the lock (an upgrade or install by hand, a package removed) is brought back to it.
 # Environment: VENV (default <repo>/.venv), LOCK_FILE (default requirements/jazzy.txt; `none`:
 # no lock, the newest releases pyproject.toml allows, as a user's `pip install` gets them:
-# `make newest`).
+# `make newest`), PYTHON_ONLY=1 (steps 1 and 2 alone, no CMake or compiler needed: `make docs`
+# sets up .venv-docs from requirements/docs.txt this way).
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -41,11 +42,14 @@ find_python() {
   return 1
 }
 
-for tool in cmake make; do
-  command -v "$tool" >/dev/null 2>&1 || { echo "bootstrap: '$tool' is required: apt-get install $tool" >&2; exit 1; }
-done
-command -v c++ >/dev/null 2>&1 || command -v g++ >/dev/null 2>&1 ||
-  { echo "bootstrap: a C++17 compiler is required: apt-get install g++" >&2; exit 1; }
+python_only="${PYTHON_ONLY:-0}"
+if [ "$python_only" != 1 ]; then
+  for tool in cmake make; do
+    command -v "$tool" >/dev/null 2>&1 || { echo "bootstrap: '$tool' is required: apt-get install $tool" >&2; exit 1; }
+  done
+  command -v c++ >/dev/null 2>&1 || command -v g++ >/dev/null 2>&1 ||
+    { echo "bootstrap: a C++17 compiler is required: apt-get install g++" >&2; exit 1; }
+fi
 
 if [ ! -x "$venv/bin/python" ]; then
   python=$(find_python)
@@ -97,6 +101,7 @@ install_locked() {
 }
 
 if [ "$lock" = none ]; then install_newest; else install_locked; fi
+[ "$python_only" = 1 ] && exit 0
 
 # (a variable first: a failed build inside `echo "$(...)"` would not stop the script)
 library=$("$venv/bin/python" -m pytest_rmw_introspect.run.middleware) ||

@@ -11,6 +11,9 @@
 #   requirements/overlay.txt what the C++ and launch overlay (`make overlay`) installs from PyPI
 #                            beyond the venv (requirements/overlay.in), with jazzy.txt's
 #                            versions as constraints
+#   requirements/docs.txt    what `make docs` builds the site with, in .venv-docs: MkDocs,
+#                            Material and the package's own dependencies (requirements/docs.in),
+#                            with jazzy.txt's versions as constraints; no ROS 2
 #
 # UPGRADE=1 (the default) moves every package to its newest release; UPGRADE=0 keeps the pins
 # of the current lock where pyproject.toml still allows them (after adding a dependency).
@@ -48,6 +51,10 @@ grep -E '^[A-Za-z0-9._-]+==' requirements/jazzy.txt | sed 's/ *\\$//' > build/lo
 "$uv" pip compile requirements/overlay.in --constraint build/lock/jazzy-pins.txt \
   "${common[@]}" "${upgrade[@]}" --custom-compile-command "make lock" -o requirements/overlay.txt
 
+# The documentation's lock: the same versions as jazzy.txt for every package both name.
+"$uv" pip compile pyproject.toml requirements/docs.in --constraint build/lock/jazzy-pins.txt \
+  "${common[@]}" "${upgrade[@]}" --custom-compile-command "make lock" -o requirements/docs.txt
+
 # One lock serves Python 3.11 and 3.12 (PYTHON_VERSION=3.12): the hashes cover every file of each
 # pinned version, and the resolution must be the same on both; a package that only one of them
 # needs would make them differ, and the lock would then have to be split per version.
@@ -63,7 +70,7 @@ for lock in jazzy kilted; do
   fi
 done
 
-for lock in jazzy kilted lowest overlay; do
+for lock in jazzy kilted lowest overlay docs; do
   echo "lock: wrote requirements/$lock.txt ($(grep -cE '^[a-z0-9]' "requirements/$lock.txt") packages)"
 done
 echo "lock: make test, make test DISTRO=kilted and make lowest try them"

@@ -15,11 +15,15 @@ pytest_plugins = ["pytester", "middleware_fixtures"]
 #   plugin  pytest run in a subprocess by pytester (tests/plugin)
 #   overlay the C++ and launch overlay (tests/overlay): rclcpp nodes, RMW_IMPLEMENTATION, colcon;
 #           end-to-end too, and skipped with one line where no overlay was built (`make overlay`)
+#   slow    the wheels of `make dist` installed into fresh venvs, a new user's first hour (tests/dist),
+#           and other tests marked `slow` (a forced middleware build): minutes each, so they run only
+#           when asked for by name (`-m slow`, `make test-slow`, a block of their own in .ci/run) and
+#           are deselected from every other run
 # Everything else (tests/unit) is the fast tier: `make test-fast` = pytest -m "not e2e and not plugin".
 import pytest  # noqa: E402
 
 _TIERS = {"middleware": ("e2e",), "cli": ("e2e",), "cmake": ("e2e",), "docs": ("e2e",), "plugin": ("plugin",),
-          "overlay": ("e2e", "overlay")}
+          "overlay": ("e2e", "overlay"), "dist": ("slow",)}
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
@@ -34,6 +38,11 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
         elif parts[:1] == ("tests",) and len(parts) > 1 and parts[1] in _TIERS:
             for tier in _TIERS[parts[1]]:
                 item.add_marker(getattr(pytest.mark, tier))
+    if "slow" not in (config.option.markexpr or ""):
+        slow = [item for item in items if item.get_closest_marker("slow") is not None]
+        if slow:
+            config.hook.pytest_deselected(items=slow)
+            items[:] = [item for item in items if item.get_closest_marker("slow") is None]
 
 
 # ---------------------------------------------------------------------------- warm start servers

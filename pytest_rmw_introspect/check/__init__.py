@@ -13,6 +13,8 @@ One line per module:
   controller needs without the writer)
 - ``baselines``: a baseline file applied to check results
 - ``sharding``: which contracts one CI job of several checks
+- ``gate``: the pull-request gate: every contract against its version at a git revision
+- ``revision``: contract files at a git revision (git ``rev-parse``, ``ls-tree``, ``diff -M``, ``cat-file``)
 
 It may import ``compare``, ``run``, ``launch``, ``model`` and ``errors``; the front ends
 (``plugin``, ``cli``) sit on top of it.

@@ -18,6 +18,7 @@ from typing import Any, Protocol
 
 from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError
+from ..model import interface_version
 from ..model.contract_shapes import ContractNode
 
 
@@ -92,6 +93,8 @@ class Outcome:
     message: str
     report: str = ""
     json: list[dict[str, Any]] = field(default_factory=list)
+    #: for ``WRITE``: the bump of ``interface_version`` the update needs (updates never change it)
+    version_advice: str = ""
 
     @property
     def failed(self) -> bool:
@@ -136,7 +139,9 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None, 
         return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}){hint}", json=items if result.accepted else [])
     if update and result.drifted:
         text = result.render_text() if result.items else f"{result.shown}: adds {', '.join(gains)}\n"
-        return Outcome(Verdict.WRITE, text, report=text, json=items)
+        advice = interface_version.advice(result.items, getattr(result.contract, "interface_version", None))
+        return Outcome(Verdict.WRITE, text, report=text, json=items,
+                       version_advice=f"{result.shown}: {advice}" if advice else "")
     # a system check can find problems without drift: nothing to accept then
     text = result.render_text(accept_command=accept_command if result.drifted else None)
     if result.failed:

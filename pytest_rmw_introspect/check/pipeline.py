@@ -46,6 +46,7 @@ from ..model.contract_shapes import ContractNodes
 from ..model.locate import LineIndex
 from ..model.option_tables import PRECEDENCE, Source, stack
 from ..model.paths import shown as display
+from ..model.unstable_names import NameRules
 from ..model.vocabulary import Severity, parse_threshold
 from ..run import runner
 from ..run.ros_env import RosEnvironment
@@ -218,8 +219,15 @@ class CheckResult:
         assert self.capture is not None, "no capture to accept"
         opts = self.options
         nodes = self.capture.to_contract_nodes(with_type_hash=not opts.ignore_type_hash,
-                                               with_qos=not opts.ignores_all_qos)
+                                               with_qos=not opts.ignores_all_qos, names=self.name_rules())
         return parameter_drift.keep_ignored(self.contract.nodes if self.contract is not None else None, nodes, opts)
+
+    def name_rules(self) -> NameRules:
+        """The contract's patterns of names that change every run (the built-in rules alone
+        without a contract; none for a NoDL document, which names its node literally)."""
+        if self.writes_nodl:  # a NoDL document names its nodes literally
+            return NameRules.literal(self.capture.node_names if self.capture is not None else ())
+        return self.contract.name_rules() if self.contract is not None else NameRules()
 
     def golden_types(self) -> dict[str, type_model.TypeDescription] | None:
         """The ``types:`` section to write with the golden: when ``include_types`` is on or the
@@ -292,14 +300,15 @@ class CheckResult:
 def compare(prepared: Prepared, capture: Capture) -> CheckResult:
     """Compare a capture with the prepared contract (no drift items when it does not exist)."""
     contract = prepared.contract
-    actual = capture.to_contract_nodes()
+    result = CheckResult(path=prepared.path, shown=prepared.shown, contract=contract,
+                         spec=prepared.spec, options=prepared.options, capture=capture)
+    actual = capture.to_contract_nodes(names=result.name_rules())
     if contract is not None and contract.nodl is not None:
         # a NoDL document: bound to the target's node, and only what it states is compared
         contract = dataclasses.replace(contract, nodes=nodl.bind(contract.nodl, contract.nodes, capture.node_names,
                                                                  prepared.shown))
         actual = nodl.project(actual, contract.nodes)
-    result = CheckResult(path=prepared.path, shown=prepared.shown, contract=contract,
-                         spec=prepared.spec, options=prepared.options, capture=capture)
+        result.contract = contract
     if contract is not None:
         items = drift.compare(
             contract.nodes, actual, prepared.options,
@@ -431,15 +440,20 @@ def diff_contracts(
         else:
             layers = options or ()
         opts = Layers(strong_options=layers).options(old, shown=old_shown)
+    return DiffResult(old, new, old_shown, new_shown, opts, compare_contracts(old, new, opts))
+
+
+def compare_contracts(old: Contract, new: Contract, options: ComparisonOptions) -> list[DriftItem]:
+    """The drift from ``old`` (playing the contract) to ``new`` (playing the capture): what a NoDL
+    side does not state is not compared; type sections field by field; distributions noted."""
     old_nodes, new_nodes = old.nodes, new.nodes
     if old.nodl is not None:  # what a NoDL side does not state is not compared
         new_nodes = nodl.project(new_nodes, old_nodes)
     if new.nodl is not None:
         old_nodes = nodl.project(old_nodes, new_nodes)
-    items = drift.attribute_to_distribution(
-        drift.compare(old_nodes, new_nodes, opts, expected_types=old.types, actual_types=new.types),
+    return drift.attribute_to_distribution(
+        drift.compare(old_nodes, new_nodes, options, expected_types=old.types, actual_types=new.types),
         old.ros_distribution, new.ros_distribution)
-    return DiffResult(old, new, old_shown, new_shown, opts, items)
 
 
 # --------------------------------------------------------------------- compatibility checks

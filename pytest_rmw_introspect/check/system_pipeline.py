@@ -46,6 +46,7 @@ from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.stand_ins import StoodIn
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
+from ..model.unstable_names import NameRules
 from ..model.vocabulary import Severity, parse_threshold
 from ..run import system_capture
 from ..run.ros_env import RosEnvironment
@@ -275,9 +276,15 @@ class SystemCheckResult:
     def golden_nodes(self) -> ContractNodes:
         assert self.capture is not None, "no capture to accept"
         nodes = self.capture.to_contract_nodes(with_type_hash=not self.options.ignore_type_hash,
-                                               with_qos=not self.options.ignores_all_qos)
+                                               with_qos=not self.options.ignores_all_qos, names=self.name_rules())
         return parameter_drift.keep_ignored(self.contract.nodes if self.contract is not None else None, nodes,
                                             self.options)
+
+    def name_rules(self) -> NameRules:
+        """The contract's patterns of node names that change every run (``model.unstable_names``)."""
+        if self.contract is None:
+            return NameRules()
+        return NameRules.of_contract(self.contract.unstable_names, self.contract.nodes)
 
     def new_text(self, old: str | None) -> str:
         """The system contract to write, given the current text (None: a new file)."""
@@ -292,13 +299,13 @@ class SystemCheckResult:
                     old = old + ("" if old.endswith("\n") else "\n") + self.external_proposal()
             except RmwIntrospectError:
                 pass
-            return system_contract.update_text(old, self.capture.process_entries(), nodes)
+            return system_contract.update_text(old, self.capture.process_entries(self.name_rules()), nodes)
         header = system_contract.new_header(self.spec.to_block(self.path.absolute().parent),
                                             options={"include_infrastructure": True}
                                             if self.options.include_infrastructure else None,
                                             how="pytest-rmw-introspect (--update-golden / check --update)",
                                             external_proposal=self.external_proposal())
-        return system_contract.render(self.capture.process_entries(), nodes, header=header)
+        return system_contract.render(self.capture.process_entries(self.name_rules()), nodes, header=header)
 
     def external_proposal(self) -> str:
         """The commented-out ``external:`` block a new contract gets (``compare.wiring.proposal``)."""
@@ -351,7 +358,8 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
     system_items = [item for item in system_items if item.rule not in launch_given.NOTES]
     drift_items = []
     if prepared.contract is not None:
-        drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(), prepared.options)
+        drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(names=result.name_rules()),
+                                    prepared.options)
         result.compared = True
     accept = prepared.contract.accept if prepared.contract is not None else ()
     judged = acceptance.judge([*drift_items, *system_items], accept,

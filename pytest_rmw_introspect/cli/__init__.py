@@ -5,6 +5,7 @@ One line per module (:func:`main` here is the console script):
 - ``parser``: arguments and help texts
 - ``option_flags``: the flags of the option tables (``model.option_tables``)
 - ``commands``: ``check``, ``diff``, ``compat``, ``graph`` over the check pipeline
+- ``gate``: ``diff --against REF``: every contract against its version at a git revision
 - ``capture``: ``capture``: one target (or a launch file's processes), printed or written
 - ``formats``: what ``capture`` prints or writes (contract, JSON, NoDL, raw)
 - ``system_contracts``: system contracts on the command line (``capture --launch``, ``*.system.yaml``)
@@ -125,12 +126,12 @@ def _run_command(args: argparse.Namespace, command: list[str] | None) -> int:
         from .lock import cmd_lock
 
         return cmd_lock(args)
-    from . import commands
+    from . import commands, gate
 
     if args.command == "check":
         return commands.cmd_check(args, command)
     if args.command == "diff":
-        return commands.cmd_diff(args)
+        return gate.cmd_gate(args) if args.against is not None else commands.cmd_diff(args)
     if args.command == "graph":
         return commands.cmd_graph(args)
     return commands.cmd_compat(args)

@@ -112,6 +112,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             if args.format == "text" and outcome.report:
                 sys.stdout.write(outcome.report)
             print(said, file=sys.stderr)
+            if outcome.version_advice:  # an update never changes interface_version itself
+                print(f"note: {outcome.version_advice}", file=sys.stderr)
             for_ci.append(result.for_ci(written=said.split(" ", 1)[0]))
             continue
         for_ci.append(result.for_ci())
@@ -133,7 +135,7 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     if args.write_baseline and status == EXIT_DRIFT:
         status = EXIT_OK  # today's findings are what the baseline records
     if args.summary:
-        _append_summary(args.summary, ci_report.drift_markdown(for_ci))
+        append_summary(args.summary, ci_report.drift_markdown(for_ci))
     if args.format == "json":
         print(json.dumps(all_items, indent=2, default=str))
     elif args.format == "markdown":
@@ -145,7 +147,7 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     return status
 
 
-def _append_summary(path: str, markdown: str) -> None:
+def append_summary(path: str, markdown: str) -> None:
     """Append the Markdown report to ``path`` (``$GITHUB_STEP_SUMMARY`` collects what each step
     appends; the run's own result is never replaced)."""
     try:
@@ -157,6 +159,15 @@ def _append_summary(path: str, markdown: str) -> None:
 
 
 def cmd_diff(args: argparse.Namespace) -> int:
+    given = [flag for flag, value in (("--system", args.against_systems), ("--baseline", args.baseline),
+                                      ("--summary", args.summary)) if value]
+    if given:
+        raise UsageError(f"{' and '.join(given)} go with --against REF (the gate against a git revision), not with "
+                         "`diff OLD NEW`")
+    if len(args.files) != 2:
+        raise UsageError(f"diff compares two files, OLD and NEW ({len(args.files)} given); to compare every contract "
+                         "with a git revision: rmw-introspect diff --against REF [CONTRACT...]")
+    args.old, args.new = args.files
     if system_contracts.any_system([args.old, args.new]):
         return system_contracts.cmd_diff(args)
     result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])

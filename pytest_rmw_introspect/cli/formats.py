@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 from ..model import nodl
 from ..model import qos as qos_module
 from ..model.contract_shapes import ContractNodes, InterfaceEntry, empty_node
+from ..model.unstable_names import NameRules
 from ..model.vocabulary import KIND_TO_LIST, LIFECYCLE, LIFECYCLE_UNKNOWN, PARAMETERS
 from ..run.target import TargetSpec
 
@@ -20,8 +21,8 @@ if TYPE_CHECKING:  # the capture model is imported by the runner while the targe
 def nodl_documents(cap: Capture, *, raw: bool) -> str:
     """One NoDL v2 document per node (a YAML stream, ``model.nodl.render``); ``raw``: every live
     endpoint as created, ungrouped and unfiltered."""
-    if not raw:
-        return nodl.render(cap.to_contract_nodes())
+    if not raw:  # a NoDL document names its node literally (no patterns of model.unstable_names)
+        return nodl.render(cap.to_contract_nodes(names=NameRules.literal(cap.node_names)))
     nodes: ContractNodes = {}
     live = {n.id: n for n in cap.raw_nodes if n.alive}
     for n in sorted(live.values(), key=lambda n: n.seq):

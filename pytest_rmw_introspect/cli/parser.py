@@ -127,7 +127,22 @@ OLD plays the contract and NEW the capture, so the drift rules and severities ar
 of `check`: NEW losing a publisher of OLD is BREAKING, NEW adding one is SAFE. OLD's `options:`
 block applies, overridden by the comparison options given here.
 
-exit status: 0 no drift (or below --fail-on), 1 drift at or above --fail-on, 2 errors.
+--against REF (the pull-request gate, docs/ci.md): each contract is compared with its file at
+REF the same way (a renamed file with its old name; a removed one loses everything it promised;
+an added one adds its nodes). It fails on BREAKING changes unless --fail-on says otherwise. A
+contract with `interface_version: MAJOR.MINOR.PATCH` at REF and now is judged by semantic
+versioning: a BREAKING change needs a MAJOR bump, a RISKY one at least a MINOR bump (the
+message says which version to write); changes the bump covers are accepted. With system
+contracts (--system, or those git tracks here) a changed topic, service or action is checked
+against the nodes that use it: one that no longer fits them is BREAKING and named. The git
+history must hold REF: in CI fetch the base branch (actions/checkout `fetch-depth: 0`).
+
+  rmw-introspect diff --against origin/main --format markdown
+  rmw-introspect diff --against origin/main...HEAD contracts/talker.interfaces.yaml
+
+exit status: 0 no drift (or below --fail-on), 1 drift at or above --fail-on, 2 errors (a missing
+or invalid contract, also one invalid at REF; REF not found; not a git repository; a shallow
+clone without REF).
 """
 
 _COMPAT_EPILOG = """\
@@ -269,11 +284,28 @@ def build_parser() -> argparse.ArgumentParser:
                      help="a passing system contract names every node it matched (else it says how many nodes in "
                      "how many processes)")
 
-    dif = sub.add_parser("diff", help="compare two contract files (no target is run)",
-                         description="Compare two contract files without running anything.",
-                         epilog=_DIFF_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    dif.add_argument("old", metavar="OLD", help="the contract as it was")
-    dif.add_argument("new", metavar="NEW", help="the contract as it is now")
+    dif = sub.add_parser("diff", help="compare two contract files, or every contract with a git revision (no "
+                         "target is run)",
+                         description="Compare two contract files, or every contract with its version at a git "
+                         "revision (--against REF: the pull-request gate), without running anything.",
+                         epilog=_DIFF_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
+                         usage="%(prog)s [options] OLD NEW\n       %(prog)s --against REF [options] [CONTRACT...]")
+    dif.add_argument("files", nargs="*", metavar="FILE",
+                     help="OLD NEW: the contract as it was and as it is now; with --against: the contracts to compare "
+                     "(default: every *.interfaces.yaml and *.system.yaml git tracks under the current directory)")
+    gate = dif.add_argument_group("the pull-request gate (docs/ci.md)")
+    gate.add_argument("--against", metavar="REF",
+                      help="compare every contract with its version at the git revision REF: a branch, tag or commit, "
+                      "or BASE...HEAD (their merge base, as git diff reads it); renamed, added and removed contract "
+                      "files included; interface_version bumps judged by semantic versioning; fails on BREAKING "
+                      "unless --fail-on says otherwise")
+    gate.add_argument("--system", action="append", dest="against_systems", metavar="FILE",
+                      help="a system contract whose nodes judge who consumes a changed interface (repeatable; "
+                      "default: every *.system.yaml git tracks under the current directory)")
+    gate.add_argument("--baseline", metavar="FILE",
+                      help="fail only on findings that FILE (written by `check --write-baseline`) does not hold")
+    gate.add_argument("--summary", metavar="FILE",
+                      help="also append the Markdown report to FILE (\"$GITHUB_STEP_SUMMARY\"), whatever --format prints")
     _add_compare(dif, FrontEnd.DIFF)
     _add_format(dif)
 

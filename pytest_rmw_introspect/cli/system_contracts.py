@@ -141,10 +141,18 @@ def compatibility(args: argparse.Namespace) -> tuple[CompatibilityResult, Callab
     return result, loaded.file_of
 
 
+def drawing_title(paths: Sequence[str], *, any_system: bool) -> str:
+    """A drawing's default title says what is drawn: a system, or one or several node contracts."""
+    names = ", ".join(Path(p).name for p in paths)
+    if any_system:
+        return f"System {names}"
+    return f"Node contract {names}" if len(paths) == 1 else f"Node contracts {names}"
+
+
 def cmd_graph(args: argparse.Namespace) -> int:
     loaded = system_pipeline.load_any(args.contracts)
     items = system_pipeline.compatibility_items(loaded, strict_system_default=args.strict_system_default)
-    title = args.title or "System " + ", ".join(Path(p).name for p in args.contracts)
+    title = args.title or drawing_title(args.contracts, any_system=loaded.any_system)
     drawing = graph_module.build(loaded.processes, items, title=title)
     formats.emit(graph_module.render(drawing, args.format, threshold=parse_threshold(args.fail_on)), args.output)
     return EXIT_OK

@@ -11,6 +11,8 @@ One line per module:
 - ``wiring``: dangling endpoints of a launched system, the declared outside world, mis-wired names
 - ``launch_given``: what a launch file gives a node that the node silently ignores
 - ``similarity``: how close two names are (one typo apart, or not)
+- ``versioning``: ``interface_version`` judged by semantic versioning against the drift
+- ``consumers``: a node contract's changed interfaces judged by who uses them in system contracts
 - ``acceptance``: which findings the contracts' ``accept:`` entries accept, and stale entries
 - ``baseline``: baseline files: today's findings, a later run's split into new and known
 - ``findings``: what identifies a finding across runs (rule and place)

@@ -42,6 +42,8 @@ class ContractOutcome:
     stale: Sequence[Acceptance] = ()
     #: a system contract's processes (by label) → where the launch file starts them (``robot.launch.xml:12``)
     launched_at: Mapping[str, str] = field(default_factory=dict)
+    #: what to know beside the findings (``diff --against``: the bump the changes need, a rename)
+    notes: Sequence[str] = ()
 
     @property
     def failed(self) -> bool:
@@ -97,12 +99,13 @@ def drift_markdown(outcomes: Sequence[ContractOutcome], *, title: str = "Interfa
             nodes += f" and {len(o.nodes) - NODES_SHOWN} more"
         lines.append(f"| `{o.contract}` | {nodes} | {_result_cell(o)} |")
     for o in outcomes:
-        if o.error is None and (o.accepted or o.stale) and not (o.items or o.system_items):
-            lines += ["", f"### `{o.contract}`"]
+        if o.error is None and (o.accepted or o.stale or o.notes) and not (o.items or o.system_items):
+            lines += ["", f"### `{o.contract}`"] + _note_lines(o.notes)
         if o.error is not None:
             lines += ["", f"### `{o.contract}`", "", "```", o.error.rstrip("\n"), "```"]
         elif o.items or o.system_items:
             lines += ["", f"### `{o.contract}`: {len(o.items)} change(s) ({_counts(o.items)})"]
+            lines += _note_lines(o.notes)
             lines += _drift_bullets(o.items, o.threshold)
             if o.system_items:
                 lines += _system_bullets(o.system_items)
@@ -129,6 +132,10 @@ def _system_bullets(items: Sequence[CompatItem]) -> list[str]:
         if more_processes:
             lines.append(f"  - {report.left_out(more_processes, more_findings)}")
     return lines
+
+
+def _note_lines(notes: Sequence[str]) -> list[str]:
+    return [line for note in notes for line in ("", f"> {_cell(note)}")]
 
 
 def _acceptance_bullets(accepted: Sequence[Accepted], stale: Sequence[Acceptance]) -> list[str]:

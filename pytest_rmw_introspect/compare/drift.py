@@ -145,6 +145,11 @@ RULES: dict[str, Rule] = _rules(
     *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in type_drift.RULES.items()),
     *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in parameter_drift.RULES.items()),
     *(Rule(rule_id, severity, summary) for rule_id, (severity, summary) in destruction_drift.RULES.items()),
+    # the gate of `diff --against REF`: interface versions (compare.versioning), consumers (compare.consumers)
+    Rule("INTERFACE_VERSION_BUMP_MISSING", _B, "a BREAKING change without a MAJOR bump of `interface_version`, or a "
+         "RISKY change without at least a MINOR bump"),
+    Rule("INTERFACE_VERSION_DECREASED", _B, "`interface_version` is lower than at the base revision"),
+    Rule("CONSUMER_INCOMPATIBLE", _B, "a changed interface no longer fits a node of a system contract that uses it"),
 )
 
 #: ``DriftItem.change`` of a field-level item: the prefix, then the type it is about

@@ -13,7 +13,9 @@ that created no node.
 Three renderings: :func:`to_mermaid` (renders in pull requests and issues inside a
 ```` ```mermaid ```` block), :func:`to_dot` (Graphviz: ``dot -Tsvg``), :func:`to_html` (one
 self-contained page: an SVG drawn here, no script and nothing fetched, and the list of
-problems). Marked edges and vertices are red (BREAKING) or orange (RISKY) and carry the rule id.
+problems). Marked edges and vertices are red (BREAKING) or orange (RISKY) and carry the rule id;
+a vertex keeps its type names beside its rule ids (both of a TYPE_MISMATCH), and the HTML
+drawing keeps every edge's label in the gap between two columns, clear of the boxes.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import html
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+from ..model.project_urls import COMPATIBILITY_RULES
 from ..model.vocabulary import DESTROYED_AT, LABELS, LISTS, OFFERING_LISTS, Severity
 from .compatibility import CompatItem, LaunchedProcess
 
@@ -49,15 +52,31 @@ class Vertex:
     id: str
     kind: str  # node, topic, service, action, missing
     label: str
+    #: a node's process
     detail: str = ""
     group: str | None = None
     marks: list[Mark] = field(default_factory=list)
     #: a node the program destroyed while it ran: when (seconds of its virtual age)
     destroyed_at: float | None = None
+    #: an interface's type names, in the order the endpoints name them: two or more when the
+    #: ends disagree (TYPE_MISMATCH), so a drawing shows each of them
+    types: list[str] = field(default_factory=list)
 
     @property
     def severity(self) -> Severity | None:
         return max((m.severity for m in self.marks), default=None)
+
+    @property
+    def rules(self) -> list[str]:
+        return sorted({m.rule for m in self.marks})
+
+    def detail_lines(self) -> list[str]:
+        """What every drawing writes under the name (the rule ids come after): an interface's
+        type names, one a line; that a launched node was not created; when it was destroyed."""
+        lines = ["not created"] if self.kind == "missing" else list(self.types)
+        if self.destroyed_at is not None:
+            lines.append(destroyed_text(self.destroyed_at))
+        return lines
 
 
 @dataclass
@@ -106,9 +125,10 @@ def build(processes: Sequence[LaunchedProcess], items: Sequence[CompatItem], tit
         key = (category, name)
         if key not in interface_ids:
             interface_ids[key] = f"{category[0]}{len(interface_ids)}"
-            vertices[interface_ids[key]] = Vertex(interface_ids[key], category, name, type_name)
-        elif type_name and not vertices[interface_ids[key]].detail:
-            vertices[interface_ids[key]].detail = type_name
+            vertices[interface_ids[key]] = Vertex(interface_ids[key], category, name)
+        types = vertices[interface_ids[key]].types
+        if type_name and type_name not in types:
+            types.append(type_name)
         return interface_ids[key]
 
     for process in processes:
@@ -212,14 +232,9 @@ def to_mermaid(graph: SystemGraph) -> str:
 def _mermaid_vertex(vertex: Vertex) -> str:
     opening, closing = _MERMAID_SHAPES[vertex.kind]
     text = _mermaid_text(vertex.label)
-    if vertex.kind == "missing":
-        text = f"{text}<br/>not created"
-    elif vertex.destroyed_at is not None:
-        text += f"<br/><small>{destroyed_text(vertex.destroyed_at)}</small>"
-    elif vertex.kind != "node" and vertex.detail:
-        text += f"<br/><small>{_mermaid_text(vertex.detail)}</small>"
+    text += "".join(f"<br/><small>{_mermaid_text(line)}</small>" for line in vertex.detail_lines())
     if vertex.marks:
-        text += "<br/><b>" + _mermaid_text(" ".join(sorted({m.rule for m in vertex.marks}))) + "</b>"
+        text += "<br/><b>" + _mermaid_text(" ".join(vertex.rules)) + "</b>"
     return f"{vertex.id}{opening}{text}{closing}"
 
 
@@ -260,33 +275,66 @@ def to_dot(graph: SystemGraph) -> str:
 
 
 def _dot_vertex(vertex: Vertex) -> str:
-    text = vertex.label
-    if vertex.kind == "missing":
-        text += "\\nnot created"
-    elif vertex.destroyed_at is not None:
-        text = _dot_text(text) + "\\n" + destroyed_text(vertex.destroyed_at)
-    elif vertex.kind != "node" and vertex.detail:
-        text = _dot_text(text) + "\\n" + _dot_text(vertex.detail)
-    else:
-        text = _dot_text(text)
-    attributes = [f'label="{text}"', f"shape={_DOT_SHAPES[vertex.kind]}"]
+    lines = [vertex.label, *vertex.detail_lines(), *([" ".join(vertex.rules)] if vertex.marks else [])]
+    label = "\\n".join(_dot_text(line) for line in lines)  # Graphviz's own line break, \n
+    attributes = [f'label="{label}"', f"shape={_DOT_SHAPES[vertex.kind]}"]
     if vertex.kind == "missing" or vertex.destroyed_at is not None:
         attributes.append("style=dashed")
     if vertex.marks:
         color = COLORS[vertex.severity or Severity.SAFE]
-        rules = " ".join(sorted({m.rule for m in vertex.marks}))
-        attributes[0] = f'label="{text}\\n{_dot_text(rules)}"'
         attributes += [f'color="{color}"', "penwidth=3", f'fontcolor="{color}"']
     return f"{vertex.id} [{', '.join(attributes)}];"
 
 
 # ---------------------------------------------------------------------------- HTML
 
-_BOX_W, _IFACE_W, _BOX_H, _GAP, _COL_GAP, _MARGIN = 250, 290, 46, 18, 170, 30
+_BOX_W, _IFACE_W, _GAP, _MARGIN = 250, 290, 18, 30
+#: the least room between two columns (the edges' curves)
+_COL_GAP = 170
+#: a box: the baseline of its name, the height of each further line, the padding under the last
+_FIRST_BASELINE, _LINE, _PAD = 19, 17, 10
+#: the width of a character, generously (Helvetica/Arial capitals and wide letters): the box of
+#: an edge's label is that wide, and a box's text is cut to fit it. By font: bold 13 px (a name),
+#: 11 px (a type, a process), bold 11 px (a rule id)
+_NAME_CHAR, _TEXT_CHAR, _RULE_CHAR = 8.2, 6.6, 7.8
+#: the room kept between an edge's label and the boxes beside its column gap
+_LABEL_CLEARANCE = 28
 
 
-def _layout(graph: SystemGraph) -> tuple[dict[str, tuple[float, float, float]], float, float]:
-    """x, y, width of every vertex: providers left, interfaces in the middle, requesters right."""
+@dataclass(frozen=True)
+class _Box:
+    x: float
+    y: float
+    width: float
+    height: float
+    #: (text, font size, bold, colour) from the top
+    lines: tuple[tuple[str, int, bool, str], ...]
+
+
+def _box_lines(vertex: Vertex, stroke: str) -> list[tuple[str, int, bool, str]]:
+    """The name (with the interface's kind), the node's process, the type names and notes, then
+    each rule id on a line of its own: nothing replaces anything else."""
+    kind_word = "" if vertex.kind in ("node", "missing") else vertex.kind + " "
+    lines = [(kind_word + vertex.label, 13, True, "#222")]
+    details = ([vertex.detail] if vertex.kind in ("node", "missing") and vertex.detail else []) + vertex.detail_lines()
+    lines += [(text, 11, False, "#555") for text in details]
+    lines += [(rule, 11, True, stroke) for rule in vertex.rules]
+    return lines
+
+
+def _label_lines(edge: Edge) -> list[str]:
+    """An edge's label: its rule ids, one a line."""
+    return edge.rules
+
+
+def _label_width(lines: Sequence[str]) -> float:
+    return max((len(line) for line in lines), default=0) * _RULE_CHAR + 10
+
+
+def _layout(graph: SystemGraph) -> tuple[dict[str, _Box], float, float, float]:
+    """Every vertex's box (providers left, interfaces in the middle, requesters right), the width
+    and height of the drawing and the gap between its columns, wide enough for every edge's
+    label to sit in it without touching a box."""
     offers: dict[str, int] = {}
     requests: dict[str, int] = {}
     neighbours: dict[str, list[str]] = {}
@@ -306,26 +354,33 @@ def _layout(graph: SystemGraph) -> tuple[dict[str, tuple[float, float, float]], 
         near = [rank[i] for i in neighbours.get(vertex.id, []) if i in rank]
         return sum(near) / len(near) if near else len(rank)
 
-    positions: dict[str, tuple[float, float, float]] = {}
+    gap = max([_COL_GAP, *(_label_width(_label_lines(e)) + 2 * _LABEL_CLEARANCE for e in graph.edges if e.marks)])
+    boxes: dict[str, _Box] = {}
     columns = [(sorted(left, key=lambda v: (centre(v), v.label)), _MARGIN, _BOX_W),
-               (interfaces, _MARGIN + _BOX_W + _COL_GAP, _IFACE_W),
-               (sorted(right, key=lambda v: (centre(v), v.label)), _MARGIN + _BOX_W + _IFACE_W + 2 * _COL_GAP, _BOX_W)]
+               (interfaces, _MARGIN + _BOX_W + gap, _IFACE_W),
+               (sorted(right, key=lambda v: (centre(v), v.label)), _MARGIN + _BOX_W + _IFACE_W + 2 * gap, _BOX_W)]
     height = 0.0
     for column, x, width in columns:
-        y = _MARGIN + 20
+        y = _MARGIN + 20.0
         for vertex in column:
-            positions[vertex.id] = (x, y, width)
-            y += _BOX_H + _GAP
+            lines = _box_lines(vertex, _stroke(vertex))
+            box_height = _FIRST_BASELINE + _LINE * (len(lines) - 1) + _PAD
+            boxes[vertex.id] = _Box(x, y, width, box_height, tuple(lines))
+            y += box_height + _GAP
         height = max(height, y)
-    return positions, _MARGIN * 2 + 2 * _BOX_W + _IFACE_W + 2 * _COL_GAP, height + _MARGIN
+    return boxes, _MARGIN * 2 + 2 * _BOX_W + _IFACE_W + 2 * gap, height + _MARGIN, gap
 
 
 _FILL = {"node": "#eef4fb", "topic": "#f4f4f4", "service": "#f1f8ee", "action": "#f7f0fa", "missing": "#ffffff"}
 
 
+def _stroke(vertex: Vertex) -> str:
+    return COLORS[vertex.severity] if vertex.severity is not None else "#888888"
+
+
 def to_svg(graph: SystemGraph) -> str:
     """The graph as one SVG drawing (used by :func:`to_html`)."""
-    positions, width, height = _layout(graph)
+    boxes, width, height, gap = _layout(graph)
     e = html.escape
     out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" '
            f'viewBox="0 0 {width:.0f} {height:.0f}" font-family="Helvetica, Arial, sans-serif" role="img">',
@@ -335,18 +390,17 @@ def to_svg(graph: SystemGraph) -> str:
                    f'markerWidth="11" markerHeight="11" orient="auto-start-reverse">'
                    f'<path d="M 0 0 L 10 5 L 0 10 z" fill="{color}"/></marker>')
     out.append("</defs>")
-    headings = [("nodes", _MARGIN), ("topics, services, actions", _MARGIN + _BOX_W + _COL_GAP),
-                ("nodes", _MARGIN + _BOX_W + _IFACE_W + 2 * _COL_GAP)]
+    headings = [("nodes", _MARGIN), ("topics, services, actions", _MARGIN + _BOX_W + gap),
+                ("nodes", _MARGIN + _BOX_W + _IFACE_W + 2 * gap)]
     for heading, hx in headings:
         out.append(f'<text x="{hx}" y="{_MARGIN}" font-size="12" fill="#666">{e(heading)}</text>')
-    labels = []
+    labels = _LabelPlaces()
     for edge in sorted(graph.edges, key=lambda edge: edge.severity or -1):  # marked edges drawn last, on top
-        if edge.source not in positions or edge.target not in positions:
+        if edge.source not in boxes or edge.target not in boxes:
             continue
-        sx, sy, sw = positions[edge.source]
-        tx, ty, tw = positions[edge.target]
-        y1, y2 = sy + _BOX_H / 2, ty + _BOX_H / 2
-        x1, x2 = (sx + sw, tx) if sx < tx else (sx, tx + tw)
+        source, target = boxes[edge.source], boxes[edge.target]
+        y1, y2 = source.y + source.height / 2, target.y + target.height / 2
+        x1, x2 = (source.x + source.width, target.x) if source.x < target.x else (source.x, target.x + target.width)
         bend = (x2 - x1) / 2
         severity = edge.severity
         color = COLORS[severity] if severity is not None else "#999999"
@@ -360,57 +414,116 @@ def to_svg(graph: SystemGraph) -> str:
                    f'fill="none" stroke="{color}" stroke-width="{widthpx}"{edge_dash} marker-end="url(#arrow-{marker})">'
                    f"<title>{e(title)}</title></path>")
         if edge.marks:
-            mx, my = (x1 + x2) / 2, (y1 + y2) / 2 - 6
-            text = " ".join(edge.rules)
-            labels.append(f'<rect x="{mx - 3.3 * len(text) - 4:.1f}" y="{my - 12:.1f}" width="{6.6 * len(text) + 8:.1f}" '
-                          f'height="16" rx="3" fill="#ffffff" stroke="{color}"/>'
-                          f'<text x="{mx:.1f}" y="{my:.1f}" font-size="11" font-weight="bold" fill="{color}" '
-                          f'text-anchor="middle">{e(text)}</text>')
+            lines = _label_lines(edge)
+            mx, my = labels.place(lines, (x1, y1), (x2, y2))
+            labels.drawn.append(_edge_label(lines, mx, my, color))
     for vertex in graph.vertices.values():
-        if vertex.id not in positions:
-            continue
-        x, y, w = positions[vertex.id]
-        severity = vertex.severity
-        stroke = COLORS[severity] if severity is not None else "#888888"
-        fill = {Severity.BREAKING: "#fde0e0", Severity.RISKY: "#fff0dd"}.get(severity, _FILL[vertex.kind]) \
-            if severity is not None else _FILL[vertex.kind]
-        radius = 22 if vertex.kind == "topic" else 4
-        dash = ' stroke-dasharray="6 4"' if vertex.kind == "missing" or vertex.destroyed_at is not None else ""
-        title = "; ".join(f"{m.rule}: {m.message}" for m in vertex.marks) or vertex.kind
-        out.append(f'<g class="vertex {vertex.kind}{" marked" if vertex.marks else ""}" id="{vertex.id}">'
-                   f"<title>{e(title)}</title>"
-                   f'<rect x="{x}" y="{y}" width="{w}" height="{_BOX_H}" rx="{radius}" fill="{fill}" '
-                   f'stroke="{stroke}" stroke-width="{3 if severity is not None else 1.2}"{dash}/>')
-        main = vertex.label if vertex.kind != "missing" else f"{vertex.label} (not created)"
-        kind_word = {"node": "", "missing": ""}.get(vertex.kind, vertex.kind + " ")
-        out.append(f'<text x="{x + 10}" y="{y + 19}" font-size="13" font-weight="bold" fill="#222">'
-                   f"{e(_clip(kind_word + main, w))}</text>")
-        second = vertex.detail
-        if vertex.destroyed_at is not None:
-            second = f"{second} ({destroyed_text(vertex.destroyed_at)})" if second else destroyed_text(vertex.destroyed_at)
-        if vertex.marks:
-            second = " ".join(sorted({m.rule for m in vertex.marks}))
-        out.append(f'<text x="{x + 10}" y="{y + 36}" font-size="11" fill="{stroke if vertex.marks else "#555"}">'
-                   f"{e(_clip(second, w))}</text></g>")
-    out += labels
+        if vertex.id in boxes:
+            out.append(_vertex_box(vertex, boxes[vertex.id]))
+    out += labels.drawn
     out.append("</svg>")
     return "\n".join(out)
 
 
-def _clip(text: str, width: float) -> str:
-    limit = int((width - 16) / 7)
+def _label_height(lines: Sequence[str]) -> float:
+    return 14 * len(lines) + 4
+
+
+class _LabelPlaces:
+    """Where the edges' labels go: on their edge, inside the gap between the two columns the edge
+    joins (never over a box), and clear of the labels already placed where the edge allows."""
+
+    #: how far along its edge a label may sit, tried in this order: the middle first, then
+    #: outwards in small steps (a steep edge crosses the room a label fits in on a short stretch)
+    ALONG = tuple(0.5 + sign * step / 50 for step in range(21) for sign in ((1,) if step == 0 else (-1, 1)))
+    #: the least room kept between a label and a box
+    CLEARANCE = 8
+
+    def __init__(self) -> None:
+        self.taken: list[tuple[float, float, float, float]] = []  # left, top, right, bottom
+        self.drawn: list[str] = []
+
+    def place(self, lines: Sequence[str], start: tuple[float, float], end: tuple[float, float]) -> tuple[float, float]:
+        """The centre of the label of the edge from ``start`` to ``end`` (the points where it
+        leaves one column and enters the other)."""
+        width, height = _label_width(lines), _label_height(lines)
+        low, high = sorted((start[0], end[0]))
+        fitting = []
+        for t in self.ALONG:
+            x, y = _curve_point(start, end, t)
+            if low + self.CLEARANCE <= x - width / 2 and x + width / 2 <= high - self.CLEARANCE:
+                fitting.append((x, y))
+        if not fitting:  # too steep to fit anywhere else: the middle (the gap is as wide as any label)
+            fitting.append(_curve_point(start, end, 0.5))
+        # on the edge if a place there is free; else beside its middle, a few lines up or down
+        x0, y0 = fitting[0]
+        beside = [(x0, y0 + sign * step * (height + 4)) for step in range(1, 9) for sign in (-1, 1)]
+        for x, y in [*fitting, *beside]:
+            rect = (x - width / 2 - 2, y - height / 2 - 2, x + width / 2 + 2, y + height / 2 + 2)
+            if not any(rect[0] < r[2] and r[0] < rect[2] and rect[1] < r[3] and r[1] < rect[3] for r in self.taken):
+                break
+        else:
+            x, y = x0, y0
+            rect = (x - width / 2, y - height / 2, x + width / 2, y + height / 2)
+        self.taken.append(rect)
+        return x, y
+
+
+def _curve_point(start: tuple[float, float], end: tuple[float, float], t: float) -> tuple[float, float]:
+    """The point at ``t`` of an edge's curve (a cubic Bézier whose two control points are half
+    way across, at the heights of its ends)."""
+    (x1, y1), (x2, y2) = start, end
+    mid = (x1 + x2) / 2
+    a, b, c, d = (1 - t) ** 3, 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t ** 2, t ** 3
+    return a * x1 + (b + c) * mid + d * x2, (a + b) * y1 + (c + d) * y2
+
+
+def _edge_label(lines: Sequence[str], mx: float, my: float, color: str) -> str:
+    """A label centred on (mx, my), the middle of its edge: a box as wide as its longest line."""
+    width, height = _label_width(lines), _label_height(lines)
+    top = my - height / 2
+    texts = "".join(f'<text x="{mx:.1f}" y="{top + 13 + 14 * i:.1f}" font-size="11" font-weight="bold" fill="{color}" '
+                    f'text-anchor="middle">{html.escape(line)}</text>' for i, line in enumerate(lines))
+    return (f'<g class="edge-label"><rect x="{mx - width / 2:.1f}" y="{top:.1f}" width="{width:.1f}" '
+            f'height="{height}" rx="3" fill="#ffffff" stroke="{color}"/>{texts}</g>')
+
+
+def _vertex_box(vertex: Vertex, box: _Box) -> str:
+    severity = vertex.severity
+    stroke = _stroke(vertex)
+    fill = {Severity.BREAKING: "#fde0e0", Severity.RISKY: "#fff0dd"}.get(severity, _FILL[vertex.kind]) \
+        if severity is not None else _FILL[vertex.kind]
+    radius = 22 if vertex.kind == "topic" else 4
+    dash = ' stroke-dasharray="6 4"' if vertex.kind == "missing" or vertex.destroyed_at is not None else ""
+    title = "; ".join(f"{m.rule}: {m.message}" for m in vertex.marks) or vertex.kind
+    out = [f'<g class="vertex {vertex.kind}{" marked" if vertex.marks else ""}" id="{vertex.id}">'
+           f"<title>{html.escape(title)}</title>"
+           f'<rect class="box" x="{box.x}" y="{box.y}" width="{box.width}" height="{box.height}" rx="{radius}" '
+           f'fill="{fill}" stroke="{stroke}" stroke-width="{3 if severity is not None else 1.2}"{dash}/>']
+    for index, (text, size, bold, color) in enumerate(box.lines):
+        char = _NAME_CHAR if size == 13 else _RULE_CHAR if bold else _TEXT_CHAR
+        weight = ' font-weight="bold"' if bold else ""
+        out.append(f'<text x="{box.x + 10}" y="{box.y + _FIRST_BASELINE + _LINE * index}" font-size="{size}"{weight} '
+                   f'fill="{color}">{html.escape(_clip(text, box.width - 20, char))}</text>')
+    return "".join(out) + "</g>"
+
+
+def _clip(text: str, room: float, char: float) -> str:
+    limit = int(room / char)
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def to_html(graph: SystemGraph, *, threshold: Severity = Severity.BREAKING) -> str:
-    """One self-contained HTML page: the drawing and the list of problems (no scripts, nothing fetched)."""
+    """One self-contained HTML page: the drawing and the list of problems (no scripts, nothing
+    fetched; the rule ids link to their documentation)."""
     e = html.escape
     rows = []
     for item in graph.items:
         color = COLORS[item.severity]
         ends = str(item.requester) if item.provider is None else f"{item.provider} → {item.requester}"
         rows.append(f'<tr><td><span class="sev" style="background:{color}">{e(item.severity.name)}</span></td>'
-                    f"<td><code>{e(item.rule)}</code></td><td><code>{e(item.name)}</code></td>"
+                    f'<td><a href="{e(COMPATIBILITY_RULES)}"><code>{e(item.rule)}</code></a></td>'
+                    f"<td><code>{e(item.name)}</code></td>"
                     f"<td>{e(ends)}</td><td>{e(item.message)}</td></tr>")
     failing = sum(1 for item in graph.items if item.severity >= threshold)
     verdict = (f'<p class="verdict fail">{failing} problem(s) at or above the threshold</p>' if failing
@@ -447,7 +560,7 @@ th, td {{ border-bottom: 1px solid #e4e4e4; padding: 6px 10px; text-align: left;
 </div>
 <p class="legend">Arrows point from what offers to what requests: publisher → topic → subscription,
 service server → service → client, action server → action → action client. Red: BREAKING, orange: RISKY,
-each with its rule id (docs/drift-rules.md).</p>
+each with its rule id: <a href="{e(COMPATIBILITY_RULES)}">the compatibility rules</a> say what each means.</p>
 {table}
 </body>
 </html>

@@ -51,6 +51,7 @@ from ..model.paths import shown
 from . import python_events
 from .entities import yaml_value
 from .result import ComponentLoad, ComponentParameter, LaunchedNode, LaunchError, LaunchParameter, LaunchResult, Unsupported, Where
+from .substitutions import anon_name
 
 _NOT_AVAILABLE = (
     "{file} is a Python launch file, which is read through the ROS 2 `launch` and `launch_ros` packages; "
@@ -102,7 +103,7 @@ def read(
         context.launch_configurations.update(configurations)
         if namespace:
             context.launch_configurations["ros_namespace"] = namespace
-        with _Origins(launch, launch_ros).noted():
+        with _Origins(launch, launch_ros).noted(), _stable_anon_names(launch):
             source = launch.launch_description_sources.PythonLaunchDescriptionSource(str(path))
             description = source.get_launch_description(context)
             _Walker(launch, launch_ros, context, result, path, base_env).run(description)
@@ -114,6 +115,21 @@ def read(
     finally:
         os.environ.clear()
         os.environ.update(saved)
+
+
+@contextlib.contextmanager
+def _stable_anon_names(launch: ModuleType) -> Iterator[None]:
+    """While reading: ``AnonName`` (``$(anon NAME)`` in Python) gives the XML reader's name,
+    unique per NAME and stable across runs (``substitutions.anon_name``), not launch's host, pid
+    and random number, so that the node the launch file names has one name in the contract."""
+    anon = launch.substitutions.AnonName
+    original = anon.__dict__["compute_name"]
+    names: dict[str, str] = {}
+    anon.compute_name = lambda _self, id_value: anon_name(str(id_value), names)
+    try:
+        yield
+    finally:
+        anon.compute_name = original
 
 
 class _Origins:

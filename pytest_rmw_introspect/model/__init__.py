@@ -20,11 +20,14 @@ One line per module:
 - ``stand_ins``: a system contract's processes not run where it is checked, and what stands in for them
 - ``nodl``: NoDL v2 documents as contracts, and contracts written as NoDL
 - ``acceptance``: the ``accept:`` entries of a contract
+- ``unstable_names``: node names that change every run, and the pattern a contract keys them by
+- ``interface_version``: ``interface_version: MAJOR.MINOR.PATCH``: bumps by semantic versioning
 - ``locate``: the line of each node and interface entry of a contract file
 - ``yaml_blocks``: where a top-level block sits in a YAML text, for updates that keep the rest
 - ``untrusted``: reading files people hand us: bounded, typed and fast
 - ``versioned_json``: the format and version check of the JSON files the tool writes
 - ``paths``: how paths are shown and written
+- ``project_urls``: where the project lives on the web: the repository, links to its docs pages
 
 It may import ``errors`` and nothing else of the package.
 """

@@ -25,8 +25,9 @@ from . import parameters as parameter_model
 from . import types as type_model
 from .capture_file import Endpoint, RawNode, VirtualTime
 from .capture_view import Node, build_view
-from .contract_shapes import ContractNodes
+from .contract_shapes import ContractNode, ContractNodes
 from .parameters import Probe
+from .unstable_names import NameRules, contract_keys
 from .vocabulary import TRANSITION_FROM_STATE
 
 # ---------------------------------------------------------------------- the capture
@@ -304,13 +305,22 @@ class Capture:
         return [e for e in self.raw_endpoints if include_destroyed or not e.destroyed]
 
     def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True,
-                          with_parameters: bool = True) -> ContractNodes:
-        """The ``nodes`` mapping of a contract (sorted; see docs/design.md section 2)."""
-        return {
-            fqn: self.nodes[fqn].to_contract(with_type_hash=with_type_hash, with_qos=with_qos,
-                                             with_parameters=with_parameters)
+                          with_parameters: bool = True, names: NameRules | None = None) -> ContractNodes:
+        """The ``nodes`` mapping of a contract (sorted; see docs/design.md section 2): a node
+        whose name changes every run under its pattern (``unstable_names``; ``names``: the
+        contract's patterns and nodes, default the built-in rules only)."""
+        return dict(sorted(contract_keys(self.named_contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos,
+                                                                   with_parameters=with_parameters), names)))
+
+    def named_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True,
+                             with_parameters: bool = True) -> list[tuple[str, ContractNode, int | None]]:
+        """Each node as ``(its name in this run, its contract entry, the process id)``, sorted by
+        name: what ``unstable_names.contract_keys`` turns into contract keys."""
+        return [
+            (fqn, self.nodes[fqn].to_contract(with_type_hash=with_type_hash, with_qos=with_qos,
+                                              with_parameters=with_parameters), self.pid)
             for fqn in sorted(self.nodes)
-        }
+        ]
 
     def to_contract_types(self) -> dict[str, type_model.TypeDescription]:
         """The ``types:`` section of a contract: the descriptions the contract view's interfaces

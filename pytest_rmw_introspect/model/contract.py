@@ -5,6 +5,7 @@ A contract (docs/design.md section 2) is YAML::
     # comments, the target block and the options block above `nodes:` survive updates
     contract_version: 1
     ros_distribution: jazzy   # optional: the distribution it was captured on
+    interface_version: 1.2.0  # optional: the version the `diff --against` gate compares
     target: {...}      # optional
     options: {...}     # optional
     nodes:
@@ -56,6 +57,7 @@ from . import acceptance, nodl, untrusted, yaml_blocks
 from . import parameters as parameter_model
 from . import qos as qos_module
 from . import types as type_model
+from . import unstable_names as unstable_model
 from .contract_shapes import ContractNode, ContractNodes, ContractOptions, InterfaceEntry, ParameterEntry, TargetBlock
 from .locate import LineIndex, line_index
 from .paths import shown
@@ -65,6 +67,8 @@ CONTRACT_VERSION = 1
 ENTRY_KEYS = ("name", "type", "type_hash", "qos", DESTROYED_AT)
 #: the top-level key recording the ROS 2 distribution a contract was captured on
 DISTRIBUTION_KEY = "ros_distribution"
+#: the top-level key of the interface version (node and system contracts; ``compare.versioning``)
+VERSION_KEY = "interface_version"
 
 DEFAULT_HEADER = (
     "# Interface contract checked by pytest-rmw-introspect.\n"
@@ -98,8 +102,17 @@ class Contract:
     ros_distribution: str | None = None
     #: the findings it accepts on purpose (``accept:``)
     accept: tuple[acceptance.Acceptance, ...] = ()
+    #: the version of the interface it promises (``interface_version: MAJOR.MINOR.PATCH``), if stated
+    interface_version: str | None = None
     #: read from a NoDL file (``model.nodl``): its documents, and what is not compared
     nodl: nodl.NodlSource | None = None
+    #: the patterns of node names that change every run it declares (``unstable_names:``)
+    unstable_names: tuple[unstable_model.NamePattern, ...] = ()
+
+    def name_rules(self) -> unstable_model.NameRules:
+        """What decides the keys of captured nodes checked against this contract: its declared
+        patterns, its pattern keys, its literal names (``unstable_names.NameRules``)."""
+        return unstable_model.NameRules.of_contract(self.unstable_names, self.nodes)
 
     def expanded_nodes(self) -> ContractNodes:
         """``nodes`` with every topic QoS expanded to all fields (``qos.expand``)."""
@@ -107,6 +120,8 @@ class Contract:
         out: ContractNodes = {}
         for fqn, node in self.nodes.items():
             expanded = ContractNode()
+            if unstable_model.NODE_KEY in node:
+                expanded["unstable_name"] = node["unstable_name"]
             if LIFECYCLE in node:
                 expanded["lifecycle"] = node["lifecycle"]
             if DESTROYED_AT in node:
@@ -275,7 +290,12 @@ def _schema_reason(error: Any) -> str:
     validator = error.validator
     instance = untrusted.Short(error.instance)
     if "propertyNames" in error.absolute_schema_path:
-        return f"node name {instance!r} is not a fully qualified node name (e.g. /talker or /ns/talker)"
+        return (f"node name {instance!r} is not a fully qualified node name (e.g. /talker or /ns/talker) nor a "
+                "pattern of names that change every run (/talker_*, /talker_*#2 for its second node)")
+    if error.absolute_path and error.absolute_path[0] == unstable_model.SECTION_KEY and validator == "pattern":
+        return (f"{instance!r} is not a pattern of node names: a fully qualified name with `*` where the name "
+                "changes (e.g. /camera_driver_*)" if error.absolute_path[-1] == "pattern"
+                else "a pattern needs a reason: say why the names change every run")
     if error.absolute_path and error.absolute_path[0] == acceptance.SECTION_KEY and validator in ("pattern", "minLength"):
         return _ACCEPT_REASONS.get(str(error.absolute_path[-1]), str(error.message)).format(instance=instance)
     if validator == "pattern" and error.absolute_path and error.absolute_path[-1] == "name":
@@ -310,7 +330,8 @@ def _schema_reason(error: Any) -> str:
 
 #: where the keys each part of a contract takes are listed, for messages too long to list them
 SCHEMA_HINT = "allowed keys: see the contract schema, pytest_rmw_introspect/schema/contract.schema.json"
-#: the longest list of allowed keys a message spells out (a node's lists; longer ones point at the schema)
+#: the longest list of allowed keys a message spells out (longer ones, a node's keys among them, point at the
+#: schema with the closest key)
 _LISTED_KEYS_CHARS = 130
 
 
@@ -374,8 +395,10 @@ def _loads(text: str, path: Path | None) -> Contract:
         text=text,
         types=types,
         ros_distribution=data.get(DISTRIBUTION_KEY),
+        interface_version=data.get(VERSION_KEY),
         accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY), source=shown(path) if path else "<contract>",
                                        line_of=lambda i: _line(root, [acceptance.SECTION_KEY, i])),
+        unstable_names=unstable_model.from_entries(data.get(unstable_model.SECTION_KEY)),
     )
 
 
@@ -388,6 +411,8 @@ def normalize_nodes(nodes: Mapping[str, Any]) -> ContractNodes:
     for fqn, node in nodes.items():
         node = node or {}
         entry = ContractNode()
+        if node.get(unstable_model.NODE_KEY) is not None:
+            entry["unstable_name"] = node[unstable_model.NODE_KEY]
         if node.get(LIFECYCLE) is not None:
             entry["lifecycle"] = node[LIFECYCLE]
         if node.get(DESTROYED_AT) is not None:
@@ -532,6 +557,8 @@ def dump_nodes(nodes: Mapping[str, ContractNode]) -> str:
     for fqn in sorted(nodes):
         lines.append(f"  {_scalar(fqn)}:")
         node = nodes[fqn]
+        if unstable_model.NODE_KEY in node:
+            lines.append(f"    {unstable_model.NODE_KEY}: {_scalar(node['unstable_name'])}")
         if LIFECYCLE in node:
             lines.append(f"    {LIFECYCLE}: {_scalar(node[LIFECYCLE])}")
         if DESTROYED_AT in node:

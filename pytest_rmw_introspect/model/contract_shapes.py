@@ -95,8 +95,10 @@ class ParameterEntry(TypedDict, total=False):
 class ContractNode(TypedDict, total=False):
     """One node of a contract's ``nodes:``. As loaded (``model.contract.normalize_nodes``) it
     has the six lists always; ``parameters`` left out are not compared; ``lifecycle`` only for a
-    managed node, ``destroyed_at`` only for a node the program destroyed."""
+    managed node, ``destroyed_at`` only for a node the program destroyed, ``unstable_name`` (why
+    its name changes every run) only for a node keyed by a pattern (``model.unstable_names``)."""
 
+    unstable_name: str
     lifecycle: str
     destroyed_at: float
     publishers: list[InterfaceEntry]

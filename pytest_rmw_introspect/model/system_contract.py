@@ -4,6 +4,7 @@
 
     # comments and keys above `processes:` survive updates
     system_version: 1
+    interface_version: 2.0.0         # optional: the version the `diff --against` gate compares
     launch:                          # what starts the system
       package: my_robot_bringup      # with `file`: found like `ros2 launch PACKAGE FILE`
       file: robot.launch.xml         # (or `path: launch/robot.launch.xml`, relative to this file)
@@ -53,6 +54,7 @@ from ..errors import ContractError
 from . import acceptance, stand_ins, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
+from . import unstable_names as unstable_model
 from .contract_shapes import ContractNode, ContractNodes, ContractOptions, LaunchBlock, ProcessEntry, TargetBlock, empty_node
 from .option_tables import TARGET, FrontEnd
 from .paths import shown
@@ -142,6 +144,7 @@ def schema() -> dict[str, Any]:
         "additionalProperties": False,
         "properties": {
             "system_version": {"const": SYSTEM_VERSION},
+            contract_module.VERSION_KEY: {"$ref": "#/definitions/interface_version"},
             "launch": {"$ref": "#/definitions/launch"},
             "target": {"$ref": "#/definitions/system_target"},
             "options": {"$ref": "#/definitions/options"},
@@ -150,6 +153,7 @@ def schema() -> dict[str, Any]:
             "processes": {"type": ["array", "null"], "items": {"$ref": "#/definitions/process"}},
             "nodes": copy.deepcopy(base["properties"]["nodes"]) | {"type": ["object", "null"]},
             "accept": {"$ref": "#/definitions/accept"},
+            "unstable_names": {"$ref": "#/definitions/unstable_names"},
         },
         "definitions": definitions,
     }
@@ -172,6 +176,10 @@ class SystemContract:
     external: dict[str, dict[str, str]] = field(default_factory=dict)
     #: processes not run where the system is checked, and the files their interfaces come from
     stand_ins: tuple[StandIn, ...] = ()
+    #: the patterns of node names that change every run it declares (``unstable_names:``)
+    unstable_names: tuple[unstable_model.NamePattern, ...] = ()
+    #: the version of the interface it promises (``interface_version: MAJOR.MINOR.PATCH``), if stated
+    interface_version: str | None = None
 
     @property
     def comparison_options(self) -> ContractOptions:
@@ -282,7 +290,9 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                                                          line_of=lambda i: _where(root, [acceptance.SECTION_KEY, i])),
                           external={k: dict(v) for k, v in (data.get("external") or {}).items() if v},
                           stand_ins=stand_ins.from_entries(data.get(stand_ins.SECTION_KEY),
-                                                           line_of=lambda i: _where(root, [stand_ins.SECTION_KEY, i])))
+                                                           line_of=lambda i: _where(root, [stand_ins.SECTION_KEY, i])),
+                          unstable_names=unstable_model.from_entries(data.get(unstable_model.SECTION_KEY)),
+                          interface_version=data.get(contract_module.VERSION_KEY))
 
 
 def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:

@@ -14,7 +14,9 @@ state and its summary. Everything else lives in the modules next to it:
 * ``verdict``: an outcome (``check.outcome``) as a pytest outcome;
 * ``assertions``: ``check_compatible``;
 * ``system_marker``: the ``system_contract`` marker, the ``system_capture`` fixture, system contract items;
-* ``lookahead``: which items run next, for capturing ahead.
+* ``lookahead``: which items run next, for capturing ahead;
+* ``gate_items``: ``--against REF``, the pull-request gate: one item per contract.
+* ``notices``: the progress lines of slow steps (a middleware build) on the terminal.
 
 Usage::
 
@@ -35,23 +37,27 @@ from __future__ import annotations
 
 import pytest
 
-from . import session
+from . import gate_items, notices, session
 
 HOOKS_PLUGIN = "rmw-introspect-hooks"
+GATE_PLUGIN = "rmw-introspect-gate"
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
     session.addoption(parser)
+    gate_items.addoption(parser)
 
 
 def pytest_configure(config: pytest.Config) -> None:
     session_state = session.configure(config)
     config.stash[session.SESSION] = session_state
     config.pluginmanager.register(session.GoldenReporter(session_state), "rmw-introspect-golden-reporter")
+    notices.install(config)
     if not _xdist_controller(config):
         from . import hooks  # ~50 ms (the target options, the runner): only where tests run
 
         config.pluginmanager.register(hooks, HOOKS_PLUGIN)
+        config.pluginmanager.register(gate_items, GATE_PLUGIN)
 
 
 def _xdist_controller(config: pytest.Config) -> bool:
@@ -61,6 +67,10 @@ def _xdist_controller(config: pytest.Config) -> bool:
     listing = any(config.getoption(name, False) for name in ("markers", "showfixtures", "show_fixtures_per_test"))
     return (getattr(config.option, "dist", "no") != "no" and not config.getoption("collectonly", False)
             and not hasattr(config, "workerinput") and not listing)
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    notices.uninstall(config)
 
 
 def pytest_report_header(config: pytest.Config) -> list[str] | None:

@@ -45,6 +45,8 @@ def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> No
             pytest.fail(str(exc), pytrace=False)
         if action is not None:
             item.user_properties.append((golden_record.USER_PROPERTY, golden_record.property_value(action, result.path)))
+        if outcome.version_advice:  # --update-golden never changes interface_version itself
+            item.warn(pytest.PytestWarning(outcome.version_advice))
     elif outcome.failed:
         pytest.fail(outcome.message, pytrace=False)
     elif outcome.verdict is Verdict.WARN:

@@ -4,7 +4,8 @@ One line per module:
 
 - ``target``: what to run and how, as one validated spec, resolved into what the runner starts
 - ``ros_env``: the detected ROS 2 install and the middleware's activation environment
-- ``middleware``: finding or building ``librmw_introspect_cpp.so``
+- ``middleware``: finding (installed, prebuilt) or building ``librmw_introspect_cpp.so``
+- ``progress``: the lines that tell the user what a slow step does (the front end says where they go)
 - ``process``: a cold start's process: its group, output tails and stop
 - ``runner``: start a resolved target (warm or cold), wait, read the capture, classify the ending
 - ``failure_hints``: what to do next, for a target that could not import a module or created no node

@@ -1,13 +1,19 @@
-"""Provide ``librmw_introspect_cpp.so``: an installed one, or the bundled sources built once.
+"""Provide ``librmw_introspect_cpp.so``: an installed one, a prebuilt one, or the bundled sources
+built once.
 
 Order of preference:
 
 1. ``RMW_INTROSPECT_LIBRARY``: an explicit path to the library (for people who build it
    themselves, e.g. with sanitizers);
 2. an installed ``rmw_introspect_cpp`` package in the ament prefixes (colcon workspace, apt);
-3. the sources shipped with this Python package, built with CMake into a cache directory
+3. the library prebuilt for the ROS distribution of the PyPI wheels, shipped in the Linux x86_64
+   wheel of this package (``prebuilt/<distro>/``, put there by ``make dist``: built against that
+   distribution's rmw, whose ABI does not change within a distribution);
+4. the sources shipped with this Python package, built with CMake into a cache directory
    keyed by the sources' hash, the ROS distribution and the ROS prefix. A file lock makes
-   concurrent pytest-xdist workers build it once; the others wait and reuse it.
+   concurrent pytest-xdist workers build it once; the others wait and reuse it. The build says
+   on the terminal why it runs, how far it got and where its log is (``run.progress``), and so
+   does a process that waits for another's build.
 """
 
 from __future__ import annotations
@@ -15,25 +21,39 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+import select
 import shutil
 import stat
 import subprocess
 import sys
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import BinaryIO
 
 from ..errors import SetupError
-from . import ros_env
+from . import progress, ros_env
 
 LIBRARY_FILE = "librmw_introspect_cpp.so"
 _PACKAGE_DIR = Path(__file__).resolve().parent.parent  # the pytest_rmw_introspect package
+#: the libraries of the Linux x86_64 wheel, one directory per ROS distribution (``make dist``)
+PREBUILT_DIR = _PACKAGE_DIR / "prebuilt"
 _BUILD_LOG_TAIL = 40
+#: what a build takes, as the build's first line says (measured, docs/install.md)
+BUILD_TIME = "45-61 s on 2 idle cores, minutes on a loaded machine"
+#: seconds between two lines of a build's progress
+PROGRESS_EVERY = 5.0
+#: seconds on another process's build lock before the user is told why nothing happens
+WAIT_NOTICE_AFTER = 1.0
+_PERCENT = re.compile(r"^\[\s*(\d+)%\]")
 
 
 @dataclass(frozen=True)
 class MiddlewareLibrary:
     path: Path
-    origin: str  # "environment", "installed" or "built"
+    origin: str  # "environment", "installed", "prebuilt" or "built"
 
 
 def source_dir() -> Path:
@@ -114,6 +134,34 @@ def find_installed(ros: ros_env.RosEnvironment) -> Path | None:
     return None
 
 
+def prebuilt_distros() -> list[str]:
+    """The ROS distributions this installation carries a prebuilt library for."""
+    try:
+        return sorted(d.name for d in PREBUILT_DIR.iterdir() if (d / LIBRARY_FILE).is_file())
+    except OSError:
+        return []
+
+
+def find_prebuilt(ros: ros_env.RosEnvironment) -> Path | None:
+    """The prebuilt library for ``ros``: only for the PyPI wheels' kind of install, whose
+    libraries are the ones it was built against (a standard install builds against its own)."""
+    if ros.kind != ros_env.WHEELS:
+        return None
+    library = PREBUILT_DIR / ros.distro / LIBRARY_FILE
+    return library if library.is_file() else None
+
+
+def source_build_reason(ros: ros_env.RosEnvironment) -> str:
+    """Why the middleware is built from source for ``ros`` (said when the build starts)."""
+    if ros.kind != ros_env.WHEELS:
+        return f"a standard ROS 2 install at {ros.prefix}: the middleware is built against its own rmw"
+    shipped = prebuilt_distros()
+    if not shipped:
+        return ("no prebuilt middleware in this installation: a source checkout, an sdist or the "
+                "platform-independent wheel (the Linux x86_64 wheel has one)")
+    return f"the prebuilt middleware of this installation is for {', '.join(shipped)}, not {ros.distro}"
+
+
 def _require_tools() -> None:
     missing = []
     if shutil.which("cmake") is None:
@@ -130,26 +178,84 @@ def _require_tools() -> None:
         )
 
 
-def _run_logged(cmd: list[str], log: Path, env: dict[str, str], what: str) -> None:
-    with log.open("a") as out:
-        out.write("$ " + " ".join(cmd) + "\n")
+class _Progress:
+    """A build's progress lines: the step it is at and, while compiling, CMake's last ``[NN%]``,
+    every ``PROGRESS_EVERY`` seconds (also while a long compile prints nothing)."""
+
+    def __init__(self, elapsed: Callable[[], float]) -> None:
+        self.elapsed = elapsed
+        self.throttle = progress.Throttle(PROGRESS_EVERY)
+        self.percent: str | None = None
+
+    def output(self, line: str) -> None:
+        match = _PERCENT.match(line)
+        if match:
+            self.percent = match.group(1)
+
+    def tick(self, what: str) -> None:
+        if self.throttle.due():
+            done = f" {self.percent}%" if what == "compile" and self.percent else ""
+            progress.say(f"building the middleware: {what}{done}, {progress.seconds(self.elapsed())} so far")
+
+
+def _run_logged(cmd: list[str], log: Path, env: dict[str, str], what: str, shown: _Progress | None = None) -> None:
+    with log.open("ab") as out:
+        out.write(("$ " + " ".join(cmd) + "\n").encode())
         out.flush()
-        result = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT, env=env)
-    if result.returncode != 0:
+        with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env) as proc:
+            assert proc.stdout is not None
+            _follow(proc.stdout.fileno(), out, what, shown)
+        returncode = proc.wait()
+    if returncode != 0:
         tail = "\n".join(log.read_text(errors="replace").splitlines()[-_BUILD_LOG_TAIL:])
         raise SetupError(
             f"Building the recording middleware failed at the {what} step "
-            f"(exit status {result.returncode}). Full log: {log}\nLast lines:\n{tail}"
+            f"(exit status {returncode}). Full log: {log}\nLast lines:\n{tail}"
         )
 
 
-def build(src: Path, ros: ros_env.RosEnvironment, dest: Path) -> Path:
-    """Configure, build and install ``src`` into ``dest/install``; return the library path."""
+def _follow(fd: int, out: BinaryIO, what: str, shown: _Progress | None) -> None:
+    """Copy a build step's output to its log until it ends, feeding ``shown`` its lines and a
+    tick at least every second (a progress line is due every few seconds, output or not)."""
+    pending = b""
+    while True:
+        readable, _, _ = select.select([fd], [], [], 1.0)
+        if readable:
+            chunk = os.read(fd, 65536)
+            if not chunk:
+                break
+            out.write(chunk)
+            pending += chunk
+            *lines, pending = pending.split(b"\n")
+            if shown is not None:
+                for line in lines:
+                    shown.output(line.decode(errors="replace"))
+        if shown is not None:
+            shown.tick(what)
+
+
+def build(src: Path, ros: ros_env.RosEnvironment, dest: Path, reason: str = "") -> Path:
+    """Configure, build and install ``src`` into ``dest/install``; return the library path. Says
+    on the terminal that it starts (and why: ``reason``), how far it got, and that it ended."""
     _require_tools()
     build_dir, install_dir, log = dest / "build", dest / "install", dest / "build.log"
     shutil.rmtree(build_dir, ignore_errors=True)
     dest.mkdir(parents=True, exist_ok=True)
     log.write_text("")
+    why = f" ({reason})" if reason else ""
+    with progress.step(
+        f"building the recording middleware for ROS 2 {ros.distro}{why}; once per source version, "
+        f"usually {BUILD_TIME}; log: {log}",
+        "built the recording middleware in {time}",
+        "building the recording middleware failed",
+    ) as elapsed:
+        library = _configure_build_install(src, ros, build_dir, install_dir, log, _Progress(elapsed))
+    shutil.rmtree(build_dir, ignore_errors=True)
+    return library
+
+
+def _configure_build_install(src: Path, ros: ros_env.RosEnvironment, build_dir: Path, install_dir: Path,
+                             log: Path, shown: _Progress) -> Path:
     env = dict(os.environ)
     env["AMENT_PREFIX_PATH"] = os.pathsep.join(str(p) for p in ros.ament_prefixes)
     env["LD_LIBRARY_PATH"] = ros.library_path(env.get("LD_LIBRARY_PATH"))
@@ -162,14 +268,13 @@ def build(src: Path, ros: ros_env.RosEnvironment, dest: Path) -> Path:
             "-DCMAKE_BUILD_TYPE=Release",
             "-DBUILD_TESTING=OFF",
         ],
-        log, env, "CMake configure",
+        log, env, "CMake configure", shown,
     )
-    _run_logged(["cmake", "--build", str(build_dir), "-j", str(os.cpu_count() or 2)], log, env, "compile")
-    _run_logged(["cmake", "--install", str(build_dir)], log, env, "install")
+    _run_logged(["cmake", "--build", str(build_dir), "-j", str(os.cpu_count() or 2)], log, env, "compile", shown)
+    _run_logged(["cmake", "--install", str(build_dir)], log, env, "install", shown)
     library = install_dir / "lib" / LIBRARY_FILE
     if not library.is_file():
         raise SetupError(f"The middleware build finished but {library} is missing. Full log: {log}")
-    shutil.rmtree(build_dir, ignore_errors=True)
     return library
 
 
@@ -203,30 +308,88 @@ def resolve_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path |
     installed = find_installed(ros)
     if installed is not None:
         return MiddlewareLibrary(installed, "installed")
+    prebuilt = find_prebuilt(ros)
+    if prebuilt is not None:
+        return MiddlewareLibrary(prebuilt, "prebuilt")
+    return MiddlewareLibrary(source_build(ros, cache_dir, source_build_reason(ros)), "built")
 
-    src = source_dir()
+
+def cache_entry(ros: ros_env.RosEnvironment, cache_dir: Path | None = None) -> Path:
+    """The cache directory of the build for ``ros`` of the bundled sources as they are now (its
+    lock ``<entry>.lock`` and, while a process builds, ``<entry>.builder`` beside it)."""
     root = Path(cache_dir) if cache_dir else cache_root()
-    key = hashlib.sha256(
-        f"{sources_hash(src, memo_dir=root)}|{ros.distro}|{ros.prefix}".encode()
-    ).hexdigest()[:16]
-    dest = root / f"{ros.distro}-{key}"
+    key = hashlib.sha256(f"{sources_hash(source_dir(), memo_dir=root)}|{ros.distro}|{ros.prefix}".encode()).hexdigest()[:16]
+    return root / f"{ros.distro}-{key}"
+
+
+def source_build(ros: ros_env.RosEnvironment, cache_dir: Path | None = None, reason: str = "") -> Path:
+    """The library built from the bundled sources for ``ros`` in the cache, building it (or
+    waiting for another process that builds it) if need be."""
+    src = source_dir()
+    dest = cache_entry(ros, cache_dir)
+    root = dest.parent
     library = dest / "install" / "lib" / LIBRARY_FILE
     stamp = dest / "complete"
     if stamp.exists() and library.is_file():  # built already: no lock needed to read it
-        return MiddlewareLibrary(library, "built")
-    from filelock import FileLock
-
+        return library
     root.mkdir(parents=True, exist_ok=True)
-    with FileLock(str(root / f"{ros.distro}-{key}.lock")):
+    with _build_lock(root / f"{dest.name}.lock", dest, ros):
         if not (stamp.exists() and library.is_file()):
-            build(src, ros, dest)
+            holder = root / f"{dest.name}.builder"
+            holder.write_text(f"{os.getpid()} {progress.scope() or '-'}\n")
+            try:
+                build(src, ros, dest, reason)
+            finally:
+                holder.unlink(missing_ok=True)
             stamp.write_text(str(library) + "\n")
-    return MiddlewareLibrary(library, "built")
+    return library
 
 
-def main() -> int:
-    """``python -m pytest_rmw_introspect.run.middleware``: build if need be, print the library path."""
+@contextmanager
+def _build_lock(path: Path, dest: Path, ros: ros_env.RosEnvironment) -> Iterator[None]:
+    """Hold the build lock of ``dest``. Waiting for it (another process builds) says so after
+    ``WAIT_NOTICE_AFTER`` seconds, with the builder's log, unless the builder is a worker of
+    this same run (it tells the user itself); workers of one run say it once."""
+    from filelock import FileLock, Timeout
+
+    lock = FileLock(str(path))
     try:
+        lock.acquire(timeout=WAIT_NOTICE_AFTER)
+    except Timeout:
+        pid, scope = _builder(path.with_suffix(".builder"))
+        told = scope is None or scope != progress.scope()
+        if told:
+            progress.say_once(f"wait-{dest.name}", f"waiting for another process (pid {pid}) that builds the "
+                              f"recording middleware for ROS 2 {ros.distro}; its log: {dest / 'build.log'}")
+        began = time.monotonic()
+        lock.acquire()
+        if told:
+            progress.say_once(f"waited-{dest.name}", "the other process's middleware build ended after "
+                              f"{progress.seconds(time.monotonic() - began)} of waiting")
+    try:
+        yield
+    finally:
+        lock.release()
+
+
+def _builder(holder: Path) -> tuple[str, str | None]:
+    """The pid and run (``progress.scope``) of the process that builds, from its holder file."""
+    try:
+        pid, scope = holder.read_text(encoding="ascii").split()
+    except (OSError, ValueError, UnicodeDecodeError):
+        return "unknown", None
+    return pid, None if scope == "-" else scope
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m pytest_rmw_introspect.run.middleware [--source-build]``: find the library
+    (``--source-build``: the one built from the bundled sources, as ``make dist`` ships it),
+    building it if need be; print its path."""
+    args = sys.argv[1:] if argv is None else argv
+    try:
+        if args == ["--source-build"]:
+            print(source_build(ros_env.detect(), reason="requested with --source-build"))
+            return 0
         found = resolve_library()
     except SetupError as exc:
         print(f"error: {exc}", file=sys.stderr)

@@ -69,7 +69,7 @@ from ..errors import (
     TargetExited,
     TargetTimeout,
 )
-from . import failure_hints, process, ros_env
+from . import failure_hints, process, progress, ros_env
 from .target import resolve
 
 if TYPE_CHECKING:
@@ -207,6 +207,31 @@ def _server_cwd(target: ResolvedTarget) -> str:
     return str(target.cwd) if target.cwd is not None else os.getcwd()
 
 
+#: seconds a capture waits quietly for a warm start server that is still starting
+_QUIET_WAIT = 1.0
+
+
+def _warm_server(warm: Any, env: dict[str, str], cwd: str, python: str | None, wait: float) -> Any:
+    """The ready warm start server for a target, or why there is none. A wait longer than
+    ``_QUIET_WAIT`` is said on the terminal (in the thread the user waits in: a capture started
+    ahead runs in one of its own, beside a running test)."""
+    if wait <= _QUIET_WAIT or threading.current_thread() is not threading.main_thread():
+        return warm.POOL.server(env, cwd, python, wait=wait)
+    server = warm.POOL.server(env, cwd, python, wait=_QUIET_WAIT)
+    if server != warm.STILL_STARTING:
+        return server
+    told = progress.say_once("warm-server", "the warm start server (one Python process that imports rclpy once, so "
+                             f"that captures start in milliseconds) is still starting; waiting up to {wait:.0f} s for it "
+                             "before starting the target cold")
+    began = time.monotonic()
+    server = warm.POOL.server(env, cwd, python, wait=wait - _QUIET_WAIT)
+    if told:
+        waited = progress.seconds(_QUIET_WAIT + time.monotonic() - began)
+        progress.say(f"the warm start server is ready after {waited}" if isinstance(server, warm.WarmServer)
+                     else f"no warm start server after {waited} ({server}): the target starts cold")
+    return server
+
+
 def _start(target: ResolvedTarget, python: str | None, warm_wait: float | None) -> _Started:
     """Start the target: forked from a warm start server when it can be (``target.warm``), else a
     new process (``warm_wait``: default ``warm.DEFAULT_WAIT``)."""
@@ -218,7 +243,7 @@ def _start(target: ResolvedTarget, python: str | None, warm_wait: float | None) 
         if warm_wait is None:
             warm_wait = warm.DEFAULT_WAIT
         cwd = _server_cwd(target)
-        server = warm.POOL.server(env, cwd, python, wait=warm_wait)
+        server = _warm_server(warm, env, cwd, python, warm_wait)
         if isinstance(server, warm.WarmServer):
             try:
                 child = server.spawn(target.warm, env=env, cwd=cwd)

@@ -25,9 +25,9 @@ import shlex
 import shutil
 import tempfile
 import threading
-from collections.abc import Mapping, Sequence
-from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, cast
 
@@ -41,8 +41,10 @@ from ..model.capture import Capture
 from ..model.contract_shapes import ContractNode, ContractNodes, LaunchBlock, ProcessEntry, TargetBlock
 from ..model.paths import shown
 from ..model.stand_ins import StoodIn
+from ..model.unstable_names import NODE_KEY as UNSTABLE_NAME
+from ..model.unstable_names import NameRules, contract_keys
 from ..model.vocabulary import DESTROYED_AT, LIFECYCLE, PARAMETERS
-from . import middleware, ros_env, runner
+from . import middleware, progress, ros_env, runner
 from .target import TargetSpec
 
 #: keys of a ``launch:`` block
@@ -128,21 +130,30 @@ class ProcessCapture:
             return sorted(self.stood_in.nodes)
         return self.capture.node_names if self.capture is not None else []
 
+    @property
+    def named_by_launch(self) -> frozenset[str]:
+        """The node name the launch file gives this process (stable by construction: never a
+        pattern of ``model.unstable_names``)."""
+        return frozenset({self.launched.expected_fqn} if self.launched.expected_fqn else ())
+
     def contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> ContractNodes:
         if self.stood_in is not None:
             return _without(self.stood_in.nodes, () if with_type_hash else ("type_hash",),
                             () if with_qos else ("qos",))
         if self.capture is None:
             return {}
-        return self.capture.to_contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos)
+        return self.capture.to_contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos,
+                                              names=NameRules(stable=self.named_by_launch))
 
-    def entry(self) -> ProcessEntry:
-        """This process in a system contract's ``processes:`` block."""
+    def entry(self, node_keys: Sequence[str] | None = None) -> ProcessEntry:
+        """This process in a system contract's ``processes:`` block (``node_keys``: its nodes'
+        keys in the contract; default their names)."""
         launched = self.launched
+        nodes = sorted(node_keys) if node_keys is not None else self.node_names
         if launched.package:
             return {"package": launched.package, "executable": launched.executable, "name": launched.expected_fqn,
-                    "nodes": self.node_names}
-        return {"executable": launched.executable, "name": launched.expected_fqn, "nodes": self.node_names}
+                    "nodes": nodes}
+        return {"executable": launched.executable, "name": launched.expected_fqn, "nodes": nodes}
 
 
 @dataclass
@@ -153,13 +164,36 @@ class SystemCapture:
     launch: LaunchResult
     processes: list[ProcessCapture]
 
-    def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True) -> ContractNodes:
+    def keyed_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True,
+                    names: NameRules | None = None) -> list[list[tuple[str, ContractNode]]]:
+        """Per process, each of its nodes with its key in the contract (``unstable_names``: a
+        name that changes every run under its pattern, the nodes of one pattern in all processes
+        compared as a set; the names the launch file gives are kept)."""
+        named: list[tuple[str, ContractNode, int | None]] = []
+        owners: list[int] = []
+        for index, process in enumerate(self.processes):
+            if process.capture is not None:
+                found = process.capture.named_contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos)
+                named += found
+                owners += [index] * len(found)
+        rules = names or NameRules()
+        rules = replace(rules, stable=rules.stable.union(*(p.named_by_launch for p in self.processes)))
+        out: list[list[tuple[str, ContractNode]]] = [[] for _ in self.processes]
+        for owner, keyed in zip(owners, contract_keys(named, rules), strict=True):
+            out[owner].append(keyed)
+        for index, process in enumerate(self.processes):
+            if process.stood_in is not None:  # a stand-in's contract names its nodes as they are
+                out[index] = sorted(process.contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos).items())
+        return out
+
+    def to_contract_nodes(self, *, with_type_hash: bool = True, with_qos: bool = True,
+                          names: NameRules | None = None) -> ContractNodes:
         """All nodes of the system (a node name held by several processes: the union of their
         interfaces and parameters, the first one's lifecycle state, and ``destroyed_at`` only when
         every holder destroyed it: the latest, since the name lived until then)."""
         merged: dict[str, dict[str, Any]] = {}
-        for process in self.processes:
-            for fqn, node in process.contract_nodes(with_type_hash=with_type_hash, with_qos=with_qos).items():
+        for process_nodes in self.keyed_nodes(with_type_hash=with_type_hash, with_qos=with_qos, names=names):
+            for fqn, node in process_nodes:
                 first = fqn not in merged
                 into = merged.setdefault(fqn, {})
                 keys: Mapping[str, Any] = node  # merged key by key, whatever the key
@@ -169,7 +203,7 @@ class SystemCapture:
                     if key == DESTROYED_AT:
                         if first or DESTROYED_AT in into:
                             into[key] = max(value, into.get(key, value))
-                    elif key == LIFECYCLE:
+                    elif key in (LIFECYCLE, UNSTABLE_NAME):
                         into.setdefault(key, value)
                     elif key == PARAMETERS:
                         have = {e["name"] for e in into.setdefault(key, [])}
@@ -182,8 +216,8 @@ class SystemCapture:
         # the union of contract nodes is a contract node
         return {fqn: cast(ContractNode, merged[fqn]) for fqn in sorted(merged)}
 
-    def process_entries(self) -> list[ProcessEntry]:
-        return [p.entry() for p in self.processes]
+    def process_entries(self, names: NameRules | None = None) -> list[ProcessEntry]:
+        return [p.entry([key for key, _node in keyed]) for p, keyed in zip(self.processes, self.keyed_nodes(names=names), strict=True)]
 
     @property
     def node_names(self) -> list[str]:
@@ -340,6 +374,23 @@ def process_spec(node: LaunchedNode, base: TargetSpec, params_dir: Path) -> Targ
     return spec.merged(options, source=f"launch file {node.where}")
 
 
+#: seconds between two lines of a long system capture's progress
+PROGRESS_EVERY = 5.0
+
+
+def _results(pool: ThreadPoolExecutor, run_one: Callable[[int], TargetError | None], count: int,
+             elapsed: Callable[[], float] | None) -> list[TargetError | None]:
+    """Each process's error (or None), in the launch file's order; with ``elapsed``, a progress
+    line every few seconds says how many of them are captured."""
+    futures = [pool.submit(run_one, i) for i in range(count)]
+    if elapsed is not None:
+        throttle = progress.Throttle(PROGRESS_EVERY)
+        for done, _future in enumerate(as_completed(futures), start=1):
+            if throttle.due() and done < count:
+                progress.say(f"captured {done} of {count} processes, {progress.seconds(elapsed())} so far")
+    return [future.result() for future in futures]
+
+
 def capture_system(
     spec: LaunchSpec,
     *,
@@ -397,7 +448,13 @@ def capture_system(
                              jobs or os.cpu_count() or 2))
         pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="rmw-introspect-system")
         try:
-            errors = [future.result() for future in [pool.submit(run_one, i) for i in range(len(processes))]]
+            if len(processes) > workers:  # more than one round of captures: seconds, said on the terminal
+                with progress.step(f"capturing the {len(processes)} processes of {shown(spec.path)}, {workers} at a time",
+                                   f"captured the {len(processes)} processes of {shown(spec.path)} in {{time}}",
+                                   f"capturing the processes of {shown(spec.path)} ended") as elapsed:
+                    errors = _results(pool, run_one, len(processes), elapsed)
+            else:
+                errors = _results(pool, run_one, len(processes), None)
         except BaseException:
             # Ctrl-C or SIGTERM (the CLI's Terminated) reaches this thread only: the workers' targets
             # are stopped now and the processes not started yet never start, instead of each

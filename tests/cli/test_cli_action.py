@@ -11,14 +11,19 @@ from pathlib import Path
 
 import yaml
 from cli_helpers import NODES
+from git_history import GitRepo, endpoint, node_contract
 from sample_contracts import talker_contract
 
 ACTION = Path(__file__).resolve().parents[2] / "action.yml"
 TALKER = f"script: {NODES / 'talker.py'}"
 
 
+def _step(step_id: str) -> dict:
+    return next(s for s in yaml.safe_load(ACTION.read_text())["runs"]["steps"] if s.get("id") == step_id)
+
+
 def _run_check_step(cli, contracts: str, **inputs: str) -> tuple[subprocess.CompletedProcess[str], str, str]:
-    step = next(s for s in yaml.safe_load(ACTION.read_text())["runs"]["steps"] if s.get("id") == "check")
+    step = _step("check")
     summary, output = cli.path / "summary.md", cli.path / "output.txt"
     summary.write_text("# earlier step\n")
     output.write_text("")
@@ -58,3 +63,36 @@ def test_check_summary_to_a_file_that_cannot_be_written_is_an_error(cli):
     result = cli("check", "talker.interfaces.yaml", "--summary", "no/such/dir/summary.md")
     assert result.returncode == 2, result
     assert "--summary no/such/dir/summary.md: cannot append the report" in result.stderr
+
+
+def test_the_action_gates_a_pull_request_against_its_base(tmp_path):
+    """The gate step (input `against`) on a repository with real history: the breaking change of
+    the branch is an annotation on the contract line, the report lands in the job summary."""
+    repo = GitRepo(tmp_path / "repo")
+    repo.write("contracts/talker.interfaces.yaml", node_contract(publishers=endpoint("/chatter"), version="1.0.0"))
+    repo.commit("talker")
+    repo.git("checkout", "-q", "-b", "pr")
+    repo.write("contracts/talker.interfaces.yaml", node_contract(publishers=endpoint("/chatter", "std_msgs/msg/Int32"),
+                                                                 version="1.1.0"))
+    repo.commit("retype with a minor bump")
+    summary, output = tmp_path / "summary.md", tmp_path / "output.txt"
+    summary.write_text("# earlier step\n")
+    output.write_text("")
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
+               GITHUB_STEP_SUMMARY=str(summary), GITHUB_OUTPUT=str(output), RMWI_AGAINST="main...HEAD",
+               RMWI_FAIL_ON="", RMWI_BASELINE="")
+    result = subprocess.run(["bash", "-e", "-c", _step("gate")["run"]], cwd=repo.path, env=env, capture_output=True,
+                            text=True, timeout=180)
+    assert result.returncode == 1, result
+    assert ("::error file=contracts/talker.interfaces.yaml,line=2,title=INTERFACE_VERSION_BUMP_MISSING (BREAKING)::"
+            in result.stdout), result.stdout
+    assert "write interface_version: 2.0.0" in summary.read_text() and summary.read_text().startswith("# earlier")
+    assert output.read_text() == "exit-code=1\n"
+
+    repo.write("contracts/talker.interfaces.yaml", node_contract(publishers=endpoint("/chatter", "std_msgs/msg/Int32"),
+                                                                 version="2.0.0"))
+    repo.commit("2.0.0")
+    output.write_text("")
+    again = subprocess.run(["bash", "-e", "-c", _step("gate")["run"]], cwd=repo.path, env=env, capture_output=True,
+                           text=True, timeout=180)
+    assert again.returncode == 0 and output.read_text() == "exit-code=0\n", again

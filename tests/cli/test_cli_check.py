@@ -247,3 +247,13 @@ def test_the_shards_of_a_check_together_are_the_unsharded_check(cli):
     assert bad.returncode == 2 and "--shard 3/2: I must be between 1 and N" in bad.stderr, bad
     partial = cli("check", *names, "--shard", "1/2", "--write-baseline", "b.json")
     assert partial.returncode == 2 and "write the baseline from a run over every contract" in partial.stderr, partial
+
+
+def test_check_update_never_changes_the_interface_version_but_says_which_bump_it_needs(cli):
+    versioned = "# versioned\ninterface_version: 1.4.2\n"
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, depth=20, header=versioned))
+    updated = cli("check", "--update", "talker.interfaces.yaml")
+    assert updated.returncode == 0, updated
+    assert ("note: talker.interfaces.yaml: interface_version 1.4.2 was not changed: this update holds RISKY "
+            "change(s), which need a MINOR bump: write interface_version: 1.5.0") in updated.stderr, updated.stderr
+    assert cli.read("talker.interfaces.yaml") == talker_contract(target=TALKER, depth=10, header=versioned)

@@ -64,7 +64,7 @@ def test_diff_options(cli_nodes_only):
     [
         (("diff", "old.yaml", "missing.yaml"), "invalid contract missing.yaml: the file does not exist"),
         (("diff", "old.yaml", "bad.yaml"), "invalid contract bad.yaml:2"),
-        (("diff", "old.yaml"), "the following arguments are required: NEW"),
+        (("diff", "old.yaml"), "diff compares two files, OLD and NEW (1 given)"),
         (("diff", "old.yaml", "old.yaml", "--ignore-qos", "colour"), "names unknown QoS field(s) colour"),
         (("compat", "old.yaml", "missing.yaml"), "invalid contract missing.yaml: the file does not exist"),
         (("compat",), "the following arguments are required: CONTRACT"),

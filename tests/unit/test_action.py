@@ -1,5 +1,6 @@
 """The GitHub Action at the repository root (action.yml): linted with actionlint, and its inputs
-used and documented consistently.
+used and documented consistently; the CI recipes of docs/ci.md linted too (GitHub Actions with
+actionlint, GitLab CI against GitLab's own CI schema with check-jsonschema).
 
 actionlint reads an action's metadata only where a workflow uses it (``uses: ./``), and lints
 scripts and expressions only inside workflows. So the lint runs on two workflows made here: one
@@ -116,3 +117,48 @@ def test_the_documented_workflow_recipes_lint_clean(tmp_path):
     subprocess.run(["git", "init", "-q"], cwd=tmp_path, check=True)
     result = subprocess.run([actionlint, "-no-color"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+NO_CHECK_JSONSCHEMA = ("check-jsonschema not found: `make bootstrap` installs it (from the lock); elsewhere "
+                       "`pip install check-jsonschema` or name its command in CHECK_JSONSCHEMA")
+
+
+def _gitlab_recipes() -> list[str]:
+    """The GitLab CI recipes docs/ci.md shows: ```yaml blocks of jobs with a `script:`."""
+    text = CI_RECIPES.read_text(encoding="utf-8")
+    return [block for block in re.findall(r"```ya?ml\n(.*?)```", text, re.S)
+            if not block.startswith(("jobs:", "repos:")) and "\n  script:\n" in block]
+
+
+def _lint_gitlab(tmp_path: Path, recipe: str, number: int) -> subprocess.CompletedProcess[str]:
+    command = (os.environ.get("CHECK_JSONSCHEMA") or shutil.which("check-jsonschema")
+               or shutil.which("check-jsonschema", path=str(Path(sys.executable).parent)))
+    if command is None:
+        pytest.skip(NO_CHECK_JSONSCHEMA)
+    path = tmp_path / f"recipe{number}" / ".gitlab-ci.yml"
+    path.parent.mkdir()
+    path.write_text(recipe, encoding="utf-8")
+    # GitLab's own CI schema, as check-jsonschema ships it (no network)
+    return subprocess.run([command, "--builtin-schema", "vendor.gitlab-ci", "--no-cache", str(path)],
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_the_documented_gitlab_recipes_lint_clean(tmp_path):
+    """The GitLab CI recipes of docs/ci.md are valid against GitLab's CI schema."""
+    recipes = _gitlab_recipes()
+    assert len(recipes) >= 2, "docs/ci.md shows a GitLab recipe for check and one for the gate"
+    assert any("diff --against" in recipe for recipe in recipes)
+    for number, recipe in enumerate(recipes, 1):
+        result = _lint_gitlab(tmp_path, recipe, number)
+        assert result.returncode == 0, recipe + result.stdout + result.stderr
+
+
+@pytest.mark.parametrize(("change", "found"), [
+    (("  script:\n", "  scripts:\n"), "scripts"),  # a key GitLab does not have
+    (("    when: always\n", "    when: sometimes\n"), "sometimes"),  # a value it does not take
+])
+def test_the_gitlab_lint_finds_a_broken_recipe(tmp_path, change, found):
+    """The lint can fail."""
+    recipe = next(r for r in _gitlab_recipes() if change[0] in r)
+    result = _lint_gitlab(tmp_path, recipe.replace(*change, 1), 1)
+    assert result.returncode != 0 and found in result.stdout + result.stderr, result.stdout + result.stderr

@@ -90,7 +90,7 @@ nodes:
     ("contract_version: 1\nnodes:\n  /t:\n    parameters:\n      - {name: a, type: bool, wat: 1}\n",
      "at nodes./t.parameters[0]: unknown key 'wat' (allowed keys: see the contract schema"),
     ("contract_version: 1\nnodes:\n  /t:\n    publisher: []\n",
-     "unknown key 'publisher'; allowed: action_clients, action_servers, destroyed_at, lifecycle, parameters, publishers"),
+     "unknown key 'publisher'; did you mean 'publishers'? (allowed keys: see the contract schema"),
 ])
 def test_unknown_keys_are_named_and_long_lists_of_allowed_keys_point_at_the_schema(text, wanted):
     """A message listing the 21 keys `target:` takes was one line of 300-375 characters."""
@@ -180,7 +180,7 @@ BAD = [
     ("contract_version: 1\nnodes:\n  /ok: {}\n  talker: {}\n", "nodes.talker", 4, "not a fully qualified node name"),
     ("contract_version: 2\nnodes: {}\n", "contract_version", 1, "contract_version 2 is not supported"),
     ("nodes: {}\n", None, 1, "'contract_version' is required"),
-    ("contract_version: 1\nfoo: 1\nnodes: {}\n", None, 2, "unknown key 'foo'; allowed: accept, contract_version, nodes, options, ros_distribution, target, types"),
+    ("contract_version: 1\nfoo: 1\nnodes: {}\n", None, 2, "unknown key 'foo'; allowed: accept, contract_version, interface_version, nodes, options, ros_distribution, target, types, unstable_names"),
     (
         (
             "contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a, type: std_msgs/msg/String}\n"
@@ -247,8 +247,8 @@ def test_every_problem_of_a_file_is_listed_with_its_own_line():
     with pytest.raises(ContractError) as info:
         loads("contract_version: 2\nfoo: 1\nnodes: {}\n", path="c.yaml")
     assert str(info.value).splitlines() == [
-        "invalid contract c.yaml:2: unknown key 'foo'; allowed: accept, contract_version, nodes, options, "
-        "ros_distribution, target, types",
+        "invalid contract c.yaml:2: unknown key 'foo'; allowed: accept, contract_version, interface_version, "
+        "nodes, options, ros_distribution, target, types, unstable_names",
         "1 more problem in the file:",
         "  c.yaml:1: at contract_version: contract_version 2 is not supported; this plugin reads contract_version 1",
     ]

@@ -299,6 +299,7 @@ def test_qos_rules(kind, field, old, new, rule, severity):
 
 def test_every_rule_has_a_test_row():
     from test_destruction_drift import TESTED_RULES as DESTRUCTION_RULES  # what the program destroys
+    from test_gate import TESTED_RULES as GATE_RULES  # diff --against: versions and consumers
     from test_parameter_drift import TESTED_RULES as PARAMETER_RULES  # parameters and lifecycle
     from test_type_drift import TESTED_RULES as TYPE_DESCRIPTION_RULES  # rules of the types: section
     from test_type_lock import TESTED_RULES as TYPE_LOCK_RULES  # the package's type lock
@@ -306,7 +307,7 @@ def test_every_rule_has_a_test_row():
     tested = {row[2] for row in PRESENCE_ROWS} | {row[4] for row in QOS_ROWS} | {
         "NODE_ADDED", "NODE_REMOVED", "TYPE_CHANGED", "TYPE_HASH_CHANGED", "TYPE_HASH_DISTRIBUTION_CHANGED"} \
         | set(RENAME_RULES.values()) \
-        | TYPE_DESCRIPTION_RULES | PARAMETER_RULES | TYPE_LOCK_RULES | DESTRUCTION_RULES
+        | TYPE_DESCRIPTION_RULES | PARAMETER_RULES | TYPE_LOCK_RULES | DESTRUCTION_RULES | GATE_RULES
     assert tested == set(drift.RULES)
 
 

@@ -9,6 +9,7 @@ import pytest
 
 from pytest_rmw_introspect.compare import graph
 from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
+from pytest_rmw_introspect.model.project_urls import COMPATIBILITY_RULES
 from pytest_rmw_introspect.model.vocabulary import Severity
 
 STRING = "std_msgs/msg/String"
@@ -65,7 +66,9 @@ def test_the_graph_marks_every_problem():
     # what fits is not marked
     chatter_edges = [e for e in g.edges if g.vertices[e.target].label == "/robot/chatter"]
     assert len(chatter_edges) == 2 and not any(e.marks for e in chatter_edges)
-    assert g.vertices[chatter_edges[0].target].detail == STRING
+    assert g.vertices[chatter_edges[0].target].types == [STRING]
+    # the two ends of a TYPE_MISMATCH: the topic keeps both types
+    assert by_label["/robot/map"][0].types == ["nav_msgs/msg/OccupancyGrid", STRING]
 
 
 def test_several_servers_mark_the_service_and_both_edges():
@@ -82,7 +85,8 @@ def test_mermaid():
     assert text.startswith("flowchart LR\n")
     assert 'subgraph p0["demo/map_server"]' in text
     assert re.search(r'n\d+\["/robot/map_server"\]', text)
-    assert re.search(r't\d+\(\["/robot/map<br/><small>nav_msgs/msg/OccupancyGrid</small>"\]\)', text)
+    assert re.search(r't\d+\(\["/robot/map<br/><small>nav_msgs/msg/OccupancyGrid</small>'
+                     r'<br/><small>std_msgs/msg/String</small>"\]\)', text)
     assert re.search(r's\d+\{\{"/robot/enable_motor<br/><small>std_srvs/srv/SetBool</small><br/><b>DANGLING_SERVICE_CLIENT</b>"\}\}', text)
     assert re.search(r'n\d+ -- "TYPE_MISMATCH" --> t\d+', text)
     # every marked link is styled by its index among all links
@@ -109,12 +113,15 @@ class _Collector(HTMLParser):
     def __init__(self):
         super().__init__()
         self.tags: list[str] = []
-        self.external: list[str] = []
+        self.external: list[str] = []  # what the page would load
+        self.links: list[str] = []  # where it links to
 
     def handle_starttag(self, tag, attrs):
         self.tags.append(tag)
         for key, value in attrs:
-            if key in ("src", "href") and value and not value.startswith("#"):
+            if tag == "a" and key == "href":
+                self.links.append(value)
+            elif key in ("src", "href") and value and not value.startswith("#"):
                 self.external.append(value)
 
 
@@ -123,6 +130,9 @@ def test_html_is_one_self_contained_page():
     collector = _Collector()
     collector.feed(page)
     assert collector.external == []  # nothing fetched
+    # the legend and each rule id of the table link to the compatibility rules' documentation
+    assert collector.links and set(collector.links) == {COMPATIBILITY_RULES}
+    assert len(collector.links) == 1 + len(build().items)
     assert "script" not in collector.tags
     assert "svg" in collector.tags and "table" in collector.tags
     assert "<title>Broken &lt;robot&gt;</title>" in page
@@ -143,3 +153,67 @@ def test_render_dispatch():
     assert graph.render(g, "html").startswith("<!DOCTYPE html>")
     with pytest.raises(ValueError, match="unknown graph format 'png'"):
         graph.render(g, "png")
+
+
+def test_dot_keeps_the_types_beside_the_rule_ids():
+    text = graph.to_dot(build())
+    # both types of the TYPE_MISMATCH topic; a marked service keeps its type above its rule id
+    assert re.search(r't\d+ \[label="/robot/map\\nnav_msgs/msg/OccupancyGrid\\nstd_msgs/msg/String", shape=ellipse\]', text)
+    assert re.search(r's\d+ \[label="/robot/enable_motor\\nstd_srvs/srv/SetBool\\nDANGLING_SERVICE_CLIENT", '
+                     r'shape=hexagon', text)
+
+
+def _rects(svg: str, cls: str) -> list[tuple[float, float, float, float]]:
+    """left, top, right, bottom of the first <rect> of every element of class ``cls``."""
+    found = []
+    for match in re.finditer(rf'<g class="{cls}[^"]*"[^>]*>.*?<rect[^>]*?x="([\d.]+)" y="([\d.]+)" '
+                             rf'width="([\d.]+)" height="([\d.]+)"', svg):
+        x, y, w, h = map(float, match.groups())
+        found.append((x, y, x + w, y + h))
+    return found
+
+
+def test_the_edge_labels_sit_between_the_columns_clear_of_every_box():
+    """Long and stacked labels (two rules on one edge) widen the gap between the columns instead
+    of covering a box; labels do not cover each other either. (The browser test measures the same
+    on the rendered page, with the real fonts.)"""
+    processes = [LaunchedProcess(f"p{i}", None, {f"/sub{i}": node(subscriptions=[
+        {"name": "/raw", "type": STRING, "qos": {"reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}},
+        {"name": f"/odom{i}", "type": "nav_msgs/msg/Odometry"}])}) for i in range(5)]
+    processes.append(LaunchedProcess("pub", None, {"/pub": node(publishers=[
+        {"name": "/raw", "type": "std_msgs/msg/Int32", "qos": {"reliability": "BEST_EFFORT", "durability": "VOLATILE"}}])}))
+    processes.append(LaunchedProcess("pub2", None, {"/pub2": node(publishers=[
+        {"name": "/raw", "type": STRING, "qos": {"reliability": "BEST_EFFORT", "durability": "VOLATILE"}}])}))
+    g = graph.build(processes, check_launched(processes))
+    svg = graph.to_svg(g)
+    boxes, labels = _rects(svg, "vertex"), _rects(svg, "edge-label")
+    assert len(boxes) == len(g.vertices) and len(labels) == sum(1 for e in g.edges if e.marks) >= 10
+    assert any("<text" in part and "TYPE_MISMATCH" in part and "QOS_INCOMPATIBLE" in part
+               for part in svg.split('<g class="edge-label">')[1:]), "no edge with two rules: nothing stacked"
+
+    def overlap(a, b):
+        return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+    assert [(label, box) for label in labels for box in boxes if overlap(label, box)] == []
+    assert [(a, b) for i, a in enumerate(labels) for b in labels[i + 1:] if overlap(a, b)] == []
+
+
+def test_a_box_of_a_marked_interface_keeps_its_type_and_adds_its_rule():
+    svg = graph.to_svg(build())
+    lines = {}
+    for group in re.findall(r'<g class="vertex .*?</g>', svg):
+        texts = re.findall(r">([^<>]+)</text>", group)
+        lines.setdefault(texts[0], []).extend(texts[1:])
+    assert lines["service /robot/enable_motor"] == ["std_srvs/srv/SetBool", "DANGLING_SERVICE_CLIENT"]
+    assert lines["topic /robot/map"] == ["nav_msgs/msg/OccupancyGrid", STRING]  # both ends' types
+    # a node: its process, then its rule
+    assert lines["/robot/talker"] == ["demo/talker", "DUPLICATE_NODE_NAME", "demo/talker #2", "DUPLICATE_NODE_NAME"]
+    assert lines["/robot/silent"] == ["demo/silent", "not created", "LAUNCHED_NODE_NOT_CREATED"]
+
+
+def test_a_drawing_is_titled_by_what_it_draws():
+    from pytest_rmw_introspect.cli.system_contracts import drawing_title
+
+    assert drawing_title(["contracts/talker.interfaces.yaml"], any_system=False) == "Node contract talker.interfaces.yaml"
+    assert drawing_title(["a.yaml", "b/c.yaml"], any_system=False) == "Node contracts a.yaml, c.yaml"
+    assert drawing_title(["robot.system.yaml"], any_system=True) == "System robot.system.yaml"

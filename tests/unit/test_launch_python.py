@@ -266,3 +266,24 @@ def test_xml_scoping_of_the_reader_equals_launch_ros(tmp_path, prefix, top_level
     assert [fqn for fqn, _, _ in theirs] == ["/robot1/lidar", "/robot1/t", "/robot1/after_include", "/after_groups",
                                              "/t", "/last"]
     assert ours == theirs
+
+
+def test_anon_names_of_a_python_launch_file_are_those_of_xml_and_stable_across_runs(tmp_path, prefix):
+    path = tmp_path / "anon.launch.py"
+    path.write_text(textwrap.dedent("""
+        from launch import LaunchDescription
+        from launch.substitutions import AnonName
+        from launch_ros.actions import Node
+
+
+        def generate_launch_description():
+            return LaunchDescription([Node(package='demo', executable='talker', name=AnonName('worker'))])
+    """))
+    xml = tmp_path / "anon.launch.xml"
+    xml.write_text('<launch><node pkg="demo" exec="talker" name="$(anon worker)"/></launch>')
+    names = {launch_reader.read(path, prefixes=[prefix]).nodes[0].name for _ in range(3)}
+    assert names == {launch_reader.read(xml, prefixes=[prefix]).nodes[0].name}
+    assert next(iter(names)).startswith("worker_anon_")
+    # launch's own AnonName is itself again after reading
+    from launch.substitutions import AnonName
+    assert "worker_anon_" not in AnonName("worker").compute_name("worker")

@@ -96,6 +96,9 @@ LOCAL_IMPORTS = {
                                                      "process loads the plugin's hooks, most have no contract test",
     ("plugin.marker", "pytest_rmw_introspect.check"): "the pipeline (~35 ms with the capture model): only "
                                                       "`interfaces` tests need it",
+    ("plugin.gate_items", "pytest_rmw_introspect.check"): "the gate and the comparison pipeline (~40 ms): only "
+                                                          "a session with --against",
+    ("plugin.gate_items", "pytest_rmw_introspect.compare"): "the baseline reader (with the drift rules): as above",
     ("plugin.system_marker", "pytest_rmw_introspect.check"): "the system pipeline and launch readers (~15 ms): "
                                                              "only system contracts need them",
 }

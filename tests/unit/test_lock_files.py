@@ -1,9 +1,10 @@
 """The lock files and the venv check that `make bootstrap` relies on (scripts/lock_status.py).
 
 requirements/jazzy.txt is what the README's two commands install; requirements/lowest.txt what
-`make lowest` installs. Both are written by `make lock`; these tests fail when pyproject.toml
-names a dependency the locks do not pin, pins one outside its range, or a floor pyproject.toml
-claims is not the version the lowest lock tests.
+`make lowest` installs; requirements/docs.txt what `make docs` builds the site with. All are
+written by `make lock`; these tests fail when pyproject.toml names a dependency the locks do not
+pin, pins one outside its range, or a floor pyproject.toml claims is not the version the lowest
+lock tests, and when the documentation's lock needs ROS 2 or differs from jazzy.txt.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from packaging.version import Version
 ROOT = Path(__file__).resolve().parents[2]
 LOCK = ROOT / "requirements" / "jazzy.txt"
 LOWEST = ROOT / "requirements" / "lowest.txt"
+DOCS = ROOT / "requirements" / "docs.txt"
 
 
 def _lock_status():
@@ -54,7 +56,7 @@ def test_every_declared_dependency_is_pinned_within_its_range(lock):
             f"{lock.name} pins {name}=={pins[name]}, outside pyproject.toml's {requirement}: run `make lock`"
 
 
-@pytest.mark.parametrize("lock", [LOCK, LOWEST], ids=["jazzy", "lowest"])
+@pytest.mark.parametrize("lock", [LOCK, LOWEST, DOCS], ids=["jazzy", "lowest", "docs"])
 def test_every_pin_has_hashes_and_the_build_tools_are_locked(lock):
     text = lock.read_text()
     blocks = [b for b in text.split("\n") if b and not b.startswith((" ", "#"))]
@@ -83,6 +85,27 @@ def test_both_locks_have_the_same_ros_distribution():
     lowest = {n: v for n, v in lock_status.read_lock(LOWEST).items() if n.startswith("ros-")}
     assert ros == lowest
     assert ros["ros-jazzy-rclpy"].startswith("7."), "the Jazzy lock pins a Jazzy rclpy"
+
+
+def test_the_docs_lock_builds_the_site_without_ros_with_the_versions_of_the_jazzy_lock():
+    docs, jazzy = lock_status.read_lock(DOCS), lock_status.read_lock(LOCK)
+    # what requirements/docs.in asks for, and what the reference pages import: the package's own
+    # dependencies (not its extras), each within pyproject.toml's range
+    wanted = [Requirement(line) for line in (ROOT / "requirements" / "docs.in").read_text().splitlines()
+              if line.strip() and not line.startswith(("#", "-r"))]
+    assert {canonicalize_name(r.name) for r in wanted} == {"mkdocs", "mkdocs-material"}
+    for requirement in wanted:
+        assert canonicalize_name(requirement.name) in docs, f"docs.txt does not pin {requirement}: run `make lock`"
+    dependencies = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["dependencies"]
+    for requirement in map(Requirement, dependencies):
+        name = canonicalize_name(requirement.name)
+        assert name in docs and requirement.specifier.contains(docs[name], prereleases=True), \
+            f"docs.txt pins {name}=={docs.get(name)}, not pyproject.toml's {requirement}: run `make lock`"
+    # no ROS 2: `make docs` needs neither the wheels nor the middleware
+    assert [name for name in docs if name.startswith(("ros-", "catkin"))] == []
+    # the site of `make docs` (.venv-docs) is the site tests/docs builds (.venv)
+    differing = {name: (version, jazzy[name]) for name, version in docs.items() if name in jazzy and jazzy[name] != version}
+    assert differing == {}, f"docs.txt and jazzy.txt pin different versions (docs, jazzy): {differing}: run `make lock`"
 
 
 # ---------------------------------------------------------------------------- lock_status

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from pytest_rmw_introspect.errors import SetupError
-from pytest_rmw_introspect.run import middleware, ros_env
+from pytest_rmw_introspect.run import middleware, progress, ros_env
 
 
 def fake_ros(prefix: Path) -> ros_env.RosEnvironment:
@@ -95,7 +95,7 @@ def test_cached_build_is_reused_without_rebuilding(tmp_path, monkeypatch):
     monkeypatch.delenv("RMW_INTROSPECT_LIBRARY", raising=False)
     calls = []
 
-    def fake_build(src, ros, dest):
+    def fake_build(src, ros, dest, reason=""):
         calls.append(dest)
         lib = dest / "install" / "lib" / middleware.LIBRARY_FILE
         lib.parent.mkdir(parents=True)
@@ -112,6 +112,8 @@ def test_cached_build_is_reused_without_rebuilding(tmp_path, monkeypatch):
 
 
 def test_failed_build_reports_the_step_and_the_log_tail(tmp_path, monkeypatch):
+    said: list[str] = []
+    monkeypatch.setattr(progress, "_sink", said.append)
     src = tmp_path / "broken"
     src.mkdir()
     (src / "package.xml").write_text("<package/>")
@@ -122,6 +124,8 @@ def test_failed_build_reports_the_step_and_the_log_tail(tmp_path, monkeypatch):
     assert "CMake configure step" in message
     assert "deliberately broken" in message
     assert str(tmp_path / "out" / "build.log") in message
+    assert said[0].startswith("building the recording middleware for ROS 2 jazzy") and said[-1].startswith(
+        "building the recording middleware failed after ")
 
 
 def test_the_library_is_looked_up_once_per_process_while_it_is_there(tmp_path, monkeypatch):
@@ -135,7 +139,7 @@ def test_the_library_is_looked_up_once_per_process_while_it_is_there(tmp_path, m
         hashed.append(args)
         return real_hash(*args, **kwargs)
 
-    def fake_build(src, ros, dest):
+    def fake_build(src, ros, dest, reason=""):
         lib = dest / "install" / "lib" / middleware.LIBRARY_FILE
         lib.parent.mkdir(parents=True, exist_ok=True)
         lib.write_bytes(b"")

@@ -78,6 +78,8 @@ READY_TIMEOUT = 60.0
 #: seconds a capture waits for a server that is still starting (it usually is ready in ~0.3 s,
 #: less than a cold start takes) before it starts its target cold instead
 DEFAULT_WAIT = 3.0
+#: what :meth:`ServerPool.server` answers while the server is not ready yet
+STILL_STARTING = "the warm start server is still starting"
 #: seconds the server may take to answer a spawn request with the child's pid
 SPAWN_TIMEOUT = 10.0
 _BOOTSTRAP = (
@@ -721,7 +723,7 @@ class Pool:
                     del self._servers[key]
             server.close(0.5)
             return server.failure
-        return "the warm start server is still starting"
+        return STILL_STARTING
 
     def _make_room(self) -> str | None:
         """Room for one more server (called with the lock held): None when there is, after ending

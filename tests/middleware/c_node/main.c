@@ -1,8 +1,12 @@
 // A ROS 2 node in plain C on rcl: node "c_talker" in namespace "/c", a std_msgs/String
 // publisher on "chatter" and a subscription on "/commands", then it waits on a wait set
 // (timeout: forever) like an executor would. Uses rosidl_typesupport_c handles.
+// Built with NODE_NAME_WITH_PID (rmwi_c_pid_node): the node is "c_talker_<pid>", a name that
+// changes every run; `rmwi_c_pid_node NAME` names it "NAME_<pid>" (a real rename).
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
 #include "rcl/error_handling.h"
 #include "rcl/rcl.h"
@@ -22,7 +26,14 @@ int main(int argc, char ** argv)
 
   rcl_node_t node = rcl_get_zero_initialized_node();
   rcl_node_options_t node_options = rcl_node_get_default_options();
-  CHECK(rcl_node_init(&node, "c_talker", "/c", &context, &node_options));
+#ifdef NODE_NAME_WITH_PID
+  char node_name[64];
+  const char * base = (argc > 1 && argv[1][0] != '-') ? argv[1] : "c_talker";
+  snprintf(node_name, sizeof(node_name), "%s_%ld", base, (long)getpid());
+#else
+  const char * node_name = "c_talker";
+#endif
+  CHECK(rcl_node_init(&node, node_name, "/c", &context, &node_options));
 
   const rosidl_message_type_support_t * ts = ROSIDL_GET_MSG_TYPE_SUPPORT(std_msgs, msg, String);
   rcl_publisher_t publisher = rcl_get_zero_initialized_publisher();

@@ -1,0 +1,352 @@
+"""The pull-request gate: every contract compared with its version at a git revision
+(``rmw-introspect diff --against REF``, ``pytest --against REF``), without running anything.
+
+The contracts (node and system contracts; named, or every contract file git tracks under the
+current directory) are paired with their files at REF (``check.revision``): a renamed file with
+its old name, an added one with nothing (every node added), a removed one with nothing now (the
+removal of everything it promised). Each pair is compared with the rules of ``diff``
+(``pipeline.compare_contracts``; the contract's ``options:`` apply, the command line's on top),
+then judged in this order:
+
+1. consumers (``compare.consumers``): a node contract's changed interfaces against the system
+   contracts at hand;
+2. the interface versions (``compare.versioning``): changes covered by the bump are accepted,
+   a missing bump is a BREAKING finding that says which version to write;
+3. the contract's ``accept:`` entries, then a baseline (``--baseline``), as everywhere else.
+
+What fails: findings at or above the threshold, which is ``breaking`` unless the command line
+says otherwise (``--fail-on``): the contract's own ``fail_on`` is about captures that differ
+from it, not about changes to the contract.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..compare import acceptance, consumers, drift, report, versioning
+from ..compare.acceptance import Accepted
+from ..compare.baseline import Baseline
+from ..compare.ci_report import ContractOutcome
+from ..compare.drift import DriftItem
+from ..errors import ContractError, RevisionError
+from ..model import contract as contract_module
+from ..model import system_contract
+from ..model.contract import Contract
+from ..model.contract_shapes import ContractNodes
+from ..model.interface_version import Bump
+from ..model.locate import LineIndex
+from ..model.vocabulary import Severity, parse_threshold
+from .pipeline import Layers, OptionLayer, compare_contracts
+from .revision import Revision, open_revision
+
+#: the gate's threshold when the command line gives none
+DEFAULT_FAIL_ON = "breaking"
+_VERSION_LINE = re.compile(rf"^{contract_module.VERSION_KEY}\s*:", re.M)
+#: a node of a contract written as updates write it (for the report's list of an unchanged file's nodes)
+_NODE_LINE = re.compile(r"^  (/[^:\s]*):", re.M)
+
+
+@dataclass
+class GateContract:
+    """One contract compared with its version at REF."""
+
+    shown: str  # the file as it is now (a removed one: as it was)
+    path: Path  # the file in the work tree (a removed one: where it was)
+    before: str | None  # ``REF:path`` (None: added since REF)
+    status: str  # added | removed | renamed | changed | unchanged
+    threshold: Severity = Severity.BREAKING
+    items: list[DriftItem] = field(default_factory=list)
+    accepted: list[Accepted] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    error: str | None = None
+    nodes: list[str] = field(default_factory=list)
+    lines: LineIndex = field(default_factory=dict)
+    #: the bump the drift needs under semantic versioning, and the versions at REF and now
+    needs: Bump = Bump.NONE
+    versions: tuple[str | None, str | None] = (None, None)
+
+    @property
+    def failed(self) -> bool:
+        return self.error is not None or report.fails(self.items, self.threshold)
+
+    def heading(self) -> str:
+        if self.status == "renamed":
+            return f"{self.shown} (renamed from {self.before})"
+        if self.status == "added":
+            return f"{self.shown} (added since the base revision)"
+        if self.status == "removed":
+            return f"{self.shown} (removed: everything it promised is gone)"
+        return self.shown
+
+    def render_text(self) -> str:
+        if self.error is not None:
+            return f"{self.shown}: error: {self.error}\n"
+        text = report.render_text(self.items, contract_path=self.before, threshold=self.threshold,
+                                  title=f"Interface drift of {self.heading()}", accepted=self.accepted)
+        return text + "".join(f"  note: {note}\n" for note in self.notes)
+
+    def to_json(self) -> list[dict[str, Any]]:
+        where = {"contract": self.shown, "against": self.before, "status": self.status}
+        if self.error is not None:
+            return [{**where, "error": self.error}]
+        return ([{**where, **item} for item in report.to_json(self.items)]
+                + [{**where, **item} for item in report.accepted_to_json(self.accepted)])
+
+    def for_ci(self) -> ContractOutcome:
+        return ContractOutcome(contract=self.shown, items=self.items, threshold=self.threshold, nodes=self.nodes,
+                               error=self.error, lines=self.lines, accepted=self.accepted,
+                               notes=tuple(self.notes))
+
+
+@dataclass
+class GateResult:
+    """Every contract against REF."""
+
+    against: str
+    commit: str
+    contracts: list[GateContract]
+    systems: list[str]
+
+    @property
+    def failed(self) -> bool:
+        return any(c.failed and c.error is None for c in self.contracts)
+
+    @property
+    def errors(self) -> list[GateContract]:
+        return [c for c in self.contracts if c.error is not None]
+
+    def ordered(self) -> list[GateContract]:
+        """Errors and failing contracts first, then by their worst finding (breaking changes lead)."""
+        def rank(c: GateContract) -> tuple[int, int, str]:
+            worst = max((item.severity for item in c.items), default=-1)
+            return (0 if c.error else 1, -int(c.failed) * 10 - int(worst), c.shown)
+        return sorted(self.contracts, key=rank)
+
+    def title(self) -> str:
+        return f"Interface changes against {self.against} ({self.commit[:12]})"
+
+    def render_text(self) -> str:
+        counts = {status: sum(1 for c in self.contracts if c.status == status)
+                  for status in ("changed", "renamed", "added", "removed", "unchanged")}
+        said = ", ".join(f"{n} {status}" for status, n in counts.items() if n)
+        lines = [f"{self.title()}: {len(self.contracts)} contract(s){': ' + said if said else ''}"]
+        if self.systems:
+            lines.append(f"consumers judged with {', '.join(self.systems)}")
+        out = "\n".join(lines) + "\n"
+        for contract in self.ordered():
+            if contract.status == "unchanged" and not contract.notes:
+                continue
+            out += "\n" + contract.render_text()
+        return out
+
+    def to_json(self) -> list[dict[str, Any]]:
+        return [item for contract in self.ordered() for item in contract.to_json()]
+
+    def for_ci(self) -> list[ContractOutcome]:
+        return [contract.for_ci() for contract in self.ordered()]
+
+
+# ---------------------------------------------------------------------------- loading
+
+
+def is_system_text(name: str, text: str) -> bool:
+    """A system contract: named ``*.system.yaml``, or saying ``system_version:`` first."""
+    return name.endswith(system_contract.SUFFIX) or bool(re.search(r"^system_version\s*:", text, re.M))
+
+
+def load_text(text: str, label: str) -> Contract:
+    """A node or system contract's text as a ``Contract`` (a system contract's nodes, comparison
+    options, ``accept:`` and version); ``label`` names it in messages. Raises ContractError."""
+    if is_system_text(label, text):
+        system = system_contract.loads(text, path=label)
+        return Contract(path=system.path, nodes=system.nodes, target=None, options=system.comparison_options,
+                        text=system.text, accept=system.accept, interface_version=system.interface_version)
+    return contract_module.loads(text, path=label)
+
+
+def _version_line(text: str) -> int | None:
+    found = _VERSION_LINE.search(text)
+    return text.count("\n", 0, found.start()) + 1 if found else None
+
+
+def _lines(contract: Contract) -> LineIndex:
+    lines = contract.lines()
+    version_line = _version_line(contract.text)
+    if version_line is not None:
+        lines[(versioning.VERSION_NODE, "node", versioning.VERSION_NODE)] = version_line
+    return lines
+
+
+# ---------------------------------------------------------------------------- pairing
+
+
+@dataclass(frozen=True)
+class Pair:
+    """A contract now and at REF, by full name (``None``: not there)."""
+
+    old: str | None
+    new: str | None
+
+    @property
+    def status(self) -> str:
+        if self.old is None:
+            return "added"
+        if self.new is None:
+            return "removed"
+        return "renamed" if self.old != self.new else "changed"
+
+
+def pairs(revision: Revision, named: Sequence[str | Path] = ()) -> list[Pair]:
+    """The contracts to compare: those named (paths relative to the current directory), or every
+    contract file git tracks under it now or tracked at REF. A renamed file is one pair."""
+    changes = revision.changes()
+    renamed_from = {c.new: c.old for c in changes if c.status == "R" and c.new and c.old}
+    renamed_to = {old: new for new, old in renamed_from.items()}
+    exists = {name for name in revision.contracts_at_ref()}
+    if named:
+        out = []
+        for given in named:
+            full = revision.full_name(given)
+            now = full if (revision.top / full).is_file() else None
+            old = renamed_from.get(full, full)
+            if now is None and full not in exists:
+                raise RevisionError(f"{given} exists neither in the work tree nor at {revision.ref}: name a contract "
+                                    "file of the repository (or leave the names out to compare every contract)")
+            out.append(Pair(old if old in exists else None, now))
+        return out
+    present = [name for name in revision.contracts_now() if (revision.top / name).is_file()]
+    found = [Pair(renamed_from.get(name, name) if renamed_from.get(name, name) in exists else None, name)
+             for name in present]
+    kept = {pair.old for pair in found}
+    found += [Pair(name, None) for name in sorted(exists) if name not in kept and name not in renamed_to]
+    return sorted(found, key=lambda pair: pair.new or pair.old or "")
+
+
+# ---------------------------------------------------------------------------- the gate
+
+
+def system_nodes(revision: Revision, named: Sequence[str | Path] | None) -> dict[str, ContractNodes]:
+    """The nodes of the system contracts that judge consumers, by shown path: those named
+    (``--system``; an invalid one is an error), else every valid one git tracks under the
+    current directory."""
+    out: dict[str, ContractNodes] = {}
+    if named:
+        for given in named:
+            path = revision.top / revision.full_name(given)
+            out[revision.shown(revision.full_name(given))] = system_contract.load(path).nodes
+        return out
+    for name in revision.contracts_now():
+        if name.endswith(system_contract.SUFFIX) and (revision.top / name).is_file():
+            try:
+                out[revision.shown(name)] = system_contract.load(revision.top / name).nodes
+            except ContractError:
+                continue  # its own comparison reports it
+    return out
+
+
+def run(against: str, contracts: Sequence[str | Path] = (), *, systems: Sequence[str | Path] | None = None,
+        options: Sequence[OptionLayer] = (), fail_on: str | None = None, baseline: Baseline | None = None,
+        cwd: str | Path | None = None) -> GateResult:
+    """Compare every contract with its version at ``against``. Raises RevisionError (no git
+    repository, no such revision, a shallow clone without it) and ContractError (a ``--system``
+    file that does not load); a contract that does not load now or at REF is an error of its own
+    entry (``GateContract.error``)."""
+    revision = open_revision(against, cwd)
+    found = pairs(revision, contracts)
+    revision.read(pair.old for pair in found if pair.old is not None)
+    consumers_at_hand = system_nodes(revision, systems)
+    threshold = parse_threshold(fail_on or DEFAULT_FAIL_ON)
+    compared = [compare_pair(revision, pair, consumers_at_hand, options=options, threshold=threshold,
+                             baseline=baseline) for pair in found]
+    return GateResult(against=against, commit=revision.commit, contracts=compared, systems=list(consumers_at_hand))
+
+
+def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractNodes], *,
+                 options: Sequence[OptionLayer] = (), threshold: Severity = Severity.BREAKING,
+                 baseline: Baseline | None = None) -> GateContract:
+    """One contract against its file at REF (a file unchanged since REF is not loaded)."""
+    name = pair.new or pair.old
+    assert name is not None
+    shown = revision.shown(name)
+    result = GateContract(shown=shown, path=revision.top / name, status=pair.status, threshold=threshold,
+                          before=revision.at_ref(pair.old) if pair.old else None)
+    if _unchanged(revision, pair):  # nothing to compare, nothing to load (most contracts of a pull request)
+        result.status = "unchanged" if pair.old == pair.new else "renamed"
+        result.nodes = sorted(_NODE_LINE.findall(revision.text(pair.old or "") or ""))
+        return result
+    loaded = _load_pair(revision, pair, shown)
+    if isinstance(loaded, str):
+        result.error = loaded
+        return result
+    old, new = loaded
+    try:
+        opts = Layers(strong_options=options).options(new if pair.new is not None else old, shown=shown)
+    except ContractError as exc:
+        result.error = str(exc)
+        return result
+    items = compare_contracts(old, new, dataclasses.replace(opts, fail_on=threshold.name.lower()))
+    if systems and not is_system_text(name, new.text or old.text):
+        items = consumers.judge(items, new.nodes, old.nodes, systems)
+    _judge(result, drift.sort_items(items), old, new, baseline)
+    result.nodes = sorted((new if pair.new is not None else old).nodes)
+    result.lines = _lines(new) if pair.new is not None else {}
+    return result
+
+
+def _unchanged(revision: Revision, pair: Pair) -> bool:
+    if pair.old is None or pair.new is None:
+        return False
+    try:
+        return revision.text(pair.old) == (revision.top / pair.new).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return False  # loading it says what is wrong
+
+
+def _load_pair(revision: Revision, pair: Pair, shown: str) -> tuple[Contract, Contract] | str:
+    """The contract at REF and now (an empty one where the file is not), or the error to report."""
+    old = new = Contract(path=None, nodes={})
+    if pair.old is not None:
+        try:
+            old = load_text(revision.text(pair.old) or "", revision.at_ref(pair.old))
+        except ContractError as exc:
+            return (f"{exc}\n  This is the contract as it was at {revision.ref}; the gate cannot compare with a "
+                    "contract that was invalid there: compare with a later revision (--against COMMIT), or compare "
+                    "two files with `rmw-introspect diff OLD NEW`")
+    if pair.new is not None:
+        try:
+            new = load_text((revision.top / pair.new).read_text(encoding="utf-8"), shown)
+        except ContractError as exc:
+            return str(exc)
+        except (OSError, UnicodeDecodeError) as exc:
+            return f"{shown}: cannot be read ({exc})"
+    return old, new
+
+
+def _judge(result: GateContract, items: list[DriftItem], old: Contract, new: Contract,
+           baseline: Baseline | None) -> None:
+    """The versions, then the contract's ``accept:`` entries, then the baseline."""
+    present = new if result.status != "removed" else old
+    versioned = versioning.judge(items, old.interface_version, new.interface_version, source=result.shown,
+                                 line=_version_line(new.text))
+    judged = acceptance.judge([*versioned.findings, *versioned.kept], present.accept, rules=frozenset())
+    kept = [item for item in judged.kept if isinstance(item, DriftItem)]
+    result.accepted = [*versioned.accepted, *judged.accepted]
+    if baseline is not None:
+        fresh, known = baseline.split(result.path, kept)
+        kept = [item for item in fresh if isinstance(item, DriftItem)]
+        result.accepted += known
+    result.items = kept
+    result.needs = versioned.needs
+    result.versions = (old.interface_version, new.interface_version)
+    if result.status in ("added", "removed"):  # the file comes or goes with its version: nothing to say of it
+        return
+    result.notes = versioned.notes
+    if versioned.needs is not Bump.NONE and (old.interface_version is None or new.interface_version is None):
+        worst = max(item.severity for item in items)
+        result.notes.append(f"under semantic versioning these {worst.name} change(s) need a {versioned.needs.name} "
+                            "bump; state `interface_version: MAJOR.MINOR.PATCH` for the gate to judge it (docs/ci.md)")

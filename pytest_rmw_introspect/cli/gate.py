@@ -1,0 +1,42 @@
+"""``rmw-introspect diff --against REF [CONTRACT...]``: the pull-request gate (``check.gate``),
+printed in the formats of ``diff`` with its exit status."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from .._version import __version__
+from ..check import gate
+from ..compare import baseline as baseline_module
+from ..compare import ci_report, sarif
+from .commands import append_summary
+from .formats import print_json
+from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, compare_from_args
+
+
+def cmd_gate(args: argparse.Namespace) -> int:
+    options = compare_from_args(args)
+    fail_on = options.pop("fail_on", None)
+    baseline = baseline_module.load(args.baseline) if args.baseline else None
+    result = gate.run(args.against, args.files, systems=args.against_systems,
+                      options=[(options, "command line")], fail_on=fail_on, baseline=baseline)
+    for contract in result.errors:
+        print(f"rmw-introspect: {contract.error}", file=sys.stderr)
+    markdown = ci_report.drift_markdown(result.for_ci(), title=result.title())
+    if args.summary:
+        append_summary(args.summary, markdown)
+    if args.format == "json":
+        print(json.dumps(result.to_json(), indent=2, default=str))
+    elif args.format == "markdown":
+        sys.stdout.write(markdown)
+    elif args.format == "github":
+        sys.stdout.write(ci_report.drift_github(result.for_ci()))
+    elif args.format == "sarif":
+        print_json(sarif.drift_log(result.for_ci(), tool_version=__version__))
+    else:
+        sys.stdout.write(result.render_text())
+    if result.errors:
+        return EXIT_ERROR
+    return EXIT_DRIFT if result.failed else EXIT_OK

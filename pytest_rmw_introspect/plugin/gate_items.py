@@ -1,0 +1,90 @@
+"""``pytest --against REF``: the pull-request gate (``check.gate``, the same one as
+``rmw-introspect diff --against REF``) as test items, one per contract::
+
+    contracts/talker.interfaces.yaml::against:origin/main
+    robot.system.yaml::against:origin/main
+
+The gate reads files only, so it runs once when the session collects; each item then reports its
+contract: it fails with the contract's report (the bump its changes need, the consumers they
+break), or passes. The contracts are those git tracks under the directory pytest was started in
+(and those it tracked at REF: a removed contract is an item too); the system contracts among them
+judge consumers, or those ``--against-system`` names. Comparison options come from pytest's
+command line (``--rmw-introspect-fail-on``, ``--rmw-introspect-ignore-qos``, ...) over each
+contract's ``options:``; the session's baseline (ini ``rmw_introspect_baseline``) applies. A
+REF that cannot be read (no git repository, no such revision, a shallow clone without it) is a
+usage error: one message, nothing collected.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import pytest
+
+from ..errors import RmwIntrospectError
+from ..model.option_tables import COMPARISON
+from . import option_flags
+from .session import state
+
+if TYPE_CHECKING:  # the gate (and the comparison pipeline) is imported when --against is given
+    from ..check.gate import GateContract
+
+
+def addoption(parser: pytest.Parser) -> None:
+    group = parser.getgroup("rmw-introspect")
+    group.addoption("--against", dest="rmw_introspect_against", metavar="REF", default=None,
+                    help="the pull-request gate: one item per contract file comparing it with its version at the git "
+                    "revision REF (a branch, tag, commit or BASE...HEAD), without running anything: renamed, added "
+                    "and removed contracts included, interface_version bumps judged by semantic versioning "
+                    "(docs/ci.md)")
+    group.addoption("--against-system", dest="rmw_introspect_against_system", metavar="FILE", action="append",
+                    default=None, help="a system contract whose nodes judge who consumes a changed interface "
+                    "(repeatable; default: every *.system.yaml git tracks here)")
+
+
+class GateItem(pytest.Item):
+    """One contract against its version at REF."""
+
+    def __init__(self, *, compared: GateContract, against: str, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.compared = compared
+        self.against = against
+
+    def runtest(self) -> None:
+        compared = self.compared
+        if compared.error is not None:
+            pytest.fail(compared.error, pytrace=False)
+        if compared.items or compared.accepted:
+            self.user_properties.append(("rmw_introspect_drift", json.dumps(compared.to_json(), default=str)))
+        if compared.failed:
+            pytest.fail(compared.render_text(), pytrace=False)
+
+    def reportinfo(self) -> tuple[Path, int, str]:
+        return self.compared.path, 0, f"interface gate {self.compared.shown} against {self.against}"
+
+
+@pytest.hookimpl(tryfirst=True)  # before -k/-m deselect: they select gate items like any other
+def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config, items: list[pytest.Item]) -> None:
+    against = config.getoption("rmw_introspect_against", None)
+    if not against:
+        return
+    from ..check import gate  # the gate and the comparison pipeline (~40 ms): only with --against
+    from ..compare import baseline
+
+    options = option_flags.flag_values(config, COMPARISON)
+    fail_on = options.pop("fail_on", None)
+    session_state = state(config)
+    try:
+        known = (baseline.load(session_state.baseline_path, session_state.display(session_state.baseline_path))
+                 if session_state.baseline_path is not None else None)
+        result = gate.run(against, systems=config.getoption("rmw_introspect_against_system", None),
+                          options=[(options, "pytest command line")], fail_on=fail_on, baseline=known,
+                          cwd=config.invocation_params.dir)
+    except RmwIntrospectError as exc:
+        raise pytest.UsageError(f"--against {against}: {exc}") from None
+    for compared in result.contracts:
+        items.append(GateItem.from_parent(session, name=f"{compared.shown}::against:{against}",
+                                          nodeid=f"{compared.shown}::against:{against}", path=compared.path,
+                                          compared=compared, against=against))

@@ -34,7 +34,7 @@ def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> No
     except BaselineError as exc:
         pytest.fail(str(exc), pytrace=False)
     outcome = decide(result, update=session_state.update, accept_command=accept_command(item, session_state),
-                     verbose=item.config.get_verbosity() > 0)
+                     verbose=item.config.getoption("verbose", 0) > 0)
     if outcome.json:
         # the machine-readable drift on the report (JUnit writes it as a <property>)
         item.user_properties.append((DRIFT_PROPERTY, json.dumps(outcome.json, sort_keys=True, default=str)))

@@ -18,7 +18,7 @@ endif
 LOCK_FILE ?= $(CURDIR)/requirements/$(DISTRO).txt
 export VENV LOCK_FILE PYTHON_VERSION
 
-.PHONY: example test test-fast test-slow dist typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs clean
+.PHONY: example test test-fast test-slow dist typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs precision-table soak clean
 
 ## bootstrap: .venv/ with exactly the packages of requirements/jazzy.txt (hash-checked), the
 ## package editable, the middleware built and the example package installed
@@ -91,6 +91,14 @@ bench: bootstrap
 	$(VENV)/bin/python bench/bench_system_scale.py
 	$(VENV)/bin/python bench/bench_gate.py
 
+## soak: the example package's contracts checked SOAK_RUNS times (default 1000; -n 2, warm and cold
+## alternating): every run's outcomes identical, no process, fd, shared memory segment or temporary
+## directory left behind (scripts/soak/soak.py; hours: not in CI)
+SOAK_RUNS ?= 1000
+soak: bootstrap
+	VENV=$(VENV) scripts/install-examples.sh
+	$(VENV)/bin/python scripts/soak/soak.py --runs $(SOAK_RUNS) $(SOAK_ARGS)
+
 ## asan: the end-to-end nodes on an AddressSanitizer build of the middleware
 asan: bootstrap
 	scripts/asan-e2e.sh
@@ -116,6 +124,12 @@ DOCS_VENV ?= $(CURDIR)/.venv-docs
 docs:
 	VENV=$(DOCS_VENV) LOCK_FILE=$(CURDIR)/requirements/docs.txt PYTHON_ONLY=1 scripts/bootstrap.sh
 	NO_MKDOCS_2_WARNING=1 $(DOCS_VENV)/bin/mkdocs build --strict
+
+## precision-table: run every modelled bring-up of tests/precision and its seeded bugs through the
+## default system gate (minutes), record tests/precision/results.json and write the precision and
+## recall table into docs/drift-rules.md (PRECISION_ARGS: e.g. --jobs 2, --system nav2_bringup)
+precision-table: bootstrap
+	$(VENV)/bin/python scripts/precision_table.py --run $(PRECISION_ARGS)
 
 clean:
 	rm -rf $(VENV) $(CURDIR)/.venv-lowest $(CURDIR)/.venv-newest $(CURDIR)/.venv-kilted $(CURDIR)/.venv-py312 $(CURDIR)/.venv-kilted-py312 $(DOCS_VENV) build dist .pytest_cache

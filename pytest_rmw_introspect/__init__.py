@@ -51,6 +51,7 @@ if TYPE_CHECKING:
         TargetConfigError,
         TargetError,
         TargetExited,
+        TargetNotStopped,
         TargetTimeout,
     )
     from .model.capture import Capture
@@ -93,7 +94,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     **{name: ("errors", name) for name in (
         "CaptureFormatError", "ContractError", "ExecutableNotFound", "LifecycleTransitionFailed", "NoNodeCreated",
         "RmwIntrospectError", "SetupError", "StimulusFailed", "TargetConfigError", "TargetError", "TargetExited",
-        "TargetTimeout")},
+        "TargetNotStopped", "TargetTimeout")},
 }
 
 
@@ -153,6 +154,7 @@ __all__ = [
     "TargetConfigError",
     "TargetError",
     "TargetExited",
+    "TargetNotStopped",
     "TargetSpec",
     "TargetTimeout",
     "Transition",

@@ -17,6 +17,7 @@ Hierarchy::
         ├── TargetExited        the process exited non-zero before settling
         ├── NoNodeCreated       the process created no ROS node
         ├── TargetTimeout       the process never settled within the timeout
+        ├── TargetNotStopped    the process did not end even after SIGKILL (it cannot be reaped)
         ├── LifecycleTransitionFailed  a lifecycle node's transition failed or raised
         └── StimulusFailed      a stimulus (target option ``stimuli``) matched nothing, was not
                                 taken or answered, or the node ended after one
@@ -42,6 +43,7 @@ __all__ = [
     "TargetConfigError",
     "TargetError",
     "TargetExited",
+    "TargetNotStopped",
     "TargetTimeout",
 ]
 
@@ -306,6 +308,21 @@ class TargetTimeout(_WithPartialCapture):
             details.insert(len(details) - 1, "The tool stopped it with SIGINT; the KeyboardInterrupt traceback "
                                              "that printed is left out (it is not the node's own crash).")
         super().__init__("\n".join(parts + details), target=target)
+
+
+class TargetNotStopped(TargetError):
+    """The target was stopped (its timeout passed, or the run was cancelled) and did not end within
+    seconds of SIGKILL: it is in uninterruptible sleep (a hung file system or device) or nobody
+    reaps it (a warm start server that stopped answering). ``state``: what /proc says of it."""
+
+    def __init__(self, target: str, pid: int, waited: float, state: str, reaper: str) -> None:
+        self.pid = pid
+        self.state = state
+        super().__init__(
+            f"The target {target} (pid {pid}) did not end within {waited:g} s of SIGKILL: its state is {state}; "
+            f"{reaper}. Nothing more can be done from here: look at that process (`cat /proc/{pid}/stack` as root, "
+            "`ps -o pid,stat,wchan -p <pid>`); a process in state D waits for a device or a network file system.",
+            target=target)
 
 
 class StimulusFailed(_WithPartialCapture):

@@ -10,7 +10,8 @@ pytest_plugins = ["pytester", "middleware_fixtures"]
 
 # ---------------------------------------------------------------------------- tiers
 # Tests are marked by where they live, so a new test file lands in the right tier by itself:
-#   e2e     real nodes on the real middleware (tests/middleware, tests/cli, tests/cmake, the example package),
+#   e2e     real nodes on the real middleware (tests/middleware, tests/cli, tests/cmake, tests/precision, the
+#           example package),
 #           and the documentation site built and opened in a real browser (tests/docs)
 #   plugin  pytest run in a subprocess by pytester (tests/plugin)
 #   overlay the C++ and launch overlay (tests/overlay): rclcpp nodes, RMW_IMPLEMENTATION, colcon;
@@ -22,8 +23,8 @@ pytest_plugins = ["pytester", "middleware_fixtures"]
 # Everything else (tests/unit) is the fast tier: `make test-fast` = pytest -m "not e2e and not plugin".
 import pytest  # noqa: E402
 
-_TIERS = {"middleware": ("e2e",), "cli": ("e2e",), "cmake": ("e2e",), "docs": ("e2e",), "plugin": ("plugin",),
-          "overlay": ("e2e", "overlay"), "dist": ("slow",)}
+_TIERS = {"middleware": ("e2e",), "cli": ("e2e",), "cmake": ("e2e",), "docs": ("e2e",), "precision": ("e2e",),
+          "plugin": ("plugin",), "overlay": ("e2e", "overlay"), "dist": ("slow",)}
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:

@@ -37,6 +37,7 @@ from ..model import types as type_model
 from ..model import untrusted
 from ..model.contract_shapes import ContractNode
 from ..model.paths import relative_or_absolute
+from ..run import locks
 from ..run.target import TargetSpec
 from .golden_record import CREATED, UPDATED
 
@@ -84,7 +85,8 @@ def lock_directory() -> Path:
         "to a directory of your own.")
 
 
-def _lock_path(path: Path) -> Path:
+def lock_path(path: Path) -> Path:
+    """The golden-write lock of ``path`` (in :func:`lock_directory`; its holder's pid beside it)."""
     key = hashlib.sha256(str(path.resolve()).encode()).hexdigest()[:24]
     return lock_directory() / f"{key}.lock"
 
@@ -163,10 +165,8 @@ def _write_locked(path: Path, new_text: Callable[[str | None], str], timeout: fl
     Text is handled with LF line endings; a file that used CRLF gets CRLF back. Raises
     GoldenWriteError."""
     target = path.resolve() if path.is_symlink() else path  # write through a link, keep the link
-    from filelock import FileLock, Timeout
-
     try:
-        with FileLock(str(_lock_path(target)), timeout=timeout):
+        with locks.held(lock_path(target), timeout):
             info = _existing(target)
             old_bytes = target.read_bytes() if info is not None else None
             old = old_bytes.decode("utf-8") if old_bytes is not None else None
@@ -184,8 +184,9 @@ def _write_locked(path: Path, new_text: Callable[[str | None], str], timeout: fl
             return True
     except _UnsafeLockDirectory as exc:
         raise GoldenWriteError(path, *exc.args) from None
-    except Timeout:
-        raise GoldenWriteError(path, f"another process held its lock for {timeout:g} s") from None
+    except locks.LockTimeout as exc:
+        raise GoldenWriteError(path, f"another process held its lock for over {timeout:g} s ({exc.holder})",
+                               "If that process is stopped or hung, end it (kill <pid>).") from None
     except UnicodeDecodeError as exc:
         raise GoldenWriteError(path, f"the existing file is not UTF-8 text ({exc.reason})") from None
     except OSError as exc:

@@ -7,6 +7,8 @@ One line per module:
 - ``middleware``: finding (installed, prebuilt) or building ``librmw_introspect_cpp.so``
 - ``progress``: the lines that tell the user what a slow step does (the front end says where they go)
 - ``process``: a cold start's process: its group, output tails and stop
+- ``deadline``: the runner's overall deadline (the watchdog that reports a wait nobody bounded)
+- ``locks``: file locks with a timeout that name their holder (build and golden-write locks)
 - ``runner``: start a resolved target (warm or cold), wait, read the capture, classify the ending
 - ``failure_hints``: what to do next, for a target that could not import a module or created no node
 - ``prewarm``: starting a warm start server ahead of the captures (the plugin's session start)

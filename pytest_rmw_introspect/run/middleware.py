@@ -35,8 +35,15 @@ from typing import BinaryIO
 
 from ..errors import SetupError
 from . import progress, ros_env
+from .process import process_state
 
 LIBRARY_FILE = "librmw_introspect_cpp.so"
+#: seconds one step of the build (configure, build, install) may take: a cold build takes 1-5
+#: minutes on a loaded 2-core machine
+BUILD_STEP_TIMEOUT = 1800.0
+#: seconds a process waits for another that is building the same library (the build lock); a
+#: stopped or hung builder then makes it fail with that builder's pid and state instead of waiting
+BUILD_LOCK_TIMEOUT = BUILD_STEP_TIMEOUT + 60.0
 _PACKAGE_DIR = Path(__file__).resolve().parent.parent  # the pytest_rmw_introspect package
 #: the libraries of the Linux x86_64 wheel, one directory per ROS distribution (``make dist``)
 PREBUILT_DIR = _PACKAGE_DIR / "prebuilt"
@@ -204,7 +211,11 @@ def _run_logged(cmd: list[str], log: Path, env: dict[str, str], what: str, shown
         out.flush()
         with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env) as proc:
             assert proc.stdout is not None
-            _follow(proc.stdout.fileno(), out, what, shown)
+            if not _follow(proc.stdout.fileno(), out, what, shown, time.monotonic() + BUILD_STEP_TIMEOUT):
+                proc.kill()
+                proc.wait()
+                raise SetupError(f"Building the recording middleware did not finish its {what} step within "
+                                 f"{BUILD_STEP_TIMEOUT:g} s (BUILD_STEP_TIMEOUT) and was stopped. Full log: {log}")
         returncode = proc.wait()
     if returncode != 0:
         tail = "\n".join(log.read_text(errors="replace").splitlines()[-_BUILD_LOG_TAIL:])
@@ -214,16 +225,19 @@ def _run_logged(cmd: list[str], log: Path, env: dict[str, str], what: str, shown
         )
 
 
-def _follow(fd: int, out: BinaryIO, what: str, shown: _Progress | None) -> None:
+def _follow(fd: int, out: BinaryIO, what: str, shown: _Progress | None, deadline: float) -> bool:
     """Copy a build step's output to its log until it ends, feeding ``shown`` its lines and a
-    tick at least every second (a progress line is due every few seconds, output or not)."""
+    tick at least every second (a progress line is due every few seconds, output or not).
+    False: the step's output was still open at ``deadline`` (time.monotonic)."""
     pending = b""
     while True:
+        if time.monotonic() > deadline:
+            return False
         readable, _, _ = select.select([fd], [], [], 1.0)
         if readable:
             chunk = os.read(fd, 65536)
             if not chunk:
-                break
+                return True
             out.write(chunk)
             pending += chunk
             *lines, pending = pending.split(b"\n")
@@ -362,7 +376,15 @@ def _build_lock(path: Path, dest: Path, ros: ros_env.RosEnvironment) -> Iterator
             progress.say_once(f"wait-{dest.name}", f"waiting for another process (pid {pid}) that builds the "
                               f"recording middleware for ROS 2 {ros.distro}; its log: {dest / 'build.log'}")
         began = time.monotonic()
-        lock.acquire()
+        try:
+            lock.acquire(timeout=BUILD_LOCK_TIMEOUT)
+        except Timeout:
+            state = process_state(int(pid)) if pid.isdigit() else "unknown"
+            raise SetupError(
+                f"Another process (pid {pid}, {state}) has been building the recording middleware for over "
+                f"{BUILD_LOCK_TIMEOUT:g} s and holds its build lock {path}. If that process is stopped or hung, "
+                "end it (kill <pid>); one that ended releases the lock by itself. Or point "
+                "RMW_INTROSPECT_LIBRARY at a built library.") from None
         if told:
             progress.say_once(f"waited-{dest.name}", "the other process's middleware build ended after "
                               f"{progress.seconds(time.monotonic() - began)} of waiting")

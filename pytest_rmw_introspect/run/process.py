@@ -35,6 +35,9 @@ from typing import IO, Protocol
 #: seconds granted after SIGINT and after SIGTERM before the next, harder signal
 SIGINT_GRACE = 2.0
 SIGTERM_GRACE = 1.0
+#: seconds a process may take to end after SIGKILL: at once, unless it is in uninterruptible sleep
+#: (state D) or nobody reaps it (a warm start server that stopped answering); then NotEnded
+KILL_WAIT = 5.0
 #: bytes of stdout and of stderr kept (the end of each)
 TAIL_BYTES = 16_384
 _PR_SET_PDEATHSIG = 1
@@ -237,10 +240,49 @@ def _signal_group(proc: Handle, sig: int) -> None:
             pass
 
 
+class NotEnded(Exception):
+    """A process that did not end within KILL_WAIT seconds of SIGKILL (``pid``, its ``state``, and
+    who should reap it: ``reaper``)."""
+
+    def __init__(self, pid: int, waited: float, state: str, reaper: str) -> None:
+        self.pid, self.waited, self.state, self.reaper = pid, waited, state, reaper
+        super().__init__(f"pid {pid} did not end within {waited:g} s of SIGKILL: {state}; {reaper}")
+
+
+def process_state(pid: int) -> str:
+    """``pid``'s state as people read it: ``S (sleeping) in do_epoll_wait``, ``T (stopped)``, ``gone``."""
+    names = {"R": "running", "S": "sleeping", "D": "uninterruptible sleep", "T": "stopped",
+             "t": "stopped by a tracer", "Z": "zombie", "X": "dead", "I": "idle"}
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return "gone"
+    state = stat[stat.rfind(")") + 2:].split(" ", 1)[0]
+    text = f"{state} ({names.get(state, 'unknown')})"
+    try:
+        wchan = Path(f"/proc/{pid}/wchan").read_text().strip()
+    except OSError:
+        wchan = ""
+    return f"{text} in {wchan}" if wchan and wchan != "0" else text
+
+
+def _reaper(pid: int) -> str:
+    """Who should reap ``pid``: its parent, with that parent's state."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+        parent = int(next(line.split()[1] for line in status.splitlines() if line.startswith("PPid:")))
+    except (OSError, StopIteration, ValueError, IndexError):
+        return "its parent is unknown"
+    if parent == os.getpid():
+        return "its parent is this runner"
+    return f"its parent (pid {parent}, a warm start server when started warm) is {process_state(parent)}"
+
+
 def stop(proc: Handle, sigint_grace: float | None = None,
          sigterm_grace: float | None = None) -> int:
     """Stop ``proc`` (started by :func:`start`): SIGINT, SIGTERM, SIGKILL to its group, after
-    the grace periods given (default: ``SIGINT_GRACE``, ``SIGTERM_GRACE`` as they are now)."""
+    the grace periods given (default: ``SIGINT_GRACE``, ``SIGTERM_GRACE`` as they are now).
+    Raises :class:`NotEnded` when it has not ended KILL_WAIT seconds after SIGKILL."""
     graces = (SIGINT_GRACE if sigint_grace is None else sigint_grace,
               SIGTERM_GRACE if sigterm_grace is None else sigterm_grace)
     for sig, grace in zip((signal.SIGINT, signal.SIGTERM), graces, strict=True):
@@ -253,7 +295,10 @@ def stop(proc: Handle, sigint_grace: float | None = None,
             continue
     if proc.poll() is None:
         _signal_group(proc, signal.SIGKILL)
-    return proc.wait()
+    try:
+        return proc.wait(KILL_WAIT)
+    except subprocess.TimeoutExpired:
+        raise NotEnded(proc.pid, KILL_WAIT, process_state(proc.pid), _reaper(proc.pid)) from None
 
 
 def reap_group(proc: Handle) -> None:

@@ -44,6 +44,7 @@ process that created no node is :class:`~pytest_rmw_introspect.errors.NoNodeCrea
 from __future__ import annotations
 
 import atexit
+import contextlib
 import importlib
 import os
 import queue
@@ -67,9 +68,11 @@ from ..errors import (
     StimulusFailed,
     TargetError,
     TargetExited,
+    TargetNotStopped,
     TargetTimeout,
 )
 from . import failure_hints, process, progress, ros_env
+from .deadline import Watchdog
 from .target import resolve
 
 if TYPE_CHECKING:
@@ -309,19 +312,34 @@ def _wait_for(proc: process.Handle, timeout: float, cancel: threading.Event | No
                 raise
 
 
-def _wait(start: _Started, timeout: float, cancel: threading.Event | None = None) -> _Ended:
+def _wait(start: _Started, timeout: float, cancel: threading.Event | None = None,
+          watchdog: Watchdog | None = None, describe: str = "") -> _Ended:
     """Wait for the target (stopping it after ``timeout``, or at once when ``cancel`` is set),
-    then kill what is left of its group."""
+    then kill what is left of its group. ``watchdog``: told the target's pid and each wait;
+    ``describe``: the target, for the error of one that cannot be stopped."""
     proc = start.proc
+    stopping = contextlib.nullcontext() if watchdog is None else watchdog.waiting(
+        f"the target (pid {proc.pid}) to stop: SIGINT, SIGTERM, then SIGKILL to its process group")
+    if watchdog is not None:
+        watchdog.pid = proc.pid
     stdout_tail, stderr_tail = process.OutputTail.read_together(start.stdout, start.stderr)
     timed_out = False
     try:
-        returncode = _wait_for(proc, timeout, cancel)
+        with contextlib.nullcontext() if watchdog is None else watchdog.waiting(
+                f"the target (pid {proc.pid}, started {start.how}) to settle or end within its timeout"):
+            returncode = _wait_for(proc, timeout, cancel)
     except subprocess.TimeoutExpired:
         timed_out = True
-        returncode = stop(proc)
+        with stopping:
+            try:
+                returncode = stop(proc)
+            except process.NotEnded as exc:
+                if start.warm_child is not None:
+                    start.warm_child.server_stopped_answering()
+                raise TargetNotStopped(describe or f"pid {proc.pid}", exc.pid, exc.waited, exc.state, exc.reaper) from None
     except BaseException:  # KeyboardInterrupt (or SIGTERM, see cli), Cancelled: do not leave it behind
-        stop(proc, 0.5, 0.5)
+        with stopping, contextlib.suppress(process.NotEnded):  # the interruption is what to report
+            stop(proc, 0.5, 0.5)
         raise
     finally:
         process.reap_group(proc)
@@ -369,12 +387,19 @@ def run(
     describe, timeout, argv = target.name, target.timeout, list(target.shown_argv)  # argv: for messages
 
     started = time.monotonic()
+    # the last resort behind every bounded wait below: status 2 with every stack (run/deadline.py)
+    def remove_workdir() -> None:
+        shutil.rmtree(workdir, ignore_errors=True)
+
+    watchdog = Watchdog.for_target(describe, timeout, on_expiry=remove_workdir)
     try:
         if cancel is not None and cancel.is_set():
             raise Cancelled()
-        start = _start(target, python, warm_wait)
+        watchdog.start()
+        with watchdog.waiting("the target to start (or a warm start server to fork it)"):
+            start = _start(target, python, warm_wait)
         _import_capture_model_meanwhile()
-        ended = _wait(start, timeout, cancel)
+        ended = _wait(start, timeout, cancel, watchdog, describe)
         if start.warm_child is not None and start.warm_child.server_lost:
             # the server died under the target (which died with it): run the target again, cold
             for leftover in workdir.iterdir():  # its capture files, and its log directory
@@ -382,8 +407,14 @@ def run(
                     shutil.rmtree(leftover, ignore_errors=True)
                 else:
                     leftover.unlink()
-            start = _start(target.started_cold("the warm start server ended during the capture"), python, warm_wait)
-            ended = _wait(start, timeout, cancel)
+            watchdog.cancel()  # a second run: a deadline of its own
+            watchdog = Watchdog.for_target(describe, timeout, on_expiry=remove_workdir).start()
+            lost = ("the warm start server stopped answering during the capture" if start.warm_child.server_silent
+                    else "the warm start server ended during the capture")
+            with watchdog.waiting(f"the target to start cold ({lost})"):
+                start = _start(target.started_cold(lost), python, warm_wait)
+            ended = _wait(start, timeout, cancel, watchdog, describe)
+        watchdog.now("its capture files to be read (the target has ended)")
         returncode, stderr = ended.returncode, ended.stderr
         wall = time.monotonic() - started
         if keep_files:
@@ -437,6 +468,7 @@ def run(
             _learn(captured, target, python)
         return captured
     finally:
+        watchdog.cancel()
         if not keep_files:
             _remove_later(workdir)
 

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
-import shutil
 import subprocess
 import sys
 import textwrap
-from dataclasses import dataclass
 from pathlib import Path
+
+from cli_process import Result, console_script
+
+__all__ = ["NODES", "Cli", "Result", "console_script", "wait_for_file"]
 
 NODES = Path(__file__).parent.parent / "plugin" / "nodes"
 def wait_for_file(path: Path, timeout: float = 30.0) -> int:
@@ -24,22 +26,6 @@ def wait_for_file(path: Path, timeout: float = 30.0) -> int:
             return int(text)
         assert time.monotonic() < deadline, f"{path} was never written"
         time.sleep(0.05)
-
-
-@dataclass
-class Result:
-    returncode: int
-    stdout: str
-    stderr: str
-
-    def __str__(self) -> str:
-        return f"exit {self.returncode}\n--- stdout\n{self.stdout}\n--- stderr\n{self.stderr}"
-
-
-def console_script() -> str:
-    found = shutil.which("rmw-introspect", path=str(Path(sys.executable).parent))
-    assert found, f"the rmw-introspect console script is not installed next to {sys.executable}"
-    return found
 
 
 class Cli:

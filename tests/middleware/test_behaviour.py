@@ -118,16 +118,43 @@ def test_verbose_logs_each_entity(run):
     assert "[rmw_introspect] wrote settled capture" in result.stderr
 
 
-def test_default_output_path(middleware_library, tmp_path):
+def _default_output(err: str) -> h.Path:
+    """The default output the middleware says it writes to (once, on stderr)."""
+    line = next(x for x in err.splitlines() if "the capture goes to " in x)
+    return h.Path(line.split("the capture goes to ", 1)[1].split(" (RMW_INTROSPECT_OUTPUT unset)")[0])
+
+
+def test_default_output_path_is_in_a_private_directory(middleware_library, tmp_path):
     proc = h.spawn(middleware_library, h.python_node("talker.py"), tmp_path / "unused",
-                   {"RMW_INTROSPECT_EXIT": "1", "RMW_INTROSPECT_OUTPUT": ""})
+                   {"RMW_INTROSPECT_EXIT": "1", "RMW_INTROSPECT_OUTPUT": "", "TMPDIR": str(tmp_path)})
     out, err = proc.communicate(timeout=30)
     assert proc.returncode == 0, err
-    default = h.Path(f"/tmp/rmw_introspect_{proc.pid}.json")
-    try:
-        h.assert_capture(h.load_capture(default), [node("talker")], infra("/talker") + TALKER)
-    finally:
-        default.unlink(missing_ok=True)
+    default = _default_output(err)
+    assert default.name == f"rmw_introspect_{proc.pid}.json"
+    assert default.parent.parent == tmp_path and default.parent.name.startswith(f"rmw_introspect_{proc.pid}.")
+    assert oct(default.parent.stat().st_mode & 0o777) == oct(0o700)  # mkdtemp: only the user enters it
+    h.assert_capture(h.load_capture(default), [node("talker")], infra("/talker") + TALKER)
+    assert err.count("the capture goes to ") == 1  # said once, not at every snapshot
+
+
+def test_a_symlink_planted_at_the_predictable_default_name_is_not_followed(middleware_library, tmp_path):
+    # The default output was /tmp/rmw_introspect_<pid>.json: another user could plant a symlink
+    # (or a file) there before the process starts. `exec` keeps the shell's pid, so the link sits
+    # at exactly that name, in the directory the middleware uses as its temporary directory.
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious\n")
+    shared_tmp = tmp_path / "tmp"
+    shared_tmp.mkdir()
+    script = f'ln -s {victim} {shared_tmp}/rmw_introspect_$$.json && exec "$@"'
+    proc = h.spawn(middleware_library, ["sh", "-c", script, "sh", *h.python_node("talker.py")], tmp_path / "unused",
+                   {"RMW_INTROSPECT_EXIT": "1", "RMW_INTROSPECT_OUTPUT": "", "TMPDIR": str(shared_tmp)})
+    out, err = proc.communicate(timeout=30)
+    assert proc.returncode == 0, err
+    planted = shared_tmp / f"rmw_introspect_{proc.pid}.json"
+    assert planted.is_symlink() and victim.read_text() == "precious\n"  # neither followed nor replaced
+    default = _default_output(err)
+    assert default.parent != shared_tmp and default.parent.parent == shared_tmp
+    h.assert_capture(h.load_capture(default), [node("talker")], infra("/talker") + TALKER)
 
 
 def test_a_planted_symlink_at_the_temporary_name_is_not_followed(middleware_library, tmp_path):

@@ -159,7 +159,7 @@ def test_a_lock_held_too_long_is_a_golden_write_error(tmp_path):
     from pytest_rmw_introspect.errors import GoldenWriteError
 
     path = tmp_path / "c.yaml"
-    with FileLock(str(golden._lock_path(path))):  # another process writing the same golden
+    with FileLock(str(golden.lock_path(path))):  # another process writing the same golden
         with pytest.raises(GoldenWriteError, match="held its lock"):
             golden.update(path, NODES, timeout=0.05)
 

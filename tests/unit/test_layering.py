@@ -83,7 +83,8 @@ LOCAL_IMPORTS = {
     ("cli.formats", "yaml"): "PyYAML costs ~20 ms; `capture` starts without it, it prints with it",
     ("cli.formats", "pytest_rmw_introspect.check"): "the contract writer (~25 ms with PyYAML): `capture` "
                                                     "starts without it, it prints with it",
-    ("run.middleware", "filelock"): "filelock (+ logging) costs ~15 ms; only building the middleware needs it",
+    ("run.locks", "filelock"): "filelock (+ logging) costs ~15 ms; only building the middleware or writing a golden "
+                               "file needs it",
     ("plugin", "pytest_rmw_introspect.plugin"): "the hooks that run tests (~50 ms of imports): a pytest-xdist "
                                                 "controller runs no test and starts its workers sooner",
     ("plugin.session", "pytest_rmw_introspect.check.pipeline"): "the pipeline (~80 ms): an xdist controller "
@@ -91,7 +92,6 @@ LOCAL_IMPORTS = {
     ("run.warm.client", "pytest_rmw_introspect.run.warm.server"): "the server's own module (ctypes, runpy, selectors, "
                                                           "~5 ms); only runners sharing servers (xdist workers) "
                                                           "check a peer's uid with it",
-    ("check.golden", "filelock"): "filelock (+ logging) costs ~15 ms; only writing a file needs it",
     ("plugin.items", "pytest_rmw_introspect.check"): "the pipeline (~35 ms with the capture model): every pytest "
                                                      "process loads the plugin's hooks, most have no contract test",
     ("plugin.marker", "pytest_rmw_introspect.check"): "the pipeline (~35 ms with the capture model): only "

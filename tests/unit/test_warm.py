@@ -190,7 +190,7 @@ def test_a_server_is_told_each_message_type_once():
     sleeper = subprocess.Popen(["sleep", "30"])
     # a WarmServer without its process: learn() only needs the control socket and a live proc
     server = object.__new__(warm.WarmServer)
-    server.__dict__.update(control=ours, proc=sleeper, failure=None)
+    server.__dict__.update(control=ours, proc=sleeper, failure=None, unresponsive=None, info=None)
     server.__dict__.update(_told=set(), _told_lock=threading.Lock())
     try:
         theirs.settimeout(5)

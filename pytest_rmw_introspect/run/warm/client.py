@@ -82,6 +82,13 @@ DEFAULT_WAIT = 3.0
 STILL_STARTING = "the warm start server is still starting"
 #: seconds the server may take to answer a spawn request with the child's pid
 SPAWN_TIMEOUT = 10.0
+#: seconds a server may take to report the end of a child that ended (it does at once: longer means
+#: it is stopped or hung, and the target runs again cold)
+REPORT_WAIT = 5.0
+#: seconds the owner of a shared server waits, at its end, for the runners still attached to it
+#: to finish their captures (each is bounded by its own target's timeout); then it ends the server
+#: (their targets die with it, and they run them again cold)
+SERVE_OTHERS_WAIT = 300.0
 _BOOTSTRAP = (
     "import sys\n"
     "sys.path.insert(0, {package_parent!r})\n"
@@ -280,25 +287,42 @@ class WarmChild:
     """A target forked by a server, with the parts of ``subprocess.Popen`` the runner uses."""
 
     def __init__(self, pid: int, reply: socket.socket, args: Sequence[str],
-                 stdout: IO[bytes], stderr: IO[bytes], on_release: Callable[[], None] | None = None) -> None:
+                 stdout: IO[bytes], stderr: IO[bytes], on_release: Callable[[], None] | None = None,
+                 on_silence: Callable[[], None] | None = None) -> None:
         self.pid = pid
         self._on_release = on_release  # told once, when the runner is done with the child
+        self._on_silence = on_silence  # told when the server did not report the child's end
         self.args = list(args)
         self.stdout: IO[bytes] = stdout
         self.stderr: IO[bytes] = stderr
         self.returncode: int | None = None
-        #: the server died while the child ran (the child died with it): start the target cold
+        #: the server died while the child ran (the child died with it), or did not report the
+        #: child's end (``server_silent``): start the target cold
         self.server_lost = False
+        self.server_silent = False
         self._reply: socket.socket | None = reply
         self._lock = threading.Lock()
+        try:  # readable when the child ends: a server that stopped answering cannot hide that
+            self._pidfd: int | None = os.pidfd_open(pid)
+        except (AttributeError, OSError):
+            self._pidfd = None
 
     def _receive(self, timeout: float | None) -> None:
         with self._lock:
             if self.returncode is not None or self._reply is None:
                 return
-            ready, _, _ = select.select([self._reply], [], [], timeout)
+            watched: list[Any] = [self._reply] if self._pidfd is None else [self._reply, self._pidfd]
+            ready, _, _ = select.select(watched, [], [], timeout)
             if not ready:
                 return
+            if self._reply not in ready:  # the child ended: its server reports that at once ...
+                ready, _, _ = select.select([self._reply], [], [], REPORT_WAIT)
+                if not ready:  # ... unless it is stopped or hung: the capture runs again, cold
+                    self.server_lost = self.server_silent = True
+                    self.returncode = -signal.SIGKILL
+                    if self._on_silence is not None:
+                        self._on_silence()
+                    return
             try:
                 data = self._reply.recv(65536)
             except OSError:
@@ -341,6 +365,12 @@ class WarmChild:
     def terminate(self) -> None:
         self.send_signal(signal.SIGTERM)
 
+    def server_stopped_answering(self) -> None:
+        """The server did not report this child's end within seconds of its SIGKILL (the server is
+        stopped, or hangs): no later target starts on that server."""
+        if self._on_silence is not None:
+            self._on_silence()
+
     def release(self) -> None:
         """The runner is done with the child (and its group): the server may reap it (or, if it
         still runs, kills its group)."""
@@ -348,6 +378,9 @@ class WarmChild:
             if self._reply is not None:
                 self._reply.close()
                 self._reply = None
+            if self._pidfd is not None:
+                os.close(self._pidfd)
+                self._pidfd = None
             on_release, self._on_release = self._on_release, None
         if on_release is not None:
             on_release()
@@ -378,7 +411,10 @@ class _Launcher:
             jobs = self._jobs
         answer: queue.SimpleQueue[tuple[bool, Any]] = queue.SimpleQueue()
         jobs.put((job, answer))
-        ok, value = answer.get()
+        try:
+            ok, value = answer.get(timeout=READY_TIMEOUT)  # a fork and exec: milliseconds
+        except queue.Empty:
+            raise WarmStartFailed(f"the warm start launcher thread did not start a server within {READY_TIMEOUT:g} s") from None
         if not ok:
             raise value
         return value
@@ -417,7 +453,7 @@ class WarmServer:
                 pass_fds=fds, start_new_session=True,
                 preexec_fn=functools.partial(process.die_with_parent, os.getpid()),
             ))
-        except OSError as exc:
+        except (OSError, WarmStartFailed) as exc:
             self.control.close()
             self.log.close()
             raise WarmStartFailed(f"cannot start a warm start server: {exc}") from None
@@ -440,6 +476,9 @@ class WarmServer:
         self._lock = threading.Lock()
         self.info: dict[str, Any] | None = None
         self.failure: str | None = None
+        #: why a ready server is given up (it stopped answering: SIGSTOP, a hang); the pool ends
+        #: it and counts it as a death (a failure to start instead breaks its key for good)
+        self.unresponsive: str | None = None
         self._told: set[str] = set()  # the type names sent to learn()
         self._told_lock = threading.Lock()  # not _lock: wait_ready holds that while it waits
         #: children of this runner the server runs now, and when it was last asked for (the pool's)
@@ -491,7 +530,7 @@ class WarmServer:
             return True
 
     def alive(self) -> bool:
-        if self.failure is not None:
+        if self.failure is not None or self.unresponsive is not None:
             return False
         if self.proc is not None:
             return self.proc.poll() is None
@@ -517,8 +556,12 @@ class WarmServer:
         }
         try:
             try:
+                # never blocks: a stopped or hung server stops reading, and its socket fills up
                 socket.send_fds(self.control, [json.dumps(request).encode()],
-                                [theirs.fileno(), stdin, out_w, err_w])
+                                [theirs.fileno(), stdin, out_w, err_w], socket.MSG_DONTWAIT)
+            except BlockingIOError:
+                raise WarmStartFailed(f"the warm start server (pid {self.pid}, {process.process_state(self.pid)}) "
+                                      "does not read its requests") from None
             except OSError as exc:
                 raise WarmStartFailed(f"the warm start server is gone ({exc})") from None
             finally:
@@ -531,6 +574,10 @@ class WarmServer:
                 answer = json.loads(data) if data else {}
             except ValueError:
                 answer = {}
+            if not ready:  # stopped or hung: no later target is sent to it (the pool ends it)
+                self.unresponsive = (f"the warm start server (pid {self.pid}, {process.process_state(self.pid)}) did "
+                                     f"not answer a request to start a target within {SPAWN_TIMEOUT:g} s")
+                raise WarmStartFailed(self.unresponsive)
             if "pid" not in answer:
                 raise WarmStartFailed(answer.get("error") or "the warm start server did not start the target")
         except BaseException:
@@ -542,7 +589,11 @@ class WarmServer:
             self.running += 1
         return WarmChild(int(answer["pid"]), mine, [*plan.orig_argv],
                          os.fdopen(out_r, "rb", buffering=0), os.fdopen(err_r, "rb", buffering=0),
-                         on_release=self._child_released)
+                         on_release=self._child_released, on_silence=self._stopped_answering)
+
+    def _stopped_answering(self) -> None:
+        self.unresponsive = (f"the warm start server (pid {self.pid}, {process.process_state(self.pid)}) stopped "
+                        "answering: it did not report the end of a target it had forked")
 
     def _child_released(self) -> None:
         with self._told_lock:
@@ -566,8 +617,8 @@ class WarmServer:
             self._told.update(new)
         if not new or not self.alive():
             return
-        try:
-            self.control.send(json.dumps({"op": "preload", "types": new}).encode())
+        try:  # a hint: dropped rather than waited for when the server does not read (stopped, hung)
+            self.control.send(json.dumps({"op": "preload", "types": new}).encode(), socket.MSG_DONTWAIT)
         except OSError:
             pass
 
@@ -605,8 +656,9 @@ class WarmServer:
         the process: the owner is done the moment the server is."""
         serving = False  # the server said runners are still connected
         deadline = time.monotonic() + timeout
+        serving_until = time.monotonic() + SERVE_OTHERS_WAIT
         while True:
-            remaining = None if serving else deadline - time.monotonic()
+            remaining = max(0.0, serving_until - time.monotonic()) if serving else deadline - time.monotonic()
             if remaining is not None and remaining <= 0:
                 break  # neither exited nor answered: stuck
             try:
@@ -625,8 +677,14 @@ class WarmServer:
             if clients is not None:
                 serving = clients > 0
                 deadline = time.monotonic() + timeout
+                serving_until = time.monotonic() + SERVE_OTHERS_WAIT
+            if serving and time.monotonic() >= serving_until:
+                break  # runners attached for longer than any capture of theirs can take: stuck
         proc.kill()
-        proc.wait()
+        try:
+            proc.wait(process.KILL_WAIT)
+        except subprocess.TimeoutExpired:
+            pass  # not reaped yet (a zombie of ours until this process ends); nothing is waited for
 
     def _reports(self) -> tuple[int | None, bool]:
         """The last number of connected runners the server reported since the last call (None:

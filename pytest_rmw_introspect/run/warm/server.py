@@ -646,10 +646,14 @@ class Server:
 
 
 def _send(sock: socket.socket | None, message: Mapping[str, Any]) -> None:
+    """Send without ever blocking: the server serves every runner, so one that does not read must
+    not stop it. Nothing fills a socket today (a child's pid and end are the only messages on its
+    socket; the owner gets a report per runner leaving, after its own end): a message that would
+    block is dropped rather than waited for, should that change."""
     if sock is None:
         return
     try:
-        sock.send(json.dumps(message).encode())
+        sock.send(json.dumps(message).encode(), socket.MSG_DONTWAIT)
     except OSError:
         pass
 

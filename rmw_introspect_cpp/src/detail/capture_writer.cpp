@@ -634,7 +634,6 @@ bool write_file_atomically(const std::string & path, const std::string & content
     if (error) {*error = "cannot create a temporary file next to " + path + ": " + std::strerror(errno);}
     return false;
   }
-  (void)::fchmod(fd, 0644);  // mkostemp creates 0600; a capture is read by whoever runs the tests
   size_t written = 0;
   while (written < content.size()) {
     const ssize_t n = ::write(fd, content.data() + written, content.size() - written);
@@ -649,6 +648,8 @@ bool write_file_atomically(const std::string & path, const std::string & content
     }
     written += static_cast<size_t>(n);
   }
+  // mkostemp created it 0600; readable by others (whoever runs the tests) once it is complete
+  (void)::fchmod(fd, 0644);
   if (::close(fd) != 0) {
     if (error) {*error = "cannot close " + tmp + ": " + std::strerror(errno);}
     ::unlink(tmp.c_str());

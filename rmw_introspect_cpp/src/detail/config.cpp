@@ -1,9 +1,12 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 #include "detail/config.hpp"
 
+#include <stdlib.h>
+
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 #include "detail/stimuli.hpp"
@@ -72,7 +75,7 @@ Config Config::from_environment(long pid)
       config.output_path.replace(pos, placeholder.size(), pid_string);
     }
   } else {
-    config.output_path = "/tmp/rmw_introspect_" + pid_string +
+    config.default_output_name = "rmw_introspect_" + pid_string +
       (config.format == CaptureFormat::Yaml ? ".yaml" : ".json");
   }
   int64_t settle_ms = config.settle_ms;
@@ -112,6 +115,20 @@ Config Config::from_environment(long pid)
     config.component_loads = read_component_loads(loads, &config.warnings);
   }
   return config;
+}
+
+std::string private_output_directory(long pid, std::string * error)
+{
+  const char * tmpdir = std::getenv("TMPDIR");
+  std::string pattern = (tmpdir != nullptr && tmpdir[0] == '/') ? tmpdir : "/tmp";
+  pattern += "/rmw_introspect_" + std::to_string(pid) + ".XXXXXX";
+  if (::mkdtemp(pattern.data()) == nullptr) {  // mode 0700, a name no one else could plant
+    if (error != nullptr) {
+      *error = "cannot create a private directory " + pattern + ": " + std::strerror(errno);
+    }
+    return std::string();
+  }
+  return pattern;
 }
 
 }  // namespace rmw_introspect

@@ -17,7 +17,11 @@ enum class CaptureFormat { Json, Yaml };
 /// Settings read from the RMW_INTROSPECT_* environment variables (see README.md).
 struct Config
 {
-  std::string output_path;        // RMW_INTROSPECT_OUTPUT, <pid> substituted
+  std::string output_path;        // RMW_INTROSPECT_OUTPUT, <pid> substituted; empty: the default
+  /// The default output's file name (rmw_introspect_<pid>.json or .yaml): it is written in a
+  /// private directory the Runtime creates at the first write (private_output_directory), never
+  /// at a predictable name in /tmp.
+  std::string default_output_name;
   CaptureFormat format = CaptureFormat::Json;  // RMW_INTROSPECT_FORMAT
   int settle_ms = 10;             // RMW_INTROSPECT_SETTLE_MS
   bool exit_on_settle = false;    // RMW_INTROSPECT_EXIT
@@ -46,6 +50,11 @@ struct Config
   /// Parse the environment of this process (pid used for the default output path).
   static Config from_environment(long pid);
 };
+
+/// Create a directory only the calling user can enter (mode 0700, mkdtemp) for the default
+/// output: `<$TMPDIR or /tmp>/rmw_introspect_<pid>.XXXXXX`. Returns its path, or an empty string
+/// with `error` set.
+std::string private_output_directory(long pid, std::string * error);
 
 /// Interpret an environment flag: "1", "true", "yes", "on" (any case) are true,
 /// "0", "false", "no", "off", "" are false; anything else gives `fallback`.

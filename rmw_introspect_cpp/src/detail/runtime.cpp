@@ -458,11 +458,26 @@ void Runtime::write_capture(const char * state)
   const std::string content =
     capture_renderer_.render(config_.format, header, recorder_.snapshot(header.has_ended));
   std::string error;
-  if (!write_file_atomically(config_.output_path, content, &error)) {
+  if (output_path_.empty() && !config_.output_path.empty()) {
+    output_path_ = config_.output_path;
+  } else if (output_path_.empty()) {
+    // No RMW_INTROSPECT_OUTPUT: a private directory, so nothing at a name another user could
+    // predict in /tmp is opened, followed or replaced. Said once, for whoever looks for the file.
+    const std::string directory = private_output_directory(header.pid, &error);
+    if (directory.empty()) {
+      std::fprintf(stderr, "[rmw_introspect] cannot write capture: %s\n", error.c_str());
+      return;
+    }
+    output_path_ = directory + "/" + config_.default_output_name;
+    std::fprintf(
+      stderr, "[rmw_introspect] the capture goes to %s (RMW_INTROSPECT_OUTPUT unset)\n",
+      output_path_.c_str());
+  }
+  if (!write_file_atomically(output_path_, content, &error)) {
     std::fprintf(stderr, "[rmw_introspect] cannot write capture: %s\n", error.c_str());
   } else if (config_.verbose) {
     std::fprintf(
-      stderr, "[rmw_introspect] wrote %s capture to %s\n", state, config_.output_path.c_str());
+      stderr, "[rmw_introspect] wrote %s capture to %s\n", state, output_path_.c_str());
   }
 }
 

@@ -183,6 +183,7 @@ private:
 
   std::mutex write_mutex_;
   CaptureRenderer capture_renderer_;  // guarded by write_mutex_
+  std::string output_path_;  // where captures go, chosen at the first write (write_mutex_)
   std::mutex session_mutex_;
   std::condition_variable session_cv_;
   Session session_;

@@ -186,8 +186,7 @@ void Session::leave_sleep(uint64_t token)
 
 bool Session::used_ros_since_change(pid_t tid) const
 {
-  const auto active = activity_generation_.find(tid);
-  return active != activity_generation_.end() && active->second == generation_;
+  return activity_generation_.marked(tid, generation_);
 }
 
 bool Session::sleeper_counts(const Sleeper & sleeper) const
@@ -360,7 +359,7 @@ bool Session::provably_idle(int64_t now)
 bool Session::on_activity(pid_t tid)
 {
   if (tid != 0) {
-    activity_generation_[tid] = generation_;
+    activity_generation_.mark(tid, generation_);
   }
   if (phase_ == Phase::kWarping) {
     warp_loop_seen_ = true;

@@ -11,6 +11,7 @@
 
 #include "detail/capture_writer.hpp"
 #include "detail/clock.hpp"
+#include "detail/thread_marks.hpp"
 
 namespace rmw_introspect
 {
@@ -291,7 +292,7 @@ private:
   // activity call (a sleeper counts when it used ROS since the last change).
   std::map<uint64_t, Sleeper> sleepers_;
   uint64_t next_sleep_token_ = 0;
-  std::map<pid_t, uint64_t> activity_generation_;
+  ThreadMarks activity_generation_;  // fixed storage: on_activity never allocates
   uint64_t wake_epoch_ = 0;
   // Idle pollers: each polling thread's current run; a change, a jump or an activity call
   // starts a new epoch (every run starts again).

@@ -72,6 +72,7 @@ class Checked(Protocol):
     def to_json(self) -> list[dict[str, Any]]: ...
     def render_text(self, accept_command: str | None = None) -> str: ...
     def update(self) -> str | None: ...
+    def matched(self, *, names: bool) -> str: ...
 
 
 class Verdict(enum.Enum):
@@ -85,8 +86,8 @@ class Verdict(enum.Enum):
 @dataclass(frozen=True)
 class Outcome:
     """``message``: the one text for people (the failure, the warning, the error, or
-    ``CONTRACT: matches (NODES)``); ``report``: the drift report (empty without drift);
-    ``json``: the drift items as JSON objects, each naming its contract."""
+    ``CONTRACT: matches (NODES)``, a system ``CONTRACT: matches (N nodes in P processes)``);
+    ``report``: the drift report (empty without drift); ``json``: the drift items as JSON objects, each naming its contract."""
 
     verdict: Verdict
     message: str
@@ -100,9 +101,10 @@ class Outcome:
         return self.verdict in (Verdict.FAIL, Verdict.ERROR)
 
 
-def decide(result: Checked, *, update: bool, accept_command: str | None = None) -> Outcome:
+def decide(result: Checked, *, update: bool, accept_command: str | None = None, verbose: bool = False) -> Outcome:
     """The outcome of ``result``; ``update``: goldens may be written (``--update-golden``,
-    ``check --update``); ``accept_command``: the command that accepts the drift, for messages."""
+    ``check --update``); ``accept_command``: the command that accepts the drift, for messages;
+    ``verbose``: a passing system check names every node it matched (else it counts them)."""
     if result.error is not None:
         return Outcome(Verdict.ERROR, str(result.error))
     items = result.to_json()
@@ -119,7 +121,7 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None) 
         )
     gains = result.gains
     if not result.items and not (update and gains):
-        nodes = ", ".join(sorted(result.contract.nodes)) or "no nodes"
+        nodes = result.matched(names=verbose)
         hint = (f"; it does not state {', '.join(gains)} yet: {accept_command} adds them"
                 if gains and accept_command else "")
         if result.stood_in:

@@ -189,6 +189,11 @@ class CheckResult:
     def threshold(self) -> Severity:
         return self.options.threshold()
 
+    def matched(self, *, names: bool) -> str:
+        """What a passing check matched: the contract's node names (a node contract has few)."""
+        assert self.contract is not None
+        return ", ".join(sorted(self.contract.nodes)) or "no nodes"
+
     @property
     def drifted(self) -> bool:
         """The golden differs from what updating would write: drift, or sections the contract

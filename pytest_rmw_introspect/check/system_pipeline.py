@@ -235,6 +235,15 @@ class SystemCheckResult:
     def threshold(self) -> Severity:
         return self.options.threshold()
 
+    def matched(self, *, names: bool) -> str:
+        """What a passing check matched: how many nodes in how many processes (a robot has
+        hundreds), their names only when asked (``-v``)."""
+        assert self.contract is not None
+        nodes = sorted(self.contract.nodes)
+        processes = len(self.capture.processes) if self.capture is not None else len(self.contract.processes)
+        counted = f"{len(nodes)} node{'' if len(nodes) == 1 else 's'} in {processes} process{'' if processes == 1 else 'es'}"
+        return f"{counted}: {', '.join(nodes)}" if names and nodes else counted
+
     @property
     def drifted(self) -> bool:
         return bool(self.drift_items) or bool(self.gains)
@@ -319,8 +328,8 @@ class SystemCheckResult:
                                             accept_command=accept_command if self.drift_items else None,
                                             title=self.title()))
         if self.system_items:
-            parts.append(report.render_compat_text(self.system_items, threshold=self.system_threshold,
-                                                   title=f"System check of {self.shown}"))
+            parts.append(report.render_system_problems(self.system_items, threshold=self.system_threshold,
+                                                       title=f"System check of {self.shown}"))
         text = "\n".join(p.rstrip("\n") + "\n" for p in parts)
         if self.accepted or self.stale:
             text += "\n".join(report.render_acceptances(self.accepted, self.stale)).lstrip("\n") + "\n"

@@ -93,7 +93,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
                                              allow_missing=args.update, no_target=_no_target)
         baselines.apply(baseline, result)
         checked.append(result)
-        outcome = decide(result, update=args.update, accept_command=accept_command(args, shown, command))
+        outcome = decide(result, update=args.update, accept_command=accept_command(args, shown, command),
+                         verbose=args.verbose)
         all_items += outcome.json
         if outcome.verdict is Verdict.ERROR:
             print(f"rmw-introspect: {outcome.message}", file=sys.stderr)

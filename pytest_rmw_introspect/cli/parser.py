@@ -280,6 +280,9 @@ def build_parser() -> argparse.ArgumentParser:
                      "sorted by path and dealt round-robin, so the N jobs together check each exactly once")
     system_options.add_launch(chk)
     system_options.add_system_fail_on(chk)
+    chk.add_argument("-v", "--verbose", action="store_true",
+                     help="a passing system contract names every node it matched (else it says how many nodes in "
+                     "how many processes)")
 
     dif = sub.add_parser("diff", help="compare two contract files, or every contract with a git revision (no "
                          "target is run)",

@@ -14,9 +14,13 @@ from dataclasses import dataclass, field
 from ..model.acceptance import Acceptance
 from ..model.locate import LineIndex, line_of
 from ..model.vocabulary import LABELS, THRESHOLD_WORDS, Severity
+from . import report
 from .acceptance import Accepted
 from .compatibility import CompatItem
 from .drift import DriftItem
+
+#: a contract's row of the Markdown table names this many nodes, and counts the rest
+NODES_SHOWN = 10
 
 
 @dataclass(frozen=True)
@@ -90,7 +94,9 @@ def drift_markdown(outcomes: Sequence[ContractOutcome], *, title: str = "Interfa
     verdict = f"{failing} of {len(outcomes)} failing" if failing else f"all {len(outcomes)} pass"
     lines = [f"## {title}: {verdict}", "", "| contract | nodes | result |", "|---|---|---|"]
     for o in outcomes:
-        nodes = ", ".join(f"`{n}`" for n in o.nodes) or "-"
+        nodes = ", ".join(f"`{n}`" for n in o.nodes[:NODES_SHOWN]) or "-"
+        if len(o.nodes) > NODES_SHOWN:
+            nodes += f" and {len(o.nodes) - NODES_SHOWN} more"
         lines.append(f"| `{o.contract}` | {nodes} | {_result_cell(o)} |")
     for o in outcomes:
         if o.error is None and (o.accepted or o.stale or o.notes) and not (o.items or o.system_items):
@@ -102,13 +108,30 @@ def drift_markdown(outcomes: Sequence[ContractOutcome], *, title: str = "Interfa
             lines += _note_lines(o.notes)
             lines += _drift_bullets(o.items, o.threshold)
             if o.system_items:
-                lines += ["", f"System check: {len(o.system_items)} problem(s) ({_counts(o.system_items)})", ""]
-                for item in o.system_items:
-                    ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
-                    lines.append(f"- {item.severity.name} `{item.name}`: `{item.rule}` {ends}: {item.message}")
+                lines += _system_bullets(o.system_items)
         if o.error is None:
             lines += _acceptance_bullets(o.accepted, o.stale)
     return "\n".join(lines) + "\n"
+
+
+def _system_bullets(items: Sequence[CompatItem]) -> list[str]:
+    """A system check's problems by rule and process, cut like the text report
+    (``report.by_rule_and_process``)."""
+    processes = {item.requester.label for item in items}
+    lines = ["", f"System check: {len(items)} problem(s) in {len(processes)} process(es) ({_counts(items)})", ""]
+    for group in report.by_rule_and_process(items):
+        lines.append(f"- {group.severity.name} `{group.rule}`: {group.count} finding(s) in "
+                     f"{len(group.processes)} process(es)")
+        kept, more_processes, more_findings = group.shown()
+        for process in kept:
+            for item in process.items[:report.FINDINGS_SHOWN]:
+                ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
+                lines.append(f"  - `{process.process}` `{item.name}`: {ends}: {item.message}")
+            if len(process.items) > report.FINDINGS_SHOWN:
+                lines.append(f"  - `{process.process}`: … and {len(process.items) - report.FINDINGS_SHOWN} more")
+        if more_processes:
+            lines.append(f"  - {report.left_out(more_processes, more_findings)}")
+    return lines
 
 
 def _note_lines(notes: Sequence[str]) -> list[str]:
@@ -195,7 +218,7 @@ def drift_github(outcomes: Sequence[ContractOutcome]) -> str:
                                     title=f"{item.rule} ({item.severity.name})"))
         if o.system_items:
             lines.append(compat_github(o.system_items, threshold=o.system_threshold, lines={o.contract: o.lines},
-                                       file=o.contract).rstrip("\n"))
+                                       file=o.contract, cut=True).rstrip("\n"))
         lines += acceptance_github(o.accepted, o.stale)
     return "\n".join(lines) + ("\n" if lines else "")
 
@@ -214,18 +237,36 @@ def acceptance_github(accepted: Sequence[Accepted], stale: Sequence[Acceptance])
 def compat_github(items: Sequence[CompatItem], *, threshold: Severity,
                   lines: Mapping[str, LineIndex] | None = None, file: str | None = None,
                   file_of: Callable[[str], str] | None = None,
-                  accepted: Sequence[Accepted] = (), stale: Sequence[Acceptance] = ()) -> str:
+                  accepted: Sequence[Accepted] = (), stale: Sequence[Acceptance] = (), cut: bool = False) -> str:
     """An annotation per system-check problem, on the requesting end's contract and line:
     ``file`` when one contract holds every end, else ``file_of(label)`` (a system contract's
-    process label → its file), else the end's label (a node contract's path)."""
+    process label → its file), else the end's label (a node contract's path). ``cut``: per rule,
+    only the findings the text report shows (``report.by_rule_and_process``), and one
+    annotation counting the rest (GitHub shows a step's first few annotations only)."""
     out = []
-    for item in items:
+    shown: list[CompatItem] = list(items)
+    counted: list[tuple[CompatItem, str]] = []
+    if cut:
+        shown = []
+        for group in report.by_rule_and_process(items):
+            kept, more_processes, more_findings = group.shown()
+            shown += [item for process in kept for item in process.items[:report.FINDINGS_SHOWN]]
+            more_findings += sum(max(0, len(p.items) - report.FINDINGS_SHOWN) for p in kept)
+            if more_findings:
+                counted.append((group.processes[0].items[0],
+                                f"{more_findings} more finding(s) of this rule not annotated (all of them: --format "
+                                f"json or sarif)"))
+    for item in shown:
         level = annotation_level(item.severity, threshold)
         where = file or (file_of(item.requester.label) if file_of else item.requester.label)
         index = (lines or {}).get(where, {})
         ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
         out.append(annotation(level, f"{item.name}: {ends}: {item.message}", file=where,
                               line=line_of(index, item.requester.node, item.requester.kind, item.name),
+                              title=f"{item.rule} ({item.severity.name})"))
+    for item, message in counted:
+        out.append(annotation(annotation_level(item.severity, threshold), message,
+                              file=file or (file_of(item.requester.label) if file_of else item.requester.label),
                               title=f"{item.rule} ({item.severity.name})"))
     out += acceptance_github(accepted, stale)
     return "\n".join(out) + ("\n" if out else "")

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 from ..model import qos
@@ -255,3 +257,100 @@ def compat_to_json(items: Iterable[CompatItem]) -> list[dict[str, Any]]:
         }
         for item in items
     ]
+
+
+# ------------------------------------------------------------------ a whole system's problems
+
+#: a system report shows this many processes per rule, and this many findings per process; the
+#: rest is counted (``--format json`` and SARIF list every finding)
+PROCESSES_SHOWN = 10
+FINDINGS_SHOWN = 3
+
+
+@dataclass
+class ProcessFindings:
+    """The findings of one rule whose requesting end is in one process."""
+
+    process: str
+    items: list[CompatItem]
+
+
+@dataclass
+class RuleGroup:
+    """The findings of one rule at one severity, by process, most findings first."""
+
+    rule: str
+    severity: Severity
+    processes: list[ProcessFindings]
+
+    @property
+    def count(self) -> int:
+        return sum(len(p.items) for p in self.processes)
+
+    def shown(self, limit: int = PROCESSES_SHOWN) -> tuple[list[ProcessFindings], int, int]:
+        """The first ``limit`` processes, and how many processes and findings are left out."""
+        kept, rest = self.processes[:limit], self.processes[limit:]
+        return kept, len(rest), sum(len(p.items) for p in rest)
+
+
+def by_rule_and_process(items: Iterable[CompatItem]) -> list[RuleGroup]:
+    """System findings grouped by severity (most severe first), rule, then the process of the
+    requesting end (the processes with most findings first, then by label)."""
+    groups: dict[tuple[Severity, str], dict[str, list[CompatItem]]] = {}
+    for item in items:
+        groups.setdefault((item.severity, item.rule), {}).setdefault(item.requester.label, []).append(item)
+    out = []
+    for (severity, rule), processes in sorted(groups.items(), key=lambda kv: (-kv[0][0], kv[0][1])):
+        ordered = sorted(processes.items(), key=lambda kv: (-len(kv[1]), _natural(kv[0])))
+        out.append(RuleGroup(rule, severity, [ProcessFindings(label, found) for label, found in ordered]))
+    return out
+
+
+def _natural(label: str) -> list[Any]:
+    """Sorts ``talker #2`` before ``talker #10``."""
+    return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", label)]
+
+
+def finding_ends(item: CompatItem) -> str:
+    """The ends of a system finding: ``provider -> requester``, ``a and b`` (two of a kind), or
+    the requester alone."""
+    if item.provider is None:
+        return str(item.requester)
+    if item.provider.kind == item.requester.kind:  # two of a kind: duplicates, several servers
+        return f"{item.provider} and {item.requester}"
+    return f"{item.provider} -> {item.requester}"
+
+
+def left_out(processes: int, findings: int) -> str:
+    """What a cut list leaves out, for people."""
+    where = f"{processes} more process" + ("" if processes == 1 else "es")
+    return f"... and {_plural(findings, 'more finding')} in {where} (all of them: --format json)"
+
+
+def render_system_problems(items: Sequence[CompatItem], *, threshold: Severity = Severity.SAFE,
+                           title: str | None = None) -> str:
+    """A system check's problems for people, at any size: by severity, rule, then process, each
+    rule's longest lists cut (:data:`PROCESSES_SHOWN` processes, :data:`FINDINGS_SHOWN` findings
+    each) with a count of what is left out."""
+    heading = title or "System check"
+    processes = {item.requester.label for item in items}
+    lines = [f"{heading}: {_plural(len(items), 'problem')} in {len(processes)} process"
+             f"{'' if len(processes) == 1 else 'es'} ({_counts(items)})", _verdict(items, threshold)]
+    current: Severity | None = None
+    for group in by_rule_and_process(items):
+        if group.severity is not current:
+            current = group.severity
+            count = sum(1 for item in items if item.severity is current)
+            lines += ["", _section_header(current, count, threshold)]
+        lines.append(f"  [{group.rule}] {_plural(group.count, 'finding')} in {len(group.processes)} process"
+                     f"{'' if len(group.processes) == 1 else 'es'}")
+        kept, more_processes, more_findings = group.shown()
+        for process in kept:
+            lines.append(f"    {process.process}")
+            for item in process.items[:FINDINGS_SHOWN]:
+                lines.append(f"      {item.name}: {finding_ends(item)}: {item.message}")
+            if len(process.items) > FINDINGS_SHOWN:
+                lines.append(f"      ... and {_plural(len(process.items) - FINDINGS_SHOWN, 'more finding')}")
+        if more_processes:
+            lines.append(f"    {left_out(more_processes, more_findings)}")
+    return "\n".join(lines) + "\n"

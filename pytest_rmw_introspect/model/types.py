@@ -205,7 +205,10 @@ _READ_LIMIT = 4096
 
 
 def from_capture(data: Any) -> TypeTable:
-    """The capture's ``types`` table (ValueError naming the place of a malformed entry)."""
+    """The capture's ``types`` table (ValueError naming the place of a malformed entry). An
+    entry equal to one read before is replaced, in ``data`` too, by that one: the captures of a
+    system share their type descriptions instead of holding a copy each (a talker's are ~60 KB
+    decoded; 300 processes held 40 MB, issue 42)."""
     if data is None:
         return {}
     if not isinstance(data, Mapping):
@@ -215,6 +218,8 @@ def from_capture(data: Any) -> TypeTable:
         known = _READ.get(name)
         if known is not None and known[0] == entry:
             table[name] = known[1]
+            if isinstance(data, dict) and known[0] is not entry:
+                data[name] = known[0]  # the same value: replacing a key's value keeps the iteration valid
             continue
         table[str(name)] = _entry_from_capture(name, entry)
         if len(_READ) >= _READ_LIMIT:

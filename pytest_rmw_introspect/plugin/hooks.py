@@ -118,9 +118,11 @@ def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config
 
 
 def pytest_collection_finish(session: pytest.Session) -> None:
-    """When this session (or xdist worker) will capture targets for ``interfaces`` tests, start
-    the warm start server now (contract files started it when they were collected)."""
-    if any(item.get_closest_marker(marker.MARKER) is not None for item in session.items):
+    """When this session (or xdist worker) will capture targets for ``interfaces`` or
+    ``system_contract`` tests, start the warm start server now (contract files started it when
+    they were collected)."""
+    if any(item.get_closest_marker(name) is not None for item in session.items
+           for name in (marker.MARKER, system_marker.MARKER)):
         _warm_up(session.config)
 
 
@@ -155,10 +157,11 @@ def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.Fil
     """Contract files (``rmw_introspect_contracts``) are test items of their own (``items``;
     system contracts: ``system_marker``)."""
     if items.matches(file_path, parent.config, items.patterns(parent.config)):
+        # the first contract file of a session starts the warm start server, which then imports
+        # rclpy while the rest is collected (a `-k` that deselects every contract item wastes it);
+        # a system contract's processes start warm from it too (issue 42)
+        _warm_up(parent.config)
         if system_marker.is_system_file(file_path):
             return system_marker.SystemContractFile.from_parent(parent, path=file_path)
-        # the first contract file of a session starts the warm start server, which then imports
-        # rclpy while the rest is collected (a `-k` that deselects every contract item wastes it)
-        _warm_up(parent.config)
         return items.ContractFile.from_parent(parent, path=file_path)
     return None

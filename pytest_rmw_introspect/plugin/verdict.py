@@ -33,7 +33,8 @@ def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> No
         session_state.apply_baseline(result)
     except BaselineError as exc:
         pytest.fail(str(exc), pytrace=False)
-    outcome = decide(result, update=session_state.update, accept_command=accept_command(item, session_state))
+    outcome = decide(result, update=session_state.update, accept_command=accept_command(item, session_state),
+                     verbose=item.config.getoption("verbose", 0) > 0)
     if outcome.json:
         # the machine-readable drift on the report (JUnit writes it as a <property>)
         item.user_properties.append((DRIFT_PROPERTY, json.dumps(outcome.json, sort_keys=True, default=str)))

@@ -70,7 +70,9 @@ def test_capture_of_the_example_robot(cli):
 def test_the_example_system_contract_matches(cli):
     result = cli("check", "contracts/robot.system.yaml", cwd=EXAMPLES, timeout=120)
     assert result.returncode == 0, result
-    assert result.stdout.startswith("contracts/robot.system.yaml: matches (/robot1/lidar, /robot1/map_server,")
+    assert result.stdout.startswith("contracts/robot.system.yaml: matches (7 nodes in 7 processes)")
+    named = cli("check", "-v", "contracts/robot.system.yaml", cwd=EXAMPLES, timeout=120)
+    assert named.stdout.startswith("contracts/robot.system.yaml: matches (7 nodes in 7 processes: /robot1/lidar, "), named
 
 
 def test_capture_check_update_of_a_system(cli):
@@ -84,10 +86,11 @@ def test_capture_check_update_of_a_system(cli):
     checked = cli("check", "robot.system.yaml", timeout=120)
     assert checked.returncode == 1, checked
     out = checked.stdout
-    assert "System check of robot.system.yaml: 2 problems (2 breaking, 0 risky, 0 safe)" in out
-    assert "[TYPE_MISMATCH] publisher of /robot1/map_server (rmw_introspect_examples/map_server) -> subscription " \
+    assert "System check of robot.system.yaml: 2 problems in 2 processes (2 breaking, 0 risky, 0 safe)" in out
+    assert "[TYPE_MISMATCH] 1 finding in 1 process\n" in out and "[DUPLICATE_NODE_NAME] 1 finding in 1 process\n" in out
+    assert "publisher of /robot1/map_server (rmw_introspect_examples/map_server) -> subscription " \
            "of /robot1/map_listener (rmw_introspect_examples/listener)" in out
-    assert "[DUPLICATE_NODE_NAME] node of /robot1/reporter (rmw_introspect_examples/talker) and node of " \
+    assert "node of /robot1/reporter (rmw_introspect_examples/talker) and node of " \
            "/robot1/reporter (rmw_introspect_examples/talker #2)" in out
     assert "To accept" not in out  # nothing to accept: the contract matches
     as_json = cli("check", "robot.system.yaml", "--format", "json", timeout=120)
@@ -146,7 +149,7 @@ def test_a_launched_process_that_creates_no_node(cli):
     cli("capture", "--launch", "launch/silent.launch.xml", "-o", "silent.system.yaml", timeout=120)
     result = cli("check", "silent.system.yaml", timeout=120)
     assert result.returncode == 1, result
-    assert "[LAUNCHED_NODE_NOT_CREATED] node of /silent" in result.stdout
+    assert "[LAUNCHED_NODE_NOT_CREATED] 1 finding in 1 process" in result.stdout and "node of /silent" in result.stdout
     assert "the launch file starts node /silent at launch/silent.launch.xml:2, but the process created no node at all" \
         in result.stdout
     assert f"  - {Path(sys.executable).name} (launch/silent.launch.xml:2) created no node\n" in result.stdout

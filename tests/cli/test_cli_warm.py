@@ -88,3 +88,24 @@ def test_a_terminated_run_leaves_no_server_or_target(tmp_path, middleware_librar
         if proc.poll() is None:
             proc.kill()
             proc.wait()
+
+
+def test_a_system_contract_is_many_captures_and_starts_them_warm(tmp_path, middleware_library, monkeypatch):
+    """One system contract is one capture per process: its processes start warm, as under
+    `capture --launch` (counting files alone started them all cold, issue 42)."""
+    monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(middleware_library))
+    pids = tmp_path / "pids.txt"
+    script = tmp_path / "warm_pid"  # an executable whose #! names this interpreter: it may start warm
+    script.write_text(f"#!{sys.executable}\n" + WARM_PID.read_text())
+    script.chmod(0o755)
+    nodes = "".join(f'  <node exec="{script}" name="{name}"><env name="WARM_PID_FILE" value="{pids}"/></node>\n'
+                    for name in ("first", "second", "third"))
+    (tmp_path / "three.launch.xml").write_text(f"<launch>\n{nodes}</launch>\n")
+    contract = tmp_path / "three.system.yaml"
+    contract.write_text("system_version: 1\nlaunch:\n  path: three.launch.xml\ntarget: {settle: 0.02}\n")
+    run = subprocess.Popen([str(CLI), "check", "--update", str(contract)], stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, text=True)
+    _out, err = run.communicate(timeout=120)
+    assert run.returncode == 0, err
+    parents = set(_parents(pids))
+    assert len(parents) == 1 and run.pid not in parents, err  # one warm start server forked all three

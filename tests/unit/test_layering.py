@@ -66,6 +66,8 @@ LOCAL_IMPORTS = {
                                  "without an ament index need the scan of installed distributions",
     ("cli", "pytest_rmw_introspect.cli.capture"): "`capture` starts without the comparison pipeline",
     ("cli", "pytest_rmw_introspect.cli.init"): "`init` imports what it needs when it runs",
+    ("cli", "pytest_rmw_introspect.cli.system_contracts"): "`--help`, usage errors and `capture` of one target "
+                                                           "answer without the system pipeline",
     ("cli", "pytest_rmw_introspect.cli.lock"): "`lock` imports what it needs when it runs",
     ("cli.capture", "pytest_rmw_introspect.cli"): "the system pipeline and launch readers (~25 ms) only for "
                                                   "`capture --launch`",

@@ -124,6 +124,11 @@ def test_capture_table_entries_read_before_are_reused_while_they_are_equal():
     first = type_model.from_capture(data)["std_msgs/msg/String"]
     again = type_model.from_capture(json.loads(json.dumps(data)))["std_msgs/msg/String"]
     assert again is first  # the same entry (an equal copy): read once
+    # and the copy in the second capture's document is the first one's: N captures of a system
+    # hold one description of each type, not N (issue 42)
+    second = json.loads(json.dumps(data))
+    type_model.from_capture(second)
+    assert second["std_msgs/msg/String"] is data["std_msgs/msg/String"]
     changed = json.loads(json.dumps(data))
     changed["std_msgs/msg/String"]["fields"].append({"name": "extra", "type": "int8"})
     read = type_model.from_capture(changed)["std_msgs/msg/String"]

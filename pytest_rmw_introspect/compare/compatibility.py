@@ -3,6 +3,10 @@
 All nodes of all contracts form one system. Per topic, every publisher × subscription pair is
 checked (type, type hash, QoS with ``qos.profile_compatibility``); per service and action, every
 client × server pair (type, type hash). Requesting endpoints without any provider are reported.
+The services the client libraries give every node (its parameter services, a lifecycle node's
+lifecycle services and transition events: :func:`implied_endpoints`) are left out of captures as
+infrastructure, yet other nodes call them (a lifecycle manager): they count as present, with their
+types, for every node of the contracts.
 The rules and their severities are in docs/drift-rules.md ("Compatibility rules").
 """
 
@@ -14,7 +18,17 @@ from typing import Literal
 
 from ..model import qos
 from ..model.contract_shapes import ContractNode, InterfaceEntry, QosFields
-from ..model.vocabulary import LABELS, LISTS, PROVIDER_OF, ListName, Severity
+from ..model.vocabulary import (
+    LABELS,
+    LIFECYCLE,
+    LIFECYCLE_SERVICE_TYPES,
+    LIFECYCLE_TOPIC_TYPES,
+    LISTS,
+    PARAMETER_SERVICE_TYPES,
+    PROVIDER_OF,
+    ListName,
+    Severity,
+)
 from . import launch_given, wiring
 
 _WITHOUT_PROVIDER = {
@@ -69,7 +83,10 @@ SUMMARIES: dict[str, str] = {
         "a subscription nobody publishes and a publisher nobody subscribes to (nor a declared outside "
         "subscriber), of one type, whose names are near misses"
     ),
-    "DANGLING_SERVICE_CLIENT": "in a system contract, nobody serves a called service and `external:` does not declare who does",
+    "DANGLING_SERVICE_CLIENT": (
+        "in a system contract, nobody serves a called service (nor is it one of the services every node of the system "
+        "serves) and `external:` does not declare who does"
+    ),
     "SERVICE_NAME_MISMATCH": "the same for a service client nobody serves and a service server nobody calls",
     "DANGLING_ACTION_CLIENT": "in a system contract, nobody serves an action with a client and `external:` does not declare who does",
     "ACTION_NAME_MISMATCH": "the same for an action client and an action server",
@@ -77,7 +94,8 @@ SUMMARIES: dict[str, str] = {
     "PARAM_NOT_DECLARED": (
         "a parameter the launch file gives a node (`<param>`, `<set_parameter>`/`SetParameter` and "
         "`<set_parameters_from_file>` in the node's scope, a parameters file section that matches the node, "
-        "`-p` in `ros_args`) that the node does not declare"
+        "`-p` in `ros_args`) that the node does not declare; in a process of several nodes, that no node it reaches "
+        "declares"
     ),
     "PARAMS_FILE_SECTION_UNMATCHED": (
         "a parameters file given to processes has a node section that matches none of the nodes it is given "
@@ -138,6 +156,35 @@ class CompatItem:
 class _Found:
     endpoint: ContractEndpoint
     entry: InterfaceEntry
+    #: why the endpoint is present though no contract lists it (an implied endpoint), else None
+    implied: str | None = None
+
+
+#: what the client libraries give a node, by list: ``<node>/<leaf>`` → type, and why it is there
+_IMPLIED: tuple[tuple[ListName, dict[str, str], bool, str], ...] = (
+    ("service_servers", PARAMETER_SERVICE_TYPES, False, "every node serves its parameter services"),
+    ("service_servers", LIFECYCLE_SERVICE_TYPES, True, "every lifecycle node serves its lifecycle services"),
+    ("publishers", LIFECYCLE_TOPIC_TYPES, True, "every lifecycle node publishes its transition events"),
+)
+
+
+def implied_endpoints(fqn: str, node: ContractNode) -> list[tuple[ListName, InterfaceEntry, str]]:
+    """The endpoints the ROS client library creates in the node ``fqn`` by itself, which a
+    capture leaves out as infrastructure: ``(list, entry, why)`` for its parameter services and
+    type description service, and for a lifecycle node (one with a ``lifecycle`` state) its
+    lifecycle services and transition event publisher; not those its contract lists already
+    (a capture with infrastructure)."""
+    listed = {(kind, str(entry.get("name"))) for kind in LISTS for entry in (node or {}).get(kind) or []}
+    managed = LIFECYCLE in (node or {})
+    out: list[tuple[ListName, InterfaceEntry, str]] = []
+    for kind, types, lifecycle_only, why in _IMPLIED:
+        if lifecycle_only and not managed:
+            continue
+        for leaf, type_name in types.items():
+            name = f"{fqn.rstrip('/')}/{leaf}"
+            if (kind, name) not in listed:
+                out.append((kind, {"name": name, "type": type_name}, why))
+    return out
 
 
 def check_compatibility(
@@ -157,6 +204,9 @@ def check_compatibility(
                 for entry in (node or {}).get(kind) or []:
                     found = _Found(ContractEndpoint(label, node_name, kind), entry)
                     endpoints.setdefault(kind, {}).setdefault(entry.get("name"), []).append(found)
+            for kind, entry, why in implied_endpoints(node_name, node):
+                found = _Found(ContractEndpoint(label, node_name, kind), entry, implied=why)
+                endpoints.setdefault(kind, {}).setdefault(entry.get("name"), []).append(found)
 
     items: list[CompatItem] = []
     for requesting_kind, (providing_kind, missing_rule) in _PAIRS.items():
@@ -187,8 +237,9 @@ def _check_pair(name: str, provider: _Found, requester: _Found, strict: bool) ->
     offered, requested = provider.entry, requester.entry
     if offered.get("type") and requested.get("type") and offered["type"] != requested["type"]:
         # nothing else matters between endpoints of different types
+        implied = f" ({provider.implied})" if provider.implied else ""
         return [_item("TYPE_MISMATCH", name, requester, provider,
-                      f"{offered['type']} offered, {requested['type']} requested")]
+                      f"{offered['type']} offered{implied}, {requested['type']} requested")]
     items = []
     offered_hash, requested_hash = offered.get("type_hash"), requested.get("type_hash")
     if offered_hash and requested_hash and offered_hash != requested_hash:

@@ -188,11 +188,13 @@ def given_findings(processes: Sequence[Any], missing_path: MissingPath | None = 
         # a component of a container gets what its LoadNode request gives it, not the container
         components: Mapping[str, Given] = getattr(process, "component_given", None) or {}
         findings += _invalid_names(process, [given, *components.values()], system)
+        # what the process is given reaches every node of it but the components
+        findings += _undeclared(process, given, {fqn: n for fqn, n in process.nodes.items() if fqn not in components})
         for fqn, node in process.nodes.items():
-            findings += _undeclared(process, components.get(fqn, given), fqn, node)
             if missing_path is not None:
                 findings += _missing_paths(process, fqn, node, missing_path)
-            if fqn in components:  # its LoadNode request's remappings reach this node alone
+            if fqn in components:  # its LoadNode request's parameters and remappings reach this node alone
+                findings += _undeclared(process, components[fqn], {fqn: node})
                 findings += _unused_remappings(process, components[fqn], {fqn: node}, fqn, system)
         findings += _unused_remappings(process, given, process.nodes, process.expected, system)
     everyone = sorted({fqn for process in processes for fqn in process.nodes})
@@ -255,27 +257,41 @@ def _invalid_names(process: Any, givens: Sequence[Given], system: _System) -> li
     return out
 
 
-def _undeclared(process: Any, given: Given, fqn: str, node: ContractNode) -> list[Finding]:
-    if node.get(PARAMETERS) is None:  # parameters not read: nothing to compare with
-        return []
-    declared = {str(p.get("name")) for p in node[PARAMETERS]}
-    sources: dict[str, str] = {}
+def _undeclared(process: Any, given: Given, nodes: Mapping[str, ContractNode]) -> list[Finding]:
+    """The parameters ``given`` to ``nodes`` (the nodes of one process, or one component) that
+    no node receiving them declares. A parameter given to the process (``<param>``, ``-p``)
+    reaches every node of it, a parameters file section every node it matches, as ROS 2 gives
+    them; in a process of several nodes only the node that reads one declares it, so a
+    parameter counts as declared when any node it reached declares it (a section keyed to one
+    node by its name reaches that node alone, which must declare it)."""
+    received: dict[tuple[str, tuple[str, ...]], str] = {}  # (parameter, the nodes it reaches) → where
+    for parameter in given.parameters:
+        received.setdefault((parameter.name, tuple(sorted(nodes))), parameter.source)
     for params_file in given.files:
         for key, names in params_file.sections:
-            if section_matches(key, fqn):
-                for name in names:
-                    sources.setdefault(name, f"{params_file.shown} [{key}]")
-    for parameter in given.parameters:
-        sources[parameter.name] = parameter.source
+            reached = tuple(sorted(fqn for fqn in nodes if section_matches(key, fqn)))
+            for name in names if reached else ():
+                received.setdefault((name, reached), f"{params_file.shown} [{key}]")
     out = []
-    for name, source in sorted(sources.items()):
-        if name in declared or is_infrastructure_parameter(name) or not valid_parameter_name(name):
+    for (name, reached), source in sorted(received.items()):
+        if is_infrastructure_parameter(name) or not valid_parameter_name(name):
             continue  # an invalid name is PARAM_NAME_INVALID's
+        read = [nodes[fqn].get(PARAMETERS) for fqn in reached]
+        if not reached or any(parameters is None for parameters in read):
+            continue  # parameters not read (a C node, read_parameters: false): nothing to compare with
+        declared = {str(p.get("name")) for parameters in read for p in parameters or []}
+        if name in declared:
+            continue
         close = _closest(name, declared)
-        hint = f"; did you mean `{close}`?" if close else f"; it declares: {', '.join(sorted(declared)) or 'none'}"
+        if len(reached) == 1:
+            [fqn] = reached
+            whom, lists = f"but {fqn} does not declare it", "it declares"
+        else:
+            fqn = process.expected if process.expected in reached else reached[0]
+            whom, lists = f"to the {len(reached)} nodes of its process ({', '.join(reached)}), none of which declares it", "they declare"
+        hint = f"; did you mean `{close}`?" if close else f"; {lists}: {', '.join(sorted(declared)) or 'none'}"
         out.append(Finding("PARAM_NOT_DECLARED", process.label, fqn, name,
-                           f"parameter `{name}` is given ({source}) but {fqn} does not declare it: ROS 2 ignores it "
-                           f"without a word{hint}"))
+                           f"parameter `{name}` is given ({source}) {whom}: ROS 2 ignores it without a word{hint}"))
     return out
 
 

@@ -81,25 +81,29 @@ ACTION_HASHED_PARTS: dict[str, str] = {
 
 #: Topics every node uses: ``/rosout`` (its log publisher), ``/parameter_events``.
 INFRASTRUCTURE_TOPICS: tuple[str, ...] = ("/rosout", "/parameter_events")
-#: ``<node>/<service>``: the parameter services and (Jazzy) the type description service.
-PARAMETER_SERVICES: tuple[str, ...] = (
-    "describe_parameters",
-    "get_parameter_types",
-    "get_parameters",
-    "list_parameters",
-    "set_parameters",
-    "set_parameters_atomically",
-    "get_type_description",
-)
-#: ``<node>/<service>`` and ``<node>/<topic>`` of a lifecycle (managed) node.
-LIFECYCLE_SERVICES: tuple[str, ...] = (
-    "change_state",
-    "get_state",
-    "get_available_states",
-    "get_available_transitions",
-    "get_transition_graph",
-)
-LIFECYCLE_TOPICS: tuple[str, ...] = ("transition_event",)
+#: ``<node>/<service>``: the parameter services and (Jazzy) the type description service, each
+#: with its type. Every node serves them: the system rules take them as present for every node.
+PARAMETER_SERVICE_TYPES: dict[str, str] = {
+    "describe_parameters": "rcl_interfaces/srv/DescribeParameters",
+    "get_parameter_types": "rcl_interfaces/srv/GetParameterTypes",
+    "get_parameters": "rcl_interfaces/srv/GetParameters",
+    "list_parameters": "rcl_interfaces/srv/ListParameters",
+    "set_parameters": "rcl_interfaces/srv/SetParameters",
+    "set_parameters_atomically": "rcl_interfaces/srv/SetParametersAtomically",
+    "get_type_description": "type_description_interfaces/srv/GetTypeDescription",
+}
+PARAMETER_SERVICES: tuple[str, ...] = tuple(PARAMETER_SERVICE_TYPES)
+#: ``<node>/<service>`` and ``<node>/<topic>`` of a lifecycle (managed) node, each with its type.
+LIFECYCLE_SERVICE_TYPES: dict[str, str] = {
+    "change_state": "lifecycle_msgs/srv/ChangeState",
+    "get_state": "lifecycle_msgs/srv/GetState",
+    "get_available_states": "lifecycle_msgs/srv/GetAvailableStates",
+    "get_available_transitions": "lifecycle_msgs/srv/GetAvailableTransitions",
+    "get_transition_graph": "lifecycle_msgs/srv/GetAvailableTransitions",
+}
+LIFECYCLE_SERVICES: tuple[str, ...] = tuple(LIFECYCLE_SERVICE_TYPES)
+LIFECYCLE_TOPIC_TYPES: dict[str, str] = {"transition_event": "lifecycle_msgs/msg/TransitionEvent"}
+LIFECYCLE_TOPICS: tuple[str, ...] = tuple(LIFECYCLE_TOPIC_TYPES)
 #: per-node services of enable_logger_service (rclcpp NodeOptions, rclpy Node(enable_logger_service=True))
 LOGGER_SERVICES: tuple[str, ...] = ("get_logger_levels", "set_logger_levels")
 #: Parameters the client libraries declare in every node (rclpy and rclcpp: ``use_sim_time``,

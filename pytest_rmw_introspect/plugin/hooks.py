@@ -13,15 +13,14 @@ from __future__ import annotations
 import os
 from collections.abc import Generator
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import Any
 
 import pytest
 
-from ..check import golden_record
-from ..errors import ContractError, RmwIntrospectError, SetupError
+from ..errors import RmwIntrospectError, SetupError
 from ..run import prewarm
 from ..run.warm import client as warm
-from . import items, lookahead, marker, marker_goldens, session, system_marker
+from . import items, lookahead, marker, marker_goldens, session, system_marker, verdict
 from . import items as items_module
 from . import session as session_module
 from .fixtures import interfaces, rmw_capture, rmw_introspect_library, rmw_introspect_marker_check, rmw_introspect_ros
@@ -49,35 +48,19 @@ def pytest_configure(config: pytest.Config) -> None:
         warm.POOL.share_within(f"{workerinput.get('testrunuid', '')}-{os.getppid()}")
 
 
-def _fail_with(item: pytest.Item, error: RmwIntrospectError) -> NoReturn:
-    """Fail ``item`` with ``error``'s message, no traceback; a contract's path shown relative to
-    where pytest was started, as in every other message. A golden that --update-golden cannot
-    rewrite because it is invalid is said so, and listed in the session's summary."""
-    session_state = session.state(item.config)
-    if not isinstance(error, ContractError) or error.path is None:
-        pytest.fail(str(error), pytrace=False)
-    message = error.shown_from(session_state.display)
-    if session_state.update:
-        item.user_properties.append((golden_record.USER_PROPERTY,
-                                     golden_record.property_value(golden_record.INVALID, error.path)))
-        message += ("\n--update-golden does not overwrite an invalid contract (it may hold entries written by "
-                    "hand): fix it, or delete it and run --update-golden again to write a new one.")
-    pytest.fail(message, pytrace=False)
-
-
 @pytest.hookimpl(wrapper=True)
 def pytest_runtest_call(item: pytest.Item) -> Generator[None, Any, Any]:
     st = item.stash.get(marker.ITEM, None)
     if st is not None and st.error is not None:
-        _fail_with(item, st.error)
+        verdict.fail_with(item, st.error)
     system_st = item.stash.get(system_marker.ITEM, None)
     if system_st is not None and system_st.error is not None:
-        _fail_with(item, system_st.error)
+        verdict.fail_with(item, system_st.error)
     try:
         result = yield
     except RmwIntrospectError as exc:
         # raised in the test body (e.g. by rmw_capture): a failure with the message, no traceback
-        _fail_with(item, exc)
+        verdict.fail_with(item, exc)
     if st is not None and st.capture is not None:
         marker.check_marker_item(item, st, session.state(item.config))
     if system_st is not None and system_st.capture is not None:

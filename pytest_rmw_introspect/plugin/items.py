@@ -163,7 +163,7 @@ class ContractItem(pytest.Item):
         from ..check import pipeline
 
         if self.load_error is not None:
-            pytest.fail(str(self.load_error), pytrace=False)
+            verdict.fail_with(self, self.load_error)
         session_state = state(self.config)
         ahead, self._ahead = self._ahead, None
         error: RmwIntrospectError | None = None
@@ -172,7 +172,7 @@ class ContractItem(pytest.Item):
         except RmwIntrospectError as exc:
             error = exc
         if error is not None:  # failed outside the except block: no chained exception in the report
-            pytest.fail(str(error), pytrace=False)
+            verdict.fail_with(self, error)
         verdict.apply(self, pipeline.compare(prepared, capture), session_state)
 
     def reportinfo(self) -> tuple[Path, int, str]:

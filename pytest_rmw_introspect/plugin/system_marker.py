@@ -181,7 +181,7 @@ class SystemContractItem(pytest.Item):
         from ..check import system_pipeline
 
         if self.load_error is not None:
-            pytest.fail(str(self.load_error), pytrace=False)
+            verdict.fail_with(self, self.load_error)
         session_state = state(self.config)
         error: RmwIntrospectError | None = None
         try:
@@ -191,7 +191,7 @@ class SystemContractItem(pytest.Item):
         except RmwIntrospectError as exc:
             error = exc
         if error is not None:
-            pytest.fail(str(error), pytrace=False)
+            verdict.fail_with(self, error)
         verdict.apply(self, system_pipeline.compare(prepared, capture), session_state)
 
     def reportinfo(self) -> tuple[Path, int, str]:

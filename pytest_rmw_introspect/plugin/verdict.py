@@ -7,16 +7,33 @@ from __future__ import annotations
 import json
 import shlex
 from pathlib import Path
+from typing import NoReturn
 
 import pytest
 
 from ..check import golden_record
 from ..check.outcome import Checked, Verdict, decide
-from ..errors import BaselineError, GoldenWriteError
-from .session import SessionState
+from ..errors import BaselineError, ContractError, GoldenWriteError, RmwIntrospectError
+from .session import SessionState, state
 
 #: user property with the drift items as JSON (report.to_json + contract), for JUnit XML
 DRIFT_PROPERTY = "rmw_introspect_drift"
+
+
+def fail_with(item: pytest.Item, error: RmwIntrospectError) -> NoReturn:
+    """Fail ``item`` with ``error``'s message, no traceback; a contract's path shown relative to
+    where pytest was started, as in every other message. A golden that --update-golden cannot
+    rewrite because it is invalid is said so, and listed in the session's summary."""
+    session_state = state(item.config)
+    if not isinstance(error, ContractError) or error.path is None:
+        pytest.fail(str(error), pytrace=False)
+    message = error.shown_from(session_state.display)
+    if session_state.update:
+        item.user_properties.append((golden_record.USER_PROPERTY,
+                                     golden_record.property_value(golden_record.INVALID, error.path)))
+        message += ("\n--update-golden does not overwrite an invalid contract (it may hold entries written by "
+                    "hand): fix it, or delete it and run --update-golden again to write a new one.")
+    pytest.fail(message, pytrace=False)
 
 
 def accept_command(item: pytest.Item, session_state: SessionState) -> str:

@@ -101,18 +101,22 @@ class Watchdog:
                 "below (docs/troubleshooting.md, \"A capture that hangs\"). Every thread's stack:")
 
     def expire(self) -> None:
-        """Write what was waited for and every stack, kill the target's group, exit 2."""
+        """Write what was waited for and every stack, kill the target's group, exit 2. The stacks
+        come first: once the target is killed the runner's threads move on, and the dump would
+        show where they went instead of where they waited."""
         text = self.message()
-        if self.pid is not None:
-            with contextlib.suppress(OSError):
-                os.killpg(self.pid, signal.SIGKILL)
-        if self._on_expiry is not None:
-            with contextlib.suppress(Exception):
-                self._on_expiry()
-        try:  # file descriptor 2 itself: under pytest, sys.stderr is a capture buffer
-            with contextlib.suppress(Exception):
-                sys.stderr.flush()
-            os.write(2, (text + "\n").encode())
-            faulthandler.dump_traceback(file=2, all_threads=True)
+        try:
+            try:  # file descriptor 2 itself: under pytest, sys.stderr is a capture buffer
+                with contextlib.suppress(Exception):
+                    sys.stderr.flush()
+                os.write(2, (text + "\n").encode())
+                faulthandler.dump_traceback(file=2, all_threads=True)
+            finally:
+                if self.pid is not None:
+                    with contextlib.suppress(OSError):
+                        os.killpg(self.pid, signal.SIGKILL)
+                if self._on_expiry is not None:
+                    with contextlib.suppress(Exception):
+                        self._on_expiry()
         finally:
             os._exit(EXIT_STATUS)

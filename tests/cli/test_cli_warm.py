@@ -94,6 +94,7 @@ def test_a_system_contract_is_many_captures_and_starts_them_warm(tmp_path, middl
     """One system contract is one capture per process: its processes start warm, as under
     `capture --launch` (counting files alone started them all cold, issue 42)."""
     monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(middleware_library))
+    monkeypatch.delenv("CI", raising=False)  # `check --update` writes the system contract (refused in CI)
     pids = tmp_path / "pids.txt"
     script = tmp_path / "warm_pid"  # an executable whose #! names this interpreter: it may start warm
     script.write_text(f"#!{sys.executable}\n" + WARM_PID.read_text())

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import json
 import os
 import re
 import time
@@ -95,7 +96,24 @@ def outcome(spec: TargetSpec, **kwargs: Any) -> dict[str, Any]:
 
 
 def comparable(result: dict[str, Any]) -> dict[str, Any]:
-    return {k: v for k, v in result.items() if k not in ("started", "start_note", "wall", "pid", "quiescence")}
+    kept = {k: v for k, v in result.items() if k not in ("started", "start_note", "wall", "pid", "quiescence")}
+    return _names_as_patterns(kept)
+
+
+def _names_as_patterns(value: dict[str, Any]) -> dict[str, Any]:
+    """``value`` with every node name that changes every run (a program that names itself anew,
+    tests/middleware/nodes/anonymous_talker.py) written as its pattern, as a contract writes it
+    (``model.unstable_names``): two runs of such a program are compared like two checks of it."""
+    from pytest_rmw_introspect.model.unstable_names import recognise
+
+    text = json.dumps(value, sort_keys=True, default=str)
+    for name in sorted(set(re.findall(r'"(/[^"\s]*)"', text)), key=len, reverse=True):
+        found = recognise(name)
+        if found is not None:  # the name, the names under it, and the node's own base name
+            text = text.replace(f'"{name.rsplit("/", 1)[1]}"', f'"{found.pattern.rsplit("/", 1)[1]}"')
+            text = text.replace(name, found.pattern)
+    folded: dict[str, Any] = json.loads(text)
+    return folded
 
 
 def cold_and_warm(spec_options: dict[str, Any], base_dir: Path | None = None) -> tuple[dict, dict]:

@@ -128,7 +128,7 @@ def test_malformed_contract_names_file_line_path_and_reason(project):
     assert_clean_failure(result)
     result.stdout.fnmatch_lines([
         (
-            "invalid contract */contracts/talker.yaml:7: at nodes./talker.publishers[[]0[]].qos.reliability: "
+            "invalid contract contracts/talker.yaml:7: at nodes./talker.publishers[[]0[]].qos.reliability: "
             "'RELIABEL' is not one of: RELIABLE, BEST_EFFORT*"
         )
     ])

@@ -539,11 +539,10 @@ def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> 
 def package_executables(package: str, prefixes: Sequence[Path], python_path: Sequence[str] = ()) -> list[str]:
     """Every executable ``package`` installs: ``lib/<package>/*`` of the first prefix that has the
     package (like ``ros2 run``), else the console scripts of the Python distribution ``package``."""
-    for prefix in ament_providers(package, prefixes)[:1]:
-        lib_dir = prefix / "lib" / package
-        if lib_dir.is_dir():
-            return sorted(p.name for p in lib_dir.iterdir() if p.is_file() and os.access(p, os.X_OK))
-        return []
+    providers = ament_providers(package, prefixes)
+    if providers:
+        lib_dir = providers[0] / "lib" / package
+        return sorted(p.name for p in lib_dir.iterdir() if p.is_file() and os.access(p, os.X_OK)) if lib_dir.is_dir() else []
     return sorted(console_scripts(package, list(python_path) or sys.path) or {})
 
 

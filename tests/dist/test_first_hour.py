@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 #: the wheel is built and installed by the first test that needs it (minutes on a loaded machine)
-pytestmark = pytest.mark.timeout(1200)
+pytestmark = [pytest.mark.slow, pytest.mark.timeout(1200)]  # marked here too: `-m slow` selects before the tier hook runs
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "getting-started" / "ament-python.md"

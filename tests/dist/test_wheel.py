@@ -18,7 +18,7 @@ import pytest
 from wheel_support import KILTED_VENV, wheel_distros
 
 #: the wheel is built and installed by the first test that needs it (minutes on a loaded machine)
-pytestmark = pytest.mark.timeout(1200)
+pytestmark = [pytest.mark.slow, pytest.mark.timeout(1200)]  # marked here too: `-m slow` selects before the tier hook runs
 
 PREBUILT = "pytest_rmw_introspect/prebuilt/jazzy/librmw_introspect_cpp.so"
 

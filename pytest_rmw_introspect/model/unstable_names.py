@@ -83,7 +83,7 @@ def instance_key(pattern: str, number: int) -> str:
 @dataclass(frozen=True)
 class NameRule:
     """A kind of name that changes every run: ``token`` matches the changing part of a node's
-    base name (a whole ``_``-separated piece unless ``whole`` says the base name's tail)."""
+    base name (each rule's lookarounds say where in the name it may stand)."""
 
     id: str
     token: re.Pattern[str]

@@ -1,4 +1,6 @@
-"""File locks that say who holds them: the middleware's build lock and the golden-write locks.
+"""File locks that say who holds them: the golden-write locks. (The middleware's build lock,
+``run/middleware._build_lock``, is its own: its holder also writes the run it belongs to, so that
+xdist workers of one run say a wait once; it bounds its wait the same way.)
 
 A lock is an ``flock`` (filelock): the kernel releases it when its holder dies, so a holder that
 was killed never blocks anyone. A holder that is alive but stopped (SIGSTOP, a suspended shell

@@ -667,12 +667,6 @@ def console_scripts(package: str, path: Sequence[str]) -> dict[str, str] | None:
     return None
 
 
-def console_script(package: str, executable: str, path: Sequence[str]) -> str | None:
-    """The ``console_scripts`` entry point ``executable`` of the distribution named ``package``
-    found on ``path``, as ``module:function``; None if none."""
-    return (console_scripts(package, path) or {}).get(executable)
-
-
 def _which(program: str, spec: TargetSpec) -> str:
     if "/" in program:
         if not os.path.isfile(program):

@@ -406,9 +406,9 @@ def _fake_distribution(site, name, scripts):
 def test_a_package_executable_falls_back_to_a_console_script(tmp_path):
     site = tmp_path / "site"
     _fake_distribution(site, "my-camera_pkg", {"camera": "my_camera_pkg.camera:main"})
-    assert target.console_script("my_camera_pkg", "camera", [str(site)]) == "my_camera_pkg.camera:main"
-    assert target.console_script("My-Camera-Pkg", "camera", [str(site)]) == "my_camera_pkg.camera:main"
-    assert target.console_script("my_camera_pkg", "lidar", [str(site)]) is None
+    assert target.console_scripts("my_camera_pkg", [str(site)]) == {"camera": "my_camera_pkg.camera:main"}
+    assert target.console_scripts("My-Camera-Pkg", [str(site)]) == {"camera": "my_camera_pkg.camera:main"}
+    assert target.console_scripts("no_such_pkg", [str(site)]) is None  # no such distribution
     spec = TargetSpec.from_mapping({"package": "my_camera_pkg", "executable": "camera",
                                     "env": {"PYTHONPATH": str(site)}})
     argv = target.build_argv(spec, prefixes=[], python="/py")

@@ -93,7 +93,7 @@ bench: bootstrap
 
 ## soak: the example package's contracts checked SOAK_RUNS times (default 1000; -n 2, warm and cold
 ## alternating): every run's outcomes identical, no process, fd, shared memory segment or temporary
-## directory left behind (scripts/soak/soak.py; hours: not in CI)
+## directory left behind (scripts/soak/soak.py; hours: not in CI; SOAK_ARGS="--minutes 90" stops early, counted)
 SOAK_RUNS ?= 1000
 soak: bootstrap
 	VENV=$(VENV) scripts/install-examples.sh

@@ -51,7 +51,7 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 def pytest_configure(config: pytest.Config) -> None:
     session_state = session.configure(config)
     config.stash[session.SESSION] = session_state
-    config.pluginmanager.register(session.GoldenReporter(session_state), "rmw-introspect-golden-reporter")
+    config.pluginmanager.register(session.SessionReporter(session_state), "rmw-introspect-session-reporter")
     notices.install(config)
     if not _xdist_controller(config):
         from . import hooks  # ~50 ms (the target options, the runner): only where tests run

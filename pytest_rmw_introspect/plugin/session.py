@@ -4,7 +4,7 @@ middleware library found once per session, and the summary of goldens written.""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -41,6 +41,9 @@ class SessionState:
     golden: golden_record.GoldenSession
     invocation_dir: Path
     rootdir: Path
+    #: the processes system checks did not run because a ``stand_ins:`` entry stood in for them:
+    #: contract as shown -> "process by stand-in contract" (from test reports: xdist workers too)
+    stood_in: dict[str, list[str]] = field(default_factory=dict)
     #: how many contract items ahead of the running one have their capture started already
     #: (``items.ContractItem.capture_ahead``); 0: each item captures when it runs
     capture_ahead: int = DEFAULT_CAPTURE_AHEAD
@@ -239,22 +242,41 @@ def _baseline_path(config: pytest.Config) -> Path | None:
     return base / raw
 
 
-class GoldenReporter:
-    """Collects the goldens written (from test reports, so also those of xdist workers) and
-    lists them in the terminal summary. Registered per session in ``pytest_configure``."""
+#: user property of a system check's item, one per process a ``stand_ins:`` entry stood in for:
+#: ``"<contract as shown>\t<process> by <stand-in contract>"``
+STOOD_IN_PROPERTY = "rmw_introspect_stood_in"
+
+
+class SessionReporter:
+    """Collects, from test reports (so also those of xdist workers), the goldens written and the
+    processes stood in for, and lists them in the terminal summary. Registered per session in
+    ``pytest_configure``."""
 
     def __init__(self, session_state: SessionState) -> None:
         self.state = session_state
 
     def pytest_runtest_logreport(self, report: pytest.TestReport) -> None:
-        if report.user_properties:
-            self.state.golden.record_report(report.user_properties)
+        if not report.user_properties:
+            return
+        self.state.golden.record_report(report.user_properties)
+        for name, value in report.user_properties:
+            if name == STOOD_IN_PROPERTY and isinstance(value, str) and "\t" in value:
+                contract, entry = value.split("\t", 1)
+                entries = self.state.stood_in.setdefault(contract, [])
+                if entry not in entries:
+                    entries.append(entry)
 
 
 def terminal_summary(terminalreporter: pytest.TerminalReporter, config: pytest.Config) -> None:
     session_state = config.stash.get(SESSION, None)
-    if session_state is None or not session_state.update:
+    if session_state is None:
         return
-    terminalreporter.section("rmw-introspect: golden contracts")
-    for line in session_state.golden.summary_lines(session_state.invocation_dir):
-        terminalreporter.write_line(line)
+    if session_state.stood_in:
+        # a passing system check that did not run every process must not look like one that did
+        terminalreporter.section("rmw-introspect: processes stood in for, not run here (stand_ins:)")
+        for contract in sorted(session_state.stood_in):
+            terminalreporter.write_line(f"{contract}: {', '.join(session_state.stood_in[contract])}")
+    if session_state.update:
+        terminalreporter.section("rmw-introspect: golden contracts")
+        for line in session_state.golden.summary_lines(session_state.invocation_dir):
+            terminalreporter.write_line(line)

@@ -14,7 +14,7 @@ import pytest
 from ..check import golden_record
 from ..check.outcome import Checked, Verdict, decide
 from ..errors import BaselineError, ContractError, GoldenWriteError, RmwIntrospectError
-from .session import SessionState, state
+from .session import STOOD_IN_PROPERTY, SessionState, state
 
 #: user property with the drift items as JSON (report.to_json + contract), for JUnit XML
 DRIFT_PROPERTY = "rmw_introspect_drift"
@@ -52,6 +52,8 @@ def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> No
         pytest.fail(str(exc), pytrace=False)
     outcome = decide(result, update=session_state.update, accept_command=accept_command(item, session_state),
                      verbose=item.config.getoption("verbose", 0) > 0)
+    for stood_in in result.stood_in:  # listed in the terminal summary (session.terminal_summary)
+        item.user_properties.append((STOOD_IN_PROPERTY, f"{session_state.display(result.path)}\t{stood_in}"))
     if outcome.json:
         # the machine-readable drift on the report (JUnit writes it as a <property>)
         item.user_properties.append((DRIFT_PROPERTY, json.dumps(outcome.json, sort_keys=True, default=str)))

@@ -13,28 +13,14 @@ import sys
 
 import pytest
 from cli_helpers import NODES
-
-
-def robot_launch() -> str:
-    return f"""\
-<launch>
-  <group>
-    <push-ros-namespace namespace="robot1"/>
-    <node exec="{sys.executable}" args="{NODES / 'serial_driver.py'}" name="imu_driver">
-      <param name="port" value="/dev/ttyFAKE:115200"/>
-    </node>
-    <node exec="{sys.executable}" args="{NODES / 'imu_monitor.py'}" name="imu_monitor"/>
-  </group>
-</launch>
-"""
-
+from sample_systems import imu_robot
 
 HEADER = "system_version: 1\nlaunch: {path: launch/robot.launch.xml}\n"
 
 
 @pytest.fixture
 def robot(cli):
-    cli.write("launch/robot.launch.xml", robot_launch())
+    cli.write("launch/robot.launch.xml", imu_robot())
     return cli
 
 

@@ -1,8 +1,15 @@
-"""Launch files of many processes, for the scale tests and the scale benchmark (issue 42):
-``count`` processes of the installed example package, talkers and listeners in turn, each pair
-in a namespace of its own (``/r0/talker0``, ``/r0/listener1``, ``/r1/talker0``, ...)."""
+"""Launch files of sample systems: many processes, for the scale tests and the scale benchmark
+(issue 42): ``count`` processes of the installed example package, talkers and listeners in turn,
+each pair in a namespace of its own (``/r0/talker0``, ``/r0/listener1``, ``/r1/talker0``, ...);
+and a robot whose IMU driver needs a device, for the hardware stand-in tests (``stand_ins:``)."""
 
 from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+#: the rclpy node scripts of the plugin and CLI tests (serial_driver.py, imu_monitor.py, ...)
+TEST_NODES = Path(__file__).resolve().parents[1] / "plugin" / "nodes"
 
 
 def many_processes(count: int) -> str:
@@ -18,3 +25,19 @@ def many_processes(count: int) -> str:
 def node_names(count: int) -> list[str]:
     """The nodes of :func:`many_processes` ``(count)``, sorted."""
     return sorted(f"/r{i // 2}/{'talker' if i % 2 == 0 else 'listener'}{i % 2}" for i in range(count))
+
+
+def imu_robot(device: str = "/dev/ttyFAKE") -> str:
+    """A launch file (XML): in /robot1, an IMU driver (``imu_driver``, parameter ``port``: ``device``
+    at 115200 baud; it exits when it cannot open the device) and a monitor of its /robot1/imu."""
+    return f"""\
+<launch>
+  <group>
+    <push-ros-namespace namespace="robot1"/>
+    <node exec="{sys.executable}" args="{TEST_NODES / 'serial_driver.py'}" name="imu_driver">
+      <param name="port" value="{device}:115200"/>
+    </node>
+    <node exec="{sys.executable}" args="{TEST_NODES / 'imu_monitor.py'}" name="imu_monitor"/>
+  </group>
+</launch>
+"""

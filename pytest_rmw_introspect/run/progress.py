@@ -6,7 +6,8 @@ lasts, one line when it ends.
 The run layer only says the lines; the front end decides where they go (:func:`set_sink`): the
 command line prints them to stderr (the default), the pytest plugin writes them on the terminal
 past its output capture. Nothing here waits or sleeps: a step that finishes quickly says its two
-lines and that is all.
+lines and that is all; a :class:`LateStep` (work that is often quick and sometimes not) says
+nothing unless it lasts.
 """
 
 from __future__ import annotations
@@ -113,3 +114,43 @@ class Throttle:
             return False
         self._next = now + self.every
         return True
+
+
+class LateStep:
+    """A step said only if it lasts: its start line at the first :meth:`tick` ``after`` seconds
+    or more after it began, then a progress line at most every ``every`` seconds, and its end line
+    (:meth:`end`) only if the start was said. The owner calls :meth:`tick` while it waits (its
+    waits bounded by :meth:`wait_for`) and :meth:`end` when the work ended or failed."""
+
+    def __init__(self, start: str, done: str, failed: str, *, after: float, every: float) -> None:
+        self.start, self.done, self.failed = start, done, failed
+        self.began = time.monotonic()
+        self.after, self.every = after, every
+        self.said = False
+        self._throttle = Throttle(every)
+
+    def elapsed(self) -> float:
+        return time.monotonic() - self.began
+
+    def wait_for(self) -> float:
+        """How long the owner may wait before its next :meth:`tick` (the start line's moment)."""
+        return max(0.05, self.after - self.elapsed() if not self.said else self.every)
+
+    def tick(self, progress_line: str) -> None:
+        """Say the start line once the step has lasted ``after`` seconds; after that, every
+        ``every`` seconds, ``progress_line`` (how far the work got now)."""
+        if not self.said:
+            if self.elapsed() >= self.after:
+                self.said = True
+                say(self.start)
+            return
+        if self._throttle.due():
+            say(progress_line)
+
+    def end(self, *, ok: bool) -> None:
+        if not self.said:
+            return
+        if ok:
+            say(self.done.format(time=seconds(self.elapsed())))
+        else:
+            say(f"{self.failed} after {seconds(self.elapsed())}")

@@ -26,7 +26,7 @@ import shutil
 import tempfile
 import threading
 from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import ThreadPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, cast
@@ -376,18 +376,21 @@ def process_spec(node: LaunchedNode, base: TargetSpec, params_dir: Path) -> Targ
 
 #: seconds between two lines of a long system capture's progress
 PROGRESS_EVERY = 5.0
+#: a system capture is said on the terminal once it has lasted this long (most take less: silence)
+SAID_AFTER = 2.0
 
 
 def _results(pool: ThreadPoolExecutor, run_one: Callable[[int], TargetError | None], count: int,
-             elapsed: Callable[[], float] | None) -> list[TargetError | None]:
-    """Each process's error (or None), in the launch file's order; with ``elapsed``, a progress
-    line every few seconds says how many of them are captured."""
+             step: progress.LateStep) -> list[TargetError | None]:
+    """Each process's error (or None), in the launch file's order; ``step`` says the capture if it
+    lasts (:data:`SAID_AFTER`), then how many processes are captured every few seconds."""
     futures = [pool.submit(run_one, i) for i in range(count)]
-    if elapsed is not None:
-        throttle = progress.Throttle(PROGRESS_EVERY)
-        for done, _future in enumerate(as_completed(futures), start=1):
-            if throttle.due() and done < count:
-                progress.say(f"captured {done} of {count} processes, {progress.seconds(elapsed())} so far")
+    pending = set(futures)
+    while pending:
+        _, pending = wait(pending, timeout=step.wait_for(), return_when=FIRST_COMPLETED)
+        if pending:  # (the last one is said by the step's end line)
+            step.tick(f"captured {count - len(pending)} of {count} processes, "
+                      f"{progress.seconds(step.elapsed())} so far")
     return [future.result() for future in futures]
 
 
@@ -447,18 +450,18 @@ def capture_system(
         workers = max(1, min(len(processes) - len([p for p in processes if p.stood_in]) or 1,
                              jobs or os.cpu_count() or 2))
         pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="rmw-introspect-system")
+        step = progress.LateStep(f"capturing the {len(processes)} processes of {shown(spec.path)}, {workers} at a time",
+                                 f"captured the {len(processes)} processes of {shown(spec.path)} in {{time}}",
+                                 f"capturing the processes of {shown(spec.path)} ended",
+                                 after=SAID_AFTER, every=PROGRESS_EVERY)
         try:
-            if len(processes) > workers:  # more than one round of captures: seconds, said on the terminal
-                with progress.step(f"capturing the {len(processes)} processes of {shown(spec.path)}, {workers} at a time",
-                                   f"captured the {len(processes)} processes of {shown(spec.path)} in {{time}}",
-                                   f"capturing the processes of {shown(spec.path)} ended") as elapsed:
-                    errors = _results(pool, run_one, len(processes), elapsed)
-            else:
-                errors = _results(pool, run_one, len(processes), None)
+            errors = _results(pool, run_one, len(processes), step)
+            step.end(ok=True)
         except BaseException:
             # Ctrl-C or SIGTERM (the CLI's Terminated) reaches this thread only: the workers' targets
             # are stopped now and the processes not started yet never start, instead of each
             # running until its timeout while the pool is shut down
+            step.end(ok=False)
             cancel.set()
             raise
         finally:

@@ -4,6 +4,7 @@ a wait for another process's build, why it builds at all)."""
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 import textwrap
@@ -218,13 +219,43 @@ def test_a_ready_warm_start_server_and_a_short_wait_say_nothing(said):
     assert said == []
 
 
-def test_a_system_capture_of_many_processes_says_how_many_are_captured(said, monkeypatch):
+def test_a_system_capture_that_lasts_says_so_then_how_many_are_captured(said):
     from concurrent.futures import ThreadPoolExecutor
 
     from pytest_rmw_introspect.run import system_capture
 
-    monkeypatch.setattr(system_capture, "PROGRESS_EVERY", 0.0)
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        errors = system_capture._results(pool, lambda index: time.sleep(0.05 * index), 4, lambda: 2.0)
+    step = progress.LateStep("capturing 4", "captured 4 in {time}", "capturing ended", after=0.1, every=0.05)
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        errors = system_capture._results(pool, lambda index: time.sleep(0.15), 4, step)
+    step.end(ok=True)
     assert errors == [None] * 4
-    assert said == [f"captured {done} of 4 processes, 2.0 s so far" for done in (1, 2, 3)]
+    assert said[0] == "capturing 4"
+    # every process captured after the start line is counted, the last one by the end line
+    counted = [line for line in said[1:-1] if line.startswith("captured ") and " of 4 processes, " in line]
+    assert counted and counted == said[1:-1] and "captured 4 of 4" not in " ".join(counted)
+    assert re.fullmatch(r"captured 4 in \d\.\d s", said[-1])
+
+
+def test_a_system_capture_that_ends_quickly_says_nothing(said):
+    from concurrent.futures import ThreadPoolExecutor
+
+    from pytest_rmw_introspect.run import system_capture
+
+    step = progress.LateStep("capturing 3", "captured 3 in {time}", "capturing ended", after=5.0, every=0.0)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        errors = system_capture._results(pool, lambda index: None, 3, step)
+    step.end(ok=True)
+    assert errors == [None] * 3
+    assert said == []
+
+
+def test_a_late_step_that_fails_says_after_how_long_only_if_it_was_said(said):
+    quiet = progress.LateStep("a", "a done", "a failed", after=60.0, every=1.0)
+    quiet.tick("never")
+    quiet.end(ok=False)
+    assert said == []
+    loud = progress.LateStep("b", "b done", "b failed", after=0.0, every=60.0)
+    loud.tick("not yet due")
+    loud.tick("not yet due")
+    loud.end(ok=False)
+    assert said[0] == "b" and len(said) == 2 and re.fullmatch(r"b failed after \d\.\d s", said[1])

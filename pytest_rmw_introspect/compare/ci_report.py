@@ -75,6 +75,8 @@ def _result_cell(outcome: ContractOutcome) -> str:
 
 
 def _drift_bullets(items: Sequence[DriftItem], threshold: Severity) -> list[str]:
+    if report.at_scale(items):
+        return _drift_bullets_at_scale(items, threshold)
     lines: list[str] = []
     for severity in reversed(Severity):
         group = [i for i in items if i.severity is severity]
@@ -121,16 +123,33 @@ def _system_bullets(items: Sequence[CompatItem]) -> list[str]:
     lines = ["", f"System check: {len(items)} problem(s) in {len(processes)} process(es) ({_counts(items)})", ""]
     for group in report.by_rule_and_process(items):
         lines.append(f"- {group.severity.name} `{group.rule}`: {group.count} finding(s) in "
-                     f"{len(group.processes)} process(es)")
+                     f"{len(group.places)} process(es)")
         kept, more_processes, more_findings = group.shown()
         for process in kept:
             for item in process.items[:report.FINDINGS_SHOWN]:
                 ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
-                lines.append(f"  - `{process.process}` `{item.name}`: {ends}: {item.message}")
+                lines.append(f"  - `{process.place}` `{item.name}`: {ends}: {item.message}")
             if len(process.items) > report.FINDINGS_SHOWN:
-                lines.append(f"  - `{process.process}`: … and {len(process.items) - report.FINDINGS_SHOWN} more")
+                lines.append(f"  - `{process.place}`: … and {len(process.items) - report.FINDINGS_SHOWN} more")
         if more_processes:
             lines.append(f"  - {report.left_out(more_processes, more_findings)}")
+    return lines
+
+
+def _drift_bullets_at_scale(items: Sequence[DriftItem], threshold: Severity) -> list[str]:
+    """Drift in many nodes (``report.at_scale``) by rule and node, cut like the text report."""
+    lines: list[str] = []
+    for group in report.drift_by_rule_and_node(items):
+        note = "" if group.severity >= threshold else " (below the fail threshold)"
+        lines += ["", f"- {group.severity.name}{note} `{group.rule}`: {group.count} change(s) in "
+                      f"{len(group.places)} node(s)"]
+        kept, more_nodes, more_changes = group.shown()
+        for node in kept:
+            lines += [f"  - `{node.place}`: {report.drift_place_line(item)}" for item in node.items[:report.FINDINGS_SHOWN]]
+            if len(node.items) > report.FINDINGS_SHOWN:
+                lines.append(f"  - `{node.place}`: … and {len(node.items) - report.FINDINGS_SHOWN} more")
+        if more_nodes:
+            lines.append(f"  - {report.left_out(more_nodes, more_changes, place='node', noun='change')}")
     return lines
 
 
@@ -210,17 +229,39 @@ def drift_github(outcomes: Sequence[ContractOutcome]) -> str:
         if o.error is not None:
             lines.append(annotation("error", o.error.rstrip("\n"), file=o.contract, title="contract not checked"))
             continue
-        for item in o.items:
+        shown, counted = _drift_annotated(o.items)
+        for item in shown:
             level = annotation_level(item.severity, o.threshold)
             what = item.node if item.kind == "node" else f"{item.node} {LABELS.get(item.kind, item.kind)} {item.name}"
             lines.append(annotation(level, f"{what}: {item.message}", file=o.contract,
                                     line=line_of(o.lines, item.node, item.kind, item.name),
                                     title=f"{item.rule} ({item.severity.name})"))
+        for item, more in counted:
+            lines.append(annotation(annotation_level(item.severity, o.threshold),
+                                    f"{more} more change(s) of this rule not annotated (all of them: --format json "
+                                    "or sarif)", file=o.contract, title=f"{item.rule} ({item.severity.name})"))
         if o.system_items:
             lines.append(compat_github(o.system_items, threshold=o.system_threshold, lines={o.contract: o.lines},
                                        file=o.contract, cut=True).rstrip("\n"))
         lines += acceptance_github(o.accepted, o.stale)
     return "\n".join(lines) + ("\n" if lines else "")
+
+
+def _drift_annotated(items: Sequence[DriftItem]) -> tuple[list[DriftItem], list[tuple[DriftItem, int]]]:
+    """The drift items to annotate one by one, and per rule cut (``report.at_scale``: only what
+    the text report shows) its first item with how many are left out (GitHub shows a step's
+    first few annotations only)."""
+    if not report.at_scale(items):
+        return list(items), []
+    shown: list[DriftItem] = []
+    counted: list[tuple[DriftItem, int]] = []
+    for group in report.drift_by_rule_and_node(items):
+        kept, _, more = group.shown()
+        shown += [item for node in kept for item in node.items[:report.FINDINGS_SHOWN]]
+        more += sum(max(0, len(node.items) - report.FINDINGS_SHOWN) for node in kept)
+        if more:
+            counted.append((group.places[0].items[0], more))
+    return shown, counted
 
 
 def acceptance_github(accepted: Sequence[Accepted], stale: Sequence[Acceptance]) -> list[str]:
@@ -253,7 +294,7 @@ def compat_github(items: Sequence[CompatItem], *, threshold: Severity,
             shown += [item for process in kept for item in process.items[:report.FINDINGS_SHOWN]]
             more_findings += sum(max(0, len(p.items) - report.FINDINGS_SHOWN) for p in kept)
             if more_findings:
-                counted.append((group.processes[0].items[0],
+                counted.append((group.places[0].items[0],
                                 f"{more_findings} more finding(s) of this rule not annotated (all of them: --format "
                                 f"json or sarif)"))
     for item in shown:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -101,15 +101,29 @@ def render_text(
     accepted: Sequence[Accepted] = (),
     stale: Sequence[Acceptance] = (),
 ) -> str:
-    """The drift report for people: grouped by severity, then node, then interface; then the
-    findings the contract accepts and its stale ``accept:`` entries."""
+    """The drift report for people: grouped by severity, then node, then interface (in more
+    nodes than a rule shows, :func:`at_scale`: by severity, rule, then node, cut and counted);
+    then the findings the contract accepts and its stale ``accept:`` entries."""
     heading = title or "Interface drift"
     where = f" against {contract_path}" if contract_path else ""
     if not items:
         return "\n".join([f"{heading}: no drift{where}.", *render_acceptances(accepted, stale)]) + "\n"
 
-    lines = [f"{heading}{where}: {_plural(len(items), 'change')} ({_counts(items)})",
-             _verdict(items, threshold)]
+    if at_scale(items):
+        lines = render_drift_at_scale(items, heading=f"{heading}{where}", threshold=threshold)
+    else:
+        lines = [f"{heading}{where}: {_plural(len(items), 'change')} ({_counts(items)})",
+                 _verdict(items, threshold)]
+        lines += _drift_sections(items, threshold)
+    lines += render_acceptances(accepted, stale)
+    if accept_command:
+        lines += ["", "To accept these changes as the new contract, run:", f"  {accept_command}"]
+    return "\n".join(lines) + "\n"
+
+
+def _drift_sections(items: Sequence[DriftItem], threshold: Severity) -> list[str]:
+    """A short drift report's body: by severity, then node, then interface, every change."""
+    lines: list[str] = []
     for severity in reversed(Severity):
         group = [item for item in items if item.severity is severity]
         if not group:
@@ -126,10 +140,7 @@ def render_text(
                 lines.append(f"    {LABELS.get(item.kind, item.kind)} {item.name}")
             indent = "    " if item.kind == "node" else "      "
             lines.append(f"{indent}{_drift_line(item)}")
-    lines += render_acceptances(accepted, stale)
-    if accept_command:
-        lines += ["", "To accept these changes as the new contract, run:", f"  {accept_command}"]
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def _finding_place(item: DriftItem | CompatItem) -> str:
@@ -259,51 +270,68 @@ def compat_to_json(items: Iterable[CompatItem]) -> list[dict[str, Any]]:
     ]
 
 
-# ------------------------------------------------------------------ a whole system's problems
+# ------------------------------------------------------------------ reports at scale
 
-#: a system report shows this many processes per rule, and this many findings per process; the
-#: rest is counted (``--format json`` and SARIF list every finding)
+#: a report at scale shows this many places (processes, nodes) per rule, and this many findings
+#: per place; the rest is counted (``--format json`` and SARIF list every finding)
 PROCESSES_SHOWN = 10
 FINDINGS_SHOWN = 3
 
 
 @dataclass
-class ProcessFindings:
-    """The findings of one rule whose requesting end is in one process."""
+class PlaceFindings:
+    """The findings of one rule at one place: the process of a system problem's requesting end,
+    or the node of a drift item."""
 
-    process: str
-    items: list[CompatItem]
+    place: str
+    items: list[Any]
 
 
 @dataclass
 class RuleGroup:
-    """The findings of one rule at one severity, by process, most findings first."""
+    """The findings of one rule at one severity, by place, most findings first."""
 
     rule: str
     severity: Severity
-    processes: list[ProcessFindings]
+    places: list[PlaceFindings]
 
     @property
     def count(self) -> int:
-        return sum(len(p.items) for p in self.processes)
+        return sum(len(p.items) for p in self.places)
 
-    def shown(self, limit: int = PROCESSES_SHOWN) -> tuple[list[ProcessFindings], int, int]:
-        """The first ``limit`` processes, and how many processes and findings are left out."""
-        kept, rest = self.processes[:limit], self.processes[limit:]
+    def shown(self, limit: int = PROCESSES_SHOWN) -> tuple[list[PlaceFindings], int, int]:
+        """The first ``limit`` places, and how many places and findings are left out."""
+        kept, rest = self.places[:limit], self.places[limit:]
         return kept, len(rest), sum(len(p.items) for p in rest)
+
+
+def _by_rule_and_place(items: Iterable[Any], place: Callable[[Any], str]) -> list[RuleGroup]:
+    groups: dict[tuple[Severity, str], dict[str, list[Any]]] = {}
+    for item in items:
+        groups.setdefault((item.severity, item.rule), {}).setdefault(place(item), []).append(item)
+    out = []
+    for (severity, rule), places in sorted(groups.items(), key=lambda kv: (-kv[0][0], kv[0][1])):
+        ordered = sorted(places.items(), key=lambda kv: (-len(kv[1]), _natural(kv[0])))
+        out.append(RuleGroup(rule, severity, [PlaceFindings(where, found) for where, found in ordered]))
+    return out
 
 
 def by_rule_and_process(items: Iterable[CompatItem]) -> list[RuleGroup]:
     """System findings grouped by severity (most severe first), rule, then the process of the
     requesting end (the processes with most findings first, then by label)."""
-    groups: dict[tuple[Severity, str], dict[str, list[CompatItem]]] = {}
-    for item in items:
-        groups.setdefault((item.severity, item.rule), {}).setdefault(item.requester.label, []).append(item)
-    out = []
-    for (severity, rule), processes in sorted(groups.items(), key=lambda kv: (-kv[0][0], kv[0][1])):
-        ordered = sorted(processes.items(), key=lambda kv: (-len(kv[1]), _natural(kv[0])))
-        out.append(RuleGroup(rule, severity, [ProcessFindings(label, found) for label, found in ordered]))
-    return out
+    return _by_rule_and_place(items, lambda item: item.requester.label)
+
+
+def drift_by_rule_and_node(items: Iterable[DriftItem]) -> list[RuleGroup]:
+    """Drift items grouped by severity (most severe first), rule, then node (the nodes with most
+    changes first, then by name)."""
+    return _by_rule_and_place(items, lambda item: item.node)
+
+
+def at_scale(items: Sequence[DriftItem]) -> bool:
+    """Whether a drift report is too long to list whole: its changes are in more nodes than a
+    rule shows (:data:`PROCESSES_SHOWN`): a system of many processes that moved at once."""
+    return len({item.node for item in items}) > PROCESSES_SHOWN
 
 
 def _natural(label: str) -> list[Any]:
@@ -321,10 +349,43 @@ def finding_ends(item: CompatItem) -> str:
     return f"{item.provider} -> {item.requester}"
 
 
-def left_out(processes: int, findings: int) -> str:
-    """What a cut list leaves out, for people."""
-    where = f"{processes} more process" + ("" if processes == 1 else "es")
-    return f"... and {_plural(findings, 'more finding')} in {where} (all of them: --format json)"
+def left_out(places: int, findings: int, *, place: str = "process", noun: str = "finding") -> str:
+    """What a cut list leaves out, for people (``place``: "process" or "node"; ``noun``: "finding"
+    or, for drift, "change")."""
+    plural = "processes" if place == "process" else f"{place}s"
+    where = f"{places} more {place if places == 1 else plural}"
+    return f"... and {_plural(findings, 'more ' + noun)} in {where} (all of them: --format json)"
+
+
+def drift_place_line(item: DriftItem) -> str:
+    """One drift item under its node in a report at scale: the interface, then the change."""
+    what = "" if item.kind == "node" else f"{LABELS.get(item.kind, item.kind)} {item.name}: "
+    return what + _drift_line(item).split("] ", 1)[1]
+
+
+def _rule_lines(groups: Sequence[RuleGroup], all_items: Sequence[Any], threshold: Severity, *, noun: str,
+                place: str, line: Callable[[Any], str]) -> list[str]:
+    """The body of a report at scale: a section per severity, in it a line per rule, under it
+    the first places with their first findings, and what is left out counted."""
+    lines: list[str] = []
+    current: Severity | None = None
+    for group in groups:
+        if group.severity is not current:
+            current = group.severity
+            count = sum(1 for item in all_items if item.severity is current)
+            lines += ["", _section_header(current, count, threshold)]
+        places = "processes" if place == "process" else f"{place}s"
+        lines.append(f"  [{group.rule}] {_plural(group.count, noun)} in {len(group.places)} "
+                     f"{place if len(group.places) == 1 else places}")
+        kept, more_places, more_findings = group.shown()
+        for found in kept:
+            lines.append(f"    {found.place}")
+            lines += [f"      {line(item)}" for item in found.items[:FINDINGS_SHOWN]]
+            if len(found.items) > FINDINGS_SHOWN:
+                lines.append(f"      ... and {_plural(len(found.items) - FINDINGS_SHOWN, 'more ' + noun)}")
+        if more_places:
+            lines.append(f"    {left_out(more_places, more_findings, place=place, noun=noun)}")
+    return lines
 
 
 def render_system_problems(items: Sequence[CompatItem], *, threshold: Severity = Severity.SAFE,
@@ -336,21 +397,16 @@ def render_system_problems(items: Sequence[CompatItem], *, threshold: Severity =
     processes = {item.requester.label for item in items}
     lines = [f"{heading}: {_plural(len(items), 'problem')} in {len(processes)} process"
              f"{'' if len(processes) == 1 else 'es'} ({_counts(items)})", _verdict(items, threshold)]
-    current: Severity | None = None
-    for group in by_rule_and_process(items):
-        if group.severity is not current:
-            current = group.severity
-            count = sum(1 for item in items if item.severity is current)
-            lines += ["", _section_header(current, count, threshold)]
-        lines.append(f"  [{group.rule}] {_plural(group.count, 'finding')} in {len(group.processes)} process"
-                     f"{'' if len(group.processes) == 1 else 'es'}")
-        kept, more_processes, more_findings = group.shown()
-        for process in kept:
-            lines.append(f"    {process.process}")
-            for item in process.items[:FINDINGS_SHOWN]:
-                lines.append(f"      {item.name}: {finding_ends(item)}: {item.message}")
-            if len(process.items) > FINDINGS_SHOWN:
-                lines.append(f"      ... and {_plural(len(process.items) - FINDINGS_SHOWN, 'more finding')}")
-        if more_processes:
-            lines.append(f"    {left_out(more_processes, more_findings)}")
+    lines += _rule_lines(by_rule_and_process(items), items, threshold, noun="finding", place="process",
+                         line=lambda item: f"{item.name}: {finding_ends(item)}: {item.message}")
     return "\n".join(lines) + "\n"
+
+
+def render_drift_at_scale(items: Sequence[DriftItem], *, heading: str, threshold: Severity) -> list[str]:
+    """The lines of a drift report in many nodes (:func:`at_scale`): by severity, rule, then node,
+    each rule's longest lists cut like :func:`render_system_problems`."""
+    nodes = {item.node for item in items}
+    lines = [f"{heading}: {_plural(len(items), 'change')} in {len(nodes)} nodes ({_counts(items)})",
+             _verdict(items, threshold)]
+    return lines + _rule_lines(drift_by_rule_and_node(items), items, threshold, noun="change", place="node",
+                               line=drift_place_line)

@@ -38,8 +38,8 @@ def test_findings_group_by_rule_then_process_most_findings_first():
     rules = {group.rule: group for group in groups}
     assert set(rules) == {"DANGLING_SUBSCRIPTION", "TYPE_MISMATCH"}, [i.rule for i in items]
     assert rules["DANGLING_SUBSCRIPTION"].count == PAIRS
-    assert len(rules["DANGLING_SUBSCRIPTION"].processes) == PAIRS
-    assert [(p.process, len(p.items)) for p in rules["TYPE_MISMATCH"].processes] == [("demo/monitor", 5)]
+    assert len(rules["DANGLING_SUBSCRIPTION"].places) == PAIRS
+    assert [(p.place, len(p.items)) for p in rules["TYPE_MISMATCH"].places] == [("demo/monitor", 5)]
     assert [g.severity for g in groups] == sorted((g.severity for g in groups), reverse=True)
 
 
@@ -79,3 +79,41 @@ def test_a_small_system_is_shown_whole():
     items = [i for i in system_problems() if i.rule == "TYPE_MISMATCH"][:2]
     text = report.render_system_problems(items)
     assert "more" not in text and text.count("/r") == 4  # each finding: its topic and its publisher's node
+
+
+def drift_in_many_nodes(count: int):
+    """``count`` talkers whose chatter was renamed, and one whose node is gone."""
+    from pytest_rmw_introspect.compare import drift
+    from pytest_rmw_introspect.compare.options import ComparisonOptions
+
+    old = {f"/r{i}/talker": {"publishers": [_topic(f"/r{i}/chatter")]} for i in range(count)}
+    new = {f"/r{i}/talker": {"publishers": [_topic(f"/r{i}/chat")]} for i in range(1, count)}
+    return drift.compare(old, new, ComparisonOptions())
+
+
+def test_drift_in_many_nodes_groups_by_rule_then_node_and_cuts():
+    items = drift_in_many_nodes(40)
+    assert report.at_scale(items)
+    text = report.render_text(items, contract_path="big.system.yaml", threshold=Severity.BREAKING).splitlines()
+    assert text[0].startswith(f"Interface drift against big.system.yaml: {len(items)} changes in 40 nodes (")
+    rules = [line for line in text if line.startswith("  [")]
+    assert rules == ["  [NODE_REMOVED] 1 change in 1 node", "  [PUB_REMOVED] 1 change in 1 node",
+                     "  [PUB_RENAMED] 39 changes in 39 nodes"], text
+    hidden = 39 - report.PROCESSES_SHOWN
+    assert f"    ... and {hidden} more changes in {hidden} more nodes (all of them: --format json)" in text
+    assert "    /r1/talker" in text and "    /r2/talker" in text and "    /r10/talker" in text  # natural order
+    assert any(line.startswith("      publisher /r1/chatter: ") for line in text), text
+    outcome = ContractOutcome("big.system.yaml", items, Severity.RISKY, [f"/r{i}/talker" for i in range(40)])
+    markdown = ci_report.drift_markdown([outcome])
+    assert f"  - ... and {hidden} more changes in {hidden} more nodes" in markdown
+    github = ci_report.drift_github([outcome]).splitlines()
+    assert len(github) == 2 + report.PROCESSES_SHOWN + 1  # the removed node and its publisher; ten renames; the rest counted
+    assert any(f"{hidden} more change(s) of this rule not annotated" in line for line in github)
+
+
+def test_drift_in_a_few_nodes_is_listed_whole_by_node():
+    items = drift_in_many_nodes(report.PROCESSES_SHOWN)
+    assert not report.at_scale(items)
+    text = report.render_text(items, threshold=Severity.BREAKING)
+    assert "[PUB_RENAMED]" in text and "more nodes" not in text
+    assert ci_report.drift_github([ContractOutcome("c.yaml", items, Severity.RISKY, [])]).count("\n") == len(items)

@@ -55,7 +55,6 @@ import sys
 import tempfile
 import threading
 import time
-from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
@@ -422,14 +421,17 @@ def run(
             (workdir / "stdout.txt").write_text(ended.stdout, encoding="utf-8")
 
         output, others, from_child = _outputs(target.output, start.proc.pid, include_infrastructure)
+        from ..model.capture_diagnoses import diagnose_unsettled, stimulus_problems
+
         if ended.timed_out:
-            raise _tag(TargetTimeout(describe, timeout, _mark(_try_load(output, include_infrastructure), start),
-                                     stderr, argv), start)
+            partial = _mark(_try_load(output, include_infrastructure), start)
+            raise _tag(TargetTimeout(describe, timeout, partial, stderr, argv,
+                                     diagnosis=diagnose_unsettled(partial)), start)
         loaded = _try_load(output, include_infrastructure) if returncode != 0 else None
         crashed = returncode != 0 and crash_evidence(returncode, stderr)
         if crashed and target.stimuli and loaded is not None and loaded.settled_once:
             # a crash on a stimulus: the stimulus report says which one it was
-            problems = stimulus_problems(loaded.raw, returncode)
+            problems = stimulus_problems(loaded, returncode)
             if problems:
                 raise _tag(StimulusFailed(describe, problems, _mark(loaded, start), stderr, argv), start)
         if returncode != 0 and (loaded is None or not loaded.settled_once or crashed):
@@ -461,7 +463,7 @@ def run(
             raise _tag(LifecycleTransitionFailed(describe, failures, wanted=target.lifecycle,
                                                  partial=captured, stderr_tail=stderr, argv=argv), start)
         if target.stimuli:
-            problems = stimulus_problems(captured.raw, returncode)
+            problems = stimulus_problems(captured, returncode)
             if problems:
                 raise _tag(StimulusFailed(describe, problems, captured, stderr, argv), start)
         if cold_note is None:  # a run that never starts warm has no server to tell
@@ -526,47 +528,6 @@ def _learn(captured: Capture, target: ResolvedTarget, python: str | None) -> Non
     from .warm import client as warm
 
     warm.POOL.learn(dict(target.env), _server_cwd(target), type_names, python)
-
-
-def stimulus_problems(raw: Mapping[str, Any], returncode: int | None) -> list[str]:
-    """What went wrong with the stimuli a capture document records (``stimuli``), one line each
-    for people; empty when every name reached its subscriptions and services and the process
-    did not fail after them. ``returncode``: the process's exit status."""
-    records = raw.get("stimuli")
-    if not isinstance(records, list):
-        return []
-    problems: list[str] = []
-    last: str | None = None  # the last delivery made (or in flight)
-    settled = raw.get("state") == "settled"
-    for record in records:
-        if not isinstance(record, Mapping):
-            continue
-        name, state, error = record.get("name"), record.get("state"), record.get("error")
-        if state == "no_match":
-            problems.append(str(error or f"no subscription or service named {name}"))
-        elif state == "skipped":
-            problems.append(f"{name}: {error or 'not delivered'}")
-        elif state == "pending" and not settled:
-            problems.append(f"{name}: not delivered: the process ended before its turn")
-        for target in record.get("targets") or ():
-            if not isinstance(target, Mapping):
-                continue
-            result = target.get("result")
-            where = f"the {target.get('kind')} {name} of {target.get('node')}"
-            if result in ("not_taken", "no_answer", "failed"):
-                problems.append(f"{name} ({target.get('kind')} of {target.get('node')}): {target.get('error') or result}")
-            elif result in ("taken", "answered") or (result == "pending" and not settled):
-                last = where
-    ended = raw.get("ended")
-    ended_early = isinstance(ended, Mapping) and bool(ended.get("before_settle"))
-    if returncode not in (None, 0) and last is not None and (ended_early or not settled):
-        how = f"was killed by signal {-returncode}" if returncode < 0 else f"exited with status {returncode}"
-        problems.append(
-            f"the process {how} after the middleware delivered a stimulus (the last: a default message or "
-            f"request to {last}): a default-constructed message is input the node acts on (an empty image, "
-            "a zero command, an empty frame id); make the node cope with it, or leave the stimulus out"
-        )
-    return problems
 
 
 def _describe_process(path: Path, include_infrastructure: bool) -> OtherProcess:

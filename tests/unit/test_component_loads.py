@@ -8,6 +8,7 @@ from pathlib import Path
 from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
 from pytest_rmw_introspect.launch import component_loads
 from pytest_rmw_introspect.launch.result import ComponentLoad, Where
+from pytest_rmw_introspect.model.capture import Capture
 
 TALKER = ComponentLoad(package="demo", plugin="demo::Talker", where=Where(Path("/ws/robot.launch.py"), 12),
                        name="talker", namespace="/robot", remap_rules=("chatter:=status",),
@@ -40,6 +41,11 @@ def test_the_requests_file_the_middleware_reads():
         "end\n")
 
 
+def records(document):
+    """The ``component_loads`` records of a capture document, as the one reader reads them."""
+    return Capture.from_dict({"format": "rmw_introspect_capture", "format_version": 1, **document}).component_loads
+
+
 def test_what_a_capture_says_of_each_load():
     document = {"component_loads": [
         {"service": "/robot/container/_container/load_node", "plugin": "demo::Talker", "node": "talker",
@@ -47,9 +53,9 @@ def test_what_a_capture_says_of_each_load():
         {"service": "/robot/container/_container/load_node", "plugin": "demo::Listener", "node": "",
          "result": "refused", "full_node_name": "", "error": "Failed to find class with the requested plugin name."},
     ]}
-    assert component_loads.problems(document, [TALKER, LISTENER]) == [
+    assert component_loads.problems(records(document), [TALKER, LISTENER]) == [
         (LISTENER, "the container refused it: Failed to find class with the requested plugin name.")]
-    assert [why for _, why in component_loads.problems({}, [TALKER])] == [
+    assert [why for _, why in component_loads.problems(records({}), [TALKER])] == [
         "the container's middleware never sent the request (it ended first, or read no request: is "
         "RMW_INTROSPECT_LOAD_NODES set?)"]
 

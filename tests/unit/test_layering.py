@@ -60,6 +60,8 @@ LOCAL_IMPORTS = {
                                                   "warm start server ahead of its captures",
     ("run.runner", "pytest_rmw_introspect.model.capture"): "the capture model (~30 ms of dataclass creation) is "
                                                            "imported while the first target starts, not before it",
+    ("run.runner", "pytest_rmw_introspect.model.capture_diagnoses"): "the errors' diagnoses read the capture model: "
+                                                                     "imported with it, once a target has ended",
     ("run.ros_env", "importlib"): "importlib.metadata (+ email) costs ~10 ms; only a venv without the "
                                    "ros-<distro>-rclpy dist-info needs the scan of installed distributions",
     ("run.target", "importlib"): "importlib.metadata (+ email) costs ~15 ms; only console scripts and packages "

@@ -294,7 +294,9 @@ class NoNodeCreated(_WithPartialCapture):
 
 
 class TargetTimeout(_WithPartialCapture):
-    """The target did not settle within ``timeout`` seconds (it never waited, or kept changing)."""
+    """The target did not settle within ``timeout`` seconds (it never waited, or kept changing).
+    ``diagnosis``: why, told from ``partial``, and what to do (the runner words it:
+    ``model.capture_diagnoses.diagnose_unsettled``)."""
 
     def __init__(
         self,

@@ -106,6 +106,8 @@ class Capture:
     ended_before_settle: bool | None = None
     include_infrastructure: bool = False
     path: Path | None = None
+    #: the document as the file held it (``capture --raw`` prints it, ``with_infrastructure`` reads
+    #: it again): read what it says through the fields above, never by its keys (``capture_file``)
     raw: Mapping[str, Any] = field(default_factory=dict)
     #: every interface type the process used, nested ones included, by name (``model.types``);
     #: ``has_types`` is False for captures of middleware versions that did not record them

@@ -5,7 +5,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
+from pytest_rmw_introspect.errors import CaptureFormatError
 from pytest_rmw_introspect.launch import component_loads
 from pytest_rmw_introspect.launch.result import ComponentLoad, Where
 from pytest_rmw_introspect.model.capture import Capture
@@ -58,6 +61,12 @@ def test_what_a_capture_says_of_each_load():
     assert [why for _, why in component_loads.problems(records({}), [TALKER])] == [
         "the container's middleware never sent the request (it ended first, or read no request: is "
         "RMW_INTROSPECT_LOAD_NODES set?)"]
+
+
+def test_a_load_record_that_is_not_an_object_is_a_malformed_capture():
+    """Each record answers the request at its place, so one that cannot be read cannot be skipped."""
+    with pytest.raises(CaptureFormatError, match="`component_loads` is not a list of objects"):
+        records({"component_loads": [{"result": "loaded"}, "junk"]})
 
 
 def test_a_component_that_was_not_loaded_is_a_node_not_created():

@@ -26,9 +26,9 @@ Hierarchy::
 from __future__ import annotations
 
 import shlex
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Protocol
 
 __all__ = [
     "CaptureFormatError",
@@ -189,8 +189,15 @@ class ExecutableNotFound(TargetError):
         super().__init__(message, target=target)
 
 
+class PartialCapture(Protocol):
+    """What an error shows of the capture a target left before it failed: its summary. It is a
+    :class:`~pytest_rmw_introspect.model.capture.Capture` (this base layer imports no model)."""
+
+    def summary(self) -> str: ...
+
+
 class _WithPartialCapture(TargetError):
-    partial: Any  # capture.Capture | None
+    partial: PartialCapture | None
     argv: list[str]
     stderr_tail: str
 
@@ -222,7 +229,7 @@ class TargetExited(_WithPartialCapture):
         target: str,
         status: int,
         stderr_tail: str,
-        partial: Any = None,
+        partial: PartialCapture | None = None,
         argv: Sequence[str] = (),
         hint: str | None = None,
         crashed: bool = False,
@@ -261,7 +268,7 @@ class NoNodeCreated(_WithPartialCapture):
         self,
         target: str,
         stderr_tail: str = "",
-        partial: Any = None,
+        partial: PartialCapture | None = None,
         argv: Sequence[str] = (),
         detail: str | None = None,
         hint: str | None = None,
@@ -287,22 +294,29 @@ class NoNodeCreated(_WithPartialCapture):
 
 
 class TargetTimeout(_WithPartialCapture):
-    """The target did not settle within ``timeout`` seconds (it never waited, or kept changing)."""
+    """The target did not settle within ``timeout`` seconds (it never waited, or kept changing).
+    ``diagnosis``: why, told from ``partial``, and what to do (the runner words it:
+    ``model.capture_diagnoses.diagnose_unsettled``)."""
 
     def __init__(
         self,
         target: str,
         timeout: float,
-        partial: Any = None,
+        partial: PartialCapture | None = None,
         stderr_tail: str = "",
         argv: Sequence[str] = (),
+        *,
+        diagnosis: str = "",
     ) -> None:
         self.timeout = timeout
         self.partial = partial
+        #: why it did not settle and what to do (``model.capture_diagnoses.diagnose_unsettled``)
+        self.diagnosis = diagnosis
         stderr_tail, self.interrupt_left_out = without_our_interrupt(stderr_tail)
         self.stderr_tail = _tail(stderr_tail)
         self.argv = list(argv)
-        parts = [f"The target {target} did not settle within {timeout:g} s and was stopped. {diagnose_unsettled(partial)}"]
+        parts = [" ".join(filter(None, [f"The target {target} did not settle within {timeout:g} s and was stopped.",
+                                        diagnosis]))]
         details = self._process_details()
         if self.interrupt_left_out:
             details.insert(len(details) - 1, "The tool stopped it with SIGINT; the KeyboardInterrupt traceback "
@@ -334,7 +348,7 @@ class StimulusFailed(_WithPartialCapture):
         self,
         target: str,
         problems: Sequence[str],
-        partial: Any = None,
+        partial: PartialCapture | None = None,
         stderr_tail: str = "",
         argv: Sequence[str] = (),
     ) -> None:
@@ -362,7 +376,7 @@ class LifecycleTransitionFailed(_WithPartialCapture):
         failures: Sequence[tuple[str, str, str, str]],
         *,
         wanted: str,
-        partial: Any = None,
+        partial: PartialCapture | None = None,
         stderr_tail: str = "",
         argv: Sequence[str] = (),
         contract: str | None = None,
@@ -403,103 +417,6 @@ class LifecycleTransitionFailed(_WithPartialCapture):
         """The same error, saying which contract was being checked."""
         return LifecycleTransitionFailed(self._target, self.failures, wanted=self.wanted, partial=self.partial,
                                          stderr_tail=self.stderr_tail, argv=self.argv, contract=contract)
-
-
-def diagnose_unsettled(partial: Any) -> str:
-    """Why a capture did not settle, told from the last snapshot the middleware wrote, and what to do."""
-    if partial is None:
-        return (
-            "It wrote no capture: it never initialised ROS 2 on the recording middleware (busy or blocked "
-            "before rclpy.init() / rcl_init, or not a ROS program). Raise `timeout` if it is only slow to start."
-        )
-    if not partial.raw_nodes:
-        return "It initialised ROS 2 but created no node yet. Raise `timeout` if it is only slow to start."
-    blocked = _blocked_in_callback(partial)
-    if blocked:
-        return blocked
-    if partial.state == "probing":
-        return (
-            f"It settled after {partial.time_to_settle_ms or 0:.0f} ms, then never finished answering the "
-            "middleware's questions (its parameter services, or a lifecycle transition that never settled). "
-            "Set `lifecycle: none` or `read_parameters: false` on the target to capture it without them, or raise "
-            "`timeout` if a transition is only slow."
-        )
-    seen = _what_was_seen(partial)
-    if partial.state == "warping":
-        vt = partial.virtual_time
-        age = f" (virtual age {vt.virtual_elapsed_ms / 1000:.3g} s)" if vt is not None else ""
-        if seen:
-            return (f"It settled after {partial.time_to_settle_ms or 0:.0f} ms; virtual time was then advanced{age} "
-                    f"but it never went quiet again: {seen} Lower `horizon`, or set it to 0 to capture only what "
-                    "exists at the first settle.")
-        return (
-            f"It settled after {partial.time_to_settle_ms or 0:.0f} ms; virtual time was then advanced{age} but it "
-            "never went quiet again: does it keep creating or destroying interfaces? Lower `horizon`, or set it "
-            "to 0 to capture only what exists at the first settle."
-        )
-    if not partial.ever_waited:
-        return (
-            "No thread ever waited in an executor (rmw_wait) and it did not keep using ROS (publish, take, "
-            "graph queries; log lines and parameter events do not count: a loop that only logs is still setting "
-            "up) after its last new interface: it is busy or blocked outside ROS (a long "
-            "computation, a blocking read, input(), a long time.sleep before it spins). A loop that never "
-            "spins settles once it makes two such calls with no new interface for the settle time. Raise "
-            "`timeout` if it is only slow."
-        )
-    if seen:
-        return f"It waits in an executor but was never quiet for the settle time: {seen} Raise `timeout` if it is only slow."
-    return (
-        "It waits in an executor but kept creating or destroying interfaces, so it was never quiet for the "
-        "settle time. Raise `timeout` if it is only slow to finish starting."
-    )
-
-
-def _blocked_in_callback(partial: Any) -> str:
-    """A request of the middleware's own that the node took and never answered (a lifecycle
-    transition, a stimulus' service call, a parameter read): its callback is blocked. "" otherwise."""
-    settled = f"It settled after {partial.time_to_settle_ms or 0:.0f} ms; "
-    for raw_node in partial.raw_nodes:
-        lifecycle = raw_node.lifecycle
-        for transition in (lifecycle.transitions if lifecycle is not None else ()):
-            if transition.result in ("pending", "no_answer"):
-                return (f"{settled}the middleware then asked lifecycle node {raw_node.fqn} to {transition.label}, and "
-                        f"the transition never returned: the node is blocked in its on_{transition.label} callback "
-                        "(waiting for something that never comes, or looping), its interfaces did not change. Fix "
-                        "the callback, or capture the node without driving it: `lifecycle: none` on the target (or "
-                        "the state before that transition).")
-    for stimulus in partial.raw.get("stimuli") or []:
-        for target in (stimulus.get("targets") or []) if isinstance(stimulus, Mapping) else []:
-            if isinstance(target, Mapping) and target.get("kind") == "service" \
-                    and target.get("result") in ("pending", "no_answer"):
-                return (f"{settled}the stimulus {stimulus.get('name')} then called the service of node "
-                        f"{target.get('node')}, and its callback never returned: the node is blocked in it (waiting "
-                        "for something that never comes, or looping), its interfaces did not change. Fix the "
-                        "callback, or leave that name out of `stimuli`.")
-    probe = partial.probe
-    if probe is not None and probe.unanswered:
-        return (f"{settled}the middleware then read the nodes' parameters and {probe.unanswered} request(s) got no "
-                "answer: a node is blocked in a callback (its executor no longer serves its parameter services), its "
-                "interfaces did not change. Set `read_parameters: false` on the target to capture it without them.")
-    return ""
-
-
-def _what_was_seen(partial: Any) -> str:
-    """What the last snapshot shows of a process that did not settle, when its interfaces stopped
-    changing well before it ended ("" when they changed until the end: then that is the reason)."""
-    last = partial.last_change_ms()
-    elapsed = partial.elapsed_ms
-    settle = partial.settle_ms or 0
-    if last is None or elapsed is None or elapsed - last <= max(2 * settle, 1000):
-        return ""
-    facts = [f"its last interface was created at {last:.0f} ms and nothing changed in the {(elapsed - last) / 1000:.3g} s after"]
-    if partial.not_idle:
-        facts.append(f"the middleware last saw {partial.not_idle}")
-    if partial.polls:
-        facts.append(f"it returned from rmw_wait {partial.polls} times without waiting (zero-timeout polls, or a "
-                     "guard condition it had just triggered itself)")
-    facts.append(f"{partial.activity_calls or 0} calls into ROS (publish, take, graph queries) in all")
-    return ("; ".join(facts) + ". It runs without waiting in an executor (a busy loop: a task spun with spin_once "
-            "that awaits an answer that never comes, a callback that never returns, a sleep loop).")
 
 
 class GoldenWriteError(RmwIntrospectError):

@@ -158,11 +158,10 @@ def component_settings(process: ProcessCapture) -> dict[str, Given]:
     (the container's answer, ``full_node_name``)."""
     if not process.launched.components or process.capture is None:
         return {}
-    records = list(process.capture.raw.get("component_loads") or [])
     out: dict[str, Given] = {}
-    for load, record in zip(process.launched.components, records, strict=False):
-        if record.get("result") == "loaded" and record.get("full_node_name"):
-            out[str(record["full_node_name"])] = launch_settings.component_given(load)
+    for load, record in zip(process.launched.components, process.capture.component_loads, strict=False):
+        if record.result == "loaded" and record.full_node_name:
+            out[record.full_node_name] = launch_settings.component_given(load)
     return out
 
 
@@ -170,10 +169,10 @@ def unloaded_components(process: ProcessCapture) -> tuple[tuple[str, str], ...]:
     """The components the launch file loads into ``process`` (a container) that it did not create."""
     if not process.launched.components:
         return ()
-    document = process.capture.raw if process.capture is not None else {}
+    records = process.capture.component_loads if process.capture is not None else ()
     container = process.launched.expected_fqn or process.label
     out = []
-    for load, why in component_loads.problems(document, process.launched.components):
+    for load, why in component_loads.problems(records, process.launched.components):
         name = f"{(load.namespace or '').rstrip('/')}/{load.name}" if load.name else load.plugin
         out.append((name, f"the launch file loads {load.describe()} into {container}, but no node came of it: {why}"))
     return tuple(out)

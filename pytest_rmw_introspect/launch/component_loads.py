@@ -9,15 +9,19 @@ the component nodes are then nodes of the container process, probed like any oth
 
 :func:`requests_text` writes the requests in the middleware's format (``RMW_INTROSPECT_LOAD_NODES``
 names the file; rmw_introspect_cpp/src/detail/component_loads.hpp describes it);
-:func:`problems` reads what the loads came to from a capture document (``component_loads``).
+:func:`problems` says which loads created no node, from what a capture's records say they came to
+(``Capture.component_loads``, read by ``model.capture_file``).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from typing import Any
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 from .result import ComponentLoad, ComponentParameter
+
+if TYPE_CHECKING:
+    from ..model.capture_file import ComponentLoadRecord
 
 #: the variable that names the requests file
 VARIABLE = "RMW_INTROSPECT_LOAD_NODES"
@@ -64,10 +68,10 @@ def requests_text(container_fqn: str, loads: Sequence[ComponentLoad]) -> str:
     return "".join(out)
 
 
-def problems(document: Mapping[str, Any], loads: Sequence[ComponentLoad]) -> list[tuple[ComponentLoad, str]]:
+def problems(records: Sequence[ComponentLoadRecord],
+             loads: Sequence[ComponentLoad]) -> list[tuple[ComponentLoad, str]]:
     """Each load of ``loads`` that did not create its node, with why, from the container's
-    capture ``document`` (its ``component_loads`` records, in the same order)."""
-    records = list(document.get("component_loads") or [])
+    capture ``records`` (``Capture.component_loads``, in the same order)."""
     out: list[tuple[ComponentLoad, str]] = []
     for index, load in enumerate(loads):
         record = records[index] if index < len(records) else None
@@ -75,7 +79,7 @@ def problems(document: Mapping[str, Any], loads: Sequence[ComponentLoad]) -> lis
             out.append((load, "the container's middleware never sent the request (it ended first, or read no "
                               f"request: is {VARIABLE} set?)"))
             continue
-        result = record.get("result")
+        result = record.result
         if result == "loaded":
             continue
         why = {
@@ -85,5 +89,5 @@ def problems(document: Mapping[str, Any], loads: Sequence[ComponentLoad]) -> lis
             "failed": "the load request could not be sent: {error}",
             "pending": "the process ended before the load request was sent",
         }.get(str(result), "unknown result {result!r}: {error}")
-        out.append((load, why.format(error=record.get("error") or "no reason given", result=result)))
+        out.append((load, why.format(error=record.error or "no reason given", result=result)))
     return out

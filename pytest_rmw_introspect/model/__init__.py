@@ -5,9 +5,10 @@ One line per module:
 - ``vocabulary``: interface lists, labels, action parts, severities, ``fail_on`` words
 - ``qos``: QoS spellings, expansion, named profiles, compatibility
 - ``capture``: one process's capture (``Capture``) and the runner's facts about its run (``RunFacts``)
-- ``capture_file``: the middleware's capture file: its format, its raw records, reading and checking it
+- ``capture_file``: the middleware's capture file: its format, its raw records, reading and checking it (its only reader)
 - ``capture_view``: the contract view of a capture: nodes, their six interface lists, actions grouped
 - ``capture_notes``: what a report's reader should know about how a capture came about
+- ``capture_diagnoses``: why a capture went wrong (it did not settle, a stimulus failed), as the errors say it
 - ``types``: type descriptions in captures and contracts
 - ``type_hash``: RIHS01 type hashes computed from type descriptions
 - ``type_lock``: the package's type-hash lockfile (``rmw-introspect lock``)

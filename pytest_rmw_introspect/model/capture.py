@@ -23,7 +23,7 @@ from typing import Any
 from . import capture_file, capture_notes, portable
 from . import parameters as parameter_model
 from . import types as type_model
-from .capture_file import Endpoint, RawNode, VirtualTime
+from .capture_file import ComponentLoadRecord, Endpoint, Quiescence, RawNode, Stimulus, VirtualTime
 from .capture_view import Node, build_view
 from .contract_shapes import ContractNode, ContractNodes
 from .parameters import Probe
@@ -106,6 +106,8 @@ class Capture:
     ended_before_settle: bool | None = None
     include_infrastructure: bool = False
     path: Path | None = None
+    #: the document as the file held it (``capture --raw`` prints it, ``with_infrastructure`` reads
+    #: it again): read what it says through the fields above, never by its keys (``capture_file``)
     raw: Mapping[str, Any] = field(default_factory=dict)
     #: every interface type the process used, nested ones included, by name (``model.types``);
     #: ``has_types`` is False for captures of middleware versions that did not record them
@@ -116,6 +118,12 @@ class Capture:
     #: what the middleware asked the nodes' own services after the first settle (None: a capture
     #: of a middleware version that did not)
     probe: Probe | None = None
+    #: how the settles ended (None: a capture of a middleware version that did not say)
+    quiescence: Quiescence | None = None
+    #: each name of ``RMW_INTROSPECT_STIMULI`` and what it came to, in order (the target's ``stimuli``)
+    stimuli: tuple[Stimulus, ...] = ()
+    #: what each LoadNode request handed to a container's middleware came to, in order
+    component_loads: tuple[ComponentLoadRecord, ...] = ()
     #: the runner's facts about the run (``RunFacts()``: a capture read from a file)
     facts: RunFacts = field(default_factory=RunFacts)
 
@@ -267,17 +275,13 @@ class Capture:
     def polls(self) -> int:
         """Polls of ``rmw_wait`` (timeout 0: ``spin_some``, ``spin_once(timeout_sec=0)``) the process
         made (``quiescence.polls``; 0 for captures that do not say)."""
-        quiescence = self.raw.get("quiescence")
-        value = quiescence.get("polls", 0) if isinstance(quiescence, Mapping) else 0
-        return value if isinstance(value, int) and not isinstance(value, bool) else 0
+        return self.quiescence.polls if self.quiescence is not None else 0
 
     @property
     def not_idle(self) -> str | None:
         """Why the middleware last found the process not provably idle (a thread not blocked,
         and in which system call), or None (``quiescence.not_idle``)."""
-        quiescence = self.raw.get("quiescence")
-        value = quiescence.get("not_idle") if isinstance(quiescence, Mapping) else None
-        return value if isinstance(value, str) and value else None
+        return self.quiescence.not_idle if self.quiescence is not None else None
 
     def last_change_ms(self) -> float | None:
         """Real age of the process when it created its last node or interface (None: unknown)."""

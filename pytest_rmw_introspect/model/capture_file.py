@@ -2,12 +2,17 @@
 
 The raw file (docs/design.md section 1) lists nodes and endpoints as the middleware saw them:
 :class:`RawNode` and :class:`Endpoint` are those records, :class:`VirtualTime` its ``time``
-object. :func:`read` reads a file (JSON, or YAML with ``RMW_INTROSPECT_FORMAT=yaml``) and
-:func:`parse` checks a document (``format``/``format_version`` and every field's type) and
-returns what it says as :class:`CaptureFields`, the fields of a
+object, :class:`Quiescence` its ``quiescence`` object, :class:`Stimulus` (with its
+:class:`StimulusTarget` deliveries) an entry of its ``stimuli`` and :class:`ComponentLoadRecord`
+one of its ``component_loads``. :func:`read` reads a file (JSON, or YAML with
+``RMW_INTROSPECT_FORMAT=yaml``) and :func:`parse` checks a document (``format``/``format_version``
+and every field's type) and returns what it says as :class:`CaptureFields`, the fields of a
 :class:`~pytest_rmw_introspect.model.capture.Capture` (which builds its contract view,
 ``model.capture_view``, on top). Every malformed input is a
 :class:`~pytest_rmw_introspect.errors.CaptureFormatError` naming the file.
+
+This is the only module that reads the document's mappings: every other module reads these
+records (``tests/unit/test_capture_file_readers.py`` fails when another reads a key of the file).
 """
 
 from __future__ import annotations
@@ -133,6 +138,62 @@ class VirtualTime:
         return self.horizon_ms > 0
 
 
+@dataclass(frozen=True)
+class Quiescence:
+    """How the settles ended (``quiescence`` in the capture file; docs/design.md, "Detected
+    quiescence"). A capture that does not say reads as zeros and None."""
+
+    #: whether detection of idle threads was on (``RMW_INTROSPECT_IDLE``)
+    detect: bool | None = None
+    #: settles ended by detection, and by the quiet window
+    detected: int = 0
+    window: int = 0
+    #: returns from ``rmw_wait`` without waiting (timeout 0: ``spin_some``, ``spin_once(timeout_sec=0)``)
+    polls: int = 0
+    #: why the middleware last found the process not provably idle (a thread not blocked, and in
+    #: which system call); None: it did not
+    not_idle: str | None = None
+
+
+@dataclass(frozen=True)
+class StimulusTarget:
+    """One delivery of a stimulus: to a subscription (a default message) or a service (a default
+    request) of a node. ``result``: ``pending``, ``taken``, ``answered``, ``not_taken``,
+    ``no_answer`` or ``failed``."""
+
+    kind: str | None
+    node: str | None
+    type: str | None
+    result: str | None
+    error: str | None = None
+
+
+@dataclass(frozen=True)
+class Stimulus:
+    """One name of ``RMW_INTROSPECT_STIMULI`` and what it came to (an entry of ``stimuli``).
+    ``state``: ``pending``, ``done``, ``no_match`` or ``skipped``."""
+
+    name: str | None
+    state: str | None
+    targets: tuple[StimulusTarget, ...] = ()
+    error: str | None = None
+
+
+@dataclass(frozen=True)
+class ComponentLoadRecord:
+    """What one LoadNode request of ``RMW_INTROSPECT_LOAD_NODES`` came to (an entry of
+    ``component_loads``, in the order of the requests). ``result``: ``pending``, ``loaded``,
+    ``refused``, ``no_answer``, ``no_service`` or ``failed``; ``full_node_name``: the node the
+    container says it created."""
+
+    service: str | None
+    plugin: str | None
+    node: str | None
+    result: str | None
+    full_node_name: str | None = None
+    error: str | None = None
+
+
 class CaptureFields(TypedDict):
     """What a capture document says, checked: the fields of a ``Capture`` but its contract view
     (``nodes``), its infrastructure filter and its path."""
@@ -157,6 +218,9 @@ class CaptureFields(TypedDict):
     has_types: bool
     format_minor: int
     probe: Probe | None
+    quiescence: Quiescence | None
+    stimuli: tuple[Stimulus, ...]
+    component_loads: tuple[ComponentLoadRecord, ...]
 
 
 # ---------------------------------------------------------------------- reading
@@ -312,6 +376,9 @@ def parse(data: Any, *, path: Path | None) -> CaptureFields:
         has_types=data.get("types") is not None,
         format_minor=minor,
         probe=probe,
+        quiescence=_quiescence(data.get("quiescence")),
+        stimuli=_stimuli(data.get("stimuli")),
+        component_loads=_component_loads(data.get("component_loads"), path),
     )
 
 
@@ -371,6 +438,66 @@ def _virtual_time(data: Any, path: Path | None) -> VirtualTime | None:
         )
     except (TypeError, ValueError, OverflowError) as exc:
         raise CaptureFormatError(path, f"`time`: malformed field ({exc})") from None
+
+
+# The three records below are read as leniently as their readers always read them (they are
+# optional for readers, docs/design.md section 1): what is not the shape the middleware writes
+# reads as "not said", not as a malformed capture.
+
+
+def _quiescence(data: Any) -> Quiescence | None:
+    if not isinstance(data, Mapping):
+        return None
+    polls = data.get("polls", 0)
+    not_idle = data.get("not_idle")
+    return Quiescence(
+        detect=data["detect"] if isinstance(data.get("detect"), bool) else None,
+        detected=_count(data.get("detected")),
+        window=_count(data.get("window")),
+        polls=_count(polls),
+        not_idle=not_idle if isinstance(not_idle, str) and not_idle else None,
+    )
+
+
+def _count(value: Any) -> int:
+    return value if isinstance(value, int) and not isinstance(value, bool) else 0
+
+
+def _stimuli(data: Any) -> tuple[Stimulus, ...]:
+    if not isinstance(data, list):
+        return ()
+    return tuple(
+        Stimulus(
+            name=_text(record.get("name")),
+            state=_text(record.get("state")),
+            targets=tuple(
+                StimulusTarget(kind=_text(t.get("kind")), node=_text(t.get("node")), type=_text(t.get("type")),
+                               result=_text(t.get("result")), error=_text(t.get("error")))
+                for t in (record.get("targets") or ()) if isinstance(t, Mapping)
+            ),
+            error=_text(record.get("error")),
+        )
+        for record in data if isinstance(record, Mapping)
+    )
+
+
+def _component_loads(data: Any, path: Path | None) -> tuple[ComponentLoadRecord, ...]:
+    if not data:
+        return ()
+    # each entry answers the request at its place: one that is not an object cannot be skipped
+    _require(isinstance(data, list) and all(isinstance(r, Mapping) for r in data), path,
+             "`component_loads` is not a list of objects")
+    return tuple(
+        ComponentLoadRecord(service=_text(r.get("service")), plugin=_text(r.get("plugin")), node=_text(r.get("node")),
+                            result=_text(r.get("result")), full_node_name=_text(r.get("full_node_name")),
+                            error=_text(r.get("error")))
+        for r in data
+    )
+
+
+def _text(value: Any) -> str | None:
+    """A string field of a record as it reads in messages (None: absent or null)."""
+    return None if value is None else str(value)
 
 
 def _fqn(namespace: str, name: str) -> str:

@@ -6,19 +6,56 @@ stopped before its horizon (and which loop kept it from advancing: :func:`horizo
 on sim time, clients of services of the same process, parameters and lifecycle states that
 could not be read. Each note is one sentence for people, with what to do where there is
 something to do.
+
+The notes read a capture as :class:`Noted`, the part of
+:class:`~pytest_rmw_introspect.model.capture.Capture` they need, so that this module does not
+import the capture module that calls it (no import cycle, types included).
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Iterator, Sequence
+from typing import Protocol
 
-from .capture_file import VirtualTime
+from .capture_file import Endpoint, RawNode, VirtualTime
+from .capture_view import Node
+from .parameters import Probe
 
-if TYPE_CHECKING:
-    from .capture import Capture
+
+class Described(Protocol):
+    """Another process of the run (``model.capture.OtherProcess``), as a note names it."""
+
+    def describe(self) -> str: ...
 
 
-def notes(capture: Capture) -> list[str]:
+class Noted(Protocol):
+    """What the notes read of a capture (``model.capture.Capture`` is one)."""
+
+    @property
+    def from_child(self) -> Described | None: ...
+    @property
+    def other_processes(self) -> Sequence[Described]: ...
+    @property
+    def duplicate_node_names(self) -> list[str]: ...
+    @property
+    def raw_nodes(self) -> Sequence[RawNode]: ...
+    @property
+    def ended_by_itself(self) -> bool: ...
+    @property
+    def returncode(self) -> int | None: ...
+    @property
+    def settled_once(self) -> bool: ...
+    @property
+    def virtual_time(self) -> VirtualTime | None: ...
+    @property
+    def polls(self) -> int: ...
+    @property
+    def probe(self) -> Probe | None: ...
+    def __iter__(self) -> Iterator[Node]: ...
+    def endpoints(self, *, include_destroyed: bool = False) -> list[Endpoint]: ...
+
+
+def notes(capture: Noted) -> list[str]:
     """What a reader of a report should know about how this capture came about."""
     notes: list[str] = []
     if capture.from_child is not None:
@@ -73,7 +110,7 @@ def notes(capture: Capture) -> list[str]:
             notes.append(f"lifecycle: {node.lifecycle.error}")
     return notes
 
-def own_service_notes(capture: Capture) -> list[str]:
+def own_service_notes(capture: Noted) -> list[str]:
     """A client of a service that a node of this same process serves: in a capture nothing is
     delivered, so a program that waits for the answer (to a request to its own node, say)
     waits for ever, and what it would create after the answer is not captured."""

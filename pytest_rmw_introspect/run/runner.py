@@ -55,7 +55,6 @@ import sys
 import tempfile
 import threading
 import time
-from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
@@ -370,107 +369,171 @@ def run(
     ``warm_wait``: seconds to wait for a warm start server that is still starting before the
     target is started cold instead (default ``warm.DEFAULT_WAIT``); ``cold_note``: start it cold,
     for this reason (``Capture.start_note``), without looking for a warm start server.
+
+    The walk of a capture, one step each: :meth:`_Run.begin` (a working directory, the target
+    resolved, a deadline), :meth:`_Run.run_target` (started warm or cold, waited for, once more
+    cold if its warm start server died under it), :meth:`_Run.read_capture` (the capture file
+    read and the ending classified), :meth:`_Run.judge` (what the middleware drove: lifecycle
+    transitions, stimuli), then the warm start server told the types the target used.
     """
     if keep_files is None:
         keep_files = os.environ.get("RMW_INTROSPECT_KEEP_FILES", "") not in ("", "0", "false")
-
-    global _last_sweep
-    if time.monotonic() - _last_sweep > _SWEEP_EVERY_S:  # a listing of the temporary directory: not per capture
-        _last_sweep = time.monotonic()
-        sweep_stale_workdirs()
-    workdir = Path(tempfile.mkdtemp(prefix=f"{_WORKDIR_PREFIX}{os.getpid()}_"))
+    walk = _Run.begin(spec, library=library, ros=ros, python=python, cold_note=cold_note,
+                      include_infrastructure=include_infrastructure, keep_files=keep_files)
     try:
-        target = resolve(spec, workdir=workdir, library=library, ros=ros, python=python, cold_note=cold_note)
-    except BaseException:
-        shutil.rmtree(workdir, ignore_errors=True)
-        raise
-    describe, timeout, argv = target.name, target.timeout, list(target.shown_argv)  # argv: for messages
+        start, ended = walk.run_target(warm_wait, cancel)
+        try:
+            captured = walk.judge(walk.read_capture(start, ended), start, ended)
+        except TargetError as exc:
+            exc.started = start.how  # the error of a target that ran says how it was started
+            raise
+        if cold_note is None:  # a run that never starts warm has no server to tell
+            _learn(captured, walk.target, python)
+        return captured
+    finally:
+        walk.end()
 
-    started = time.monotonic()
-    # the last resort behind every bounded wait below: status 2 with every stack (run/deadline.py)
-    def remove_workdir() -> None:
-        shutil.rmtree(workdir, ignore_errors=True)
 
-    watchdog = Watchdog.for_target(describe, timeout, on_expiry=remove_workdir)
-    try:
+@dataclass
+class _Run:
+    """One capture on its way (:func:`run`'s steps): the resolved target, its working directory
+    (the capture files, kept or removed at the end) and the deadline behind every wait."""
+
+    target: ResolvedTarget
+    workdir: Path
+    python: str | None
+    include_infrastructure: bool
+    keep_files: bool
+    #: the last resort behind every bounded wait: status 2 with every stack (run/deadline.py)
+    watchdog: Watchdog
+    #: ``time.monotonic()`` before the target started: the capture's wall time counts from it
+    began: float
+    #: seconds from starting the target to its end (``RunFacts.wall_time``; set once it ended)
+    wall_time: float | None = None
+
+    @classmethod
+    def begin(cls, spec: TargetSpec, *, library: str | Path | None, ros: Any, python: str | None,
+              cold_note: str | None, include_infrastructure: bool, keep_files: bool) -> _Run:
+        """A working directory of its own (stale ones of killed runners swept now and then) and
+        the target resolved into it (``target.resolve``), with its deadline not yet started."""
+        global _last_sweep
+        if time.monotonic() - _last_sweep > _SWEEP_EVERY_S:  # a listing of the temporary directory: not per capture
+            _last_sweep = time.monotonic()
+            sweep_stale_workdirs()
+        workdir = Path(tempfile.mkdtemp(prefix=f"{_WORKDIR_PREFIX}{os.getpid()}_"))
+        try:
+            target = resolve(spec, workdir=workdir, library=library, ros=ros, python=python, cold_note=cold_note)
+        except BaseException:
+            shutil.rmtree(workdir, ignore_errors=True)
+            raise
+        began = time.monotonic()
+        return cls(target, workdir, python, include_infrastructure, keep_files, cls._deadline(target, workdir), began)
+
+    @staticmethod
+    def _deadline(target: ResolvedTarget, workdir: Path) -> Watchdog:
+        return Watchdog.for_target(target.name, target.timeout,
+                                   on_expiry=lambda: shutil.rmtree(workdir, ignore_errors=True))
+
+    def run_target(self, warm_wait: float | None, cancel: threading.Event | None) -> tuple[_Started, _Ended]:
+        """Start the target (forked warm, or cold) and wait for it to settle or end; a target whose
+        warm start server died under it (it died with it) runs once more, cold."""
         if cancel is not None and cancel.is_set():
             raise Cancelled()
-        watchdog.start()
-        with watchdog.waiting("the target to start (or a warm start server to fork it)"):
-            start = _start(target, python, warm_wait)
+        self.watchdog.start()
+        with self.watchdog.waiting("the target to start (or a warm start server to fork it)"):
+            start = _start(self.target, self.python, warm_wait)
         _import_capture_model_meanwhile()
-        ended = _wait(start, timeout, cancel, watchdog, describe)
+        ended = _wait(start, self.target.timeout, cancel, self.watchdog, self.target.name)
         if start.warm_child is not None and start.warm_child.server_lost:
-            # the server died under the target (which died with it): run the target again, cold
-            for leftover in workdir.iterdir():  # its capture files, and its log directory
+            for leftover in self.workdir.iterdir():  # its capture files, and its log directory
                 if leftover.is_dir():
                     shutil.rmtree(leftover, ignore_errors=True)
                 else:
                     leftover.unlink()
-            watchdog.cancel()  # a second run: a deadline of its own
-            watchdog = Watchdog.for_target(describe, timeout, on_expiry=remove_workdir).start()
+            self.watchdog.cancel()  # a second run: a deadline of its own
+            self.watchdog = self._deadline(self.target, self.workdir).start()
             lost = ("the warm start server stopped answering during the capture" if start.warm_child.server_silent
                     else "the warm start server ended during the capture")
-            with watchdog.waiting(f"the target to start cold ({lost})"):
-                start = _start(target.started_cold(lost), python, warm_wait)
-            ended = _wait(start, timeout, cancel, watchdog, describe)
-        watchdog.now("its capture files to be read (the target has ended)")
-        returncode, stderr = ended.returncode, ended.stderr
-        wall = time.monotonic() - started
-        if keep_files:
-            (workdir / "stderr.txt").write_text(stderr, encoding="utf-8")
-            (workdir / "stdout.txt").write_text(ended.stdout, encoding="utf-8")
+            with self.watchdog.waiting(f"the target to start cold ({lost})"):
+                start = _start(self.target.started_cold(lost), self.python, warm_wait)
+            ended = _wait(start, self.target.timeout, cancel, self.watchdog, self.target.name)
+        self.watchdog.now("its capture files to be read (the target has ended)")
+        self.wall_time = time.monotonic() - self.began
+        if self.keep_files:
+            (self.workdir / "stderr.txt").write_text(ended.stderr, encoding="utf-8")
+            (self.workdir / "stdout.txt").write_text(ended.stdout, encoding="utf-8")
+        return start, ended
 
-        output, others, from_child = _outputs(target.output, start.proc.pid, include_infrastructure)
-        if ended.timed_out:
-            raise _tag(TargetTimeout(describe, timeout, _mark(_try_load(output, include_infrastructure), start),
-                                     stderr, argv), start)
-        loaded = _try_load(output, include_infrastructure) if returncode != 0 else None
-        crashed = returncode != 0 and crash_evidence(returncode, stderr)
-        if crashed and target.stimuli and loaded is not None and loaded.settled_once:
-            # a crash on a stimulus: the stimulus report says which one it was
-            problems = stimulus_problems(loaded.raw, returncode)
-            if problems:
-                raise _tag(StimulusFailed(describe, problems, _mark(loaded, start), stderr, argv), start)
-        if returncode != 0 and (loaded is None or not loaded.settled_once or crashed):
-            raise _tag(TargetExited(describe, returncode, stderr, _mark(loaded, start), argv,
-                                    hint=failure_hints.missing_module_hint(stderr),
-                                    crashed=crashed), start)
+    def read_capture(self, start: _Started, ended: _Ended) -> Capture:
+        """The target's capture with the runner's facts, or the error its ending is: it did not
+        settle in time, failed before its final settle (or crashed), or created no node."""
+        from ..model.capture import Capture
+
+        target, stderr, argv = self.target, ended.stderr, list(self.target.shown_argv)
+        output, others, from_child = _outputs(target.output, start.proc.pid, self.include_infrastructure)
+        loaded = self._failed_ending(output, start, ended)
         if loaded is None:
             if not output.exists():
-                raise _tag(NoNodeCreated(
-                    describe,
-                    stderr,
-                    None,
-                    argv,
-                    detail="it exited with status 0 and wrote no capture: it never initialised ROS 2, "
-                    "or it did not run on the recording middleware",
-                    hint=_no_node_hint(target),
-                ), start)
-            from ..model.capture import Capture
-
-            loaded = Capture.load(output, include_infrastructure=include_infrastructure)
+                raise NoNodeCreated(target.name, stderr, None, argv,
+                                    detail="it exited with status 0 and wrote no capture: it never initialised "
+                                    "ROS 2, or it did not run on the recording middleware",
+                                    hint=_no_node_hint(target))
+            loaded = Capture.load(output, include_infrastructure=self.include_infrastructure)
         if not loaded.raw_nodes:
-            raise _tag(NoNodeCreated(describe, stderr, _mark(loaded, start), argv, hint=_no_node_hint(target)), start)
-        captured = _with_facts(loaded, start, returncode=returncode, stderr=stderr, wall_time=wall,
-                               command=target.argv, other_processes=tuple(others), from_child=from_child,
-                               ros_distribution=target.ros_distribution, keep_path=keep_files)
+            raise NoNodeCreated(target.name, stderr, _mark(loaded, start), argv, hint=_no_node_hint(target))
+        captured = _with_facts(loaded, start, returncode=ended.returncode, stderr=stderr,
+                               wall_time=self.wall_time, command=target.argv,
+                               other_processes=tuple(others), from_child=from_child,
+                               ros_distribution=target.ros_distribution, keep_path=self.keep_files)
         captured.make_values_portable(ros_env.package_shares(target.prefixes), home=_home(target))
+        return captured
+
+    def _failed_ending(self, output: Path, start: _Started, ended: _Ended) -> Capture | None:
+        """Raise the error of a target that did not settle in time, crashed, or ended with a
+        non-zero status before it settled; else the capture a non-zero ending left (None: the
+        target ended with status 0, its capture is still to read)."""
+        from ..model.capture_diagnoses import diagnose_unsettled, stimulus_problems
+
+        target, returncode, stderr, argv = self.target, ended.returncode, ended.stderr, list(self.target.shown_argv)
+        if ended.timed_out:
+            partial = _mark(_try_load(output, self.include_infrastructure), start)
+            raise TargetTimeout(target.name, target.timeout, partial, stderr, argv,
+                                diagnosis=diagnose_unsettled(partial))
+        if returncode == 0:
+            return None
+        loaded = _try_load(output, self.include_infrastructure)
+        crashed = crash_evidence(returncode, stderr)
+        if crashed and target.stimuli and loaded is not None and loaded.settled_once:
+            # a crash on a stimulus: the stimulus report says which one it was
+            problems = stimulus_problems(loaded, returncode)
+            if problems:
+                raise StimulusFailed(target.name, problems, _mark(loaded, start), stderr, argv)
+        if loaded is None or not loaded.settled_once or crashed:
+            raise TargetExited(target.name, returncode, stderr, _mark(loaded, start), argv,
+                               hint=failure_hints.missing_module_hint(stderr), crashed=crashed)
+        return loaded
+
+    def judge(self, captured: Capture, start: _Started, ended: _Ended) -> Capture:
+        """``captured``, unless what the middleware drove went wrong: a lifecycle transition that
+        failed (the node is not in the state asked for), a stimulus that failed."""
+        from ..model.capture_diagnoses import stimulus_problems
+
+        target, argv = self.target, list(self.target.shown_argv)
         failures = captured.failed_transitions()
         if failures:
-            raise _tag(LifecycleTransitionFailed(describe, failures, wanted=target.lifecycle,
-                                                 partial=captured, stderr_tail=stderr, argv=argv), start)
+            raise LifecycleTransitionFailed(target.name, failures, wanted=target.lifecycle, partial=captured,
+                                            stderr_tail=ended.stderr, argv=argv)
         if target.stimuli:
-            problems = stimulus_problems(captured.raw, returncode)
+            problems = stimulus_problems(captured, ended.returncode)
             if problems:
-                raise _tag(StimulusFailed(describe, problems, captured, stderr, argv), start)
-        if cold_note is None:  # a run that never starts warm has no server to tell
-            _learn(captured, target, python)
+                raise StimulusFailed(target.name, problems, captured, ended.stderr, argv)
         return captured
-    finally:
-        watchdog.cancel()
-        if not keep_files:
-            _remove_later(workdir)
+
+    def end(self) -> None:
+        """The deadline cancelled; the working directory removed (in a thread of its own) unless kept."""
+        self.watchdog.cancel()
+        if not self.keep_files:
+            _remove_later(self.workdir)
 
 
 #: signals that end a program because it failed (not because something stopped it)
@@ -486,11 +549,6 @@ def crash_evidence(returncode: int, stderr: str) -> bool:
     if returncode < 0 and -returncode in _CRASH_SIGNALS:
         return True
     return any(mark in stderr for mark in _CRASH_MARKS)
-
-
-def _tag(exc: TargetError, start: _Started) -> TargetError:
-    exc.started = start.how
-    return exc
 
 
 def _home(target: ResolvedTarget) -> str | None:
@@ -526,47 +584,6 @@ def _learn(captured: Capture, target: ResolvedTarget, python: str | None) -> Non
     from .warm import client as warm
 
     warm.POOL.learn(dict(target.env), _server_cwd(target), type_names, python)
-
-
-def stimulus_problems(raw: Mapping[str, Any], returncode: int | None) -> list[str]:
-    """What went wrong with the stimuli a capture document records (``stimuli``), one line each
-    for people; empty when every name reached its subscriptions and services and the process
-    did not fail after them. ``returncode``: the process's exit status."""
-    records = raw.get("stimuli")
-    if not isinstance(records, list):
-        return []
-    problems: list[str] = []
-    last: str | None = None  # the last delivery made (or in flight)
-    settled = raw.get("state") == "settled"
-    for record in records:
-        if not isinstance(record, Mapping):
-            continue
-        name, state, error = record.get("name"), record.get("state"), record.get("error")
-        if state == "no_match":
-            problems.append(str(error or f"no subscription or service named {name}"))
-        elif state == "skipped":
-            problems.append(f"{name}: {error or 'not delivered'}")
-        elif state == "pending" and not settled:
-            problems.append(f"{name}: not delivered: the process ended before its turn")
-        for target in record.get("targets") or ():
-            if not isinstance(target, Mapping):
-                continue
-            result = target.get("result")
-            where = f"the {target.get('kind')} {name} of {target.get('node')}"
-            if result in ("not_taken", "no_answer", "failed"):
-                problems.append(f"{name} ({target.get('kind')} of {target.get('node')}): {target.get('error') or result}")
-            elif result in ("taken", "answered") or (result == "pending" and not settled):
-                last = where
-    ended = raw.get("ended")
-    ended_early = isinstance(ended, Mapping) and bool(ended.get("before_settle"))
-    if returncode not in (None, 0) and last is not None and (ended_early or not settled):
-        how = f"was killed by signal {-returncode}" if returncode < 0 else f"exited with status {returncode}"
-        problems.append(
-            f"the process {how} after the middleware delivered a stimulus (the last: a default message or "
-            f"request to {last}): a default-constructed message is input the node acts on (an empty image, "
-            "a zero command, an empty frame id); make the node cope with it, or leave the stimulus out"
-        )
-    return problems
 
 
 def _describe_process(path: Path, include_infrastructure: bool) -> OtherProcess:

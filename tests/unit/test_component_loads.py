@@ -5,9 +5,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
+from pytest_rmw_introspect.errors import CaptureFormatError
 from pytest_rmw_introspect.launch import component_loads
 from pytest_rmw_introspect.launch.result import ComponentLoad, Where
+from pytest_rmw_introspect.model.capture import Capture
 
 TALKER = ComponentLoad(package="demo", plugin="demo::Talker", where=Where(Path("/ws/robot.launch.py"), 12),
                        name="talker", namespace="/robot", remap_rules=("chatter:=status",),
@@ -40,6 +44,11 @@ def test_the_requests_file_the_middleware_reads():
         "end\n")
 
 
+def records(document):
+    """The ``component_loads`` records of a capture document, as the one reader reads them."""
+    return Capture.from_dict({"format": "rmw_introspect_capture", "format_version": 1, **document}).component_loads
+
+
 def test_what_a_capture_says_of_each_load():
     document = {"component_loads": [
         {"service": "/robot/container/_container/load_node", "plugin": "demo::Talker", "node": "talker",
@@ -47,11 +56,17 @@ def test_what_a_capture_says_of_each_load():
         {"service": "/robot/container/_container/load_node", "plugin": "demo::Listener", "node": "",
          "result": "refused", "full_node_name": "", "error": "Failed to find class with the requested plugin name."},
     ]}
-    assert component_loads.problems(document, [TALKER, LISTENER]) == [
+    assert component_loads.problems(records(document), [TALKER, LISTENER]) == [
         (LISTENER, "the container refused it: Failed to find class with the requested plugin name.")]
-    assert [why for _, why in component_loads.problems({}, [TALKER])] == [
+    assert [why for _, why in component_loads.problems(records({}), [TALKER])] == [
         "the container's middleware never sent the request (it ended first, or read no request: is "
         "RMW_INTROSPECT_LOAD_NODES set?)"]
+
+
+def test_a_load_record_that_is_not_an_object_is_a_malformed_capture():
+    """Each record answers the request at its place, so one that cannot be read cannot be skipped."""
+    with pytest.raises(CaptureFormatError, match="`component_loads` is not a list of objects"):
+        records({"component_loads": [{"result": "loaded"}, "junk"]})
 
 
 def test_a_component_that_was_not_loaded_is_a_node_not_created():

@@ -1,9 +1,9 @@
-"""errors.diagnose_unsettled: what a timeout's message says was seen, from the partial capture."""
+"""model.capture_diagnoses.diagnose_unsettled: what a timeout's message says was seen, from the partial capture."""
 
 from __future__ import annotations
 
-from pytest_rmw_introspect.errors import diagnose_unsettled
 from pytest_rmw_introspect.model.capture import Capture
+from pytest_rmw_introspect.model.capture_diagnoses import diagnose_unsettled
 
 QOS = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE",
        "liveliness": "SYSTEM_DEFAULT", "deadline_ns": 0, "lifespan_ns": 0, "liveliness_lease_duration_ns": 0,

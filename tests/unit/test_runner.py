@@ -26,6 +26,8 @@ from pytest_rmw_introspect.errors import (
     TargetExited,
     TargetTimeout,
 )
+from pytest_rmw_introspect.model.capture import Capture
+from pytest_rmw_introspect.model.capture_diagnoses import stimulus_problems
 from pytest_rmw_introspect.run import api, process, runner
 from pytest_rmw_introspect.run import target as target_module
 from pytest_rmw_introspect.run.ros_env import RosEnvironment
@@ -295,12 +297,18 @@ def delivered(result, error=None, kind="subscription", node="/fake"):
     return {"kind": kind, "node": node, "type": "std_msgs/msg/String", "result": result, "error": error}
 
 
+def problems(raw, returncode):
+    """What ``stimulus_problems`` says of the capture document ``raw`` (read by the one reader)."""
+    return stimulus_problems(Capture.from_dict({"format": "rmw_introspect_capture", "format_version": 1, **raw}),
+                             returncode)
+
+
 def test_stimuli_that_worked_are_no_problem():
     raw = {"state": "settled", "stimuli": [stimulus("/cmd", "done", None, delivered("taken")),
                                            stimulus("/srv", "done", None, delivered("answered", kind="service"))]}
-    assert runner.stimulus_problems(raw, 0) == []
-    assert runner.stimulus_problems({"state": "settled"}, 0) == []  # an older middleware
-    assert runner.stimulus_problems({"state": "settled", "stimuli": "junk"}, 0) == []
+    assert problems(raw, 0) == []
+    assert problems({"state": "settled"}, 0) == []  # an older middleware
+    assert problems({"state": "settled", "stimuli": "junk"}, 0) == []
 
 
 def test_stimulus_problems_are_one_line_each_for_people():
@@ -313,7 +321,7 @@ def test_stimulus_problems_are_one_line_each_for_people():
         stimulus("/gone", "done", None, delivered("failed", None)),
         stimulus("/late", "skipped", "not delivered: no thread of the process ever waited in rmw_wait"),
     ]}
-    assert runner.stimulus_problems(raw, 0) == [
+    assert problems(raw, 0) == [
         "no subscription or service named /nothing in this process (...)",
         "/cmd (subscription of /fake): the subscription /cmd of /fake did not take the message within 5000 ms",
         "/srv (service of /fake): no answer from /srv of /fake within 5000 ms",
@@ -326,15 +334,15 @@ def test_a_process_that_fails_after_a_stimulus_is_a_problem_and_one_that_ended_b
     crashed = {"state": "exit", "ended": {"before_settle": True},
                "stimuli": [stimulus("/image", "done", None, delivered("pending", node="/fragile")),
                            stimulus("/next", "pending")]}
-    first, second = runner.stimulus_problems(crashed, -11)
+    first, second = problems(crashed, -11)
     assert first == "/next: not delivered: the process ended before its turn"
     assert second.startswith("the process was killed by signal 11 after the middleware delivered a stimulus (the "
                              "last: a default message or request to the subscription /image of /fragile)")
     # A failure after the final settle, or with nothing delivered, is not the stimuli's.
     settled = {"state": "settled", "stimuli": [stimulus("/image", "done", None, delivered("taken"))]}
-    assert runner.stimulus_problems(settled, 1) == []
+    assert problems(settled, 1) == []
     unreached = {"state": "exit", "ended": {"before_settle": True}, "stimuli": [stimulus("/x", "no_match", "no sub")]}
-    assert runner.stimulus_problems(unreached, 1) == ["no sub"]
+    assert problems(unreached, 1) == ["no sub"]
 
 
 def test_the_runner_raises_stimulus_failed_with_the_capture(tmp_path, ros, library):

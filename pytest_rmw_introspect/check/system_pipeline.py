@@ -47,7 +47,7 @@ from ..model.paths import shown as display
 from ..model.stand_ins import StoodIn
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.unstable_names import NameRules
-from ..model.vocabulary import Severity, parse_threshold
+from ..model.vocabulary import Severity
 from ..run import system_capture
 from ..run.ros_env import RosEnvironment
 from ..run.system_capture import LaunchSpec, ProcessCapture, SystemCapture
@@ -55,8 +55,6 @@ from ..run.target import TargetSpec
 from . import golden, launch_settings
 from .pipeline import Layers, OptionLayer, read_as_asked
 
-#: the compatibility rules fail on this unless ``system_fail_on`` says otherwise (as ``compat``)
-DEFAULT_SYSTEM_FAIL_ON = "breaking"
 NO_LAYERS = Layers()
 
 
@@ -70,7 +68,6 @@ class SystemPrepared:
     launch: LaunchSpec
     target: TargetSpec
     options: ComparisonOptions
-    system_threshold: Severity
     #: the ROS environment the processes run in (the ament prefixes that paths resolve against)
     ros: RosEnvironment | None = None
     #: the processes not run here and the nodes that stand in for them (``stand_ins:``)
@@ -81,13 +78,7 @@ def _as_contract(system: SystemContract | None) -> Contract | None:
     """The parts ``Layers`` reads (``target:``, ``options:``) as a node contract."""
     if system is None:
         return None
-    return Contract(path=system.path, nodes=system.nodes, target=system.target, options=system.comparison_options)
-
-
-def system_threshold(contract: SystemContract | None, strong: str | None) -> Severity:
-    """``system_fail_on``: given here (marker, command line) > the contract's > ``breaking``."""
-    word = strong or (contract.system_fail_on if contract is not None else None) or DEFAULT_SYSTEM_FAIL_ON
-    return parse_threshold(word)
+    return Contract(path=system.path, nodes=system.nodes, target=system.target, options=system.options)
 
 
 def prepare(
@@ -97,7 +88,6 @@ def prepare(
     launch: Mapping[str, Any] | None = None,
     launch_base: str | Path | None = None,
     launch_arguments: Mapping[str, Any] | None = None,
-    system_fail_on: str | None = None,
     shown: str | None = None,
     allow_missing: bool = False,
     ros: RosEnvironment | Callable[[], RosEnvironment] | None = None,
@@ -136,8 +126,7 @@ def prepare(
     spec = system_capture.resolve_launch(block, base_dir=base, source=source,
                                          prefixes=system_capture.ament_prefixes(env))
     return SystemPrepared(path=path, shown=shown, contract=contract, launch=spec, target=target,
-                          options=read_as_asked(target, options),
-                          system_threshold=system_threshold(contract, system_fail_on), ros=env,
+                          options=read_as_asked(target, options), ros=env,
                           stand_ins=stood_in)
 
 
@@ -197,7 +186,6 @@ class SystemCheckResult:
     contract: SystemContract | None = None
     spec: LaunchSpec | None = None
     options: ComparisonOptions = field(default_factory=ComparisonOptions)
-    system_threshold: Severity = Severity.BREAKING
     capture: SystemCapture | None = None
     drift_items: list[DriftItem] = field(default_factory=list)
     system_items: list[CompatItem] = field(default_factory=list)
@@ -234,6 +222,10 @@ class SystemCheckResult:
     @property
     def threshold(self) -> Severity:
         return self.options.threshold()
+
+    @property
+    def system_threshold(self) -> Severity:
+        return self.options.system_threshold()
 
     def matched(self, *, names: bool) -> str:
         """What a passing check matched: how many nodes in how many processes (a robot has
@@ -349,8 +341,7 @@ class SystemCheckResult:
 def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResult:
     """Compare a system capture with the prepared contract and run the compatibility rules on it."""
     result = SystemCheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
-                               spec=prepared.launch, options=prepared.options,
-                               system_threshold=prepared.system_threshold, capture=capture)
+                               spec=prepared.launch, options=prepared.options, capture=capture)
     external = prepared.contract.external if prepared.contract is not None else None
     missing_path = launch_settings.missing_path(system_capture.ament_prefixes(prepared.ros))
     system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path)
@@ -388,7 +379,6 @@ def check_system_contract(
     launch: Mapping[str, Any] | None = None,
     launch_base: str | Path | None = None,
     launch_arguments: Mapping[str, Any] | None = None,
-    system_fail_on: str | None = None,
     shown: str | None = None,
     allow_missing: bool = False,
     jobs: int | None = None,
@@ -399,7 +389,7 @@ def check_system_contract(
     prepared = None
     try:
         prepared = prepare(path, layers=layers, launch=launch, launch_base=launch_base,
-                           launch_arguments=launch_arguments, system_fail_on=system_fail_on, shown=shown,
+                           launch_arguments=launch_arguments, shown=shown,
                            allow_missing=allow_missing, ros=ros)
         lib = library() if callable(library) else library
         env = ros() if callable(ros) else ros
@@ -408,7 +398,6 @@ def check_system_contract(
         result = SystemCheckResult(path=path, shown=shown, error=exc)
         if prepared is not None:
             result.contract, result.spec, result.options = prepared.contract, prepared.launch, prepared.options
-            result.system_threshold = prepared.system_threshold
         return result
 
 

@@ -109,7 +109,7 @@ def check_system_contract(args: argparse.Namespace, path: Path, shown: str, comm
                     strong_options=[(compare_from_args(args), "command line")])
     return system_pipeline.check_system_contract(
         path, library=library, ros=ros, layers=layers, launch=block, launch_base=cwd, launch_arguments=arguments,
-        system_fail_on=getattr(args, "system_fail_on", None), shown=shown, allow_missing=args.update, jobs=args.jobs)
+        shown=shown, allow_missing=args.update, jobs=args.jobs)
 
 
 def cmd_diff(args: argparse.Namespace) -> int:

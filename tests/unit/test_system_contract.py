@@ -68,8 +68,7 @@ def test_load_a_system_contract(tmp_path):
     loaded = system_contract.load(path)
     assert loaded.launch == {"package": "bringup", "file": "robot.launch.xml", "arguments": {"use_lidar": "true"}}
     assert loaded.target == {"timeout": 30}
-    assert loaded.comparison_options == {"fail_on": "risky"}
-    assert loaded.system_fail_on == "any"
+    assert loaded.options == {"fail_on": "risky", "system_fail_on": "any"}
     assert [p["executable"] for p in loaded.processes] == ["talker", "listener"]
     assert sorted(loaded.nodes) == ["/robot/listener", "/robot/talker"]
     assert [sorted(nodes) for _p, nodes in loaded.process_nodes()] == [["/robot/talker"], ["/robot/listener"]]

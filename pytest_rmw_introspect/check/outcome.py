@@ -40,6 +40,8 @@ class _Summarised(Protocol):
 class _WithNodes(Protocol):
     @property
     def nodes(self) -> Mapping[str, ContractNode]: ...
+    @property
+    def interface_version(self) -> str | None: ...
 
 
 class Checked(Protocol):
@@ -153,7 +155,7 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None, 
         return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}){hint}", json=items if result.accepted else [])
     if update and result.drifted:
         text = result.render_text() if result.items else f"{result.shown}: adds {', '.join(gains)}\n"
-        advice = interface_version.advice(result.items, getattr(result.contract, "interface_version", None))
+        advice = interface_version.advice(result.items, result.contract.interface_version)
         return Outcome(Verdict.WRITE, text, report=text, json=items,
                        version_advice=f"{result.shown}: {advice}" if advice else "")
     # a system check can find problems without drift: nothing to accept then

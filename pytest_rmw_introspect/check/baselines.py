@@ -10,37 +10,29 @@ from pathlib import Path
 from ..compare.acceptance import Finding
 from ..compare.baseline import Baseline
 from ..compare.compatibility import CompatItem
-from ..compare.drift import DriftItem
-from .pipeline import CheckResult, CompatibilityResult
-from .system_pipeline import SystemCheckResult
+from .outcome import Checked
+from .pipeline import CompatibilityResult
 
-Result = CheckResult | SystemCheckResult | CompatibilityResult
+#: a check of one contract, or the compatibility check of several
+Result = Checked | CompatibilityResult
 
 
 def apply(result: Result, baseline: Baseline) -> None:
     """Move the findings of ``result`` that ``baseline`` holds to ``result.accepted``: they are
     reported as accepted by the baseline and no longer fail."""
-    if isinstance(result, CheckResult):
-        new, known = baseline.split(result.path, result.items)
-        result.items = [item for item in new if isinstance(item, DriftItem)]
-    elif isinstance(result, SystemCheckResult):
-        new, known = baseline.split(result.path, [*result.drift_items, *result.system_items])
-        result.drift_items = [item for item in new if isinstance(item, DriftItem)]
-        result.system_items = [item for item in new if isinstance(item, CompatItem)]
-    else:
+    if isinstance(result, CompatibilityResult):
         new, known = baseline.split(None, result.items)
         result.items = [item for item in new if isinstance(item, CompatItem)]
-    result.accepted = [*result.accepted, *known]
+        result.accepted = [*result.accepted, *known]
+    else:
+        new, known = baseline.split(result.path, result.items)
+        result.keep(new, known)
 
 
 def findings(results: Iterable[Result]) -> list[tuple[Path | None, Finding]]:
     """What a baseline written from ``results`` records: every finding not accepted otherwise."""
     found: list[tuple[Path | None, Finding]] = []
     for result in results:
-        if isinstance(result, CheckResult):
-            found += [(result.path, item) for item in result.items]
-        elif isinstance(result, SystemCheckResult):
-            found += [(result.path, item) for item in result.items]
-        else:
-            found += [(None, item) for item in result.items]
+        path = None if isinstance(result, CompatibilityResult) else result.path
+        found += [(path, item) for item in result.items]
     return found

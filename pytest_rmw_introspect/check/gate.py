@@ -164,7 +164,7 @@ def load_text(text: str, label: str) -> Contract:
     options, ``accept:`` and version); ``label`` names it in messages. Raises ContractError."""
     if is_system_text(label, text):
         system = system_contract.loads(text, path=label)
-        return Contract(path=system.path, nodes=system.nodes, target=None, options=system.comparison_options,
+        return Contract(path=system.path, nodes=system.nodes, target=None, options=system.options,
                         text=system.text, accept=system.accept, interface_version=system.interface_version)
     return contract_module.loads(text, path=label)
 

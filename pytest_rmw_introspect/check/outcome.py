@@ -1,4 +1,4 @@
-"""What a check means: the one pure function from a :class:`~.pipeline.CheckResult` to an
+"""What a check means: the one pure function from a result (:class:`Checked`) to an
 :class:`Outcome` (pass, warn, fail, write the golden, or an error), with the text and JSON of
 the report.
 
@@ -11,15 +11,22 @@ from __future__ import annotations
 
 import enum
 import textwrap
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError
 from ..model import interface_version
+from ..model.acceptance import Acceptance
 from ..model.contract_shapes import ContractNode
+
+if TYPE_CHECKING:  # the findings' types: the drift rules are loaded by the first check (plugin hooks)
+    from ..compare.acceptance import Accepted, Finding
+    from ..compare.ci_report import ContractOutcome
+    from ..compare.compatibility import CompatItem
+    from ..compare.drift import DriftItem
 
 
 class _Described(Protocol):
@@ -33,13 +40,17 @@ class _Summarised(Protocol):
 class _WithNodes(Protocol):
     @property
     def nodes(self) -> Mapping[str, ContractNode]: ...
+    @property
+    def interface_version(self) -> str | None: ...
 
 
 class Checked(Protocol):
-    """What :func:`decide` reads: a ``pipeline.CheckResult`` (a node contract) or a
-    ``system_pipeline.SystemCheckResult`` (a system contract). ``items``: everything found but what
-    the contract accepts (``accepted``); ``stale``: its ``accept:`` entries that accepted nothing;
-    ``drifted``: whether the golden differs from the capture (what updating would write)."""
+    """A result: what checking one contract found, as everything that reads one (:func:`decide`,
+    the baselines, the command line, the plugin) sees it. ``result.ContractCheck`` is its one
+    implementation, with ``pipeline.CheckResult`` (a node contract) and
+    ``system_pipeline.SystemCheckResult`` (a system contract). ``items``: everything found but
+    what the contract accepts (``accepted``); ``stale``: its ``accept:`` entries that accepted
+    nothing; ``drifted``: whether the golden differs from the capture (what updating would write)."""
 
     @property
     def error(self) -> RmwIntrospectError | None: ...
@@ -56,11 +67,13 @@ class Checked(Protocol):
     @property
     def options(self) -> ComparisonOptions: ...
     @property
-    def items(self) -> Sequence[Any]: ...
+    def items(self) -> Sequence[DriftItem | CompatItem]: ...
     @property
-    def accepted(self) -> Sequence[Any]: ...
+    def accepted(self) -> Sequence[Accepted]: ...
     @property
-    def stale(self) -> Sequence[_Described]: ...
+    def stale(self) -> Sequence[Acceptance]: ...
+    @property
+    def missing(self) -> bool: ...
     @property
     def drifted(self) -> bool: ...
     @property
@@ -69,10 +82,13 @@ class Checked(Protocol):
     def failed(self) -> bool: ...
     @property
     def stood_in(self) -> list[str]: ...
+    def keep(self, items: Iterable[Finding], accepted: Iterable[Accepted] = ()) -> None: ...
     def to_json(self) -> list[dict[str, Any]]: ...
     def render_text(self, accept_command: str | None = None) -> str: ...
     def update(self) -> str | None: ...
     def matched(self, *, names: bool) -> str: ...
+    def check_notes(self) -> list[str]: ...
+    def for_ci(self, *, written: str | None = None) -> ContractOutcome: ...
 
 
 class Verdict(enum.Enum):
@@ -139,7 +155,7 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None, 
         return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}){hint}", json=items if result.accepted else [])
     if update and result.drifted:
         text = result.render_text() if result.items else f"{result.shown}: adds {', '.join(gains)}\n"
-        advice = interface_version.advice(result.items, getattr(result.contract, "interface_version", None))
+        advice = interface_version.advice(result.items, result.contract.interface_version)
         return Outcome(Verdict.WRITE, text, report=text, json=items,
                        version_advice=f"{result.shown}: {advice}" if advice else "")
     # a system check can find problems without drift: nothing to accept then

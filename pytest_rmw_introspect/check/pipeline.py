@@ -16,19 +16,18 @@ command line), and ``strong`` layers, above it (marker keyword arguments, the ta
 
 :func:`check` does both and never raises an :class:`~pytest_rmw_introspect.errors.RmwIntrospectError`:
 it is put on ``result.error``. :func:`diff_contracts` compares two contract files without running
-anything; :func:`check_compatibility` runs the compatibility check over contract files.
+anything; ``system_pipeline.check_contracts`` runs the compatibility check over contract files.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import os
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeAlias
 
-from ..compare import acceptance, compatibility, drift, parameter_drift, report
+from ..compare import acceptance, drift, report
 from ..compare import type_lock as type_lock_check
 from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
@@ -42,16 +41,16 @@ from ..model import types as type_model
 from ..model.acceptance import Acceptance
 from ..model.capture import Capture
 from ..model.contract import Contract
-from ..model.contract_shapes import ContractNodes
 from ..model.locate import LineIndex
 from ..model.option_tables import PRECEDENCE, Source, stack
 from ..model.paths import shown as display
 from ..model.unstable_names import NameRules
-from ..model.vocabulary import Severity, parse_threshold
+from ..model.vocabulary import Severity
 from ..run import runner
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec, merge
 from . import golden
+from .result import ContractCheck
 
 OptionLayer: TypeAlias = tuple[Mapping[str, Any] | None, str]
 TargetLayer: TypeAlias = tuple[Mapping[str, Any] | None, "str | Path | None", str]
@@ -155,72 +154,24 @@ def read_as_asked(spec: TargetSpec, options: ComparisonOptions) -> ComparisonOpt
 
 
 @dataclass
-class CheckResult:
-    """What checking one contract found.
-
-    ``items``: the drift (empty when it matches, or when there is no contract or no capture);
-    ``error``: the RmwIntrospectError that stopped the check (``check`` only).
-    """
-
-    path: Path
-    shown: str
-    contract: Contract | None = None
-    spec: TargetSpec | None = None
-    options: ComparisonOptions = field(default_factory=ComparisonOptions)
-    capture: Capture | None = None
-    items: list[DriftItem] = field(default_factory=list)
-    error: RmwIntrospectError | None = None
-    compared: bool = False
-    #: drift the contract's ``accept:`` entries accept (not in ``items``), and entries that accepted nothing
-    accepted: list[Accepted] = field(default_factory=list)
-    stale: list[Acceptance] = field(default_factory=list)
+class CheckResult(ContractCheck[Contract, TargetSpec, Capture]):
+    """What checking one node contract found (``result.ContractCheck``: the fields and rules it
+    shares with a system check): a target and its capture, drift and no system problems; the
+    contract may be a NoDL document."""
 
     @property
     def stood_in(self) -> list[str]:
         """Processes stood in for (a system check's); a node contract's target always runs."""
         return []
 
-    @property
-    def missing(self) -> bool:
-        """The contract file does not exist (and there was a capture to create it from)."""
-        return self.contract is None and self.error is None
-
-    @property
-    def threshold(self) -> Severity:
-        return self.options.threshold()
-
     def matched(self, *, names: bool) -> str:
         """What a passing check matched: the contract's node names (a node contract has few)."""
         assert self.contract is not None
         return ", ".join(sorted(self.contract.nodes)) or "no nodes"
 
-    @property
-    def drifted(self) -> bool:
-        """The golden differs from what updating would write: drift, or sections the contract
-        does not state yet (:attr:`gains`)."""
-        return bool(self.items) or bool(self.gains)
-
-    @property
-    def gains(self) -> list[str]:
-        """What updating would add to a contract that matches but does not state it yet (the
-        parameters and lifecycle states of nodes written before they were recorded)."""
-        if self.contract is None or self.capture is None or self.error is not None or self.contract.nodl is not None:
-            return []  # (a NoDL document states parameters always, and can never state a lifecycle)
-        return parameter_drift.gains(self.contract.nodes, self.golden_nodes())
-
-    @property
-    def failed(self) -> bool:
-        """An error, a missing contract, or drift at or above the fail threshold."""
-        return self.error is not None or self.missing or report.fails(self.items, self.threshold)
-
-    def golden_nodes(self) -> ContractNodes:
-        """The ``nodes`` to write when accepting the capture as the new contract (ignored
-        parameters as the contract has them)."""
-        assert self.capture is not None, "no capture to accept"
-        opts = self.options
-        nodes = self.capture.to_contract_nodes(with_type_hash=not opts.ignore_type_hash,
-                                               with_qos=not opts.ignores_all_qos, names=self.name_rules())
-        return parameter_drift.keep_ignored(self.contract.nodes if self.contract is not None else None, nodes, opts)
+    def can_gain(self) -> bool:
+        """A NoDL document states parameters always, and can never state a lifecycle."""
+        return self.contract is None or self.contract.nodl is None
 
     def name_rules(self) -> NameRules:
         """The contract's patterns of names that change every run (the built-in rules alone
@@ -245,13 +196,14 @@ class CheckResult:
             return self.contract.nodl is not None
         return nodl.is_nodl("", self.path)
 
+    def check_notes(self) -> list[str]:
+        """What a NoDL document could not state (not compared)."""
+        return list(self.contract.nodl.notes) if self.contract is not None and self.contract.nodl is not None else []
+
     def notes(self) -> list[str]:
         """What to know about the result beside the drift: how the capture came about, and what
         a NoDL document could not state (not compared)."""
-        notes = self.capture.notes() if self.capture is not None else []
-        if self.contract is not None and self.contract.nodl is not None:
-            notes += self.contract.nodl.notes
-        return notes
+        return (self.capture.notes() if self.capture is not None else []) + self.check_notes()
 
     def update(self, *, new_header: str | None = None) -> str | None:
         """Write the golden (``golden.update``): ``created``, ``updated`` or None."""
@@ -262,26 +214,17 @@ class CheckResult:
         return golden.update(self.path, self.golden_nodes(), new_header=new_header, types=self.golden_types(),
                              distribution=self.capture.ros_distribution if self.capture is not None else None)
 
-    def title(self) -> str:
-        return f"Interface drift of {self.spec.describe()}" if self.spec is not None else "Interface drift"
-
     def render_text(self, accept_command: str | None = None) -> str:
         """The report for people (the same text as a failing test)."""
         if self.error is not None:
             return str(self.error)
-        text = report.render_text(self.items, contract_path=self.shown, threshold=self.threshold,
+        text = report.render_text(self.drift_items, contract_path=self.shown, threshold=self.threshold,
                                   accept_command=accept_command, title=self.title(), accepted=self.accepted,
                                   stale=self.stale)
         notes = self.notes()
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes)
         return text
-
-    def to_json(self) -> list[dict[str, Any]]:
-        """``report.to_json`` of the drift, each item with the ``contract`` it belongs to; then the
-        accepted drift (with ``accepted``) and the stale ``accept:`` entries (``ACCEPTANCE_STALE``)."""
-        found = [*report.to_json(self.items), *report.accepted_to_json(self.accepted), *report.stale_to_json(self.stale)]
-        return [{"contract": self.shown, **item} for item in found]
 
     def for_ci(self, *, written: str | None = None) -> ContractOutcome:
         """This result for the CI formats (``--format markdown|github``)."""
@@ -290,7 +233,7 @@ class CheckResult:
         else:
             nodes = self.capture.node_names if self.capture is not None else []
         return ContractOutcome(
-            contract=self.shown, items=self.items, threshold=self.threshold, nodes=nodes,
+            contract=self.shown, items=self.drift_items, threshold=self.threshold, nodes=nodes,
             error=str(self.error) if self.error is not None else None, written=written,
             lines=self.contract.lines() if self.contract is not None else {},
             accepted=self.accepted, stale=self.stale,
@@ -317,9 +260,8 @@ def compare(prepared: Prepared, capture: Capture) -> CheckResult:
         items = drift.attribute_to_distribution(drift.sort_items(items + locked_type_items(prepared, capture)),
                                                 contract.ros_distribution, capture.ros_distribution)
         judged = acceptance.judge(items, contract.accept, rules=acceptance.DRIFT_RULES)
-        result.items = [item for item in judged.kept if isinstance(item, DriftItem)]
-        result.accepted, result.stale = judged.accepted, judged.stale
-        result.compared = True
+        result.keep(judged.kept, judged.accepted)
+        result.stale = judged.stale
     return result
 
 
@@ -461,7 +403,7 @@ def compare_contracts(old: Contract, new: Contract, options: ComparisonOptions) 
 
 @dataclass
 class CompatibilityResult:
-    """Whether the nodes of several contracts fit together (:func:`check_compatibility`)."""
+    """Whether the nodes of several contracts fit together (``system_pipeline.check_contracts``)."""
 
     labels: list[str]
     items: list[CompatItem]
@@ -471,6 +413,8 @@ class CompatibilityResult:
     #: problems the contracts' ``accept:`` entries accept (not in ``items``), and entries that accepted nothing
     accepted: list[Accepted] = field(default_factory=list)
     stale: list[Acceptance] = field(default_factory=list)
+    #: the file of an end's label (a system contract's process labels name its file); None: the label
+    file_of: Callable[[str], str] | None = None
 
     @property
     def failed(self) -> bool:
@@ -496,39 +440,3 @@ def judge_compatibility(items: Sequence[CompatItem], accept: Sequence[Acceptance
         return any(file_of(end.label) == entry.source for end in ends)
 
     return acceptance.judge(items, accept, rules=acceptance.SYSTEM_RULES, applies=applies)
-
-
-def check_compatibility(
-    contract_paths: Iterable[str | Path],
-    *,
-    fail_on: str = "breaking",
-    strict_system_default: bool = False,
-    base_dir: str | Path | None = None,
-) -> CompatibilityResult:
-    """Load the contracts and check that their nodes fit together (``compare.compatibility``).
-
-    Labels are the paths as shown (relative to the current directory). Relative paths are
-    relative to ``base_dir`` (default: the current directory). Raises ContractError, or
-    ValueError for a bad ``fail_on``.
-    """
-    threshold = parse_threshold(fail_on)
-    systems: dict[str, ContractNodes] = {}
-    lines: dict[str, LineIndex] = {}
-    accept: list[Acceptance] = []
-    for p in contract_paths:
-        path = Path(os.path.expanduser(str(p)))
-        if not path.is_absolute() and base_dir is not None:
-            path = Path(base_dir) / path
-        label = display(path)
-        if label in systems:
-            continue
-        loaded = contract_module.load(path)
-        acceptance.check_rules(loaded.accept)
-        systems[label] = loaded.nodes
-        lines[label] = loaded.lines()
-        accept += loaded.accept
-    if not systems:
-        raise ValueError("no contracts given to the compatibility check")
-    judged = judge_compatibility(compatibility.check_compatibility(systems, strict_system_default=strict_system_default), accept)
-    return CompatibilityResult(labels=list(systems), items=[i for i in judged.kept if isinstance(i, CompatItem)],
-                               threshold=threshold, lines=lines, accepted=judged.accepted, stale=judged.stale)

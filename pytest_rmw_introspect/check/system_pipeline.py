@@ -27,8 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import acceptance, drift, launch_given, parameter_drift, report
-from ..compare.acceptance import Accepted
+from ..compare import acceptance, drift, launch_given, report
 from ..compare.ci_report import ContractOutcome
 from ..compare.compatibility import CompatItem, LaunchedProcess, check_compatibility, check_launched, propose_external
 from ..compare.drift import DriftItem
@@ -41,22 +40,21 @@ from ..model import stand_ins as stand_in_model
 from ..model import system_contract
 from ..model.acceptance import Acceptance
 from ..model.contract import Contract
-from ..model.contract_shapes import ContractNode, ContractNodes
+from ..model.contract_shapes import ContractNode
 from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.stand_ins import StoodIn
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.unstable_names import NameRules
-from ..model.vocabulary import Severity, parse_threshold
+from ..model.vocabulary import parse_threshold
 from ..run import system_capture
 from ..run.ros_env import RosEnvironment
 from ..run.system_capture import LaunchSpec, ProcessCapture, SystemCapture
 from ..run.target import TargetSpec
 from . import golden, launch_settings
-from .pipeline import Layers, OptionLayer, read_as_asked
+from .pipeline import CompatibilityResult, Layers, OptionLayer, judge_compatibility, read_as_asked
+from .result import ContractCheck
 
-#: the compatibility rules fail on this unless ``system_fail_on`` says otherwise (as ``compat``)
-DEFAULT_SYSTEM_FAIL_ON = "breaking"
 NO_LAYERS = Layers()
 
 
@@ -70,7 +68,6 @@ class SystemPrepared:
     launch: LaunchSpec
     target: TargetSpec
     options: ComparisonOptions
-    system_threshold: Severity
     #: the ROS environment the processes run in (the ament prefixes that paths resolve against)
     ros: RosEnvironment | None = None
     #: the processes not run here and the nodes that stand in for them (``stand_ins:``)
@@ -81,13 +78,7 @@ def _as_contract(system: SystemContract | None) -> Contract | None:
     """The parts ``Layers`` reads (``target:``, ``options:``) as a node contract."""
     if system is None:
         return None
-    return Contract(path=system.path, nodes=system.nodes, target=system.target, options=system.comparison_options)
-
-
-def system_threshold(contract: SystemContract | None, strong: str | None) -> Severity:
-    """``system_fail_on``: given here (marker, command line) > the contract's > ``breaking``."""
-    word = strong or (contract.system_fail_on if contract is not None else None) or DEFAULT_SYSTEM_FAIL_ON
-    return parse_threshold(word)
+    return Contract(path=system.path, nodes=system.nodes, target=system.target, options=system.options)
 
 
 def prepare(
@@ -97,7 +88,6 @@ def prepare(
     launch: Mapping[str, Any] | None = None,
     launch_base: str | Path | None = None,
     launch_arguments: Mapping[str, Any] | None = None,
-    system_fail_on: str | None = None,
     shown: str | None = None,
     allow_missing: bool = False,
     ros: RosEnvironment | Callable[[], RosEnvironment] | None = None,
@@ -136,8 +126,7 @@ def prepare(
     spec = system_capture.resolve_launch(block, base_dir=base, source=source,
                                          prefixes=system_capture.ament_prefixes(env))
     return SystemPrepared(path=path, shown=shown, contract=contract, launch=spec, target=target,
-                          options=read_as_asked(target, options),
-                          system_threshold=system_threshold(contract, system_fail_on), ros=env,
+                          options=read_as_asked(target, options), ros=env,
                           stand_ins=stood_in)
 
 
@@ -188,40 +177,22 @@ def contract_processes(contract: SystemContract, label: str | None = None) -> li
 
 
 @dataclass
-class SystemCheckResult:
-    """What checking one system contract found: drift of its nodes and system problems."""
+class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]):
+    """What checking one system contract found (``result.ContractCheck``: the fields and rules it
+    shares with a node check): drift of its nodes and system problems."""
 
-    path: Path
-    shown: str
-    contract: SystemContract | None = None
-    spec: LaunchSpec | None = None
-    options: ComparisonOptions = field(default_factory=ComparisonOptions)
-    system_threshold: Severity = Severity.BREAKING
-    capture: SystemCapture | None = None
-    drift_items: list[DriftItem] = field(default_factory=list)
-    system_items: list[CompatItem] = field(default_factory=list)
-    error: RmwIntrospectError | None = None
-    compared: bool = False
-    #: findings the contract's ``accept:`` entries accept (in neither list), and entries that accepted nothing
-    accepted: list[Accepted] = field(default_factory=list)
-    stale: list[Acceptance] = field(default_factory=list)
     #: what the system rules note without finding a problem (``launch_given.NOTES``: a device the
     #: capture machine lacks)
     rule_notes: list[CompatItem] = field(default_factory=list)
 
-    @property
+    def check_notes(self) -> list[str]:
+        """What the system rules note (devices this machine lacks)."""
+        return [f"{item.requester.node}: {item.message}" for item in self.rule_notes]
+
     def notes(self) -> list[str]:
         """The notes of this check: the rules' and the capture's."""
         ours = [f"{item.requester.node}: {item.message} [{item.rule}]" for item in self.rule_notes]
         return ours + (self.capture.notes() if self.capture is not None else [])
-
-    @property
-    def items(self) -> list[DriftItem | CompatItem]:
-        return [*self.drift_items, *self.system_items]
-
-    @property
-    def missing(self) -> bool:
-        return self.contract is None and self.error is None
 
     @property
     def stood_in(self) -> list[str]:
@@ -229,10 +200,6 @@ class SystemCheckResult:
         if self.capture is None:
             return []
         return [f"{p.label} by {p.stood_in.shown}" for p in self.capture.stood_in if p.stood_in is not None]
-
-    @property
-    def threshold(self) -> Severity:
-        return self.options.threshold()
 
     def matched(self, *, names: bool) -> str:
         """What a passing check matched: how many nodes in how many processes (a robot has
@@ -242,22 +209,6 @@ class SystemCheckResult:
         processes = len(self.capture.processes) if self.capture is not None else len(self.contract.processes)
         counted = f"{len(nodes)} node{'' if len(nodes) == 1 else 's'} in {processes} process{'' if processes == 1 else 'es'}"
         return f"{counted}: {', '.join(nodes)}" if names and nodes else counted
-
-    @property
-    def drifted(self) -> bool:
-        return bool(self.drift_items) or bool(self.gains)
-
-    @property
-    def gains(self) -> list[str]:
-        """What updating would add to a contract that does not state it yet (``parameter_drift.gains``)."""
-        if self.contract is None or self.capture is None or self.error is not None:
-            return []
-        return parameter_drift.gains(self.contract.nodes, self.golden_nodes())
-
-    @property
-    def failed(self) -> bool:
-        return (self.error is not None or self.missing or report.fails(self.drift_items, self.threshold)
-                or report.fails(self.system_items, self.system_threshold))
 
     def for_ci(self, *, written: str | None = None) -> ContractOutcome:
         """This result for the CI formats (``--format markdown|github``)."""
@@ -271,13 +222,6 @@ class SystemCheckResult:
             launched_at={p.label: p.where for p in launched_processes(self.capture) if p.where}
             if self.capture is not None else {},
         )
-
-    def golden_nodes(self) -> ContractNodes:
-        assert self.capture is not None, "no capture to accept"
-        nodes = self.capture.to_contract_nodes(with_type_hash=not self.options.ignore_type_hash,
-                                               with_qos=not self.options.ignores_all_qos, names=self.name_rules())
-        return parameter_drift.keep_ignored(self.contract.nodes if self.contract is not None else None, nodes,
-                                            self.options)
 
     def name_rules(self) -> NameRules:
         """The contract's patterns of node names that change every run (``model.unstable_names``)."""
@@ -315,9 +259,6 @@ class SystemCheckResult:
         """Write the system contract (``golden.update_with``): ``created``, ``updated`` or None."""
         return golden.update_with(self.path, self.new_text)
 
-    def title(self) -> str:
-        return f"Interface drift of {self.spec.describe()}" if self.spec is not None else "Interface drift"
-
     def render_text(self, accept_command: str | None = None) -> str:
         if self.error is not None:
             return str(self.error)
@@ -332,24 +273,16 @@ class SystemCheckResult:
         text = "\n".join(p.rstrip("\n") + "\n" for p in parts)
         if self.accepted or self.stale:
             text += "\n".join(report.render_acceptances(self.accepted, self.stale)).lstrip("\n") + "\n"
-        notes = self.notes
+        notes = self.notes()
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes) + "\n"
         return text
-
-    def to_json(self) -> list[dict[str, Any]]:
-        drift_json = [{"contract": self.shown, **item} for item in report.to_json(self.drift_items)]
-        system_json = [{"contract": self.shown, **item} for item in report.compat_to_json(self.system_items)]
-        acceptance_json = [{"contract": self.shown, **item} for item in
-                           [*report.accepted_to_json(self.accepted), *report.stale_to_json(self.stale)]]
-        return drift_json + system_json + acceptance_json
 
 
 def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResult:
     """Compare a system capture with the prepared contract and run the compatibility rules on it."""
     result = SystemCheckResult(path=prepared.path, shown=prepared.shown, contract=prepared.contract,
-                               spec=prepared.launch, options=prepared.options,
-                               system_threshold=prepared.system_threshold, capture=capture)
+                               spec=prepared.launch, options=prepared.options, capture=capture)
     external = prepared.contract.external if prepared.contract is not None else None
     missing_path = launch_settings.missing_path(system_capture.ament_prefixes(prepared.ros))
     system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path)
@@ -359,13 +292,11 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
     if prepared.contract is not None:
         drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(names=result.name_rules()),
                                     prepared.options)
-        result.compared = True
     accept = prepared.contract.accept if prepared.contract is not None else ()
     judged = acceptance.judge([*drift_items, *system_items], accept,
                               rules=acceptance.DRIFT_RULES | acceptance.SYSTEM_RULES)
-    result.drift_items = [item for item in judged.kept if isinstance(item, DriftItem)]
-    result.system_items = [item for item in judged.kept if isinstance(item, CompatItem)]
-    result.accepted, result.stale = judged.accepted, judged.stale
+    result.keep(judged.kept, judged.accepted)
+    result.stale = judged.stale
     return result
 
 
@@ -387,7 +318,6 @@ def check_system_contract(
     launch: Mapping[str, Any] | None = None,
     launch_base: str | Path | None = None,
     launch_arguments: Mapping[str, Any] | None = None,
-    system_fail_on: str | None = None,
     shown: str | None = None,
     allow_missing: bool = False,
     jobs: int | None = None,
@@ -398,7 +328,7 @@ def check_system_contract(
     prepared = None
     try:
         prepared = prepare(path, layers=layers, launch=launch, launch_base=launch_base,
-                           launch_arguments=launch_arguments, system_fail_on=system_fail_on, shown=shown,
+                           launch_arguments=launch_arguments, shown=shown,
                            allow_missing=allow_missing, ros=ros)
         lib = library() if callable(library) else library
         env = ros() if callable(ros) else ros
@@ -407,7 +337,6 @@ def check_system_contract(
         result = SystemCheckResult(path=path, shown=shown, error=exc)
         if prepared is not None:
             result.contract, result.spec, result.options = prepared.contract, prepared.launch, prepared.options
-            result.system_threshold = prepared.system_threshold
         return result
 
 
@@ -425,6 +354,8 @@ class LoadedContracts:
     accept: list[Acceptance] = field(default_factory=list)
     #: the outside world the system contracts among them declare (``external:``, merged)
     external: dict[str, dict[str, str]] = field(default_factory=dict)
+    #: where each file (by label) lists its nodes and interfaces, for annotations
+    lines: dict[str, LineIndex] = field(default_factory=dict)
 
     def nodes_by_label(self) -> dict[str, Mapping[str, ContractNode]]:
         return {p.label: p.nodes for p in self.processes}
@@ -440,9 +371,12 @@ class LoadedContracts:
 
 
 def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None) -> LoadedContracts:
-    """Node contracts (one process each, labelled with the path) and system contracts (their
-    processes, labelled ``PATH: package/executable``). Raises ContractError, ValueError."""
+    """The one loader of contract files for the compatibility rules and the graph: node contracts
+    (one process each, labelled with the path) and system contracts (their processes, labelled
+    ``PATH: package/executable``). Relative paths are relative to ``base_dir`` (default: the
+    current directory). Raises ContractError, ValueError."""
     labels: list[str] = []
+    lines: dict[str, LineIndex] = {}
     processes: list[LaunchedProcess] = []
     accept: list[Acceptance] = []
     any_system = False
@@ -463,15 +397,18 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
                 external.setdefault(kind, {}).update(declared)
             # the process labels name the file only when several files are drawn together
             processes += contract_processes(system, label if len(paths) > 1 else None)
+            acceptance.check_rules(system.accept)
             accept += system.accept
+            lines[label] = line_index(system.text)
         else:
             contract = contract_module.load(path)
             processes.append(LaunchedProcess(label=label, expected=None, nodes=contract.nodes, launched=False))
+            acceptance.check_rules(contract.accept)
             accept += contract.accept
+            lines[label] = contract.lines()
     if not labels:
         raise ValueError("no contracts given to the compatibility check")
-    acceptance.check_rules(accept)
-    return LoadedContracts(labels, processes, any_system, accept, external)
+    return LoadedContracts(labels, processes, any_system, accept, external, lines)
 
 
 def compatibility_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
@@ -480,6 +417,26 @@ def compatibility_items(loaded: LoadedContracts, *, strict_system_default: bool 
     if loaded.any_system:
         return check_launched(loaded.processes, external=loaded.external, strict_system_default=strict_system_default)
     return check_compatibility(loaded.nodes_by_label(), strict_system_default=strict_system_default)
+
+
+def check_contracts(
+    contract_paths: Iterable[str | Path],
+    *,
+    fail_on: str = "breaking",
+    strict_system_default: bool = False,
+    base_dir: str | Path | None = None,
+) -> CompatibilityResult:
+    """Load contract files of either kind (:func:`load_any`) and check that their nodes fit
+    together (:func:`compatibility_items`), judged by their ``accept:`` entries (an entry accepts
+    a problem one of whose ends is in its own file). Labels are the paths as shown (relative to
+    the current directory). Raises ContractError, or ValueError for a bad ``fail_on``."""
+    threshold = parse_threshold(fail_on)
+    loaded = load_any(contract_paths, base_dir=base_dir)
+    judged = judge_compatibility(compatibility_items(loaded, strict_system_default=strict_system_default),
+                                 loaded.accept, loaded.file_of)
+    return CompatibilityResult(labels=loaded.labels, items=[i for i in judged.kept if isinstance(i, CompatItem)],
+                               threshold=threshold, lines=loaded.lines, accepted=judged.accepted,
+                               stale=judged.stale, file_of=loaded.file_of)
 
 
 @dataclass

@@ -10,13 +10,12 @@ import json
 import os
 import shlex
 import sys
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from .._version import __version__
 from ..check import golden, golden_record, pipeline, sharding
-from ..check.outcome import Verdict, decide
+from ..check.outcome import Checked, Verdict, decide
 from ..compare import ci_report, sarif
 from ..errors import GoldenWriteError
 from ..model.contract import Contract
@@ -47,8 +46,7 @@ def _no_target(contract: Contract | None, shown: str) -> str:
             "(--package P --executable E, --script FILE, --module M or -- COMMAND)")
 
 
-def _write_golden(result: pipeline.CheckResult | system_contracts.system_pipeline.SystemCheckResult, path: Path,
-                  shown: str) -> str:
+def _write_golden(result: Checked, path: Path, shown: str) -> str:
     """Write the golden of ``result``; returns what to say on stderr (raises GoldenWriteError)."""
     if not isinstance(result, pipeline.CheckResult):  # a system contract writes its own header
         return f"{result.update() or 'unchanged'} {shown}"
@@ -79,13 +77,13 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     layers = pipeline.Layers(strong_target=[(target, cwd, "command line")] if target else [],
                              strong_options=[(compare_from_args(args), "command line")])
     setup = Setup()
-    checked: list[pipeline.CheckResult | system_contracts.system_pipeline.SystemCheckResult] = []
+    checked: list[Checked] = []
     status = EXIT_OK
     all_items: list[dict[str, Any]] = []
     for_ci: list[ci_report.ContractOutcome] = []
     for shown in args.contracts:
         path = Path(shown)
-        result: pipeline.CheckResult | system_contracts.system_pipeline.SystemCheckResult
+        result: Checked
         if system_contracts.is_system(path, args):
             result = system_contracts.check_system_contract(args, path, shown, command, setup.ros, setup.library)
         else:
@@ -117,12 +115,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             for_ci.append(result.for_ci(written=said.split(" ", 1)[0]))
             continue
         for_ci.append(result.for_ci())
-        if isinstance(result, pipeline.CheckResult):  # what the NoDL document could not state
-            notes = result.contract.nodl.notes if result.contract is not None and result.contract.nodl else []
-        else:  # what the system rules note: devices this machine lacks
-            notes = [f"{item.requester.node}: {item.message}" for item in result.rule_notes]
         if not (args.format == "text" and outcome.report):  # (a drift report lists them itself)
-            for note in notes:
+            for note in result.check_notes():
                 print(f"note: {shown}: {note}", file=sys.stderr)
         if args.format == "text":
             if outcome.report:
@@ -186,12 +180,8 @@ def cmd_diff(args: argparse.Namespace) -> int:
 
 def cmd_compat(args: argparse.Namespace) -> int:
     baseline = baselines.load(args)
-    file_of: Callable[[str], str] | None = None
-    if system_contracts.any_system(args.contracts):
-        result, file_of = system_contracts.compatibility(args)
-    else:
-        result = pipeline.check_compatibility(args.contracts, fail_on=args.fail_on,
-                                              strict_system_default=args.strict_system_default)
+    result = system_contracts.system_pipeline.check_contracts(args.contracts, fail_on=args.fail_on,
+                                                              strict_system_default=args.strict_system_default)
     baselines.apply(baseline, result)
     baselines.finish(args, baseline, [result])
     if args.format == "json":
@@ -200,9 +190,9 @@ def cmd_compat(args: argparse.Namespace) -> int:
         sys.stdout.write(ci_report.compat_markdown(result.items, threshold=result.threshold, labels=result.labels))
     elif args.format == "github":
         sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines,
-                                                 file_of=file_of, accepted=result.accepted, stale=result.stale))
+                                                 file_of=result.file_of, accepted=result.accepted, stale=result.stale))
     elif args.format == "sarif":
-        print_json(sarif.compat_log(result.items, threshold=result.threshold, lines=result.lines, file_of=file_of,
+        print_json(sarif.compat_log(result.items, threshold=result.threshold, lines=result.lines, file_of=result.file_of,
                                     tool_version=__version__, accepted=result.accepted, stale=result.stale))
     else:
         sys.stdout.write(result.render_text())

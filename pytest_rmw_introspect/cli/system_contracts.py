@@ -13,14 +13,13 @@ from typing import Any, cast
 
 from .._version import __version__
 from ..check import system_pipeline
-from ..check.pipeline import CompatibilityResult, Layers, judge_compatibility
+from ..check.pipeline import Layers
 from ..compare import graph as graph_module
 from ..compare import sarif
-from ..compare.compatibility import CompatItem, propose_external
+from ..compare.compatibility import propose_external
 from ..errors import TargetConfigError
 from ..model import system_contract
 from ..model.contract_shapes import TargetBlock
-from ..model.locate import line_index
 from ..model.vocabulary import parse_threshold
 from ..run import system_capture
 from ..run.ros_env import RosEnvironment
@@ -109,7 +108,7 @@ def check_system_contract(args: argparse.Namespace, path: Path, shown: str, comm
                     strong_options=[(compare_from_args(args), "command line")])
     return system_pipeline.check_system_contract(
         path, library=library, ros=ros, layers=layers, launch=block, launch_base=cwd, launch_arguments=arguments,
-        system_fail_on=getattr(args, "system_fail_on", None), shown=shown, allow_missing=args.update, jobs=args.jobs)
+        shown=shown, allow_missing=args.update, jobs=args.jobs)
 
 
 def cmd_diff(args: argparse.Namespace) -> int:
@@ -125,20 +124,6 @@ def cmd_diff(args: argparse.Namespace) -> int:
 
 def any_system(paths: Sequence[str]) -> bool:
     return any(Path(p).exists() and system_contract.is_system_contract(p) for p in paths)
-
-
-def compatibility(args: argparse.Namespace) -> tuple[CompatibilityResult, Callable[[str], str]]:
-    """``compat`` with system contracts among the files: every compatibility rule, and which
-    file each end's label is in (a system contract's process labels name its file)."""
-    loaded = system_pipeline.load_any(args.contracts)
-    threshold = parse_threshold(args.fail_on)
-    judged = judge_compatibility(system_pipeline.compatibility_items(loaded, strict_system_default=args.strict_system_default),
-                                 loaded.accept, loaded.file_of)
-    items = [item for item in judged.kept if isinstance(item, CompatItem)]
-    lines = {label: line_index(Path(label).read_text(encoding="utf-8")) for label in loaded.labels}
-    result = CompatibilityResult(labels=loaded.labels, items=items, threshold=threshold, lines=lines,
-                                 accepted=judged.accepted, stale=judged.stale)
-    return result, loaded.file_of
 
 
 def drawing_title(paths: Sequence[str], *, any_system: bool) -> str:

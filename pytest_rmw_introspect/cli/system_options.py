@@ -1,5 +1,6 @@
 """The command-line options of system contracts (``parser`` calls these): launch files for
-``capture`` and ``check``, ``--system-fail-on``, and the ``graph`` command."""
+``capture`` and ``check``, and the ``graph`` command (``--system-fail-on`` is a comparison
+option, ``model.option_tables.COMPARISON``)."""
 
 from __future__ import annotations
 
@@ -50,12 +51,6 @@ def add_launch(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--allow-unsupported", action="store_true", default=None,
                    help="capture what the launch reader supports and note the rest, instead of failing")
     g.add_argument("--jobs", type=int, metavar="N", help="processes captured at a time (default: the number of cores)")
-
-
-def add_system_fail_on(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--system-fail-on", choices=FAIL_ON, default=None,
-                        help="least severe system problem that fails a system contract's check (default: the "
-                        "contract's system_fail_on, else breaking)")
 
 
 def add_graph(sub: Any, parser_class: type[argparse.ArgumentParser]) -> None:

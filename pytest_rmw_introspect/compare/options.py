@@ -17,7 +17,7 @@ from typing import Any
 from ..errors import RmwIntrospectError
 from ..model.option_tables import COMPARISON, Shape
 from ..model.qos import FIELDS as QOS_FIELDS
-from ..model.vocabulary import FAIL_ON, Severity, parse_threshold
+from ..model.vocabulary import Severity, parse_threshold
 
 #: every comparison option, in table order
 OPTION_KEYS = COMPARISON.names()
@@ -48,6 +48,9 @@ class ComparisonOptions:
     ignore_parameters: frozenset[str] | bool = frozenset()
     #: True: no parameter's default value is compared; else the name patterns whose values are not
     ignore_parameter_values: frozenset[str] | bool = frozenset()
+    #: the least severe system problem that fails a system contract's check (its compatibility
+    #: rules; a node contract has none)
+    system_fail_on: str = "breaking"
 
     def ignores_parameter(self, name: str) -> bool:
         """Whether the parameter ``name`` is not compared at all (``ignore_parameters``)."""
@@ -60,6 +63,10 @@ class ComparisonOptions:
     def threshold(self) -> Severity:
         """The least severity that fails (``fail_on``)."""
         return parse_threshold(self.fail_on)
+
+    def system_threshold(self) -> Severity:
+        """The least severity of a system problem that fails (``system_fail_on``)."""
+        return parse_threshold(self.system_fail_on)
 
     @property
     def ignores_all_qos(self) -> bool:
@@ -123,10 +130,11 @@ def _patterns(value: Any, key: str, source: str) -> frozenset[str] | bool:
                       f"(fnmatch globs such as qos_overrides.*), got {value!r}")
 
 
-def _fail_on(value: Any, source: str) -> str:
-    if isinstance(value, str) and value.strip().lower() in FAIL_ON:
+def _choice(value: Any, key: str, source: str) -> str:
+    choices = COMPARISON[key].choices
+    if isinstance(value, str) and value.strip().lower() in choices:
         return value.strip().lower()
-    raise OptionError(f"{source}: `fail_on` must be one of {', '.join(FAIL_ON)}, got {value!r}")
+    raise OptionError(f"{source}: `{key}` must be one of {', '.join(choices)}, got {value!r}")
 
 
 def parse_one(key: str, value: Any, source: str) -> Any:
@@ -135,9 +143,9 @@ def parse_one(key: str, value: Any, source: str) -> Any:
         raise OptionError(f"{source}: unknown option {key!r}; known: {', '.join(OPTION_KEYS)}")
     if key == "ignore_qos":
         return _ignore_qos(value, source)
-    if key == "fail_on":
-        return _fail_on(value, source)
     shape = COMPARISON[key].shape
+    if shape is Shape.CHOICE:
+        return _choice(value, key, source)
     if shape is Shape.WORDS:
         return _patterns(value, key, source)
     assert shape is Shape.SWITCH, key  # a new shape needs its parser here

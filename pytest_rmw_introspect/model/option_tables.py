@@ -36,7 +36,7 @@ class FrontEnd(enum.Enum):
     CLI = "rmw-introspect flag"  # capture / check (target), check (comparison)
     DIFF = "rmw-introspect diff flag"  # comparison options `diff` takes (it captures nothing)
     CONTRACT = "contract key"  # the `options:` or `target:` block of a node contract
-    SYSTEM = "system contract key"  # the `options:` / `target:` block of a system contract
+    SYSTEM = "system contract key"  # a system contract's `options:` / `target:`, @pytest.mark.system_contract
     MARKER = "marker argument"  # keyword arguments of @pytest.mark.interfaces
 
 
@@ -192,6 +192,8 @@ def _front_ends(*extra: FrontEnd) -> frozenset[FrontEnd]:
 _COMPARISON_EVERYWHERE = _front_ends(FrontEnd.PYTEST, FrontEnd.INI, FrontEnd.CLI, FrontEnd.DIFF, FrontEnd.SYSTEM)
 #: options about what a capture holds: `diff` compares two files and captures nothing
 _COMPARISON_OF_CAPTURES = _COMPARISON_EVERYWHERE - {FrontEnd.DIFF}
+#: options of a system check alone: its contract, its marker (``system_contract``) and ``check``
+_SYSTEM_ONLY = frozenset({FrontEnd.SYSTEM, FrontEnd.CLI})
 
 COMPARISON = Family(
     name="comparison",
@@ -220,12 +222,13 @@ COMPARISON = Family(
         Option("ignore_parameter_values", Shape.WORDS, frozenset(), "parameters whose default values are not "
                "compared: true (no value is compared), or a list of names or patterns", _COMPARISON_EVERYWHERE,
                _true_or_unique(_TEXT), "true, or a list of name patterns", metavar="PATTERNS"),
+        Option("system_fail_on", Shape.CHOICE, "breaking", "least severe system problem that fails a system "
+               "contract's check (as `compat --fail-on`)", _SYSTEM_ONLY, {"enum": list(FAIL_ON)}, " | ".join(FAIL_ON),
+               choices=FAIL_ON),
     ),
     notes=(
         "On a command line a list is one word: names separated by commas (`depth,history`), or `all`.",
         "Parameters that are ignored are left as the contract has them when an update rewrites it.",
-        "A system contract's `options:` block also takes `system_fail_on`: the least severe system problem "
-        "that fails its check (default breaking).",
     ),
 )
 

@@ -56,10 +56,10 @@ from . import contract as contract_module
 from . import qos as qos_module
 from . import unstable_names as unstable_model
 from .contract_shapes import ContractNode, ContractNodes, ContractOptions, LaunchBlock, ProcessEntry, TargetBlock, empty_node
-from .option_tables import TARGET, FrontEnd
+from .option_tables import COMPARISON, TARGET, FrontEnd, schema_definition
 from .paths import shown
 from .stand_ins import StandIn
-from .vocabulary import FAIL_ON, LABELS, LISTS
+from .vocabulary import LABELS, LISTS
 
 SYSTEM_VERSION = 1
 SUFFIX = ".system.yaml"
@@ -94,8 +94,7 @@ def schema() -> dict[str, Any]:
     """The JSON Schema of system contracts, built from the node contract schema's definitions."""
     base = contract_module.schema()
     definitions = copy.deepcopy(base["definitions"])
-    options = definitions["options"]
-    options["properties"]["system_fail_on"] = {"enum": list(FAIL_ON)}
+    definitions["options"] = schema_definition(COMPARISON, FrontEnd.SYSTEM)
     target = definitions["target"]
     definitions["system_target"] = {
         "description": "Target options applied to every process of the system.",
@@ -180,18 +179,6 @@ class SystemContract:
     unstable_names: tuple[unstable_model.NamePattern, ...] = ()
     #: the version of the interface it promises (``interface_version: MAJOR.MINOR.PATCH``), if stated
     interface_version: str | None = None
-
-    @property
-    def comparison_options(self) -> ContractOptions:
-        """``options`` without ``system_fail_on`` (the comparison options of the nodes)."""
-        options = self.options.copy()
-        options.pop("system_fail_on", None)
-        return options
-
-    @property
-    def system_fail_on(self) -> str | None:
-        value = self.options.get("system_fail_on")
-        return str(value) if value is not None else None
 
     def process_nodes(self) -> list[tuple[ProcessEntry, ContractNodes]]:
         """Each process with the contract entries of the nodes it created."""

@@ -9,7 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from ..check.pipeline import CompatibilityResult, check_compatibility
+from ..check import system_pipeline
+from ..check.pipeline import CompatibilityResult
 from ..errors import RmwIntrospectError
 
 
@@ -28,8 +29,9 @@ def check_compatible(
                 "contracts/driver.interfaces.yaml", "contracts/planner.interfaces.yaml",
                 fail_on="risky")
 
-    Every subscription, service client and action client is matched with the publishers /
-    servers of the same name in all contracts (type, type hash, QoS compatibility; requesters
+    The contracts are node contracts or system contracts (``system_pipeline.load_any``, as
+    ``rmw-introspect compat`` reads them). Every subscription, service client and action client
+    is matched with the publishers / servers of the same name in all contracts (type, type hash, QoS compatibility; requesters
     without a provider are RISKY). ``fail_on`` (``any``, ``risky``, ``breaking``; default
     ``breaking``) is the least severe problem that fails; the failure message is the system
     check report (``report.render_compat_text``). Relative paths are relative to ``base_dir``,
@@ -41,8 +43,8 @@ def check_compatible(
         caller = inspect.stack()[1].filename
         base_dir = Path(caller).parent if caller and os.path.exists(caller) else None
     try:
-        result = check_compatibility(contract_paths, fail_on=fail_on,
-                                     strict_system_default=strict_system_default, base_dir=base_dir)
+        result = system_pipeline.check_contracts(contract_paths, fail_on=fail_on,
+                                                 strict_system_default=strict_system_default, base_dir=base_dir)
     except (RmwIntrospectError, ValueError) as exc:
         pytest.fail(str(exc), pytrace=False)
     if result.failed:

@@ -21,7 +21,9 @@ from ..run.target import TargetSpec
 from . import option_flags
 
 if TYPE_CHECKING:
+    from ..check.outcome import Checked
     from ..check.pipeline import Layers, OptionLayer, TargetLayer
+    from ..compare.baseline import Baseline
 
 #: contract items whose capture starts while the current item runs (a capture is mostly waiting:
 #: settle periods, nodes that sleep). 8, not 3: 100 warm items under `pytest -n 2` took a median
@@ -49,7 +51,7 @@ class SessionState:
     capture_ahead: int = DEFAULT_CAPTURE_AHEAD
     #: ini ``rmw_introspect_baseline``: findings in this file do not fail (read by the first check)
     baseline_path: Path | None = None
-    _baseline: Any = None
+    _baseline: Baseline | None = None
     #: ``--rmw-introspect-shard``: the contract-file items this job runs
     shard: sharding.Shard | None = None
     _ros: RosEnvironment | None = None
@@ -99,7 +101,7 @@ class SessionState:
         """``path`` as shown in messages: relative to where pytest was started."""
         return shown(path, self.invocation_dir)
 
-    def apply_baseline(self, result: Any) -> None:
+    def apply_baseline(self, result: Checked) -> None:
         """Apply the session's baseline (ini ``rmw_introspect_baseline``) to a checked result:
         the findings it holds are reported as accepted and do not fail. Raises BaselineError."""
         if self.baseline_path is None or result.error is not None:

@@ -10,7 +10,7 @@ and ``*.system.yaml`` files collected as test items.
 The marker's first argument is the system contract (relative to the test file); keyword
 arguments: ``launch_arguments`` (on top of the contract's ``launch: arguments``), the
 target and comparison options a system contract takes (``model.option_tables``, the rows with
-``FrontEnd.SYSTEM``) and ``system_fail_on``. Every process of the launch file is captured when the test sets
+``FrontEnd.SYSTEM``, ``system_fail_on`` among them). Every process of the launch file is captured when the test sets
 up; after the test body the system is compared with the contract and the compatibility rules run
 (``check.system_pipeline``), with the same outcomes as an ``interfaces`` test:
 ``--update-golden`` writes the contract, drift or system problems at or above their thresholds
@@ -49,7 +49,7 @@ MARKER_DOC = (
     f"{MARKER}(contract, **options): capture every process the system contract's launch file starts and "
     "compare the system with the contract (path relative to the test file); run the compatibility rules. Keyword "
     f"arguments: launch_arguments, target options ({', '.join(SYSTEM_TARGET_KEYS)}), comparison options "
-    f"({', '.join(OPTION_KEYS)}) and system_fail_on."
+    f"({', '.join(OPTION_KEYS)})."
 )
 ITEM_NAME = "system"
 
@@ -68,9 +68,9 @@ def source(item: pytest.Item) -> str:
     return f"@pytest.mark.{MARKER} of {item.nodeid}"
 
 
-def parse(item: pytest.Item) -> tuple[Path, dict[str, Any], dict[str, Any], dict[str, Any], str | None]:
-    """The marker's contract path, launch arguments, target options, comparison options and
-    system_fail_on (raises OptionError)."""
+def parse(item: pytest.Item) -> tuple[Path, dict[str, Any], dict[str, Any], dict[str, Any]]:
+    """The marker's contract path, launch arguments, target options and comparison options
+    (``system_fail_on`` among them; raises OptionError)."""
     marker = item.get_closest_marker(MARKER)
     assert marker is not None
     kwargs = dict(marker.kwargs)
@@ -86,17 +86,16 @@ def parse(item: pytest.Item) -> tuple[Path, dict[str, Any], dict[str, Any], dict
     launch_arguments = kwargs.pop("launch_arguments", None) or {}
     if not isinstance(launch_arguments, Mapping):
         raise OptionError(f"{where}: launch_arguments must be a mapping of launch argument names to values")
-    system_fail_on = kwargs.pop("system_fail_on", None)
     unknown = sorted(set(kwargs) - set(SYSTEM_TARGET_KEYS) - set(OPTION_KEYS))
     if unknown:
         raise OptionError(f"{where}: unknown keyword argument(s) {', '.join(unknown)}; known: launch_arguments, "
-                          f"system_fail_on, {', '.join(SYSTEM_TARGET_KEYS)}, {', '.join(OPTION_KEYS)}")
+                          f"{', '.join(SYSTEM_TARGET_KEYS)}, {', '.join(OPTION_KEYS)}")
     path = Path(os.path.expanduser(str(contract)))
     if not path.is_absolute():
         path = Path(item.path).parent / path
     target = {k: v for k, v in kwargs.items() if k in SYSTEM_TARGET_KEYS}
     options = {k: v for k, v in kwargs.items() if k in OPTION_KEYS}
-    return path, dict(launch_arguments), target, options, system_fail_on
+    return path, dict(launch_arguments), target, options
 
 
 def prepare(item: pytest.Item, session_state: SessionState) -> SystemItemState:
@@ -105,11 +104,11 @@ def prepare(item: pytest.Item, session_state: SessionState) -> SystemItemState:
 
     st = SystemItemState()
     try:
-        path, launch_arguments, target, options, system_fail_on = parse(item)
+        path, launch_arguments, target, options = parse(item)
         layers = session_state.layers(strong_target=[(target, Path(item.path).parent, source(item))],
                                       strong_options=[(options, source(item))])
         st.prepared = system_pipeline.prepare(path, layers=layers, launch_arguments=launch_arguments,
-                                              system_fail_on=system_fail_on, shown=session_state.display(path),
+                                              shown=session_state.display(path),
                                               ros=session_state.ros)
         st.capture = system_pipeline.run_capture(st.prepared, library=session_state.library(),
                                                  ros=session_state.ros())

@@ -7,7 +7,7 @@ import json
 
 import pytest
 
-from pytest_rmw_introspect.check import pipeline
+from pytest_rmw_introspect.check import pipeline, system_pipeline
 from pytest_rmw_introspect.check.outcome import Verdict, decide
 from pytest_rmw_introspect.compare import acceptance, report, sarif
 from pytest_rmw_introspect.compare.compatibility import check_compatibility
@@ -145,8 +145,8 @@ def test_json_marks_accepted_findings_and_stale_entries():
 
 
 def checked(contract, judged) -> pipeline.CheckResult:
-    return pipeline.CheckResult(path=contract.path, shown="talker.yaml", contract=contract, items=judged.kept,
-                                accepted=judged.accepted, stale=judged.stale, compared=True)
+    return pipeline.CheckResult(path=contract.path, shown="talker.yaml", contract=contract,
+                                drift_items=judged.kept, accepted=judged.accepted, stale=judged.stale)
 
 
 def test_accepted_drift_passes_and_a_stale_entry_warns():
@@ -180,7 +180,7 @@ def test_compat_of_contract_files_applies_their_entries(tmp_path):
     (tmp_path / "listener.yaml").write_text(LISTENER)
     (tmp_path / "talker.yaml").write_text("contract_version: 1\nnodes:\n  /talker:\n    publishers:\n"
                                           "      - {name: /chatter, type: std_msgs/msg/String}\n")
-    result = pipeline.check_compatibility([tmp_path / "talker.yaml", tmp_path / "listener.yaml"], fail_on="risky")
+    result = system_pipeline.check_contracts([tmp_path / "talker.yaml", tmp_path / "listener.yaml"], fail_on="risky")
     assert result.items == [] and not result.failed
     assert [a.item.rule for a in result.accepted] == ["SUBSCRIPTION_WITHOUT_PUBLISHER"]
     assert [s.rule for s in result.stale] == ["CLIENT_WITHOUT_SERVER"]

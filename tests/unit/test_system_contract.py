@@ -68,8 +68,7 @@ def test_load_a_system_contract(tmp_path):
     loaded = system_contract.load(path)
     assert loaded.launch == {"package": "bringup", "file": "robot.launch.xml", "arguments": {"use_lidar": "true"}}
     assert loaded.target == {"timeout": 30}
-    assert loaded.comparison_options == {"fail_on": "risky"}
-    assert loaded.system_fail_on == "any"
+    assert loaded.options == {"fail_on": "risky", "system_fail_on": "any"}
     assert [p["executable"] for p in loaded.processes] == ["talker", "listener"]
     assert sorted(loaded.nodes) == ["/robot/listener", "/robot/talker"]
     assert [sorted(nodes) for _p, nodes in loaded.process_nodes()] == [["/robot/talker"], ["/robot/listener"]]
@@ -236,6 +235,27 @@ def test_system_rules_on_contract_files(tmp_path):
     assert ("DUPLICATE_NODE_NAME", "/robot/talker") in [(r, n) for r, n, _a, _b in found]
     nodes_only = system_pipeline.load_any(["talker.interfaces.yaml"], base_dir=tmp_path)
     assert not nodes_only.any_system and system_pipeline.compatibility_items(nodes_only) == []
+
+
+def test_one_compatibility_check_reads_contract_files_of_either_kind(tmp_path, monkeypatch):
+    """``check_contracts`` (``compat``, ``check_compatible``): the one loader's labels, lines and
+    files, for a system contract beside a node contract."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "robot.system.yaml").write_text(GOOD)
+    (tmp_path / "talker.interfaces.yaml").write_text(textwrap.dedent("""\
+        contract_version: 1
+        nodes:
+          /robot/talker:
+            publishers:
+              - {name: /robot/chatter, type: std_msgs/msg/String}
+        """))
+    result = system_pipeline.check_contracts(["robot.system.yaml", "talker.interfaces.yaml"], fail_on="risky")
+    assert result.labels == ["robot.system.yaml", "talker.interfaces.yaml"]
+    assert set(result.lines) == set(result.labels) and result.lines["talker.interfaces.yaml"]
+    assert result.file_of is not None and result.file_of("robot.system.yaml: demo/talker") == "robot.system.yaml"
+    assert {i.rule for i in result.items} >= {"DUPLICATE_NODE_NAME", "QOS_INCOMPATIBLE"} and result.failed
+    with pytest.raises(ValueError, match="no contracts given"):
+        system_pipeline.check_contracts([])
 
 
 def test_diff_of_system_contracts(tmp_path):

@@ -1,7 +1,9 @@
 """The errors a user of pytest-rmw-introspect can see.
 
 Every error is written for people: it names the file, the node, the interface or the
-command involved, and says what to do next. The pytest plugin turns them into test
+command involved, and says what to do next. Every error class of the package is defined here
+(``rmw-introspect`` reports an RmwIntrospectError as one line, exit status 2; any other
+exception is a bug and shows its traceback). The pytest plugin turns them into test
 failures (``pytest.fail``) with the message as the failure text, never into internal errors.
 
 Hierarchy::
@@ -11,8 +13,12 @@ Hierarchy::
     ├── ContractError       malformed contract file (YAML, schema, QoS, duplicates)
     ├── CaptureFormatError  a capture file that is not a valid capture
     ├── RevisionError       ``diff --against REF``: no git repository, no such revision, a shallow clone
+    ├── UsageError          a bad command line or option value (``--shard``, arguments that go together)
+    ├── OptionError         a comparison option with a value that makes no sense
     └── TargetError         the target could not be captured
         ├── TargetConfigError   inconsistent target options (no target, two targets...)
+        │   └── LaunchError     a launch file that cannot be read (file, line, what to do)
+        ├── SystemCaptureError  some processes of a launch file could not be captured
         ├── ExecutableNotFound  package/executable/script not found
         ├── TargetExited        the process exited non-zero before settling
         ├── NoNodeCreated       the process created no ROS node
@@ -34,17 +40,21 @@ __all__ = [
     "CaptureFormatError",
     "ContractError",
     "ExecutableNotFound",
+    "LaunchError",
     "LifecycleTransitionFailed",
     "NoNodeCreated",
+    "OptionError",
     "RevisionError",
     "RmwIntrospectError",
     "SetupError",
     "StimulusFailed",
+    "SystemCaptureError",
     "TargetConfigError",
     "TargetError",
     "TargetExited",
     "TargetNotStopped",
     "TargetTimeout",
+    "UsageError",
 ]
 
 
@@ -538,3 +548,28 @@ class TypeLockError(RmwIntrospectError):
 class RevisionError(RmwIntrospectError):
     """``diff --against REF`` cannot read the contracts at REF: the directory is not in a git
     repository, REF names no commit, or a shallow clone does not hold it."""
+
+
+class UsageError(RmwIntrospectError):
+    """A bad command line or option value (``rmw-introspect``'s arguments, ``--shard``): the
+    message says which and what to write; exit status 2."""
+
+
+class OptionError(RmwIntrospectError):
+    """A comparison option with a value that makes no sense (names where it was set)."""
+
+
+class LaunchError(TargetConfigError):
+    """A launch file that cannot be read: the message names the file and line and what to do."""
+
+
+class SystemCaptureError(TargetError):
+    """Some processes of a system could not be captured: ``failures`` pairs each one's label with
+    its error; ``stand_in_proposal``: the ``stand_ins:`` block for the processes that failed for
+    lack of a device ("" if none). The message lists them all (``run.system_capture``)."""
+
+    def __init__(self, message: str, *, target: str, failures: Sequence[tuple[str, TargetError]],
+                 stand_in_proposal: str = "") -> None:
+        self.failures = list(failures)
+        self.stand_in_proposal = stand_in_proposal
+        super().__init__(message, target=target)

@@ -35,7 +35,7 @@ from ..compare.ci_report import ContractOutcome
 from ..compare.compatibility import CompatItem
 from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions, resolve
-from ..errors import LifecycleTransitionFailed, RmwIntrospectError, TargetConfigError
+from ..errors import LifecycleTransitionFailed, RmwIntrospectError, TargetConfigError, UsageError
 from ..model import contract as contract_module
 from ..model import nodl, type_lock
 from ..model import types as type_model
@@ -528,7 +528,7 @@ def check_compatibility(
         lines[label] = loaded.lines()
         accept += loaded.accept
     if not systems:
-        raise ValueError("no contracts given to the compatibility check")
+        raise UsageError("no contracts given to the compatibility check")
     judged = judge_compatibility(compatibility.check_compatibility(systems, strict_system_default=strict_system_default), accept)
     return CompatibilityResult(labels=list(systems), items=[i for i in judged.kept if isinstance(i, CompatItem)],
                                threshold=threshold, lines=lines, accepted=judged.accepted, stale=judged.stale)

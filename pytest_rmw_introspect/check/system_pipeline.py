@@ -34,7 +34,7 @@ from ..compare.compatibility import CompatItem, LaunchedProcess, check_compatibi
 from ..compare.drift import DriftItem
 from ..compare.launch_given import Given
 from ..compare.options import ComparisonOptions
-from ..errors import RmwIntrospectError, TargetConfigError
+from ..errors import RmwIntrospectError, TargetConfigError, UsageError
 from ..launch import component_loads
 from ..model import contract as contract_module
 from ..model import stand_ins as stand_in_model
@@ -470,7 +470,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
             processes.append(LaunchedProcess(label=label, expected=None, nodes=contract.nodes, launched=False))
             accept += contract.accept
     if not labels:
-        raise ValueError("no contracts given to the compatibility check")
+        raise UsageError("no contracts given to the compatibility check")
     acceptance.check_rules(accept)
     return LoadedContracts(labels, processes, any_system, accept, external)
 

@@ -18,10 +18,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..check import golden
-from ..errors import RmwIntrospectError
+from ..errors import RmwIntrospectError, UsageError
 from ..run import runner
 from ..run.target import TargetSpec, ament_providers, package_executables
-from .parser import EXIT_ERROR, EXIT_OK, UsageError
+from .parser import EXIT_ERROR, EXIT_OK
 from .ros_setup import Setup
 
 if TYPE_CHECKING:

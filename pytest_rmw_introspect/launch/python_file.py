@@ -47,10 +47,11 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+from ..errors import LaunchError
 from ..model.paths import shown
 from . import python_events
 from .entities import yaml_value
-from .result import ComponentLoad, ComponentParameter, LaunchedNode, LaunchError, LaunchParameter, LaunchResult, Unsupported, Where
+from .result import ComponentLoad, ComponentParameter, LaunchedNode, LaunchParameter, LaunchResult, Unsupported, Where
 from .substitutions import anon_name
 
 _NOT_AVAILABLE = (

@@ -19,10 +19,11 @@ import json
 from pathlib import Path
 from typing import Any
 
+from ..errors import LaunchError
 from ..model import untrusted
 from ..model.paths import shown
 from .entities import MAX_FILE_BYTES, yaml_value
-from .result import LaunchedNode, LaunchError, LaunchParameter, LaunchResult, Unsupported, Where
+from .result import LaunchedNode, LaunchParameter, LaunchResult, Unsupported, Where
 
 
 def _fail(path: Path, reason: str) -> LaunchError:

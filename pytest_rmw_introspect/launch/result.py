@@ -1,5 +1,6 @@
 """What a launch file starts, as data: the nodes (:class:`LaunchedNode`), the arguments it
-declares, what the reader does not support, and the errors (:class:`LaunchError`).
+declares, what the reader does not support (:meth:`LaunchResult.require_supported` raises
+``errors.LaunchError``).
 
 Shared by the readers of each kind of launch source (``reader`` for XML and YAML,
 ``python_file`` for Python launch files, ``record`` for play_launch's record.json)."""
@@ -13,13 +14,9 @@ from typing import Any
 
 import yaml
 
-from ..errors import TargetConfigError
+from ..errors import LaunchError
 from ..model.paths import shown
 from .substitutions import SubstitutionError
-
-
-class LaunchError(TargetConfigError):
-    """A launch file that cannot be read: the message names the file and line and what to do."""
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,71 @@
+"""What `rmw-introspect` does with an error (issue 41): a problem the user can fix is one of the
+project's errors (errors.py), printed as one line naming the file, option or interface, exit
+status 2; anything else is a bug of the tool, and its traceback shows (a ValueError is no longer
+taken for a user error). No node is started: these inputs fail before any capture."""
+
+from __future__ import annotations
+
+import pytest
+
+from pytest_rmw_introspect import cli
+from pytest_rmw_introspect.cli import commands
+
+GOOD = """contract_version: 1
+nodes:
+  /talker:
+    publishers:
+      - name: /chatter
+        type: std_msgs/msg/String
+"""
+
+
+@pytest.fixture
+def contract(tmp_path):
+    path = tmp_path / "talker.interfaces.yaml"
+    path.write_text(GOOD)
+    return path
+
+
+@pytest.mark.parametrize(("shard", "said"), [
+    ("3/2", "rmw-introspect: --shard 3/2: I must be between 1 and N (N >= 1), e.g. 1/2 to 2/2"),
+    ("x", "rmw-introspect: --shard 'x' is not of the form I/N (this job's number I of N jobs, e.g. 2/4)"),
+])
+def test_a_bad_shard_is_a_usage_error(contract, capsys, shard, said):
+    assert cli.main(["check", "--shard", shard, str(contract)]) == 2
+    assert capsys.readouterr().err.strip() == said
+
+
+def test_a_malformed_contract_names_the_file_line_and_key(contract, capsys):
+    bad = contract.with_name("bad.interfaces.yaml")
+    bad.write_text(GOOD.replace("nodes:", "options:\n  ignore_qos: [reliabilty]\nnodes:"))
+    assert cli.main(["diff", str(contract), str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"rmw-introspect: invalid contract {bad}:3: at options.ignore_qos[0]: 'reliabilty' is not one of")
+    assert "Traceback" not in err
+
+
+def test_a_launch_file_the_reader_cannot_follow_names_its_line(tmp_path, capsys):
+    launch = tmp_path / "bad.launch.xml"
+    launch.write_text('<launch><node pkg="a" exec="b"/><bogus/></launch>\n')
+    assert cli.main(["capture", "--launch", str(launch)]) == 2
+    err = capsys.readouterr().err
+    assert "bad.launch.xml:1: <bogus>: this tag is not supported" in err and "allow_unsupported" in err
+
+
+def test_a_usage_error_of_the_command_line_says_what_goes_together(capsys):
+    assert cli.main(["capture", "--launch-arg", "x:=1", "--script", "node.py"]) == 2
+    assert capsys.readouterr().err.strip() == (
+        "rmw-introspect: --launch-arg and --allow-unsupported need a launch file: --launch FILE or "
+        "--launch-package P --launch-file F (or, for `check`, a system contract)")
+
+
+def test_a_programming_error_is_not_reported_as_a_user_error(contract, monkeypatch, capsys):
+    """A ValueError inside a command is a bug: it propagates (its traceback shows) instead of
+    becoming exit status 2 with a message that would blame the user's input."""
+    def broken(args):
+        raise ValueError("an internal invariant broke")
+
+    monkeypatch.setattr(commands, "cmd_diff", broken)
+    with pytest.raises(ValueError, match="an internal invariant broke"):
+        cli.main(["diff", str(contract), str(contract)])
+    assert "rmw-introspect: an internal invariant broke" not in capsys.readouterr().err

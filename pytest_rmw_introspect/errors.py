@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import shlex
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -573,3 +574,117 @@ class SystemCaptureError(TargetError):
         self.failures = list(failures)
         self.stand_in_proposal = stand_in_proposal
         super().__init__(message, target=target)
+
+
+# ---------------------------------------------------------------------------- inside the package
+# The exceptions below never reach a user as they are: the module that raises one (named in its
+# docstring) catches it and says the same in one of the errors above, with the file and what to do
+# (or, for Cancelled, Terminated and WarmStartFailed, acts on it).
+
+
+@dataclass
+class InputError(Exception):
+    """Untrusted input (a YAML or JSON file, a value) that cannot be read within the limits
+    (``model.untrusted``): ``reason``, the ``line`` and ``location`` inside it when known."""
+
+    reason: str
+    line: int | None = None
+    location: tuple[Any, ...] = ()
+
+    def __str__(self) -> str:
+        return self.reason
+
+
+@dataclass
+class EntryProblem(Exception):
+    """A contract parameter entry the JSON Schema lets through but that makes no sense:
+    ``location`` inside the node's ``parameters`` list, and the reason."""
+
+    location: list[Any] = field(default_factory=list)
+    reason: str = ""
+
+
+class UnreadableFile(Exception):
+    """Why the file cannot be used (``reason``); the caller names the file and what to do."""
+
+    def __init__(self, reason: str) -> None:
+        super().__init__(reason)
+        self.reason = reason
+
+
+class UnhashableType(ValueError):
+    """A type whose description is incomplete (a nested type the table lacks) or not a message."""
+
+
+class SectionError(ValueError):
+    """A malformed ``types:`` section: ``location`` is the path inside it (a list)."""
+
+    def __init__(self, location: list[Any], reason: str) -> None:
+        super().__init__(reason)
+        self.location = location
+        self.reason = reason
+
+
+class EntityFormatError(Exception):
+    """A launch file that is not well-formed; ``line`` when known."""
+
+    def __init__(self, reason: str, line: int | None = None) -> None:
+        self.reason = reason
+        self.line = line
+        super().__init__(reason)
+
+
+class SubstitutionError(Exception):
+    """A substitution that cannot be evaluated (unset variable, unknown package, bad syntax).
+    The launch reader adds the file and line."""
+
+
+class UnsupportedSubstitution(SubstitutionError):
+    """A substitution this reader does not evaluate (``$(eval ...)``, ``$(command ...)``, ...)."""
+
+    def __init__(self, name: str, supported: Sequence[str]) -> None:
+        self.name = name
+        super().__init__(
+            f"the substitution $({name} ...) is not supported (supported: "
+            + ", ".join(f"$({s})" for s in supported) + ")"
+        )
+
+
+class ComponentParameterError(ValueError):
+    """A parameter value a LoadNode request cannot carry (the message says which and why)."""
+
+
+class WarmStartFailed(Exception):
+    """The server could not start the target (it died, or refused): the runner starts it cold."""
+
+
+class NotEnded(Exception):
+    """A process that did not end within KILL_WAIT seconds of SIGKILL (``pid``, its ``state``, and
+    who should reap it: ``reaper``)."""
+
+    def __init__(self, pid: int, waited: float, state: str, reaper: str) -> None:
+        self.pid, self.waited, self.state, self.reaper = pid, waited, state, reaper
+        super().__init__(f"pid {pid} did not end within {waited:g} s of SIGKILL: {state}; {reaper}")
+
+
+class Cancelled(Exception):
+    """The capture was cancelled (its ``cancel`` event was set): its target was stopped."""
+
+
+class LockTimeout(Exception):
+    """A lock (``run.locks``) was not free within the timeout; ``holder``: who holds it, for people
+    (``pid 123, T (stopped)``); ``pid``: its pid (None: it wrote none)."""
+
+    def __init__(self, path: Path, timeout: float, holder: str, pid: int | None) -> None:
+        self.path, self.timeout, self.holder, self.pid = path, timeout, holder, pid
+        super().__init__(f"{path} was held for over {timeout:g} s by {holder}")
+
+
+class UnsafeLockDirectory(Exception):
+    """The lock directory is not one only the calling user can create files in (``args``: the
+    reason and the advice of a GoldenWriteError)."""
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived (a CI job cancelled): unwinds like KeyboardInterrupt, so a running target
+    is stopped and temporary files are removed on the way out."""

@@ -28,15 +28,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from types import FrameType
 
-from ..errors import RmwIntrospectError
+from ..errors import RmwIntrospectError, Terminated
 from .parser import EXIT_ERROR, ONE_CAPTURE_STARTS_COLD, build_parser
 
 EXIT_TERMINATED = 128 + signal.SIGTERM
-
-
-class Terminated(BaseException):
-    """SIGTERM arrived (a CI job cancelled): unwinds like KeyboardInterrupt, so a running target
-    is stopped and temporary files are removed on the way out."""
 
 
 def _raise_terminated(signum: int, frame: FrameType | None) -> None:

@@ -14,9 +14,8 @@ from typing import Any
 
 import yaml
 
-from ..errors import LaunchError
+from ..errors import LaunchError, SubstitutionError
 from ..model.paths import shown
-from .substitutions import SubstitutionError
 
 
 @dataclass(frozen=True)

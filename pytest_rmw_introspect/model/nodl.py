@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, cast
 
-from ..errors import ContractError
+from ..errors import ContractError, EntryProblem, InputError
 from . import parameters as parameter_model
 from . import qos as qos_module
 from . import untrusted
@@ -270,7 +270,7 @@ def load_text(text: str, path: Path | None, _chain: tuple[Path, ...] = ()) -> No
                 continue
             untrusted.check_tree(root)
             data = untrusted.construct(root)
-        except untrusted.InputError as exc:
+        except InputError as exc:
             line = exc.line + first - 1 if exc.line is not None else first
             raise ContractError(path, _where(list(exc.location)), exc.reason, line=line) from None
         doc = Document(data=data, node=node, first_line=first, root=root)
@@ -364,7 +364,7 @@ def _resolve_includes(doc: Document, path: Path | None, chain: tuple[Path, ...])
             text = untrusted.read_text(target)
         except FileNotFoundError:
             raise fail(f"{ref}: the included document {target} does not exist") from None
-        except untrusted.InputError as exc:
+        except InputError as exc:
             raise fail(f"{ref}: {target}: {exc.reason}") from None
         included = load_text(text, target, _chain=(*chain, target))
         if len(included.documents) != 1:
@@ -415,7 +415,7 @@ def _check(doc: Document, path: Path | None) -> None:
         if parameter_entry is not None:
             try:
                 parameter_model.check_contract_parameters([parameter_entry])
-            except parameter_model.EntryProblem as problem:
+            except EntryProblem as problem:
                 raise fail([PARAMETERS, name], problem.reason) from None
     for list_name in LISTS:
         entries = data.get(list_name)

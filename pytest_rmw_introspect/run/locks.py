@@ -18,6 +18,7 @@ from contextlib import AbstractContextManager
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..errors import LockTimeout
 from .process import process_state
 
 #: seconds on a lock before a ``waiting`` callback is told who holds it
@@ -36,14 +37,6 @@ class Holder:
         if self.pid is None:
             return "a process that did not write its pid"
         return f"pid {self.pid}, {process_state(self.pid)}"
-
-
-class LockTimeout(Exception):
-    """The lock was not free within the timeout; ``holder``: who holds it (``str()``: for people)."""
-
-    def __init__(self, path: Path, timeout: float, holder: Holder) -> None:
-        self.path, self.timeout, self.holder = path, timeout, holder
-        super().__init__(f"{path} was held for over {timeout:g} s by {holder}")
 
 
 def holder_file(path: Path) -> Path:
@@ -89,7 +82,8 @@ def held(path: Path, timeout: float, *, info: str = "",
                 with waiting(holder(path)):
                     lock.acquire(timeout=max(0.0, timeout - (time.monotonic() - began)))
     except Timeout:
-        raise LockTimeout(path, timeout, holder(path)) from None
+        found = holder(path)
+        raise LockTimeout(path, timeout, str(found), found.pid) from None
     pid_file = holder_file(path)
     try:
         with contextlib.suppress(OSError):

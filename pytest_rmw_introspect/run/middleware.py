@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
-from ..errors import SetupError
+from ..errors import LockTimeout, SetupError
 from . import locks, progress, ros_env
 from .process import process_state
 
@@ -379,10 +379,9 @@ def _build_lock(path: Path, dest: Path, ros: ros_env.RosEnvironment) -> Iterator
         with locks.held(path, BUILD_LOCK_TIMEOUT, info=progress.scope() or "-", waiting=waiting,
                         notice_after=WAIT_NOTICE_AFTER):
             yield
-    except locks.LockTimeout as exc:  # only taking the lock times out: the build takes none
-        builder = exc.holder
-        pid = "unknown" if builder.pid is None else builder.pid
-        state = "unknown" if builder.pid is None else process_state(builder.pid)
+    except LockTimeout as exc:  # only taking the lock times out: the build takes none
+        pid = "unknown" if exc.pid is None else exc.pid
+        state = "unknown" if exc.pid is None else process_state(exc.pid)
         raise SetupError(
             f"Another process (pid {pid}, {state}) has been building the recording middleware for over "
             f"{BUILD_LOCK_TIMEOUT:g} s and holds its build lock {path}. If that process is stopped or hung, "

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, cast
 
-from ..errors import LaunchError, NoNodeCreated, SystemCaptureError, TargetConfigError, TargetError
+from ..errors import Cancelled, InputError, LaunchError, NoNodeCreated, SystemCaptureError, TargetConfigError, TargetError
 from ..launch import component_loads
 from ..launch import reader as launch_reader
 from ..launch.result import LaunchedNode, LaunchParameter, LaunchResult
@@ -292,7 +292,7 @@ def device_of(process: LaunchedNode, error_text: str) -> str | None:
         if parameter.file is not None:
             try:
                 candidates += _DEVICE.findall(untrusted.read_text(Path(parameter.file)))
-            except (OSError, untrusted.InputError):
+            except (OSError, InputError):
                 pass
     candidates += [m for word in process.ros_arguments for m in _DEVICE.findall(word)]
     return next((c for c in candidates if not os.path.exists(c)), None)
@@ -440,7 +440,7 @@ def capture_system(
                 processes[index].no_node = exc
             except TargetError as exc:
                 return exc
-            except runner.Cancelled:
+            except Cancelled:
                 return None  # the capture as a whole is being abandoned
             return None
 

@@ -19,7 +19,7 @@ import warm_helpers as w
 from rmwi_processes import alive, wait_gone
 
 from pytest_rmw_introspect.check import golden
-from pytest_rmw_introspect.errors import GoldenWriteError, NoNodeCreated, TargetTimeout
+from pytest_rmw_introspect.errors import GoldenWriteError, LockTimeout, NoNodeCreated, TargetTimeout
 from pytest_rmw_introspect.run import deadline, locks, runner
 from pytest_rmw_introspect.run.target import TargetSpec
 from pytest_rmw_introspect.run.warm import client as warm
@@ -157,7 +157,7 @@ def test_a_build_lock_held_by_a_stopped_process_names_it(tmp_path):
     holder = _stopped_holder(tmp_path, lock)
     try:
         error, took = _timed(lambda: locks.held(lock, 1.0).__enter__())
-        assert isinstance(error, locks.LockTimeout), error
+        assert isinstance(error, LockTimeout), error
         assert str(error.holder).startswith(f"pid {holder.pid}, T (stopped)")
         assert took < 1 + MARGIN_S
     finally:

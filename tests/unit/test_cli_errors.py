@@ -69,3 +69,29 @@ def test_a_programming_error_is_not_reported_as_a_user_error(contract, monkeypat
     with pytest.raises(ValueError, match="an internal invariant broke"):
         cli.main(["diff", str(contract), str(contract)])
     assert "rmw-introspect: an internal invariant broke" not in capsys.readouterr().err
+
+
+def test_every_exception_class_of_the_package_is_defined_in_errors_py():
+    """One place to look for what can go wrong (issue 41): a class deriving from an exception
+    (BaseException, Exception, ValueError, an error of ours) anywhere else fails here."""
+    import ast
+    import builtins
+    from pathlib import Path
+
+    import pytest_rmw_introspect
+    from pytest_rmw_introspect import errors
+
+    package = Path(pytest_rmw_introspect.__file__).parent
+    ours = {name for name, value in vars(errors).items() if isinstance(value, type) and issubclass(value, BaseException)}
+    assert {"RmwIntrospectError", "UsageError", "InputError", "LockTimeout", "Terminated"} <= ours
+    elsewhere = []
+    for path in sorted(package.rglob("*.py")):
+        if path == package / "errors.py" or "rmw_introspect_cpp" in path.parts:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ClassDef):
+                bases = [ast.unparse(base).rsplit(".", 1)[-1] for base in node.bases]
+                if any(b in ours or isinstance(getattr(builtins, b, None), type) and issubclass(getattr(builtins, b), BaseException)
+                       for b in bases):
+                    elsewhere.append(f"{path.relative_to(package)}: class {node.name}({', '.join(bases)})")
+    assert elsewhere == [], f"define these in pytest_rmw_introspect/errors.py: {elsewhere}"

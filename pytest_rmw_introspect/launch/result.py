@@ -15,6 +15,7 @@ from typing import Any
 import yaml
 
 from ..errors import LaunchError, SubstitutionError
+from ..model import ament_index
 from ..model.paths import shown
 
 
@@ -201,9 +202,9 @@ def join_namespace(base: str | None, namespace: str | None) -> str | None:
 
 def find_package_prefix(package: str, prefixes: Sequence[Path]) -> Path:
     """The first ament prefix that has ``package`` (raises SubstitutionError)."""
-    for prefix in prefixes:
-        if (Path(prefix) / "share" / "ament_index" / "resource_index" / "packages" / package).exists():
-            return Path(prefix)
+    found = ament_index.providers(package, prefixes)
+    if found:
+        return found[0]
     searched = ", ".join(str(p) for p in prefixes) or "none: AMENT_PREFIX_PATH is empty"
     raise SubstitutionError(
         f"package '{package}' is not in the ament index (searched the prefixes {searched}); build and "

@@ -33,9 +33,9 @@ from pathlib import Path
 from typing import Any, cast
 
 from ..errors import ContractError, EntryProblem, InputError
+from . import ament_index, untrusted
 from . import parameters as parameter_model
 from . import qos as qos_module
-from . import untrusted
 from .contract_shapes import ContractNode, ContractNodes, InterfaceEntry, ParameterEntry, QosFields
 from .vocabulary import ACTION_LISTS, LIFECYCLE, LISTS, PARAMETER_TYPES, PARAMETERS, TOPIC_LISTS
 
@@ -324,13 +324,12 @@ def _reference_path(ref: str, including: Path | None) -> Path:
         package, _, name = body.partition("/")
         if not package or not name or "/" in name:
             raise ValueError(f"{ref}: a nodl:// reference is nodl://<package>/<name>")
-        prefixes = [p for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
+        prefixes = ament_index.env_prefixes()
         for prefix in prefixes:
-            candidate = Path(prefix, "share", "ament_index", "resource_index", _AMENT_RESOURCE_TYPE,
-                             f"{package}__{name}")
+            candidate = ament_index.resource(prefix, f"{package}__{name}", _AMENT_RESOURCE_TYPE)
             if candidate.is_file():
                 return candidate
-        where = ", ".join(prefixes) or "no prefix: AMENT_PREFIX_PATH is not set"
+        where = ", ".join(map(str, prefixes)) or "no prefix: AMENT_PREFIX_PATH is not set"
         raise ValueError(f"{ref}: no NoDL document {package}__{name} registered in the ament index ({where}); "
                          "build and source the package that registers it (ament_nodl_register)")
     raise ValueError(f"{ref}: this tool resolves local:// and nodl:// references, not {scheme}://")

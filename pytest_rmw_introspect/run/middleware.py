@@ -34,6 +34,7 @@ from pathlib import Path
 from typing import BinaryIO
 
 from ..errors import LockTimeout, SetupError
+from ..model import ament_index
 from . import locks, progress, ros_env
 from .process import process_state
 
@@ -134,7 +135,7 @@ def sources_hash(src: Path, memo_dir: Path | None = None) -> str:
 
 def find_installed(ros: ros_env.RosEnvironment) -> Path | None:
     for prefix in ros.ament_prefixes:
-        marker = prefix / "share" / "ament_index" / "resource_index" / "packages" / ros_env.MIDDLEWARE_NAME
+        marker = ament_index.resource(prefix, ros_env.MIDDLEWARE_NAME)
         library = prefix / "lib" / LIBRARY_FILE
         if marker.exists() and library.is_file():
             return library

@@ -565,15 +565,9 @@ class LaunchError(TargetConfigError):
 
 
 class SystemCaptureError(TargetError):
-    """Some processes of a system could not be captured: ``failures`` pairs each one's label with
-    its error; ``stand_in_proposal``: the ``stand_ins:`` block for the processes that failed for
-    lack of a device ("" if none). The message lists them all (``run.system_capture``)."""
-
-    def __init__(self, message: str, *, target: str, failures: Sequence[tuple[str, TargetError]],
-                 stand_in_proposal: str = "") -> None:
-        self.failures = list(failures)
-        self.stand_in_proposal = stand_in_proposal
-        super().__init__(message, target=target)
+    """Some processes of a system could not be captured: the message lists each one's error under
+    its label and where the launch file starts it, then the ``stand_ins:`` block for those that
+    failed for lack of a device (``run.system_capture`` words it)."""
 
 
 # ---------------------------------------------------------------------------- inside the package

@@ -170,7 +170,6 @@ class CheckResult:
     capture: Capture | None = None
     items: list[DriftItem] = field(default_factory=list)
     error: RmwIntrospectError | None = None
-    compared: bool = False
     #: drift the contract's ``accept:`` entries accept (not in ``items``), and entries that accepted nothing
     accepted: list[Accepted] = field(default_factory=list)
     stale: list[Acceptance] = field(default_factory=list)
@@ -319,7 +318,6 @@ def compare(prepared: Prepared, capture: Capture) -> CheckResult:
         judged = acceptance.judge(items, contract.accept, rules=acceptance.DRIFT_RULES)
         result.items = [item for item in judged.kept if isinstance(item, DriftItem)]
         result.accepted, result.stale = judged.accepted, judged.stale
-        result.compared = True
     return result
 
 

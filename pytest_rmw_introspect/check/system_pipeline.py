@@ -202,7 +202,6 @@ class SystemCheckResult:
     drift_items: list[DriftItem] = field(default_factory=list)
     system_items: list[CompatItem] = field(default_factory=list)
     error: RmwIntrospectError | None = None
-    compared: bool = False
     #: findings the contract's ``accept:`` entries accept (in neither list), and entries that accepted nothing
     accepted: list[Accepted] = field(default_factory=list)
     stale: list[Acceptance] = field(default_factory=list)
@@ -360,7 +359,6 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
     if prepared.contract is not None:
         drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(names=result.name_rules()),
                                     prepared.options)
-        result.compared = True
     accept = prepared.contract.accept if prepared.contract is not None else ()
     judged = acceptance.judge([*drift_items, *system_items], accept,
                               rules=acceptance.DRIFT_RULES | acceptance.SYSTEM_RULES)

@@ -266,9 +266,7 @@ def _capture_failed(spec: LaunchSpec, failures: Sequence[tuple[ProcessCapture, T
     proposal = _stand_in_proposal(failures)
     if proposal:
         parts.append("\n" + STAND_IN_ADVICE + "\n" + _indent(proposal.rstrip("\n")))
-    return SystemCaptureError("\n".join(parts), target=spec.describe(),
-                              failures=[(process.label, error) for process, error in failures],
-                              stand_in_proposal=proposal)
+    return SystemCaptureError("\n".join(parts), target=spec.describe())
 
 
 #: what to do with a ``stand_ins:`` proposal

@@ -146,7 +146,7 @@ def test_json_marks_accepted_findings_and_stale_entries():
 
 def checked(contract, judged) -> pipeline.CheckResult:
     return pipeline.CheckResult(path=contract.path, shown="talker.yaml", contract=contract, items=judged.kept,
-                                accepted=judged.accepted, stale=judged.stale, compared=True)
+                                accepted=judged.accepted, stale=judged.stale)
 
 
 def test_accepted_drift_passes_and_a_stale_entry_warns():

@@ -95,3 +95,28 @@ def test_every_exception_class_of_the_package_is_defined_in_errors_py():
                        for b in bases):
                     elsewhere.append(f"{path.relative_to(package)}: class {node.name}({', '.join(bases)})")
     assert elsewhere == [], f"define these in pytest_rmw_introspect/errors.py: {elsewhere}"
+
+
+def test_a_system_capture_error_lists_each_process_and_proposes_stand_ins_for_missing_devices(tmp_path, monkeypatch):
+    """SystemCaptureError carries its message only; run/system_capture words it: every process that
+    failed, under its label and where the launch file starts it, then the stand_ins: block for the
+    one that lacks a device."""
+    from pytest_rmw_introspect.errors import SystemCaptureError, TargetError
+    from pytest_rmw_introspect.launch.result import LaunchedNode, LaunchParameter, Where
+    from pytest_rmw_introspect.run import system_capture
+
+    monkeypatch.chdir(tmp_path)  # paths are shown relative to the working directory
+    launch = tmp_path / "robot.launch.xml"
+    lidar = LaunchedNode(executable="lidar_node", package="drivers", where=Where(launch, 3), name="lidar",
+                         parameters=(LaunchParameter(name="port", value="/dev/ttyNOSUCH0"),))
+    planner = LaunchedNode(executable="planner", package="nav", where=Where(launch, 7), name="planner")
+    failures = [(system_capture.ProcessCapture(lidar, "drivers/lidar_node"), TargetError("cannot open /dev/ttyNOSUCH0")),
+                (system_capture.ProcessCapture(planner, "nav/planner"), TargetError("exited with status 1"))]
+    error = system_capture._capture_failed(system_capture.LaunchSpec(launch), failures, 5)
+    assert isinstance(error, SystemCaptureError) and error.target == "launch robot.launch.xml"
+    text = str(error)
+    assert text.startswith("2 of the 5 processes of `launch robot.launch.xml` could not be captured:\n")
+    assert "[drivers/lidar_node] started at robot.launch.xml:3:\n    cannot open /dev/ttyNOSUCH0" in text
+    assert "[nav/planner] started at robot.launch.xml:7:\n    exited with status 1" in text
+    assert system_capture.STAND_IN_ADVICE in text and "/dev/ttyNOSUCH0" in text.split(system_capture.STAND_IN_ADVICE)[1]
+    assert "planner" not in text.split(system_capture.STAND_IN_ADVICE)[1]  # it lacks no device

@@ -583,7 +583,7 @@ class InputError(Exception):
 
     reason: str
     line: int | None = None
-    location: tuple[Any, ...] = ()
+    location: tuple[str | int, ...] = ()
 
     def __str__(self) -> str:
         return self.reason
@@ -594,7 +594,7 @@ class EntryProblem(Exception):
     """A contract parameter entry the JSON Schema lets through but that makes no sense:
     ``location`` inside the node's ``parameters`` list, and the reason."""
 
-    location: list[Any] = field(default_factory=list)
+    location: list[str | int] = field(default_factory=list)
     reason: str = ""
 
 
@@ -613,7 +613,7 @@ class UnhashableType(ValueError):
 class SectionError(ValueError):
     """A malformed ``types:`` section: ``location`` is the path inside it (a list)."""
 
-    def __init__(self, location: list[Any], reason: str) -> None:
+    def __init__(self, location: list[str | int], reason: str) -> None:
         super().__init__(reason)
         self.location = location
         self.reason = reason

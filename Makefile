@@ -76,8 +76,11 @@ fuzz: bootstrap
 typecheck: bootstrap
 	$(VENV)/bin/python -m mypy
 
+## lint: the hooks of .pre-commit-config.yaml on every file: ruff on the Python, clang-format on
+## the C++ (all local hooks, tools from the venv: nothing is downloaded). pre-commit keeps its
+## store in build/pre-commit, not in ~/.cache
 lint: bootstrap
-	$(VENV)/bin/ruff check pytest_rmw_introspect tests bench examples scripts
+	PRE_COMMIT_HOME=$(CURDIR)/build/pre-commit $(VENV)/bin/pre-commit run --all-files --show-diff-on-failure
 
 bench: bootstrap
 	$(VENV)/bin/python bench/bench_time_to_capture.py

@@ -21,7 +21,8 @@ The package is layered (docs/design.md): ``model`` (the vocabulary, captures, co
 ``compare`` (options, drift, compatibility checks, reports), ``launch`` (reading launch files)
 and ``run`` (targets, the runner, ROS detection, the middleware library, system captures), then
 ``check`` (the pipeline, outcomes, the golden writer) and the two front ends, ``plugin`` (pytest)
-and ``cli`` (``rmw-introspect``). Beside them: ``errors`` (every error a user can cause), ``_version`` (the one version) and
+and ``cli`` (``rmw-introspect``). Beside them: ``errors`` (every exception class of the package:
+the errors a user can cause and the few that stay inside it), ``_version`` (the one version) and
 ``__main__`` (``python -m pytest_rmw_introspect``); ``options_reference`` renders the option tables
 (``model.option_tables``) as reference pages and writes the contract schema's generated definitions.
 """

@@ -1,7 +1,9 @@
 """The errors a user of pytest-rmw-introspect can see.
 
 Every error is written for people: it names the file, the node, the interface or the
-command involved, and says what to do next. The pytest plugin turns them into test
+command involved, and says what to do next. Every error class of the package is defined here
+(``rmw-introspect`` reports an RmwIntrospectError as one line, exit status 2; any other
+exception is a bug and shows its traceback). The pytest plugin turns them into test
 failures (``pytest.fail``) with the message as the failure text, never into internal errors.
 
 Hierarchy::
@@ -11,8 +13,12 @@ Hierarchy::
     ├── ContractError       malformed contract file (YAML, schema, QoS, duplicates)
     ├── CaptureFormatError  a capture file that is not a valid capture
     ├── RevisionError       ``diff --against REF``: no git repository, no such revision, a shallow clone
+    ├── UsageError          a bad command line or option value (``--shard``, arguments that go together)
+    ├── OptionError         a comparison option with a value that makes no sense
     └── TargetError         the target could not be captured
         ├── TargetConfigError   inconsistent target options (no target, two targets...)
+        │   └── LaunchError     a launch file that cannot be read (file, line, what to do)
+        ├── SystemCaptureError  some processes of a launch file could not be captured
         ├── ExecutableNotFound  package/executable/script not found
         ├── TargetExited        the process exited non-zero before settling
         ├── NoNodeCreated       the process created no ROS node
@@ -27,6 +33,7 @@ from __future__ import annotations
 
 import shlex
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol
 
@@ -34,17 +41,21 @@ __all__ = [
     "CaptureFormatError",
     "ContractError",
     "ExecutableNotFound",
+    "LaunchError",
     "LifecycleTransitionFailed",
     "NoNodeCreated",
+    "OptionError",
     "RevisionError",
     "RmwIntrospectError",
     "SetupError",
     "StimulusFailed",
+    "SystemCaptureError",
     "TargetConfigError",
     "TargetError",
     "TargetExited",
     "TargetNotStopped",
     "TargetTimeout",
+    "UsageError",
 ]
 
 
@@ -455,3 +466,136 @@ class TypeLockError(RmwIntrospectError):
 class RevisionError(RmwIntrospectError):
     """``diff --against REF`` cannot read the contracts at REF: the directory is not in a git
     repository, REF names no commit, or a shallow clone does not hold it."""
+
+
+class UsageError(RmwIntrospectError):
+    """A bad command line or option value (``rmw-introspect``'s arguments, ``--shard``): the
+    message says which and what to write; exit status 2."""
+
+
+class OptionError(RmwIntrospectError):
+    """A comparison option with a value that makes no sense (names where it was set)."""
+
+
+class LaunchError(TargetConfigError):
+    """A launch file that cannot be read: the message names the file and line and what to do."""
+
+
+class SystemCaptureError(TargetError):
+    """Some processes of a system could not be captured: the message lists each one's error under
+    its label and where the launch file starts it, then the ``stand_ins:`` block for those that
+    failed for lack of a device (``run.system_capture`` words it)."""
+
+
+# ---------------------------------------------------------------------------- inside the package
+# The exceptions below never reach a user as they are: the module that raises one (named in its
+# docstring) catches it and says the same in one of the errors above, with the file and what to do
+# (or, for Cancelled, Terminated and WarmStartFailed, acts on it).
+
+
+@dataclass
+class InputError(Exception):
+    """Untrusted input (a YAML or JSON file, a value) that cannot be read within the limits
+    (``model.untrusted``): ``reason``, the ``line`` and ``location`` inside it when known."""
+
+    reason: str
+    line: int | None = None
+    location: tuple[str | int, ...] = ()
+
+    def __str__(self) -> str:
+        return self.reason
+
+
+@dataclass
+class EntryProblem(Exception):
+    """A contract parameter entry the JSON Schema lets through but that makes no sense:
+    ``location`` inside the node's ``parameters`` list, and the reason."""
+
+    location: list[str | int] = field(default_factory=list)
+    reason: str = ""
+
+
+class UnreadableFile(Exception):
+    """Why the file cannot be used (``reason``); the caller names the file and what to do."""
+
+    def __init__(self, reason: str) -> None:
+        super().__init__(reason)
+        self.reason = reason
+
+
+class UnhashableType(ValueError):
+    """A type whose description is incomplete (a nested type the table lacks) or not a message."""
+
+
+class SectionError(ValueError):
+    """A malformed ``types:`` section: ``location`` is the path inside it (a list)."""
+
+    def __init__(self, location: list[str | int], reason: str) -> None:
+        super().__init__(reason)
+        self.location = location
+        self.reason = reason
+
+
+class EntityFormatError(Exception):
+    """A launch file that is not well-formed; ``line`` when known."""
+
+    def __init__(self, reason: str, line: int | None = None) -> None:
+        self.reason = reason
+        self.line = line
+        super().__init__(reason)
+
+
+class SubstitutionError(Exception):
+    """A substitution that cannot be evaluated (unset variable, unknown package, bad syntax).
+    The launch reader adds the file and line."""
+
+
+class UnsupportedSubstitution(SubstitutionError):
+    """A substitution this reader does not evaluate (``$(eval ...)``, ``$(command ...)``, ...)."""
+
+    def __init__(self, name: str, supported: Sequence[str]) -> None:
+        self.name = name
+        super().__init__(
+            f"the substitution $({name} ...) is not supported (supported: "
+            + ", ".join(f"$({s})" for s in supported) + ")"
+        )
+
+
+class ComponentParameterError(ValueError):
+    """A parameter value a LoadNode request cannot carry (the message says which and why)."""
+
+
+class WarmStartFailed(Exception):
+    """The server could not start the target (it died, or refused): the runner starts it cold."""
+
+
+class NotEnded(Exception):
+    """A process that did not end within KILL_WAIT seconds of SIGKILL (``pid``, its ``state``, and
+    who should reap it: ``reaper``)."""
+
+    def __init__(self, pid: int, waited: float, state: str, reaper: str) -> None:
+        self.pid, self.waited, self.state, self.reaper = pid, waited, state, reaper
+        super().__init__(f"pid {pid} did not end within {waited:g} s of SIGKILL: {state}; {reaper}")
+
+
+class Cancelled(Exception):
+    """The capture was cancelled (its ``cancel`` event was set): its target was stopped."""
+
+
+class LockTimeout(Exception):
+    """A lock (``run.locks``) was not free within the timeout; ``holder``: who holds it, for people
+    (``pid 123, T (stopped)``); ``pid``: its pid (None: it wrote none)."""
+
+    def __init__(self, path: Path, timeout: float, holder: str, pid: int | None) -> None:
+        self.path, self.timeout, self.holder, self.pid = path, timeout, holder, pid
+        super().__init__(f"{path} was held for over {timeout:g} s by {holder}")
+
+
+class UnsafeLockDirectory(Exception):
+    """The lock directory is not one only the calling user can create files in (``args``: the
+    reason and the advice of a GoldenWriteError)."""
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived (a CI job cancelled): unwinds like KeyboardInterrupt, so a running target
+    is stopped and temporary files are removed on the way out."""

@@ -31,7 +31,7 @@ from typing import Any
 
 import yaml
 
-from ..errors import ContractError, GoldenWriteError
+from ..errors import ContractError, GoldenWriteError, LockTimeout, UnsafeLockDirectory
 from ..model import contract as contract_module
 from ..model import types as type_model
 from ..model import untrusted
@@ -51,11 +51,6 @@ LOCK_TIMEOUT = 120.0
 LOCK_DIRECTORY = "pytest-rmw-introspect-locks"
 
 
-class _UnsafeLockDirectory(Exception):
-    """The lock directory is not one only the calling user can create files in (``args``: the
-    reason and the advice of a GoldenWriteError)."""
-
-
 def lock_directory() -> Path:
     """The directory of the golden-write locks: ``<tempdir>/pytest-rmw-introspect-locks-<uid>``,
     created with mode 0700. Lock names are predictable (a digest of the golden's path) and
@@ -63,7 +58,7 @@ def lock_directory() -> Path:
     let that user plant a lock name as a symlink to any file the victim can write. The
     directory must therefore be a real directory (not a symlink), owned by the calling user,
     with no permission for anyone else; otherwise nothing is written (raises
-    _UnsafeLockDirectory with what is wrong and what to do)."""
+    UnsafeLockDirectory with what is wrong and what to do)."""
     uid = os.geteuid()
     directory = Path(tempfile.gettempdir()) / f"{LOCK_DIRECTORY}-{uid}"
     try:
@@ -79,7 +74,7 @@ def lock_directory() -> Path:
         problem = f"has mode {stat.S_IMODE(info.st_mode):04o}: other users may create files in it or read it"
     else:
         return directory
-    raise _UnsafeLockDirectory(
+    raise UnsafeLockDirectory(
         f"its lock directory {directory} {problem}, so another user may have planted it: nothing was written",
         f"Remove that directory if you do not know where it comes from (rm -r {directory}), or set TMPDIR "
         "to a directory of your own.")
@@ -182,9 +177,9 @@ def _write_locked(path: Path, new_text: Callable[[str | None], str], timeout: fl
             target.parent.mkdir(parents=True, exist_ok=True)
             _replace(target, text.encode("utf-8"), info)
             return True
-    except _UnsafeLockDirectory as exc:
+    except UnsafeLockDirectory as exc:
         raise GoldenWriteError(path, *exc.args) from None
-    except locks.LockTimeout as exc:
+    except LockTimeout as exc:
         raise GoldenWriteError(path, f"another process held its lock for over {timeout:g} s ({exc.holder})",
                                "If that process is stopped or hung, end it (kill <pid>).") from None
     except UnicodeDecodeError as exc:

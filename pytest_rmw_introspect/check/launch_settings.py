@@ -19,6 +19,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ..compare.launch_given import Given, GivenParameter, MissingFile, MissingPath, ParamsFile, sections
+from ..errors import InputError
 from ..launch.result import ComponentLoad, LaunchedNode
 from ..model import portable, untrusted
 from ..model.paths import shown
@@ -67,7 +68,7 @@ def _file(path: Path | None, text: str | None, name: str | None = None) -> list[
             parsed = _sections_of_file(str(path), found.st_size, found.st_mtime_ns)
         else:
             parsed = _sections_of_text(text or "")
-    except (OSError, untrusted.InputError):
+    except (OSError, InputError):
         return []
     if parsed is None:
         return []

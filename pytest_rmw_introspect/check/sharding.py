@@ -11,6 +11,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TypeVar
 
+from ..errors import UsageError
+
 T = TypeVar("T")
 
 _SPEC = re.compile(r"^\s*(\d+)\s*/\s*(\d+)\s*$")
@@ -35,12 +37,12 @@ class Shard:
 
 
 def parse(text: str, option: str = "--shard") -> Shard:
-    """``I/N`` → Shard (raises ValueError saying what to write)."""
+    """``I/N`` → Shard (raises UsageError saying what to write)."""
     found = _SPEC.match(str(text))
     if found is None:
-        raise ValueError(f"{option} {text!r} is not of the form I/N (this job's number I of N jobs, e.g. 2/4)")
+        raise UsageError(f"{option} {text!r} is not of the form I/N (this job's number I of N jobs, e.g. 2/4)")
     index, count = int(found.group(1)), int(found.group(2))
     if count < 1 or not 1 <= index <= count:
-        raise ValueError(f"{option} {text}: I must be between 1 and N (N >= 1), e.g. 1/{max(count, 2)} to "
+        raise UsageError(f"{option} {text}: I must be between 1 and N (N >= 1), e.g. 1/{max(count, 2)} to "
                          f"{max(count, 2)}/{max(count, 2)}")
     return Shard(index, count)

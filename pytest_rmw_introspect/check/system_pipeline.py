@@ -33,7 +33,7 @@ from ..compare.compatibility import CompatItem, LaunchedProcess, check_compatibi
 from ..compare.drift import DriftItem
 from ..compare.launch_given import Given
 from ..compare.options import ComparisonOptions
-from ..errors import RmwIntrospectError, TargetConfigError
+from ..errors import RmwIntrospectError, TargetConfigError, UsageError
 from ..launch import component_loads
 from ..model import contract as contract_module
 from ..model import stand_ins as stand_in_model
@@ -374,7 +374,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
     """The one loader of contract files for the compatibility rules and the graph: node contracts
     (one process each, labelled with the path) and system contracts (their processes, labelled
     ``PATH: package/executable``). Relative paths are relative to ``base_dir`` (default: the
-    current directory). Raises ContractError, ValueError."""
+    current directory). Raises ContractError, UsageError (no contract given)."""
     labels: list[str] = []
     lines: dict[str, LineIndex] = {}
     processes: list[LaunchedProcess] = []
@@ -407,7 +407,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
             accept += contract.accept
             lines[label] = contract.lines()
     if not labels:
-        raise ValueError("no contracts given to the compatibility check")
+        raise UsageError("no contracts given to the compatibility check")
     return LoadedContracts(labels, processes, any_system, accept, external, lines)
 
 
@@ -429,7 +429,7 @@ def check_contracts(
     """Load contract files of either kind (:func:`load_any`) and check that their nodes fit
     together (:func:`compatibility_items`), judged by their ``accept:`` entries (an entry accepts
     a problem one of whose ends is in its own file). Labels are the paths as shown (relative to
-    the current directory). Raises ContractError, or ValueError for a bad ``fail_on``."""
+    the current directory). Raises ContractError, UsageError (no contract given), or OptionError for a bad ``fail_on``."""
     threshold = parse_threshold(fail_on)
     loaded = load_any(contract_paths, base_dir=base_dir)
     judged = judge_compatibility(compatibility_items(loaded, strict_system_default=strict_system_default),

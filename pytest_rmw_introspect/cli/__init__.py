@@ -28,15 +28,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from types import FrameType
 
-from ..errors import RmwIntrospectError
-from .parser import EXIT_ERROR, ONE_CAPTURE_STARTS_COLD, UsageError, build_parser
+from ..errors import RmwIntrospectError, Terminated
+from .parser import EXIT_ERROR, ONE_CAPTURE_STARTS_COLD, build_parser
 
 EXIT_TERMINATED = 128 + signal.SIGTERM
-
-
-class Terminated(BaseException):
-    """SIGTERM arrived (a CI job cancelled): unwinds like KeyboardInterrupt, so a running target
-    is stopped and temporary files are removed on the way out."""
 
 
 def _raise_terminated(signum: int, frame: FrameType | None) -> None:
@@ -98,11 +93,11 @@ def _several_captures(args: argparse.Namespace) -> bool:
 
 
 def _run_reporting_errors(args: argparse.Namespace, command: list[str] | None) -> int:
-    """Run the command; a problem the user can fix, an interrupt or SIGTERM becomes a message and
-    an exit status."""
+    """Run the command; a problem the user can fix (an RmwIntrospectError), an interrupt or SIGTERM
+    becomes a message and an exit status. Anything else is a bug of this tool: its traceback shows."""
     try:
         return _run_command(args, command)
-    except (RmwIntrospectError, UsageError, ValueError) as exc:
+    except RmwIntrospectError as exc:
         print(f"rmw-introspect: {exc}", file=sys.stderr)
         return EXIT_ERROR
     except KeyboardInterrupt:

@@ -12,7 +12,7 @@ from pathlib import Path
 from ..check import baselines, golden
 from ..compare import baseline as baseline_module
 from ..compare.baseline import Baseline
-from .parser import UsageError
+from ..errors import UsageError
 
 
 def load(args: argparse.Namespace) -> Baseline | None:

@@ -8,11 +8,11 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..errors import TargetError
+from ..errors import TargetError, UsageError
 from ..run import runner
 from ..run.target import TargetSpec
 from . import formats, launch_options
-from .parser import EXIT_OK, ONE_CAPTURE_STARTS_COLD, UsageError, target_from_args
+from .parser import EXIT_OK, ONE_CAPTURE_STARTS_COLD, target_from_args
 from .ros_setup import Setup
 
 

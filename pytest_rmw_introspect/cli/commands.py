@@ -17,12 +17,12 @@ from .._version import __version__
 from ..check import golden, golden_record, pipeline, sharding
 from ..check.outcome import Checked, Verdict, decide
 from ..compare import ci_report, sarif
-from ..errors import GoldenWriteError
+from ..errors import GoldenWriteError, UsageError
 from ..model.contract import Contract
 from ..model.option_tables import COMPARISON, TARGET, FrontEnd
 from . import baselines, option_flags, system_contracts
 from .formats import print_json
-from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, UsageError, compare_from_args, target_from_args
+from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, compare_from_args, target_from_args
 from .ros_setup import Setup
 
 

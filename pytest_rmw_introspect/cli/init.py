@@ -18,10 +18,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..check import golden
-from ..errors import RmwIntrospectError
+from ..errors import RmwIntrospectError, UsageError
+from ..model import ament_index
 from ..run import runner
-from ..run.target import TargetSpec, ament_providers, package_executables
-from .parser import EXIT_ERROR, EXIT_OK, UsageError
+from ..run.target import TargetSpec, package_executables
+from .parser import EXIT_ERROR, EXIT_OK
 from .ros_setup import Setup
 
 if TYPE_CHECKING:
@@ -48,7 +49,7 @@ def package_build_type(package: str, output_dir: Path, prefixes: Sequence[Path])
     """The package's build type: from ``output_dir/package.xml`` (init run in the package's
     source), else the installed ``share/<package>/package.xml``, else ``ament_python`` for a
     Python distribution found only by its console scripts (``pip install -e .``)."""
-    installed = ament_providers(package, prefixes)
+    installed = ament_index.providers(package, prefixes)
     for directory in (output_dir, *(prefix / "share" / package for prefix in installed[:1])):
         build_type = _build_type(directory)
         if build_type is not None:

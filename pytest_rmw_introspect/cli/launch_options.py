@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from .parser import UsageError
+from ..errors import UsageError
 
 
 def wants_launch(args: argparse.Namespace) -> bool:

@@ -7,6 +7,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from .._version import __version__
+from ..errors import UsageError
 from ..model.option_tables import COMPARISON, TARGET, FrontEnd, Shape
 from ..model.vocabulary import FAIL_ON
 from . import option_flags, system_options
@@ -193,10 +194,6 @@ up to the package root (package.xml, setup.py, pyproject.toml or .git).
 
 exit status: 0 written (or unchanged), 2 a contract is missing, invalid or has no types: section.
 """
-
-
-class UsageError(Exception):
-    """A bad command line: reported as a message, exit status 2."""
 
 
 class _Parser(argparse.ArgumentParser):

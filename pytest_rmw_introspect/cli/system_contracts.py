@@ -17,7 +17,7 @@ from ..check.pipeline import Layers
 from ..compare import graph as graph_module
 from ..compare import sarif
 from ..compare.compatibility import propose_external
-from ..errors import TargetConfigError
+from ..errors import TargetConfigError, UsageError
 from ..model import system_contract
 from ..model.contract_shapes import TargetBlock
 from ..model.vocabulary import parse_threshold
@@ -26,7 +26,7 @@ from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
 from . import formats
 from .launch_options import launch_arguments, launch_block, wants_launch
-from .parser import EXIT_DRIFT, EXIT_OK, UsageError, compare_from_args, target_from_args
+from .parser import EXIT_DRIFT, EXIT_OK, compare_from_args, target_from_args
 
 
 def is_system(path: Path, args: argparse.Namespace | None = None) -> bool:

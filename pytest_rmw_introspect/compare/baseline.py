@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..errors import BaselineError
+from ..errors import BaselineError, UnreadableFile
 from ..model import versioned_json
 from ..model.acceptance import Acceptance
 from . import findings
@@ -89,7 +89,7 @@ def load(path: str | Path, shown: str | None = None) -> Baseline:
     shown = shown or str(path)
     try:
         document = versioned_json.read(path, file_format=FORMAT, version=VERSION, what="a baseline")
-    except versioned_json.UnreadableFile as problem:
+    except UnreadableFile as problem:
         raise BaselineError(shown, problem.reason) from None
     entries: dict[tuple[str, ...], dict[str, Any]] = {}
     for i, entry in enumerate(document.get("findings") or []):

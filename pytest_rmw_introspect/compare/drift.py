@@ -16,6 +16,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from ..errors import OptionError
 from ..model import qos, untrusted
 from ..model import types as type_model
 from ..model.contract_shapes import ContractNode, InterfaceEntry
@@ -320,7 +321,7 @@ def _ignored_qos_fields(ignore_qos: bool | Iterable[str]) -> frozenset[str]:
     fields = frozenset(ignore_qos)
     unknown = sorted(fields - set(qos.FIELDS))
     if unknown:
-        raise ValueError(
+        raise OptionError(
             f"ignore_qos: unknown QoS field(s) {', '.join(unknown)}; "
             f"expected some of {', '.join(qos.FIELDS)}"
         )

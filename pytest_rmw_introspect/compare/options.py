@@ -14,7 +14,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from ..errors import RmwIntrospectError
+from ..errors import OptionError
 from ..model.option_tables import COMPARISON, Shape
 from ..model.qos import FIELDS as QOS_FIELDS
 from ..model.vocabulary import Severity, parse_threshold
@@ -23,10 +23,6 @@ from ..model.vocabulary import Severity, parse_threshold
 OPTION_KEYS = COMPARISON.names()
 _TRUE = ("1", "true", "yes", "on", "all")
 _FALSE = ("0", "false", "no", "off", "")
-
-
-class OptionError(RmwIntrospectError):
-    """A comparison option with a value that makes no sense (names where it was set)."""
 
 
 @dataclass(frozen=True)

@@ -16,12 +16,9 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..errors import ComponentParameterError
 from ..model import untrusted
 from .result import ComponentParameter, LaunchParameter
-
-
-class ComponentParameterError(ValueError):
-    """A parameter value a LoadNode request cannot carry (the message says which and why)."""
 
 
 def typed(name: str, value: Any) -> ComponentParameter:
@@ -78,7 +75,7 @@ def file_sections(path: Path) -> dict[str, dict[str, Any]]:
 
 def parameters(given: Sequence[LaunchParameter], name: str, namespace: str | None) -> tuple[ComponentParameter, ...]:
     """The LoadNode parameters of the component ``namespace``/``name`` from ``given`` (values and
-    parameters files, in order; raises ComponentParameterError, OSError, untrusted.InputError)."""
+    parameters files, in order; raises ComponentParameterError, OSError, InputError)."""
     full = f"{namespace.strip('/')}/{name}" if namespace and namespace != "/" else name
     merged: dict[str, Any] = {}
     for parameter in given:

@@ -27,6 +27,7 @@ from typing import Any
 
 import yaml
 
+from ..errors import EntityFormatError, InputError
 from ..model import untrusted
 
 #: the largest launch file read (real ones are a few kB)
@@ -35,15 +36,6 @@ MAX_FILE_BYTES = 8 * 1024 * 1024
 MAX_DEPTH = untrusted.MAX_DEPTH
 #: the most values a YAML launch file may expand to through aliases
 MAX_VALUES = 100_000
-
-
-class EntityFormatError(Exception):
-    """A launch file that is not well-formed; ``line`` when known."""
-
-    def __init__(self, reason: str, line: int | None = None) -> None:
-        self.reason = reason
-        self.line = line
-        super().__init__(reason)
 
 
 @dataclass
@@ -114,7 +106,7 @@ def parse_yaml(text: str) -> Entity:
             raise EntityFormatError(f"a YAML launch file starts with `launch:`, not `{untrusted.shorten(tag)}:`",
                                     _line(key))
         return Entity("launch", {}, _entity_list(value), line=_line(key))
-    except untrusted.InputError as exc:
+    except InputError as exc:
         raise EntityFormatError(exc.reason, exc.line) from None
 
 
@@ -164,19 +156,19 @@ def yaml_value(text: str) -> Any:
     an alias bomb or a list nested too deep)."""
     try:
         root = untrusted.compose_yaml(text)
-    except untrusted.InputError:
+    except InputError:
         return text
     if root is None:
         return text
     try:
         untrusted.check_tree(root, max_values=MAX_VALUES)
-    except untrusted.InputError as exc:
+    except InputError as exc:
         if isinstance(root, yaml.MappingNode):  # a mapping is no parameter value anyway
             return text
         raise ValueError(f"the value {untrusted.shorten(text)} cannot be read: {exc.reason}") from None
     try:
         loaded = untrusted.construct(root)
-    except untrusted.InputError:
+    except InputError:
         return text
     return loaded if isinstance(loaded, (str, int, float, bool, list)) else text
 
@@ -189,6 +181,6 @@ def parse_file(path: Path) -> Entity:
         raise EntityFormatError(f"unknown launch file type {path.suffix!r} (expected .xml, .yaml, .yml or .py)")
     try:
         text = untrusted.read_text(path, max_bytes=MAX_FILE_BYTES)
-    except untrusted.InputError as exc:
+    except InputError as exc:
         raise EntityFormatError(exc.reason) from None
     return parse_xml(text) if name.endswith(".xml") else parse_yaml(text)

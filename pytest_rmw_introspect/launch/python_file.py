@@ -47,10 +47,12 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+from ..errors import LaunchError
+from ..model import ament_index
 from ..model.paths import shown
 from . import python_events
 from .entities import yaml_value
-from .result import ComponentLoad, ComponentParameter, LaunchedNode, LaunchError, LaunchParameter, LaunchResult, Unsupported, Where
+from .result import ComponentLoad, ComponentParameter, LaunchedNode, LaunchParameter, LaunchResult, Unsupported, Where
 from .substitutions import anon_name
 
 _NOT_AVAILABLE = (
@@ -91,7 +93,7 @@ def read(
     saved = dict(os.environ)  # launch's SetEnvironmentVariable changes os.environ itself
     try:
         if prefixes:  # $(find-pkg-share) and includes in launch look packages up here
-            existing = [p for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
+            existing = [str(p) for p in ament_index.env_prefixes()]
             os.environ["AMENT_PREFIX_PATH"] = os.pathsep.join(dict.fromkeys([*existing, *map(str, prefixes)]))
         base_env = dict(os.environ)  # what a process gets anyway: its env is what the launch file adds
         for key, value in env.items():

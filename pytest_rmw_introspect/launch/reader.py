@@ -73,10 +73,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ..errors import ComponentParameterError, EntityFormatError, InputError, SubstitutionError, UnsupportedSubstitution
 from ..model import untrusted
 from ..model.paths import shown
 from . import components, entities, python_file, record, substitutions
-from .entities import Entity, EntityFormatError
+from .entities import Entity
 from .result import (
     ComponentLoad,
     DeclaredArgument,
@@ -89,7 +90,7 @@ from .result import (
     find_package_prefix,
     join_namespace,
 )
-from .substitutions import Context, SubstitutionError, UnsupportedSubstitution
+from .substitutions import Context
 
 #: attributes that do not change what a node creates: accepted, no effect
 IGNORED_NODE_ATTRIBUTES = frozenset({
@@ -565,7 +566,7 @@ class _Reader:
         try:
             parameters = components.parameters(given, name, namespace)
             extra_arguments = components.parameters(extras, name, namespace)
-        except (components.ComponentParameterError, OSError, untrusted.InputError) as exc:
+        except (ComponentParameterError, OSError, InputError) as exc:
             raise self.error(where, f"<composable_node name=\"{name}\">: {exc}") from None
         return ComponentLoad(
             package=self.text(self.require(entity, file, "pkg"), scope, file),

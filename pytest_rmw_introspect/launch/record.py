@@ -19,10 +19,11 @@ import json
 from pathlib import Path
 from typing import Any
 
+from ..errors import InputError, LaunchError
 from ..model import untrusted
 from ..model.paths import shown
 from .entities import MAX_FILE_BYTES, yaml_value
-from .result import LaunchedNode, LaunchError, LaunchParameter, LaunchResult, Unsupported, Where
+from .result import LaunchedNode, LaunchParameter, LaunchResult, Unsupported, Where
 
 
 def _fail(path: Path, reason: str) -> LaunchError:
@@ -59,7 +60,7 @@ def read(path: Path, result: LaunchResult) -> None:
     """The nodes of a record.json into ``result`` (raises LaunchError)."""
     try:
         data = json.loads(untrusted.read_text(path, max_bytes=MAX_FILE_BYTES))
-    except (OSError, untrusted.InputError) as exc:
+    except (OSError, InputError) as exc:
         raise LaunchError(f"cannot read {shown(path)}: {exc}") from None
     except (json.JSONDecodeError, RecursionError) as exc:
         reason = f"not valid JSON: {exc}" if isinstance(exc, json.JSONDecodeError) else "nested too deep"

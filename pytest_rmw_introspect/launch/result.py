@@ -1,5 +1,6 @@
 """What a launch file starts, as data: the nodes (:class:`LaunchedNode`), the arguments it
-declares, what the reader does not support, and the errors (:class:`LaunchError`).
+declares, what the reader does not support (:meth:`LaunchResult.require_supported` raises
+``errors.LaunchError``).
 
 Shared by the readers of each kind of launch source (``reader`` for XML and YAML,
 ``python_file`` for Python launch files, ``record`` for play_launch's record.json)."""
@@ -13,13 +14,9 @@ from typing import Any
 
 import yaml
 
-from ..errors import TargetConfigError
+from ..errors import LaunchError, SubstitutionError
+from ..model import ament_index
 from ..model.paths import shown
-from .substitutions import SubstitutionError
-
-
-class LaunchError(TargetConfigError):
-    """A launch file that cannot be read: the message names the file and line and what to do."""
 
 
 @dataclass(frozen=True)
@@ -205,9 +202,9 @@ def join_namespace(base: str | None, namespace: str | None) -> str | None:
 
 def find_package_prefix(package: str, prefixes: Sequence[Path]) -> Path:
     """The first ament prefix that has ``package`` (raises SubstitutionError)."""
-    for prefix in prefixes:
-        if (Path(prefix) / "share" / "ament_index" / "resource_index" / "packages" / package).exists():
-            return Path(prefix)
+    found = ament_index.providers(package, prefixes)
+    if found:
+        return found[0]
     searched = ", ".join(str(p) for p in prefixes) or "none: AMENT_PREFIX_PATH is empty"
     raise SubstitutionError(
         f"package '{package}' is not in the ament index (searched the prefixes {searched}); build and "

@@ -26,6 +26,7 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..errors import SubstitutionError, UnsupportedSubstitution
 from ..model import untrusted
 
 #: the substitutions this reader evaluates
@@ -36,22 +37,6 @@ MAX_NESTING = 32
 MAX_VALUE_CHARS = 1_000_000
 #: the most characters the substitutions of one launch may give in all
 MAX_TOTAL_CHARS = 64_000_000
-
-
-class SubstitutionError(Exception):
-    """A substitution that cannot be evaluated (unset variable, unknown package, bad syntax).
-    The launch reader adds the file and line."""
-
-
-class UnsupportedSubstitution(SubstitutionError):
-    """A substitution this reader does not evaluate (``$(eval ...)``, ``$(command ...)``, ...)."""
-
-    def __init__(self, name: str) -> None:
-        self.name = name
-        super().__init__(
-            f"the substitution $({name} ...) is not supported (supported: "
-            + ", ".join(f"$({s})" for s in SUPPORTED) + ")"
-        )
 
 
 @dataclass(frozen=True)
@@ -228,7 +213,7 @@ def _evaluate_one(sub: Substitution, context: Context) -> str:
     if sub.name == "anon":
         arity(1, 1)
         return anon_name(args[0], context.anon_names)
-    raise UnsupportedSubstitution(sub.name)
+    raise UnsupportedSubstitution(sub.name, SUPPORTED)
 
 
 def anon_name(name: str, cache: dict[str, str]) -> str:

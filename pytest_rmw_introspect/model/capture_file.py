@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypedDict
 
-from ..errors import CaptureFormatError
+from ..errors import CaptureFormatError, InputError
 from . import parameters as parameter_model
 from . import qos as qos_module
 from . import types as type_model
@@ -232,7 +232,7 @@ def read(path: Path) -> Any:
         text = untrusted.read_text(path)
     except FileNotFoundError:
         raise CaptureFormatError(path, "the file does not exist") from None
-    except untrusted.InputError as exc:
+    except InputError as exc:
         raise CaptureFormatError(path, exc.reason) from None
     if not text.strip():
         raise CaptureFormatError(path, "the file is empty")
@@ -247,7 +247,7 @@ def read(path: Path) -> Any:
                 raise CaptureFormatError(path, "the file is empty")
             untrusted.check_tree(root)
             data = untrusted.construct(root)
-        except untrusted.InputError as yaml_exc:
+        except InputError as yaml_exc:
             raise CaptureFormatError(path, f"not valid JSON ({exc}) or YAML ({yaml_exc})") from None
     except RecursionError:
         raise CaptureFormatError(path, "nested too deeply") from None

@@ -52,7 +52,7 @@ from typing import Any, cast
 
 import yaml
 
-from ..errors import ContractError
+from ..errors import ContractError, EntryProblem, InputError, SectionError
 from . import acceptance, nodl, untrusted, yaml_blocks
 from . import parameters as parameter_model
 from . import qos as qos_module
@@ -202,7 +202,7 @@ def _compose(text: str, path: Path | None) -> tuple[yaml.Node | None, Any]:
             return None, None
         untrusted.check_tree(root)
         return root, untrusted.construct(root)
-    except untrusted.InputError as exc:
+    except InputError as exc:
         raise ContractError(path, format_location(list(exc.location)) or None, exc.reason, line=exc.line) from None
 
 
@@ -353,7 +353,7 @@ def load(path: str | Path) -> Contract:
         text = untrusted.read_text(path)
     except FileNotFoundError:
         raise ContractError(path, None, "the file does not exist") from None
-    except untrusted.InputError as exc:
+    except InputError as exc:
         raise ContractError(path, None, exc.reason) from None
     return loads(text, path=path)
 
@@ -382,7 +382,7 @@ def _loads(text: str, path: Path | None) -> Contract:
     if type_model.SECTION_KEY in data:
         try:
             types = type_model.from_contract(data[type_model.SECTION_KEY])
-        except type_model.SectionError as exc:
+        except SectionError as exc:
             raise ContractError(path, format_location(exc.location), exc.reason,
                                 line=_line(root, exc.location)) from None
     return Contract(
@@ -431,7 +431,7 @@ def check_parameters(root: yaml.Node | None, nodes: Mapping[str, ContractNode], 
     for fqn, node in nodes.items():
         try:
             parameter_model.check_contract_parameters(node.get(PARAMETERS) or [])
-        except parameter_model.EntryProblem as problem:
+        except EntryProblem as problem:
             where = ["nodes", fqn, PARAMETERS, *problem.location]
             raise ContractError(path, format_location(where), f"{problem.reason} (node {fqn})",
                                 line=_line(root, where)) from None

@@ -32,10 +32,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, cast
 
-from ..errors import ContractError
+from ..errors import ContractError, EntryProblem, InputError
+from . import ament_index, untrusted
 from . import parameters as parameter_model
 from . import qos as qos_module
-from . import untrusted
 from .contract_shapes import ContractNode, ContractNodes, InterfaceEntry, ParameterEntry, QosFields
 from .vocabulary import ACTION_LISTS, LIFECYCLE, LISTS, PARAMETER_TYPES, PARAMETERS, TOPIC_LISTS
 
@@ -270,7 +270,7 @@ def load_text(text: str, path: Path | None, _chain: tuple[Path, ...] = ()) -> No
                 continue
             untrusted.check_tree(root)
             data = untrusted.construct(root)
-        except untrusted.InputError as exc:
+        except InputError as exc:
             line = exc.line + first - 1 if exc.line is not None else first
             raise ContractError(path, _where(list(exc.location)), exc.reason, line=line) from None
         doc = Document(data=data, node=node, first_line=first, root=root)
@@ -324,13 +324,12 @@ def _reference_path(ref: str, including: Path | None) -> Path:
         package, _, name = body.partition("/")
         if not package or not name or "/" in name:
             raise ValueError(f"{ref}: a nodl:// reference is nodl://<package>/<name>")
-        prefixes = [p for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
+        prefixes = ament_index.env_prefixes()
         for prefix in prefixes:
-            candidate = Path(prefix, "share", "ament_index", "resource_index", _AMENT_RESOURCE_TYPE,
-                             f"{package}__{name}")
+            candidate = ament_index.resource(prefix, f"{package}__{name}", _AMENT_RESOURCE_TYPE)
             if candidate.is_file():
                 return candidate
-        where = ", ".join(prefixes) or "no prefix: AMENT_PREFIX_PATH is not set"
+        where = ", ".join(map(str, prefixes)) or "no prefix: AMENT_PREFIX_PATH is not set"
         raise ValueError(f"{ref}: no NoDL document {package}__{name} registered in the ament index ({where}); "
                          "build and source the package that registers it (ament_nodl_register)")
     raise ValueError(f"{ref}: this tool resolves local:// and nodl:// references, not {scheme}://")
@@ -364,7 +363,7 @@ def _resolve_includes(doc: Document, path: Path | None, chain: tuple[Path, ...])
             text = untrusted.read_text(target)
         except FileNotFoundError:
             raise fail(f"{ref}: the included document {target} does not exist") from None
-        except untrusted.InputError as exc:
+        except InputError as exc:
             raise fail(f"{ref}: {target}: {exc.reason}") from None
         included = load_text(text, target, _chain=(*chain, target))
         if len(included.documents) != 1:
@@ -415,7 +414,7 @@ def _check(doc: Document, path: Path | None) -> None:
         if parameter_entry is not None:
             try:
                 parameter_model.check_contract_parameters([parameter_entry])
-            except parameter_model.EntryProblem as problem:
+            except EntryProblem as problem:
                 raise fail([PARAMETERS, name], problem.reason) from None
     for list_name in LISTS:
         entries = data.get(list_name)

@@ -34,9 +34,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
+from ..errors import EntryProblem
 from . import untrusted
 from .contract_shapes import ParameterEntry, RangeEntry
 from .vocabulary import LIFECYCLE_TARGETS, PARAMETER_TYPES, is_infrastructure_parameter
@@ -394,15 +395,6 @@ def probe_from_capture(data: Any) -> Probe | None:
 
 
 # ---------------------------------------------------------------------- contract entries
-
-
-@dataclass
-class EntryProblem(Exception):
-    """A contract parameter entry the JSON Schema lets through but that makes no sense:
-    ``location`` inside the node's ``parameters`` list, and the reason."""
-
-    location: list[Any] = field(default_factory=list)
-    reason: str = ""
 
 
 def check_contract_parameters(entries: Sequence[Mapping[str, Any]]) -> None:

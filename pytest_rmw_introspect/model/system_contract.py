@@ -50,7 +50,7 @@ from typing import Any, Literal, cast, get_args
 
 import yaml
 
-from ..errors import ContractError
+from ..errors import ContractError, InputError
 from . import acceptance, stand_ins, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
@@ -84,7 +84,7 @@ def is_system_contract(path: str | Path) -> bool:
         return True
     try:  # never opens a FIFO (it would block): the loader then says what the file is
         head = untrusted.read_bytes(path, 4096)[:4096].decode("utf-8", errors="replace")
-    except (OSError, untrusted.InputError):
+    except (OSError, InputError):
         return False
     return any(line.startswith("system_version:") for line in head.splitlines())
 
@@ -211,7 +211,7 @@ def load(path: str | Path) -> SystemContract:
         text = untrusted.read_text(path)
     except FileNotFoundError:
         raise ContractError(path, None, "the file does not exist") from None
-    except untrusted.InputError as exc:
+    except InputError as exc:
         raise ContractError(path, None, exc.reason) from None
     return loads(text, path=path)
 
@@ -226,7 +226,7 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
         if root is not None:
             untrusted.check_tree(root)
         data = untrusted.construct(root) if root is not None else None
-    except untrusted.InputError as exc:
+    except InputError as exc:
         raise ContractError(path, contract_module.format_location(list(exc.location)) or None, exc.reason,
                             line=exc.line) from None
     if data is None:

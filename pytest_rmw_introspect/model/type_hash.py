@@ -20,6 +20,7 @@ import json
 from collections.abc import Mapping
 from typing import Any
 
+from ..errors import UnhashableType
 from .types import BOUNDED, FIXED, UNBOUNDED, Field, MessageType, TypeDescription, closure
 
 PREFIX = "RIHS01_"
@@ -34,10 +35,6 @@ _NESTED = 1
 _BOUNDED_STRING = {"string": 21, "wstring": 22}
 #: what an array layout adds to the element's id
 _ARRAY_OFFSET = {None: 0, FIXED: 48, BOUNDED: 96, UNBOUNDED: 144}
-
-
-class UnhashableType(ValueError):
-    """A type whose description is incomplete (a nested type the table lacks) or not a message."""
 
 
 def _field_type(field: Field) -> dict[str, Any]:

@@ -30,7 +30,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import TypeLockError
+from ..errors import TypeLockError, UnreadableFile
 from . import type_hash, versioned_json
 from .contract_shapes import ContractNode
 from .types import ACTION_PART_SUFFIXES, TypeDescription, closure, interface_roots
@@ -124,7 +124,7 @@ def load(path: str | Path) -> TypeLock:
     path = Path(path)
     try:
         document = versioned_json.read(path, file_format=FORMAT, version=VERSION, what="a type lock")
-    except versioned_json.UnreadableFile as problem:
+    except UnreadableFile as problem:
         raise TypeLockError(path, problem.reason) from None
     types = document.get("types")
     if not isinstance(types, dict):

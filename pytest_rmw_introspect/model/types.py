@@ -39,6 +39,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from ..errors import SectionError
 from . import yaml_blocks
 from .vocabulary import ACTION_LISTS
 
@@ -265,15 +266,6 @@ def _entry_from_capture(name: Any, entry: Any) -> TypeDescription:
             items.append(Constant(c["name"], c["type"], c["value"]))
         constants = tuple(items)
     return MessageType(str(name), tuple(fields), constants)
-
-
-class SectionError(ValueError):
-    """A malformed ``types:`` section: ``location`` is the path inside it (a list)."""
-
-    def __init__(self, location: list[Any], reason: str) -> None:
-        super().__init__(reason)
-        self.location = location
-        self.reason = reason
 
 
 def from_contract(data: Any) -> TypeTable:

@@ -26,9 +26,10 @@ import os
 import re
 import stat
 from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
+
+from ..errors import InputError
 
 if TYPE_CHECKING:
     import yaml
@@ -53,16 +54,6 @@ def _loader(loader: type | None) -> type:
         return LOADER
     fastest: type = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
     return fastest
-
-
-@dataclass
-class InputError(Exception):
-    reason: str
-    line: int | None = None
-    location: tuple[Any, ...] = ()
-
-    def __str__(self) -> str:
-        return self.reason
 
 
 def not_a_file(mode: int) -> str | None:

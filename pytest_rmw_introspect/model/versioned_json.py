@@ -7,13 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-
-class UnreadableFile(Exception):
-    """Why the file cannot be used (``reason``); the caller names the file and what to do."""
-
-    def __init__(self, reason: str) -> None:
-        super().__init__(reason)
-        self.reason = reason
+from ..errors import UnreadableFile
 
 
 def read(path: str | Path, *, file_format: str, version: int, what: str) -> dict[str, Any]:

@@ -13,6 +13,8 @@ from __future__ import annotations
 import enum
 from typing import Final, Literal, get_args
 
+from ..errors import OptionError
+
 #: The name of one of a node's six interface lists (a key of a contract node), in contract order.
 ListName = Literal["publishers", "subscriptions", "service_servers", "service_clients", "action_servers",
                    "action_clients"]
@@ -168,7 +170,7 @@ THRESHOLD_WORDS: dict[Severity, str] = {severity: word for word, severity in THR
 
 
 def parse_threshold(text: str) -> Severity:
-    """'any' | 'risky' | 'breaking' (any case) → Severity; ValueError otherwise."""
+    """'any' | 'risky' | 'breaking' (any case) → Severity; OptionError otherwise."""
     if isinstance(text, str) and text.strip().lower() in THRESHOLDS:
         return THRESHOLDS[text.strip().lower()]
-    raise ValueError(f"invalid fail threshold {text!r}: expected one of {', '.join(THRESHOLDS)}")
+    raise OptionError(f"invalid fail threshold {text!r}: expected one of {', '.join(THRESHOLDS)}")

@@ -46,9 +46,6 @@ if TYPE_CHECKING:  # imported by the first item that runs: a session without one
     from ..check import pipeline
     from ..model.capture import Capture
 
-DEFAULT_PATTERNS = ("*.interfaces.yaml", "*.system.yaml")
-
-
 def patterns(config: pytest.Config) -> list[str]:
     """The glob patterns of contract files for this session (empty: collection is off)."""
     cli = config.getoption("rmw_introspect_contracts", None)

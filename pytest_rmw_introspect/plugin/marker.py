@@ -16,8 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from ..compare.options import OptionError
-from ..errors import RmwIntrospectError
+from ..errors import OptionError, RmwIntrospectError
 from ..model.option_tables import COMPARISON, TARGET, FrontEnd
 from . import verdict
 from .session import SessionState

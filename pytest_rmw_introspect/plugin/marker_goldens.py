@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from ..compare.options import OptionError
+from ..errors import OptionError
 from . import items as contract_items
 from . import marker, system_marker
 from .session import state

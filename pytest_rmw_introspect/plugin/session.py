@@ -11,8 +11,8 @@ from typing import TYPE_CHECKING, Any
 import pytest
 
 from ..check import golden_record, sharding
-from ..compare.options import OptionError, parse_layer
-from ..errors import SetupError, TargetConfigError
+from ..compare.options import parse_layer
+from ..errors import OptionError, SetupError, TargetConfigError, UsageError
 from ..model.option_tables import COMPARISON, TARGET, Source
 from ..model.paths import shown
 from ..run import middleware, ros_env
@@ -217,7 +217,7 @@ def configure(config: pytest.Config) -> SessionState:
     try:
         shard = sharding.parse(config.getoption("rmw_introspect_shard"), "--rmw-introspect-shard") \
             if config.getoption("rmw_introspect_shard", None) else None
-    except ValueError as exc:
+    except UsageError as exc:
         raise pytest.UsageError(str(exc)) from None
 
     return SessionState(

@@ -30,8 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from ..compare.options import OptionError
-from ..errors import RmwIntrospectError
+from ..errors import OptionError, RmwIntrospectError
 from ..model import system_contract
 from ..model.option_tables import COMPARISON, FrontEnd
 from ..model.system_contract import SYSTEM_TARGET_KEYS
@@ -112,8 +111,8 @@ def prepare(item: pytest.Item, session_state: SessionState) -> SystemItemState:
                                               ros=session_state.ros)
         st.capture = system_pipeline.run_capture(st.prepared, library=session_state.library(),
                                                  ros=session_state.ros())
-    except (RmwIntrospectError, ValueError) as exc:
-        st.error = exc if isinstance(exc, RmwIntrospectError) else OptionError(str(exc))
+    except RmwIntrospectError as exc:
+        st.error = exc
     return st
 
 

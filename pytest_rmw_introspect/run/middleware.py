@@ -33,8 +33,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
-from ..errors import SetupError
-from . import progress, ros_env
+from ..errors import LockTimeout, SetupError
+from ..model import ament_index
+from . import locks, progress, ros_env
 from .process import process_state
 
 LIBRARY_FILE = "librmw_introspect_cpp.so"
@@ -134,7 +135,7 @@ def sources_hash(src: Path, memo_dir: Path | None = None) -> str:
 
 def find_installed(ros: ros_env.RosEnvironment) -> Path | None:
     for prefix in ros.ament_prefixes:
-        marker = prefix / "share" / "ament_index" / "resource_index" / "packages" / ros_env.MIDDLEWARE_NAME
+        marker = ament_index.resource(prefix, ros_env.MIDDLEWARE_NAME)
         library = prefix / "lib" / LIBRARY_FILE
         if marker.exists() and library.is_file():
             return library
@@ -330,7 +331,7 @@ def resolve_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path |
 
 def cache_entry(ros: ros_env.RosEnvironment, cache_dir: Path | None = None) -> Path:
     """The cache directory of the build for ``ros`` of the bundled sources as they are now (its
-    lock ``<entry>.lock`` and, while a process builds, ``<entry>.builder`` beside it)."""
+    lock ``<entry>.lock`` and, while a process holds it, ``<entry>.lock.pid`` beside it)."""
     root = Path(cache_dir) if cache_dir else cache_root()
     key = hashlib.sha256(f"{sources_hash(source_dir(), memo_dir=root)}|{ros.distro}|{ros.prefix}".encode()).hexdigest()[:16]
     return root / f"{ros.distro}-{key}"
@@ -349,58 +350,44 @@ def source_build(ros: ros_env.RosEnvironment, cache_dir: Path | None = None, rea
     root.mkdir(parents=True, exist_ok=True)
     with _build_lock(root / f"{dest.name}.lock", dest, ros):
         if not (stamp.exists() and library.is_file()):
-            holder = root / f"{dest.name}.builder"
-            holder.write_text(f"{os.getpid()} {progress.scope() or '-'}\n")
-            try:
-                build(src, ros, dest, reason)
-            finally:
-                holder.unlink(missing_ok=True)
+            build(src, ros, dest, reason)
             stamp.write_text(str(library) + "\n")
     return library
 
 
 @contextmanager
 def _build_lock(path: Path, dest: Path, ros: ros_env.RosEnvironment) -> Iterator[None]:
-    """Hold the build lock of ``dest``. Waiting for it (another process builds) says so after
+    """Hold the build lock of ``dest`` (its holder's info: the run it belongs to,
+    ``progress.scope``). Waiting for it (another process builds) says so after
     ``WAIT_NOTICE_AFTER`` seconds, with the builder's log, unless the builder is a worker of
     this same run (it tells the user itself); workers of one run say it once."""
-    from filelock import FileLock, Timeout
 
-    lock = FileLock(str(path))
-    try:
-        lock.acquire(timeout=WAIT_NOTICE_AFTER)
-    except Timeout:
-        pid, scope = _builder(path.with_suffix(".builder"))
+    @contextmanager
+    def waiting(builder: locks.Holder) -> Iterator[None]:
+        scope = None if builder.info in ("", "-") else builder.info
         told = scope is None or scope != progress.scope()
         if told:
+            pid = "unknown" if builder.pid is None else builder.pid
             progress.say_once(f"wait-{dest.name}", f"waiting for another process (pid {pid}) that builds the "
                               f"recording middleware for ROS 2 {ros.distro}; its log: {dest / 'build.log'}")
         began = time.monotonic()
-        try:
-            lock.acquire(timeout=BUILD_LOCK_TIMEOUT)
-        except Timeout:
-            state = process_state(int(pid)) if pid.isdigit() else "unknown"
-            raise SetupError(
-                f"Another process (pid {pid}, {state}) has been building the recording middleware for over "
-                f"{BUILD_LOCK_TIMEOUT:g} s and holds its build lock {path}. If that process is stopped or hung, "
-                "end it (kill <pid>); one that ended releases the lock by itself. Or point "
-                "RMW_INTROSPECT_LIBRARY at a built library.") from None
+        yield
         if told:
             progress.say_once(f"waited-{dest.name}", "the other process's middleware build ended after "
                               f"{progress.seconds(time.monotonic() - began)} of waiting")
-    try:
-        yield
-    finally:
-        lock.release()
 
-
-def _builder(holder: Path) -> tuple[str, str | None]:
-    """The pid and run (``progress.scope``) of the process that builds, from its holder file."""
     try:
-        pid, scope = holder.read_text(encoding="ascii").split()
-    except (OSError, ValueError, UnicodeDecodeError):
-        return "unknown", None
-    return pid, None if scope == "-" else scope
+        with locks.held(path, BUILD_LOCK_TIMEOUT, info=progress.scope() or "-", waiting=waiting,
+                        notice_after=WAIT_NOTICE_AFTER):
+            yield
+    except LockTimeout as exc:  # only taking the lock times out: the build takes none
+        pid = "unknown" if exc.pid is None else exc.pid
+        state = "unknown" if exc.pid is None else process_state(exc.pid)
+        raise SetupError(
+            f"Another process (pid {pid}, {state}) has been building the recording middleware for over "
+            f"{BUILD_LOCK_TIMEOUT:g} s and holds its build lock {path}. If that process is stopped or hung, "
+            "end it (kill <pid>); one that ended releases the lock by itself. Or point "
+            "RMW_INTROSPECT_LIBRARY at a built library.") from None
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -32,6 +32,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import IO, Protocol
 
+from ..errors import NotEnded
+
 #: seconds granted after SIGINT and after SIGTERM before the next, harder signal
 SIGINT_GRACE = 2.0
 SIGTERM_GRACE = 1.0
@@ -238,15 +240,6 @@ def _signal_group(proc: Handle, sig: int) -> None:
             proc.send_signal(sig)
         except ProcessLookupError:
             pass
-
-
-class NotEnded(Exception):
-    """A process that did not end within KILL_WAIT seconds of SIGKILL (``pid``, its ``state``, and
-    who should reap it: ``reaper``)."""
-
-    def __init__(self, pid: int, waited: float, state: str, reaper: str) -> None:
-        self.pid, self.waited, self.state, self.reaper = pid, waited, state, reaper
-        super().__init__(f"pid {pid} did not end within {waited:g} s of SIGKILL: {state}; {reaper}")
 
 
 def process_state(pid: int) -> str:

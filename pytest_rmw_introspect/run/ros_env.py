@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import SetupError
+from ..model import ament_index
 
 WHEELS = "wheels"
 SYSTEM = "system"
@@ -59,14 +60,10 @@ class RosEnvironment:
         return os.pathsep.join(parts)
 
 
-def _split_paths(value: str | None) -> list[Path]:
-    return [Path(p) for p in (value or "").split(os.pathsep) if p]
-
-
 def ament_prefixes(extra: tuple[Path, ...] = ()) -> list[Path]:
     """The ament prefixes to search, in order: ``AMENT_PREFIX_PATH`` first, then ``extra``."""
     seen: list[Path] = []
-    for prefix in [*_split_paths(os.environ.get("AMENT_PREFIX_PATH")), *extra]:
+    for prefix in [*ament_index.env_prefixes(), *extra]:
         if prefix not in seen:
             seen.append(prefix)
     return seen
@@ -76,12 +73,7 @@ def ament_prefixes(extra: tuple[Path, ...] = ()) -> list[Path]:
 def _package_shares(prefixes: tuple[Path, ...]) -> dict[str, str]:
     found: dict[str, str] = {}  # package → share directory
     for prefix in prefixes:
-        index = prefix / "share" / "ament_index" / "resource_index" / "packages"
-        try:
-            names = [entry.name for entry in os.scandir(index)]
-        except OSError:
-            continue
-        for name in names:
+        for name in ament_index.names(prefix):
             found.setdefault(name, str(prefix / "share" / name))
     return {share: package for package, share in found.items()}
 
@@ -205,7 +197,7 @@ def activation_env(library: Path, ros: RosEnvironment, base: Mapping[str, str] |
     library_dirs = ros.library_path(base.get("LD_LIBRARY_PATH"))
     prefixes = [str(p) for p in ros.ament_prefixes]
     # The process's own AMENT_PREFIX_PATH (a target's `env:`, a sourced overlay) comes first.
-    for prefix in reversed([p for p in base.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]):
+    for prefix in reversed([str(p) for p in ament_index.env_prefixes(base)]):
         if prefix in prefixes:
             prefixes.remove(prefix)
         prefixes.insert(0, prefix)

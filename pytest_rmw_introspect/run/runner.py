@@ -60,15 +60,18 @@ from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
 
 from ..errors import (
+    Cancelled,
     CaptureFormatError,
     ExecutableNotFound,
     LifecycleTransitionFailed,
     NoNodeCreated,
+    NotEnded,
     StimulusFailed,
     TargetError,
     TargetExited,
     TargetNotStopped,
     TargetTimeout,
+    WarmStartFailed,
 )
 from . import failure_hints, process, progress, ros_env
 from .deadline import Watchdog
@@ -250,7 +253,7 @@ def _start(target: ResolvedTarget, python: str | None, warm_wait: float | None) 
             try:
                 child = server.spawn(target.warm, env=env, cwd=cwd)
                 return _Started(child, child.stdout, child.stderr, None, list(target.warm.orig_argv), child)
-            except warm.WarmStartFailed as exc:
+            except WarmStartFailed as exc:
                 note = str(exc)
         else:
             note = server
@@ -283,10 +286,6 @@ def _import_capture_model_meanwhile() -> None:
     if _CAPTURE_MODEL not in sys.modules:
         threading.Thread(target=importlib.import_module, args=(_CAPTURE_MODEL,),
                          name="rmw-introspect import", daemon=True).start()
-
-
-class Cancelled(Exception):
-    """The capture was cancelled (its ``cancel`` event was set): its target was stopped."""
 
 
 #: seconds between two looks at a capture's ``cancel`` event while its target runs
@@ -332,12 +331,12 @@ def _wait(start: _Started, timeout: float, cancel: threading.Event | None = None
         with stopping:
             try:
                 returncode = stop(proc)
-            except process.NotEnded as exc:
+            except NotEnded as exc:
                 if start.warm_child is not None:
                     start.warm_child.server_stopped_answering()
                 raise TargetNotStopped(describe or f"pid {proc.pid}", exc.pid, exc.waited, exc.state, exc.reaper) from None
     except BaseException:  # KeyboardInterrupt (or SIGTERM, see cli), Cancelled: do not leave it behind
-        with stopping, contextlib.suppress(process.NotEnded):  # the interruption is what to report
+        with stopping, contextlib.suppress(NotEnded):  # the interruption is what to report
             stop(proc, 0.5, 0.5)
         raise
     finally:

@@ -31,10 +31,10 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, cast
 
-from ..errors import NoNodeCreated, TargetConfigError, TargetError
+from ..errors import Cancelled, InputError, LaunchError, NoNodeCreated, SystemCaptureError, TargetConfigError, TargetError
 from ..launch import component_loads
 from ..launch import reader as launch_reader
-from ..launch.result import LaunchedNode, LaunchError, LaunchParameter, LaunchResult
+from ..launch.result import LaunchedNode, LaunchParameter, LaunchResult
 from ..model import stand_ins as stand_in_model
 from ..model import untrusted
 from ..model.capture import Capture
@@ -256,19 +256,17 @@ class SystemCapture:
         return "\n".join(lines)
 
 
-class SystemCaptureError(TargetError):
-    """Some processes of a system could not be captured; ``failures`` maps each one's label to its error."""
-
-    def __init__(self, spec: LaunchSpec, failures: Sequence[tuple[ProcessCapture, TargetError]], total: int) -> None:
-        self.failures = list(failures)
-        parts = [f"{len(failures)} of the {total} processes of `{spec.describe()}` could not be captured:"]
-        for process, error in failures:
-            parts.append(f"\n[{process.label}] started at {process.launched.where}:\n" + _indent(str(error)))
-        #: the ``stand_ins:`` block for the processes that failed for lack of a device ("" if none)
-        self.stand_in_proposal = _stand_in_proposal(failures)
-        if self.stand_in_proposal:
-            parts.append("\n" + STAND_IN_ADVICE + "\n" + _indent(self.stand_in_proposal.rstrip("\n")))
-        super().__init__("\n".join(parts), target=spec.describe())
+def _capture_failed(spec: LaunchSpec, failures: Sequence[tuple[ProcessCapture, TargetError]], total: int) -> SystemCaptureError:
+    """The error of a system capture some of whose processes could not be captured: each one's
+    error under its label and where it was started, then the ``stand_ins:`` block for those that
+    failed for lack of a device."""
+    parts = [f"{len(failures)} of the {total} processes of `{spec.describe()}` could not be captured:"]
+    for process, error in failures:
+        parts.append(f"\n[{process.label}] started at {process.launched.where}:\n" + _indent(str(error)))
+    proposal = _stand_in_proposal(failures)
+    if proposal:
+        parts.append("\n" + STAND_IN_ADVICE + "\n" + _indent(proposal.rstrip("\n")))
+    return SystemCaptureError("\n".join(parts), target=spec.describe())
 
 
 #: what to do with a ``stand_ins:`` proposal
@@ -292,7 +290,7 @@ def device_of(process: LaunchedNode, error_text: str) -> str | None:
         if parameter.file is not None:
             try:
                 candidates += _DEVICE.findall(untrusted.read_text(Path(parameter.file)))
-            except (OSError, untrusted.InputError):
+            except (OSError, InputError):
                 pass
     candidates += [m for word in process.ros_arguments for m in _DEVICE.findall(word)]
     return next((c for c in candidates if not os.path.exists(c)), None)
@@ -443,7 +441,7 @@ def capture_system(
                 processes[index].no_node = exc
             except TargetError as exc:
                 return exc
-            except runner.Cancelled:
+            except Cancelled:
                 return None  # the capture as a whole is being abandoned
             return None
 
@@ -470,7 +468,7 @@ def capture_system(
         shutil.rmtree(params_dir, ignore_errors=True)
     failures = [(p, e) for p, e in zip(processes, errors, strict=True) if e is not None]
     if failures:
-        raise SystemCaptureError(spec, failures, len(processes))
+        raise _capture_failed(spec, failures, len(processes))
     return SystemCapture(spec=spec, launch=launch, processes=processes)
 
 

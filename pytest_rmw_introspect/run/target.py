@@ -30,6 +30,7 @@ from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ExecutableNotFound, TargetConfigError
+from ..model import ament_index
 from ..model.option_tables import MAX_SECONDS, TARGET
 from ..model.vocabulary import DEFAULT_LIFECYCLE_TARGET, LIFECYCLE_TARGETS
 from . import middleware, ros_env
@@ -193,7 +194,7 @@ class TargetSpec:
         if missing == "package":
             return (f"Target package/executable is incomplete: `package` is missing (executable "
                     f"'{self.executable}' was given): name the ROS package that installs it.")
-        prefixes = [Path(p) for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
+        prefixes = ament_index.env_prefixes()
         names = package_executables(str(self.package), [*prefixes, Path(sys.prefix)], _python_path(self))
         listed = (f"The package has these executables: {', '.join(names)}" if names else
                   f"No executable of package '{self.package}' was found (is it installed?)")
@@ -479,12 +480,6 @@ def ros_arguments(spec: TargetSpec) -> list[str]:
 # ---------------------------------------------------------------------- ament index
 
 
-def ament_providers(package: str, prefixes: Sequence[Path]) -> list[Path]:
-    """The prefixes whose ament index lists ``package``, in ``AMENT_PREFIX_PATH`` order."""
-    return [Path(p) for p in prefixes
-            if (Path(p) / "share" / "ament_index" / "resource_index" / "packages" / package).exists()]
-
-
 def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> Path:
     """Find ``<prefix>/lib/<package>/<executable>`` like ``ros2 run``.
 
@@ -492,7 +487,7 @@ def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> 
     ``share/ament_index/resource_index/packages/<package>``. The first prefix (in
     ``AMENT_PREFIX_PATH`` order) providing the package wins, like ``ros2 run``.
     """
-    providers = ament_providers(package, prefixes)
+    providers = ament_index.providers(package, prefixes)
     searched = [str(p) for p in prefixes]
     if not providers:
         raise ExecutableNotFound(
@@ -539,7 +534,7 @@ def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> 
 def package_executables(package: str, prefixes: Sequence[Path], python_path: Sequence[str] = ()) -> list[str]:
     """Every executable ``package`` installs: ``lib/<package>/*`` of the first prefix that has the
     package (like ``ros2 run``), else the console scripts of the Python distribution ``package``."""
-    providers = ament_providers(package, prefixes)
+    providers = ament_index.providers(package, prefixes)
     if providers:
         lib_dir = providers[0] / "lib" / package
         return sorted(p.name for p in lib_dir.iterdir() if p.is_file() and os.access(p, os.X_OK)) if lib_dir.is_dir() else []
@@ -566,7 +561,7 @@ def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | No
             # are console scripts in the venv's bin/, not in lib/<package>/
             scripts = console_scripts(spec.package, _python_path(spec))
             if not scripts or spec.executable not in scripts:
-                in_index = bool(ament_providers(spec.package, prefixes))
+                in_index = bool(ament_index.providers(spec.package, prefixes))
                 raise _no_console_script(spec.package, spec.executable, scripts, in_index, not_installed) from None
             base = entry_point_argv(scripts[spec.executable], python, name=spec.executable)
     elif kind == "script":

@@ -19,7 +19,7 @@ import warm_helpers as w
 from rmwi_processes import alive, wait_gone
 
 from pytest_rmw_introspect.check import golden
-from pytest_rmw_introspect.errors import GoldenWriteError, NoNodeCreated, TargetTimeout
+from pytest_rmw_introspect.errors import GoldenWriteError, LockTimeout, NoNodeCreated, TargetTimeout
 from pytest_rmw_introspect.run import deadline, locks, runner
 from pytest_rmw_introspect.run.target import TargetSpec
 from pytest_rmw_introspect.run.warm import client as warm
@@ -157,8 +157,8 @@ def test_a_build_lock_held_by_a_stopped_process_names_it(tmp_path):
     holder = _stopped_holder(tmp_path, lock)
     try:
         error, took = _timed(lambda: locks.held(lock, 1.0).__enter__())
-        assert isinstance(error, locks.LockTimeout), error
-        assert error.holder.startswith(f"pid {holder.pid}, T (stopped)")
+        assert isinstance(error, LockTimeout), error
+        assert str(error.holder).startswith(f"pid {holder.pid}, T (stopped)")
         assert took < 1 + MARGIN_S
     finally:
         _end(holder)
@@ -168,7 +168,7 @@ def test_a_build_lock_held_by_a_stopped_process_names_it(tmp_path):
 
 
 def test_the_middleware_build_lock_held_by_a_stopped_builder_fails_with_its_pid(tmp_path, monkeypatch):
-    """The real build lock of run/middleware.py: a builder that stopped (its `.builder` file names it)
+    """The real build lock of run/middleware.py: a builder that stopped (its `<lock>.pid` file names it)
     makes a waiting process fail after BUILD_LOCK_TIMEOUT, naming the builder and its state."""
     from pytest_rmw_introspect.errors import SetupError
     from pytest_rmw_introspect.run import middleware, ros_env
@@ -181,7 +181,7 @@ def test_the_middleware_build_lock_held_by_a_stopped_builder_fails_with_its_pid(
         from pathlib import Path
         from filelock import FileLock
         with FileLock({str(lock)!r}):
-            Path({str(tmp_path / "jazzy-0123.builder")!r}).write_text(f"{{os.getpid()}} -\\n")
+            Path({str(tmp_path / "jazzy-0123.lock.pid")!r}).write_text(f"{{os.getpid()}} -\\n")
             Path({str(ready)!r}).write_text("1")
             os.kill(os.getpid(), signal.SIGSTOP)
     """)

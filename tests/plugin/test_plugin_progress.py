@@ -55,7 +55,7 @@ def test_a_build_and_the_processes_waiting_for_it_say_what_they_do(pytester: pyt
     assert cli
 
     builder = _start([*pytest_cmd, "-n", "2"], pytester.path, env, tmp_path / "xdist.out")
-    _wait_for("jazzy-*.builder", cache, timeout=120)  # one of its workers builds
+    _wait_for("jazzy-*.lock.pid", cache, timeout=120)  # one of its workers builds
     waiting_session = _start(pytest_cmd, pytester.path, env, tmp_path / "session.out")
     waiting_cli = _start([cli, "capture", "--format", "json", "--script", str(NODES / "talker.py")], pytester.path, env,
                          tmp_path / "cli.out")

@@ -9,6 +9,7 @@ import pytest
 from pytest_rmw_introspect.compare import drift
 from pytest_rmw_introspect.compare.drift import DriftItem, compare
 from pytest_rmw_introspect.compare.options import ComparisonOptions as CompareOptions
+from pytest_rmw_introspect.errors import OptionError
 from pytest_rmw_introspect.model.vocabulary import LISTS, Severity
 
 S = 1_000_000_000
@@ -438,7 +439,7 @@ def test_allow_extra_drops_added_nodes_but_keeps_removals():
 
 
 def test_ignore_qos_rejects_unknown_fields():
-    with pytest.raises(ValueError, match="ignore_qos: unknown QoS field.*reliabilty"):
+    with pytest.raises(OptionError, match="ignore_qos: unknown QoS field.*reliabilty"):
         compare({}, {}, CompareOptions(ignore_qos=frozenset({"reliabilty"})))
 
 

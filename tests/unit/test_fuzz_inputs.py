@@ -21,10 +21,9 @@ from pathlib import Path
 import pytest
 
 from pytest_rmw_introspect import cli
-from pytest_rmw_introspect.errors import CaptureFormatError, ContractError, TargetConfigError
+from pytest_rmw_introspect.errors import CaptureFormatError, ContractError, LaunchError, TargetConfigError
 from pytest_rmw_introspect.launch import python_file as launch_python
 from pytest_rmw_introspect.launch import reader as launch_reader
-from pytest_rmw_introspect.launch.result import LaunchError
 from pytest_rmw_introspect.model.capture import Capture
 from pytest_rmw_introspect.model.contract import loads, render
 from pytest_rmw_introspect.run.target import TargetSpec, ros_arguments
@@ -277,8 +276,8 @@ def test_a_fifo_given_as_contract_is_never_opened_for_reading(tmp_path, monkeypa
 
 
 def test_a_fifo_or_a_directory_given_as_launch_file_says_what_it_is(tmp_path, monkeypatch):
+    from pytest_rmw_introspect.errors import LaunchError
     from pytest_rmw_introspect.launch import reader as launch_reader
-    from pytest_rmw_introspect.launch.result import LaunchError
 
     monkeypatch.chdir(tmp_path)  # paths in messages are shown relative to it
     os.mkfifo(tmp_path / "pipe.launch.xml")

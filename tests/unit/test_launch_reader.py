@@ -11,9 +11,10 @@ from pathlib import Path
 
 import pytest
 
+from pytest_rmw_introspect.errors import LaunchError
 from pytest_rmw_introspect.launch import reader as launch_reader
 from pytest_rmw_introspect.launch import substitutions as launch_substitutions
-from pytest_rmw_introspect.launch.result import LaunchError, LaunchParameter
+from pytest_rmw_introspect.launch.result import LaunchParameter
 
 # ---------------------------------------------------------------------------- helpers
 

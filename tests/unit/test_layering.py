@@ -86,7 +86,6 @@ LOCAL_IMPORTS = {
     ("cli.formats", "yaml"): "PyYAML costs ~20 ms; `capture` starts without it, it prints with it",
     ("cli.formats", "pytest_rmw_introspect.check"): "the contract writer (~25 ms with PyYAML): `capture` "
                                                     "starts without it, it prints with it",
-    ("run.middleware", "filelock"): "filelock (+ logging) costs ~15 ms; only building the middleware needs it",
     ("run.locks", "filelock"): "filelock (+ logging) costs ~15 ms; only building the middleware or writing a golden "
                                "file needs it",
     ("plugin", "pytest_rmw_introspect.plugin"): "the hooks that run tests (~50 ms of imports): a pytest-xdist "

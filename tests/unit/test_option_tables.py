@@ -19,7 +19,8 @@ from pytest_rmw_introspect import options_reference
 from pytest_rmw_introspect.check.pipeline import Layers
 from pytest_rmw_introspect.cli import commands
 from pytest_rmw_introspect.cli.parser import build_parser, compare_from_args, target_from_args
-from pytest_rmw_introspect.compare.options import OPTION_KEYS, ComparisonOptions, OptionError, parse_layer, parse_one
+from pytest_rmw_introspect.compare.options import OPTION_KEYS, ComparisonOptions, parse_layer, parse_one
+from pytest_rmw_introspect.errors import OptionError
 from pytest_rmw_introspect.model import contract, system_contract
 from pytest_rmw_introspect.model.contract import Contract
 from pytest_rmw_introspect.model.option_tables import (

@@ -8,7 +8,8 @@ import pytest
 
 from pytest_rmw_introspect.compare import parameter_drift
 from pytest_rmw_introspect.compare.drift import compare
-from pytest_rmw_introspect.compare.options import ComparisonOptions, OptionError, parse_layer
+from pytest_rmw_introspect.compare.options import ComparisonOptions, parse_layer
+from pytest_rmw_introspect.errors import OptionError
 from pytest_rmw_introspect.model.parameters import ParameterRange
 from pytest_rmw_introspect.model.vocabulary import Severity
 

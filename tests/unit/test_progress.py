@@ -120,14 +120,14 @@ HOLD_THE_LOCK = textwrap.dedent("""
     from filelock import FileLock
     entry, scope = Path(sys.argv[1]), sys.argv[2]
     with FileLock(f"{entry}.lock"):
-        Path(f"{entry}.builder").write_text(f"4242 {scope}\\n")
+        Path(f"{entry}.lock.pid").write_text(f"4242 {scope}\\n")
         print("holding", flush=True)
         time.sleep(2.5)
         library = entry / "install" / "lib" / "librmw_introspect_cpp.so"
         library.parent.mkdir(parents=True)
         library.write_bytes(b"")
         (entry / "complete").write_text(str(library))
-        Path(f"{entry}.builder").unlink()
+        Path(f"{entry}.lock.pid").unlink()
 """)
 
 

@@ -7,6 +7,7 @@ import pytest
 from pytest_rmw_introspect.compare import report
 from pytest_rmw_introspect.compare.drift import compare
 from pytest_rmw_introspect.compare.options import ComparisonOptions as CompareOptions
+from pytest_rmw_introspect.errors import OptionError
 from pytest_rmw_introspect.model.vocabulary import Severity, parse_threshold
 
 H1 = "RIHS01_" + "1" * 64
@@ -176,7 +177,7 @@ def test_parse_threshold(text, severity):
 
 @pytest.mark.parametrize("text", ["safe", "all", "", "warning", None, 1])
 def test_parse_threshold_rejects_other_values(text):
-    with pytest.raises(ValueError, match="invalid fail threshold .*expected one of any, risky, "
+    with pytest.raises(OptionError, match="invalid fail threshold .*expected one of any, risky, "
                                          "breaking"):
         parse_threshold(text)
 

@@ -7,6 +7,7 @@ import random
 import pytest
 
 from pytest_rmw_introspect.check import sharding
+from pytest_rmw_introspect.errors import UsageError
 
 CONTRACTS = [f"contracts/node_{i:02d}.interfaces.yaml" for i in range(11)]
 
@@ -45,5 +46,5 @@ def test_parse(text, expected):
     ("3/2", "I must be between 1 and N"), ("1/0", "I must be between 1 and N"),
 ])
 def test_bad_shards_say_what_to_write(text, message):
-    with pytest.raises(ValueError, match=message):
+    with pytest.raises(UsageError, match=message):
         sharding.parse(text)

@@ -12,7 +12,7 @@ import pytest
 import type_tables
 
 from pytest_rmw_introspect.compare import type_lock as lock_check
-from pytest_rmw_introspect.errors import TypeLockError
+from pytest_rmw_introspect.errors import TypeLockError, UnhashableType
 from pytest_rmw_introspect.model import type_hash, type_lock
 from pytest_rmw_introspect.model.types import Field
 from pytest_rmw_introspect.run import ros_env
@@ -51,7 +51,7 @@ def test_computed_hashes_are_rosidls_for_every_installed_message_type():
 def test_a_type_whose_nested_type_is_not_described_has_no_hash():
     table = type_tables.describe(IMAGE)
     del table[TIME]
-    with pytest.raises(type_hash.UnhashableType, match=f"{HEADER} nests {TIME}, which is not described"):
+    with pytest.raises(UnhashableType, match=f"{HEADER} nests {TIME}, which is not described"):
         type_hash.message_hash(table, IMAGE)
     assert IMAGE not in type_hash.message_hashes(table) and HEADER not in type_hash.message_hashes(table)
 

@@ -51,6 +51,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
+from ...errors import WarmStartFailed
 from .. import process
 
 #: exact names of environment variables a server is keyed on (besides the prefixes below)
@@ -103,10 +104,6 @@ _PACKAGE_PARENT = str(Path(__file__).resolve().parents[3])  # the directory hold
 _ZIP_MAGIC = b"PK\x03\x04"
 _PYTHON_NAME = re.compile(r"python[0-9.]*")
 _ELF_MAGIC = b"\x7fELF"
-
-
-class WarmStartFailed(Exception):
-    """The server could not start the target (it died, or refused): the runner starts it cold."""
 
 
 # ---------------------------------------------------------------------------------- the plan

@@ -10,7 +10,7 @@ import pytest
 from pytest_rmw_introspect.check import system_pipeline
 from pytest_rmw_introspect.compare import report
 from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
-from pytest_rmw_introspect.errors import ContractError, TargetConfigError
+from pytest_rmw_introspect.errors import ContractError, TargetConfigError, UsageError
 from pytest_rmw_introspect.launch.result import LaunchedNode, LaunchParameter, Where
 from pytest_rmw_introspect.model import system_contract
 from pytest_rmw_introspect.model.vocabulary import Severity
@@ -254,7 +254,7 @@ def test_one_compatibility_check_reads_contract_files_of_either_kind(tmp_path, m
     assert set(result.lines) == set(result.labels) and result.lines["talker.interfaces.yaml"]
     assert result.file_of is not None and result.file_of("robot.system.yaml: demo/talker") == "robot.system.yaml"
     assert {i.rule for i in result.items} >= {"DUPLICATE_NODE_NAME", "QOS_INCOMPATIBLE"} and result.failed
-    with pytest.raises(ValueError, match="no contracts given"):
+    with pytest.raises(UsageError, match="no contracts given"):
         system_pipeline.check_contracts([])
 
 

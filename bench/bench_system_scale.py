@@ -13,8 +13,8 @@ size run back to back, so their ratio is taken under the same load.
 
 Prints a Markdown table (medians), the check/capture ratios, the cost per process (slope
 between the smallest and the largest size) and the CPU per process; ``--plot`` draws the
-times against N into a PNG (needs matplotlib, which is not in the lock: ``pip install
-matplotlib`` into the venv first). Any run that fails (exit status not 0, or a check that does
+times against N into a PNG (matplotlib, from the lock's development tools; ``make bench`` draws
+docs/system-scale.png). Any run that fails (exit status not 0, or a check that does
 not match) stops the benchmark with exit status 1 and the run's output: no timing is asserted.
 """
 
@@ -106,8 +106,8 @@ def main() -> int:
         try:
             import matplotlib
         except ImportError:
-            sys.exit("bench_system_scale: --plot needs matplotlib, which is not in the lock: "
-                     f"{sys.executable} -m pip install matplotlib")
+            sys.exit("bench_system_scale: --plot needs matplotlib (requirements/tools.in): `make bootstrap` "
+                     "installs it into the venv")
         matplotlib.use("Agg")
     print(f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at the start", flush=True)
     results: dict[int, tuple[list[Run], list[Run]]] = {}

@@ -24,7 +24,6 @@ struct ResolvedType
   std::string typesupport;  // identifier of the handle the caller passed
   bool is_cpp = false;      // resolved through the C++ introspection type support
   const void * members = nullptr;  // introspection MessageMembers / ServiceMembers
-  const rosidl_message_type_support_t * introspection_message = nullptr;
   /// The type and every type it refers to (type_description.hpp); shared by the endpoints
   /// and the capture's `types` table.
   TypeDescriptionsPtr descriptions;

@@ -64,7 +64,6 @@ rmw_publisher_t * rmw_create_publisher(
   if (!impl) {
     return nullptr;
   }
-  impl->is_publisher = true;
   impl->bookkeeping = impl->name == "/rosout" || impl->name == "/parameter_events";
   impl->handle.topic_name = impl->name.c_str();
   impl->handle.options = *publisher_options;

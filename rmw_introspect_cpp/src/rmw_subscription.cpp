@@ -86,7 +86,6 @@ rmw_subscription_t * rmw_create_subscription(
   if (!impl) {
     return nullptr;
   }
-  impl->is_publisher = false;
   impl->handle.topic_name = impl->name.c_str();
   impl->handle.options = *subscription_options;
   impl->handle.options.content_filter_options = nullptr;  // not owned by us

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 
+#include "detail/real_sleep.hpp"
 #include "detail/sleep.hpp"
 
 namespace

@@ -63,7 +63,6 @@ private:
 /// Publishers and subscriptions are the targets of rmw_event_t::data.
 struct EventSource
 {
-  bool is_publisher = false;
   Callback event_callbacks[kEventTypeEnd];
   MatchedState matched;  // PUBLICATION_MATCHED / SUBSCRIPTION_MATCHED (delivery only)
   std::atomic<bool> delivered{false};  // registered with the Delivery: events are live

@@ -32,8 +32,7 @@
 #include "rosidl_typesupport_introspection_cpp/message_introspection.hpp"
 #include "rosidl_typesupport_introspection_cpp/service_introspection.hpp"
 
-#include "detail/type_description.hpp"
-#include "detail/typesupport.hpp"
+#include "detail/message_layout.hpp"
 
 namespace rmw_introspect
 {

@@ -9,7 +9,7 @@
 #include <cstring>
 #include <thread>
 
-#include "detail/sleep.hpp"
+#include "detail/real_sleep.hpp"
 
 namespace rmw_introspect
 {

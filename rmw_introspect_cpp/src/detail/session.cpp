@@ -1,11 +1,9 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 #include "detail/session.hpp"
 
-#include <algorithm>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
-#include <vector>
+#include <optional>
 
 namespace rmw_introspect
 {
@@ -17,45 +15,11 @@ constexpr int64_t kSnapshotDelayNs = 20 * 1000 * 1000;
 constexpr int64_t kNsPerMs = 1000 * 1000;
 // Activity calls after the last change that make a process that never waits "in its loop".
 constexpr uint64_t kSettlingActivity = 2;
-// A process that settled by activity before any wait gets this long to start waiting (an
-// executor starting to spin right after a burst of publishes) before the probing is skipped;
-// while its main thread is runnable at that moment (still setting up, or waiting for a CPU on a
-// busy machine) it gets more, looked at again every kFirstWaitRecheckNs, up to kFirstWaitMaxNs
-// (what a node that loops without ever waiting, and without sleeping, costs).
-constexpr int64_t kFirstWaitGraceNs = 250 * 1000 * 1000;
-constexpr int64_t kFirstWaitRecheckNs = 50 * 1000 * 1000;
-constexpr int64_t kFirstWaitMaxNs = 2000 * 1000 * 1000;
-// A process proven idle by a sleep loop (settled_by "sleep") whose loop goes round once more in
-// that grace - the sleeper wakes, uses ROS and sleeps again, and still no thread waited - is in
-// its steady loop: the grace ends this long after (time for a thread it woke to start to spin).
-constexpr int64_t kSleepLoopAgainNs = 20 * 1000 * 1000;
-// The warp of a process that made jumps stalls after this long without a wait with a timeout.
-constexpr int64_t kStallAfterJumpsNs = 500 * 1000 * 1000;
-// Fast-forward (docs/design.md, "Fast-forward of a steady periodic timer"): after this many jumps
-// in a row to equally spaced deadlines with no entity created or destroyed, the next jump goes
-// straight to the horizon. Two steps count as equal within half the longer one, at least
-// kSteadyToleranceNs: a jump's target is the wait's timeout added to the real clock read a
-// moment after rcl read it, so it carries the time the process ran in between (a busy machine:
-// up to a millisecond and more), while two timers of different periods alternate their steps.
-constexpr uint64_t kSteadyJumpsBeforeHorizon = 100;
-constexpr int64_t kSteadyToleranceNs = 200 * 1000;
-// Steps unlike the reference step forgiven before it is replaced (plus one per ten steady jumps).
-constexpr uint64_t kOddJumpsForgiven = 10;
-// A census that found a thread not blocked (a sleep loop, a callback running) is taken again
-// this long after, while nothing else changes (each costs a few hundred microseconds).
-constexpr int64_t kCensusRecheckNs = 5 * 1000 * 1000;
-// Idle pollers (docs/design.md, "Detected quiescence"): a thread that polled rmw_wait back to
-// back (never a gap over kPollGapNs in which it blocked or slept: a preempted thread on a busy
-// machine did neither) and found nothing ready, at least
-// kIdlePolls times over at least kIdlePollingNs (or settle_ms, if shorter), with nothing
-// created, destroyed, jumped or called meanwhile, is idle like a blocked one.
-constexpr uint64_t kIdlePolls = 20;
-constexpr int64_t kIdlePollingNs = 10 * 1000 * 1000;
-constexpr int64_t kPollGapNs = 5 * 1000 * 1000;
 
+/// Lowers the step's deadline to `when` (INT64_MAX: no deadline, what a part leaves untouched).
 void propose(int64_t when, bool * has_deadline, int64_t * deadline)
 {
-  if (!*has_deadline || when < *deadline) {
+  if (when != INT64_MAX && (!*has_deadline || when < *deadline)) {
     *has_deadline = true;
     *deadline = when;
   }
@@ -65,7 +29,11 @@ void propose(int64_t when, bool * has_deadline, int64_t * deadline)
 Session::Session(
   const Clock & clock, VirtualClock & virtual_clock, const Settings & settings,
   const MainThreadState * main_thread)
-: clock_(clock), main_thread_(main_thread), virtual_clock_(virtual_clock), settings_(settings)
+: clock_(clock), virtual_clock_(virtual_clock), settings_(settings),
+  idle_({settings.settle_ms, settings.detect_idle,
+      settings.virtual_sleeps && settings.horizon_ms > 0}),
+  warp_(virtual_clock, {settings.settle_ms, settings.horizon_ms, settings.warp_budget_ms}),
+  probing_(settings.answer_timeout_ms, main_thread)
 {
 }
 
@@ -76,6 +44,7 @@ bool Session::start()
   }
   started_ = true;
   t0_ns_ = clock_.now_ns();
+  warp_.set_origin(t0_ns_);
   last_change_ns_ = t0_ns_;
   quiet_since_ns_ = t0_ns_;
   return true;
@@ -84,8 +53,7 @@ bool Session::start()
 void Session::break_quiet(int64_t now, bool voids_polls)
 {
   if (voids_polls) {
-    ++poll_epoch_;
-    ++idle_version_;  // (a poll of the warp changes nothing a census answered)
+    idle_.new_epoch();  // (a poll of the warp changes nothing a census answered)
   }
   ++quiet_epoch_;
   quiet_since_ns_ = now;
@@ -96,8 +64,7 @@ void Session::break_quiet(int64_t now, bool voids_polls)
 
 void Session::on_change()
 {
-  steady_jumps_ = 0;  // a timer that creates something is not fast-forwarded
-  odd_jumps_ = 0;
+  warp_.on_change();
   ++generation_;
   last_change_ns_ = clock_.now_ns();
   break_quiet(last_change_ns_);
@@ -116,99 +83,30 @@ bool Session::on_poll(pid_t tid, bool found_nothing, uint64_t voluntary_switches
   const int64_t now = clock_.now_ns();
   ever_waited_ = true;
   if (phase_ == Phase::kWarping) {
-    warp_loop_seen_ = true;
-    ++warp_polls_;
+    warp_.on_poll();
     break_quiet(now, false);
   }
   ++polls_;
-  bool look = ++polls_current_ == kSettlingActivity;
-  if (!found_nothing) {
-    poll_runs_.erase(tid);  // it had something to do
-    return look;
-  }
-  PollRun & run = poll_runs_[tid];
-  const bool paused =
-    now - run.last_ns > kPollGapNs && voluntary_switches != run.voluntary_switches;
-  if (run.epoch != poll_epoch_ || paused) {
-    run = PollRun();  // a new run: something happened, or the thread slept or blocked
-    run.epoch = poll_epoch_;
-    run.since_ns = now;
-  }
-  run.last_ns = now;
-  run.voluntary_switches = voluntary_switches;
-  ++run.polls;
-  const int64_t long_enough =
-    std::min(kIdlePollingNs, static_cast<int64_t>(settings_.settle_ms) * kNsPerMs);
-  if (!run.announced && run.polls >= kIdlePolls && now - run.since_ns >= long_enough) {
-    run.announced = true;
-    ++idle_version_;
-    look = look || settings_.detect_idle;
-  }
-  return look;
+  const bool look = ++polls_current_ == kSettlingActivity;
+  const bool proven = idle_.on_poll(tid, now, found_nothing, voluntary_switches);
+  return look || proven;
 }
 
 uint64_t Session::enter_wait(pid_t tid, int64_t deadline_ns)
 {
   ever_waited_ = true;
-  poll_runs_.erase(tid);  // it blocks now: the blocked wait proves what it can
   ++waiters_current_;
-  ++idle_version_;
-  const uint64_t token = next_wait_token_++;
-  BlockedWait & blocked = blocked_[token];
-  blocked.tid = tid;
-  blocked.deadline_ns = deadline_ns;
-  blocked.quiet_epoch = quiet_epoch_;
-  blocked.wake_epoch = wake_epoch_;
-  return token;
+  return idle_.enter_wait(tid, deadline_ns, quiet_epoch_);
 }
 
 uint64_t Session::enter_sleep(pid_t tid, int64_t deadline_ns)
 {
-  poll_runs_.erase(tid);
-  ++idle_version_;
-  if (phase_ == Phase::kProbing && !ever_waited_ && !probe_done_ && settled_by_sleep() &&
-    used_ros_since_change(tid))
+  if (phase_ == Phase::kProbing && !ever_waited_ && settled_by_sleep() &&
+    idle_.used_ros_in(tid, generation_))
   {
-    // Its loop went round again since the probing began (see kSleepLoopAgainNs).
-    first_wait_give_up_ns_ = std::min(first_wait_give_up_ns_, clock_.now_ns() + kSleepLoopAgainNs);
+    probing_.sleep_loop_again(clock_.now_ns());  // (see Probing::sleep_loop_again)
   }
-  const uint64_t token = next_sleep_token_++;
-  sleepers_[token] = Sleeper{tid, deadline_ns};
-  return token;
-}
-
-void Session::leave_sleep(uint64_t token)
-{
-  if (sleepers_.erase(token) > 0) {
-    ++idle_version_;
-  }
-}
-
-bool Session::used_ros_since_change(pid_t tid) const
-{
-  return activity_generation_.marked(tid, generation_);
-}
-
-bool Session::sleeper_counts(const Sleeper & sleeper) const
-{
-  if (!settings_.virtual_sleeps || settings_.horizon_ms <= 0) {
-    return false;  // nothing steps a sleep: it proves nothing (the census says it sleeps)
-  }
-  if (phase_ == Phase::kWarping) {
-    return false;  // a sleep from before the warp is about to come back and jump
-  }
-  return used_ros_since_change(sleeper.tid);
-}
-
-std::vector<const Session::Sleeper *> Session::counted_sleepers() const
-{
-  std::vector<const Sleeper *> counted;
-  for (const auto & entry : sleepers_) {
-    if (sleeper_counts(entry.second)) {
-      counted.push_back(&entry.second);
-    }
-  }
-  return counted;
+  return idle_.enter_sleep(tid, deadline_ns);
 }
 
 bool Session::settled_by_sleep() const
@@ -218,162 +116,52 @@ bool Session::settled_by_sleep() const
 
 void Session::leave_wait(uint64_t token)
 {
-  const auto it = blocked_.find(token);
-  if (it == blocked_.end()) {
-    return;
-  }
-  if (it->second.quiet_epoch == quiet_epoch_ && waiters_current_ > 0) {
+  uint64_t quiet_epoch = 0;
+  if (idle_.leave_wait(token, &quiet_epoch) && quiet_epoch == quiet_epoch_ &&
+    waiters_current_ > 0)
+  {
     --waiters_current_;
   }
-  blocked_.erase(it);
-  ++idle_version_;
 }
 
-void Session::on_wake(pid_t by)
+IdleProof::Moment Session::moment(int64_t now) const
 {
-  ++wake_epoch_;
-  const auto run = poll_runs_.find(by);
-  if (by == 0 || run == poll_runs_.end() || run->second.epoch != poll_epoch_) {
-    ++idle_version_;
-  }
-}
-
-void Session::census_done(uint64_t version, bool idle, const std::string & culprit)
-{
-  census_answer_version_ = version;
-  census_answer_idle_ = idle;
-  census_answered_ns_ = clock_.now_ns();
-  not_idle_reason_ = idle ? std::string() : culprit;
-}
-
-bool Session::deadline_matters(int64_t deadline_ns) const
-{
-  if (deadline_ns < 0) {
-    return false;
-  }
+  IdleProof::Moment moment;
+  moment.now_ns = now;
+  moment.window_end_ns = quiet_since_ns_ + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
+  moment.generation = generation_;
+  moment.warping = phase_ == Phase::kWarping;
+  // Before the warp, the warp jumps to a deadline next; a deadline past the horizon (the
+  // settle after the warp) is later than anything the capture covers. Without a warp, the
+  // quiet window is all the time the process gets.
   const int64_t horizon_ns = settings_.horizon_ms * kNsPerMs;
-  if (horizon_ns <= 0) {
-    return true;  // no warp: the quiet window is all the time the process gets
-  }
-  // Before the warp, the warp jumps to it next; a deadline past the horizon (the settle after
-  // the warp) is later than anything the capture covers.
   const bool warp_to_come = phase_ == Phase::kSettling || phase_ == Phase::kProbing;
-  return !warp_to_come && deadline_ns + virtual_clock_.offset_ns() - t0_ns_ <= horizon_ns;
-}
-
-bool Session::idle_pollers(int64_t now, std::vector<pid_t> * proven)
-{
-  const int64_t long_enough =
-    std::min(kIdlePollingNs, static_cast<int64_t>(settings_.settle_ms) * kNsPerMs);
-  for (const auto & entry : poll_runs_) {
-    const PollRun & run = entry.second;
-    if (run.epoch != poll_epoch_) {
-      continue;  // not polling since the last change: the census says what it does
-    }
-    if (now - run.last_ns > kPollGapNs) {
-      poller_recheck_ = poller_recheck_ || run.announced;  // preempted, or stopped polling
-      continue;
-    }
-    if (run.polls < kIdlePolls || now - run.since_ns < long_enough) {
-      return false;  // still polling, not yet long enough
-    }
-    proven->push_back(entry.first);
+  if (horizon_ns <= 0) {
+    moment.deadlines_until_ns = INT64_MAX;
+  } else if (warp_to_come) {
+    moment.deadlines_until_ns = INT64_MIN;
+  } else {
+    moment.deadlines_until_ns = t0_ns_ + horizon_ns - virtual_clock_.offset_ns();
   }
-  return true;
+  // After jumps, rcl polls while a timer due in real time catches up: the stall rule of the
+  // warp decides. Before any, idle polls stall the warp (poll()), they do not settle it.
+  moment.pollers_prove = !(moment.warping && (warp_.jumps() > 0 || !warp_.loop_seen()));
+  return moment;
 }
 
 bool Session::provably_idle(int64_t now)
 {
-  if (!settings_.detect_idle) {
-    return false;
-  }
-  std::vector<pid_t> pollers;
-  if (!idle_pollers(now, &pollers)) {
-    return false;
-  }
-  const std::vector<const Sleeper *> sleepers = counted_sleepers();
-  if (blocked_.empty() && pollers.empty() && sleepers.empty()) {
-    return false;
-  }
-  idle_by_polls_ = !pollers.empty();
-  idle_by_sleeps_ = blocked_.empty() && pollers.empty();
-  if (phase_ == Phase::kWarping && !pollers.empty() && (jumps_ > 0 || !warp_loop_seen_)) {
-    // After jumps, rcl polls while a timer due in real time catches up: the stall rule of
-    // poll() decides. Before any, idle polls stall the warp (poll()), they do not settle it.
-    return false;
-  }
-  // Nothing may happen before the quiet window would end: a deadline inside it is waited for.
-  const int64_t settle_at = quiet_since_ns_ + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
-  if (now >= settle_at) {
-    return false;  // the quiet window itself decides
-  }
-  for (const auto & entry : blocked_) {
-    const BlockedWait & blocked = entry.second;
-    if (blocked.wake_epoch != wake_epoch_) {
-      return false;  // woken: it has not looked at its wait set again yet
-    }
-    if (blocked.deadline_ns >= 0 && blocked.deadline_ns < settle_at &&
-      deadline_matters(blocked.deadline_ns))
-    {
-      return false;  // its timer (or timeout) comes first; it waits again after it
-    }
-  }
-  for (const Sleeper * sleeper : sleepers) {
-    if (sleeper->deadline_ns < settle_at && deadline_matters(sleeper->deadline_ns)) {
-      return false;  // it wakes first, and uses ROS again
-    }
-  }
-  // Any other sleeper proves what the census would read of a real sleep (it sleeps in slices
-  // before the warp): idle when it sleeps past the window, with no exception for a warp to come.
-  std::vector<pid_t> asleep;
-  for (const auto & entry : sleepers_) {
-    if (sleeper_counts(entry.second)) {
-      continue;  // (above)
-    }
-    if (phase_ == Phase::kWarping || entry.second.deadline_ns < settle_at) {
-      return false;  // it wakes (or, in the warp, comes back to jump) first
-    }
-    asleep.push_back(entry.second.tid);
-  }
-  if (census_answer_version_ == idle_version_) {
-    if (census_answer_idle_ || now < census_answered_ns_ + kCensusRecheckNs) {
-      return census_answer_idle_;
-    }
-  }
-  census_request_.version = idle_version_;
-  census_request_.until_ns = settle_at;
-  census_request_.known.clear();
-  census_request_.known.push_back(monitor_tid_);
-  for (const auto & entry : blocked_) {
-    census_request_.known.push_back(entry.second.tid);
-  }
-  census_request_.known.insert(census_request_.known.end(), pollers.begin(), pollers.end());
-  for (const Sleeper * sleeper : sleepers) {
-    census_request_.known.push_back(sleeper->tid);
-  }
-  census_request_.known.insert(census_request_.known.end(), asleep.begin(), asleep.end());
-  census_wanted_ = true;
-  return false;
+  return idle_.provably_idle(moment(now));
 }
 
 bool Session::on_activity(pid_t tid)
 {
-  if (tid != 0) {
-    activity_generation_.mark(tid, generation_);
-  }
+  idle_.on_activity(tid, generation_);
   if (phase_ == Phase::kWarping) {
-    warp_loop_seen_ = true;
-    ++warp_activity_;
+    warp_.on_activity();
   }
   ++activity_calls_;
-  ++idle_version_;
-  ++poll_epoch_;  // a loop that publishes or takes is not an idle poller
   return ++activity_current_ == kSettlingActivity;
-}
-
-int64_t Session::virtual_now_ns() const
-{
-  return clock_.now_ns() + virtual_clock_.offset_ns();
 }
 
 bool Session::try_jump(int64_t target_ns)
@@ -382,74 +170,31 @@ bool Session::try_jump(int64_t target_ns)
     return false;
   }
   const int64_t now = clock_.now_ns();
-  last_timed_wait_ns_ = now;
-  if (now - warp_start_ns_ >= settings_.warp_budget_ms * kNsPerMs) {
-    budget_exhausted_ = true;
+  if (warp_.jump(now, target_ns) == Warp::Jump::kEnded) {
     end_warp(now);
     return false;
   }
-  const int64_t virtual_now = now + virtual_clock_.offset_ns();
-  if (target_ns <= virtual_now) {
-    // Another thread's jump, or real time on a busy machine, already took virtual time past
-    // it: no jump, but timers still drive the process, so it is not quiet either.
-    break_quiet(now);
-    return true;
-  }
-  if (target_ns - t0_ns_ > settings_.horizon_ms * kNsPerMs) {
-    horizon_reached_ = true;
-    end_warp(now);
-    return false;
-  }
-  // A periodic timer that fired again and again and created nothing: jump to the horizon
-  // at once (rcl then runs its callback once for the missed periods; see kSteadyJumpsBeforeHorizon).
-  // Steps are compared with a reference step; a few outliers (the process preempted before its
-  // wait on a busy machine) are forgiven, a steady run of other steps becomes the reference.
-  const int64_t step = last_jump_target_ns_ != 0 ? target_ns - last_jump_target_ns_ : 0;
-  last_jump_target_ns_ = target_ns;
-  if (step > 0 && last_jump_step_ns_ > 0 &&
-    std::llabs(step - last_jump_step_ns_) <=
-    std::max(kSteadyToleranceNs, std::max(step, last_jump_step_ns_) / 2))
-  {
-    ++steady_jumps_;
-  } else if (step > 0 &&
-    (last_jump_step_ns_ <= 0 || ++odd_jumps_ > kOddJumpsForgiven + steady_jumps_ / 10))
-  {
-    last_jump_step_ns_ = step;  // another timer (or none steady): start over with this step
-    steady_jumps_ = 0;
-    odd_jumps_ = 0;
-  }
-  if (steady_jumps_ >= kSteadyJumpsBeforeHorizon) {
-    const int64_t horizon_target = t0_ns_ + settings_.horizon_ms * kNsPerMs;
-    if (horizon_target > target_ns) {
-      target_ns = horizon_target;
-      fast_forwarded_ = true;
-    }
-  }
-  const int64_t delta = target_ns - virtual_now;
-  virtual_clock_.advance(delta);
-  ++jumps_;
-  warp_ns_ += delta;
-  break_quiet(now);
+  break_quiet(now);  // a jump, or timers that still drive the process
   return true;
 }
 
 void Session::end_warp(int64_t now)
 {
   phase_ = Phase::kFinalSettling;
-  warp_end_ns_ = now;
+  warp_.end(now);
 }
 
 bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline)
 {
   if (provably_idle(now)) {
-    settled_by_ = idle_by_polls_ ? "poll" : (idle_by_sleeps_ ? "sleep" : "wait");
+    settled_by_ = idle_.proven_by();
     ++idle_settles_;
     return true;
   }
   const bool by_wait = waiters_current_ > 0;
   const bool by_poll = !by_wait && polls_current_ >= kSettlingActivity;
   // A thread asleep in its loop (it used ROS since the last change) is evidence like a wait.
-  const bool by_sleep = !by_wait && !by_poll && !counted_sleepers().empty();
+  const bool by_sleep = !by_wait && !by_poll && idle_.sleepers_count(moment(now));
   if (!by_wait && !by_poll && !by_sleep && activity_current_ < kSettlingActivity) {
     return false;  // the next wait, sleep or activity call wakes the monitor
   }
@@ -466,46 +211,19 @@ bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline
 Session::Step Session::poll()
 {
   Step step;
-  census_wanted_ = false;
-  poller_recheck_ = false;
+  idle_.look_begins();
   if (!started_ || exiting_) {
     return step;
   }
   const int64_t now = clock_.now_ns();
-  const int64_t horizon_ns = settings_.horizon_ms * kNsPerMs;
   if (phase_ == Phase::kWarping) {
-    const int64_t budget_end = warp_start_ns_ + settings_.warp_budget_ms * kNsPerMs;
-    // Real time also ages the node: the real moment its virtual age reaches the horizon.
-    const int64_t horizon_at = t0_ns_ + horizon_ns - virtual_clock_.offset_ns();
-    if (now >= budget_end) {
-      budget_exhausted_ = true;
+    int64_t look_at = INT64_MAX;
+    const bool over = warp_.check(
+      now, idle_.any_blocked(),
+      [this, now]() {return idle_.any_polling() && provably_idle(now);}, &look_at);
+    propose(look_at, &step.has_deadline, &step.deadline_ns);
+    if (over) {
       end_warp(now);
-    } else if (now >= horizon_at) {
-      horizon_reached_ = true;
-      end_warp(now);
-    } else {
-      propose(std::min(budget_end, horizon_at), &step.has_deadline, &step.deadline_ns);
-      // No wait with a timeout for a while the process ran a loop (polls, activity): a loop
-      // that polls or sleeps on its own clock, with nothing to jump to. Before any jump that
-      // is settle_ms; after jumps (timers) kStallAfterJumpsNs at least: a timer due in real
-      // time on a busy machine makes rcl poll (timeout 0) until it has caught up.
-      const int64_t quiet_ns = static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
-      const int64_t stall_at =
-        last_timed_wait_ns_ + (jumps_ == 0 ? quiet_ns : std::max(quiet_ns, kStallAfterJumpsNs));
-      if (blocked_.empty() && now >= stall_at && warp_loop_seen_) {
-        warp_stalled_ = true;
-        end_warp(now);
-      } else if (jumps_ == 0 && warp_loop_seen_ && !poll_runs_.empty() && provably_idle(now)) {
-        // Every thread polls with nothing ready, or is blocked, and nothing changes: nothing
-        // to jump to, proven without waiting for the stall window.
-        warp_stalled_ = true;
-        end_warp(now);
-      } else if (blocked_.empty()) {
-        // (looked at again a window later when nothing ran yet)
-        propose(
-          std::max(stall_at, now + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs),
-          &step.has_deadline, &step.deadline_ns);
-      }
     }
   }
   if (phase_ == Phase::kProbing) {
@@ -520,24 +238,7 @@ Session::Step Session::poll()
       mark_settled(now);
       step.has_deadline = false;
       if (phase_ == Phase::kSettling && settings_.probe) {
-        phase_ = Phase::kProbing;
-        probed_ = true;
-        probe_started_ns_ = now;
-        first_wait_give_up_ns_ = now + kFirstWaitGraceNs;
-        if (!ever_waited_ && settled_by_sleep()) {
-          // Proven idle with every thread blocked or asleep in its loop: nothing can start to
-          // wait before the first sleeper wakes, so a grace that ends first is not waited for.
-          int64_t first_wake = INT64_MAX;
-          for (const Sleeper * sleeper : counted_sleepers()) {
-            first_wake = std::min(first_wake, sleeper->deadline_ns);
-          }
-          if (first_wake >= first_wait_give_up_ns_) {
-            first_wait_give_up_ns_ = now;
-          }
-        }
-        // Settled by activity before any wait: the first request waits for a settle by wait.
-        probe_settle_first_ = !ever_waited_;
-        step.action = Action::kStartProbe;
+        start_probing(now, &step);
         return step;
       }
       after_first_settle(now, &step);
@@ -554,15 +255,11 @@ Session::Step Session::poll()
     }
     propose(snapshot_at, &step.has_deadline, &step.deadline_ns);
   }
-  if (poller_recheck_) {
-    propose(now + kCensusRecheckNs, &step.has_deadline, &step.deadline_ns);
-  }
-  if (census_wanted_) {
-    census_wanted_ = false;
+  int64_t recheck_at = INT64_MAX;
+  if (idle_.look_done(now, &recheck_at)) {
     step.action = Action::kCheckIdle;
-  } else if (census_answer_version_ == idle_version_ && !census_answer_idle_) {
-    propose(census_answered_ns_ + kCensusRecheckNs, &step.has_deadline, &step.deadline_ns);
   }
+  propose(recheck_at, &step.has_deadline, &step.deadline_ns);
   return step;
 }
 
@@ -572,7 +269,7 @@ bool Session::stalled_unchanged() const
   // settle before it: virtual time never moved, so the process is where that settle found it,
   // and a second quiet window (two more polls of a loop that sleeps 0.5 s between them: a
   // second) would give the same capture.
-  return phase_ == Phase::kFinalSettling && warp_stalled_ && jumps_ == 0 &&
+  return phase_ == Phase::kFinalSettling && warp_.stalled() && warp_.jumps() == 0 &&
          settled_generation_ == generation_;
 }
 
@@ -584,20 +281,27 @@ void Session::mark_settled(int64_t now)
   time_to_settle_ns_ = now - t0_ns_;
 }
 
+void Session::start_probing(int64_t now, Step * step)
+{
+  std::optional<int64_t> sleep_loop_wake;
+  if (settled_by_sleep()) {
+    sleep_loop_wake = idle_.first_counted_wake(moment(now));
+  }
+  phase_ = Phase::kProbing;
+  probing_.begin(now, ever_waited_, sleep_loop_wake);
+  step->action = Action::kStartProbe;
+}
+
 void Session::after_first_settle(int64_t now, Step * step)
 {
   step->has_deadline = false;
-  const int64_t horizon_ns = settings_.horizon_ms * kNsPerMs;
-  if ((phase_ == Phase::kSettling || phase_ == Phase::kProbing) && horizon_ns > 0) {
-    if (now + virtual_clock_.offset_ns() - t0_ns_ < horizon_ns) {
+  if ((phase_ == Phase::kSettling || phase_ == Phase::kProbing) && settings_.horizon_ms > 0) {
+    if (warp_.begin(now)) {
       phase_ = Phase::kWarping;
-      warp_start_ns_ = now;
-      last_timed_wait_ns_ = now;
       break_quiet(now);  // the warp must see settle_ms without a jump before it ends
       step->action = Action::kStartWarp;
       return;
     }
-    horizon_reached_ = true;  // settling took longer than the horizon
   }
   phase_ = Phase::kDone;
   step->action = Action::kSettle;
@@ -605,76 +309,39 @@ void Session::after_first_settle(int64_t now, Step * step)
 
 bool Session::poll_probing(int64_t now, Step * step)
 {
-  if (!ever_waited_ && !probe_done_) {
-    // No executor has waited yet: nobody could take a request.
-    if (now < first_wait_give_up_ns_) {
-      propose(first_wait_give_up_ns_, &step->has_deadline, &step->deadline_ns);
-      return false;
-    }
-    const int64_t last_chance = probe_started_ns_ + kFirstWaitMaxNs;
-    if (main_thread_ != nullptr && now < last_chance && main_thread_->runnable()) {
-      first_wait_give_up_ns_ = std::min(now + kFirstWaitRecheckNs, last_chance);
-      propose(first_wait_give_up_ns_, &step->has_deadline, &step->deadline_ns);
-      return false;
-    }
-    probe_skipped_ = true;
-    probe_done_ = true;
-  }
-  if (probe_in_flight_) {
-    const int64_t deadline = probe_sent_ns_ + settings_.answer_timeout_ms * kNsPerMs;
-    if (now >= deadline) {
-      probe_in_flight_ = false;
-      probe_settle_first_ = true;  // the node may still be busy with it
-      probe_changed_node_ = true;
-      break_quiet(now);
-      step->action = Action::kProbeTimeout;
-      step->has_deadline = false;
-      return true;
-    }
-    propose(deadline, &step->has_deadline, &step->deadline_ns);
+  using Next = Probing::Next;
+  int64_t look_at = INT64_MAX;
+  const Next next = probing_.next(now, ever_waited_, settled_generation_ == generation_, &look_at);
+  if (next == Next::kWait) {
+    propose(look_at, &step->has_deadline, &step->deadline_ns);
     return false;
   }
-  if (probe_done_) {
-    // Only parameters were read and nothing was created meanwhile: the settle that started
-    // the probing still holds (a read runs no code of the node's), so no second one.
-    const bool unchanged = !probe_changed_node_ && settled_generation_ == generation_;
-    if (unchanged || quiet_settled(now, &step->has_deadline, &step->deadline_ns)) {
-      mark_settled(now);
-      after_first_settle(now, step);
-      return true;
-    }
-    return false;
-  }
-  if (!probe_settle_first_ || quiet_settled(now, &step->has_deadline, &step->deadline_ns)) {
-    step->action = Action::kProbe;
+  if (next == Next::kTimeout) {
+    break_quiet(now);
+    step->action = Action::kProbeTimeout;
     step->has_deadline = false;
     return true;
   }
-  return false;
-}
-
-void Session::probe_sent()
-{
-  probe_in_flight_ = true;
-  probe_sent_ns_ = clock_.now_ns();
+  const bool settle_first = next == Next::kEndAfterSettle || next == Next::kSendAfterSettle;
+  if (settle_first && !quiet_settled(now, &step->has_deadline, &step->deadline_ns)) {
+    return false;
+  }
+  if (next == Next::kEnd || next == Next::kEndAfterSettle) {
+    mark_settled(now);
+    after_first_settle(now, step);
+    return true;
+  }
+  step->action = Action::kProbe;
+  step->has_deadline = false;
+  return true;
 }
 
 void Session::probe_answered(bool settle_first)
 {
-  if (!probe_in_flight_) {
-    return;  // late: its timeout was already reported
+  if (probing_.answered(settle_first)) {
+    // The answering thread goes back to its wait after this: the settles count from here.
+    break_quiet(clock_.now_ns());
   }
-  probe_in_flight_ = false;
-  probe_settle_first_ = settle_first;
-  probe_changed_node_ = probe_changed_node_ || settle_first;
-  // The answering thread goes back to its wait after this: the settles count from here.
-  break_quiet(clock_.now_ns());
-}
-
-void Session::probe_done()
-{
-  probe_done_ = true;
-  probe_in_flight_ = false;
 }
 
 const char * Session::probe_state() const
@@ -688,7 +355,7 @@ const char * Session::probe_state() const
   if (phase_ == Phase::kProbing) {
     return "running";
   }
-  return probed_ && !probe_skipped_ ? "done" : "skipped";
+  return probing_.outcome();
 }
 
 const char * Session::progress_state() const
@@ -697,16 +364,6 @@ const char * Session::progress_state() const
     return "probing";
   }
   return phase_ == Phase::kWarping || phase_ == Phase::kFinalSettling ? "warping" : "running";
-}
-
-double Session::real_age_ms() const
-{
-  return ns_to_ms(clock_.now_ns() - t0_ns_);
-}
-
-double Session::virtual_age_ms() const
-{
-  return ns_to_ms(virtual_now_ns() - t0_ns_);
 }
 
 void Session::fill_header(const char * state, CaptureHeader * header) const
@@ -723,10 +380,6 @@ void Session::fill_header(const char * state, CaptureHeader * header) const
   header->horizon_ms = settings_.horizon_ms;
   header->virtual_elapsed_ms = ns_to_ms(now + offset - t0_ns_);
   header->real_elapsed_ms = header->elapsed_ms;
-  header->jumps = jumps_;
-  header->warp_ms = ns_to_ms(warp_ns_);
-  header->horizon_reached = horizon_reached_;
-  header->warp_budget_exhausted = budget_exhausted_;
   header->probe_state = probe_state();
   header->answer_timeout_ms = settings_.answer_timeout_ms;
   header->has_ended = std::strcmp(state, "exit") == 0 || std::strcmp(state, "shutdown") == 0;
@@ -735,12 +388,8 @@ void Session::fill_header(const char * state, CaptureHeader * header) const
   header->idle_settles = idle_settles_;
   header->window_settles = window_settles_;
   header->polls = polls_;
-  header->not_idle = not_idle_reason_;
-  header->warp_stalled = warp_stalled_;
-  const bool warped = warp_start_ns_ != 0;
-  header->warp_real_ms = warped ? ns_to_ms((warp_end_ns_ != 0 ? warp_end_ns_ : now) - warp_start_ns_) : 0.0;
-  header->warp_polls = warp_polls_;
-  header->warp_activity = warp_activity_;
+  header->not_idle = idle_.not_idle_reason();
+  warp_.fill_header(now, header);
 }
 
 }  // namespace rmw_introspect

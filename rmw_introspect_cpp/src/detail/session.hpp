@@ -5,13 +5,13 @@
 #include <sys/types.h>
 
 #include <cstdint>
-#include <map>
 #include <string>
-#include <vector>
 
 #include "detail/capture_writer.hpp"
 #include "detail/clock.hpp"
-#include "detail/thread_marks.hpp"
+#include "detail/idle_proof.hpp"
+#include "detail/probing.hpp"
+#include "detail/warp.hpp"
 
 namespace rmw_introspect
 {
@@ -52,6 +52,10 @@ namespace rmw_introspect
 ///    final "settled" capture is written.
 /// A "running" (before the first settle) or "warping" progress snapshot is due 20 ms after
 /// every burst of entity changes.
+/// The Session keeps the phases, the generations of entity changes and the quiet rule; it
+/// composes the parts it hands the rest to: the IdleProof (idle_proof.hpp: blocked waits,
+/// sleepers, idle pollers, the census), the Warp (warp.hpp: jumps, fast-forward, budget,
+/// stall) and the Probing (probing.hpp: the pace of the requests).
 class Session
 {
 public:
@@ -92,7 +96,7 @@ public:
   /// between two polls in which it did is a pause of its own (a sleep), not a preemption.
   bool on_poll(pid_t tid = 0, bool found_nothing = false, uint64_t voluntary_switches = 0);
   /// Whether the warp jumped straight to the horizon (a steady periodic timer; try_jump).
-  bool fast_forwarded() const {return fast_forwarded_;}
+  bool fast_forwarded() const {return warp_.fast_forwarded();}
   /// Thread `tid` blocks in rmw_wait until real time `deadline_ns` (negative: no deadline);
   /// returns the token for leave_wait. Called under the wait hub's lock, after the thread
   /// found nothing ready.
@@ -102,24 +106,22 @@ public:
   /// wait proves nothing until its thread has looked again and blocked again. `by`: the
   /// triggering thread (0: none of the program's); an idle poller's own trigger (rclpy's
   /// spin_once(node) before every wait) keeps what a census found.
-  void on_wake(pid_t by = 0);
+  void on_wake(pid_t by = 0) {idle_.on_wake(by);}
   /// The middleware's own monitor thread (left out of the census).
-  void set_monitor_tid(pid_t tid) {monitor_tid_ = tid;}
+  void set_monitor_tid(pid_t tid) {idle_.set_monitor_tid(tid);}
 
   /// What kCheckIdle asks: are the threads not in `known` blocked until woken, or until
   /// `until_ns` (the end of the quiet window) at least? Answered for `version` only.
-  struct CensusRequest
-  {
-    uint64_t version = 0;
-    std::vector<pid_t> known;
-    int64_t until_ns = 0;
-  };
-  const CensusRequest & census_request() const {return census_request_;}
+  using CensusRequest = IdleProof::CensusRequest;
+  const CensusRequest & census_request() const {return idle_.census_request();}
   /// The answer to census_request() (read with no lock held: anything that happened meanwhile
   /// changed the version, and the answer is dropped). `culprit`: why not, for people.
-  void census_done(uint64_t version, bool idle, const std::string & culprit);
+  void census_done(uint64_t version, bool idle, const std::string & culprit)
+  {
+    idle_.census_done(version, idle, culprit, clock_.now_ns());
+  }
   /// Why the latest census found the process not idle ("" when it did, or none ran).
-  const std::string & not_idle_reason() const {return not_idle_reason_;}
+  const std::string & not_idle_reason() const {return idle_.not_idle_reason();}
   /// publish, take*, send_request/response, take_request/response, graph queries, counts of
   /// matched endpoints, server_is_available, by thread `tid`. True when the monitor should
   /// look again.
@@ -130,7 +132,7 @@ public:
   /// (an activity call) since the last change is in its loop, and with virtual sleeps the warp
   /// steps it: it counts like a blocked wait with that deadline (docs/design.md, "Sleeps").
   uint64_t enter_sleep(pid_t tid, int64_t deadline_ns);
-  void leave_sleep(uint64_t token);
+  void leave_sleep(uint64_t token) {idle_.leave_sleep(token);}
 
   /// In the warp: a wait with nothing ready would sleep until virtual time `target_ns` (the
   /// virtual time at its entry + its timeout). True: virtual time is now past it (jumped, or
@@ -139,7 +141,7 @@ public:
   bool try_jump(int64_t target_ns);
   bool warping() const {return phase_ == Phase::kWarping;}
   /// Virtual now on the steady clock (real monotonic + offset).
-  int64_t virtual_now_ns() const;
+  int64_t virtual_now_ns() const {return clock_.now_ns() + virtual_clock_.offset_ns();}
 
   enum class Action
   {
@@ -166,12 +168,12 @@ public:
   const char * progress_state() const;
 
   /// Probing: a request is about to reach the node (call it before the node can see it).
-  void probe_sent();
+  void probe_sent() {probing_.sent(clock_.now_ns());}
   /// Probing: the answer to the request in flight came. `settle_first`: the node changed
   /// (a transition); it must settle again before the next request.
   void probe_answered(bool settle_first);
   /// Probing: nothing (more) to ask.
-  void probe_done();
+  void probe_done() {probing_.done();}
   bool probing() const {return phase_ == Phase::kProbing;}
   /// "off" (nothing to ask), "pending" (not settled yet), "running", "done", "skipped"
   /// (no thread entered rmw_wait in time after the settle: no executor to ask).
@@ -189,35 +191,24 @@ public:
   void fill_header(const char * state, CaptureHeader * header) const;
 
   /// Real and virtual age now, for the creation times of entities.
-  double real_age_ms() const;
-  double virtual_age_ms() const;
+  double real_age_ms() const {return ns_to_ms(clock_.now_ns() - t0_ns_);}
+  double virtual_age_ms() const {return ns_to_ms(virtual_now_ns() - t0_ns_);}
 
 private:
-  /// A thread in an interposed sleep (enter_sleep).
-  struct Sleeper
-  {
-    pid_t tid = 0;
-    int64_t deadline_ns = 0;
-  };
-
   enum class Phase { kSettling, kProbing, kWarping, kFinalSettling, kDone };
 
   /// A change for the quiet rule: entity change, jump, warp start. `voids_polls`: false for the
   /// polls of the warp (they break its quiet but are what an idle poller does).
   void break_quiet(int64_t now, bool voids_polls = true);
-  /// Whether a blocked wait's deadline inside the rest of the quiet window keeps the settle
-  /// from being detected (see provably_idle).
-  bool deadline_matters(int64_t deadline_ns) const;
-  /// The threads that polled back to back with nothing ready for long enough (`*proven`), or
-  /// false when one still polls but not yet for long enough.
-  /// A poller that was proven long enough but had not polled for a moment (preempted) is
-  /// looked at again soon (`poller_recheck_`): nothing else would wake the monitor for it.
-  bool idle_pollers(int64_t now, std::vector<pid_t> * proven);
+  /// What the idle proof needs to know of the session at `now`.
+  IdleProof::Moment moment(int64_t now) const;
   void end_warp(int64_t now);
   /// The warp stalled without a jump and nothing changed since the first settle (poll()).
   bool stalled_unchanged() const;
   /// A settle is written now (time to settle, generations).
   void mark_settled(int64_t now);
+  /// The first settle, at `now`, starts the probing.
+  void start_probing(int64_t now, Step * step);
   /// After the first settle (and the probing): start the warp or settle for good.
   void after_first_settle(int64_t now, Step * step);
   /// poll() in the probing phase: true when `step` has an action.
@@ -226,39 +217,15 @@ private:
   bool quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline);
   /// Detected quiescence at `now` (see the class comment).
   bool provably_idle(int64_t now);
-  /// Thread `tid` made an activity call since the last change (it is in its loop).
-  bool used_ros_since_change(pid_t tid) const;
-  /// Whether `sleeper` counts as blocked (see enter_sleep): never without virtual sleeps, nor
-  /// in the warp.
-  bool sleeper_counts(const Sleeper & sleeper) const;
-  /// The sleepers that count.
-  std::vector<const Sleeper *> counted_sleepers() const;
   /// The latest settle was proven by sleepers alone (settled_by "sleep").
   bool settled_by_sleep() const;
 
-  /// A thread's run of back-to-back polls that found nothing ready, in one poll epoch.
-  struct PollRun
-  {
-    uint64_t epoch = 0;
-    int64_t since_ns = 0;
-    int64_t last_ns = 0;
-    uint64_t polls = 0;
-    uint64_t voluntary_switches = 0;
-    bool announced = false;  // the monitor was woken when it became long enough
-  };
-
-  struct BlockedWait
-  {
-    pid_t tid = 0;
-    int64_t deadline_ns = -1;
-    uint64_t quiet_epoch = 0;
-    uint64_t wake_epoch = 0;
-  };
-
   const Clock & clock_;
-  const MainThreadState * main_thread_;
   VirtualClock & virtual_clock_;
   const Settings settings_;
+  IdleProof idle_;
+  Warp warp_;
+  Probing probing_;
   Phase phase_ = Phase::kSettling;
   bool started_ = false;
   bool exiting_ = false;
@@ -275,73 +242,14 @@ private:
   uint64_t activity_current_ = 0;  // activity calls in quiet_epoch_
   uint64_t polls_current_ = 0;  // polls in quiet_epoch_
   uint64_t polls_ = 0;          // ... in all
-  // The warp: when a wait last had a timeout (a jump or a try), and whether the process ran a
-  // loop meanwhile (polls, activity): the warp cannot advance a process that never waits
-  // with a timeout, it stalls (warp_stalled_) instead of running into its budget.
-  int64_t last_timed_wait_ns_ = 0;
-  bool warp_loop_seen_ = false;
-  bool warp_stalled_ = false;
-  // What the process did in the warp (a stalled warp's note says which loop it was).
-  int64_t warp_end_ns_ = 0;
-  uint64_t warp_polls_ = 0;
-  uint64_t warp_activity_ = 0;
-  // Detected quiescence: the threads blocked in rmw_wait now, by token.
-  std::map<uint64_t, BlockedWait> blocked_;
-  uint64_t next_wait_token_ = 0;
-  // Sleeps: the threads asleep now, by token, and the generation of each thread's latest
-  // activity call (a sleeper counts when it used ROS since the last change).
-  std::map<uint64_t, Sleeper> sleepers_;
-  uint64_t next_sleep_token_ = 0;
-  ThreadMarks activity_generation_;  // fixed storage: on_activity never allocates
-  uint64_t wake_epoch_ = 0;
-  // Idle pollers: each polling thread's current run; a change, a jump or an activity call
-  // starts a new epoch (every run starts again).
-  std::map<pid_t, PollRun> poll_runs_;
-  uint64_t poll_epoch_ = 0;
-  bool poller_recheck_ = false;
-  pid_t monitor_tid_ = 0;
-  uint64_t idle_settles_ = 0;    // settles that ended by detection
-  bool idle_by_polls_ = false;   // the latest proof counted idle pollers
-  bool idle_by_sleeps_ = false;  // ... only sleepers
-  // Anything that may change whether the process is idle bumps it: a census answer is for
-  // one version.
-  uint64_t idle_version_ = 0;
-  bool census_wanted_ = false;
-  CensusRequest census_request_;
-  uint64_t census_answer_version_ = UINT64_MAX;
-  bool census_answer_idle_ = false;
-  int64_t census_answered_ns_ = 0;
-  std::string not_idle_reason_;
-  uint64_t window_settles_ = 0;  // settles that ended by the quiet window (or activity)
   // Reported.
+  uint64_t idle_settles_ = 0;    // settles that ended by detection
+  uint64_t window_settles_ = 0;  // settles that ended by the quiet window (or activity)
   bool has_settled_ = false;
   int64_t time_to_settle_ns_ = 0;
   const char * settled_by_ = nullptr;
   bool ever_waited_ = false;
   uint64_t activity_calls_ = 0;
-  int64_t warp_start_ns_ = 0;
-  uint64_t jumps_ = 0;
-  int64_t warp_ns_ = 0;
-  // Fast-forward of a steady periodic timer (try_jump).
-  int64_t last_jump_target_ns_ = 0;
-  int64_t last_jump_step_ns_ = 0;
-  uint64_t steady_jumps_ = 0;
-  uint64_t odd_jumps_ = 0;
-  bool fast_forwarded_ = false;
-  bool horizon_reached_ = false;
-  bool budget_exhausted_ = false;
-  // Probing.
-  bool probed_ = false;            // the probing phase was entered
-  bool probe_skipped_ = false;     // ... and left: no thread ever waited
-  int64_t probe_started_ns_ = 0;
-  bool probe_in_flight_ = false;
-  int64_t probe_sent_ns_ = 0;
-  bool probe_settle_first_ = false;
-  bool probe_done_ = false;
-  int64_t first_wait_give_up_ns_ = 0;  // when a process that never waited is not probed
-  // An answer that runs the node's own code (a transition, a stimulus) or a timeout: the node
-  // may have changed, so the end of the probing waits for a settle. Reads need none.
-  bool probe_changed_node_ = false;
 };
 
 }  // namespace rmw_introspect

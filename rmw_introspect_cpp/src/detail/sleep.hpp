@@ -2,8 +2,6 @@
 #ifndef DETAIL__SLEEP_HPP_
 #define DETAIL__SLEEP_HPP_
 
-#include <time.h>
-
 #include <cstdint>
 
 namespace rmw_introspect
@@ -23,17 +21,6 @@ bool sleeps_virtual();
 /// Sleep `duration_ns` (> 0) of the calling thread as described above. Returns 0 or the error
 /// of the real sleep (EINTR: a signal handler ran; `*unslept_ns` is what was left).
 int virtual_sleep(int64_t duration_ns, int64_t * unslept_ns);
-
-/// The real clock_nanosleep of the C library (the next definition after ours), for sleeps the
-/// middleware does not step and for the middleware's own (a watchdog must sleep for real).
-int real_clock_nanosleep(
-  clockid_t clock, int flags, const struct timespec * request, struct timespec * remain);
-
-/// The middleware's own real sleep of `duration_ns` (EINTR resumed).
-void real_sleep_ns(int64_t duration_ns);
-
-/// `ns` (>= 0) as a timespec.
-struct timespec timespec_from_ns(int64_t ns);
 
 }  // namespace rmw_introspect
 

@@ -19,7 +19,7 @@
 #include "rosidl_runtime_c/type_description/type_source__struct.h"
 
 #include "detail/introspection.hpp"
-#include "detail/typesupport.hpp"
+#include "detail/message_layout.hpp"
 
 namespace rmw_introspect
 {

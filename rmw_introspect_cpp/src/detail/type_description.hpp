@@ -10,11 +10,10 @@
 #include "rosidl_runtime_c/message_type_support_struct.h"
 #include "rosidl_runtime_c/service_type_support_struct.h"
 
+#include "detail/message_layout.hpp"
+
 namespace rmw_introspect
 {
-
-/// How a field repeats: not at all, `T[N]`, `T[<=N]` or `T[]`.
-enum class FieldArray { None, Fixed, Bounded, Unbounded };
 
 const char * field_array_to_string(FieldArray array);  // "fixed", "bounded", "unbounded"
 

@@ -155,7 +155,6 @@ bool resolve_message_type(
   {
     return false;
   }
-  out->introspection_message = found;
   out->descriptions = describe_message_type(found, out->is_cpp);
   return true;
 }

@@ -11,8 +11,7 @@
 #include "detail/clock.hpp"
 #include "detail/runtime.hpp"
 
-extern "C"
-{
+extern "C" {
 
 rcutils_ret_t rcutils_steady_time_now(rcutils_time_point_value_t * now)
 {

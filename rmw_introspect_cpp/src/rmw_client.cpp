@@ -37,17 +37,18 @@ bool local_server_matches(const ClientImpl & client)
   const rmw_qos_profile_t response_reader = service_actual_qos(client.qos, QosSide::kReader);
   bool found = false;
   rmw_introspect::Runtime::instance().recorder().visit(
-    [&](const std::vector<rmw_introspect::NodeRecord> &,
-    const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
+    [&](
+      const std::vector<rmw_introspect::NodeRecord> &,
+      const std::vector<rmw_introspect::EndpointRecord> & endpoints) {
       for (const auto & e : endpoints) {
         if (found || !e.alive || e.kind != rmw_introspect::EndpointKind::Service ||
-        e.name != client.name || e.type != client.type.name)
+            e.name != client.name || e.type != client.type.name)
         {
           continue;
         }
         found =
-        rmw_introspect::qos_match(request_writer, service_actual_qos(e.qos, QosSide::kReader)) &&
-        rmw_introspect::qos_match(service_actual_qos(e.qos, QosSide::kWriter), response_reader);
+          rmw_introspect::qos_match(request_writer, service_actual_qos(e.qos, QosSide::kReader)) &&
+          rmw_introspect::qos_match(service_actual_qos(e.qos, QosSide::kWriter), response_reader);
       }
     });
   return found;
@@ -55,8 +56,7 @@ bool local_server_matches(const ClientImpl & client)
 
 }  // namespace
 
-extern "C"
-{
+extern "C" {
 
 rmw_client_t * rmw_create_client(
   const rmw_node_t * node, const rosidl_service_type_support_t * type_supports,
@@ -70,7 +70,8 @@ rmw_client_t * rmw_create_client(
     return nullptr;
   }
   auto impl = rmw_introspect::new_endpoint<ClientImpl>(
-    node, type_supports, rmw_introspect::resolve_service_type, service_name, qos_policies, "client");
+    node, type_supports, rmw_introspect::resolve_service_type, service_name, qos_policies,
+    "client");
   if (!impl) {
     return nullptr;
   }
@@ -96,7 +97,8 @@ rmw_ret_t rmw_destroy_client(rmw_node_t * node, rmw_client_t * client)
   return RMW_RET_OK;
 }
 
-rmw_ret_t rmw_send_request(const rmw_client_t * client, const void * ros_request, int64_t * sequence_id)
+rmw_ret_t rmw_send_request(
+  const rmw_client_t * client, const void * ros_request, int64_t * sequence_id)
 {
   RMWI_CHECK_HANDLE(client);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_request, RMW_RET_INVALID_ARGUMENT);

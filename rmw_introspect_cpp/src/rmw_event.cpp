@@ -26,10 +26,8 @@ bool is_subscription_event(rmw_event_type_t type)
     case RMW_EVENT_REQUESTED_QOS_INCOMPATIBLE:
     case RMW_EVENT_MESSAGE_LOST:
     case RMW_EVENT_SUBSCRIPTION_INCOMPATIBLE_TYPE:
-    case RMW_EVENT_SUBSCRIPTION_MATCHED:
-      return true;
-    default:
-      return false;
+    case RMW_EVENT_SUBSCRIPTION_MATCHED: return true;
+    default: return false;
   }
 }
 
@@ -40,10 +38,8 @@ bool is_publisher_event(rmw_event_type_t type)
     case RMW_EVENT_OFFERED_DEADLINE_MISSED:
     case RMW_EVENT_OFFERED_QOS_INCOMPATIBLE:
     case RMW_EVENT_PUBLISHER_INCOMPATIBLE_TYPE:
-    case RMW_EVENT_PUBLICATION_MATCHED:
-      return true;
-    default:
-      return false;
+    case RMW_EVENT_PUBLICATION_MATCHED: return true;
+    default: return false;
   }
 }
 
@@ -55,7 +51,8 @@ bool is_matched_event(rmw_event_type_t type)
 rmw_ret_t init_event(
   rmw_event_t * rmw_event, EventSource * source, rmw_event_type_t event_type, bool publisher_side)
 {
-  const bool ok = publisher_side ? is_publisher_event(event_type) : is_subscription_event(event_type);
+  const bool ok =
+    publisher_side ? is_publisher_event(event_type) : is_subscription_event(event_type);
   if (!ok) {
     RMW_SET_ERROR_MSG_WITH_FORMAT_STRING(
       "provided event_type %d is not supported by %s for a %s", static_cast<int>(event_type),
@@ -70,8 +67,7 @@ rmw_ret_t init_event(
 
 }  // namespace
 
-extern "C"
-{
+extern "C" {
 
 bool rmw_event_type_is_supported(rmw_event_type_t rmw_event_type)
 {
@@ -83,8 +79,8 @@ rmw_ret_t rmw_publisher_event_init(
 {
   RMW_CHECK_ARGUMENT_FOR_NULL(rmw_event, RMW_RET_INVALID_ARGUMENT);
   RMWI_CHECK_HANDLE(publisher);
-  auto * source = static_cast<EventSource *>(static_cast<rmw_introspect::PublisherImpl *>(
-      publisher->data));
+  auto * source =
+    static_cast<EventSource *>(static_cast<rmw_introspect::PublisherImpl *>(publisher->data));
   return init_event(rmw_event, source, event_type, true);
 }
 
@@ -93,8 +89,8 @@ rmw_ret_t rmw_subscription_event_init(
 {
   RMW_CHECK_ARGUMENT_FOR_NULL(rmw_event, RMW_RET_INVALID_ARGUMENT);
   RMWI_CHECK_HANDLE(subscription);
-  auto * source = static_cast<EventSource *>(static_cast<rmw_introspect::SubscriptionImpl *>(
-      subscription->data));
+  auto * source =
+    static_cast<EventSource *>(static_cast<rmw_introspect::SubscriptionImpl *>(subscription->data));
   return init_event(rmw_event, source, event_type, false);
 }
 

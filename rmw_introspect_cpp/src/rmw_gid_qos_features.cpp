@@ -10,8 +10,7 @@
 #include "detail/common.hpp"
 #include "detail/qos.hpp"
 
-extern "C"
-{
+extern "C" {
 
 rmw_ret_t rmw_compare_gids_equal(const rmw_gid_t * gid1, const rmw_gid_t * gid2, bool * result)
 {

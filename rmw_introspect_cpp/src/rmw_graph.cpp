@@ -54,8 +54,7 @@ rmw_ret_t fill_names_and_types(
       rmw_introspect::ignore_result(rmw_names_and_types_fini(out));
       return RMW_RET_BAD_ALLOC;
     }
-    if (rcutils_string_array_init(&out->types[i], entry.second.size(), allocator) !=
-      RCUTILS_RET_OK)
+    if (rcutils_string_array_init(&out->types[i], entry.second.size(), allocator) != RCUTILS_RET_OK)
     {
       RMW_SET_ERROR_MSG("failed to allocate the types");
       rmw_introspect::ignore_result(rmw_names_and_types_fini(out));
@@ -208,14 +207,13 @@ rmw_ret_t count_endpoints(
   }
   RMW_CHECK_ARGUMENT_FOR_NULL(count, RMW_RET_INVALID_ARGUMENT);
   size_t n = 0;
-  visit_graph(
-    [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
-      for (const auto & e : endpoints) {
-        if (e.alive && e.kind == kind && e.name == name) {
-          ++n;
-        }
+  visit_graph([&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
+    for (const auto & e : endpoints) {
+      if (e.alive && e.kind == kind && e.name == name) {
+        ++n;
       }
-    });
+    }
+  });
   *count = n;
   return RMW_RET_OK;
 }
@@ -237,14 +235,13 @@ rmw_ret_t info_by_topic(
     return RMW_RET_INVALID_ARGUMENT;  // the check says RMW_RET_ERROR; rmw.h and the suite want this
   }
   std::vector<EndpointRecord> matches;
-  visit_graph(
-    [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
-      for (const auto & e : endpoints) {
-        if (e.alive && e.kind == kind && e.name == topic_name) {
-          matches.push_back(e);
-        }
+  visit_graph([&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
+    for (const auto & e : endpoints) {
+      if (e.alive && e.kind == kind && e.name == topic_name) {
+        matches.push_back(e);
       }
-    });
+    }
+  });
   if (matches.empty()) {
     return RMW_RET_OK;
   }
@@ -257,25 +254,25 @@ rmw_ret_t info_by_topic(
     rmw_topic_endpoint_info_t * info = &out->info_array[i];
     *info = rmw_get_zero_initialized_topic_endpoint_info();
     rosidl_type_hash_t hash = rosidl_get_zero_initialized_type_hash();
-    if (!e.type_hash.empty() && rosidl_parse_type_hash_string(e.type_hash.c_str(), &hash) !=
-      RCUTILS_RET_OK)
+    if (!e.type_hash.empty() &&
+        rosidl_parse_type_hash_string(e.type_hash.c_str(), &hash) != RCUTILS_RET_OK)
     {
       rcutils_reset_error();
       hash = rosidl_get_zero_initialized_type_hash();
     }
-    if (
-      (ret = rmw_topic_endpoint_info_set_node_name(info, e.node_name.c_str(), allocator)) !=
-      RMW_RET_OK ||
-      (ret = rmw_topic_endpoint_info_set_node_namespace(
-        info, e.node_namespace.c_str(), allocator)) != RMW_RET_OK ||
-      (ret = rmw_topic_endpoint_info_set_topic_type(info, e.type.c_str(), allocator)) !=
-      RMW_RET_OK ||
-      (ret = rmw_topic_endpoint_info_set_topic_type_hash(info, &hash)) != RMW_RET_OK ||
-      (ret = rmw_topic_endpoint_info_set_endpoint_type(
-        info, kind == EndpointKind::Publisher ? RMW_ENDPOINT_PUBLISHER :
-        RMW_ENDPOINT_SUBSCRIPTION)) != RMW_RET_OK ||
-      (ret = rmw_topic_endpoint_info_set_gid(info, e.gid.data(), e.gid.size())) != RMW_RET_OK ||
-      (ret = rmw_topic_endpoint_info_set_qos_profile(info, &e.qos)) != RMW_RET_OK)
+    if ((ret = rmw_topic_endpoint_info_set_node_name(info, e.node_name.c_str(), allocator)) !=
+          RMW_RET_OK ||
+        (ret = rmw_topic_endpoint_info_set_node_namespace(
+           info, e.node_namespace.c_str(), allocator)) != RMW_RET_OK ||
+        (ret = rmw_topic_endpoint_info_set_topic_type(info, e.type.c_str(), allocator)) !=
+          RMW_RET_OK ||
+        (ret = rmw_topic_endpoint_info_set_topic_type_hash(info, &hash)) != RMW_RET_OK ||
+        (ret = rmw_topic_endpoint_info_set_endpoint_type(
+           info,
+           kind == EndpointKind::Publisher ? RMW_ENDPOINT_PUBLISHER : RMW_ENDPOINT_SUBSCRIPTION)) !=
+          RMW_RET_OK ||
+        (ret = rmw_topic_endpoint_info_set_gid(info, e.gid.data(), e.gid.size())) != RMW_RET_OK ||
+        (ret = rmw_topic_endpoint_info_set_qos_profile(info, &e.qos)) != RMW_RET_OK)
     {
       rmw_introspect::ignore_result(rmw_topic_endpoint_info_array_fini(out, allocator));
       return ret;
@@ -289,14 +286,13 @@ rmw_ret_t node_names_impl(
   rcutils_string_array_t * node_namespaces, rcutils_string_array_t * enclaves)
 {
   std::vector<NodeRecord> live;
-  visit_graph(
-    [&](const std::vector<NodeRecord> & nodes, const std::vector<EndpointRecord> &) {
-      for (const auto & n : nodes) {
-        if (n.alive) {
-          live.push_back(n);
-        }
+  visit_graph([&](const std::vector<NodeRecord> & nodes, const std::vector<EndpointRecord> &) {
+    for (const auto & n : nodes) {
+      if (n.alive) {
+        live.push_back(n);
       }
-    });
+    }
+  });
   (void)node;
   rcutils_allocator_t allocator = rcutils_get_default_allocator();
   rcutils_ret_t rret = rcutils_string_array_init(node_names, live.size(), &allocator);
@@ -332,14 +328,13 @@ rmw_ret_t node_names_impl(
 }  // namespace
 
 // An output string array must be given and empty (zero-initialized), as rmw requires.
-#define RMWI_CHECK_ZERO_STRING_ARRAY(array) \
+#define RMWI_CHECK_ZERO_STRING_ARRAY(array)                     \
   RMW_CHECK_ARGUMENT_FOR_NULL(array, RMW_RET_INVALID_ARGUMENT); \
-  if (rmw_check_zero_rmw_string_array(array) != RMW_RET_OK) { \
-    return RMW_RET_INVALID_ARGUMENT; \
+  if (rmw_check_zero_rmw_string_array(array) != RMW_RET_OK) {   \
+    return RMW_RET_INVALID_ARGUMENT;                            \
   }
 
-extern "C"
-{
+extern "C" {
 
 rmw_ret_t rmw_get_node_names(
   const rmw_node_t * node, rcutils_string_array_t * node_names,
@@ -378,14 +373,13 @@ rmw_ret_t rmw_get_topic_names_and_types(
     return ret;
   }
   NameTypes entries;
-  visit_graph(
-    [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
-      for (const auto & e : endpoints) {
-        if (e.alive && is_topic_kind(e.kind)) {
-          entries[e.name].insert(e.type);
-        }
+  visit_graph([&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
+    for (const auto & e : endpoints) {
+      if (e.alive && is_topic_kind(e.kind)) {
+        entries[e.name].insert(e.type);
       }
-    });
+    }
+  });
   return fill_names_and_types(entries, allocator, topic_names_and_types);
 }
 
@@ -398,14 +392,13 @@ rmw_ret_t rmw_get_service_names_and_types(
     return ret;
   }
   NameTypes entries;
-  visit_graph(
-    [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
-      for (const auto & e : endpoints) {
-        if (e.alive && !is_topic_kind(e.kind)) {
-          entries[e.name].insert(e.type);
-        }
+  visit_graph([&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
+    for (const auto & e : endpoints) {
+      if (e.alive && !is_topic_kind(e.kind)) {
+        entries[e.name].insert(e.type);
       }
-    });
+    }
+  });
   return fill_names_and_types(entries, allocator, service_names_and_types);
 }
 
@@ -424,8 +417,7 @@ rmw_ret_t rmw_get_subscriber_names_and_types_by_node(
 {
   (void)no_demangle;
   return names_and_types_by_node(
-    node, allocator, node_name, node_namespace, topic_names_and_types,
-    EndpointKind::Subscription);
+    node, allocator, node_name, node_namespace, topic_names_and_types, EndpointKind::Subscription);
 }
 
 rmw_ret_t rmw_get_service_names_and_types_by_node(
@@ -445,20 +437,19 @@ rmw_ret_t rmw_get_client_names_and_types_by_node(
 }
 
 rmw_ret_t rmw_get_publishers_info_by_topic(
-  const rmw_node_t * node, rcutils_allocator_t * allocator, const char * topic_name,
-  bool no_mangle, rmw_topic_endpoint_info_array_t * publishers_info)
+  const rmw_node_t * node, rcutils_allocator_t * allocator, const char * topic_name, bool no_mangle,
+  rmw_topic_endpoint_info_array_t * publishers_info)
 {
   (void)no_mangle;
   return info_by_topic(node, allocator, topic_name, publishers_info, EndpointKind::Publisher);
 }
 
 rmw_ret_t rmw_get_subscriptions_info_by_topic(
-  const rmw_node_t * node, rcutils_allocator_t * allocator, const char * topic_name,
-  bool no_mangle, rmw_topic_endpoint_info_array_t * subscriptions_info)
+  const rmw_node_t * node, rcutils_allocator_t * allocator, const char * topic_name, bool no_mangle,
+  rmw_topic_endpoint_info_array_t * subscriptions_info)
 {
   (void)no_mangle;
-  return info_by_topic(
-    node, allocator, topic_name, subscriptions_info, EndpointKind::Subscription);
+  return info_by_topic(node, allocator, topic_name, subscriptions_info, EndpointKind::Subscription);
 }
 
 rmw_ret_t rmw_count_publishers(const rmw_node_t * node, const char * topic_name, size_t * count)

@@ -15,8 +15,7 @@
 using rmw_introspect::GuardConditionImpl;
 using rmw_introspect::kIdentifier;
 
-extern "C"
-{
+extern "C" {
 
 rmw_guard_condition_t * rmw_create_guard_condition(rmw_context_t * context)
 {

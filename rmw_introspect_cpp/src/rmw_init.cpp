@@ -18,8 +18,7 @@
 
 using rmw_introspect::kIdentifier;
 
-extern "C"
-{
+extern "C" {
 
 const char * rmw_get_implementation_identifier(void)
 {
@@ -80,8 +79,8 @@ rmw_ret_t rmw_init_options_copy(const rmw_init_options_t * src, rmw_init_options
     return RMW_RET_BAD_ALLOC;
   }
   tmp.security_options = rmw_get_zero_initialized_security_options();
-  rmw_ret_t ret = rmw_security_options_copy(
-    &src->security_options, allocator, &tmp.security_options);
+  rmw_ret_t ret =
+    rmw_security_options_copy(&src->security_options, allocator, &tmp.security_options);
   if (ret != RMW_RET_OK) {
     allocator->deallocate(tmp.enclave, allocator->state);
     return ret;
@@ -128,8 +127,7 @@ rmw_ret_t rmw_init(const rmw_init_options_t * options, rmw_context_t * context)
     options->implementation_identifier, "expected initialized init options",
     return RMW_RET_INVALID_ARGUMENT);
   RMWI_CHECK_IDENTIFIER(
-    init options, options->implementation_identifier,
-    return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
+    init options, options->implementation_identifier, return RMW_RET_INCORRECT_RMW_IMPLEMENTATION);
   RMW_CHECK_FOR_NULL_WITH_MSG(
     options->enclave, "expected non-null enclave", return RMW_RET_INVALID_ARGUMENT);
   if (context->implementation_identifier != nullptr) {
@@ -143,8 +141,7 @@ rmw_ret_t rmw_init(const rmw_init_options_t * options, rmw_context_t * context)
   }
   context->instance_id = options->instance_id;
   context->implementation_identifier = kIdentifier;
-  context->actual_domain_id =
-    options->domain_id == RMW_DEFAULT_DOMAIN_ID ? 0u : options->domain_id;
+  context->actual_domain_id = options->domain_id == RMW_DEFAULT_DOMAIN_ID ? 0u : options->domain_id;
   context->options = rmw_get_zero_initialized_init_options();
   const rmw_ret_t ret = rmw_init_options_copy(options, &context->options);
   if (ret != RMW_RET_OK) {
@@ -170,7 +167,7 @@ rmw_ret_t rmw_shutdown(rmw_context_t * context)
   auto * impl = reinterpret_cast<rmw_introspect::ContextImpl *>(context->impl);
   auto & runtime = rmw_introspect::Runtime::instance();
   // Under the wait hub's lock, so that no waiter misses it between its check and its sleep.
-  runtime.wait_hub().update_and_wake([impl]() {impl->is_shutdown.store(true);});
+  runtime.wait_hub().update_and_wake([impl]() { impl->is_shutdown.store(true); });
   runtime.on_shutdown();
   return RMW_RET_OK;
 }

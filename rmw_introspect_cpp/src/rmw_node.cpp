@@ -16,8 +16,7 @@
 using rmw_introspect::kIdentifier;
 using rmw_introspect::NodeImpl;
 
-extern "C"
-{
+extern "C" {
 
 rmw_node_t * rmw_create_node(rmw_context_t * context, const char * name, const char * namespace_)
 {
@@ -67,8 +66,7 @@ rmw_node_t * rmw_create_node(rmw_context_t * context, const char * name, const c
   impl->graph_guard.handle.context = context;
   const char * enclave = context->options.enclave != nullptr ? context->options.enclave : "/";
   auto & runtime = rmw_introspect::Runtime::instance();
-  impl->record_id =
-    runtime.recorder().add_node(name, namespace_, enclave, runtime.creation_time());
+  impl->record_id = runtime.recorder().add_node(name, namespace_, enclave, runtime.creation_time());
   rmw_introspect::verbose_log(
     "node %s (namespace %s, enclave %s)", impl->name.c_str(), impl->namespace_.c_str(), enclave);
   runtime.graph_guards().add(&impl->graph_guard.gc);
@@ -110,9 +108,7 @@ rmw_ret_t rmw_set_log_severity(rmw_log_severity_t severity)
     case RMW_LOG_SEVERITY_ERROR:
     case RMW_LOG_SEVERITY_FATAL:
       return RMW_RET_OK;  // nothing of ours logs below what the caller asks for
-    default:
-      RMW_SET_ERROR_MSG("severity value is invalid");
-      return RMW_RET_INVALID_ARGUMENT;
+    default: RMW_SET_ERROR_MSG("severity value is invalid"); return RMW_RET_INVALID_ARGUMENT;
   }
 }
 

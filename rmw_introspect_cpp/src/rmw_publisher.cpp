@@ -35,8 +35,7 @@ void note_publication(rmw_introspect::Runtime & runtime, const PublisherImpl & i
 
 }  // namespace
 
-extern "C"
-{
+extern "C" {
 
 rmw_publisher_t * rmw_create_publisher(
   const rmw_node_t * node, const rosidl_message_type_support_t * type_supports,
@@ -53,14 +52,15 @@ rmw_publisher_t * rmw_create_publisher(
   }
   // as rmw_fastrtps_cpp: unique flows cannot be strictly required of a publisher
   if (publisher_options->require_unique_network_flow_endpoints ==
-    RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED)
+      RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED)
   {
     RMW_SET_ERROR_MSG(
       "Strict requirement on unique network flow endpoints for publishers not supported");
     return nullptr;
   }
   auto impl = rmw_introspect::new_endpoint<PublisherImpl>(
-    node, type_supports, rmw_introspect::resolve_message_type, topic_name, qos_profile, "publisher");
+    node, type_supports, rmw_introspect::resolve_message_type, topic_name, qos_profile,
+    "publisher");
   if (!impl) {
     return nullptr;
   }
@@ -196,7 +196,8 @@ rmw_ret_t rmw_publisher_assert_liveliness(const rmw_publisher_t * publisher)
   return RMW_RET_OK;
 }
 
-rmw_ret_t rmw_publisher_wait_for_all_acked(const rmw_publisher_t * publisher, rmw_time_t wait_timeout)
+rmw_ret_t rmw_publisher_wait_for_all_acked(
+  const rmw_publisher_t * publisher, rmw_time_t wait_timeout)
 {
   (void)wait_timeout;
   RMWI_CHECK_HANDLE(publisher);
@@ -225,8 +226,7 @@ rmw_ret_t rmw_get_gid_for_publisher(const rmw_publisher_t * publisher, rmw_gid_t
 
 rmw_ret_t rmw_init_publisher_allocation(
   const rosidl_message_type_support_t * type_support,
-  const rosidl_runtime_c__Sequence__bound * message_bounds,
-  rmw_publisher_allocation_t * allocation)
+  const rosidl_runtime_c__Sequence__bound * message_bounds, rmw_publisher_allocation_t * allocation)
 {
   // Unsupported whatever the arguments, like rmw_fastrtps_cpp (the suite probes with NULLs).
   (void)type_support;

@@ -14,8 +14,7 @@
 #include "detail/common.hpp"
 #include "detail/typesupport.hpp"
 
-extern "C"
-{
+extern "C" {
 
 rmw_ret_t rmw_get_serialized_message_size(
   const rosidl_message_type_support_t * type_support,
@@ -45,7 +44,7 @@ rmw_ret_t rmw_serialize(
   }
   std::vector<uint8_t> data;
   if (!rmw_introspect::cdr_serialize(
-      rmw_introspect::message_layout(type), ros_message, &data, &error))
+        rmw_introspect::message_layout(type), ros_message, &data, &error))
   {
     RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("cannot serialize: %s", error.c_str());
     return RMW_RET_ERROR;
@@ -75,8 +74,8 @@ rmw_ret_t rmw_deserialize(
     return RMW_RET_ERROR;
   }
   if (!rmw_introspect::cdr_deserialize(
-      rmw_introspect::message_layout(type), serialized_message->buffer,
-      serialized_message->buffer_length, ros_message, &error))
+        rmw_introspect::message_layout(type), serialized_message->buffer,
+        serialized_message->buffer_length, ros_message, &error))
   {
     RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("cannot deserialize: %s", error.c_str());
     return RMW_RET_ERROR;

@@ -22,8 +22,7 @@
 using rmw_introspect::kIdentifier;
 using rmw_introspect::ServiceImpl;
 
-extern "C"
-{
+extern "C" {
 
 rmw_service_t * rmw_create_service(
   const rmw_node_t * node, const rosidl_service_type_support_t * type_supports,
@@ -37,7 +36,8 @@ rmw_service_t * rmw_create_service(
     return nullptr;
   }
   auto impl = rmw_introspect::new_endpoint<ServiceImpl>(
-    node, type_supports, rmw_introspect::resolve_service_type, service_name, qos_profile, "service");
+    node, type_supports, rmw_introspect::resolve_service_type, service_name, qos_profile,
+    "service");
   if (!impl) {
     return nullptr;
   }

@@ -62,8 +62,7 @@ rmw_ret_t take_one_serialized(
 }
 }  // namespace
 
-extern "C"
-{
+extern "C" {
 
 rmw_subscription_t * rmw_create_subscription(
   const rmw_node_t * node, const rosidl_message_type_support_t * type_supports,
@@ -91,10 +90,10 @@ rmw_subscription_t * rmw_create_subscription(
   impl->handle.options.content_filter_options = nullptr;  // not owned by us
   impl->handle.is_cft_enabled = false;
   impl->layout = rmw_introspect::message_layout(impl->type);
-  impl->handle.can_loan_messages = rmw_introspect::Runtime::instance().config().delivery &&
-    rmw_introspect::can_loan(impl->layout);
+  impl->handle.can_loan_messages =
+    rmw_introspect::Runtime::instance().config().delivery && rmw_introspect::can_loan(impl->layout);
   if (subscription_options->content_filter_options != nullptr &&
-    subscription_options->content_filter_options->filter_expression != nullptr)
+      subscription_options->content_filter_options->filter_expression != nullptr)
   {
     const rmw_ret_t ret = rmw_subscription_set_content_filter(
       &impl->handle, subscription_options->content_filter_options);
@@ -141,7 +140,7 @@ rmw_ret_t rmw_subscription_count_matched_publishers(
   // action server is there for rcl_action_server_is_available() only when its feedback and
   // status publishers are matched too, so those two topics count the simulated server.
   if (rmw_introspect::Runtime::instance().config().server_available && count == 0 &&
-    (ends_with(impl->name, "/_action/feedback") || ends_with(impl->name, "/_action/status")))
+      (ends_with(impl->name, "/_action/feedback") || ends_with(impl->name, "/_action/status")))
   {
     count = 1;
   }
@@ -168,8 +167,8 @@ rmw_ret_t rmw_subscription_set_content_filter(
   // Filtering applies to in-process delivery only: without it the options are just kept.
   const bool compile = rmw_introspect::Runtime::instance().config().delivery;
   bool enabled = false;
-  const rmw_ret_t ret = impl->filter.set(
-    *options, compile ? &impl->layout : nullptr, impl->name, &enabled);
+  const rmw_ret_t ret =
+    impl->filter.set(*options, compile ? &impl->layout : nullptr, impl->name, &enabled);
   subscription->is_cft_enabled = enabled;
   return ret;
 }
@@ -276,7 +275,7 @@ rmw_ret_t rmw_take_sequence(
   auto * impl = static_cast<SubscriptionImpl *>(subscription->data);
   bool stimulus_taken = false;
   if (runtime.injector().take_message(
-      impl, message_sequence->data[0], &stimulus_taken, &message_info_sequence->data[0]))
+        impl, message_sequence->data[0], &stimulus_taken, &message_info_sequence->data[0]))
   {
     // A stimulus of the middleware's own, alone in the sequence: no activity of the node.
     *taken = stimulus_taken ? 1u : 0u;

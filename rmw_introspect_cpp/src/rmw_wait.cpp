@@ -35,7 +35,7 @@ bool any_triggered(const rmw_guard_conditions_t * gcs, pid_t except_tid = 0)
   for (size_t i = 0; i < gcs->guard_condition_count; ++i) {
     auto * impl = static_cast<GuardConditionImpl *>(gcs->guard_conditions[i]);
     if (impl != nullptr && impl->gc.triggered.load() &&
-      (except_tid == 0 || impl->gc.triggered_by.load() != except_tid))
+        (except_tid == 0 || impl->gc.triggered_by.load() != except_tid))
     {
       return true;
     }
@@ -78,8 +78,7 @@ int64_t timeout_ns(const rmw_time_t * timeout)
 
 }  // namespace
 
-extern "C"
-{
+extern "C" {
 
 rmw_wait_set_t * rmw_create_wait_set(rmw_context_t * context, size_t max_conditions)
 {
@@ -120,18 +119,18 @@ rmw_ret_t rmw_wait(
   // an executor woken by its SIGINT guard condition just before the shutdown must not go
   // back to sleep forever. `except_tid`: a guard condition last triggered by that thread does
   // not count (0: every trigger does).
-  auto ready_except =
-    [ws, guard_conditions, subscriptions, services, clients, events](pid_t except_tid) {
-      return any_triggered(guard_conditions, except_tid) ||
-             rmw_introspect::any_ready(subscriptions, services, clients, events) ||
-             (ws->context != nullptr && ws->context->is_shutdown.load());
-    };
-  auto ready = [&ready_except]() {return ready_except(0);};
+  auto ready_except = [ws, guard_conditions, subscriptions, services, clients,
+                       events](pid_t except_tid) {
+    return any_triggered(guard_conditions, except_tid) ||
+      rmw_introspect::any_ready(subscriptions, services, clients, events) ||
+      (ws->context != nullptr && ws->context->is_shutdown.load());
+  };
+  auto ready = [&ready_except]() { return ready_except(0); };
   // Work for the thread from outside: anything ready but the guard conditions it triggered
   // itself (rclpy's spin_once(node) adds and removes the node, each a trigger, before every
   // wait). A poll that finds none is an idle poll (detected quiescence).
   const pid_t tid = rmw_introspect::current_tid();
-  auto work = [&ready_except, tid]() {return ready_except(tid);};
+  auto work = [&ready_except, tid]() { return ready_except(tid); };
   // Blocks, or in the warp jumps virtual time by the timeout and returns at once.
   rmw_introspect::Runtime::instance().wait(ready, work, timeout_ns(wait_timeout));
 

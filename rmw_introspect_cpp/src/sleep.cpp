@@ -38,13 +38,13 @@ int64_t to_ns(const struct timespec & ts)
 bool stepped_duration(clockid_t clock, int flags, const struct timespec * request, int64_t * ns)
 {
   if ((clock != CLOCK_MONOTONIC && clock != CLOCK_REALTIME) || !valid(request) ||
-    !rmw_introspect::sleeps_virtual())
+      !rmw_introspect::sleeps_virtual())
   {
     return false;
   }
   *ns = to_ns(*request);
   if ((flags & TIMER_ABSTIME) != 0) {
-    struct timespec now {};
+    struct timespec now{};
     if (clock_gettime(clock, &now) != 0) {
       return false;
     }
@@ -92,9 +92,9 @@ RMWI_INTERPOSED int usleep(useconds_t microseconds)
 
 RMWI_INTERPOSED unsigned int sleep(unsigned int seconds)
 {
-  struct timespec request {};
+  struct timespec request{};
   request.tv_sec = static_cast<time_t>(seconds);
-  struct timespec remain {};
+  struct timespec remain{};
   if (nanosleep(&request, &remain) != 0) {
     return static_cast<unsigned int>(remain.tv_sec + (remain.tv_nsec > 0 ? 1 : 0));
   }

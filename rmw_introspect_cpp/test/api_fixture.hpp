@@ -20,22 +20,22 @@
 #include "std_msgs/msg/string.h"
 #include "test_msgs/srv/basic_types.h"
 
-#define EXPECT_RET_WITH_ERROR(expected, expr) \
-  do { \
-    rmw_reset_error(); \
-    EXPECT_EQ(expected, (expr)) << #expr; \
+#define EXPECT_RET_WITH_ERROR(expected, expr)                            \
+  do {                                                                   \
+    rmw_reset_error();                                                   \
+    EXPECT_EQ(expected, (expr)) << #expr;                                \
     EXPECT_TRUE(rmw_error_is_set()) << "no error message set by " #expr; \
-    rmw_reset_error(); \
+    rmw_reset_error();                                                   \
   } while (0)
 
 #define EXPECT_INVALID(expr) EXPECT_RET_WITH_ERROR(RMW_RET_INVALID_ARGUMENT, expr)
 #define EXPECT_FOREIGN(expr) EXPECT_RET_WITH_ERROR(RMW_RET_INCORRECT_RMW_IMPLEMENTATION, expr)
-#define EXPECT_NULL_WITH_ERROR(expr) \
-  do { \
-    rmw_reset_error(); \
-    EXPECT_EQ(nullptr, (expr)) << #expr; \
+#define EXPECT_NULL_WITH_ERROR(expr)                                     \
+  do {                                                                   \
+    rmw_reset_error();                                                   \
+    EXPECT_EQ(nullptr, (expr)) << #expr;                                 \
     EXPECT_TRUE(rmw_error_is_set()) << "no error message set by " #expr; \
-    rmw_reset_error(); \
+    rmw_reset_error();                                                   \
   } while (0)
 
 inline const char * foreign_identifier()

@@ -37,16 +37,56 @@ struct Value
   std::vector<Value> items;                           // Array
   std::vector<std::pair<std::string, Value>> fields;  // Object
 
-  static Value null() {return Value();}
-  static Value boolean(bool v) {Value x; x.kind = Kind::Bool; x.b = v; return x;}
-  static Value integer(int64_t v) {Value x; x.kind = Kind::Int; x.i = v; return x;}
-  static Value number(double v) {Value x; x.kind = Kind::Double; x.d = v; return x;}
+  static Value null() { return Value(); }
+  static Value boolean(bool v)
+  {
+    Value x;
+    x.kind = Kind::Bool;
+    x.b = v;
+    return x;
+  }
+  static Value integer(int64_t v)
+  {
+    Value x;
+    x.kind = Kind::Int;
+    x.i = v;
+    return x;
+  }
+  static Value number(double v)
+  {
+    Value x;
+    x.kind = Kind::Double;
+    x.d = v;
+    return x;
+  }
   /// A double written exactly (shortest round trip; a JSON number with a '.' or an exponent;
   /// NaN and infinities as the strings "nan", "inf", "-inf").
-  static Value real(double v) {Value x; x.kind = Kind::Real; x.d = v; return x;}
-  static Value string(std::string v) {Value x; x.kind = Kind::String; x.s = std::move(v); return x;}
-  static Value array() {Value x; x.kind = Kind::Array; return x;}
-  static Value object() {Value x; x.kind = Kind::Object; return x;}
+  static Value real(double v)
+  {
+    Value x;
+    x.kind = Kind::Real;
+    x.d = v;
+    return x;
+  }
+  static Value string(std::string v)
+  {
+    Value x;
+    x.kind = Kind::String;
+    x.s = std::move(v);
+    return x;
+  }
+  static Value array()
+  {
+    Value x;
+    x.kind = Kind::Array;
+    return x;
+  }
+  static Value object()
+  {
+    Value x;
+    x.kind = Kind::Object;
+    return x;
+  }
   Value & add(std::string key, Value v)
   {
     fields.emplace_back(std::move(key), std::move(v));
@@ -68,7 +108,7 @@ std::string quote(const std::string & in)
   out.push_back('"');
   const auto * p = reinterpret_cast<const unsigned char *>(in.data());
   const size_t n = in.size();
-  for (size_t k = 0; k < n; ) {
+  for (size_t k = 0; k < n;) {
     const unsigned char c = p[k];
     if (c == '"') {
       out += "\\\"";
@@ -147,12 +187,8 @@ std::string scalar(const Value & v)
   switch (v.kind) {
     case Value::Kind::Null: return "null";
     case Value::Kind::Bool: return v.b ? "true" : "false";
-    case Value::Kind::Int:
-      snprintf(buf, sizeof(buf), "%" PRId64, v.i);
-      return buf;
-    case Value::Kind::Double:
-      snprintf(buf, sizeof(buf), "%.3f", v.d);
-      return buf;
+    case Value::Kind::Int: snprintf(buf, sizeof(buf), "%" PRId64, v.i); return buf;
+    case Value::Kind::Double: snprintf(buf, sizeof(buf), "%.3f", v.d); return buf;
     case Value::Kind::Real: return exact_double(v.d);
     case Value::Kind::String: return quote(v.s);
     default: return "";
@@ -180,9 +216,13 @@ void emit_json(const Value & v, int indent, std::string & out)
     }
     out += flat ? "[" : "[\n";
     for (size_t k = 0; k < v.items.size(); ++k) {
-      if (!flat) {out += pad;}
+      if (!flat) {
+        out += pad;
+      }
       emit_json(v.items[k], indent + 2, out);
-      if (k + 1 < v.items.size()) {out += flat ? ", " : ",\n";}
+      if (k + 1 < v.items.size()) {
+        out += flat ? ", " : ",\n";
+      }
     }
     out += flat ? "]" : "\n" + end_pad + "]";
   } else if (v.kind == Value::Kind::Object) {
@@ -194,7 +234,9 @@ void emit_json(const Value & v, int indent, std::string & out)
     for (size_t k = 0; k < v.fields.size(); ++k) {
       out += pad + quote(v.fields[k].first) + ": ";
       emit_json(v.fields[k].second, indent + 2, out);
-      if (k + 1 < v.fields.size()) {out += ",";}
+      if (k + 1 < v.fields.size()) {
+        out += ",";
+      }
       out += "\n";
     }
     out += end_pad + "}";
@@ -278,22 +320,31 @@ Value parameter_value(const ParameterValue & v)
     case kParameterDouble: return Value::real(v.double_value);
     case kParameterString: return Value::string(v.string_value);
     case kParameterByteArray:
-      for (uint8_t b : v.byte_array_value) {array.push(Value::integer(b));}
+      for (uint8_t b : v.byte_array_value) {
+        array.push(Value::integer(b));
+      }
       return array;
     case kParameterBoolArray:
-      for (bool b : v.bool_array_value) {array.push(Value::boolean(b));}
+      for (bool b : v.bool_array_value) {
+        array.push(Value::boolean(b));
+      }
       return array;
     case kParameterIntegerArray:
-      for (int64_t i : v.integer_array_value) {array.push(Value::integer(i));}
+      for (int64_t i : v.integer_array_value) {
+        array.push(Value::integer(i));
+      }
       return array;
     case kParameterDoubleArray:
-      for (double d : v.double_array_value) {array.push(Value::real(d));}
+      for (double d : v.double_array_value) {
+        array.push(Value::real(d));
+      }
       return array;
     case kParameterStringArray:
-      for (const auto & s : v.string_array_value) {array.push(Value::string(s));}
+      for (const auto & s : v.string_array_value) {
+        array.push(Value::string(s));
+      }
       return array;
-    default:
-      return Value::null();
+    default: return Value::null();
   }
 }
 
@@ -355,9 +406,9 @@ Value lifecycle(const LifecycleRecord & lc)
     tv.add("result", Value::string(transition_result(t.result)));
     tv.add(
       "success",
-      t.result == LifecycleTransitionRecord::Result::kSuccess ? Value::boolean(true) :
-      t.result == LifecycleTransitionRecord::Result::kFailure ? Value::boolean(false) :
-      Value::null());
+      t.result == LifecycleTransitionRecord::Result::kSuccess   ? Value::boolean(true) :
+        t.result == LifecycleTransitionRecord::Result::kFailure ? Value::boolean(false) :
+                                                                  Value::null());
     transitions.push(std::move(tv));
   }
   v.add("transitions", std::move(transitions));
@@ -379,7 +430,8 @@ void add_probe_fields(const NodeRecord & n, Value & node)
     node.add("parameters", Value::null());
   }
   node.add(
-    "parameters_error", probe != nullptr ? optional_string(probe->parameters_error) : Value::null());
+    "parameters_error",
+    probe != nullptr ? optional_string(probe->parameters_error) : Value::null());
   node.add(
     "lifecycle",
     probe != nullptr && probe->has_lifecycle ? lifecycle(probe->lifecycle) : Value::null());
@@ -541,8 +593,11 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     node.add("in_teardown", Value::boolean(n.in_teardown));
     node.add("created_virtual_ms", Value::number(n.created.virtual_ms));
     node.add("created_real_ms", Value::number(n.created.real_ms));
-    node.add("destroyed_virtual_ms", n.destroyed ? Value::number(n.destroyed_at.virtual_ms) : Value::null());
-    node.add("destroyed_real_ms", n.destroyed ? Value::number(n.destroyed_at.real_ms) : Value::null());
+    node.add(
+      "destroyed_virtual_ms",
+      n.destroyed ? Value::number(n.destroyed_at.virtual_ms) : Value::null());
+    node.add(
+      "destroyed_real_ms", n.destroyed ? Value::number(n.destroyed_at.real_ms) : Value::null());
     add_probe_fields(n, node);
     nodes.push(std::move(node));
   }
@@ -563,8 +618,11 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
     ep.add("in_teardown", Value::boolean(e.in_teardown));
     ep.add("created_virtual_ms", Value::number(e.created.virtual_ms));
     ep.add("created_real_ms", Value::number(e.created.real_ms));
-    ep.add("destroyed_virtual_ms", e.destroyed ? Value::number(e.destroyed_at.virtual_ms) : Value::null());
-    ep.add("destroyed_real_ms", e.destroyed ? Value::number(e.destroyed_at.real_ms) : Value::null());
+    ep.add(
+      "destroyed_virtual_ms",
+      e.destroyed ? Value::number(e.destroyed_at.virtual_ms) : Value::null());
+    ep.add(
+      "destroyed_real_ms", e.destroyed ? Value::number(e.destroyed_at.real_ms) : Value::null());
     ep.add("created_in", optional_string(e.created_in));
     endpoints.push(std::move(ep));
   }

@@ -20,8 +20,8 @@ constexpr int64_t kMs = 1000 * 1000;
 class ManualClock : public rmw_introspect::Clock
 {
 public:
-  int64_t now_ns() const override {return now;}
-  void advance_ms(int64_t ms) {now += ms * kMs;}
+  int64_t now_ns() const override { return now; }
+  void advance_ms(int64_t ms) { now += ms * kMs; }
   int64_t now = 1000 * kMs;
 };
 

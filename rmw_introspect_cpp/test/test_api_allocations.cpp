@@ -22,8 +22,7 @@
 
 #include "api_fixture.hpp"
 
-extern "C"
-{
+extern "C" {
 void * __libc_malloc(size_t size);
 void * __libc_calloc(size_t count, size_t size);
 void * __libc_realloc(void * ptr, size_t size);
@@ -63,7 +62,7 @@ Operations memory_operations(Fn fn)
 Operations memory_operations_on_new_thread(const std::function<void()> & fn)
 {
   Operations result;
-  std::thread([&]() {result = memory_operations(fn);}).join();
+  std::thread([&]() { result = memory_operations(fn); }).join();
   return result;
 }
 
@@ -80,11 +79,11 @@ void expect_no_memory_operations(const std::vector<Call> & calls)
 {
   for (const Call & call : calls) {
     rmw_ret_t ret = RMW_RET_ERROR;
-    const Operations fresh = memory_operations_on_new_thread([&]() {ret = call.run();});
+    const Operations fresh = memory_operations_on_new_thread([&]() { ret = call.run(); });
     EXPECT_EQ(RMW_RET_OK, ret) << call.name << ": " << rmw_get_error_string().str;
     EXPECT_EQ(0u, fresh.allocations) << call.name << " allocated on a thread's first call";
     EXPECT_EQ(0u, fresh.frees) << call.name << " freed on a thread's first call";
-    const Operations again = memory_operations([&]() {ret = call.run();});
+    const Operations again = memory_operations([&]() { ret = call.run(); });
     EXPECT_EQ(RMW_RET_OK, ret) << call.name;
     EXPECT_EQ(0u, again.allocations) << call.name << " allocated";
     EXPECT_EQ(0u, again.frees) << call.name << " freed";
@@ -92,8 +91,7 @@ void expect_no_memory_operations(const std::vector<Call> & calls)
 }
 }  // namespace
 
-extern "C"
-{
+extern "C" {
 void * malloc(size_t size)
 {
   note_allocation();
@@ -125,21 +123,20 @@ using ApiAllocations = ApiFixture;
 
 TEST_F(ApiAllocations, the_counter_sees_allocations_and_frees_on_any_thread)
 {
-  void * (* volatile allocate)(size_t) = malloc;  // volatile: not optimised away
-  const Operations here = memory_operations([&]() {free(allocate(16));});
+  void * (*volatile allocate)(size_t) = malloc;  // volatile: not optimised away
+  const Operations here = memory_operations([&]() { free(allocate(16)); });
   EXPECT_EQ(1u, here.allocations);
   EXPECT_EQ(1u, here.frees);
-  const Operations there = memory_operations_on_new_thread([&]() {free(allocate(16));});
+  const Operations there = memory_operations_on_new_thread([&]() { free(allocate(16)); });
   EXPECT_EQ(1u, there.allocations);
   EXPECT_EQ(1u, there.frees);
   // A call that does allocate is seen: creating a subscription (and destroying it frees).
   rmw_ret_t destroyed = RMW_RET_ERROR;
-  const Operations create = memory_operations_on_new_thread(
-    [&]() {
-      rmw_subscription_t * sub = rmw_create_subscription(
-        node, msg_ts, "/chatter", &qos, &sub_options);
-      destroyed = rmw_destroy_subscription(node, sub);
-    });
+  const Operations create = memory_operations_on_new_thread([&]() {
+    rmw_subscription_t * sub =
+      rmw_create_subscription(node, msg_ts, "/chatter", &qos, &sub_options);
+    destroyed = rmw_destroy_subscription(node, sub);
+  });
   EXPECT_EQ(RMW_RET_OK, destroyed);
   EXPECT_GT(create.allocations, 0u);
   EXPECT_GT(create.frees, 0u);
@@ -149,16 +146,15 @@ TEST_F(ApiAllocations, matched_and_graph_counts_make_no_memory_operation)
 {
   // No warm-up on purpose: test_rmw_implementation's first call of a test is counted.
   size_t count = 99;
-  expect_no_memory_operations(
-  {
+  expect_no_memory_operations({
     {"rmw_publisher_count_matched_subscriptions",
-      [&]() {return rmw_publisher_count_matched_subscriptions(publisher, &count);}},
+     [&]() { return rmw_publisher_count_matched_subscriptions(publisher, &count); }},
     {"rmw_subscription_count_matched_publishers",
-      [&]() {return rmw_subscription_count_matched_publishers(subscription, &count);}},
-    {"rmw_count_publishers", [&]() {return rmw_count_publishers(node, "/chatter", &count);}},
-    {"rmw_count_subscribers", [&]() {return rmw_count_subscribers(node, "/chatter", &count);}},
-    {"rmw_count_services", [&]() {return rmw_count_services(node, "/basic", &count);}},
-    {"rmw_count_clients", [&]() {return rmw_count_clients(node, "/basic", &count);}},
+     [&]() { return rmw_subscription_count_matched_publishers(subscription, &count); }},
+    {"rmw_count_publishers", [&]() { return rmw_count_publishers(node, "/chatter", &count); }},
+    {"rmw_count_subscribers", [&]() { return rmw_count_subscribers(node, "/chatter", &count); }},
+    {"rmw_count_services", [&]() { return rmw_count_services(node, "/basic", &count); }},
+    {"rmw_count_clients", [&]() { return rmw_count_clients(node, "/basic", &count); }},
   });
   size_t matched = 0;
   ASSERT_EQ(RMW_RET_OK, rmw_publisher_count_matched_subscriptions(publisher, &matched));
@@ -177,30 +173,29 @@ TEST_F(ApiAllocations, gids_actual_qos_and_queries_make_no_memory_operation)
   bool available = false;
   rmw_qos_profile_t actual{};
   ASSERT_EQ(RMW_RET_OK, rmw_get_gid_for_publisher(publisher, &pub_gid));
-  expect_no_memory_operations(
-  {
-    {"rmw_get_gid_for_publisher", [&]() {return rmw_get_gid_for_publisher(publisher, &pub_gid);}},
-    {"rmw_get_gid_for_client", [&]() {return rmw_get_gid_for_client(client, &client_gid);}},
+  expect_no_memory_operations({
+    {"rmw_get_gid_for_publisher", [&]() { return rmw_get_gid_for_publisher(publisher, &pub_gid); }},
+    {"rmw_get_gid_for_client", [&]() { return rmw_get_gid_for_client(client, &client_gid); }},
     {"rmw_compare_gids_equal",
-      [&]() {return rmw_compare_gids_equal(&pub_gid, &pub_gid, &equal);}},
+     [&]() { return rmw_compare_gids_equal(&pub_gid, &pub_gid, &equal); }},
     {"rmw_publisher_get_actual_qos",
-      [&]() {return rmw_publisher_get_actual_qos(publisher, &actual);}},
+     [&]() { return rmw_publisher_get_actual_qos(publisher, &actual); }},
     {"rmw_subscription_get_actual_qos",
-      [&]() {return rmw_subscription_get_actual_qos(subscription, &actual);}},
+     [&]() { return rmw_subscription_get_actual_qos(subscription, &actual); }},
     {"rmw_client_request_publisher_get_actual_qos",
-      [&]() {return rmw_client_request_publisher_get_actual_qos(client, &actual);}},
+     [&]() { return rmw_client_request_publisher_get_actual_qos(client, &actual); }},
     {"rmw_client_response_subscription_get_actual_qos",
-      [&]() {return rmw_client_response_subscription_get_actual_qos(client, &actual);}},
+     [&]() { return rmw_client_response_subscription_get_actual_qos(client, &actual); }},
     {"rmw_service_request_subscription_get_actual_qos",
-      [&]() {return rmw_service_request_subscription_get_actual_qos(service, &actual);}},
+     [&]() { return rmw_service_request_subscription_get_actual_qos(service, &actual); }},
     {"rmw_service_response_publisher_get_actual_qos",
-      [&]() {return rmw_service_response_publisher_get_actual_qos(service, &actual);}},
+     [&]() { return rmw_service_response_publisher_get_actual_qos(service, &actual); }},
     {"rmw_publisher_assert_liveliness",
-      [&]() {return rmw_publisher_assert_liveliness(publisher);}},
+     [&]() { return rmw_publisher_assert_liveliness(publisher); }},
     {"rmw_node_get_graph_guard_condition",
-      [&]() {return rmw_node_get_graph_guard_condition(node) ? RMW_RET_OK : RMW_RET_ERROR;}},
+     [&]() { return rmw_node_get_graph_guard_condition(node) ? RMW_RET_OK : RMW_RET_ERROR; }},
     {"rmw_service_server_is_available",
-      [&]() {return rmw_service_server_is_available(node, client, &available);}},
+     [&]() { return rmw_service_server_is_available(node, client, &available); }},
   });
   EXPECT_TRUE(equal);
 }
@@ -210,9 +205,8 @@ TEST_F(ApiAllocations, take_without_message_info_makes_no_memory_operation)
   std_msgs__msg__String message;
   ASSERT_TRUE(std_msgs__msg__String__init(&message));
   bool taken = true;
-  expect_no_memory_operations(
-  {
-    {"rmw_take", [&]() {return rmw_take(subscription, &message, &taken, nullptr);}},
+  expect_no_memory_operations({
+    {"rmw_take", [&]() { return rmw_take(subscription, &message, &taken, nullptr); }},
   });
   EXPECT_FALSE(taken);
   std_msgs__msg__String__fini(&message);
@@ -230,15 +224,15 @@ TEST_F(ApiAllocations, destroying_an_entity_allocates_nothing)
   rmw_wait_set_t * ws = rmw_create_wait_set(&context, 4);
   ASSERT_TRUE(pub && sub && srv && cli && ws) << rmw_get_error_string().str;
   const std::vector<std::pair<std::string, std::function<rmw_ret_t()>>> destroys{
-    {"rmw_destroy_publisher", [&]() {return rmw_destroy_publisher(node, pub);}},
-    {"rmw_destroy_subscription", [&]() {return rmw_destroy_subscription(node, sub);}},
-    {"rmw_destroy_service", [&]() {return rmw_destroy_service(node, srv);}},
-    {"rmw_destroy_client", [&]() {return rmw_destroy_client(node, cli);}},
-    {"rmw_destroy_wait_set", [&]() {return rmw_destroy_wait_set(ws);}},
+    {"rmw_destroy_publisher", [&]() { return rmw_destroy_publisher(node, pub); }},
+    {"rmw_destroy_subscription", [&]() { return rmw_destroy_subscription(node, sub); }},
+    {"rmw_destroy_service", [&]() { return rmw_destroy_service(node, srv); }},
+    {"rmw_destroy_client", [&]() { return rmw_destroy_client(node, cli); }},
+    {"rmw_destroy_wait_set", [&]() { return rmw_destroy_wait_set(ws); }},
   };
   for (const auto & destroy : destroys) {
     rmw_ret_t ret = RMW_RET_ERROR;
-    const Operations fresh = memory_operations_on_new_thread([&]() {ret = destroy.second();});
+    const Operations fresh = memory_operations_on_new_thread([&]() { ret = destroy.second(); });
     EXPECT_EQ(RMW_RET_OK, ret) << destroy.first;
     EXPECT_EQ(0u, fresh.allocations) << destroy.first << " allocated";
   }

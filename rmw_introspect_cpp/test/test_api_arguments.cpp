@@ -232,8 +232,7 @@ TEST_F(ApiArgs, publisher_operations)
 TEST_F(ApiArgs, create_subscription)
 {
   EXPECT_NULL_WITH_ERROR(rmw_create_subscription(nullptr, msg_ts, "/t", &qos, &sub_options));
-  EXPECT_NULL_WITH_ERROR(
-    rmw_create_subscription(&foreign_node, msg_ts, "/t", &qos, &sub_options));
+  EXPECT_NULL_WITH_ERROR(rmw_create_subscription(&foreign_node, msg_ts, "/t", &qos, &sub_options));
   EXPECT_NULL_WITH_ERROR(rmw_create_subscription(node, nullptr, "/t", &qos, &sub_options));
   EXPECT_NULL_WITH_ERROR(rmw_create_subscription(node, msg_ts, nullptr, &qos, &sub_options));
   EXPECT_NULL_WITH_ERROR(rmw_create_subscription(node, msg_ts, "/t", nullptr, &sub_options));
@@ -251,13 +250,16 @@ TEST_F(ApiArgs, create_subscription)
 TEST_F(ApiArgs, unique_network_flow_endpoints)
 {
   rmw_subscription_options_t strict_sub = sub_options;
-  strict_sub.require_unique_network_flow_endpoints = RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED;
+  strict_sub.require_unique_network_flow_endpoints =
+    RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED;
   rmw_subscription_t * strict = rmw_create_subscription(node, msg_ts, "/strict", &qos, &strict_sub);
   ASSERT_NE(nullptr, strict) << rmw_get_error_string().str;
   rmw_publisher_options_t strict_pub = pub_options;
-  strict_pub.require_unique_network_flow_endpoints = RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED;
+  strict_pub.require_unique_network_flow_endpoints =
+    RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_STRICTLY_REQUIRED;
   EXPECT_NULL_WITH_ERROR(rmw_create_publisher(node, msg_ts, "/strict", &qos, &strict_pub));
-  strict_pub.require_unique_network_flow_endpoints = RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_OPTIONALLY_REQUIRED;
+  strict_pub.require_unique_network_flow_endpoints =
+    RMW_UNIQUE_NETWORK_FLOW_ENDPOINTS_OPTIONALLY_REQUIRED;
   rmw_publisher_t * optional = rmw_create_publisher(node, msg_ts, "/strict", &qos, &strict_pub);
   ASSERT_NE(nullptr, optional) << rmw_get_error_string().str;
 
@@ -373,9 +375,8 @@ TEST_F(ApiArgs, take)
     rmw_take_serialized_message_with_info(subscription, &serialized, nullptr, &info, nullptr));
   EXPECT_INVALID(
     rmw_take_serialized_message_with_info(subscription, &serialized, &taken, nullptr, nullptr));
-  EXPECT_FOREIGN(
-    rmw_take_serialized_message_with_info(
-      &foreign_subscription, &serialized, &taken, &info, nullptr));
+  EXPECT_FOREIGN(rmw_take_serialized_message_with_info(
+    &foreign_subscription, &serialized, &taken, &info, nullptr));
 
   // Loans: handle checks, then "cannot loan" before the other arguments (rmw_fastrtps_cpp;
   // test_rmw_implementation returns a NULL loan to a subscription that cannot loan and
@@ -567,8 +568,8 @@ TEST_F(ApiArgs, graph)
   using ByNodeTopics = rmw_ret_t (*)(
     const rmw_node_t *, rcutils_allocator_t *, const char *, const char *, bool,
     rmw_names_and_types_t *);
-  for (ByNodeTopics fn : {rmw_get_publisher_names_and_types_by_node,
-      rmw_get_subscriber_names_and_types_by_node})
+  for (ByNodeTopics fn :
+       {rmw_get_publisher_names_and_types_by_node, rmw_get_subscriber_names_and_types_by_node})
   {
     EXPECT_INVALID(fn(nullptr, &alloc, "fixture_node", "/ns", false, &nt));
     EXPECT_INVALID(fn(node, nullptr, "fixture_node", "/ns", false, &nt));
@@ -581,10 +582,9 @@ TEST_F(ApiArgs, graph)
       RMW_RET_NODE_NAME_NON_EXISTENT, fn(node, &alloc, "nobody", "/ns", false, &nt));
   }
   using ByNodeServices = rmw_ret_t (*)(
-    const rmw_node_t *, rcutils_allocator_t *, const char *, const char *,
-    rmw_names_and_types_t *);
-  for (ByNodeServices fn : {rmw_get_service_names_and_types_by_node,
-      rmw_get_client_names_and_types_by_node})
+    const rmw_node_t *, rcutils_allocator_t *, const char *, const char *, rmw_names_and_types_t *);
+  for (ByNodeServices fn :
+       {rmw_get_service_names_and_types_by_node, rmw_get_client_names_and_types_by_node})
   {
     EXPECT_INVALID(fn(nullptr, &alloc, "fixture_node", "/ns", &nt));
     EXPECT_INVALID(fn(node, nullptr, "fixture_node", "/ns", &nt));
@@ -613,8 +613,8 @@ TEST_F(ApiArgs, graph)
   }
   using Count = rmw_ret_t (*)(const rmw_node_t *, const char *, size_t *);
   size_t count = 0;
-  for (Count fn : {rmw_count_publishers, rmw_count_subscribers, rmw_count_clients,
-      rmw_count_services})
+  for (Count fn :
+       {rmw_count_publishers, rmw_count_subscribers, rmw_count_clients, rmw_count_services})
   {
     EXPECT_INVALID(fn(nullptr, "/chatter", &count));
     EXPECT_INVALID(fn(node, nullptr, &count));

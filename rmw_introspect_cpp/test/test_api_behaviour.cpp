@@ -150,8 +150,7 @@ TEST_F(ApiBehaviour, graph_answers_from_own_records)
   EXPECT_EQ(std::set<std::string>{"/chatter std_msgs/msg/String"}, names_of(nt));
   EXPECT_EQ(RMW_RET_OK, rmw_names_and_types_fini(&nt));
   ASSERT_EQ(
-    RMW_RET_OK,
-    rmw_get_service_names_and_types_by_node(node, &alloc, "fixture_node", "/ns", &nt));
+    RMW_RET_OK, rmw_get_service_names_and_types_by_node(node, &alloc, "fixture_node", "/ns", &nt));
   EXPECT_EQ(std::set<std::string>{"/basic test_msgs/srv/BasicTypes"}, names_of(nt));
   EXPECT_EQ(RMW_RET_OK, rmw_names_and_types_fini(&nt));
   ASSERT_EQ(
@@ -271,8 +270,7 @@ TEST_F(ApiBehaviour, gids_requests_takes_qos)
     rmw_subscription_content_filter_options_init("data = %0", 1, params, &alloc, &filter));
   EXPECT_EQ(RMW_RET_OK, rmw_subscription_set_content_filter(subscription, &filter));
   EXPECT_TRUE(subscription->is_cft_enabled);
-  rmw_subscription_content_filter_options_t got =
-    rmw_get_zero_initialized_content_filter_options();
+  rmw_subscription_content_filter_options_t got = rmw_get_zero_initialized_content_filter_options();
   ASSERT_EQ(RMW_RET_OK, rmw_subscription_get_content_filter(subscription, &alloc, &got));
   EXPECT_STREQ("data = %0", got.filter_expression);
   EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&got, &alloc));
@@ -294,7 +292,8 @@ TEST_F(ApiBehaviour, content_filter_is_read_into_an_uninitialised_struct)
     rmw_get_zero_initialized_content_filter_options();
   const char * params[] = {"3.14159", "'x'"};
   ASSERT_EQ(
-    RMW_RET_OK, rmw_subscription_content_filter_options_init(
+    RMW_RET_OK,
+    rmw_subscription_content_filter_options_init(
       "float32_value = %0 OR data = %1", 2, params, &alloc, &filter));
   rmw_subscription_options_t options = rmw_get_default_subscription_options();
   options.content_filter_options = &filter;
@@ -515,7 +514,8 @@ TEST_F(ApiBehaviour, without_delivery_nothing_arrives_but_serialization_works)
     RMW_RET_TIMEOUT, rmw_wait(&subs, nullptr, nullptr, nullptr, nullptr, wait_set, &timeout));
   EXPECT_EQ(nullptr, storage[0]);
   rmw_event_t matched = rmw_get_zero_initialized_event();
-  ASSERT_EQ(RMW_RET_OK, rmw_publisher_event_init(&matched, publisher, RMW_EVENT_PUBLICATION_MATCHED));
+  ASSERT_EQ(
+    RMW_RET_OK, rmw_publisher_event_init(&matched, publisher, RMW_EVENT_PUBLICATION_MATCHED));
   rmw_matched_status_t status{};
   EXPECT_EQ(RMW_RET_OK, rmw_take_event(&matched, &status, &taken));
   EXPECT_FALSE(taken);
@@ -550,8 +550,8 @@ TEST_F(ApiBehaviour, cpp_and_action_type_supports_are_recorded)
   EXPECT_FALSE(rmw_error_is_set());
   const rosidl_message_type_support_t * feedback_ts =
     ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, action, Fibonacci_FeedbackMessage);
-  rmw_subscription_t * sub = rmw_create_subscription(
-    node, feedback_ts, "/fib/_action/feedback", &qos, &sub_options);
+  rmw_subscription_t * sub =
+    rmw_create_subscription(node, feedback_ts, "/fib/_action/feedback", &qos, &sub_options);
   ASSERT_NE(nullptr, sub) << rmw_get_error_string().str;
   const rosidl_service_type_support_t * goal_ts =
     ROSIDL_GET_SRV_TYPE_SUPPORT(test_msgs, action, Fibonacci_SendGoal);

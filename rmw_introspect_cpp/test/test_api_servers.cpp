@@ -85,14 +85,14 @@ TEST_F(ApiServers, action_topics_count_only_real_publishers)
 {
   const rosidl_message_type_support_t * feedback_ts =
     ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, action, Fibonacci_FeedbackMessage);
-  rmw_subscription_t * sub = rmw_create_subscription(
-    node, feedback_ts, "/fib/_action/feedback", &qos, &sub_options);
+  rmw_subscription_t * sub =
+    rmw_create_subscription(node, feedback_ts, "/fib/_action/feedback", &qos, &sub_options);
   ASSERT_NE(nullptr, sub);
   size_t count = 9;
   ASSERT_EQ(RMW_RET_OK, rmw_subscription_count_matched_publishers(sub, &count));
   EXPECT_EQ(0u, count);
-  rmw_publisher_t * pub = rmw_create_publisher(
-    node, feedback_ts, "/fib/_action/feedback", &qos, &pub_options);
+  rmw_publisher_t * pub =
+    rmw_create_publisher(node, feedback_ts, "/fib/_action/feedback", &qos, &pub_options);
   ASSERT_NE(nullptr, pub);
   ASSERT_EQ(RMW_RET_OK, rmw_subscription_count_matched_publishers(sub, &count));
   EXPECT_EQ(1u, count);

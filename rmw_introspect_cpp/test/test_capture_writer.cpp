@@ -94,7 +94,9 @@ int count_entries(const std::string & dir)
 {
   int n = 0;
   DIR * d = opendir(dir.c_str());
-  if (!d) {return -1;}
+  if (!d) {
+    return -1;
+  }
   while (dirent * e = readdir(d)) {
     if (std::string(e->d_name) != "." && std::string(e->d_name) != "..") {
       ++n;
@@ -407,9 +409,14 @@ TEST(CaptureWriter, parameters_lifecycle_and_created_in)
 )")) << text;
   // YAML: the same tree.
   const std::string yaml = rmw_introspect::render_capture_yaml(h, recorder.snapshot());
-  EXPECT_NE(std::string::npos, yaml.find("  parameters:\n  - name: \"gain\"\n    type: \"double\"\n    value: 1.0\n")) << yaml;
+  EXPECT_NE(
+    std::string::npos,
+    yaml.find("  parameters:\n  - name: \"gain\"\n    type: \"double\"\n    value: 1.0\n"))
+    << yaml;
   EXPECT_NE(std::string::npos, yaml.find("    value:\n    - 1\n    - -2\n")) << yaml;
-  EXPECT_NE(std::string::npos, yaml.find("    transitions:\n    - id: 1\n      label: \"configure\"\n")) << yaml;
+  EXPECT_NE(
+    std::string::npos, yaml.find("    transitions:\n    - id: 1\n      label: \"configure\"\n"))
+    << yaml;
 }
 
 TEST(CaptureWriter, stimuli_and_what_their_nodes_created_after_them)
@@ -461,8 +468,10 @@ TEST(CaptureWriter, stimuli_and_what_their_nodes_created_after_them)
       "error": "no subscription or service named /nothing"
     }
   ],
-  "nodes": [)")) << text;
-  EXPECT_NE(std::string::npos, text.find("      \"created_in\": \"stimulus:/camera_info\"\n")) << text;
+  "nodes": [)"))
+    << text;
+  EXPECT_NE(std::string::npos, text.find("      \"created_in\": \"stimulus:/camera_info\"\n"))
+    << text;
   const std::string yaml = rmw_introspect::render_capture_yaml(h, recorder.snapshot());
   EXPECT_NE(std::string::npos, yaml.find("stimuli:\n- name: \"/camera_info\"\n  state: \"done\"\n"))
     << yaml;
@@ -514,7 +523,8 @@ RecorderSnapshot sample_with_types()
   using rmw_introspect::TypeDescriptions;
   TypeDescription point;
   point.name = "pkg/msg/Point";
-  point.fields = {{"x", "float64", FieldArray::None, 0, 0}, {"y", "float64", FieldArray::None, 0, 0}};
+  point.fields = {
+    {"x", "float64", FieldArray::None, 0, 0}, {"y", "float64", FieldArray::None, 0, 0}};
   point.constants_known = true;
   TypeDescription path;
   path.name = "pkg/msg/Path";
@@ -630,7 +640,8 @@ TEST(CaptureWriter, types_table_once_per_type_sorted_by_name)
   const std::string yaml = rmw_introspect::render_capture_yaml(header(), sample_with_types());
   EXPECT_NE(
     std::string::npos,
-    yaml.find("\ntypes:\n  pkg/msg/Path:\n    kind: \"message\"\n    fields:\n    - name: \"points\"\n"));
+    yaml.find(
+      "\ntypes:\n  pkg/msg/Path:\n    kind: \"message\"\n    fields:\n    - name: \"points\"\n"));
 }
 
 TEST(CaptureWriter, invalid_utf8_is_replaced)
@@ -649,9 +660,7 @@ TEST(CaptureWriter, yaml_layout)
   EXPECT_NE(std::string::npos, text.find("\nformat: \"rmw_introspect_capture\"\n"));
   EXPECT_NE(std::string::npos, text.find("\nargv:\n- \"/usr/bin/python3\"\n- \"talker.py\"\n"));
   EXPECT_NE(std::string::npos, text.find("\nnodes:\n- id: 1\n  seq: 1\n  name: \"talker\"\n"));
-  EXPECT_NE(
-    std::string::npos,
-    text.find("  qos:\n    history: \"KEEP_LAST\"\n    depth: 10\n"));
+  EXPECT_NE(std::string::npos, text.find("  qos:\n    history: \"KEEP_LAST\"\n    depth: 10\n"));
   EXPECT_NE(std::string::npos, text.find("  type_hash: null\n"));
   EXPECT_NE(std::string::npos, text.find("time_to_settle_ms: 31.750\n"));
 }
@@ -672,8 +681,7 @@ TEST(CaptureWriter, atomic_write_replaces_and_leaves_no_temp_file)
   EXPECT_FALSE(rmw_introspect::write_file_atomically(sub, "x", &error));
   EXPECT_FALSE(error.empty());
   EXPECT_EQ(2, count_entries(dir));
-  EXPECT_FALSE(
-    rmw_introspect::write_file_atomically(dir + "/missing/capture.json", "x", &error));
+  EXPECT_FALSE(rmw_introspect::write_file_atomically(dir + "/missing/capture.json", "x", &error));
   rmdir(sub.c_str());
   unlink(path.c_str());
   rmdir(dir.c_str());
@@ -721,8 +729,9 @@ using rmw_introspect::TypeDescriptions;
 // Every kind of byte a string can hold: quotes, backslash, control characters, DEL, valid
 // and invalid UTF-8 (truncated, overlong, surrogate lead, past U+10FFFF, stray continuation).
 const std::string kOdd = std::string(
-  "q\"b\\n\nt\tr\r\x01\x1f\x7f \xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80 "
-  "\xc3 \xc0\xaf \xe2\x82 \xf5\x80\x80\x80 \x80 \xff") + std::string(1, '\0') + "end";
+                           "q\"b\\n\nt\tr\r\x01\x1f\x7f \xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80 "
+                           "\xc3 \xc0\xaf \xe2\x82 \xf5\x80\x80\x80 \x80 \xff") +
+  std::string(1, '\0') + "end";
 
 std::shared_ptr<const TypeDescriptions> path_types(const std::string & constant_value)
 {
@@ -763,11 +772,17 @@ rmw_introspect::NodeProbe full_probe()
   probe.has_parameters = true;
   probe.parameters_error = kOdd;
   const uint8_t kinds[] = {
-    rmw_introspect::kParameterNotSet, rmw_introspect::kParameterBool,
-    rmw_introspect::kParameterInteger, rmw_introspect::kParameterDouble,
-    rmw_introspect::kParameterString, rmw_introspect::kParameterByteArray,
-    rmw_introspect::kParameterBoolArray, rmw_introspect::kParameterIntegerArray,
-    rmw_introspect::kParameterDoubleArray, rmw_introspect::kParameterStringArray, 42};
+    rmw_introspect::kParameterNotSet,
+    rmw_introspect::kParameterBool,
+    rmw_introspect::kParameterInteger,
+    rmw_introspect::kParameterDouble,
+    rmw_introspect::kParameterString,
+    rmw_introspect::kParameterByteArray,
+    rmw_introspect::kParameterBoolArray,
+    rmw_introspect::kParameterIntegerArray,
+    rmw_introspect::kParameterDoubleArray,
+    rmw_introspect::kParameterStringArray,
+    42};
   for (uint8_t kind : kinds) {
     ParameterRecord p;
     p.name = "p" + std::to_string(kind);
@@ -781,8 +796,17 @@ rmw_introspect::NodeProbe full_probe()
     p.value.bool_array_value = {true, false};
     p.value.integer_array_value = {std::numeric_limits<int64_t>::max(), -1, 0};
     p.value.double_array_value = {
-      0.1, 1.0 / 3.0, 1e300, 5e-324, -2.5, 100.0, 1e21, 123456789012345678.0,
-      std::numeric_limits<double>::quiet_NaN(), HUGE_VAL, -HUGE_VAL};
+      0.1,
+      1.0 / 3.0,
+      1e300,
+      5e-324,
+      -2.5,
+      100.0,
+      1e21,
+      123456789012345678.0,
+      std::numeric_limits<double>::quiet_NaN(),
+      HUGE_VAL,
+      -HUGE_VAL};
     p.value.string_array_value = {"", kOdd, "plain"};
     p.description = kOdd;
     p.read_only = kind % 2 == 0;
@@ -920,8 +944,12 @@ TEST(CaptureWriter, json_and_yaml_equal_the_reference_renderer_for_every_field)
     EXPECT_NE(std::string::npos, json.find("\"value\": [],")) << json;
     EXPECT_NE(std::string::npos, json.find("\"nan\", \"inf\", \"-inf\"]")) << json;
     EXPECT_NE(std::string::npos, json.find("\"value\": -0.0,")) << json;
-    EXPECT_NE(std::string::npos, json.find("\"pkg/msg/Empty\": {\n      \"kind\": \"message\",\n"
-      "      \"fields\": []\n    },")) << json;
+    EXPECT_NE(
+      std::string::npos,
+      json.find(
+        "\"pkg/msg/Empty\": {\n      \"kind\": \"message\",\n"
+        "      \"fields\": []\n    },"))
+      << json;
     EXPECT_NE(std::string::npos, json.find("\"parameters\": [],")) << json;
   }
   CaptureHeader running = c.header;
@@ -965,10 +993,32 @@ TEST(CaptureWriter, strings_and_doubles_are_written_as_the_reference_writes_them
     ASSERT_EQ("prefix" + rmwi_reference::quote_string(in), out) << in;
   }
   const double doubles[] = {
-    0.0, -0.0, 1.0, -1.0, 0.1, 0.2, 0.1 + 0.2, 1.0 / 3.0, 2.0 / 3.0, 1e15, 1e16, 1e17, 1e21,
-    1e22, 1e-5, 1e-7, 123.456, 5e-324, 2.2250738585072014e-308,
-    std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
-    9007199254740993.0, 4.35, 0.3, std::numeric_limits<double>::quiet_NaN(), HUGE_VAL,
+    0.0,
+    -0.0,
+    1.0,
+    -1.0,
+    0.1,
+    0.2,
+    0.1 + 0.2,
+    1.0 / 3.0,
+    2.0 / 3.0,
+    1e15,
+    1e16,
+    1e17,
+    1e21,
+    1e22,
+    1e-5,
+    1e-7,
+    123.456,
+    5e-324,
+    2.2250738585072014e-308,
+    std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::lowest(),
+    9007199254740993.0,
+    4.35,
+    0.3,
+    std::numeric_limits<double>::quiet_NaN(),
+    HUGE_VAL,
     -HUGE_VAL};
   for (double d : doubles) {
     std::string out;

@@ -42,7 +42,8 @@ const char * const kTwoLoads =
 TEST(ComponentLoads, parses_requests_with_escapes_and_typed_parameters)
 {
   std::vector<std::string> warnings;
-  const std::vector<ComponentLoad> loads = rmw_introspect::parse_component_loads(kTwoLoads, &warnings);
+  const std::vector<ComponentLoad> loads =
+    rmw_introspect::parse_component_loads(kTwoLoads, &warnings);
   EXPECT_TRUE(warnings.empty());
   ASSERT_EQ(loads.size(), 2u);
   const ComponentLoad & talker = loads[0];
@@ -80,7 +81,9 @@ TEST(ComponentLoads, a_bad_line_leaves_its_request_out_with_a_warning)
   ASSERT_EQ(loads.size(), 1u);
   EXPECT_EQ(loads[0].plugin, "demo::B");
   ASSERT_EQ(warnings.size(), 3u);
-  EXPECT_EQ(warnings[0], "RMW_INTROSPECT_LOAD_NODES line 3: cannot read the parameter (NAME, TYPE 1-4 or 6-9, "
+  EXPECT_EQ(
+    warnings[0],
+    "RMW_INTROSPECT_LOAD_NODES line 3: cannot read the parameter (NAME, TYPE 1-4 or 6-9, "
     "then its values)");
   EXPECT_NE(warnings[1].find("line 8: `stray` outside a request"), std::string::npos);
   EXPECT_NE(warnings[2].find("the last request has no `end`"), std::string::npos);
@@ -118,7 +121,8 @@ TEST(ComponentLoads, the_plan_sends_each_request_to_its_service_and_records_the_
   ASSERT_TRUE(plan.next(recorder.snapshot(), &id, &load));
   DynValue refused = DynValue::structure();
   refused.set("success", DynValue::boolean(false));
-  refused.set("error_message", DynValue::string("Failed to find class with the requested plugin name."));
+  refused.set(
+    "error_message", DynValue::string("Failed to find class with the requested plugin name."));
   plan.on_answer(refused);
   EXPECT_FALSE(plan.next(recorder.snapshot(), &id, &load));  // the third has no service here
 
@@ -129,7 +133,9 @@ TEST(ComponentLoads, the_plan_sends_each_request_to_its_service_and_records_the_
   EXPECT_EQ(records[1].result, ComponentLoadRecord::Result::kRefused);
   EXPECT_EQ(records[1].error, "Failed to find class with the requested plugin name.");
   EXPECT_EQ(records[2].result, ComponentLoadRecord::Result::kNoService);
-  EXPECT_EQ(records[2].error, "the process has no service /elsewhere/_container/load_node (its component "
+  EXPECT_EQ(
+    records[2].error,
+    "the process has no service /elsewhere/_container/load_node (its component "
     "containers' are: /cam/container/_container/load_node)");
   EXPECT_STREQ(rmw_introspect::component_load_result_name(records[2].result), "no_service");
 }

@@ -44,7 +44,7 @@ public:
     std_msgs__msg__String__init(&msg);
     rosidl_runtime_c__String__assign(&msg.data, text);
   }
-  ~StringMessage() {std_msgs__msg__String__fini(&msg);}
+  ~StringMessage() { std_msgs__msg__String__fini(&msg); }
   std_msgs__msg__String msg;
 };
 
@@ -101,7 +101,8 @@ TEST_F(Delivery, a_message_reaches_the_matching_subscriptions_of_the_process)
   // Not to another topic, not across incompatible QoS (BEST_EFFORT pub, RELIABLE sub).
   rmw_qos_profile_t best_effort = qos;
   best_effort.reliability = RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
-  rmw_publisher_t * lossy = rmw_create_publisher(node, msg_ts, "/chatter", &best_effort, &pub_options);
+  rmw_publisher_t * lossy =
+    rmw_create_publisher(node, msg_ts, "/chatter", &best_effort, &pub_options);
   ASSERT_NE(nullptr, lossy);
   ASSERT_EQ(RMW_RET_OK, rmw_publish(lossy, &again.msg, nullptr));
   EXPECT_EQ("<none>", take_text(subscription));
@@ -113,7 +114,8 @@ TEST_F(Delivery, history_depth_ignore_local_and_transient_local)
 {
   rmw_qos_profile_t two = qos;
   two.depth = 2;
-  rmw_subscription_t * shallow = rmw_create_subscription(node, msg_ts, "/depth", &two, &sub_options);
+  rmw_subscription_t * shallow =
+    rmw_create_subscription(node, msg_ts, "/depth", &two, &sub_options);
   rmw_subscription_options_t ignore = sub_options;
   ignore.ignore_local_publications = true;
   rmw_subscription_t * deaf = rmw_create_subscription(node, msg_ts, "/depth", &qos, &ignore);
@@ -175,7 +177,8 @@ TEST_F(Delivery, content_filters_select_what_arrives)
   // An empty expression resets the filter.
   rmw_subscription_content_filter_options_t reset =
     rmw_get_zero_initialized_content_filter_options();
-  ASSERT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_init("", 0, nullptr, &alloc, &reset));
+  ASSERT_EQ(
+    RMW_RET_OK, rmw_subscription_content_filter_options_init("", 0, nullptr, &alloc, &reset));
   ASSERT_EQ(RMW_RET_OK, rmw_subscription_set_content_filter(subscription, &reset));
   EXPECT_EQ(RMW_RET_OK, rmw_subscription_content_filter_options_fini(&reset, &alloc));
   EXPECT_FALSE(subscription->is_cft_enabled);
@@ -261,7 +264,8 @@ TEST_F(Delivery, a_request_reaches_the_service_and_its_response_the_client)
   EXPECT_FALSE(taken);
 
   // A response to a client that is gone is dropped, RMW_RET_OK.
-  rmw_client_t * gone = rmw_create_client(node, srv_ts, "/basic", &rmw_qos_profile_services_default);
+  rmw_client_t * gone =
+    rmw_create_client(node, srv_ts, "/basic", &rmw_qos_profile_services_default);
   ASSERT_NE(nullptr, gone);
   ASSERT_EQ(RMW_RET_OK, rmw_send_request(gone, &request, &sequence));
   ASSERT_EQ(RMW_RET_OK, rmw_take_request(service, &header, &got, &taken));
@@ -286,14 +290,15 @@ TEST_F(Delivery, rmw_wait_wakes_for_data_and_keeps_only_ready_entries)
 
   // A publish from another thread wakes a wait that would last 10 s.
   std::thread later([this]() {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      StringMessage m("wake up");
-      EXPECT_EQ(RMW_RET_OK, rmw_publish(publisher, &m.msg, nullptr));
-    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    StringMessage m("wake up");
+    EXPECT_EQ(RMW_RET_OK, rmw_publish(publisher, &m.msg, nullptr));
+  });
   subs_storage[0] = subscription->data;
   rmw_time_t long_timeout{10, 0};
   const auto start = std::chrono::steady_clock::now();
-  EXPECT_EQ(RMW_RET_OK, rmw_wait(&subs, nullptr, nullptr, nullptr, nullptr, wait_set, &long_timeout));
+  EXPECT_EQ(
+    RMW_RET_OK, rmw_wait(&subs, nullptr, nullptr, nullptr, nullptr, wait_set, &long_timeout));
   later.join();
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
   EXPECT_EQ(subscription->data, subs.subscribers[0]);

@@ -234,11 +234,11 @@ void idle_polls(
 }
 
 // Start, and settle by 10 ms of idle polls into the warp.
-#define poll_into_the_warp(session) \
-  do { \
-    (session).start(); \
-    (session).on_change(); \
-    idle_polls((session), clock, 101, 100); \
+#define poll_into_the_warp(session)                               \
+  do {                                                            \
+    (session).start();                                            \
+    (session).on_change();                                        \
+    idle_polls((session), clock, 101, 100);                       \
     ASSERT_EQ(Session::Action::kStartWarp, poll(session).action); \
   } while (false)
 

@@ -70,14 +70,26 @@ struct Kinds
     seen->push_back("primitive" + std::to_string(size));
     return true;
   }
-  bool string(const typename T::Member &, std::nullptr_t) {seen->push_back("string"); return true;}
-  bool wstring(const typename T::Member &, std::nullptr_t) {seen->push_back("wstring"); return true;}
+  bool string(const typename T::Member &, std::nullptr_t)
+  {
+    seen->push_back("string");
+    return true;
+  }
+  bool wstring(const typename T::Member &, std::nullptr_t)
+  {
+    seen->push_back("wstring");
+    return true;
+  }
   bool message(const typename T::Member &, std::nullptr_t, const typename T::Members * nested)
   {
     seen->push_back("message " + (nested ? ri::type_name_of<T>(nested) : std::string("?")));
     return true;
   }
-  bool unknown(const typename T::Member &, std::nullptr_t) {seen->push_back("unknown"); return false;}
+  bool unknown(const typename T::Member &, std::nullptr_t)
+  {
+    seen->push_back("unknown");
+    return false;
+  }
 };
 
 template<typename T>
@@ -108,7 +120,9 @@ void resize_throws_anything(void *, size_t size)
 TEST(IntrospectionDispatch, reaches_each_kind_with_the_field_types_own_size)
 {
   const auto * c_nested = members_of<ri::C>(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, Nested));
-  EXPECT_EQ("message test_msgs/msg/BasicTypes", kind_of<ri::C>(member<ri::C>(c_nested, "basic_types_value")));
+  EXPECT_EQ(
+    "message test_msgs/msg/BasicTypes",
+    kind_of<ri::C>(member<ri::C>(c_nested, "basic_types_value")));
   const auto * c_basic = members_of<ri::C>(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, BasicTypes));
   EXPECT_EQ("primitive1", kind_of<ri::C>(member<ri::C>(c_basic, "bool_value")));
   EXPECT_EQ("primitive2", kind_of<ri::C>(member<ri::C>(c_basic, "uint16_value")));
@@ -116,7 +130,8 @@ TEST(IntrospectionDispatch, reaches_each_kind_with_the_field_types_own_size)
   EXPECT_EQ("primitive8", kind_of<ri::C>(member<ri::C>(c_basic, "int64_value")));
   const auto * c_strings = members_of<ri::C>(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, Strings));
   EXPECT_EQ("string", kind_of<ri::C>(member<ri::C>(c_strings, "bounded_string_value")));
-  const auto * c_wstrings = members_of<ri::C>(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, WStrings));
+  const auto * c_wstrings =
+    members_of<ri::C>(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, WStrings));
   EXPECT_EQ("wstring", kind_of<ri::C>(member<ri::C>(c_wstrings, "wstring_value")));
   // An array member dispatches on its element type.
   const auto * cpp_arrays = cpp_members<test_msgs::msg::Arrays>();
@@ -167,7 +182,8 @@ TEST(IntrospectionArrays, shapes_counts_and_blocks)
   EXPECT_EQ(msg.int32_values.data(), ri::contiguous_primitives<ri::Cpp>(ints, ints_field));
   EXPECT_EQ(nullptr, ri::contiguous_primitives<ri::Cpp>(bools, bools_field));
   EXPECT_EQ(
-    nullptr, ri::contiguous_primitives<ri::Cpp>(member<ri::Cpp>(seqs, "string_values"), strings_field));
+    nullptr,
+    ri::contiguous_primitives<ri::Cpp>(member<ri::Cpp>(seqs, "string_values"), strings_field));
 }
 
 TEST(IntrospectionArrays, the_element_loop_reads_and_writes_cpp_bool_sequences_through_copies)
@@ -178,12 +194,10 @@ TEST(IntrospectionArrays, the_element_loop_reads_and_writes_cpp_bool_sequences_t
   msg.bool_values = {true, false, true};
   std::vector<bool> read;
   const void * field = &msg.bool_values;
-  EXPECT_TRUE(
-    ri::for_each_element<ri::Cpp>(
-      bools, field, 3u, [&](const void * element, size_t) {
-        read.push_back(*static_cast<const bool *>(element));
-        return true;
-      }));
+  EXPECT_TRUE(ri::for_each_element<ri::Cpp>(bools, field, 3u, [&](const void * element, size_t) {
+    read.push_back(*static_cast<const bool *>(element));
+    return true;
+  }));
   EXPECT_EQ((std::vector<bool>{true, false, true}), read);
   EXPECT_TRUE(
     ri::for_each_element<ri::Cpp>(
@@ -195,12 +209,10 @@ TEST(IntrospectionArrays, the_element_loop_reads_and_writes_cpp_bool_sequences_t
 
   // The loop stops at the first false.
   size_t visited = 0;
-  EXPECT_FALSE(
-    ri::for_each_element<ri::Cpp>(
-      bools, field, 3u, [&](const void *, size_t k) {
-        ++visited;
-        return k == 0u;
-      }));
+  EXPECT_FALSE(ri::for_each_element<ri::Cpp>(bools, field, 3u, [&](const void *, size_t k) {
+    ++visited;
+    return k == 0u;
+  }));
   EXPECT_EQ(2u, visited);
   // No way to reach the elements: false, the visitor never called.
   ri::Cpp::Member unreachable = member<ri::Cpp>(seqs, "int32_values");
@@ -220,7 +232,8 @@ TEST(IntrospectionArrays, the_element_loop_reads_and_writes_cpp_bool_sequences_t
 TEST(IntrospectionResize, renews_every_element_in_c_and_cpp_alike)
 {
   // C: the generated function finalises the sequence and initialises a new one.
-  const auto * c = members_of<ri::C>(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, UnboundedSequences));
+  const auto * c =
+    members_of<ri::C>(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, UnboundedSequences));
   test_msgs__msg__UnboundedSequences c_msg;
   ASSERT_TRUE(test_msgs__msg__UnboundedSequences__init(&c_msg));
   ASSERT_TRUE(test_msgs__msg__BasicTypes__Sequence__init(&c_msg.basic_types_values, 1));
@@ -237,7 +250,8 @@ TEST(IntrospectionResize, renews_every_element_in_c_and_cpp_alike)
   cpp_msg.basic_types_values.resize(1);
   cpp_msg.basic_types_values[0].int32_value = 5;
   ASSERT_TRUE(
-    ri::resize<ri::Cpp>(member<ri::Cpp>(cpp, "basic_types_values"), &cpp_msg.basic_types_values, 2));
+    ri::resize<ri::Cpp>(
+      member<ri::Cpp>(cpp, "basic_types_values"), &cpp_msg.basic_types_values, 2));
   ASSERT_EQ(2u, cpp_msg.basic_types_values.size());
   EXPECT_EQ(0, cpp_msg.basic_types_values[0].int32_value);
 }
@@ -264,11 +278,13 @@ TEST(IntrospectionResize, refuses_a_bound_or_a_fixed_array_leaving_the_member_as
 
   const auto * arrays = cpp_members<test_msgs::msg::Arrays>();
   test_msgs::msg::Arrays fixed;
-  EXPECT_FALSE(ri::resize<ri::Cpp>(member<ri::Cpp>(arrays, "int32_values"), &fixed.int32_values, 3));
+  EXPECT_FALSE(
+    ri::resize<ri::Cpp>(member<ri::Cpp>(arrays, "int32_values"), &fixed.int32_values, 3));
   const auto * c_arrays = members_of<ri::C>(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, Arrays));
   test_msgs__msg__Arrays c_fixed;
   ASSERT_TRUE(test_msgs__msg__Arrays__init(&c_fixed));
-  EXPECT_FALSE(ri::resize<ri::C>(member<ri::C>(c_arrays, "int32_values"), &c_fixed.int32_values, 3));
+  EXPECT_FALSE(
+    ri::resize<ri::C>(member<ri::C>(c_arrays, "int32_values"), &c_fixed.int32_values, 3));
   test_msgs__msg__Arrays__fini(&c_fixed);
 }
 

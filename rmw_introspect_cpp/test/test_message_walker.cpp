@@ -83,11 +83,13 @@ public:
   : layout_(layout)
   {
     if (layout.is_cpp) {
-      const auto * m = static_cast<const rosidl_typesupport_introspection_cpp::MessageMembers *>(layout.members);
+      const auto * m =
+        static_cast<const rosidl_typesupport_introspection_cpp::MessageMembers *>(layout.members);
       memory_.reset(new std::max_align_t[m->size_of_ / sizeof(std::max_align_t) + 1]);
       m->init_function(memory_.get(), rosidl_runtime_cpp::MessageInitialization::ALL);
     } else {
-      const auto * m = static_cast<const rosidl_typesupport_introspection_c__MessageMembers *>(layout.members);
+      const auto * m =
+        static_cast<const rosidl_typesupport_introspection_c__MessageMembers *>(layout.members);
       memory_.reset(new std::max_align_t[m->size_of_ / sizeof(std::max_align_t) + 1]);
       m->init_function(memory_.get(), ROSIDL_RUNTIME_C_MSG_INIT_ALL);
     }
@@ -96,15 +98,15 @@ public:
   {
     if (layout_.is_cpp) {
       static_cast<const rosidl_typesupport_introspection_cpp::MessageMembers *>(layout_.members)
-      ->fini_function(memory_.get());
+        ->fini_function(memory_.get());
     } else {
       static_cast<const rosidl_typesupport_introspection_c__MessageMembers *>(layout_.members)
-      ->fini_function(memory_.get());
+        ->fini_function(memory_.get());
     }
   }
   Message(const Message &) = delete;
   Message & operator=(const Message &) = delete;
-  void * get() {return memory_.get();}
+  void * get() { return memory_.get(); }
 
 private:
   MessageLayout layout_;
@@ -139,7 +141,9 @@ const DynValue & at(const DynValue & v, const std::string & path)
   size_t start = 0;
   while (start <= path.size()) {
     size_t end = path.find('.', start);
-    if (end == std::string::npos) {end = path.size();}
+    if (end == std::string::npos) {
+      end = path.size();
+    }
     const std::string part = path.substr(start, end - start);
     if (!part.empty() && std::isdigit(static_cast<unsigned char>(part[0]))) {
       const size_t k = std::stoul(part);
@@ -148,7 +152,10 @@ const DynValue & at(const DynValue & v, const std::string & path)
     } else {
       cur = cur->field(part);
       EXPECT_NE(nullptr, cur) << path;
-      if (cur == nullptr) {static DynValue none; return none;}
+      if (cur == nullptr) {
+        static DynValue none;
+        return none;
+      }
     }
     start = end + 1;
   }
@@ -198,8 +205,10 @@ void expect_basic_types(const DynValue & v, int k)
 TEST(MessageWalkerC, builds_a_get_parameters_request_rclpy_takes)
 {
   auto layouts = service_layouts(ROSIDL_GET_SRV_TYPE_SUPPORT(rcl_interfaces, srv, GetParameters));
-  EXPECT_EQ("rcl_interfaces/srv/GetParameters_Request", rmw_introspect::layout_type_name(layouts.first));
-  rcl_interfaces__srv__GetParameters_Request * req = rcl_interfaces__srv__GetParameters_Request__create();
+  EXPECT_EQ(
+    "rcl_interfaces/srv/GetParameters_Request", rmw_introspect::layout_type_name(layouts.first));
+  rcl_interfaces__srv__GetParameters_Request * req =
+    rcl_interfaces__srv__GetParameters_Request__create();
   ASSERT_NE(nullptr, req);
   DynValue value = DynValue::structure();
   value.set("names", rmw_introspect::string_sequence({"a", "nested.b", "ünïcode"}));
@@ -218,7 +227,8 @@ TEST(MessageWalkerC, builds_a_get_parameters_request_rclpy_takes)
 
 TEST(MessageWalkerC, reads_a_describe_parameters_response_rclpy_sends)
 {
-  auto layouts = service_layouts(ROSIDL_GET_SRV_TYPE_SUPPORT(rcl_interfaces, srv, DescribeParameters));
+  auto layouts =
+    service_layouts(ROSIDL_GET_SRV_TYPE_SUPPORT(rcl_interfaces, srv, DescribeParameters));
   rcl_interfaces__srv__DescribeParameters_Response * res =
     rcl_interfaces__srv__DescribeParameters_Response__create();
   ASSERT_TRUE(rcl_interfaces__msg__ParameterDescriptor__Sequence__init(&res->descriptors, 2));
@@ -325,16 +335,25 @@ void arrays_round_trip(const MessageLayout & layout)
 {
   DynValue v = DynValue::structure();
   DynValue nested = DynValue::sequence();
-  for (int k = 0; k < 3; ++k) {nested.push(basic_types(k));}
+  for (int k = 0; k < 3; ++k) {
+    nested.push(basic_types(k));
+  }
   v.set("basic_types_values", nested);
-  v.set("int8_values", DynValue::sequence({DynValue::integer(-128), DynValue::integer(0), DynValue::integer(127)}));
-  v.set("bool_values", DynValue::sequence({DynValue::boolean(true), DynValue::boolean(false), DynValue::boolean(true)}));
+  v.set(
+    "int8_values",
+    DynValue::sequence({DynValue::integer(-128), DynValue::integer(0), DynValue::integer(127)}));
+  v.set(
+    "bool_values",
+    DynValue::sequence(
+      {DynValue::boolean(true), DynValue::boolean(false), DynValue::boolean(true)}));
   v.set("string_values", rmw_introspect::string_sequence({"one", "", "three"}));
   v.set("alignment_check", DynValue::integer(42));
   ArraysT msg;
   write(layout, v, &msg);
   const DynValue r = read(layout, &msg);
-  for (int k = 0; k < 3; ++k) {expect_basic_types(at(r, "basic_types_values." + std::to_string(k)), k);}
+  for (int k = 0; k < 3; ++k) {
+    expect_basic_types(at(r, "basic_types_values." + std::to_string(k)), k);
+  }
   EXPECT_EQ(-128, at(r, "int8_values.0").i);
   EXPECT_EQ(127, at(r, "int8_values.2").i);
   EXPECT_TRUE(at(r, "bool_values.2").b);
@@ -351,8 +370,8 @@ TEST(MessageWalkerC, fixed_arrays_of_primitives_strings_and_nested_messages)
 {
   struct CArrays : test_msgs__msg__Arrays
   {
-    CArrays() {test_msgs__msg__Arrays__init(this);}
-    ~CArrays() {test_msgs__msg__Arrays__fini(this);}
+    CArrays() { test_msgs__msg__Arrays__init(this); }
+    ~CArrays() { test_msgs__msg__Arrays__fini(this); }
   };
   arrays_round_trip<CArrays>(layout_of(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, Arrays)));
 }
@@ -401,7 +420,9 @@ void multi_nested(const MessageLayout & layout)
   inner.set("int32_values", DynValue::sequence({DynValue::integer(-7)}));
   inner.set("string_values", rmw_introspect::string_sequence({"deep"}));
   DynValue v = DynValue::structure();
-  v.set("unbounded_sequence_of_unbounded_sequences", DynValue::sequence({DynValue::structure(), inner}));
+  v.set(
+    "unbounded_sequence_of_unbounded_sequences",
+    DynValue::sequence({DynValue::structure(), inner}));
   v.set("bounded_sequence_of_bounded_sequences", DynValue::sequence({inner}));
   write(layout, v, msg.get());
   const DynValue r = read(layout, msg.get());
@@ -417,7 +438,8 @@ void multi_nested(const MessageLayout & layout)
   wrong.set("int32_values", DynValue::sequence({DynValue::string("seven")}));
   bad.set("unbounded_sequence_of_unbounded_sequences", DynValue::sequence({wrong}));
   EXPECT_EQ(
-    "unbounded_sequence_of_unbounded_sequences[0].int32_values[0]: value of the wrong kind or out of range",
+    "unbounded_sequence_of_unbounded_sequences[0].int32_values[0]: value of the wrong kind or out "
+    "of range",
     write_error(layout, bad));
 }
 
@@ -445,7 +467,9 @@ void strings(const MessageLayout & strings_layout, const MessageLayout & wstring
     EXPECT_EQ("Hello'world!", at(r, "string_value_default2").s);
     DynValue too_long = DynValue::structure();
     too_long.set("bounded_string_value", DynValue::string(std::string(23, 'x')));
-    EXPECT_EQ("bounded_string_value: string longer than its bound 22", write_error(strings_layout, too_long));
+    EXPECT_EQ(
+      "bounded_string_value: string longer than its bound 22",
+      write_error(strings_layout, too_long));
   }
   Message msg(wstrings_layout);
   DynValue v = DynValue::structure();
@@ -476,7 +500,8 @@ void rejects(const MessageLayout & layout)
 {
   DynValue v = DynValue::structure();
   v.set("no_such_field", DynValue::integer(1));
-  EXPECT_EQ("no_such_field: no such field in test_msgs/msg/BoundedSequences", write_error(layout, v));
+  EXPECT_EQ(
+    "no_such_field: no such field in test_msgs/msg/BoundedSequences", write_error(layout, v));
   v = DynValue::structure();
   v.set("int8_values", DynValue::sequence({DynValue::integer(128)}));
   EXPECT_EQ("int8_values[0]: value of the wrong kind or out of range", write_error(layout, v));
@@ -520,7 +545,8 @@ TEST(MessageWalkerCpp, rejects_what_does_not_fit)
 // value leaves out are at their defaults, in C and C++ alike.
 TEST(MessageWalkerC, a_written_sequence_keeps_nothing_of_before)
 {
-  const MessageLayout layout = layout_of(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, UnboundedSequences));
+  const MessageLayout layout =
+    layout_of(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, UnboundedSequences));
   Message msg(layout);
   auto * c_msg = static_cast<test_msgs__msg__UnboundedSequences *>(msg.get());
   ASSERT_TRUE(test_msgs__msg__BasicTypes__Sequence__init(&c_msg->basic_types_values, 1));

@@ -60,7 +60,9 @@ T cpp_round_trip(const T & in, std::vector<uint8_t> * bytes = nullptr)
   EXPECT_TRUE(cdr_serialize(layout, &in, &buffer, &error)) << error;
   T out;
   EXPECT_TRUE(cdr_deserialize(layout, buffer.data(), buffer.size(), &out, &error)) << error;
-  if (bytes) {*bytes = buffer;}
+  if (bytes) {
+    *bytes = buffer;
+  }
   return out;
 }
 }  // namespace
@@ -136,8 +138,8 @@ TEST(Cdr, c_and_cpp_write_the_same_bytes)
   c_in.basic_types_values.data[0].float32_value = 0.25f;
   c_in.alignment_check = 12345;
 
-  const MessageLayout c_layout = layout_of(
-    ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, UnboundedSequences));
+  const MessageLayout c_layout =
+    layout_of(ROSIDL_GET_MSG_TYPE_SUPPORT(test_msgs, msg, UnboundedSequences));
   ASSERT_FALSE(c_layout.is_cpp);
   const MessageLayout cpp = cpp_layout<test_msgs::msg::UnboundedSequences>();
   ASSERT_TRUE(cpp.is_cpp);
@@ -197,9 +199,8 @@ TEST(Cdr, bounds_and_truncated_input)
   const uint8_t huge[4] = {0xff, 0xff, 0xff, 0x7f};
   liar.insert(liar.end(), huge, huge + 4);
   test_msgs::msg::UnboundedSequences out;
-  EXPECT_FALSE(
-    cdr_deserialize(
-      cpp_layout<test_msgs::msg::UnboundedSequences>(), liar.data(), liar.size(), &out, &error));
+  EXPECT_FALSE(cdr_deserialize(
+    cpp_layout<test_msgs::msg::UnboundedSequences>(), liar.data(), liar.size(), &out, &error));
 }
 
 TEST(ContentFilter, comparisons_on_a_c_message)
@@ -213,10 +214,10 @@ TEST(ContentFilter, comparisons_on_a_c_message)
   msg.bool_value = true;
   std::string error;
   auto check = [&](const std::string & expression, const std::vector<std::string> & params) {
-      auto filter = ContentFilter::compile(layout, expression, params, &error);
-      EXPECT_NE(nullptr, filter) << expression << ": " << error;
-      return filter && filter->matches(&msg);
-    };
+    auto filter = ContentFilter::compile(layout, expression, params, &error);
+    EXPECT_NE(nullptr, filter) << expression << ": " << error;
+    return filter && filter->matches(&msg);
+  };
   // float32 fields compare in float precision (test_subscription.cpp's filters).
   EXPECT_TRUE(check("float32_value=%0", {"3.14159"}));
   EXPECT_FALSE(check("float32_value=%0", {"3.14"}));

@@ -14,9 +14,9 @@
 using rmw_introspect::DynValue;
 using rmw_introspect::LifecycleTarget;
 using rmw_introspect::LifecycleTransitionRecord;
+using rmw_introspect::Prober;
 using rmw_introspect::ProbeRequest;
 using rmw_introspect::ProbeSettings;
-using rmw_introspect::Prober;
 
 namespace
 {
@@ -62,7 +62,9 @@ DynValue names_of(const DynValue & request)
 std::vector<std::string> strings(const DynValue & seq)
 {
   std::vector<std::string> out;
-  for (const auto & item : seq.items) {out.push_back(item.s);}
+  for (const auto & item : seq.items) {
+    out.push_back(item.s);
+  }
   return out;
 }
 
@@ -126,8 +128,9 @@ ProbeRequest expect_next(Prober & prober, Graph & graph, const std::string & ser
 }
 
 // Run one whole parameter round of names `names` (all integers = index).
-void answer_parameter_round(Prober & prober, Graph & graph, const std::string & node,
-  const std::vector<std::string> & listed, const std::vector<std::string> & expected_new)
+void answer_parameter_round(
+  Prober & prober, Graph & graph, const std::string & node, const std::vector<std::string> & listed,
+  const std::vector<std::string> & expected_new)
 {
   expect_next(prober, graph, node + "/list_parameters");
   prober.on_answer(list_answer(listed));
@@ -167,11 +170,15 @@ TEST(Prober, reads_every_parameter_with_its_descriptor_and_value)
   gain.set("read_only", DynValue::boolean(true));
   gain.set("additional_constraints", DynValue::string("positive"));
   DynValue range = DynValue::structure();
-  range.set("from_value", DynValue::real(0.0)).set("to_value", DynValue::real(2.5)).set("step", DynValue::real(0.5));
+  range.set("from_value", DynValue::real(0.0))
+    .set("to_value", DynValue::real(2.5))
+    .set("step", DynValue::real(0.5));
   gain.set("floating_point_range", DynValue::sequence({range}));
   DynValue max = descriptor("limits.max", 2);
   DynValue irange = DynValue::structure();
-  irange.set("from_value", DynValue::integer(-3)).set("to_value", DynValue::integer(30)).set("step", DynValue::uinteger(3));
+  irange.set("from_value", DynValue::integer(-3))
+    .set("to_value", DynValue::integer(30))
+    .set("step", DynValue::uinteger(3));
   max.set("integer_range", DynValue::sequence({irange}));
   max.set("dynamic_typing", DynValue::boolean(true));
   prober.on_answer(describe_answer({gain, max}));
@@ -224,13 +231,15 @@ TEST(Prober, a_short_batch_answer_is_asked_again_one_name_at_a_time)
   expect_next(prober, graph, "/ns/n/list_parameters");
   prober.on_answer(list_answer({"a", "unset", "b"}));
   expect_next(prober, graph, "/ns/n/describe_parameters");
-  prober.on_answer(describe_answer({descriptor("a", 2), descriptor("unset", 4), descriptor("b", 2)}));
+  prober.on_answer(
+    describe_answer({descriptor("a", 2), descriptor("unset", 4), descriptor("b", 2)}));
   expect_next(prober, graph, "/ns/n/get_parameters");
   prober.on_answer(get_answer({}));  // rclpy: one parameter without a value empties the answer
   for (const char * name : {"a", "unset", "b"}) {
     ProbeRequest r = expect_next(prober, graph, "/ns/n/get_parameters");
     EXPECT_EQ(std::vector<std::string>{name}, strings(names_of(r.request)));
-    prober.on_answer(std::string(name) == "unset" ? get_answer({}) : get_answer({integer_value(7)}));
+    prober.on_answer(
+      std::string(name) == "unset" ? get_answer({}) : get_answer({integer_value(7)}));
   }
   ProbeRequest none;
   EXPECT_FALSE(prober.next(graph.recorder.snapshot(), &none));
@@ -278,7 +287,9 @@ TEST(Prober, drives_a_lifecycle_node_to_active_and_reads_parameters_after_each_t
   EXPECT_EQ("configure", r.transition);
   EXPECT_EQ(1u, r.request.field("transition")->field("id")->u);
   EXPECT_EQ("configure", r.request.field("transition")->field("label")->s);
-  EXPECT_EQ(LifecycleTransitionRecord::Result::kPending, prober.result(id)->lifecycle.transitions.back().result);
+  EXPECT_EQ(
+    LifecycleTransitionRecord::Result::kPending,
+    prober.result(id)->lifecycle.transitions.back().result);
   prober.on_answer(change_answer(true));
   expect_next(prober, graph, "/ns/lc/get_state");
   prober.on_answer(state_answer("inactive"));
@@ -365,7 +376,8 @@ TEST(Prober, targets_inactive_unconfigured_none_and_nodes_already_there)
         prober.on_answer(state_answer(c.state));
       }
     }
-    EXPECT_EQ(c.transitions, driven) << rmw_introspect::lifecycle_target_name(c.target) << " from " << c.state;
+    EXPECT_EQ(c.transitions, driven)
+      << rmw_introspect::lifecycle_target_name(c.target) << " from " << c.state;
     EXPECT_EQ(rmw_introspect::lifecycle_target_name(c.target), prober.result(id)->lifecycle.target);
   }
   // none: no transition is driven, but the state is asked (with the parameters) and recorded
@@ -454,12 +466,16 @@ TEST(Prober, services_or_nodes_destroyed_meanwhile)
   prober.on_answer(list_answer({"x"}));
   // /ns/a/describe_parameters goes away: a's probe ends with an error, b is next.
   for (const auto & e : graph.recorder.snapshot().endpoints) {
-    if (e.name == "/ns/a/describe_parameters") {graph.recorder.destroy_endpoint(e.id);}
+    if (e.name == "/ns/a/describe_parameters") {
+      graph.recorder.destroy_endpoint(e.id);
+    }
   }
   graph.recorder.destroy_node(b);
   const uint64_t c = graph.node("c", true, false);
   expect_next(prober, graph, "/ns/c/list_parameters");
-  EXPECT_EQ("the node has no service /ns/a/describe_parameters (any more)", prober.result(a)->parameters_error);
+  EXPECT_EQ(
+    "the node has no service /ns/a/describe_parameters (any more)",
+    prober.result(a)->parameters_error);
   EXPECT_EQ(nullptr, prober.result(b));  // destroyed before its turn: not probed
   prober.on_answer(list_answer({}));
   ProbeRequest none;

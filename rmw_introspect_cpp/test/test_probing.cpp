@@ -195,7 +195,7 @@ namespace
 class ManualMainThread : public rmw_introspect::MainThreadState
 {
 public:
-  bool runnable() const override {return running;}
+  bool runnable() const override { return running; }
   bool running = false;
 };
 
@@ -303,9 +303,9 @@ TEST(SessionProbe, the_proc_main_thread_state_of_a_blocked_main_thread_is_not_ru
 {
   bool runnable = true;
   std::thread asker([&runnable]() {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      runnable = rmw_introspect::ProcMainThreadState().runnable();
-    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    runnable = rmw_introspect::ProcMainThreadState().runnable();
+  });
   asker.join();  // the main thread is blocked in here while the other thread asks
   EXPECT_FALSE(runnable);
 }

@@ -20,7 +20,9 @@ rmw_qos_compatibility_type_t check(
   rmw_qos_compatibility_type_t compat = RMW_QOS_COMPATIBILITY_OK;
   char buffer[512];
   EXPECT_EQ(RMW_RET_OK, check_qos_compatible(pub, sub, &compat, buffer, sizeof(buffer)));
-  if (reason) {*reason = buffer;}
+  if (reason) {
+    *reason = buffer;
+  }
   return compat;
 }
 }  // namespace
@@ -119,8 +121,7 @@ TEST(Qos, compatibility_arguments)
   char tiny[8];
   rmw_qos_profile_t pub = rmw_qos_profile_sensor_data;
   EXPECT_EQ(
-    RMW_RET_OK,
-    check_qos_compatible(pub, rmw_qos_profile_default, &compat, tiny, sizeof(tiny)));
+    RMW_RET_OK, check_qos_compatible(pub, rmw_qos_profile_default, &compat, tiny, sizeof(tiny)));
   EXPECT_EQ(RMW_QOS_COMPATIBILITY_ERROR, compat);
   EXPECT_LT(std::string(tiny).size(), sizeof(tiny));  // truncated, terminated
 }
@@ -236,8 +237,8 @@ TEST(Qos, best_available_follows_rmw_dds_common)
 
 TEST(Qos, match_is_no_compatibility_error)
 {
-  using rmw_introspect::QosSide;
   using rmw_introspect::qos_match;
+  using rmw_introspect::QosSide;
   using rmw_introspect::resolve_system_defaults;
   rmw_qos_profile_t best_effort = rmw_qos_profile_default;
   best_effort.reliability = RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
@@ -254,10 +255,9 @@ TEST(Qos, match_is_no_compatibility_error)
   EXPECT_FALSE(qos_match(pub, resolve_system_defaults(sub, QosSide::kReader)));
   rmw_qos_profile_t offered = rmw_qos_profile_system_default;
   offered.deadline = {1, 0};
-  EXPECT_TRUE(
-    qos_match(
-      resolve_system_defaults(offered, QosSide::kWriter),
-      resolve_system_defaults(rmw_qos_profile_system_default, QosSide::kReader)));
+  EXPECT_TRUE(qos_match(
+    resolve_system_defaults(offered, QosSide::kWriter),
+    resolve_system_defaults(rmw_qos_profile_system_default, QosSide::kReader)));
   // Writer defaults against a TRANSIENT_LOCAL reader: fine; VOLATILE writer: not.
   rmw_qos_profile_t latched = rmw_qos_profile_default;
   latched.durability = RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL;

@@ -118,7 +118,7 @@ TEST(Recorder, listener_is_told_of_every_change)
 {
   Recorder recorder;
   std::atomic<int> calls{0};
-  recorder.set_change_listener([&]() {++calls;});
+  recorder.set_change_listener([&]() { ++calls; });
   const uint64_t n = recorder.add_node("a", "/", "/");
   const uint64_t p = recorder.add_endpoint(endpoint(EndpointKind::Publisher, n, "/p"));
   recorder.destroy_endpoint(p);
@@ -133,11 +133,11 @@ TEST(Recorder, concurrent_creation_keeps_a_total_order)
   std::vector<std::thread> threads;
   for (int t = 0; t < 4; ++t) {
     threads.emplace_back([&recorder, n, t]() {
-        for (int i = 0; i < 250; ++i) {
-          const std::string name = "/t" + std::to_string(t) + "_" + std::to_string(i);
-          recorder.add_endpoint(endpoint(EndpointKind::Publisher, n, name.c_str()));
-        }
-      });
+      for (int i = 0; i < 250; ++i) {
+        const std::string name = "/t" + std::to_string(t) + "_" + std::to_string(i);
+        recorder.add_endpoint(endpoint(EndpointKind::Publisher, n, name.c_str()));
+      }
+    });
   }
   for (auto & th : threads) {
     th.join();

@@ -32,10 +32,7 @@ struct Graph
 {
   rmw_introspect::Recorder recorder;
 
-  uint64_t node(const char * name)
-  {
-    return recorder.add_node(name, "/", "/");
-  }
+  uint64_t node(const char * name) { return recorder.add_node(name, "/", "/"); }
 
   uint64_t endpoint(uint64_t node, EndpointKind kind, const std::string & name, const char * type)
   {
@@ -56,7 +53,7 @@ public:
   {
     setenv(name, value, 1);
   }
-  ~ScopedEnv() {unsetenv(name_);}
+  ~ScopedEnv() { unsetenv(name_); }
 
 private:
   const char * name_;
@@ -75,8 +72,7 @@ TEST(Stimuli, parses_names_in_order_trimmed_once_each)
   EXPECT_TRUE(parse("").empty());
   EXPECT_TRUE(parse(" , ,").empty());
   // Hidden names (action parts) are names like any other.
-  EXPECT_EQ(
-    parse("/fib/_action/send_goal"), (std::vector<std::string>{"/fib/_action/send_goal"}));
+  EXPECT_EQ(parse("/fib/_action/send_goal"), (std::vector<std::string>{"/fib/_action/send_goal"}));
 }
 
 TEST(Stimuli, bad_and_repeated_names_are_left_out_with_a_warning_naming_them)
@@ -85,8 +81,10 @@ TEST(Stimuli, bad_and_repeated_names_are_left_out_with_a_warning_naming_them)
   const auto names = parse("camera_info,/ok,/bad name,/ok,/trailing/,//double,/9lives", &warnings);
   EXPECT_EQ(names, (std::vector<std::string>{"/ok"}));
   ASSERT_EQ(warnings.size(), 6u);
-  EXPECT_NE(warnings[0].find("'camera_info' is not a fully qualified topic or service name"),
-    std::string::npos) << warnings[0];
+  EXPECT_NE(
+    warnings[0].find("'camera_info' is not a fully qualified topic or service name"),
+    std::string::npos)
+    << warnings[0];
   EXPECT_NE(warnings[0].find("e.g. /camera_info"), std::string::npos) << warnings[0];
   EXPECT_NE(warnings[1].find("'/bad name'"), std::string::npos) << warnings[1];
   EXPECT_NE(warnings[2].find("'/ok' is named twice"), std::string::npos) << warnings[2];
@@ -127,8 +125,7 @@ TEST(Stimuli, every_subscription_and_service_of_a_name_once_in_creation_order)
   g.endpoint(cam, EndpointKind::Publisher, "/camera_info", "sensor_msgs/msg/CameraInfo");
   const uint64_t sub1 =
     g.endpoint(cam, EndpointKind::Subscription, "/camera_info", "sensor_msgs/msg/CameraInfo");
-  const uint64_t srv =
-    g.endpoint(viewer, EndpointKind::Service, "/reset", "std_srvs/srv/Trigger");
+  const uint64_t srv = g.endpoint(viewer, EndpointKind::Service, "/reset", "std_srvs/srv/Trigger");
   const uint64_t sub2 =
     g.endpoint(viewer, EndpointKind::Subscription, "/camera_info", "sensor_msgs/msg/CameraInfo");
   g.endpoint(viewer, EndpointKind::Client, "/reset", "std_srvs/srv/Trigger");
@@ -203,15 +200,21 @@ TEST(Stimuli, a_name_matching_nothing_says_so_and_lists_what_there_is)
   const auto & miss = plan.records()[0];
   EXPECT_EQ(miss.state, StimulusRecord::State::kNoMatch);
   EXPECT_TRUE(miss.targets.empty());
-  EXPECT_NE(miss.error.find("no subscription or service named /camera_inf in this process"),
-    std::string::npos) << miss.error;
+  EXPECT_NE(
+    miss.error.find("no subscription or service named /camera_inf in this process"),
+    std::string::npos)
+    << miss.error;
   EXPECT_NE(miss.error.find("subscriptions: /camera_info;"), std::string::npos) << miss.error;
   // Node-owned standard services are left out of the listing; the node's own ones are there.
   EXPECT_NE(miss.error.find("services: /cam/calibrate)"), std::string::npos) << miss.error;
   EXPECT_EQ(miss.error.find("get_parameters"), std::string::npos) << miss.error;
   // A publisher of that very name is pointed out: the name was right, the direction wrong.
-  EXPECT_NE(miss.error.find("There is a publisher /camera_inf (of /cam), but stimuli go to "
-    "subscriptions and services."), std::string::npos) << miss.error;
+  EXPECT_NE(
+    miss.error.find(
+      "There is a publisher /camera_inf (of /cam), but stimuli go to "
+      "subscriptions and services."),
+    std::string::npos)
+    << miss.error;
 }
 
 TEST(Stimuli, endpoints_destroyed_before_their_turn_fail_and_the_rest_go_on)

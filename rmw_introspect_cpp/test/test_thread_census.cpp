@@ -63,23 +63,27 @@ TEST(ThreadCensus, sleeping_threads_count_by_their_deadline_and_waiting_ones_are
   bool go = false;
   std::atomic<pid_t> tid{0};
   std::thread waiter([&]() {
-      tid = rmw_introspect::current_tid();
-      std::unique_lock<std::mutex> lock(mutex);
-      cv.wait(lock, [&]() {return go;});
-    });
+    tid = rmw_introspect::current_tid();
+    std::unique_lock<std::mutex> lock(mutex);
+    cv.wait(lock, [&]() { return go; });
+  });
   while (tid.load() == 0) {
     std::this_thread::yield();
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   const std::vector<pid_t> me{rmw_introspect::current_tid()};
   const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
-    std::chrono::steady_clock::now().time_since_epoch()).count();
+                        std::chrono::steady_clock::now().time_since_epoch())
+                        .count();
   EXPECT_TRUE(census.others_blocked(me, now + 1000 * kMs, nullptr));
   // a mutex the asker holds (the middleware's own): not blocked for ever
   census.set_busy_futexes({reinterpret_cast<uintptr_t>(mutex.native_handle())});
   std::unique_lock<std::mutex> held(mutex);
   std::atomic<bool> locked{false};
-  std::thread blocked_on_mutex([&]() {std::lock_guard<std::mutex> lock(mutex); locked = true;});
+  std::thread blocked_on_mutex([&]() {
+    std::lock_guard<std::mutex> lock(mutex);
+    locked = true;
+  });
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   std::string culprit;
   EXPECT_FALSE(census.others_blocked(me, now + 1000 * kMs, &culprit));
@@ -92,9 +96,9 @@ TEST(ThreadCensus, sleeping_threads_count_by_their_deadline_and_waiting_ones_are
   std::condition_variable sleep_cv;
   bool stop = false;
   std::thread sleeper([&]() {
-      std::unique_lock<std::mutex> lock(sleep_mutex);
-      sleep_cv.wait_for(lock, std::chrono::seconds(10), [&]() {return stop;});
-    });
+    std::unique_lock<std::mutex> lock(sleep_mutex);
+    sleep_cv.wait_for(lock, std::chrono::seconds(10), [&]() { return stop; });
+  });
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   EXPECT_TRUE(census.others_blocked(me, now + 1000 * kMs, &culprit)) << culprit;
   EXPECT_FALSE(census.others_blocked(me, now + 20000 * kMs, &culprit));
@@ -108,9 +112,9 @@ TEST(ThreadCensus, sleeping_threads_count_by_their_deadline_and_waiting_ones_are
   // a thread that keeps running: not blocked
   std::atomic<bool> spin{true};
   std::thread spinner([&]() {
-      while (spin.load()) {
-      }
-    });
+    while (spin.load()) {
+    }
+  });
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   EXPECT_FALSE(census.others_blocked(me, now + 1000 * kMs, &culprit));
   EXPECT_NE(std::string::npos, culprit.find("not blocked")) << culprit;

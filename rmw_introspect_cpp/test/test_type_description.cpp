@@ -154,12 +154,12 @@ void expect_same(const TypeDescriptions & c, const TypeDescriptions & cpp)
   }
 }
 
-const char * const kPrimitives[] = {
-  "bool", "byte", "uint8", "float32", "float64", "int8", "uint8", "int16", "uint16", "int32",
-  "uint32", "int64", "uint64"};
-const char * const kPrimitiveFieldStems[] = {
-  "bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16", "int32",
-  "uint32", "int64", "uint64"};
+const char * const kPrimitives[] = {"bool",   "byte",  "uint8", "float32", "float64",
+                                    "int8",   "uint8", "int16", "uint16",  "int32",
+                                    "uint32", "int64", "uint64"};
+const char * const kPrimitiveFieldStems[] = {"bool",   "byte",  "char",  "float32", "float64",
+                                             "int8",   "uint8", "int16", "uint16",  "int32",
+                                             "uint32", "int64", "uint64"};
 
 // The 32 fields Arrays, BoundedSequences, UnboundedSequences share, with `suffix` as the
 // array part ("[3]", "[<=3]", "[]").
@@ -193,8 +193,10 @@ TEST(TypeDescription, fixed_arrays_and_nested_types_c)
   const TypeDescriptions types = describe_message(C_MSG(test_msgs, msg, Arrays), false);
   // its own type first, then the nested types in order of first reference, each once
   EXPECT_EQ(
-    (std::vector<std::string>{"test_msgs/msg/Arrays", "test_msgs/msg/BasicTypes",
-      "test_msgs/msg/Constants", "test_msgs/msg/Defaults"}), names(types));
+    (std::vector<std::string>{
+      "test_msgs/msg/Arrays", "test_msgs/msg/BasicTypes", "test_msgs/msg/Constants",
+      "test_msgs/msg/Defaults"}),
+    names(types));
   EXPECT_EQ(array_fields("[3]"), specs(types[0]));
   EXPECT_TRUE(types[0].constants_known);
   EXPECT_TRUE(types[0].constants.empty());
@@ -209,8 +211,7 @@ TEST(TypeDescription, fixed_arrays_and_nested_types_cpp)
 {
   const TypeDescriptions types = describe_cpp(CPP_MSG(test_msgs, msg, Arrays));
   EXPECT_EQ(array_fields("[3]"), specs(types.at(0)));
-  expect_same(
-    describe_message(C_MSG(test_msgs, msg, Arrays), false), types);
+  expect_same(describe_message(C_MSG(test_msgs, msg, Arrays), false), types);
 }
 
 TEST(TypeDescription, bounded_and_unbounded_sequences)
@@ -241,7 +242,8 @@ TEST(TypeDescription, bounded_strings_and_string_constants)
       "string string_value_default5", "string<=22 bounded_string_value",
       "string<=22 bounded_string_value_default1", "string<=22 bounded_string_value_default2",
       "string<=22 bounded_string_value_default3", "string<=22 bounded_string_value_default4",
-      "string<=22 bounded_string_value_default5"}), specs(c[0]));
+      "string<=22 bounded_string_value_default5"}),
+    specs(c[0]));
   ASSERT_TRUE(c[0].constants_known);
   ASSERT_EQ(1u, c[0].constants.size());
   EXPECT_EQ("STRING_CONST", c[0].constants[0].name);
@@ -276,7 +278,8 @@ TEST(TypeDescription, constants_of_every_primitive_type)
       "float32 FLOAT32_CONST=1.125", "float64 FLOAT64_CONST=1.125", "int8 INT8_CONST=-50",
       "uint8 UINT8_CONST=200", "int16 INT16_CONST=-1000", "uint16 UINT16_CONST=2000",
       "int32 INT32_CONST=-30000", "uint32 UINT32_CONST=60000", "int64 INT64_CONST=-40000000",
-      "uint64 UINT64_CONST=50000000"}), constants);
+      "uint64 UINT64_CONST=50000000"}),
+    constants);
   expect_same(c, describe_cpp(CPP_MSG(test_msgs, msg, Constants)));
 }
 
@@ -285,7 +288,8 @@ TEST(TypeDescription, nested_and_multi_nested)
   const TypeDescriptions nested = describe_cpp(CPP_MSG(test_msgs, msg, Nested));
   EXPECT_EQ(
     (std::vector<std::string>{"test_msgs/msg/Nested", "test_msgs/msg/BasicTypes"}), names(nested));
-  EXPECT_EQ((std::vector<std::string>{"test_msgs/msg/BasicTypes basic_types_value"}), specs(nested[0]));
+  EXPECT_EQ(
+    (std::vector<std::string>{"test_msgs/msg/BasicTypes basic_types_value"}), specs(nested[0]));
   expect_same(describe_message(C_MSG(test_msgs, msg, Nested), false), nested);
 
   const TypeDescriptions multi = describe_cpp(CPP_MSG(test_msgs, msg, MultiNested));
@@ -306,7 +310,8 @@ TEST(TypeDescription, nested_and_multi_nested)
     (std::vector<std::string>{
       "test_msgs/msg/MultiNested", "test_msgs/msg/Arrays", "test_msgs/msg/BasicTypes",
       "test_msgs/msg/Constants", "test_msgs/msg/Defaults", "test_msgs/msg/BoundedSequences",
-      "test_msgs/msg/UnboundedSequences"}), names(multi));
+      "test_msgs/msg/UnboundedSequences"}),
+    names(multi));
   EXPECT_EQ(array_fields("[<=3]"), specs(find(multi, "test_msgs/msg/BoundedSequences")));
   EXPECT_EQ(13u, find(multi, "test_msgs/msg/Constants").constants.size());
   expect_same(describe_message(C_MSG(test_msgs, msg, MultiNested), false), multi);
@@ -314,12 +319,12 @@ TEST(TypeDescription, nested_and_multi_nested)
 
 TEST(TypeDescription, services_describe_request_and_response)
 {
-  const TypeDescriptions c =
-    describe_service(C_SRV(test_msgs, srv, BasicTypes), false);
+  const TypeDescriptions c = describe_service(C_SRV(test_msgs, srv, BasicTypes), false);
   EXPECT_EQ(
     (std::vector<std::string>{
       "test_msgs/srv/BasicTypes", "test_msgs/srv/BasicTypes_Request",
-      "test_msgs/srv/BasicTypes_Response"}), names(c));
+      "test_msgs/srv/BasicTypes_Response"}),
+    names(c));
   EXPECT_TRUE(c[0].is_service);
   EXPECT_TRUE(c[0].fields.empty());
   EXPECT_EQ("test_msgs/srv/BasicTypes_Request", c[0].request);
@@ -333,8 +338,7 @@ TEST(TypeDescription, services_describe_request_and_response)
 
 TEST(TypeDescription, service_constants_come_from_their_part_of_the_srv_text)
 {
-  const TypeDescriptions c =
-    describe_service(C_SRV(action_msgs, srv, CancelGoal), false);
+  const TypeDescriptions c = describe_service(C_SRV(action_msgs, srv, CancelGoal), false);
   const TypeDescription & request = find(c, "action_msgs/srv/CancelGoal_Request");
   const TypeDescription & response = find(c, "action_msgs/srv/CancelGoal_Response");
   EXPECT_EQ((std::vector<std::string>{"action_msgs/msg/GoalInfo goal_info"}), specs(request));
@@ -348,7 +352,8 @@ TEST(TypeDescription, service_constants_come_from_their_part_of_the_srv_text)
   EXPECT_EQ(
     (std::vector<std::string>{
       "int8 ERROR_NONE=0", "int8 ERROR_REJECTED=1", "int8 ERROR_UNKNOWN_GOAL_ID=2",
-      "int8 ERROR_GOAL_TERMINATED=3"}), constants);
+      "int8 ERROR_GOAL_TERMINATED=3"}),
+    constants);
   EXPECT_EQ(
     (std::vector<std::string>{"int8 return_code", "action_msgs/msg/GoalInfo[] goals_canceling"}),
     specs(response));
@@ -368,13 +373,13 @@ TEST(TypeDescription, action_parts_reach_the_action_text)
 {
   // The goal of an action is an "implicit" type of the SendGoal type support: its constants
   // come from the .action text, found in test_msgs' generator library.
-  const TypeDescriptions c =
-    describe_service(C_SRV(test_msgs, action, Fibonacci_SendGoal), false);
+  const TypeDescriptions c = describe_service(C_SRV(test_msgs, action, Fibonacci_SendGoal), false);
   EXPECT_EQ(
     (std::vector<std::string>{
       "test_msgs/action/Fibonacci_SendGoal", "test_msgs/action/Fibonacci_SendGoal_Request",
       "unique_identifier_msgs/msg/UUID", "test_msgs/action/Fibonacci_Goal",
-      "test_msgs/action/Fibonacci_SendGoal_Response", "builtin_interfaces/msg/Time"}), names(c));
+      "test_msgs/action/Fibonacci_SendGoal_Response", "builtin_interfaces/msg/Time"}),
+    names(c));
   EXPECT_EQ(
     (std::vector<std::string>{
       "unique_identifier_msgs/msg/UUID goal_id", "test_msgs/action/Fibonacci_Goal goal"}),

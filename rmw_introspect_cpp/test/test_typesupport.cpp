@@ -66,7 +66,8 @@ TEST(ResolveMessage, c_dispatching_handle)
   std::string error;
   ASSERT_TRUE(
     rmw_introspect::resolve_message_type(
-      ROSIDL_GET_MSG_TYPE_SUPPORT(std_msgs, msg, String), &type, &error)) << error;
+      ROSIDL_GET_MSG_TYPE_SUPPORT(std_msgs, msg, String), &type, &error))
+    << error;
   EXPECT_EQ("std_msgs/msg/String", type.name);
   EXPECT_EQ(kStringHash, type.type_hash);
   EXPECT_EQ("rosidl_typesupport_c", type.typesupport);
@@ -84,7 +85,8 @@ TEST(ResolveMessage, cpp_dispatching_handle)
   ASSERT_TRUE(
     rmw_introspect::resolve_message_type(
       rosidl_typesupport_cpp::get_message_type_support_handle<std_msgs::msg::String>(), &type,
-      &error)) << error;
+      &error))
+    << error;
   EXPECT_EQ("std_msgs/msg/String", type.name);
   EXPECT_EQ(kStringHash, type.type_hash);
   EXPECT_EQ("rosidl_typesupport_cpp", type.typesupport);
@@ -96,8 +98,7 @@ TEST(ResolveMessage, introspection_handles_directly)
 {
   ResolvedType type;
   std::string error;
-  const rosidl_message_type_support_t * c_ts =
-    ROSIDL_TYPESUPPORT_INTERFACE__MESSAGE_SYMBOL_NAME(
+  const rosidl_message_type_support_t * c_ts = ROSIDL_TYPESUPPORT_INTERFACE__MESSAGE_SYMBOL_NAME(
     rosidl_typesupport_introspection_c, std_msgs, msg, String)();
   ASSERT_TRUE(rmw_introspect::resolve_message_type(c_ts, &type, &error)) << error;
   EXPECT_EQ("std_msgs/msg/String", type.name);
@@ -124,7 +125,8 @@ TEST(ResolveMessage, action_messages_keep_their_namespace)
   ASSERT_TRUE(
     rmw_introspect::resolve_message_type(
       rosidl_typesupport_cpp::get_message_type_support_handle<
-        test_msgs::action::Fibonacci_FeedbackMessage>(), &type, &error));
+        test_msgs::action::Fibonacci_FeedbackMessage>(),
+      &type, &error));
   EXPECT_EQ("test_msgs/action/Fibonacci_FeedbackMessage", type.name);
   EXPECT_EQ(kFeedbackMessageHash, type.type_hash);
 }
@@ -136,14 +138,16 @@ TEST(ResolveService, c_and_cpp)
   std::string error;
   ASSERT_TRUE(
     rmw_introspect::resolve_service_type(
-      ROSIDL_GET_SRV_TYPE_SUPPORT(test_msgs, srv, BasicTypes), &type, &error)) << error;
+      ROSIDL_GET_SRV_TYPE_SUPPORT(test_msgs, srv, BasicTypes), &type, &error))
+    << error;
   EXPECT_EQ("test_msgs/srv/BasicTypes", type.name);
   EXPECT_EQ(kBasicTypesHash, type.type_hash);
   EXPECT_EQ("rosidl_typesupport_c", type.typesupport);
   ASSERT_TRUE(
     rmw_introspect::resolve_service_type(
-      rosidl_typesupport_cpp::get_service_type_support_handle<test_msgs::srv::BasicTypes>(),
-      &type, &error)) << error;
+      rosidl_typesupport_cpp::get_service_type_support_handle<test_msgs::srv::BasicTypes>(), &type,
+      &error))
+    << error;
   EXPECT_EQ("test_msgs/srv/BasicTypes", type.name);
   EXPECT_EQ(kBasicTypesHash, type.type_hash);
   EXPECT_EQ("rosidl_typesupport_cpp", type.typesupport);
@@ -169,8 +173,7 @@ TEST(ResolveMessage, unknown_type_support_fails_cleanly)
   // cleanly, and leaves no error behind.
   rosidl_message_type_support_t wrong = *ROSIDL_GET_MSG_TYPE_SUPPORT(std_msgs, msg, String);
   wrong.typesupport_identifier = "bogus";
-  const rosidl_message_type_support_t * fast =
-    wrong.func(&wrong, "no_such_typesupport");
+  const rosidl_message_type_support_t * fast = wrong.func(&wrong, "no_such_typesupport");
   EXPECT_EQ(nullptr, fast);
   rcutils_reset_error();
 }

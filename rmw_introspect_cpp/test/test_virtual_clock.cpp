@@ -25,11 +25,11 @@ using TimeNowFn = rcutils_ret_t (*)(rcutils_time_point_value_t *);
 
 // Settings of the middleware in this process: read once, at its first use.
 const bool kEnvironment = []() {
-    setenv("RMW_INTROSPECT_HORIZON_MS", "60000", 1);
-    setenv("RMW_INTROSPECT_SETTLE_MS", "0", 1);
-    setenv("RMW_INTROSPECT_AUTO_EXPORT", "0", 1);
-    return true;
-  }();
+  setenv("RMW_INTROSPECT_HORIZON_MS", "60000", 1);
+  setenv("RMW_INTROSPECT_SETTLE_MS", "0", 1);
+  setenv("RMW_INTROSPECT_AUTO_EXPORT", "0", 1);
+  return true;
+}();
 
 // The library's own definition (not librcutils', which this executable also links).
 TimeNowFn ours(const char * name)
@@ -45,7 +45,7 @@ TimeNowFn ours(const char * name)
 
 int64_t real_ns(clockid_t clock)
 {
-  struct timespec ts {};
+  struct timespec ts{};
   clock_gettime(clock, &ts);
   return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
 }
@@ -65,7 +65,8 @@ TEST(VirtualTimeNow, null_argument_is_invalid)
     rcutils_reset_error();
   }
   int64_t now = 0;
-  EXPECT_EQ(RCUTILS_RET_INVALID_ARGUMENT, rmw_introspect::virtual_time_now(CLOCK_MONOTONIC, 0, nullptr));
+  EXPECT_EQ(
+    RCUTILS_RET_INVALID_ARGUMENT, rmw_introspect::virtual_time_now(CLOCK_MONOTONIC, 0, nullptr));
   rcutils_reset_error();
   EXPECT_EQ(RCUTILS_RET_OK, rmw_introspect::virtual_time_now(CLOCK_MONOTONIC, 0, &now));
 }
@@ -146,7 +147,8 @@ TEST_F(WarpInProcess, a_finite_wait_jumps_and_both_clocks_move)
   // A poll never jumps; an infinite wait is not a jump either (not tried: it would block).
   const int64_t offset = v_steady - real_ns(CLOCK_MONOTONIC);
   rmw_time_t zero{0, 0};
-  EXPECT_EQ(RMW_RET_TIMEOUT, rmw_wait(nullptr, nullptr, nullptr, nullptr, nullptr, wait_set, &zero));
+  EXPECT_EQ(
+    RMW_RET_TIMEOUT, rmw_wait(nullptr, nullptr, nullptr, nullptr, nullptr, wait_set, &zero));
   ASSERT_EQ(RCUTILS_RET_OK, steady(&v_steady));
   EXPECT_LT(v_steady - real_ns(CLOCK_MONOTONIC) - offset, kSec / 10);
 }

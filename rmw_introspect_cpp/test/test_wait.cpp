@@ -52,7 +52,8 @@ TEST_F(WaitTest, blocks_for_the_timeout)
   rmw_guard_conditions_t gcs{1, gcs_storage};
   rmw_time_t timeout{0, 150000000};  // 150 ms
   const auto t0 = Clock::now();
-  EXPECT_EQ(RMW_RET_TIMEOUT, rmw_wait(nullptr, &gcs, nullptr, nullptr, nullptr, wait_set, &timeout));
+  EXPECT_EQ(
+    RMW_RET_TIMEOUT, rmw_wait(nullptr, &gcs, nullptr, nullptr, nullptr, wait_set, &timeout));
   const double elapsed = ms_since(t0);
   EXPECT_GE(elapsed, 145.0);
   EXPECT_LT(elapsed, 1000.0);
@@ -91,9 +92,9 @@ TEST_F(WaitTest, trigger_from_another_thread_wakes_an_infinite_wait)
     rmw_guard_conditions_t gcs{1, gcs_storage};
     rmw_time_t infinite = RMW_DURATION_INFINITE;
     std::thread trigger([this]() {
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        EXPECT_EQ(RMW_RET_OK, rmw_trigger_guard_condition(guard_condition));
-      });
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      EXPECT_EQ(RMW_RET_OK, rmw_trigger_guard_condition(guard_condition));
+    });
     const auto t0 = Clock::now();
     EXPECT_EQ(
       RMW_RET_OK,
@@ -115,12 +116,13 @@ TEST_F(WaitTest, a_trigger_outside_the_set_does_not_wake)
   void * gcs_storage[1] = {guard_condition->data};
   rmw_guard_conditions_t gcs{1, gcs_storage};
   std::thread trigger([other]() {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      EXPECT_EQ(RMW_RET_OK, rmw_trigger_guard_condition(other));
-    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    EXPECT_EQ(RMW_RET_OK, rmw_trigger_guard_condition(other));
+  });
   rmw_time_t timeout{0, 200000000};
   const auto t0 = Clock::now();
-  EXPECT_EQ(RMW_RET_TIMEOUT, rmw_wait(nullptr, &gcs, nullptr, nullptr, nullptr, wait_set, &timeout));
+  EXPECT_EQ(
+    RMW_RET_TIMEOUT, rmw_wait(nullptr, &gcs, nullptr, nullptr, nullptr, wait_set, &timeout));
   EXPECT_GE(ms_since(t0), 195.0);
   trigger.join();
   EXPECT_EQ(RMW_RET_OK, rmw_destroy_guard_condition(other));

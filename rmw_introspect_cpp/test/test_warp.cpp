@@ -231,7 +231,6 @@ TEST(SessionHorizon, settling_past_the_horizon_skips_the_warp)
   EXPECT_EQ(0u, header.jumps);
 }
 
-
 TEST_F(WarpTest, a_warp_that_sees_only_polls_stalls_and_says_so)
 {
   settle_and_start_warp();
@@ -387,7 +386,7 @@ TEST(Warp, does_not_begin_past_the_horizon)
 TEST(Warp, check_ends_it_at_the_budget_and_stalls_a_loop_that_never_waits_with_a_timeout)
 {
   rmw_introspect::VirtualClock virtual_clock;
-  const auto never = []() {return false;};
+  const auto never = []() { return false; };
   rmw_introspect::Warp spent(virtual_clock, {10, 10000, 3000});
   spent.set_origin(0);
   ASSERT_TRUE(spent.begin(kMs));

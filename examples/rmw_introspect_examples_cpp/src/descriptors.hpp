@@ -9,7 +9,8 @@
 namespace rmw_introspect_examples_cpp
 {
 
-inline rcl_interfaces::msg::ParameterDescriptor described(const std::string & text, bool read_only = false)
+inline rcl_interfaces::msg::ParameterDescriptor described(
+  const std::string & text, bool read_only = false)
 {
   rcl_interfaces::msg::ParameterDescriptor descriptor;
   descriptor.description = text;
@@ -17,7 +18,8 @@ inline rcl_interfaces::msg::ParameterDescriptor described(const std::string & te
   return descriptor;
 }
 
-inline rcl_interfaces::msg::ParameterDescriptor in_range(const std::string & text, double from, double to)
+inline rcl_interfaces::msg::ParameterDescriptor in_range(
+  const std::string & text, double from, double to)
 {
   auto descriptor = described(text);
   descriptor.floating_point_range.resize(1);
@@ -26,7 +28,8 @@ inline rcl_interfaces::msg::ParameterDescriptor in_range(const std::string & tex
   return descriptor;
 }
 
-inline rcl_interfaces::msg::ParameterDescriptor in_range(const std::string & text, int64_t from, int64_t to, uint64_t step)
+inline rcl_interfaces::msg::ParameterDescriptor in_range(
+  const std::string & text, int64_t from, int64_t to, uint64_t step)
 {
   auto descriptor = described(text);
   descriptor.integer_range.resize(1);

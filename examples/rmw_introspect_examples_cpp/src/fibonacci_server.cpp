@@ -20,10 +20,10 @@ public:
       this, "fibonacci",
       [](const rclcpp_action::GoalUUID &, std::shared_ptr<const Fibonacci::Goal> goal) {
         return goal->order < 0 ? rclcpp_action::GoalResponse::REJECT :
-        rclcpp_action::GoalResponse::ACCEPT_AND_EXECUTE;
+                                 rclcpp_action::GoalResponse::ACCEPT_AND_EXECUTE;
       },
-      [](const std::shared_ptr<GoalHandle>) {return rclcpp_action::CancelResponse::ACCEPT;},
-      [](const std::shared_ptr<GoalHandle> handle) {std::thread(execute, handle).detach();});
+      [](const std::shared_ptr<GoalHandle>) { return rclcpp_action::CancelResponse::ACCEPT; },
+      [](const std::shared_ptr<GoalHandle> handle) { std::thread(execute, handle).detach(); });
   }
 
 private:

@@ -15,7 +15,7 @@ public:
   LatePublisher()
   : Node("late_publisher")
   {
-    timer_ = create_wall_timer(2s, [this]() {on_ready();});
+    timer_ = create_wall_timer(2s, [this]() { on_ready(); });
   }
 
 private:

@@ -19,14 +19,15 @@ public:
   : LifecycleNode("lifecycle_talker")
   {
     declare_parameter(
-      "period", 0.5, rmw_introspect_examples_cpp::described("seconds between messages while active"));
+      "period", 0.5,
+      rmw_introspect_examples_cpp::described("seconds between messages while active"));
   }
 
   CallbackReturn on_configure(const rclcpp_lifecycle::State &) override
   {
     publisher_ = create_publisher<std_msgs::msg::String>("lifecycle_chatter", 10);
     const double period = get_parameter("period").as_double();
-    timer_ = create_wall_timer(std::chrono::duration<double>(period), [this]() {on_timer();});
+    timer_ = create_wall_timer(std::chrono::duration<double>(period), [this]() { on_timer(); });
     return CallbackReturn::SUCCESS;
   }
 

@@ -26,7 +26,7 @@ public:
       "prefix", std::string("I heard"), described("written before every message logged", true));
 
     subscription_ = create_subscription<std_msgs::msg::String>(
-      "chatter", 10, [this](const std_msgs::msg::String & message) {on_message(message);});
+      "chatter", 10, [this](const std_msgs::msg::String & message) { on_message(message); });
   }
 
 private:

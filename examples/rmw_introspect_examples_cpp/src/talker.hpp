@@ -21,13 +21,14 @@ public:
   explicit Talker(const rclcpp::NodeOptions & options)
   : Node("talker", options)
   {
-    const double rate_hz = declare_parameter("rate_hz", 2.0, in_range("messages per second", 0.1, 50.0));
+    const double rate_hz =
+      declare_parameter("rate_hz", 2.0, in_range("messages per second", 0.1, 50.0));
     frame_id_ = declare_parameter(
       "frame_id", std::string("base_link"), described("frame written into every message", true));
 
     publisher_ = create_publisher<std_msgs::msg::String>("chatter", 10);
-    timer_ = create_wall_timer(
-      std::chrono::duration<double>(1.0 / rate_hz), [this]() {on_timer();});
+    timer_ =
+      create_wall_timer(std::chrono::duration<double>(1.0 / rate_hz), [this]() { on_timer(); });
   }
 
 private:

@@ -53,19 +53,19 @@ public:
     key_.assign(name.data(), name.size());
     return *this;
   }
-  void begin_object() {open(Value::Kind::Object);}
-  void end_object() {stack_.pop_back();}
-  void begin_array() {open(Value::Kind::Array);}
-  void begin_flat_array() {open(Value::Kind::Array);}
-  void end_array() {stack_.pop_back();}
-  void null() {add(Value::Kind::Null);}
-  void boolean(bool b) {add(Value::Kind::Bool)->b = b;}
-  void integer(int64_t i) {add(Value::Kind::Int)->i = i;}
-  void fixed(double d) {add(Value::Kind::Double)->d = d;}
-  void real(double d) {add(Value::Kind::Real)->d = d;}
-  void string(std::string_view s) {add(Value::Kind::String)->s.assign(s.data(), s.size());}
+  void begin_object() { open(Value::Kind::Object); }
+  void end_object() { stack_.pop_back(); }
+  void begin_array() { open(Value::Kind::Array); }
+  void begin_flat_array() { open(Value::Kind::Array); }
+  void end_array() { stack_.pop_back(); }
+  void null() { add(Value::Kind::Null); }
+  void boolean(bool b) { add(Value::Kind::Bool)->b = b; }
+  void integer(int64_t i) { add(Value::Kind::Int)->i = i; }
+  void fixed(double d) { add(Value::Kind::Double)->d = d; }
+  void real(double d) { add(Value::Kind::Real)->d = d; }
+  void string(std::string_view s) { add(Value::Kind::String)->s.assign(s.data(), s.size()); }
 
-  const Value & root() const {return root_;}
+  const Value & root() const { return root_; }
 
 private:
   Value * add(Value::Kind kind)
@@ -85,7 +85,7 @@ private:
     return v;
   }
   // The open containers are the last element of their parent, which only grows once they close.
-  void open(Value::Kind kind) {stack_.push_back(add(kind));}
+  void open(Value::Kind kind) { stack_.push_back(add(kind)); }
 
   Value root_;
   std::vector<Value *> stack_;
@@ -210,27 +210,35 @@ void write_parameter_value(W & w, const ParameterValue & v)
     case kParameterString: w.string(v.string_value); return;
     case kParameterByteArray:
       w.begin_flat_array();
-      for (uint8_t b : v.byte_array_value) {w.integer(b);}
+      for (uint8_t b : v.byte_array_value) {
+        w.integer(b);
+      }
       break;
     case kParameterBoolArray:
       w.begin_flat_array();
-      for (bool b : v.bool_array_value) {w.boolean(b);}
+      for (bool b : v.bool_array_value) {
+        w.boolean(b);
+      }
       break;
     case kParameterIntegerArray:
       w.begin_flat_array();
-      for (int64_t i : v.integer_array_value) {w.integer(i);}
+      for (int64_t i : v.integer_array_value) {
+        w.integer(i);
+      }
       break;
     case kParameterDoubleArray:
       w.begin_flat_array();
-      for (double d : v.double_array_value) {w.real(d);}
+      for (double d : v.double_array_value) {
+        w.real(d);
+      }
       break;
     case kParameterStringArray:
       w.begin_flat_array();
-      for (const auto & s : v.string_array_value) {w.string(s);}
+      for (const auto & s : v.string_array_value) {
+        w.string(s);
+      }
       break;
-    default:
-      w.null();
-      return;
+    default: w.null(); return;
   }
   w.end_array();
 }
@@ -558,16 +566,15 @@ std::string CaptureRenderer::render_json(
   std::string out;
   out.reserve(std::max(estimate, last_json_size_ + last_json_size_ / 8));
   JsonWriter w(out);
-  write_document(
-    w, header, snapshot, [&types](JsonWriter & tw) {
-      tw.begin_object();
-      for (const auto & entry : types) {
-        tw.key(entry.name);
-        assert(tw.value_indent() == kTypeEntryIndent);
-        tw.raw(*entry.text);
-      }
-      tw.end_object();
-    });
+  write_document(w, header, snapshot, [&types](JsonWriter & tw) {
+    tw.begin_object();
+    for (const auto & entry : types) {
+      tw.key(entry.name);
+      assert(tw.value_indent() == kTypeEntryIndent);
+      tw.raw(*entry.text);
+    }
+    tw.end_object();
+  });
   out += "\n";
   last_json_size_ = out.size();
   return out;
@@ -577,24 +584,23 @@ std::string CaptureRenderer::render_yaml(
   const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
   ValueBuilder tree;
-  write_document(
-    tree, header, snapshot, [&snapshot](ValueBuilder & tw) {
-      // Each name once (the first endpoint listing it wins), sorted by name.
-      std::map<std::string_view, const TypeDescription *> types;
-      for (const auto & e : snapshot.endpoints) {
-        if (!e.types) {
-          continue;
-        }
-        for (const auto & type : *e.types) {
-          types.emplace(type.name, &type);
-        }
+  write_document(tree, header, snapshot, [&snapshot](ValueBuilder & tw) {
+    // Each name once (the first endpoint listing it wins), sorted by name.
+    std::map<std::string_view, const TypeDescription *> types;
+    for (const auto & e : snapshot.endpoints) {
+      if (!e.types) {
+        continue;
       }
-      tw.begin_object();
-      for (const auto & entry : types) {
-        write_type(tw.key(entry.first), *entry.second);
+      for (const auto & type : *e.types) {
+        types.emplace(type.name, &type);
       }
-      tw.end_object();
-    });
+    }
+    tw.begin_object();
+    for (const auto & entry : types) {
+      write_type(tw.key(entry.first), *entry.second);
+    }
+    tw.end_object();
+  });
   std::string out = "# rmw_introspect capture (format_version 1, format_minor 4)\n";
   emit_yaml_object(tree.root(), 0, out);
   return out;
@@ -603,8 +609,8 @@ std::string CaptureRenderer::render_yaml(
 std::string CaptureRenderer::render(
   CaptureFormat format, const CaptureHeader & header, const RecorderSnapshot & snapshot)
 {
-  return format == CaptureFormat::Yaml ?
-         render_yaml(header, snapshot) : render_json(header, snapshot);
+  return format == CaptureFormat::Yaml ? render_yaml(header, snapshot) :
+                                         render_json(header, snapshot);
 }
 
 std::string render_capture_json(const CaptureHeader & header, const RecorderSnapshot & snapshot)
@@ -623,7 +629,8 @@ std::string render_capture(
   return CaptureRenderer().render(format, header, snapshot);
 }
 
-bool write_file_atomically(const std::string & path, const std::string & content, std::string * error)
+bool write_file_atomically(
+  const std::string & path, const std::string & content, std::string * error)
 {
   // A new file of an unpredictable name, created exclusively (mkostemp): the default output
   // lies in /tmp, where a name derived from the pid could be a symlink planted by another user,
@@ -631,7 +638,9 @@ bool write_file_atomically(const std::string & path, const std::string & content
   std::string tmp = path + ".tmp.XXXXXX";
   const int fd = ::mkostemp(tmp.data(), O_CLOEXEC);
   if (fd < 0) {
-    if (error) {*error = "cannot create a temporary file next to " + path + ": " + std::strerror(errno);}
+    if (error) {
+      *error = "cannot create a temporary file next to " + path + ": " + std::strerror(errno);
+    }
     return false;
   }
   size_t written = 0;
@@ -641,7 +650,9 @@ bool write_file_atomically(const std::string & path, const std::string & content
       if (errno == EINTR) {
         continue;
       }
-      if (error) {*error = "cannot write " + tmp + ": " + std::strerror(errno);}
+      if (error) {
+        *error = "cannot write " + tmp + ": " + std::strerror(errno);
+      }
       ::close(fd);
       ::unlink(tmp.c_str());
       return false;
@@ -651,12 +662,16 @@ bool write_file_atomically(const std::string & path, const std::string & content
   // mkostemp created it 0600; readable by others (whoever runs the tests) once it is complete
   (void)::fchmod(fd, 0644);
   if (::close(fd) != 0) {
-    if (error) {*error = "cannot close " + tmp + ": " + std::strerror(errno);}
+    if (error) {
+      *error = "cannot close " + tmp + ": " + std::strerror(errno);
+    }
     ::unlink(tmp.c_str());
     return false;
   }
   if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    if (error) {*error = "cannot rename " + tmp + " to " + path + ": " + std::strerror(errno);}
+    if (error) {
+      *error = "cannot rename " + tmp + " to " + path + ": " + std::strerror(errno);
+    }
     ::unlink(tmp.c_str());
     return false;
   }

@@ -26,7 +26,7 @@ struct CaptureHeader
   bool has_time_to_settle = false;
   double time_to_settle_ms = 0.0;
   double elapsed_ms = 0.0;
-  std::string settled_by;         // "wait" | "poll" | "activity" | "sleep" | "" (null: not settled)
+  std::string settled_by;  // "wait" | "poll" | "activity" | "sleep" | "" (null: not settled)
   bool ever_waited = false;
   uint64_t activity_calls = 0;
   // "quiescence": how the settles ended (docs/design.md, "Detected quiescence")
@@ -34,7 +34,7 @@ struct CaptureHeader
   uint64_t idle_settles = 0;
   uint64_t window_settles = 0;
   uint64_t polls = 0;  // polls of rmw_wait (timeout 0)
-  std::string not_idle;      // why the latest census found the process not idle ("": null)
+  std::string not_idle;  // why the latest census found the process not idle ("": null)
   // "time": virtual time (horizon 0 = off)
   int64_t horizon_ms = 0;
   double virtual_elapsed_ms = 0.0;
@@ -45,7 +45,7 @@ struct CaptureHeader
   bool warp_budget_exhausted = false;
   bool warp_stalled = false;  // ended early: the process never waited with a timeout
   double warp_real_ms = 0.0;  // real time the warp lasted (so far)
-  uint64_t warp_polls = 0;     // polls of rmw_wait in the warp (returns without waiting)
+  uint64_t warp_polls = 0;  // polls of rmw_wait in the warp (returns without waiting)
   uint64_t warp_activity = 0;  // activity calls in the warp
   // "probe": asking the nodes' own services (parameters, lifecycle)
   std::string probe_state = "off";  // off | pending | running | done | skipped
@@ -78,7 +78,7 @@ public:
   std::string render_json(const CaptureHeader & header, const RecorderSnapshot & snapshot);
   std::string render_yaml(const CaptureHeader & header, const RecorderSnapshot & snapshot);
 
-  const TypeTextCache & type_cache() const {return types_;}
+  const TypeTextCache & type_cache() const { return types_; }
 
 private:
   TypeTextCache types_;
@@ -93,7 +93,8 @@ std::string render_capture(
 
 /// Write `content` to a new `<path>.tmp.XXXXXX` (created exclusively), then rename over `path`.
 /// Returns false and fills `error` on failure (the target is then left untouched).
-bool write_file_atomically(const std::string & path, const std::string & content, std::string * error);
+bool write_file_atomically(
+  const std::string & path, const std::string & content, std::string * error);
 
 /// This process's argv from /proc/self/cmdline.
 std::vector<std::string> read_process_argv();

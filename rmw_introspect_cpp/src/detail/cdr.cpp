@@ -45,7 +45,9 @@ class Writer
 {
 public:
   explicit Writer(std::vector<uint8_t> * out)
-  : out_(out) {}
+  : out_(out)
+  {
+  }
 
   void align(size_t alignment)
   {
@@ -63,10 +65,7 @@ public:
     align(alignment_of(size));
     put(data, size);
   }
-  void u32(uint32_t value)
-  {
-    primitive(&value, sizeof(value));
-  }
+  void u32(uint32_t value) { primitive(&value, sizeof(value)); }
 
 private:
   std::vector<uint8_t> * out_;
@@ -155,7 +154,8 @@ bool write_array(const typename T::Member & m, const void * field, Writer & w, s
   }
   const size_t size = primitive_size(m.type_id_);
   const void * block = m.type_id_ != rosidl_typesupport_introspection_c__ROS_TYPE_BOOLEAN ?
-    introspection::contiguous_primitives<T>(m, field) : nullptr;
+    introspection::contiguous_primitives<T>(m, field) :
+    nullptr;
   if (block != nullptr) {
     // Contiguous elements, each aligned once the first is.
     w.align(alignment_of(size));
@@ -164,9 +164,8 @@ bool write_array(const typename T::Member & m, const void * field, Writer & w, s
   }
   ValueWriter<T> writer{w, error};
   const bool written = introspection::for_each_element<T>(
-    m, field, count, [&](const void * element, size_t) {
-      return introspection::dispatch<T>(m, element, writer);
-    });
+    m, field, count,
+    [&](const void * element, size_t) { return introspection::dispatch<T>(m, element, writer); });
   return written || fail_once(error, std::string("cannot read sequence field '") + m.name_ + "'");
 }
 
@@ -179,7 +178,7 @@ bool write_message(
     const typename T::Member & m = members->members_[i];
     const void * field = base + m.offset_;
     if (!(m.is_array_ ? write_array<T>(m, field, w, error) :
-      introspection::dispatch<T>(m, field, writer)))
+                        introspection::dispatch<T>(m, field, writer)))
     {
       return false;
     }
@@ -191,9 +190,11 @@ class Reader
 {
 public:
   Reader(const uint8_t * data, size_t size)
-  : data_(data), size_(size), position_(kHeader) {}
+  : data_(data), size_(size), position_(kHeader)
+  {
+  }
 
-  size_t remaining() const {return size_ - position_;}
+  size_t remaining() const { return size_ - position_; }
 
   bool align(size_t alignment)
   {
@@ -226,10 +227,7 @@ public:
     std::memcpy(out, at, size);
     return true;
   }
-  bool u32(uint32_t * value)
-  {
-    return primitive(value, sizeof(*value));
-  }
+  bool u32(uint32_t * value) { return primitive(value, sizeof(*value)); }
 
 private:
   const uint8_t * data_;
@@ -350,7 +348,8 @@ bool read_array(const typename T::Member & m, void * field, Reader & r, std::str
   }
   const size_t size = primitive_size(m.type_id_);
   void * block = m.type_id_ != rosidl_typesupport_introspection_c__ROS_TYPE_BOOLEAN ?
-    introspection::contiguous_primitives<T>(m, field) : nullptr;
+    introspection::contiguous_primitives<T>(m, field) :
+    nullptr;
   if (block != nullptr) {
     if (!r.align(alignment_of(size))) {
       return truncated(error, m.name_);
@@ -364,9 +363,8 @@ bool read_array(const typename T::Member & m, void * field, Reader & r, std::str
   }
   ValueReader<T> reader{r, error};
   const bool read = introspection::for_each_element<T>(
-    m, field, count, [&](void * element, size_t) {
-      return introspection::dispatch<T>(m, element, reader);
-    });
+    m, field, count,
+    [&](void * element, size_t) { return introspection::dispatch<T>(m, element, reader); });
   return read || fail_once(error, std::string("cannot store sequence field '") + m.name_ + "'");
 }
 
@@ -379,7 +377,7 @@ bool read_message(
     const typename T::Member & m = members->members_[i];
     void * field = base + m.offset_;
     if (!(m.is_array_ ? read_array<T>(m, field, r, error) :
-      introspection::dispatch<T>(m, field, reader)))
+                        introspection::dispatch<T>(m, field, reader)))
     {
       return false;
     }
@@ -402,10 +400,9 @@ bool cdr_serialize(
   out->assign(kEncapsulation, kEncapsulation + kHeader);
   Writer w(out);
   const auto * base = static_cast<const uint8_t *>(message);
-  return introspection::with_traits(
-    layout, [&](auto traits, const auto * members) {
-      return write_message<decltype(traits)>(members, base, w, error);
-    });
+  return introspection::with_traits(layout, [&](auto traits, const auto * members) {
+    return write_message<decltype(traits)>(members, base, w, error);
+  });
 }
 
 bool cdr_deserialize(
@@ -426,10 +423,9 @@ bool cdr_deserialize(
   }
   Reader r(data, size);
   auto * base = static_cast<uint8_t *>(message);
-  return introspection::with_traits(
-    layout, [&](auto traits, const auto * members) {
-      return read_message<decltype(traits)>(members, base, r, error);
-    });
+  return introspection::with_traits(layout, [&](auto traits, const auto * members) {
+    return read_message<decltype(traits)>(members, base, r, error);
+  });
 }
 
 }  // namespace rmw_introspect

@@ -14,7 +14,8 @@ namespace rmw_introspect
 int64_t SteadyClock::now_ns() const
 {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
-    std::chrono::steady_clock::now().time_since_epoch()).count();
+           std::chrono::steady_clock::now().time_since_epoch())
+    .count();
 }
 
 bool ProcMainThreadState::runnable() const
@@ -42,7 +43,7 @@ void VirtualClock::advance(int64_t ns)
 rcutils_ret_t virtual_time_now(clockid_t clock, int64_t offset_ns, int64_t * now)
 {
   RCUTILS_CHECK_ARGUMENT_FOR_NULL(now, RCUTILS_RET_INVALID_ARGUMENT);
-  struct timespec ts {};
+  struct timespec ts{};
   if (clock_gettime(clock, &ts) != 0) {
     RCUTILS_SET_ERROR_MSG("clock_gettime failed");
     return RCUTILS_RET_ERROR;

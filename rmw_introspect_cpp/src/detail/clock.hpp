@@ -51,7 +51,7 @@ public:
 class VirtualClock
 {
 public:
-  int64_t offset_ns() const {return offset_ns_.load(std::memory_order_acquire);}
+  int64_t offset_ns() const { return offset_ns_.load(std::memory_order_acquire); }
   /// Add `ns` (> 0) to the offset; anything else is ignored.
   void advance(int64_t ns);
 

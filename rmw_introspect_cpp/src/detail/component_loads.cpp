@@ -34,7 +34,8 @@ std::vector<std::string> split_fields(const std::string & line)
   size_t start = 0;
   while (true) {
     const size_t tab = line.find('\t', start);
-    fields.push_back(unescape(line.substr(start, tab == std::string::npos ? std::string::npos : tab - start)));
+    fields.push_back(
+      unescape(line.substr(start, tab == std::string::npos ? std::string::npos : tab - start)));
     if (tab == std::string::npos) {
       return fields;
     }
@@ -84,16 +85,28 @@ bool parameter_value(const std::vector<std::string> & f, DynValue * out)
   if (!parse_int(f[2], &type) || type.i < 1 || type.i > 9 || type.i == 5) {
     return false;
   }
-  static const char * const kScalar[] = {"", "bool_value", "integer_value", "double_value", "string_value"};
-  static const char * const kArray[] = {"", "", "", "", "", "", "bool_array_value", "integer_array_value",
-    "double_array_value", "string_array_value"};
+  static const char * const kScalar[] = {
+    "", "bool_value", "integer_value", "double_value", "string_value"};
+  static const char * const kArray[] = {
+    "",
+    "",
+    "",
+    "",
+    "",
+    "",
+    "bool_array_value",
+    "integer_array_value",
+    "double_array_value",
+    "string_array_value"};
   const int64_t kind = type.i;
   const int64_t item_kind = kind <= 4 ? kind : kind - 5;  // 6..9 -> 1..4
   std::vector<DynValue> items;
   for (size_t i = 3; i < f.size(); ++i) {
     DynValue item;
-    const bool ok = item_kind == 1 ? parse_bool(f[i], &item) : item_kind == 2 ? parse_int(f[i], &item) :
-      item_kind == 3 ? parse_double(f[i], &item) : (item = DynValue::string(f[i]), true);
+    const bool ok = item_kind == 1 ? parse_bool(f[i], &item) :
+      item_kind == 2               ? parse_int(f[i], &item) :
+      item_kind == 3               ? parse_double(f[i], &item) :
+                                     (item = DynValue::string(f[i]), true);
     if (!ok) {
       return false;
     }
@@ -129,9 +142,9 @@ std::vector<ComponentLoad> parse_component_loads(
   ComponentLoad current;
   std::vector<DynValue> remaps, parameters, extras;
   auto warn = [&](const std::string & why) {
-      warnings->push_back("RMW_INTROSPECT_LOAD_NODES line " + std::to_string(number) + ": " + why);
-      broken = true;
-    };
+    warnings->push_back("RMW_INTROSPECT_LOAD_NODES line " + std::to_string(number) + ": " + why);
+    broken = true;
+  };
   while (std::getline(lines, line)) {
     ++number;
     if (line.empty() || line[0] == '#') {
@@ -166,7 +179,8 @@ std::vector<ComponentLoad> parse_component_loads(
       current.request.set("extra_arguments", DynValue::sequence(extras));
       loads.push_back(current);
     } else if ((key == "package_name" || key == "plugin_name" || key == "node_name" ||
-      key == "node_namespace") && f.size() == 2)
+                key == "node_namespace") &&
+               f.size() == 2)
     {
       current.request.set(key, DynValue::string(f[1]));
       if (key == "plugin_name") {
@@ -205,7 +219,8 @@ std::vector<ComponentLoad> read_component_loads(
 {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    warnings->push_back("RMW_INTROSPECT_LOAD_NODES=" + path + ": cannot read the file: no component is loaded");
+    warnings->push_back(
+      "RMW_INTROSPECT_LOAD_NODES=" + path + ": cannot read the file: no component is loaded");
     return {};
   }
   std::ostringstream text;
@@ -255,13 +270,16 @@ bool ComponentLoadPlan::next(
         *out = &load;
         return true;
       }
-      if (e.name.size() > 21 && e.name.compare(e.name.size() - 21, 21, "/_container/load_node") == 0) {
+      if (e.name.size() > 21 &&
+          e.name.compare(e.name.size() - 21, 21, "/_container/load_node") == 0)
+      {
         services += (services.empty() ? "" : ", ") + e.name;
       }
     }
     record.result = ComponentLoadRecord::Result::kNoService;
-    record.error = "the process has no service " + load.service + " (its component containers' are: " +
-      (services.empty() ? std::string("none") : services) + ")";
+    record.error = "the process has no service " + load.service +
+      " (its component containers' are: " + (services.empty() ? std::string("none") : services) +
+      ")";
   }
   return false;
 }
@@ -280,7 +298,8 @@ void ComponentLoadPlan::on_answer(const DynValue & response)
     record.full_node_name = name != nullptr ? name->s : std::string();
   } else {
     record.result = ComponentLoadRecord::Result::kRefused;
-    record.error = error != nullptr && !error->s.empty() ? error->s : std::string("the container refused it");
+    record.error =
+      error != nullptr && !error->s.empty() ? error->s : std::string("the container refused it");
   }
 }
 
@@ -290,7 +309,8 @@ void ComponentLoadPlan::on_failed(const std::string & why, bool timed_out)
     return;
   }
   ComponentLoadRecord & record = records_[next_ - 1];
-  record.result = timed_out ? ComponentLoadRecord::Result::kNoAnswer : ComponentLoadRecord::Result::kFailed;
+  record.result =
+    timed_out ? ComponentLoadRecord::Result::kNoAnswer : ComponentLoadRecord::Result::kFailed;
   record.error = why;
 }
 

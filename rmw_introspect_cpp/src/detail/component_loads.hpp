@@ -48,8 +48,7 @@ std::vector<ComponentLoad> parse_component_loads(
 /// What one request came to.
 struct ComponentLoadRecord
 {
-  enum class Result
-  {
+  enum class Result {
     kPending,    // not sent yet
     kLoaded,     // the container answered success
     kRefused,    // the container answered failure (error: its error_message)
@@ -82,7 +81,7 @@ public:
   /// The request next() returned last got no answer (`timed_out`) or could not be sent.
   void on_failed(const std::string & why, bool timed_out);
 
-  const std::vector<ComponentLoadRecord> & records() const {return records_;}
+  const std::vector<ComponentLoadRecord> & records() const { return records_; }
 
 private:
   std::vector<ComponentLoad> loads_;

@@ -70,13 +70,13 @@ Config Config::from_environment(long pid)
     config.output_path = output;
     const std::string placeholder = "<pid>";
     for (size_t pos = config.output_path.find(placeholder); pos != std::string::npos;
-      pos = config.output_path.find(placeholder, pos + pid_string.size()))
+         pos = config.output_path.find(placeholder, pos + pid_string.size()))
     {
       config.output_path.replace(pos, placeholder.size(), pid_string);
     }
   } else {
-    config.default_output_name = "rmw_introspect_" + pid_string +
-      (config.format == CaptureFormat::Yaml ? ".yaml" : ".json");
+    config.default_output_name =
+      "rmw_introspect_" + pid_string + (config.format == CaptureFormat::Yaml ? ".yaml" : ".json");
   }
   int64_t settle_ms = config.settle_ms;
   parse_ms("RMW_INTROSPECT_SETTLE_MS", &settle_ms, &config.warnings);
@@ -93,7 +93,7 @@ Config Config::from_environment(long pid)
   config.probe.parameters = parse_flag(std::getenv("RMW_INTROSPECT_PARAMETERS"), true);
   const char * lifecycle = std::getenv("RMW_INTROSPECT_LIFECYCLE");
   if (lifecycle != nullptr && lifecycle[0] != '\0' &&
-    !parse_lifecycle_target(lifecycle, &config.probe.lifecycle))
+      !parse_lifecycle_target(lifecycle, &config.probe.lifecycle))
   {
     config.warnings.push_back(
       std::string("RMW_INTROSPECT_LIFECYCLE=") + lifecycle +

@@ -18,7 +18,6 @@ namespace rmw_introspect
 namespace
 {
 
-
 // ----------------------------------------------------------------------------- values
 
 struct Value
@@ -32,7 +31,7 @@ struct Value
   bool is_float32 = false;  // read from a float32 field: compare in float precision
   std::string s;
 
-  bool numeric() const {return kind == Kind::kInt || kind == Kind::kUInt || kind == Kind::kReal;}
+  bool numeric() const { return kind == Kind::kInt || kind == Kind::kUInt || kind == Kind::kReal; }
   double as_double() const
   {
     switch (kind) {
@@ -49,7 +48,7 @@ struct Value
 bool parse_literal(const std::string & text, Value * out)
 {
   if (text.size() >= 2 && (text.front() == '\'' || text.front() == '"') &&
-    text.back() == text.front())
+      text.back() == text.front())
   {
     out->kind = Value::Kind::kString;
     out->s = text.substr(1, text.size() - 2);
@@ -233,8 +232,7 @@ bool primitive_value(uint8_t type_id, const void * field, Value * out)
       out->kind = Value::Kind::kInt;
       out->i = *static_cast<const int64_t *>(field);
       return true;
-    default:
-      return false;
+    default: return false;
   }
 }
 
@@ -258,9 +256,9 @@ struct ToValue
     out->s.assign(data, size);
     return true;
   }
-  bool wstring(const Member &, const void *) {return false;}
-  bool message(const Member &, const void *, const typename T::Members *) {return false;}
-  bool unknown(const Member &, const void *) {return false;}
+  bool wstring(const Member &, const void *) { return false; }
+  bool message(const Member &, const void *, const typename T::Members *) { return false; }
+  bool unknown(const Member &, const void *) { return false; }
 };
 
 template<typename T>
@@ -285,8 +283,8 @@ bool read_field(const std::vector<Step> & steps, const void * message, Value * o
     }
     // The element's address, or for the last step its value (a C++ bool sequence's element
     // has no lasting address).
-    const bool reached = introspection::with_element<T>(
-      m, field, index, [&](const void * element, size_t) {
+    const bool reached =
+      introspection::with_element<T>(m, field, index, [&](const void * element, size_t) {
         if (last) {
           return introspection::dispatch<T>(m, element, ToValue<T>{out});
         }
@@ -308,7 +306,8 @@ bool resolve_path(
   size_t start = 0;
   while (true) {
     const size_t dot = path.find('.', start);
-    std::string part = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    std::string part =
+      path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
     long index = -1;
     const size_t bracket = part.find('[');
     if (bracket != std::string::npos) {
@@ -335,9 +334,8 @@ bool resolve_path(
       return false;
     }
     if (found->is_array_ != (index >= 0)) {
-      *error = found->is_array_ ?
-        "field '" + part + "' is an array: give an index" :
-        "field '" + part + "' is not an array";
+      *error = found->is_array_ ? "field '" + part + "' is an array: give an index" :
+                                  "field '" + part + "' is not an array";
       return false;
     }
     steps->push_back(Step{found, index});
@@ -359,8 +357,21 @@ bool resolve_path(
 
 struct Token
 {
-  enum class Kind { kEnd, kIdent, kParam, kLiteral, kLParen, kRParen, kOp, kAnd, kOr, kNot,
-    kBetween, kLike, kMatch };
+  enum class Kind {
+    kEnd,
+    kIdent,
+    kParam,
+    kLiteral,
+    kLParen,
+    kRParen,
+    kOp,
+    kAnd,
+    kOr,
+    kNot,
+    kBetween,
+    kLike,
+    kMatch
+  };
   Kind kind = Kind::kEnd;
   std::string text;
 };
@@ -369,13 +380,13 @@ bool lex(const std::string & in, std::vector<Token> * tokens, std::string * erro
 {
   size_t i = 0;
   auto operand_expected = [&]() {
-      if (tokens->empty()) {
-        return true;
-      }
-      const Token::Kind k = tokens->back().kind;
-      return k != Token::Kind::kIdent && k != Token::Kind::kParam &&
-             k != Token::Kind::kLiteral && k != Token::Kind::kRParen;
-    };
+    if (tokens->empty()) {
+      return true;
+    }
+    const Token::Kind k = tokens->back().kind;
+    return k != Token::Kind::kIdent && k != Token::Kind::kParam && k != Token::Kind::kLiteral &&
+      k != Token::Kind::kRParen;
+  };
   while (i < in.size()) {
     const char c = in[i];
     if (std::isspace(static_cast<unsigned char>(c))) {
@@ -408,13 +419,13 @@ bool lex(const std::string & in, std::vector<Token> * tokens, std::string * erro
       t.text = in.substr(i + 1, j - i - 1);
       i = j;
     } else if (std::isdigit(static_cast<unsigned char>(c)) ||
-      ((c == '-' || c == '+' || c == '.') && operand_expected() && i + 1 < in.size() &&
-      (std::isdigit(static_cast<unsigned char>(in[i + 1])) || in[i + 1] == '.')))
+               ((c == '-' || c == '+' || c == '.') && operand_expected() && i + 1 < in.size() &&
+                (std::isdigit(static_cast<unsigned char>(in[i + 1])) || in[i + 1] == '.')))
     {
       size_t j = i + 1;
       while (j < in.size() &&
-        (std::isalnum(static_cast<unsigned char>(in[j])) || in[j] == '.' ||
-        ((in[j] == '-' || in[j] == '+') && (in[j - 1] == 'e' || in[j - 1] == 'E'))))
+             (std::isalnum(static_cast<unsigned char>(in[j])) || in[j] == '.' ||
+              ((in[j] == '-' || in[j] == '+') && (in[j - 1] == 'e' || in[j - 1] == 'E'))))
       {
         ++j;
       }
@@ -424,8 +435,8 @@ bool lex(const std::string & in, std::vector<Token> * tokens, std::string * erro
     } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
       size_t j = i;
       while (j < in.size() &&
-        (std::isalnum(static_cast<unsigned char>(in[j])) || in[j] == '_' || in[j] == '.' ||
-        in[j] == '[' || in[j] == ']'))
+             (std::isalnum(static_cast<unsigned char>(in[j])) || in[j] == '_' || in[j] == '.' ||
+              in[j] == '[' || in[j] == ']'))
       {
         ++j;
       }
@@ -507,7 +518,9 @@ public:
   Parser(
     const MessageLayout & layout, const std::vector<Token> & tokens,
     const std::vector<std::string> & parameters, std::string * error)
-  : layout_(layout), tokens_(tokens), parameters_(parameters), error_(error) {}
+  : layout_(layout), tokens_(tokens), parameters_(parameters), error_(error)
+  {
+  }
 
   std::unique_ptr<Node> parse()
   {
@@ -520,8 +533,8 @@ public:
   }
 
 private:
-  const Token & peek() const {return tokens_[pos_];}
-  const Token & next() {return tokens_[pos_ < tokens_.size() - 1 ? pos_++ : pos_];}
+  const Token & peek() const { return tokens_[pos_]; }
+  const Token & next() { return tokens_[pos_ < tokens_.size() - 1 ? pos_++ : pos_]; }
   bool accept(Token::Kind kind)
   {
     if (peek().kind == kind) {
@@ -626,11 +639,11 @@ private:
     switch (t.kind) {
       case Token::Kind::kIdent:
         out->is_field = true;
-        return introspection::with_traits(
-          layout_, [&](auto traits, const auto * members) {
-            return resolve_path<decltype(traits)>(members, t.text, &out->steps, error_);
-          });
-      case Token::Kind::kParam: {
+        return introspection::with_traits(layout_, [&](auto traits, const auto * members) {
+          return resolve_path<decltype(traits)>(members, t.text, &out->steps, error_);
+        });
+      case Token::Kind::kParam:
+        {
           const size_t n = std::strtoul(t.text.c_str(), nullptr, 10);
           if (n >= parameters_.size()) {
             *error_ = "filter expression uses %" + t.text + " but has " +
@@ -651,9 +664,8 @@ private:
         }
         return true;
       default:
-        *error_ = t.kind == Token::Kind::kEnd ?
-          std::string("filter expression ends too early") :
-          "unexpected '" + t.text + "' in filter expression";
+        *error_ = t.kind == Token::Kind::kEnd ? std::string("filter expression ends too early") :
+                                                "unexpected '" + t.text + "' in filter expression";
         return false;
     }
   }
@@ -672,10 +684,9 @@ bool operand_value(
     *out = operand.constant;
     return true;
   }
-  return introspection::with_traits(
-    layout, [&](auto traits, const auto *) {
-      return read_field<decltype(traits)>(operand.steps, message, out);
-    });
+  return introspection::with_traits(layout, [&](auto traits, const auto *) {
+    return read_field<decltype(traits)>(operand.steps, message, out);
+  });
 }
 
 bool evaluate(const MessageLayout & layout, const Node & node, const void * message)
@@ -685,10 +696,8 @@ bool evaluate(const MessageLayout & layout, const Node & node, const void * mess
       return evaluate(layout, *node.left, message) && evaluate(layout, *node.right, message);
     case Node::Kind::kOr:
       return evaluate(layout, *node.left, message) || evaluate(layout, *node.right, message);
-    case Node::Kind::kNot:
-      return !evaluate(layout, *node.left, message);
-    default:
-      break;
+    case Node::Kind::kNot: return !evaluate(layout, *node.left, message);
+    default: break;
   }
   Value a, b;
   if (!operand_value(layout, node.a, message, &a) || !operand_value(layout, node.b, message, &b)) {
@@ -717,12 +726,24 @@ bool evaluate(const MessageLayout & layout, const Node & node, const void * mess
     return false;
   }
   const std::string & op = node.op;
-  if (op == "=" || op == "==") {return c == 0;}
-  if (op == "<>" || op == "!=") {return c != 0;}
-  if (op == "<") {return c < 0;}
-  if (op == "<=") {return c <= 0;}
-  if (op == ">") {return c > 0;}
-  if (op == ">=") {return c >= 0;}
+  if (op == "=" || op == "==") {
+    return c == 0;
+  }
+  if (op == "<>" || op == "!=") {
+    return c != 0;
+  }
+  if (op == "<") {
+    return c < 0;
+  }
+  if (op == "<=") {
+    return c <= 0;
+  }
+  if (op == ">") {
+    return c > 0;
+  }
+  if (op == ">=") {
+    return c >= 0;
+  }
   return false;
 }
 

@@ -41,15 +41,15 @@ int64_t now_ns()
 bool topic_match(const PublisherImpl & publisher, const SubscriptionImpl & subscription)
 {
   return publisher.name == subscription.name && publisher.type.name == subscription.type.name &&
-         qos_match(publisher.actual_qos, subscription.actual_qos);
+    qos_match(publisher.actual_qos, subscription.actual_qos);
 }
 
 bool request_match(const ClientImpl & client, const ServiceImpl & service)
 {
   return client.name == service.name && client.type.name == service.type.name &&
-         qos_match(
-    service_actual_qos(client.qos, QosSide::kWriter),
-    service_actual_qos(service.qos, QosSide::kReader));
+    qos_match(
+           service_actual_qos(client.qos, QosSide::kWriter),
+           service_actual_qos(service.qos, QosSide::kReader));
 }
 
 bool response_match(const ServiceImpl & service, const ClientImpl & client)
@@ -74,12 +74,14 @@ class TemporaryMessage
 {
 public:
   explicit TemporaryMessage(const MessageLayout & layout)
-  : layout_(layout), memory_(members::create_message(layout.members, layout.is_cpp)) {}
-  ~TemporaryMessage() {members::destroy_message(layout_.members, layout_.is_cpp, memory_);}
+  : layout_(layout), memory_(members::create_message(layout.members, layout.is_cpp))
+  {
+  }
+  ~TemporaryMessage() { members::destroy_message(layout_.members, layout_.is_cpp, memory_); }
   TemporaryMessage(const TemporaryMessage &) = delete;
   TemporaryMessage & operator=(const TemporaryMessage &) = delete;
 
-  void * get() const {return memory_;}
+  void * get() const { return memory_; }
 
 private:
   MessageLayout layout_;
@@ -93,23 +95,22 @@ bool passes_filter(
   SubscriptionImpl & subscription, const PublisherImpl * publisher, const void * ros_message,
   const uint8_t * data, size_t size)
 {
-  return subscription.filter.passes(
-    [&](const ContentFilter & filter) {
-      if (ros_message != nullptr && publisher != nullptr &&
-      publisher->layout.members == subscription.layout.members)
-      {
-        return filter.matches(ros_message);
-      }
-      TemporaryMessage message(subscription.layout);
-      if (message.get() == nullptr) {
-        return true;
-      }
-      std::string error;
-      if (!cdr_deserialize(subscription.layout, data, size, message.get(), &error)) {
-        return true;
-      }
-      return filter.matches(message.get());
-    });
+  return subscription.filter.passes([&](const ContentFilter & filter) {
+    if (ros_message != nullptr && publisher != nullptr &&
+        publisher->layout.members == subscription.layout.members)
+    {
+      return filter.matches(ros_message);
+    }
+    TemporaryMessage message(subscription.layout);
+    if (message.get() == nullptr) {
+      return true;
+    }
+    std::string error;
+    if (!cdr_deserialize(subscription.layout, data, size, message.get(), &error)) {
+      return true;
+    }
+    return filter.matches(message.get());
+  });
 }
 
 void deliver(SubscriptionImpl & subscription, const Sample & sample)
@@ -193,15 +194,14 @@ void Delivery::add(SubscriptionImpl * subscription)
       change_matched(*publisher, *subscription, +1);
       // A late joiner gets what a TRANSIENT_LOCAL publisher kept.
       if (!transient_local(publisher->actual_qos) || !transient_local(subscription->actual_qos) ||
-        (subscription->handle.options.ignore_local_publications &&
-        publisher->node->context_impl == subscription->node->context_impl))
+          (subscription->handle.options.ignore_local_publications &&
+           publisher->node->context_impl == subscription->node->context_impl))
       {
         continue;
       }
       std::lock_guard<std::mutex> history_lock(publisher->history_mutex);
       for (const Sample & sample : publisher->history) {
-        if (passes_filter(
-            *subscription, nullptr, nullptr, sample.data.data(), sample.data.size()))
+        if (passes_filter(*subscription, nullptr, nullptr, sample.data.data(), sample.data.size()))
         {
           deliver(*subscription, sample);
         }
@@ -269,7 +269,7 @@ void Delivery::publish(
         continue;
       }
       if (subscription->handle.options.ignore_local_publications &&
-        publisher.node->context_impl == subscription->node->context_impl)
+          publisher.node->context_impl == subscription->node->context_impl)
       {
         continue;  // "local" = the same context (one DDS participant per context)
       }
@@ -298,7 +298,8 @@ void Delivery::send_request(ClientImpl & client, int64_t sequence, std::vector<u
 {
   Sample sample;
   sample.data = std::move(data);
-  static_assert(sizeof(sample.service_info.request_id.writer_guid) == RMW_GID_STORAGE_SIZE,
+  static_assert(
+    sizeof(sample.service_info.request_id.writer_guid) == RMW_GID_STORAGE_SIZE,
     "a client's GID is its writer GUID");
   std::memcpy(
     sample.service_info.request_id.writer_guid, client.gid.data(),
@@ -331,8 +332,8 @@ void Delivery::send_response(
   {
     std::lock_guard<std::mutex> lock(mutex_);
     for (ClientImpl * client : clients_) {
-      if (std::memcmp(client->gid.data(), request_id.writer_guid, sizeof(request_id.writer_guid))
-        != 0)
+      if (std::memcmp(client->gid.data(), request_id.writer_guid, sizeof(request_id.writer_guid)) !=
+          0)
       {
         continue;
       }
@@ -453,10 +454,9 @@ bool can_loan(const MessageLayout & layout)
   if (layout.members == nullptr) {
     return false;
   }
-  return introspection::with_traits(
-    layout, [](auto traits, const auto * members) {
-      return members::is_plain<decltype(traits)>(members);
-    });
+  return introspection::with_traits(layout, [](auto traits, const auto * members) {
+    return members::is_plain<decltype(traits)>(members);
+  });
 }
 
 namespace
@@ -511,8 +511,7 @@ rmw_ret_t publish_loaned_message(PublisherImpl & publisher, void * ros_message)
 }
 
 rmw_ret_t take_loaned_message(
-  SubscriptionImpl & subscription, void ** loaned_message, bool * taken,
-  rmw_message_info_t * info)
+  SubscriptionImpl & subscription, void ** loaned_message, bool * taken, rmw_message_info_t * info)
 {
   *taken = false;
   if (subscription.inbox.count.load() == 0u && !Injector::ready(&subscription)) {
@@ -526,7 +525,8 @@ rmw_ret_t take_loaned_message(
   // A stimulus of the middleware's own first, then what the process sent.
   const rmw_ret_t ret =
     Runtime::instance().injector().take_message(&subscription, message, taken, info) ?
-    RMW_RET_OK : take_message(subscription, message, taken, info);
+    RMW_RET_OK :
+    take_message(subscription, message, taken, info);
   if (ret != RMW_RET_OK || !*taken) {
     rmw_introspect::ignore_result(
       return_loaned_message(subscription.loans, subscription.layout, message));
@@ -567,8 +567,7 @@ namespace
 {
 bool has_request(const ServiceImpl * service)
 {
-  return service != nullptr &&
-         (service->requests.count.load() > 0u || Injector::ready(service));
+  return service != nullptr && (service->requests.count.load() > 0u || Injector::ready(service));
 }
 
 // A subscription has something to take: a message of a publisher of the process (delivery)
@@ -576,7 +575,7 @@ bool has_request(const ServiceImpl * service)
 bool has_message(const SubscriptionImpl * subscription)
 {
   return subscription != nullptr &&
-         (subscription->inbox.count.load() > 0u || Injector::ready(subscription));
+    (subscription->inbox.count.load() > 0u || Injector::ready(subscription));
 }
 }  // namespace
 
@@ -615,8 +614,8 @@ bool any_ready(
         continue;
       }
       if ((e->event_type == RMW_EVENT_PUBLICATION_MATCHED ||
-        e->event_type == RMW_EVENT_SUBSCRIPTION_MATCHED) &&
-        static_cast<const EventSource *>(e->data)->matched.unread.load())
+           e->event_type == RMW_EVENT_SUBSCRIPTION_MATCHED) &&
+          static_cast<const EventSource *>(e->data)->matched.unread.load())
       {
         return true;
       }
@@ -631,12 +630,12 @@ bool keep_ready(
 {
   bool kept = false;
   auto keep = [&kept](void ** entry, bool ready) {
-      if (ready) {
-        kept = true;
-      } else {
-        *entry = nullptr;
-      }
-    };
+    if (ready) {
+      kept = true;
+    } else {
+      *entry = nullptr;
+    }
+  };
   if (subscriptions != nullptr && subscriptions->subscribers != nullptr) {
     for (size_t i = 0; i < subscriptions->subscriber_count; ++i) {
       const auto * s = static_cast<const SubscriptionImpl *>(subscriptions->subscribers[i]);
@@ -660,7 +659,7 @@ bool keep_ready(
       const auto * e = static_cast<const rmw_event_t *>(events->events[i]);
       const bool ready = e != nullptr && e->data != nullptr &&
         (e->event_type == RMW_EVENT_PUBLICATION_MATCHED ||
-        e->event_type == RMW_EVENT_SUBSCRIPTION_MATCHED) &&
+         e->event_type == RMW_EVENT_SUBSCRIPTION_MATCHED) &&
         static_cast<const EventSource *>(e->data)->matched.unread.load();
       keep(&events->events[i], ready);
     }

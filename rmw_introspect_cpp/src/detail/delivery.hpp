@@ -81,8 +81,7 @@ rmw_ret_t borrow_loaned_message(PublisherImpl & publisher, void ** ros_message);
 /// Publish a message borrowed from `publisher` and take it back.
 rmw_ret_t publish_loaned_message(PublisherImpl & publisher, void * ros_message);
 rmw_ret_t take_loaned_message(
-  SubscriptionImpl & subscription, void ** loaned_message, bool * taken,
-  rmw_message_info_t * info);
+  SubscriptionImpl & subscription, void ** loaned_message, bool * taken, rmw_message_info_t * info);
 /// Give a loan back (RMW_RET_ERROR when `message` is not one of `loans`).
 rmw_ret_t return_loaned_message(Loans & loans, const MessageLayout & layout, void * message);
 /// Free the loans still out (the endpoint is being destroyed).

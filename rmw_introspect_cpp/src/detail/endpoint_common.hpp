@@ -40,7 +40,8 @@ inline bool check_name_and_qos(const char * name, const rmw_qos_profile_t * qos,
     }
     if (validation_result != RMW_TOPIC_VALID) {
       RMW_SET_ERROR_MSG_WITH_FORMAT_STRING(
-        "invalid %s name: %s", what, rmw_full_topic_name_validation_result_string(validation_result));
+        "invalid %s name: %s", what,
+        rmw_full_topic_name_validation_result_string(validation_result));
       return false;
     }
   }
@@ -56,8 +57,8 @@ inline bool check_name_and_qos(const char * name, const rmw_qos_profile_t * qos,
 /// and handle identity. The caller fills the kind's own handle fields, then `record`s it.
 template<typename Impl, typename TypeSupportT, typename ResolveFn>
 std::unique_ptr<Impl> new_endpoint(
-  const rmw_node_t * node, const TypeSupportT * type_support, ResolveFn resolve,
-  const char * name, const rmw_qos_profile_t * qos, const char * what)
+  const rmw_node_t * node, const TypeSupportT * type_support, ResolveFn resolve, const char * name,
+  const rmw_qos_profile_t * qos, const char * what)
 {
   const auto * node_impl = static_cast<const NodeImpl *>(node->data);
   ResolvedType type;
@@ -85,8 +86,8 @@ std::unique_ptr<Impl> new_endpoint(
 /// service reads them.
 inline QosSide topic_side(EndpointKind kind)
 {
-  return kind == EndpointKind::Publisher || kind == EndpointKind::Client ?
-         QosSide::kWriter : QosSide::kReader;
+  return kind == EndpointKind::Publisher || kind == EndpointKind::Client ? QosSide::kWriter :
+                                                                           QosSide::kReader;
 }
 
 /// The actual QoS of a service's or client's request or response entity (`side`).
@@ -108,15 +109,14 @@ inline rmw_qos_profile_t resolve_actual_qos(
     return service_actual_qos(requested, topic_side(kind));
   }
   rmw_qos_profile_t qos = requested;
-  const bool best_available =
-    qos.reliability == RMW_QOS_POLICY_RELIABILITY_BEST_AVAILABLE ||
+  const bool best_available = qos.reliability == RMW_QOS_POLICY_RELIABILITY_BEST_AVAILABLE ||
     qos.durability == RMW_QOS_POLICY_DURABILITY_BEST_AVAILABLE ||
     qos.liveliness == RMW_QOS_POLICY_LIVELINESS_BEST_AVAILABLE ||
     rmw_time_equal(qos.deadline, RMW_QOS_DEADLINE_BEST_AVAILABLE) ||
     rmw_time_equal(qos.liveliness_lease_duration, RMW_QOS_LIVELINESS_LEASE_DURATION_BEST_AVAILABLE);
   if (best_available) {
-    const EndpointKind peer_kind = kind == EndpointKind::Publisher ?
-      EndpointKind::Subscription : EndpointKind::Publisher;
+    const EndpointKind peer_kind =
+      kind == EndpointKind::Publisher ? EndpointKind::Subscription : EndpointKind::Publisher;
     std::vector<rmw_qos_profile_t> peers;
     Runtime::instance().recorder().visit(
       [&](const std::vector<NodeRecord> &, const std::vector<EndpointRecord> & endpoints) {
@@ -151,7 +151,8 @@ inline size_t count_matched(
           continue;
         }
         const bool match = peer_kind == EndpointKind::Subscription ?
-          qos_match(actual_qos, e.actual_qos) : qos_match(e.actual_qos, actual_qos);
+          qos_match(actual_qos, e.actual_qos) :
+          qos_match(e.actual_qos, actual_qos);
         count += match ? 1u : 0u;
       }
     });
@@ -178,9 +179,9 @@ inline uint64_t record_endpoint(
   record.created = runtime.creation_time();
   const uint64_t id = runtime.recorder().add_endpoint(std::move(record));
   verbose_log(
-    "%s %s [%s] (node %s/%s, %s)", endpoint_kind_to_string(kind), name.c_str(),
-    type.name.c_str(), node->namespace_ == "/" ? "" : node->namespace_.c_str(),
-    node->name.c_str(), type.typesupport.c_str());
+    "%s %s [%s] (node %s/%s, %s)", endpoint_kind_to_string(kind), name.c_str(), type.name.c_str(),
+    node->namespace_ == "/" ? "" : node->namespace_.c_str(), node->name.c_str(),
+    type.typesupport.c_str());
   runtime.notify_graph_change();
   return id;
 }
@@ -190,8 +191,8 @@ template<typename Impl>
 void record(Impl & impl, EndpointKind kind)
 {
   impl.actual_qos = resolve_actual_qos(kind, impl.name, impl.qos);
-  impl.record_id = record_endpoint(
-    kind, impl.node, impl.name, impl.type, impl.qos, impl.actual_qos, impl.gid);
+  impl.record_id =
+    record_endpoint(kind, impl.node, impl.name, impl.type, impl.qos, impl.actual_qos, impl.gid);
 }
 
 inline void forget_endpoint(

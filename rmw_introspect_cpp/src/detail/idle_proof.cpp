@@ -142,9 +142,9 @@ bool IdleProof::sleeper_counts(const Sleeper & sleeper, const Moment & moment) c
 
 bool IdleProof::sleepers_count(const Moment & moment) const
 {
-  return std::any_of(
-    sleepers_.begin(), sleepers_.end(),
-    [&](const auto & entry) {return sleeper_counts(entry.second, moment);});
+  return std::any_of(sleepers_.begin(), sleepers_.end(), [&](const auto & entry) {
+    return sleeper_counts(entry.second, moment);
+  });
 }
 
 int64_t IdleProof::first_counted_wake(const Moment & moment) const
@@ -212,7 +212,7 @@ bool IdleProof::provably_idle(const Moment & moment)
       return false;  // woken: it has not looked at its wait set again yet
     }
     if (blocked.deadline_ns >= 0 && blocked.deadline_ns < settle_at &&
-      deadline_matters(blocked.deadline_ns, moment))
+        deadline_matters(blocked.deadline_ns, moment))
     {
       return false;  // its timer (or timeout) comes first; it waits again after it
     }
@@ -220,7 +220,7 @@ bool IdleProof::provably_idle(const Moment & moment)
   for (const auto & entry : sleepers_) {
     const Sleeper & sleeper = entry.second;
     if (sleeper_counts(sleeper, moment) && sleeper.deadline_ns < settle_at &&
-      deadline_matters(sleeper.deadline_ns, moment))
+        deadline_matters(sleeper.deadline_ns, moment))
     {
       return false;  // it wakes first, and uses ROS again
     }
@@ -292,8 +292,7 @@ bool IdleProof::look_done(int64_t now, int64_t * recheck_ns)
   return false;
 }
 
-void IdleProof::census_done(
-  uint64_t version, bool idle, const std::string & culprit, int64_t now)
+void IdleProof::census_done(uint64_t version, bool idle, const std::string & culprit, int64_t now)
 {
   answer_version_ = version;
   answer_idle_ = idle;

@@ -66,12 +66,12 @@ public:
   void on_activity(pid_t tid, uint64_t generation);
   /// See Session::on_wake.
   void on_wake(pid_t by);
-  void set_monitor_tid(pid_t tid) {monitor_tid_ = tid;}
+  void set_monitor_tid(pid_t tid) { monitor_tid_ = tid; }
 
   /// Thread `tid` made an activity call in generation `generation`.
   bool used_ros_in(pid_t tid, uint64_t generation) const;
-  bool any_blocked() const {return !blocked_.empty();}
-  bool any_polling() const {return !poll_runs_.empty();}
+  bool any_blocked() const { return !blocked_.empty(); }
+  bool any_polling() const { return !poll_runs_.empty(); }
   /// Whether a sleeper counts like a blocked wait (used ROS since the last change, a sleep the
   /// warp can step, not in the warp).
   bool sleepers_count(const Moment & moment) const;
@@ -97,10 +97,10 @@ public:
     std::vector<pid_t> known;
     int64_t until_ns = 0;
   };
-  const CensusRequest & census_request() const {return census_request_;}
+  const CensusRequest & census_request() const { return census_request_; }
   /// The answer to census_request(), at `now` (see Session::census_done).
   void census_done(uint64_t version, bool idle, const std::string & culprit, int64_t now);
-  const std::string & not_idle_reason() const {return not_idle_reason_;}
+  const std::string & not_idle_reason() const { return not_idle_reason_; }
 
 private:
   /// A thread's run of back-to-back polls that found nothing ready, in one poll epoch.

@@ -49,10 +49,11 @@ void Injector::remove_service(ServiceImpl * service)
     services_.erase(it);
     service->injected_ready.store(false);
     if (in_flight_.service_id == service->record_id &&
-      (in_flight_.state == State::kReady || in_flight_.state == State::kTaken))
+        (in_flight_.state == State::kReady || in_flight_.state == State::kTaken))
     {
       changes_node = in_flight_.changes_node;
-      notify_due = fail_locked("the service " + service->name + " was destroyed before it answered");
+      notify_due =
+        fail_locked("the service " + service->name + " was destroyed before it answered");
     }
   }
   if (notify_due) {
@@ -84,8 +85,7 @@ void Injector::remove_subscription(SubscriptionImpl * subscription)
     }
     subscriptions_.erase(it);
     subscription->injected_ready.store(false);
-    if (in_flight_.subscription_id == subscription->record_id &&
-      in_flight_.state == State::kReady)
+    if (in_flight_.subscription_id == subscription->record_id && in_flight_.state == State::kReady)
     {
       changes_node = in_flight_.changes_node;
       notify_due = fail_locked(
@@ -188,7 +188,7 @@ bool Injector::prepare_stimulus(EndpointKind kind, uint64_t endpoint_id, std::st
     } else if (!service->in_wait_set.load()) {
       why = "no executor serves " + service->name + " (it was never in a wait set)";
     } else if (!service_message_layouts(service->type, &request_layout, &response_layout, &why) ||
-      !default_message_cdr(request_layout, &staged.stimulus_cdr, &why))
+               !default_message_cdr(request_layout, &staged.stimulus_cdr, &why))
     {
       why = "cannot build a default " + service->type.name + " request: " + why;
     }
@@ -197,7 +197,9 @@ bool Injector::prepare_stimulus(EndpointKind kind, uint64_t endpoint_id, std::st
     why = "only subscriptions and services take stimuli";
   }
   if (!why.empty()) {
-    if (error != nullptr) {*error = why;}
+    if (error != nullptr) {
+      *error = why;
+    }
     return false;
   }
   clear_ready_locked();
@@ -213,7 +215,9 @@ bool Injector::prepare(
   std::lock_guard<std::mutex> lock(mutex_);
   ServiceImpl * service = service_locked(service_id);
   if (service == nullptr) {
-    if (error != nullptr) {*error = "the service is gone";}
+    if (error != nullptr) {
+      *error = "the service is gone";
+    }
     return false;
   }
   if (!service->in_wait_set.load()) {
@@ -245,7 +249,7 @@ void Injector::release(WaitHub & hub)
       return;  // destroyed in between; withdraw ends it
     }
     in_flight_.state = State::kReady;
-    hub.update_and_wake([subscription]() {subscription->injected_ready.store(true);});
+    hub.update_and_wake([subscription]() { subscription->injected_ready.store(true); });
     return;
   }
   ServiceImpl * service = service_locked(in_flight_.service_id);
@@ -253,7 +257,7 @@ void Injector::release(WaitHub & hub)
     return;  // destroyed in between: remove_service() did not see it ready; withdraw ends it
   }
   in_flight_.state = State::kReady;
-  hub.update_and_wake([service]() {service->injected_ready.store(true);});
+  hub.update_and_wake([service]() { service->injected_ready.store(true); });
 }
 
 bool Injector::take(
@@ -279,10 +283,10 @@ bool Injector::take(
     const bool built =
       service_message_layouts(service->type, &request_layout, &response_layout, &error) &&
       (in_flight_.stimulus ?
-      cdr_deserialize(
-        request_layout, in_flight_.stimulus_cdr.data(), in_flight_.stimulus_cdr.size(),
-        ros_request, &error) :
-      write_message(request_layout, in_flight_.request, ros_request, &error));
+         cdr_deserialize(
+           request_layout, in_flight_.stimulus_cdr.data(), in_flight_.stimulus_cdr.size(),
+           ros_request, &error) :
+         write_message(request_layout, in_flight_.request, ros_request, &error));
     if (!built) {
       *taken = false;
       changes_node = in_flight_.changes_node;
@@ -317,7 +321,7 @@ bool Injector::answer(
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (in_flight_.state != State::kTaken || in_flight_.service_id != service->record_id ||
-      in_flight_.sequence != header->sequence_number)
+        in_flight_.sequence != header->sequence_number)
     {
       return true;  // an answer given up on: dropped
     }
@@ -326,7 +330,7 @@ bool Injector::answer(
     if (in_flight_.stimulus) {
       in_flight_.state = State::kAnswered;  // a stimulus's answer is discarded unread
     } else if (!service_message_layouts(service->type, &request_layout, &response_layout, &error) ||
-      !read_message(response_layout, ros_response, &in_flight_.response, &error))
+               !read_message(response_layout, ros_response, &in_flight_.response, &error))
     {
       fail_locked("cannot read the response of " + service->name + ": " + error);
     } else {
@@ -353,8 +357,7 @@ bool Injector::take_stimulus(
       *taken = false;  // another thread took it first
       return true;
     }
-    if (in_flight_.state != State::kReady ||
-      in_flight_.subscription_id != subscription->record_id)
+    if (in_flight_.state != State::kReady || in_flight_.subscription_id != subscription->record_id)
     {
       *taken = false;
       return true;
@@ -363,8 +366,8 @@ bool Injector::take_stimulus(
     if (!write(in_flight_.stimulus_cdr, &error)) {
       *taken = false;
       notify_due = fail_locked(
-        "cannot hand the message over to " + subscription->name + " (" +
-        subscription->type.name + "): " + error);
+        "cannot hand the message over to " + subscription->name + " (" + subscription->type.name +
+        "): " + error);
     } else {
       if (info != nullptr) {
         std::memset(info, 0, sizeof(*info));
@@ -412,7 +415,7 @@ bool Injector::take_serialized(
     subscription, taken, info,
     [serialized_message](const std::vector<uint8_t> & cdr, std::string * error) {
       if (serialized_message->buffer_capacity < cdr.size() &&
-      rmw_serialized_message_resize(serialized_message, cdr.size()) != RMW_RET_OK)
+          rmw_serialized_message_resize(serialized_message, cdr.size()) != RMW_RET_OK)
       {
         rcutils_reset_error();
         *error = "cannot resize the serialized message";

@@ -66,7 +66,7 @@ public:
   void release(WaitHub & hub);
 
   /// rmw_wait: `service` has a request of ours waiting (lock-free).
-  static bool ready(const ServiceImpl * service) {return service->injected_ready.load();}
+  static bool ready(const ServiceImpl * service) { return service->injected_ready.load(); }
   /// rmw_wait: `subscription` has a stimulus of ours waiting (lock-free).
   static bool ready(const SubscriptionImpl * subscription)
   {

@@ -42,13 +42,13 @@ namespace introspection
 static_assert(sizeof(bool) == 1, "CDR booleans are one byte; so must C and C++ bool be");
 static_assert(
   rosidl_typesupport_introspection_c__ROS_TYPE_MESSAGE ==
-  rosidl_typesupport_introspection_cpp::ROS_TYPE_MESSAGE &&
-  rosidl_typesupport_introspection_c__ROS_TYPE_WSTRING ==
-  rosidl_typesupport_introspection_cpp::ROS_TYPE_WSTRING &&
-  rosidl_typesupport_introspection_c__ROS_TYPE_FLOAT ==
-  rosidl_typesupport_introspection_cpp::ROS_TYPE_FLOAT &&
-  rosidl_typesupport_introspection_c__ROS_TYPE_INT64 ==
-  rosidl_typesupport_introspection_cpp::ROS_TYPE_INT64,
+      rosidl_typesupport_introspection_cpp::ROS_TYPE_MESSAGE &&
+    rosidl_typesupport_introspection_c__ROS_TYPE_WSTRING ==
+      rosidl_typesupport_introspection_cpp::ROS_TYPE_WSTRING &&
+    rosidl_typesupport_introspection_c__ROS_TYPE_FLOAT ==
+      rosidl_typesupport_introspection_cpp::ROS_TYPE_FLOAT &&
+    rosidl_typesupport_introspection_c__ROS_TYPE_INT64 ==
+      rosidl_typesupport_introspection_cpp::ROS_TYPE_INT64,
   "the C and C++ introspection field type ids differ: the walkers use the C ones for both");
 
 /// Bytes of one value of a primitive type id (bool: 1); 0 for strings, messages and unknown ids.
@@ -92,7 +92,7 @@ struct C
   using Member = rosidl_typesupport_introspection_c__MessageMember;
   using ServiceMembers = rosidl_typesupport_introspection_c__ServiceMembers;
   static constexpr bool kCpp = false;
-  static const char * identifier() {return kIntrospectionC;}
+  static const char * identifier() { return kIntrospectionC; }
 
   static void read_string(const void * field, const char ** data, size_t * size)
   {
@@ -133,7 +133,7 @@ struct Cpp
   using Member = rosidl_typesupport_introspection_cpp::MessageMember;
   using ServiceMembers = rosidl_typesupport_introspection_cpp::ServiceMembers;
   static constexpr bool kCpp = true;
-  static const char * identifier() {return kIntrospectionCpp;}
+  static const char * identifier() { return kIntrospectionCpp; }
 
   static void read_string(const void * field, const char ** data, size_t * size)
   {
@@ -200,7 +200,7 @@ template<typename T>
 bool is_packed_bool_sequence(const typename T::Member & m)
 {
   return T::kCpp && m.type_id_ == rosidl_typesupport_introspection_c__ROS_TYPE_BOOLEAN &&
-         m.is_array_ && array_of<T>(m) != FieldArray::Fixed;
+    m.is_array_ && array_of<T>(m) != FieldArray::Fixed;
 }
 
 /// The members of the nested message type of member `m` (type id MESSAGE), reached through
@@ -226,7 +226,8 @@ std::string type_name_of(const typename T::Members * members)
 
 /// The member of `members` named `name`; nullptr when there is none.
 template<typename T>
-const typename T::Member * find_member(const typename T::Members * members, const std::string & name)
+const typename T::Member * find_member(
+  const typename T::Members * members, const std::string & name)
 {
   for (uint32_t i = 0; members->members_ != nullptr && i < members->member_count_; ++i) {
     if (name == members->members_[i].name_) {
@@ -252,13 +253,12 @@ template<typename T, typename Field, typename Visitor>
 auto dispatch(const typename T::Member & m, Field field, Visitor && visitor)
 {
   switch (m.type_id_) {
-    case rosidl_typesupport_introspection_c__ROS_TYPE_STRING:
-      return visitor.string(m, field);
-    case rosidl_typesupport_introspection_c__ROS_TYPE_WSTRING:
-      return visitor.wstring(m, field);
+    case rosidl_typesupport_introspection_c__ROS_TYPE_STRING: return visitor.string(m, field);
+    case rosidl_typesupport_introspection_c__ROS_TYPE_WSTRING: return visitor.wstring(m, field);
     case rosidl_typesupport_introspection_c__ROS_TYPE_MESSAGE:
       return visitor.message(m, field, nested_members<T>(m));
-    default: {
+    default:
+      {
         const size_t size = primitive_size(m.type_id_);
         if (size == 0u) {
           return visitor.unknown(m, field);
@@ -302,8 +302,8 @@ bool resize(const typename T::Member & m, void * field, size_t size)
 {
   const FieldArray array = array_of<T>(m);
   if (m.resize_function == nullptr ||
-    (array != FieldArray::Bounded && array != FieldArray::Unbounded) ||
-    (array == FieldArray::Bounded && size > m.array_size_))
+      (array != FieldArray::Bounded && array != FieldArray::Unbounded) ||
+      (array == FieldArray::Bounded && size > m.array_size_))
   {
     return false;
   }
@@ -319,7 +319,8 @@ template<typename T, typename Field, typename Visit>
 bool with_element(const typename T::Member & m, Field * field, size_t index, Visit && visit)
 {
   static_assert(
-    std::is_same<std::remove_const_t<Field>, void>::value, "pass the field as const void * or void *");
+    std::is_same<std::remove_const_t<Field>, void>::value,
+    "pass the field as const void * or void *");
   constexpr bool kWrite = !std::is_const<Field>::value;
   if (is_packed_bool_sequence<T>(m)) {
     if (m.fetch_function == nullptr || (kWrite && m.assign_function == nullptr)) {
@@ -368,7 +369,7 @@ template<typename T>
 const void * contiguous_primitives(const typename T::Member & m, const void * field)
 {
   if (primitive_size(m.type_id_) == 0u || is_packed_bool_sequence<T>(m) ||
-    m.get_const_function == nullptr)
+      m.get_const_function == nullptr)
   {
     return nullptr;
   }
@@ -379,7 +380,7 @@ template<typename T>
 void * contiguous_primitives(const typename T::Member & m, void * field)
 {
   if (primitive_size(m.type_id_) == 0u || is_packed_bool_sequence<T>(m) ||
-    m.get_function == nullptr)
+      m.get_function == nullptr)
   {
     return nullptr;
   }
@@ -391,9 +392,8 @@ void * contiguous_primitives(const typename T::Member & m, void * field)
 template<typename Fn>
 auto with_traits(const MessageLayout & layout, Fn && fn)
 {
-  return layout.is_cpp ?
-         fn(Cpp{}, static_cast<const Cpp::Members *>(layout.members)) :
-         fn(C{}, static_cast<const C::Members *>(layout.members));
+  return layout.is_cpp ? fn(Cpp{}, static_cast<const Cpp::Members *>(layout.members)) :
+                         fn(C{}, static_cast<const C::Members *>(layout.members));
 }
 
 }  // namespace introspection

@@ -171,11 +171,26 @@ void JsonWriter::end(char close)
   out_.push_back(close);
 }
 
-void JsonWriter::begin_object() {begin(true, false);}
-void JsonWriter::end_object() {end('}');}
-void JsonWriter::begin_array() {begin(false, false);}
-void JsonWriter::begin_flat_array() {begin(false, true);}
-void JsonWriter::end_array() {end(']');}
+void JsonWriter::begin_object()
+{
+  begin(true, false);
+}
+void JsonWriter::end_object()
+{
+  end('}');
+}
+void JsonWriter::begin_array()
+{
+  begin(false, false);
+}
+void JsonWriter::begin_flat_array()
+{
+  begin(false, true);
+}
+void JsonWriter::end_array()
+{
+  end(']');
+}
 
 void JsonWriter::null()
 {

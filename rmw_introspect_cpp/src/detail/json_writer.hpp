@@ -51,7 +51,7 @@ public:
   void raw(std::string_view text);
 
   /// The column the value written next starts at (its nesting level).
-  int value_indent() const {return indent_ + 2 * static_cast<int>(levels_.size());}
+  int value_indent() const { return indent_ + 2 * static_cast<int>(levels_.size()); }
 
 private:
   struct Level

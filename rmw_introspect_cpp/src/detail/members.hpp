@@ -28,20 +28,20 @@ bool is_plain(const typename T::Members * members)
   // Per member: a primitive is plain, a string never, a message when its type is.
   struct Plain
   {
-    bool primitive(const typename T::Member &, std::nullptr_t, size_t) {return true;}
-    bool string(const typename T::Member &, std::nullptr_t) {return false;}
-    bool wstring(const typename T::Member &, std::nullptr_t) {return false;}
+    bool primitive(const typename T::Member &, std::nullptr_t, size_t) { return true; }
+    bool string(const typename T::Member &, std::nullptr_t) { return false; }
+    bool wstring(const typename T::Member &, std::nullptr_t) { return false; }
     bool message(const typename T::Member &, std::nullptr_t, const typename T::Members * nested)
     {
       return nested != nullptr && is_plain<T>(nested);
     }
-    bool unknown(const typename T::Member &, std::nullptr_t) {return false;}
+    bool unknown(const typename T::Member &, std::nullptr_t) { return false; }
   };
   for (uint32_t i = 0; i < members->member_count_; ++i) {
     const typename T::Member & m = members->members_[i];
     const FieldArray array = introspection::array_of<T>(m);
     if ((array != FieldArray::None && array != FieldArray::Fixed) ||
-      !introspection::dispatch<T>(m, nullptr, Plain{}))
+        !introspection::dispatch<T>(m, nullptr, Plain{}))
     {
       return false;
     }
@@ -58,18 +58,18 @@ inline void * create_message(const void * members_ptr, bool is_cpp)
   const size_t size = is_cpp ?
     static_cast<const introspection::Cpp::Members *>(members_ptr)->size_of_ :
     static_cast<const introspection::C::Members *>(members_ptr)->size_of_;
-  void * memory = ::operator new(std::max<size_t>(size, 1u),
-      std::align_val_t(alignof(std::max_align_t)), std::nothrow);
+  void * memory = ::operator new(
+    std::max<size_t>(size, 1u), std::align_val_t(alignof(std::max_align_t)), std::nothrow);
   if (memory == nullptr) {
     return nullptr;
   }
   std::memset(memory, 0, std::max<size_t>(size, 1u));
   if (is_cpp) {
-    static_cast<const introspection::Cpp::Members *>(members_ptr)->init_function(
-      memory, rosidl_runtime_cpp::MessageInitialization::ALL);
+    static_cast<const introspection::Cpp::Members *>(members_ptr)
+      ->init_function(memory, rosidl_runtime_cpp::MessageInitialization::ALL);
   } else {
-    static_cast<const introspection::C::Members *>(members_ptr)->init_function(
-      memory, ROSIDL_RUNTIME_C_MSG_INIT_ALL);
+    static_cast<const introspection::C::Members *>(members_ptr)
+      ->init_function(memory, ROSIDL_RUNTIME_C_MSG_INIT_ALL);
   }
   return memory;
 }

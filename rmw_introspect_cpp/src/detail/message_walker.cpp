@@ -18,8 +18,7 @@ namespace
 {
 
 // The primitive field type ids (the same numbers in both type supports).
-enum FieldType : uint8_t
-{
+enum FieldType : uint8_t {
   kFloat = rosidl_typesupport_introspection_c__ROS_TYPE_FLOAT,
   kDouble = rosidl_typesupport_introspection_c__ROS_TYPE_DOUBLE,
   kLongDouble = rosidl_typesupport_introspection_c__ROS_TYPE_LONG_DOUBLE,
@@ -72,7 +71,7 @@ std::u16string utf8_to_utf16(const std::string & in)
 {
   std::u16string out;
   const auto * p = reinterpret_cast<const unsigned char *>(in.data());
-  for (size_t k = 0; k < in.size(); ) {
+  for (size_t k = 0; k < in.size();) {
     const size_t remaining = in.size() - k;
     uint32_t c = p[k];
     size_t len = 1;
@@ -125,9 +124,12 @@ DynValue read_primitive(uint8_t type, const void * p)
     case kDouble: return DynValue::real(load<double>(p));
     case kLongDouble: return DynValue::real(static_cast<double>(load<long double>(p)));
     case kBoolean: return DynValue::boolean(load<bool>(p));
-    case kChar: case kOctet: case kUint8: return DynValue::uinteger(load<uint8_t>(p));
+    case kChar:
+    case kOctet:
+    case kUint8: return DynValue::uinteger(load<uint8_t>(p));
     case kInt8: return DynValue::integer(load<int8_t>(p));
-    case kWChar: case kUint16: return DynValue::uinteger(load<uint16_t>(p));
+    case kWChar:
+    case kUint16: return DynValue::uinteger(load<uint16_t>(p));
     case kInt16: return DynValue::integer(load<int16_t>(p));
     case kUint32: return DynValue::uinteger(load<uint32_t>(p));
     case kInt32: return DynValue::integer(load<int32_t>(p));
@@ -138,7 +140,8 @@ DynValue read_primitive(uint8_t type, const void * p)
 }
 
 // An integer value of `v` within [lo, hi] (hi as unsigned to cover uint64).
-bool integer_in_range(const DynValue & v, int64_t lo, uint64_t hi, bool * negative, uint64_t * magnitude)
+bool integer_in_range(
+  const DynValue & v, int64_t lo, uint64_t hi, bool * negative, uint64_t * magnitude)
 {
   switch (v.kind) {
     case DynValue::Kind::Bool:
@@ -160,8 +163,7 @@ bool integer_in_range(const DynValue & v, int64_t lo, uint64_t hi, bool * negati
       *negative = v.d < 0;
       *magnitude = static_cast<uint64_t>(std::fabs(v.d));
       break;
-    default:
-      return false;
+    default: return false;
   }
   if (*negative) {
     const uint64_t lo_magnitude = lo < 0 ? static_cast<uint64_t>(-(lo + 1)) + 1 : 0;
@@ -176,13 +178,13 @@ bool store_integer(void * p, const DynValue & v)
   bool negative = false;
   uint64_t magnitude = 0;
   if (!integer_in_range(
-      v, static_cast<int64_t>(std::numeric_limits<T>::min()),
-      static_cast<uint64_t>(std::numeric_limits<T>::max()), &negative, &magnitude))
+        v, static_cast<int64_t>(std::numeric_limits<T>::min()),
+        static_cast<uint64_t>(std::numeric_limits<T>::max()), &negative, &magnitude))
   {
     return false;
   }
-  const T value = negative ?
-    static_cast<T>(-static_cast<int64_t>(magnitude - 1) - 1) : static_cast<T>(magnitude);
+  const T value =
+    negative ? static_cast<T>(-static_cast<int64_t>(magnitude - 1) - 1) : static_cast<T>(magnitude);
   store<T>(p, value);
   return true;
 }
@@ -202,9 +204,12 @@ bool write_primitive(uint8_t type, const DynValue & v, void * p)
       }
       store<bool>(p, v.as_bool());
       return true;
-    case kChar: case kOctet: case kUint8: return store_integer<uint8_t>(p, v);
+    case kChar:
+    case kOctet:
+    case kUint8: return store_integer<uint8_t>(p, v);
     case kInt8: return store_integer<int8_t>(p, v);
-    case kWChar: case kUint16: return store_integer<uint16_t>(p, v);
+    case kWChar:
+    case kUint16: return store_integer<uint16_t>(p, v);
     case kInt16: return store_integer<int16_t>(p, v);
     case kUint32: return store_integer<uint32_t>(p, v);
     case kInt32: return store_integer<int32_t>(p, v);
@@ -223,7 +228,9 @@ public:
   using Member = typename T::Member;
 
   explicit Walker(std::string * error)
-  : error_(error) {}
+  : error_(error)
+  {
+  }
 
   bool read_struct(const Members * members, const void * message, DynValue * out)
   {
@@ -317,13 +324,13 @@ private:
     bool primitive(const Member & m, void * field, size_t)
     {
       return write_primitive(m.type_id_, value, field) ||
-             walker.fail("", "value of the wrong kind or out of range");
+        walker.fail("", "value of the wrong kind or out of range");
     }
     bool string(const Member & m, void * field)
     {
       return bounded_string(m) &&
-             (T::write_string(field, value.s.data(), value.s.size()) ||
-             walker.fail("", "cannot assign the string"));
+        (T::write_string(field, value.s.data(), value.s.size()) ||
+         walker.fail("", "cannot assign the string"));
     }
     bool wstring(const Member & m, void * field)
     {
@@ -332,7 +339,7 @@ private:
       }
       const std::u16string w = utf8_to_utf16(value.s);
       return T::write_u16string(field, reinterpret_cast<const uint16_t *>(w.data()), w.size()) ||
-             walker.fail("", "cannot assign the string");
+        walker.fail("", "cannot assign the string");
     }
     bool message(const Member &, void * field, const Members * nested)
     {
@@ -376,19 +383,21 @@ private:
     out->items.reserve(n);
     const bool named = primitive_size(m.type_id_) == 0;  // a primitive's read cannot fail
     return introspection::for_each_element<T>(
-      m, field, n, [&](const void * element, size_t k) {
-        DynValue item;
-        if (named) {
-          Scope scope(path_, "[" + std::to_string(k) + "]");
-          if (!read_single(m, element, &item)) {
-            return false;
-          }
-        } else if (!read_single(m, element, &item)) {
-          return false;
-        }
-        out->items.push_back(std::move(item));
-        return true;
-      }) || fail("", "array without a way to reach its elements");
+             m, field, n,
+             [&](const void * element, size_t k) {
+               DynValue item;
+               if (named) {
+                 Scope scope(path_, "[" + std::to_string(k) + "]");
+                 if (!read_single(m, element, &item)) {
+                   return false;
+                 }
+               } else if (!read_single(m, element, &item)) {
+                 return false;
+               }
+               out->items.push_back(std::move(item));
+               return true;
+             }) ||
+      fail("", "array without a way to reach its elements");
   }
 
   bool write_array(const Member & m, const DynValue & value, void * field)
@@ -400,17 +409,20 @@ private:
     const FieldArray array = introspection::array_of<T>(m);
     if (array != FieldArray::Unbounded && n > m.array_size_) {
       return fail(
-        "", std::to_string(n) + " items for an array of " +
-        (array == FieldArray::Bounded ? "at most " : "") + std::to_string(m.array_size_));
+        "",
+        std::to_string(n) + " items for an array of " +
+          (array == FieldArray::Bounded ? "at most " : "") + std::to_string(m.array_size_));
     }
     if (array != FieldArray::Fixed && !introspection::resize<T>(m, field, n)) {
       return fail("", "cannot resize the sequence");
     }
     return introspection::for_each_element<T>(
-      m, field, n, [&](void * element, size_t k) {
-        Scope scope(path_, "[" + std::to_string(k) + "]");
-        return write_single(m, value.items[k], element);
-      }) || fail("", "array without a way to reach its elements");
+             m, field, n,
+             [&](void * element, size_t k) {
+               Scope scope(path_, "[" + std::to_string(k) + "]");
+               return write_single(m, value.items[k], element);
+             }) ||
+      fail("", "array without a way to reach its elements");
   }
 
   // The error names the field path: "descriptors[2].name: expects a string". The first
@@ -435,8 +447,11 @@ private:
   struct Scope
   {
     Scope(std::vector<std::string> & path, std::string part)
-    : path_(path) {path_.push_back(std::move(part));}
-    ~Scope() {path_.pop_back();}
+    : path_(path)
+    {
+      path_.push_back(std::move(part));
+    }
+    ~Scope() { path_.pop_back(); }
     Scope(const Scope &) = delete;
     Scope & operator=(const Scope &) = delete;
     std::vector<std::string> & path_;
@@ -454,12 +469,16 @@ bool service_message_layouts(
   std::string * error)
 {
   if (service.members == nullptr || request == nullptr || response == nullptr) {
-    if (error != nullptr) {*error = "no service members";}
+    if (error != nullptr) {
+      *error = "no service members";
+    }
     return false;
   }
   service_layouts(service, request, response);
   if (request->members == nullptr || response->members == nullptr) {
-    if (error != nullptr) {*error = "service without request or response members";}
+    if (error != nullptr) {
+      *error = "service without request or response members";
+    }
     return false;
   }
   return true;
@@ -470,34 +489,37 @@ std::string layout_type_name(const MessageLayout & layout)
   if (layout.members == nullptr) {
     return std::string();
   }
-  return introspection::with_traits(
-    layout, [](auto traits, const auto * members) {
-      return introspection::type_name_of<decltype(traits)>(members);
-    });
+  return introspection::with_traits(layout, [](auto traits, const auto * members) {
+    return introspection::type_name_of<decltype(traits)>(members);
+  });
 }
 
 bool read_message(
   const MessageLayout & layout, const void * message, DynValue * out, std::string * error)
 {
   if (out == nullptr) {
-    if (error != nullptr) {*error = "no output value";}
+    if (error != nullptr) {
+      *error = "no output value";
+    }
     return false;
   }
-  if (error != nullptr) {error->clear();}
-  return introspection::with_traits(
-    layout, [&](auto traits, const auto * members) {
-      return Walker<decltype(traits)>(error).read_struct(members, message, out);
-    });
+  if (error != nullptr) {
+    error->clear();
+  }
+  return introspection::with_traits(layout, [&](auto traits, const auto * members) {
+    return Walker<decltype(traits)>(error).read_struct(members, message, out);
+  });
 }
 
 bool write_message(
   const MessageLayout & layout, const DynValue & value, void * message, std::string * error)
 {
-  if (error != nullptr) {error->clear();}
-  return introspection::with_traits(
-    layout, [&](auto traits, const auto * members) {
-      return Walker<decltype(traits)>(error).write_struct(members, value, message);
-    });
+  if (error != nullptr) {
+    error->clear();
+  }
+  return introspection::with_traits(layout, [&](auto traits, const auto * members) {
+    return Walker<decltype(traits)>(error).write_struct(members, value, message);
+  });
 }
 
 }  // namespace rmw_introspect

@@ -13,8 +13,7 @@ namespace rmw_introspect
 /// and its lifecycle. Kept with the node's record and written into the capture.
 
 /// rcl_interfaces/msg/ParameterType values.
-enum ParameterTypeId : uint8_t
-{
+enum ParameterTypeId : uint8_t {
   kParameterNotSet = 0,
   kParameterBool = 1,
   kParameterInteger = 2,
@@ -79,7 +78,7 @@ struct ParameterRecord
   std::string declared_in;
 
   /// The value's type, else the descriptor's.
-  uint8_t type() const {return value.type != kParameterNotSet ? value.type : descriptor_type;}
+  uint8_t type() const { return value.type != kParameterNotSet ? value.type : descriptor_type; }
 };
 
 /// One change_state request the middleware sent.

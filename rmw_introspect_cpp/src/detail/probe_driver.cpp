@@ -10,7 +10,11 @@ namespace rmw_introspect
 ProbeDriver::ProbeDriver(
   const ProbeSettings & settings, const std::vector<std::string> & stimuli,
   const std::vector<ComponentLoad> & loads, Recorder & recorder, Injector & injector)
-: prober_(settings), stimuli_(stimuli), loads_(loads), recorder_(recorder), injector_(injector),
+: prober_(settings),
+  stimuli_(stimuli),
+  loads_(loads),
+  recorder_(recorder),
+  injector_(injector),
   prober_done_(!settings.enabled())
 {
 }
@@ -23,19 +27,14 @@ void ProbeDriver::publish(uint64_t node_id)
 }
 
 void ProbeDriver::finish_in_flight(
-  Injector::Outcome outcome, const DynValue & answer, const std::string & error,
-  int64_t timeout_ms)
+  Injector::Outcome outcome, const DynValue & answer, const std::string & error, int64_t timeout_ms)
 {
   const std::string within =
     timeout_ms > 0 ? " within " + std::to_string(timeout_ms) + " ms" : std::string();
   if (in_flight_load_) {
     switch (outcome) {
-      case Injector::Outcome::kAnswered:
-        loads_.on_answer(answer);
-        break;
-      case Injector::Outcome::kFailed:
-        loads_.on_failed(error, false);
-        break;
+      case Injector::Outcome::kAnswered: loads_.on_answer(answer); break;
+      case Injector::Outcome::kFailed: loads_.on_failed(error, false); break;
       case Injector::Outcome::kNone:
         loads_.on_failed("no answer from " + in_flight_service_ + within, true);
         break;
@@ -44,24 +43,14 @@ void ProbeDriver::finish_in_flight(
     // The process settled after it (or gave up): what it creates now is not its reaction.
     recorder_.set_cause("");
     switch (outcome) {
-      case Injector::Outcome::kAnswered:
-        stimuli_.on_delivered();
-        break;
-      case Injector::Outcome::kFailed:
-        stimuli_.on_failed(error, false);
-        break;
-      case Injector::Outcome::kNone:
-        stimuli_.on_failed(in_flight_silence_ + within, true);
-        break;
+      case Injector::Outcome::kAnswered: stimuli_.on_delivered(); break;
+      case Injector::Outcome::kFailed: stimuli_.on_failed(error, false); break;
+      case Injector::Outcome::kNone: stimuli_.on_failed(in_flight_silence_ + within, true); break;
     }
   } else {
     switch (outcome) {
-      case Injector::Outcome::kAnswered:
-        prober_.on_answer(answer);
-        break;
-      case Injector::Outcome::kFailed:
-        prober_.on_no_answer(error);
-        break;
+      case Injector::Outcome::kAnswered: prober_.on_answer(answer); break;
+      case Injector::Outcome::kFailed: prober_.on_no_answer(error); break;
       case Injector::Outcome::kNone:
         prober_.on_no_answer("no answer from " + in_flight_service_ + within);
         break;

@@ -45,19 +45,20 @@ public:
   /// The probing was skipped (no thread ever waited): the stimuli not delivered say `why`.
   void skip(const std::string & why);
 
-  const ProbeSettings & settings() const {return prober_.settings();}
-  size_t requests() const {return prober_.requests();}
-  size_t unanswered() const {return prober_.unanswered();}
+  const ProbeSettings & settings() const { return prober_.settings(); }
+  size_t requests() const { return prober_.requests(); }
+  size_t unanswered() const { return prober_.unanswered(); }
   /// What the stimuli came to so far (in the order given).
-  const std::vector<StimulusRecord> & stimuli() const {return stimuli_.records();}
+  const std::vector<StimulusRecord> & stimuli() const { return stimuli_.records(); }
   /// What the component loads came to so far (in the order given).
-  const std::vector<ComponentLoadRecord> & component_loads() const {return loads_.records();}
+  const std::vector<ComponentLoadRecord> & component_loads() const { return loads_.records(); }
 
 private:
   void publish(uint64_t node_id);
   /// The outcome of the request or stimulus in flight (`timeout_ms` > 0: it timed out).
-  void finish_in_flight(Injector::Outcome outcome, const DynValue & answer,
-    const std::string & error, int64_t timeout_ms);
+  void finish_in_flight(
+    Injector::Outcome outcome, const DynValue & answer, const std::string & error,
+    int64_t timeout_ms);
   /// Send the next stimulus; false when none is left.
   bool send_stimulus(WaitHub & hub, const std::function<void()> & before_send);
   /// Send the next component load; false when none is left.

@@ -62,7 +62,7 @@ const EndpointRecord * find_service(
   const std::string name = fqn + spec.suffix;
   for (const auto & e : snapshot.endpoints) {
     if (e.kind == EndpointKind::Service && e.node_id == node_id && e.alive && e.name == name &&
-      e.type == spec.type)
+        e.type == spec.type)
     {
       return &e;
     }
@@ -119,8 +119,9 @@ bool parse_lifecycle_target(const std::string & text, LifecycleTarget * out)
   for (char c : text) {
     t.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
   }
-  for (LifecycleTarget target : {LifecycleTarget::kActive, LifecycleTarget::kInactive,
-      LifecycleTarget::kUnconfigured, LifecycleTarget::kNone})
+  for (LifecycleTarget target :
+       {LifecycleTarget::kActive, LifecycleTarget::kInactive, LifecycleTarget::kUnconfigured,
+        LifecycleTarget::kNone})
   {
     if (t == lifecycle_target_name(target)) {
       *out = target;
@@ -240,8 +241,7 @@ void Prober::start_task(Task & task, const RecorderSnapshot & snapshot)
     find_service(snapshot, id, task.fqn, kListParameters) != nullptr &&
     find_service(snapshot, id, task.fqn, kDescribeParameters) != nullptr &&
     find_service(snapshot, id, task.fqn, kGetParameters) != nullptr;
-  const bool has_lifecycle_services =
-    find_service(snapshot, id, task.fqn, kGetState) != nullptr &&
+  const bool has_lifecycle_services = find_service(snapshot, id, task.fqn, kGetState) != nullptr &&
     find_service(snapshot, id, task.fqn, kChangeState) != nullptr;
   task.parameters = settings_.parameters && has_parameter_services;
   // `none` drives nothing, but the state is still asked (with the parameters): a node that
@@ -261,15 +261,14 @@ void Prober::start_task(Task & task, const RecorderSnapshot & snapshot)
   }
 }
 
-bool Prober::request_for(const Task & task, const RecorderSnapshot & snapshot, ProbeRequest * out) const
+bool Prober::request_for(
+  const Task & task, const RecorderSnapshot & snapshot, ProbeRequest * out) const
 {
   const ServiceSpec * spec = nullptr;
   DynValue request = DynValue::structure();
   ProbeRequest r;
   switch (task.step) {
-    case Step::kGetState:
-      spec = &kGetState;
-      break;
+    case Step::kGetState: spec = &kGetState; break;
     case Step::kList:
       spec = &kListParameters;
       request.set("prefixes", DynValue::sequence());
@@ -299,8 +298,7 @@ bool Prober::request_for(const Task & task, const RecorderSnapshot & snapshot, P
         r.transition = t.label;
         break;
       }
-    case Step::kDone:
-      return false;
+    case Step::kDone: return false;
   }
   r.node_id = task.node_id;
   r.service_name = task.fqn + spec->suffix;
@@ -327,7 +325,8 @@ void Prober::on_answer(const DynValue & response)
       {
         const bool success = field_of(response, "success").as_bool();
         task.result.lifecycle.transitions.back().result = success ?
-          LifecycleTransitionRecord::Result::kSuccess : LifecycleTransitionRecord::Result::kFailure;
+          LifecycleTransitionRecord::Result::kSuccess :
+          LifecycleTransitionRecord::Result::kFailure;
         if (!success) {
           task.todo.clear();
         }
@@ -408,8 +407,7 @@ void Prober::on_answer(const DynValue & response)
         }
         break;
       }
-    case Step::kDone:
-      break;
+    case Step::kDone: break;
   }
 }
 
@@ -422,20 +420,15 @@ void Prober::on_no_answer(const std::string & why)
   Task & task = it->second;
   ++unanswered_;
   switch (task.step) {
-    case Step::kGetState:
-      task.result.lifecycle.error = why;
-      break;
+    case Step::kGetState: task.result.lifecycle.error = why; break;
     case Step::kChangeState:
       task.result.lifecycle.transitions.back().result =
         LifecycleTransitionRecord::Result::kNoAnswer;
       task.result.lifecycle.error = "transition " + task.result.lifecycle.transitions.back().label +
         " of " + task.fqn + ": " + why;
       break;
-    case Step::kDone:
-      return;
-    default:
-      task.result.parameters_error = why;
-      break;
+    case Step::kDone: return;
+    default: task.result.parameters_error = why; break;
   }
   task.todo.clear();
   task.step = Step::kDone;  // a node that does not answer is not asked again
@@ -460,7 +453,8 @@ void Prober::after_state(Task & task, const std::string & label)
   if (last.result == LifecycleTransitionRecord::Result::kFailure) {
     lc.error = "transition " + last.label + " of " + task.fqn +
       " failed: change_state answered success=false (the callback returned FAILURE or ERROR, "
-      "or raised); state now " + (label.empty() ? std::string("unknown") : label);
+      "or raised); state now " +
+      (label.empty() ? std::string("unknown") : label);
   }
   if (task.parameters) {
     start_parameter_round(task, last.label);

@@ -28,7 +28,7 @@ struct ProbeSettings
   bool parameters = true;  // RMW_INTROSPECT_PARAMETERS
   LifecycleTarget lifecycle = LifecycleTarget::kActive;  // RMW_INTROSPECT_LIFECYCLE
   /// Anything to ask at all.
-  bool enabled() const {return parameters || lifecycle != LifecycleTarget::kNone;}
+  bool enabled() const { return parameters || lifecycle != LifecycleTarget::kNone; }
 };
 
 /// One request to a node's own service.
@@ -72,14 +72,20 @@ public:
 
   /// What is known of node `node_id` so far; NULL for a node not probed (yet).
   const NodeProbe * result(uint64_t node_id) const;
-  const ProbeSettings & settings() const {return settings_;}
-  size_t requests() const {return requests_;}
-  size_t unanswered() const {return unanswered_;}
+  const ProbeSettings & settings() const { return settings_; }
+  size_t requests() const { return requests_; }
+  size_t unanswered() const { return unanswered_; }
 
 private:
-  enum class Step
-  {
-    kGetState, kList, kDescribe, kGet, kDescribeOne, kGetOne, kChangeState, kDone,
+  enum class Step {
+    kGetState,
+    kList,
+    kDescribe,
+    kGet,
+    kDescribeOne,
+    kGetOne,
+    kChangeState,
+    kDone,
   };
   struct Task
   {

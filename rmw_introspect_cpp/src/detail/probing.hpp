@@ -29,8 +29,7 @@ public:
   /// ROS and sleeps again) and still no thread waited: it is in its steady loop.
   void sleep_loop_again(int64_t now);
 
-  enum class Next
-  {
+  enum class Next {
     kWait,              // nothing due before `*look_at_ns`
     kTimeout,           // the request in flight got no answer in time
     kSend,              // send the next request now
@@ -51,7 +50,7 @@ public:
   void done();
   /// Whether, after the phase, the nodes were asked: "done", or "skipped" (no thread entered
   /// rmw_wait in time after the settle: no executor to ask).
-  const char * outcome() const {return probed_ && !skipped_ ? "done" : "skipped";}
+  const char * outcome() const { return probed_ && !skipped_ ? "done" : "skipped"; }
 
 private:
   const int64_t answer_timeout_ms_;

@@ -36,9 +36,9 @@ bool python_is_finalizing()
 {
   using IntFn = int (*)();
   static IntFn fn = []() {
-      IntFn f = lookup_symbol<IntFn>("Py_IsFinalizing");  // Python >= 3.13
-      return f != nullptr ? f : lookup_symbol<IntFn>("_Py_IsFinalizing");
-    }();
+    IntFn f = lookup_symbol<IntFn>("Py_IsFinalizing");  // Python >= 3.13
+    return f != nullptr ? f : lookup_symbol<IntFn>("_Py_IsFinalizing");
+  }();
   return fn != nullptr && fn() != 0;
 }
 
@@ -61,13 +61,12 @@ void flush_python_streams()
   if (ensure == nullptr || release == nullptr || run == nullptr) {
     return;
   }
-  std::thread(
-    []() {
-      // For real: the interposed sleep (src/sleep.cpp) would jump virtual time in the warp.
-      real_sleep_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(kFlushWatchdog).count());
-      std::fflush(nullptr);
-      _exit(0);
-    }).detach();
+  std::thread([]() {
+    // For real: the interposed sleep (src/sleep.cpp) would jump virtual time in the warp.
+    real_sleep_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(kFlushWatchdog).count());
+    std::fflush(nullptr);
+    _exit(0);
+  }).detach();
   const int state = ensure();
   run(
     "import sys\n"

@@ -78,9 +78,9 @@ int64_t duration_to_ns(const rmw_time_t & time)
 bool qos_is_valid(const rmw_qos_profile_t & qos)
 {
   return qos.history != RMW_QOS_POLICY_HISTORY_UNKNOWN &&
-         qos.reliability != RMW_QOS_POLICY_RELIABILITY_UNKNOWN &&
-         qos.durability != RMW_QOS_POLICY_DURABILITY_UNKNOWN &&
-         qos.liveliness != RMW_QOS_POLICY_LIVELINESS_UNKNOWN;
+    qos.reliability != RMW_QOS_POLICY_RELIABILITY_UNKNOWN &&
+    qos.durability != RMW_QOS_POLICY_DURABILITY_UNKNOWN &&
+    qos.liveliness != RMW_QOS_POLICY_LIVELINESS_UNKNOWN;
 }
 
 namespace
@@ -97,7 +97,7 @@ bool time_less(const rmw_time_t & a, const rmw_time_t & b)
 }
 
 void append_reason(char * reason, size_t reason_size, const char * format, ...)
-__attribute__((format(printf, 3, 4)));
+  __attribute__((format(printf, 3, 4)));
 
 void append_reason(char * reason, size_t reason_size, const char * format, ...)
 {
@@ -138,16 +138,16 @@ rmw_ret_t check_qos_compatible(
     reason[0] = '\0';
   }
   auto error = [&](const char * text) {
-      *compatibility = RMW_QOS_COMPATIBILITY_ERROR;
-      append_reason(reason, reason_size, "ERROR: %s;", text);
-    };
+    *compatibility = RMW_QOS_COMPATIBILITY_ERROR;
+    append_reason(reason, reason_size, "ERROR: %s;", text);
+  };
   if (pub.reliability == RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT &&
-    sub.reliability == RMW_QOS_POLICY_RELIABILITY_RELIABLE)
+      sub.reliability == RMW_QOS_POLICY_RELIABILITY_RELIABLE)
   {
     error("Best effort publisher and reliable subscription");
   }
   if (pub.durability == RMW_QOS_POLICY_DURABILITY_VOLATILE &&
-    sub.durability == RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL)
+      sub.durability == RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL)
   {
     error("Volatile publisher and transient local subscription");
   }
@@ -155,12 +155,12 @@ rmw_ret_t check_qos_compatible(
     error("Subscription has a deadline, but publisher does not");
   }
   if (!time_unset(pub.deadline) && !time_unset(sub.deadline) &&
-    time_less(sub.deadline, pub.deadline))
+      time_less(sub.deadline, pub.deadline))
   {
     error("Subscription deadline is less than publisher deadline");
   }
   if (pub.liveliness == RMW_QOS_POLICY_LIVELINESS_AUTOMATIC &&
-    sub.liveliness == RMW_QOS_POLICY_LIVELINESS_MANUAL_BY_TOPIC)
+      sub.liveliness == RMW_QOS_POLICY_LIVELINESS_MANUAL_BY_TOPIC)
   {
     error("Publisher's liveliness is automatic and subscription's is manual by topic");
   }
@@ -168,7 +168,7 @@ rmw_ret_t check_qos_compatible(
     error("Subscription has a liveliness lease duration, but publisher does not");
   }
   if (!time_unset(pub.liveliness_lease_duration) && !time_unset(sub.liveliness_lease_duration) &&
-    time_less(sub.liveliness_lease_duration, pub.liveliness_lease_duration))
+      time_less(sub.liveliness_lease_duration, pub.liveliness_lease_duration))
   {
     error("Subscription liveliness lease duration is less than publisher");
   }
@@ -176,11 +176,11 @@ rmw_ret_t check_qos_compatible(
     return RMW_RET_OK;
   }
   auto warning = [&](const char * format, const char * a, const char * b) {
-      *compatibility = RMW_QOS_COMPATIBILITY_WARNING;
-      char text[256];
-      snprintf(text, sizeof(text), format, a, b);
-      append_reason(reason, reason_size, "WARNING: %s;", text);
-    };
+    *compatibility = RMW_QOS_COMPATIBILITY_WARNING;
+    char text[256];
+    snprintf(text, sizeof(text), format, a, b);
+    append_reason(reason, reason_size, "WARNING: %s;", text);
+  };
   const bool pub_rel_unknown = pub.reliability == RMW_QOS_POLICY_RELIABILITY_SYSTEM_DEFAULT ||
     pub.reliability == RMW_QOS_POLICY_RELIABILITY_UNKNOWN;
   const bool sub_rel_unknown = sub.reliability == RMW_QOS_POLICY_RELIABILITY_SYSTEM_DEFAULT ||
@@ -255,12 +255,12 @@ rmw_qos_profile_t resolve_system_defaults(const rmw_qos_profile_t & requested, Q
     actual.depth = 1u;
   }
   if (actual.reliability == RMW_QOS_POLICY_RELIABILITY_SYSTEM_DEFAULT) {
-    actual.reliability = side == QosSide::kWriter ?
-      RMW_QOS_POLICY_RELIABILITY_RELIABLE : RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
+    actual.reliability = side == QosSide::kWriter ? RMW_QOS_POLICY_RELIABILITY_RELIABLE :
+                                                    RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
   }
   if (actual.durability == RMW_QOS_POLICY_DURABILITY_SYSTEM_DEFAULT) {
-    actual.durability = side == QosSide::kWriter ?
-      RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL : RMW_QOS_POLICY_DURABILITY_VOLATILE;
+    actual.durability = side == QosSide::kWriter ? RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL :
+                                                   RMW_QOS_POLICY_DURABILITY_VOLATILE;
   }
   if (actual.liveliness == RMW_QOS_POLICY_LIVELINESS_SYSTEM_DEFAULT) {
     actual.liveliness = RMW_QOS_POLICY_LIVELINESS_AUTOMATIC;
@@ -302,15 +302,14 @@ void resolve_best_available_for_publisher(
     qos->durability = RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL;
   }
   if (qos->liveliness == RMW_QOS_POLICY_LIVELINESS_BEST_AVAILABLE) {
-    qos->liveliness = any_manual_by_topic ?
-      RMW_QOS_POLICY_LIVELINESS_MANUAL_BY_TOPIC : RMW_QOS_POLICY_LIVELINESS_AUTOMATIC;
+    qos->liveliness = any_manual_by_topic ? RMW_QOS_POLICY_LIVELINESS_MANUAL_BY_TOPIC :
+                                            RMW_QOS_POLICY_LIVELINESS_AUTOMATIC;
   }
   if (time_equal(qos->deadline, kDeadlineBestAvailable)) {
     qos->deadline = default_deadline ? kDeadlineDefault : smallest_deadline;
   }
   if (time_equal(qos->liveliness_lease_duration, kLeaseBestAvailable)) {
-    qos->liveliness_lease_duration =
-      default_lease ? kLeaseDefault : smallest_lease;
+    qos->liveliness_lease_duration = default_lease ? kLeaseDefault : smallest_lease;
   }
 }
 
@@ -343,23 +342,22 @@ void resolve_best_available_for_subscription(
     }
   }
   if (qos->reliability == RMW_QOS_POLICY_RELIABILITY_BEST_AVAILABLE) {
-    qos->reliability = reliable == count ?
-      RMW_QOS_POLICY_RELIABILITY_RELIABLE : RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
+    qos->reliability = reliable == count ? RMW_QOS_POLICY_RELIABILITY_RELIABLE :
+                                           RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT;
   }
   if (qos->durability == RMW_QOS_POLICY_DURABILITY_BEST_AVAILABLE) {
-    qos->durability = transient_local == count ?
-      RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL : RMW_QOS_POLICY_DURABILITY_VOLATILE;
+    qos->durability = transient_local == count ? RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL :
+                                                 RMW_QOS_POLICY_DURABILITY_VOLATILE;
   }
   if (qos->liveliness == RMW_QOS_POLICY_LIVELINESS_BEST_AVAILABLE) {
-    qos->liveliness = manual_by_topic == count ?
-      RMW_QOS_POLICY_LIVELINESS_MANUAL_BY_TOPIC : RMW_QOS_POLICY_LIVELINESS_AUTOMATIC;
+    qos->liveliness = manual_by_topic == count ? RMW_QOS_POLICY_LIVELINESS_MANUAL_BY_TOPIC :
+                                                 RMW_QOS_POLICY_LIVELINESS_AUTOMATIC;
   }
   if (time_equal(qos->deadline, kDeadlineBestAvailable)) {
     qos->deadline = default_deadline ? kDeadlineDefault : largest_deadline;
   }
   if (time_equal(qos->liveliness_lease_duration, kLeaseBestAvailable)) {
-    qos->liveliness_lease_duration =
-      default_lease ? kLeaseDefault : largest_lease;
+    qos->liveliness_lease_duration = default_lease ? kLeaseDefault : largest_lease;
   }
 }
 

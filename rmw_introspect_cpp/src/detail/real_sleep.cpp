@@ -17,15 +17,14 @@ using ClockNanosleepFn = int (*)(clockid_t, int, const struct timespec *, struct
 
 ClockNanosleepFn next_clock_nanosleep()
 {
-  static const auto next =
-    reinterpret_cast<ClockNanosleepFn>(dlsym(RTLD_NEXT, "clock_nanosleep"));
+  static const auto next = reinterpret_cast<ClockNanosleepFn>(dlsym(RTLD_NEXT, "clock_nanosleep"));
   return next;
 }
 }  // namespace
 
 int64_t monotonic_now_ns()
 {
-  struct timespec now {};
+  struct timespec now{};
   clock_gettime(CLOCK_MONOTONIC, &now);
   return static_cast<int64_t>(now.tv_sec) * kNsPerSecond + now.tv_nsec;
 }
@@ -38,7 +37,7 @@ int real_sleep_until(int64_t until_ns)
 
 struct timespec timespec_from_ns(int64_t ns)
 {
-  struct timespec ts {};
+  struct timespec ts{};
   ts.tv_sec = static_cast<time_t>(ns / kNsPerSecond);
   ts.tv_nsec = static_cast<long>(ns % kNsPerSecond);
   return ts;

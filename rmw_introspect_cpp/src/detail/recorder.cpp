@@ -38,8 +38,8 @@ Recorder::Recorder()
   // GID = 8 bytes unique to this recorder (pid + random) + 8 bytes counter.
   const uint32_t pid = static_cast<uint32_t>(getpid());
   std::random_device rd;
-  const uint32_t salt = rd() ^ static_cast<uint32_t>(
-    std::chrono::steady_clock::now().time_since_epoch().count());
+  const uint32_t salt =
+    rd() ^ static_cast<uint32_t>(std::chrono::steady_clock::now().time_since_epoch().count());
   std::memcpy(gid_prefix_.data(), &pid, 4);
   std::memcpy(gid_prefix_.data() + 4, &salt, 4);
 }
@@ -156,9 +156,7 @@ bool Recorder::destroy_endpoint(uint64_t endpoint_id, bool teardown, const Creat
 {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (endpoint_id == 0 || endpoint_id > endpoints_.size() ||
-      !endpoints_[endpoint_id - 1].alive)
-    {
+    if (endpoint_id == 0 || endpoint_id > endpoints_.size() || !endpoints_[endpoint_id - 1].alive) {
       return false;
     }
     endpoints_[endpoint_id - 1].alive = false;
@@ -210,10 +208,10 @@ RecorderSnapshot Recorder::snapshot(bool mark_teardown) const
   snap.endpoints = endpoints_;
   if (mark_teardown) {
     auto mark = [this](auto & records) {
-        for (auto & r : records) {
-          r.in_teardown = r.destroyed && r.destroyed_event > last_creation_event_;
-        }
-      };
+      for (auto & r : records) {
+        r.in_teardown = r.destroyed && r.destroyed_event > last_creation_event_;
+      }
+    };
     mark(snap.nodes);
     mark(snap.endpoints);
   }

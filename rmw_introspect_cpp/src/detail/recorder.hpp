@@ -146,7 +146,8 @@ public:
   void visit(Fn && fn) const
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    fn(static_cast<const std::vector<NodeRecord> &>(nodes_),
+    fn(
+      static_cast<const std::vector<NodeRecord> &>(nodes_),
       static_cast<const std::vector<EndpointRecord> &>(endpoints_));
   }
 

@@ -33,8 +33,14 @@ std::mutex g_make_mutex;
 // first use, reading the configuration from the environment it has by then: a runtime the parent
 // made (say, rcutils_steady_time_now reached it) holds the parent's pid, output path and settings.
 // A runtime that was initialized stays: a node that forks keeps its middleware as before.
-void before_fork() {g_make_mutex.lock();}
-void after_fork_parent() {g_make_mutex.unlock();}
+void before_fork()
+{
+  g_make_mutex.lock();
+}
+void after_fork_parent()
+{
+  g_make_mutex.unlock();
+}
 void after_fork_child()
 {
   new (&g_make_mutex) std::mutex();  // the parent's lock state is not the child's to keep
@@ -80,7 +86,8 @@ Session::Settings session_settings(const Config & config)
   settings.warp_budget_ms = config.warp_budget_ms;
   // The stimuli follow the probing, in the same phase: either turns it on.
   // So do the component loads, which come first.
-  settings.probe = config.probe.enabled() || !config.stimuli.empty() || !config.component_loads.empty();
+  settings.probe =
+    config.probe.enabled() || !config.stimuli.empty() || !config.component_loads.empty();
   settings.answer_timeout_ms = config.answer_timeout_ms;
   settings.detect_idle = config.detect_idle;
   settings.virtual_sleeps = config.virtual_sleeps;
@@ -97,23 +104,22 @@ Runtime::Runtime()
   for (const auto & warning : config_.warnings) {
     std::fprintf(stderr, "[rmw_introspect] warning: %s\n", warning.c_str());
   }
-  recorder_.set_change_listener([this]() {on_change();});
+  recorder_.set_change_listener([this]() { on_change(); });
   // Under the wait hub's lock (lock order: hub, then session).
   // A thread blocked on these waits for the monitor (which holds the session's lock while it
   // decides) or for a thread that does: not idle.
   thread_census_.set_busy_futexes(
     {reinterpret_cast<uintptr_t>(session_mutex_.native_handle()), wait_hub_.lock_address()});
-  wait_hub_.set_wake_listener(
-    [this](pid_t by) {
-      std::lock_guard<std::mutex> lock(session_mutex_);
-      session_.on_wake(by);
-    });
+  wait_hub_.set_wake_listener([this](pid_t by) {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    session_.on_wake(by);
+  });
   {
     std::lock_guard<std::mutex> lock(stimuli_mutex_);
     stimuli_ = probe_driver_.stimuli();  // every name pending
     component_loads_ = probe_driver_.component_loads();
   }
-  injector_.set_answer_listener([this](bool changes_node) {on_probe_answer(changes_node);});
+  injector_.set_answer_listener([this](bool changes_node) { on_probe_answer(changes_node); });
 }
 
 void Runtime::notify_graph_change()
@@ -132,8 +138,8 @@ void Runtime::on_init()
     g_started.store(true);
     argv_ = read_process_argv();
   }
-  std::atexit([]() {Runtime::instance().on_process_exit();});
-  std::thread([this]() {monitor_loop();}).detach();
+  std::atexit([]() { Runtime::instance().on_process_exit(); });
+  std::thread([this]() { monitor_loop(); }).detach();
 }
 
 void Runtime::on_change()
@@ -156,11 +162,10 @@ void Runtime::on_probe_answer(bool changes_node)
 
 void Runtime::probe_step()
 {
-  const bool sent = probe_driver_.step(
-    wait_hub_, [this]() {
-      std::lock_guard<std::mutex> lock(session_mutex_);
-      session_.probe_sent();
-    });
+  const bool sent = probe_driver_.step(wait_hub_, [this]() {
+    std::lock_guard<std::mutex> lock(session_mutex_);
+    session_.probe_sent();
+  });
   probe_requests_.store(probe_driver_.requests());
   probe_unanswered_.store(probe_driver_.unanswered());
   publish_stimuli();
@@ -170,8 +175,8 @@ void Runtime::probe_step()
   }
   if (config_.verbose) {
     std::fprintf(
-      stderr, "[rmw_introspect] %s\n", sent ? "sent a request to a node's own service" :
-      "asked every node: probing done");
+      stderr, "[rmw_introspect] %s\n",
+      sent ? "sent a request to a node's own service" : "asked every node: probing done");
   }
 }
 
@@ -318,7 +323,7 @@ void Runtime::monitor_loop()
       const bool probe_skipped = std::strcmp(session_.probe_state(), "skipped") == 0;
       lock.unlock();
       if (probe_skipped && !config_.stimuli.empty() &&
-        (step.action == Session::Action::kSettle || step.action == Session::Action::kStartWarp))
+          (step.action == Session::Action::kSettle || step.action == Session::Action::kStartWarp))
       {
         probe_driver_.skip(
           "not delivered: no thread of the process ever waited in rmw_wait (no executor spins), "
@@ -334,21 +339,15 @@ void Runtime::monitor_loop()
           // A valid capture so far (a node may exit or crash in a transition).
           write_capture("probing");
           break;
-        case Session::Action::kProbe:
-          probe_step();
-          break;
-        case Session::Action::kProbeTimeout:
-          probe_timeout();
-          break;
+        case Session::Action::kProbe: probe_step(); break;
+        case Session::Action::kProbeTimeout: probe_timeout(); break;
         case Session::Action::kStartWarp:
           // A valid capture so far (the node may exit or crash during the warp), then wake
           // every waiter: those blocked on a finite timeout come back to jump.
           write_capture("warping");
-          wait_hub_.update_and_wake([this]() {warp_starts_.fetch_add(1);});
+          wait_hub_.update_and_wake([this]() { warp_starts_.fetch_add(1); });
           break;
-        default:
-          write_capture(progress);
-          break;
+        default: write_capture(progress); break;
       }
       lock.lock();
       continue;
@@ -476,8 +475,7 @@ void Runtime::write_capture(const char * state)
   if (!write_file_atomically(output_path_, content, &error)) {
     std::fprintf(stderr, "[rmw_introspect] cannot write capture: %s\n", error.c_str());
   } else if (config_.verbose) {
-    std::fprintf(
-      stderr, "[rmw_introspect] wrote %s capture to %s\n", state, output_path_.c_str());
+    std::fprintf(stderr, "[rmw_introspect] wrote %s capture to %s\n", state, output_path_.c_str());
   }
 }
 

@@ -61,15 +61,15 @@ public:
   Runtime(const Runtime &) = delete;
   Runtime & operator=(const Runtime &) = delete;
 
-  const Config & config() const {return config_;}
-  const VirtualClock & virtual_clock() const {return virtual_clock_;}
-  Recorder & recorder() {return recorder_;}
-  WaitHub & wait_hub() {return wait_hub_;}
-  GraphGuards & graph_guards() {return graph_guards_;}
+  const Config & config() const { return config_; }
+  const VirtualClock & virtual_clock() const { return virtual_clock_; }
+  Recorder & recorder() { return recorder_; }
+  WaitHub & wait_hub() { return wait_hub_; }
+  GraphGuards & graph_guards() { return graph_guards_; }
   /// In-process delivery (RMW_INTROSPECT_DELIVERY=1): who receives what this process sends.
-  Delivery & delivery() {return delivery_;}
+  Delivery & delivery() { return delivery_; }
   /// The middleware's own requests to the nodes' services (parameters, lifecycle).
-  Injector & injector() {return injector_;}
+  Injector & injector() { return injector_; }
 
   /// Trigger the graph guard condition of every live node (a local graph change).
   void notify_graph_change();
@@ -88,23 +88,23 @@ public:
 
   /// Sleeps (detail/sleep.hpp): whether the warp steps this process's sleeps (virtual time
   /// and RMW_INTROSPECT_SLEEPS on).
-  bool sleeps_stepped() const {return sleeps_stepped_;}
+  bool sleeps_stepped() const { return sleeps_stepped_; }
   /// In the warp: jump virtual time by `duration_ns` for the calling thread's sleep; true when
   /// the sleep is over (false: no warp, or it ended at the horizon or by its budget).
   bool jump_sleep(int64_t duration_ns);
   /// How often the warp started (0 or 1), and whether it is still to come.
-  uint64_t warp_starts() const {return warp_starts_.load();}
-  bool warp_to_come() const {return sleeps_stepped_ && warp_starts_.load() == 0;}
+  uint64_t warp_starts() const { return warp_starts_.load(); }
+  bool warp_to_come() const { return sleeps_stepped_ && warp_starts_.load() == 0; }
   /// RAII registration of the calling thread's real sleep until `deadline_ns` (Session::enter_sleep).
   class Sleeping
   {
-public:
+  public:
     Sleeping(Runtime & runtime, int64_t deadline_ns);
     ~Sleeping();
     Sleeping(const Sleeping &) = delete;
     Sleeping & operator=(const Sleeping &) = delete;
 
-private:
+  private:
     Runtime & runtime_;
     uint64_t token_;
   };
@@ -123,14 +123,16 @@ private:
   /// RAII registration of a thread blocked in rmw_wait (settle rule).
   class BlockedWait
   {
-public:
+  public:
     BlockedWait(Runtime & runtime, int64_t deadline_ns)
-    : runtime_(runtime), token_(runtime.enter_wait(deadline_ns)) {}
-    ~BlockedWait() {runtime_.leave_wait(token_);}
+    : runtime_(runtime), token_(runtime.enter_wait(deadline_ns))
+    {
+    }
+    ~BlockedWait() { runtime_.leave_wait(token_); }
     BlockedWait(const BlockedWait &) = delete;
     BlockedWait & operator=(const BlockedWait &) = delete;
 
-private:
+  private:
     Runtime & runtime_;
     uint64_t token_;
   };
@@ -225,18 +227,18 @@ void Runtime::wait(ReadyFn ready, WorkFn work, int64_t timeout_ns)
   note_wait_entered();
   const int64_t start_ns = clock_.now_ns();
   const int64_t target_ns = start_ns + virtual_clock_.offset_ns() + timeout_ns;
-  for (int64_t remaining = timeout_ns; ; ) {
+  for (int64_t remaining = timeout_ns;;) {
     if (remaining > 0 && warping_.load() && try_jump(ready, target_ns)) {
       return;
     }
     // The start of the warp wakes every waiter: a finite wait re-enters to jump, an infinite
     // one re-registers as blocked after the warp began (the settle rule counts only those).
     const uint64_t warp_starts = warp_starts_.load();
-    auto ready_or_warp = [&]() {return ready() || warp_starts_.load() != warp_starts;};
+    auto ready_or_warp = [&]() { return ready() || warp_starts_.load() != warp_starts; };
     const int64_t deadline_ns = remaining < 0 ? -1 : clock_.now_ns() + remaining;
-    wait_hub_.wait(
-      ready_or_warp, remaining,
-      [this, deadline_ns]() -> BlockedWait {return BlockedWait(*this, deadline_ns);});
+    wait_hub_.wait(ready_or_warp, remaining, [this, deadline_ns]() -> BlockedWait {
+      return BlockedWait(*this, deadline_ns);
+    });
     if (warp_starts_.load() == warp_starts || ready()) {
       return;
     }

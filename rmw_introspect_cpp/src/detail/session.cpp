@@ -29,9 +29,11 @@ void propose(int64_t when, bool * has_deadline, int64_t * deadline)
 Session::Session(
   const Clock & clock, VirtualClock & virtual_clock, const Settings & settings,
   const MainThreadState * main_thread)
-: clock_(clock), virtual_clock_(virtual_clock), settings_(settings),
-  idle_({settings.settle_ms, settings.detect_idle,
-      settings.virtual_sleeps && settings.horizon_ms > 0}),
+: clock_(clock),
+  virtual_clock_(virtual_clock),
+  settings_(settings),
+  idle_(
+    {settings.settle_ms, settings.detect_idle, settings.virtual_sleeps && settings.horizon_ms > 0}),
   warp_(virtual_clock, {settings.settle_ms, settings.horizon_ms, settings.warp_budget_ms}),
   probing_(settings.answer_timeout_ms, main_thread)
 {
@@ -102,7 +104,7 @@ uint64_t Session::enter_wait(pid_t tid, int64_t deadline_ns)
 uint64_t Session::enter_sleep(pid_t tid, int64_t deadline_ns)
 {
   if (phase_ == Phase::kProbing && !ever_waited_ && settled_by_sleep() &&
-    idle_.used_ros_in(tid, generation_))
+      idle_.used_ros_in(tid, generation_))
   {
     probing_.sleep_loop_again(clock_.now_ns());  // (see Probing::sleep_loop_again)
   }
@@ -117,8 +119,7 @@ bool Session::settled_by_sleep() const
 void Session::leave_wait(uint64_t token)
 {
   uint64_t quiet_epoch = 0;
-  if (idle_.leave_wait(token, &quiet_epoch) && quiet_epoch == quiet_epoch_ &&
-    waiters_current_ > 0)
+  if (idle_.leave_wait(token, &quiet_epoch) && quiet_epoch == quiet_epoch_ && waiters_current_ > 0)
   {
     --waiters_current_;
   }
@@ -219,8 +220,8 @@ Session::Step Session::poll()
   if (phase_ == Phase::kWarping) {
     int64_t look_at = INT64_MAX;
     const bool over = warp_.check(
-      now, idle_.any_blocked(),
-      [this, now]() {return idle_.any_polling() && provably_idle(now);}, &look_at);
+      now, idle_.any_blocked(), [this, now]() { return idle_.any_polling() && provably_idle(now); },
+      &look_at);
     propose(look_at, &step.has_deadline, &step.deadline_ns);
     if (over) {
       end_warp(now);
@@ -233,7 +234,7 @@ Session::Step Session::poll()
   } else {
     const bool in_warp = phase_ == Phase::kWarping || phase_ == Phase::kFinalSettling;
     if ((in_warp || settled_generation_ != generation_) &&
-      (stalled_unchanged() || quiet_settled(now, &step.has_deadline, &step.deadline_ns)))
+        (stalled_unchanged() || quiet_settled(now, &step.has_deadline, &step.deadline_ns)))
     {
       mark_settled(now);
       step.has_deadline = false;
@@ -270,7 +271,7 @@ bool Session::stalled_unchanged() const
   // and a second quiet window (two more polls of a loop that sleeps 0.5 s between them: a
   // second) would give the same capture.
   return phase_ == Phase::kFinalSettling && warp_.stalled() && warp_.jumps() == 0 &&
-         settled_generation_ == generation_;
+    settled_generation_ == generation_;
 }
 
 void Session::mark_settled(int64_t now)

@@ -67,7 +67,7 @@ public:
     bool probe = false;               // ask the nodes' services after the first settle
     int64_t answer_timeout_ms = 5000;  // real time a node has to answer one request
     bool detect_idle = false;         // settle at once when provably idle (RMW_INTROSPECT_IDLE)
-    bool virtual_sleeps = false;      // the warp jumps the process's sleeps (RMW_INTROSPECT_SLEEPS)
+    bool virtual_sleeps = false;  // the warp jumps the process's sleeps (RMW_INTROSPECT_SLEEPS)
   };
 
   /// `main_thread`: whether the main thread is runnable (null: taken as never; unit tests).
@@ -77,7 +77,7 @@ public:
 
   /// First rmw_init of the process: the session's time starts. False when already started.
   bool start();
-  bool started() const {return started_;}
+  bool started() const { return started_; }
 
   /// A node or endpoint was created or destroyed.
   void on_change();
@@ -96,7 +96,7 @@ public:
   /// between two polls in which it did is a pause of its own (a sleep), not a preemption.
   bool on_poll(pid_t tid = 0, bool found_nothing = false, uint64_t voluntary_switches = 0);
   /// Whether the warp jumped straight to the horizon (a steady periodic timer; try_jump).
-  bool fast_forwarded() const {return warp_.fast_forwarded();}
+  bool fast_forwarded() const { return warp_.fast_forwarded(); }
   /// Thread `tid` blocks in rmw_wait until real time `deadline_ns` (negative: no deadline);
   /// returns the token for leave_wait. Called under the wait hub's lock, after the thread
   /// found nothing ready.
@@ -106,14 +106,14 @@ public:
   /// wait proves nothing until its thread has looked again and blocked again. `by`: the
   /// triggering thread (0: none of the program's); an idle poller's own trigger (rclpy's
   /// spin_once(node) before every wait) keeps what a census found.
-  void on_wake(pid_t by = 0) {idle_.on_wake(by);}
+  void on_wake(pid_t by = 0) { idle_.on_wake(by); }
   /// The middleware's own monitor thread (left out of the census).
-  void set_monitor_tid(pid_t tid) {idle_.set_monitor_tid(tid);}
+  void set_monitor_tid(pid_t tid) { idle_.set_monitor_tid(tid); }
 
   /// What kCheckIdle asks: are the threads not in `known` blocked until woken, or until
   /// `until_ns` (the end of the quiet window) at least? Answered for `version` only.
   using CensusRequest = IdleProof::CensusRequest;
-  const CensusRequest & census_request() const {return idle_.census_request();}
+  const CensusRequest & census_request() const { return idle_.census_request(); }
   /// The answer to census_request() (read with no lock held: anything that happened meanwhile
   /// changed the version, and the answer is dropped). `culprit`: why not, for people.
   void census_done(uint64_t version, bool idle, const std::string & culprit)
@@ -121,7 +121,7 @@ public:
     idle_.census_done(version, idle, culprit, clock_.now_ns());
   }
   /// Why the latest census found the process not idle ("" when it did, or none ran).
-  const std::string & not_idle_reason() const {return idle_.not_idle_reason();}
+  const std::string & not_idle_reason() const { return idle_.not_idle_reason(); }
   /// publish, take*, send_request/response, take_request/response, graph queries, counts of
   /// matched endpoints, server_is_available, by thread `tid`. True when the monitor should
   /// look again.
@@ -132,28 +132,27 @@ public:
   /// (an activity call) since the last change is in its loop, and with virtual sleeps the warp
   /// steps it: it counts like a blocked wait with that deadline (docs/design.md, "Sleeps").
   uint64_t enter_sleep(pid_t tid, int64_t deadline_ns);
-  void leave_sleep(uint64_t token) {idle_.leave_sleep(token);}
+  void leave_sleep(uint64_t token) { idle_.leave_sleep(token); }
 
   /// In the warp: a wait with nothing ready would sleep until virtual time `target_ns` (the
   /// virtual time at its entry + its timeout). True: virtual time is now past it (jumped, or
   /// already past), the wait returns a timeout at once; either breaks the quiet of the final
   /// settle. False: wait for real (no warp, horizon reached, budget spent).
   bool try_jump(int64_t target_ns);
-  bool warping() const {return phase_ == Phase::kWarping;}
+  bool warping() const { return phase_ == Phase::kWarping; }
   /// Virtual now on the steady clock (real monotonic + offset).
-  int64_t virtual_now_ns() const {return clock_.now_ns() + virtual_clock_.offset_ns();}
+  int64_t virtual_now_ns() const { return clock_.now_ns() + virtual_clock_.offset_ns(); }
 
-  enum class Action
-  {
-    kNone,          // nothing to do before `deadline_ns` (or the next input, without one)
+  enum class Action {
+    kNone,  // nothing to do before `deadline_ns` (or the next input, without one)
     kWriteRunning,  // write a progress snapshot now (progress_state())
-    kStartWarp,     // settled once: write "warping" now and wake the waiters to jump
-    kSettle,        // settled for good: write "settled" now
-    kStartProbe,    // settled once: write "probing" now (then kProbe follows)
-    kProbe,         // send the next request now: then probe_sent(), or probe_done()
+    kStartWarp,  // settled once: write "warping" now and wake the waiters to jump
+    kSettle,  // settled for good: write "settled" now
+    kStartProbe,  // settled once: write "probing" now (then kProbe follows)
+    kProbe,  // send the next request now: then probe_sent(), or probe_done()
     kProbeTimeout,  // the request in flight got no answer in time (then kProbe follows)
-    kCheckIdle,     // every thread in rmw_wait is blocked: read the other threads
-                    // (census_request(), a ThreadCensus, then census_done())
+    kCheckIdle,  // every thread in rmw_wait is blocked: read the other threads
+    // (census_request(), a ThreadCensus, then census_done())
   };
   struct Step
   {
@@ -168,31 +167,31 @@ public:
   const char * progress_state() const;
 
   /// Probing: a request is about to reach the node (call it before the node can see it).
-  void probe_sent() {probing_.sent(clock_.now_ns());}
+  void probe_sent() { probing_.sent(clock_.now_ns()); }
   /// Probing: the answer to the request in flight came. `settle_first`: the node changed
   /// (a transition); it must settle again before the next request.
   void probe_answered(bool settle_first);
   /// Probing: nothing (more) to ask.
-  void probe_done() {probing_.done();}
-  bool probing() const {return phase_ == Phase::kProbing;}
+  void probe_done() { probing_.done(); }
+  bool probing() const { return phase_ == Phase::kProbing; }
   /// "off" (nothing to ask), "pending" (not settled yet), "running", "done", "skipped"
   /// (no thread entered rmw_wait in time after the settle: no executor to ask).
   const char * probe_state() const;
 
   /// A capture is being written out of turn (rmw_shutdown, process exit).
-  void note_written() {written_generation_ = generation_;}
+  void note_written() { written_generation_ = generation_; }
 
   /// The process-exit capture is being written: nothing may replace it.
-  void begin_exit() {exiting_ = true;}
-  bool exiting() const {return exiting_;}
+  void begin_exit() { exiting_ = true; }
+  bool exiting() const { return exiting_; }
 
   /// The session's part of a capture header for a write with `state` (times, settle, warp;
   /// `ended` for "exit" and "shutdown").
   void fill_header(const char * state, CaptureHeader * header) const;
 
   /// Real and virtual age now, for the creation times of entities.
-  double real_age_ms() const {return ns_to_ms(clock_.now_ns() - t0_ns_);}
-  double virtual_age_ms() const {return ns_to_ms(virtual_now_ns() - t0_ns_);}
+  double real_age_ms() const { return ns_to_ms(clock_.now_ns() - t0_ns_); }
+  double virtual_age_ms() const { return ns_to_ms(virtual_now_ns() - t0_ns_); }
 
 private:
   enum class Phase { kSettling, kProbing, kWarping, kFinalSettling, kDone };
@@ -233,17 +232,17 @@ private:
   // Entity changes: progress snapshots and settles are per generation.
   uint64_t generation_ = 0;
   int64_t last_change_ns_ = 0;
-  uint64_t written_generation_ = UINT64_MAX;   // last generation written at all
-  uint64_t settled_generation_ = UINT64_MAX;   // last generation written as settled
+  uint64_t written_generation_ = UINT64_MAX;  // last generation written at all
+  uint64_t settled_generation_ = UINT64_MAX;  // last generation written as settled
   // The quiet rule: entity changes and jumps.
   uint64_t quiet_epoch_ = 0;
   int64_t quiet_since_ns_ = 0;
   uint64_t waiters_current_ = 0;  // threads in rmw_wait that entered in quiet_epoch_
   uint64_t activity_current_ = 0;  // activity calls in quiet_epoch_
   uint64_t polls_current_ = 0;  // polls in quiet_epoch_
-  uint64_t polls_ = 0;          // ... in all
+  uint64_t polls_ = 0;  // ... in all
   // Reported.
-  uint64_t idle_settles_ = 0;    // settles that ended by detection
+  uint64_t idle_settles_ = 0;  // settles that ended by detection
   uint64_t window_settles_ = 0;  // settles that ended by the quiet window (or activity)
   bool has_settled_ = false;
   int64_t time_to_settle_ns_ = 0;

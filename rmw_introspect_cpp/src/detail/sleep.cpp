@@ -54,7 +54,7 @@ int virtual_sleep(int64_t duration_ns, int64_t * unslept_ns)
       return rc;
     }
     if (runtime->warp_starts() != warp_starts &&
-      runtime->jump_sleep(deadline_ns - monotonic_now_ns()))
+        runtime->jump_sleep(deadline_ns - monotonic_now_ns()))
     {
       return 0;
     }

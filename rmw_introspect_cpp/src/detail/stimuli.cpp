@@ -43,17 +43,27 @@ std::string invalid_name_reason(const std::string & name)
   }
   const char * why = rmw_full_topic_name_validation_result_string(result);
   return std::string(why != nullptr ? why : "invalid") + " (at character " +
-         std::to_string(index + 1) + ")";
+    std::to_string(index + 1) + ")";
 }
 
 // Services every rclpy/rclcpp node has by itself: left out of the "there is" list.
 bool is_standard_service(const std::string & name)
 {
   static const char * const kLeaves[] = {
-    "/describe_parameters", "/get_parameter_types", "/get_parameters", "/list_parameters",
-    "/set_parameters", "/set_parameters_atomically", "/get_type_description",
-    "/change_state", "/get_state", "/get_available_states", "/get_available_transitions",
-    "/get_transition_graph", "/get_logger_levels", "/set_logger_levels"};
+    "/describe_parameters",
+    "/get_parameter_types",
+    "/get_parameters",
+    "/list_parameters",
+    "/set_parameters",
+    "/set_parameters_atomically",
+    "/get_type_description",
+    "/change_state",
+    "/get_state",
+    "/get_available_states",
+    "/get_available_transitions",
+    "/get_transition_graph",
+    "/get_logger_levels",
+    "/set_logger_levels"};
   for (const char * leaf : kLeaves) {
     const size_t n = std::strlen(leaf);
     if (name.size() > n && name.compare(name.size() - n, n, leaf) == 0) {
@@ -99,11 +109,12 @@ std::string no_match_error(const std::string & name, const RecorderSnapshot & sn
         " (of " + e.node_fqn + "), but stimuli go to subscriptions and services.";
     }
   }
-  return "no subscription or service named " + name + " in this process (subscriptions: " +
-         listing(subscriptions) + "; services: " + listing(services) + ")." + other_kind +
-         " A stimulus names the fully resolved name as the capture shows it, and is matched "
-         "after the process first settled (and its lifecycle nodes were driven), before virtual "
-         "time advances: an endpoint a timer creates later is not reached";
+  return "no subscription or service named " + name +
+    " in this process (subscriptions: " + listing(subscriptions) +
+    "; services: " + listing(services) + ")." + other_kind +
+    " A stimulus names the fully resolved name as the capture shows it, and is matched "
+    "after the process first settled (and its lifecycle nodes were driven), before virtual "
+    "time advances: an endpoint a timer creates later is not reached";
 }
 
 }  // namespace
@@ -130,8 +141,10 @@ std::vector<std::string> parse_stimuli(const char * text, std::vector<std::strin
     if (!why.empty()) {
       if (warnings != nullptr) {
         warnings->push_back(
-          "RMW_INTROSPECT_STIMULI: '" + name + "' is not a fully qualified topic or service "
-          "name (" + why + "): ignored; write the resolved name, e.g. /camera_info");
+          "RMW_INTROSPECT_STIMULI: '" + name +
+          "' is not a fully qualified topic or service "
+          "name (" +
+          why + "): ignored; write the resolved name, e.g. /camera_info");
       }
       continue;
     }
@@ -207,7 +220,7 @@ bool StimulusPlan::next(const RecorderSnapshot & snapshot, StimulusRequest * out
       // Its turn: match it on the graph as it is now.
       for (const auto & e : snapshot.endpoints) {
         if (!e.alive || e.name != record.name ||
-          (e.kind != EndpointKind::Subscription && e.kind != EndpointKind::Service))
+            (e.kind != EndpointKind::Subscription && e.kind != EndpointKind::Service))
         {
           continue;
         }
@@ -266,8 +279,8 @@ void StimulusPlan::on_delivered()
     return;
   }
   in_flight_ = false;
-  target->result = target->kind == EndpointKind::Service ?
-    StimulusTargetRecord::Result::kAnswered : StimulusTargetRecord::Result::kTaken;
+  target->result = target->kind == EndpointKind::Service ? StimulusTargetRecord::Result::kAnswered :
+                                                           StimulusTargetRecord::Result::kTaken;
   ++target_;
 }
 
@@ -280,7 +293,8 @@ void StimulusPlan::on_failed(const std::string & why, bool timed_out)
   in_flight_ = false;
   if (timed_out) {
     target->result = target->kind == EndpointKind::Service ?
-      StimulusTargetRecord::Result::kNoAnswer : StimulusTargetRecord::Result::kNotTaken;
+      StimulusTargetRecord::Result::kNoAnswer :
+      StimulusTargetRecord::Result::kNotTaken;
   } else {
     target->result = StimulusTargetRecord::Result::kFailed;
   }

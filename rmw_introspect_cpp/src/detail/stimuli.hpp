@@ -24,8 +24,7 @@ std::string stimulus_label(const std::string & name);
 /// What happened to one stimulus target (a subscription or a service of that name).
 struct StimulusTargetRecord
 {
-  enum class Result
-  {
+  enum class Result {
     kPending,   // not reached yet, or in flight
     kTaken,     // the subscription took its message
     kAnswered,  // the service answered (the answer is read and discarded)
@@ -45,8 +44,7 @@ struct StimulusTargetRecord
 /// One name of RMW_INTROSPECT_STIMULI and what it reached.
 struct StimulusRecord
 {
-  enum class State
-  {
+  enum class State {
     kPending,  // not reached yet
     kDone,     // every target was handled (see their results)
     kNoMatch,  // no subscription or service of that name was alive when its turn came
@@ -84,7 +82,7 @@ class StimulusPlan
 public:
   explicit StimulusPlan(const std::vector<std::string> & names);
 
-  bool empty() const {return records_.empty();}
+  bool empty() const { return records_.empty(); }
   /// The next delivery, matched on the current `snapshot`. False when nothing is left.
   bool next(const RecorderSnapshot & snapshot, StimulusRequest * out);
   /// The delivery next() returned last was taken (subscription) or answered (service).
@@ -94,7 +92,7 @@ public:
   /// The names not reached yet will not be: `why`.
   void skip_remaining(const std::string & why);
 
-  const std::vector<StimulusRecord> & records() const {return records_;}
+  const std::vector<StimulusRecord> & records() const { return records_; }
 
 private:
   StimulusTargetRecord * current_target();

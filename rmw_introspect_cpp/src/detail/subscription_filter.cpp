@@ -30,8 +30,8 @@ void SubscriptionFilter::reset_locked()
 }
 
 rmw_ret_t SubscriptionFilter::set(
-  const rmw_subscription_content_filter_options_t & options,
-  const MessageLayout * compile_against, const std::string & name, bool * enabled)
+  const rmw_subscription_content_filter_options_t & options, const MessageLayout * compile_against,
+  const std::string & name, bool * enabled)
 {
   std::lock_guard<std::mutex> lock(mutex_);
   reset_locked();
@@ -41,8 +41,8 @@ rmw_ret_t SubscriptionFilter::set(
   }
   rcutils_allocator_t allocator = rcutils_get_default_allocator();
   options_ = rmw_get_zero_initialized_content_filter_options();
-  const rmw_ret_t ret = rmw_subscription_content_filter_options_copy(
-    &options, &allocator, &options_);
+  const rmw_ret_t ret =
+    rmw_subscription_content_filter_options_copy(&options, &allocator, &options_);
   if (ret != RMW_RET_OK) {
     return ret;
   }
@@ -56,8 +56,8 @@ rmw_ret_t SubscriptionFilter::set(
       parameters.emplace_back(options_.expression_parameters.data[i]);
     }
     std::string error;
-    compiled_ = ContentFilter::compile(
-      *compile_against, options_.filter_expression, parameters, &error);
+    compiled_ =
+      ContentFilter::compile(*compile_against, options_.filter_expression, parameters, &error);
     if (!compiled_) {
       verbose_log("content filter of %s not applied: %s", name.c_str(), error.c_str());
     }

@@ -68,8 +68,7 @@ bool read_timespec(uintptr_t address, timespec * out)
 {
   iovec local{out, sizeof(*out)};
   iovec remote{reinterpret_cast<void *>(address), sizeof(*out)};
-  return process_vm_readv(getpid(), &local, 1, &remote, 1, 0) ==
-         static_cast<ssize_t>(sizeof(*out));
+  return process_vm_readv(getpid(), &local, 1, &remote, 1, 0) == static_cast<ssize_t>(sizeof(*out));
 }
 
 int64_t clock_ns(clockid_t clock)
@@ -87,7 +86,8 @@ bool monotonic_deadline(const SyscallWait & wait, int64_t * deadline_ns)
     return false;
   }
   const int64_t ns = static_cast<int64_t>(at.tv_sec) * 1000000000 + at.tv_nsec;
-  *deadline_ns = wait.clock == CLOCK_MONOTONIC ? ns :
+  *deadline_ns = wait.clock == CLOCK_MONOTONIC ?
+    ns :
     ns - (clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC));
   return true;
 }
@@ -161,11 +161,11 @@ bool ProcThreadCensus::others_blocked(
   const std::vector<pid_t> & known, int64_t until_ns, std::string * culprit) const
 {
   auto say = [culprit](const std::string & why) {
-      if (culprit != nullptr) {
-        *culprit = why;
-      }
-      return false;
-    };
+    if (culprit != nullptr) {
+      *culprit = why;
+    }
+    return false;
+  };
   if (!kKnownArch) {
     return say("threads are read on x86_64 only");
   }
@@ -177,7 +177,7 @@ bool ProcThreadCensus::others_blocked(
     }
     while (const dirent * entry = readdir(dir)) {
       if (entry->d_name[0] != '.' &&
-        std::find(known.begin(), known.end(), std::atoi(entry->d_name)) == known.end())
+          std::find(known.begin(), known.end(), std::atoi(entry->d_name)) == known.end())
       {
         tids.emplace_back(entry->d_name);
       }
@@ -197,7 +197,7 @@ bool ProcThreadCensus::others_blocked(
       return say("thread " + tid + " is not blocked (" + wait.name + ")");
     }
     if (wait.futex != 0 &&
-      std::find(busy_futexes_.begin(), busy_futexes_.end(), wait.futex) != busy_futexes_.end())
+        std::find(busy_futexes_.begin(), busy_futexes_.end(), wait.futex) != busy_futexes_.end())
     {
       return say("thread " + tid + " waits for the middleware's lock");
     }
@@ -207,7 +207,8 @@ bool ProcThreadCensus::others_blocked(
         return say("thread " + tid + " waits with a deadline that cannot be read");
       }
       if (deadline < until_ns) {
-        return say("thread " + tid + " wakes by itself (" + wait.name + ") before the quiet window ends");
+        return say(
+          "thread " + tid + " wakes by itself (" + wait.name + ") before the quiet window ends");
       }
     }
     seen[tid].schedstat = schedstat;
@@ -216,7 +217,7 @@ bool ProcThreadCensus::others_blocked(
   for (const auto & entry : seen) {
     const std::string base = "/proc/self/task/" + entry.first;
     if (read_line(base + "/schedstat") != entry.second.schedstat ||
-      thread_state(entry.first) == 'R')
+        thread_state(entry.first) == 'R')
     {
       return say("thread " + entry.first + " ran while the threads were read");
     }

@@ -33,7 +33,7 @@ public:
 class ProcThreadCensus final : public ThreadCensus
 {
 public:
-  void set_busy_futexes(std::vector<uintptr_t> addresses) {busy_futexes_ = std::move(addresses);}
+  void set_busy_futexes(std::vector<uintptr_t> addresses) { busy_futexes_ = std::move(addresses); }
   bool others_blocked(
     const std::vector<pid_t> & known, int64_t until_ns, std::string * culprit) const override;
 

@@ -81,7 +81,8 @@ std::string as_string(const rosidl_runtime_c__String & s)
 }
 
 /// "pkg/kind/Name" -> {"pkg", "kind", "Name"}; false for anything else.
-bool split_type_name(const std::string & name, std::string * pkg, std::string * kind, std::string * leaf)
+bool split_type_name(
+  const std::string & name, std::string * pkg, std::string * kind, std::string * leaf)
 {
   const size_t first = name.find('/');
   const size_t last = name.rfind('/');
@@ -96,7 +97,8 @@ bool split_type_name(const std::string & name, std::string * pkg, std::string * 
 
 bool ends_with(const std::string & s, const std::string & suffix)
 {
-  return s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() > suffix.size() &&
+    s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 /// The sources of `pkg/kind/Name` from the package's rosidl_generator_c library, if the process
@@ -160,9 +162,8 @@ const rosidl_runtime_c__type_description__TypeSource * find_definition(
 
 // Types rosidl generates for services and actions, which never have constants of their own.
 const char * const kGeneratedSuffixes[] = {
-  "_SendGoal_Request", "_SendGoal_Response", "_SendGoal_Event",
-  "_GetResult_Request", "_GetResult_Response", "_GetResult_Event",
-  "_FeedbackMessage", "_Event",
+  "_SendGoal_Request",   "_SendGoal_Response", "_SendGoal_Event",  "_GetResult_Request",
+  "_GetResult_Response", "_GetResult_Event",   "_FeedbackMessage", "_Event",
 };
 
 // Parts of a .srv (request, response) and .action (goal, result, feedback) text.
@@ -173,8 +174,8 @@ struct Part
   size_t index;
 };
 const Part kParts[] = {
-  {"srv", "_Request", 0}, {"srv", "_Response", 1},
-  {"action", "_Goal", 0}, {"action", "_Result", 1}, {"action", "_Feedback", 2},
+  {"srv", "_Request", 0},   {"srv", "_Response", 1},    {"action", "_Goal", 0},
+  {"action", "_Result", 1}, {"action", "_Feedback", 2},
 };
 
 /// Fill `type.constants` from the type's definition source; `constants_known` when found.
@@ -255,7 +256,8 @@ public:
       introspection::dispatch<T>(member, nullptr, FieldType{&field, &nested});
       field.array = introspection::array_of<T>(member);
       field.array_size = field.array == FieldArray::Fixed || field.array == FieldArray::Bounded ?
-        member.array_size_ : 0u;
+        member.array_size_ :
+        0u;
       type.fields.push_back(std::move(field));
     }
     out_[index] = std::move(type);
@@ -272,7 +274,8 @@ public:
       return;
     }
     const Sources * sources = handle->get_type_description_sources_func != nullptr ?
-      handle->get_type_description_sources_func(handle) : nullptr;
+      handle->get_type_description_sources_func(handle) :
+      nullptr;
     TypeDescription type;
     type.name = type_name_from_namespace(members->service_namespace_, members->service_name_);
     type.is_service = true;
@@ -286,10 +289,7 @@ public:
     out_[index].response = response;
   }
 
-  TypeDescriptionsPtr result()
-  {
-    return std::make_shared<const TypeDescriptions>(std::move(out_));
-  }
+  TypeDescriptionsPtr result() { return std::make_shared<const TypeDescriptions>(std::move(out_)); }
 
 private:
   using Member = typename T::Member;
@@ -302,7 +302,10 @@ private:
     FieldDescription * field;
     Nested * nested;
 
-    void primitive(const Member & m, std::nullptr_t, size_t) {field->type = primitive_name(m.type_id_);}
+    void primitive(const Member & m, std::nullptr_t, size_t)
+    {
+      field->type = primitive_name(m.type_id_);
+    }
     void string(const Member & m, std::nullptr_t)
     {
       field->type = "string";
@@ -321,7 +324,7 @@ private:
           members, sources_of(lookup_message_type_support(m.members_, T::identifier())));
       }
     }
-    void unknown(const Member & m, std::nullptr_t) {field->type = primitive_name(m.type_id_);}
+    void unknown(const Member & m, std::nullptr_t) { field->type = primitive_name(m.type_id_); }
   };
 
   TypeDescriptions out_;
@@ -339,15 +342,11 @@ TypeDescriptionsPtr describe_message_type(
   const Sources * sources = sources_of(introspection);
   if (is_cpp) {
     Walker<introspection::Cpp> walker;
-    walker.message(
-      static_cast<const introspection::Cpp::Members *>(introspection->data),
-      sources);
+    walker.message(static_cast<const introspection::Cpp::Members *>(introspection->data), sources);
     return walker.result();
   }
   Walker<introspection::C> walker;
-  walker.message(
-    static_cast<const introspection::C::Members *>(introspection->data),
-    sources);
+  walker.message(static_cast<const introspection::C::Members *>(introspection->data), sources);
   return walker.result();
 }
 

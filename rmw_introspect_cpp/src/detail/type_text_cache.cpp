@@ -54,14 +54,14 @@ const std::vector<TypeTextCache::Entry> & TypeTextCache::table(const RecorderSna
   }
   // By name; of equal names the first listed stays (stable sort, then unique).
   std::stable_sort(
-    table_.begin(), table_.end(), [](const Entry & a, const Entry & b) {return a.name < b.name;});
+    table_.begin(), table_.end(), [](const Entry & a, const Entry & b) { return a.name < b.name; });
   table_.erase(
     std::unique(
       table_.begin(), table_.end(),
-      [](const Entry & a, const Entry & b) {return a.name == b.name;}),
+      [](const Entry & a, const Entry & b) { return a.name == b.name; }),
     table_.end());
   if (lists_.size() > seen) {
-    for (auto it = lists_.begin(); it != lists_.end(); ) {
+    for (auto it = lists_.begin(); it != lists_.end();) {
       it = it->second.seen == pass_ ? std::next(it) : lists_.erase(it);
     }
   }

@@ -48,10 +48,10 @@ public:
   /// it wins), sorted by name. Valid until the next call.
   const std::vector<Entry> & table(const RecorderSnapshot & snapshot);
 
-  size_t list_count() const {return lists_.size();}
-  size_t text_count() const {return texts_.size();}
+  size_t list_count() const { return lists_.size(); }
+  size_t text_count() const { return texts_.size(); }
   /// How many type descriptions were rendered so far.
-  uint64_t renders() const {return renders_;}
+  uint64_t renders() const { return renders_; }
 
 private:
   struct List

@@ -21,7 +21,7 @@ std::string type_name_from_namespace(const char * type_namespace, const char * t
   std::string result;
   if (type_namespace != nullptr) {
     const std::string ns(type_namespace);
-    for (size_t i = 0; i < ns.size(); ) {
+    for (size_t i = 0; i < ns.size();) {
       if (ns.compare(i, 2, "__") == 0 || ns.compare(i, 2, "::") == 0) {
         result.push_back('/');
         i += 2;
@@ -65,7 +65,7 @@ template<typename HandleT>
 const HandleT * lookup(const HandleT * handle, const char * identifier)
 {
   if (handle->typesupport_identifier != nullptr &&
-    std::strcmp(handle->typesupport_identifier, identifier) == 0)
+      std::strcmp(handle->typesupport_identifier, identifier) == 0)
   {
     return handle;
   }
@@ -101,10 +101,13 @@ std::string name_of(const rosidl_typesupport_introspection_cpp::ServiceMembers *
 // Messages and services resolve alike: the C introspection type support first (what rclpy and
 // rcl hand over), then the C++ one; the hash from the handle given, else from the one found.
 template<typename MembersC, typename MembersCpp, typename HandleT>
-bool resolve(const HandleT * type_support, ResolvedType * out, std::string * error, const HandleT ** found)
+bool resolve(
+  const HandleT * type_support, ResolvedType * out, std::string * error, const HandleT ** found)
 {
   if (type_support == nullptr || out == nullptr) {
-    if (error) {*error = "type support is null";}
+    if (error) {
+      *error = "type support is null";
+    }
     return false;
   }
   ResolvedType resolved;
@@ -114,18 +117,26 @@ bool resolve(const HandleT * type_support, ResolvedType * out, std::string * err
   if ((*found = lookup(type_support, kIntrospectionC)) != nullptr) {
     const auto * m = static_cast<const MembersC *>((*found)->data);
     members = m;
-    if (m != nullptr) {resolved.name = name_of(m);}
+    if (m != nullptr) {
+      resolved.name = name_of(m);
+    }
   } else if ((*found = lookup(type_support, kIntrospectionCpp)) != nullptr) {
     const auto * m = static_cast<const MembersCpp *>((*found)->data);
     members = m;
     resolved.is_cpp = true;
-    if (m != nullptr) {resolved.name = name_of(m);}
+    if (m != nullptr) {
+      resolved.name = name_of(m);
+    }
   } else {
-    if (error) {*error = "type support not from this implementation";}
+    if (error) {
+      *error = "type support not from this implementation";
+    }
     return false;
   }
   if (members == nullptr) {
-    if (error) {*error = "introspection type support has no members";}
+    if (error) {
+      *error = "introspection type support has no members";
+    }
     return false;
   }
   resolved.members = members;
@@ -150,8 +161,9 @@ bool resolve_message_type(
   const rosidl_message_type_support_t * type_support, ResolvedType * out, std::string * error)
 {
   const rosidl_message_type_support_t * found = nullptr;
-  if (!resolve<rosidl_typesupport_introspection_c__MessageMembers,
-    rosidl_typesupport_introspection_cpp::MessageMembers>(type_support, out, error, &found))
+  if (!resolve<
+        rosidl_typesupport_introspection_c__MessageMembers,
+        rosidl_typesupport_introspection_cpp::MessageMembers>(type_support, out, error, &found))
   {
     return false;
   }
@@ -163,8 +175,9 @@ bool resolve_service_type(
   const rosidl_service_type_support_t * type_support, ResolvedType * out, std::string * error)
 {
   const rosidl_service_type_support_t * found = nullptr;
-  if (!resolve<rosidl_typesupport_introspection_c__ServiceMembers,
-    rosidl_typesupport_introspection_cpp::ServiceMembers>(type_support, out, error, &found))
+  if (!resolve<
+        rosidl_typesupport_introspection_c__ServiceMembers,
+        rosidl_typesupport_introspection_cpp::ServiceMembers>(type_support, out, error, &found))
   {
     return false;
   }
@@ -191,8 +204,8 @@ void service_layouts(const ResolvedType & type, MessageLayout * request, Message
     request->members = m->request_members_;
     response->members = m->response_members_;
   } else {
-    const auto * m = static_cast<const rosidl_typesupport_introspection_c__ServiceMembers *>(
-      type.members);
+    const auto * m =
+      static_cast<const rosidl_typesupport_introspection_c__ServiceMembers *>(type.members);
     request->members = m->request_members_;
     response->members = m->response_members_;
   }

@@ -43,12 +43,15 @@ public:
   }
 
   /// The futex word of the hub's mutex (a thread blocked on it is not idle: ThreadCensus).
-  uintptr_t lock_address() {return reinterpret_cast<uintptr_t>(mutex_.native_handle());}
+  uintptr_t lock_address() { return reinterpret_cast<uintptr_t>(mutex_.native_handle()); }
 
   /// Called under the hub's lock whenever the waiters are woken (trigger, update_and_wake),
   /// with the triggering thread (0: none of the program's): a blocked registration no longer
   /// proves anything (detected quiescence).
-  void set_wake_listener(std::function<void(pid_t)> listener) {wake_listener_ = std::move(listener);}
+  void set_wake_listener(std::function<void(pid_t)> listener)
+  {
+    wake_listener_ = std::move(listener);
+  }
 
   /// Block until `ready()` (evaluated under the hub's lock) holds or `timeout_ns` passes
   /// (0: poll, negative: forever). `make_guard()` is called under the lock before every sleep

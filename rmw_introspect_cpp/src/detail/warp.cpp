@@ -83,12 +83,12 @@ Warp::Jump Warp::jump(int64_t now, int64_t target_ns)
   const int64_t step = last_target_ns_ != 0 ? target_ns - last_target_ns_ : 0;
   last_target_ns_ = target_ns;
   if (step > 0 && last_step_ns_ > 0 &&
-    std::llabs(step - last_step_ns_) <=
-    std::max(kSteadyToleranceNs, std::max(step, last_step_ns_) / 2))
+      std::llabs(step - last_step_ns_) <=
+        std::max(kSteadyToleranceNs, std::max(step, last_step_ns_) / 2))
   {
     ++steady_jumps_;
   } else if (step > 0 &&
-    (last_step_ns_ <= 0 || ++odd_jumps_ > kOddJumpsForgiven + steady_jumps_ / 10))
+             (last_step_ns_ <= 0 || ++odd_jumps_ > kOddJumpsForgiven + steady_jumps_ / 10))
   {
     last_step_ns_ = step;  // another timer (or none steady): start over with this step
     steady_jumps_ = 0;

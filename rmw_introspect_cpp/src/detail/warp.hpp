@@ -30,12 +30,12 @@ public:
   Warp(VirtualClock & virtual_clock, const Settings & settings);
 
   /// The session's time starts at `t0_ns` (real, on the session's clock).
-  void set_origin(int64_t t0_ns) {t0_ns_ = t0_ns;}
+  void set_origin(int64_t t0_ns) { t0_ns_ = t0_ns; }
   /// After the first settle, at `now`: true when the warp starts; false when the node's
   /// virtual age already reached the horizon (horizon_reached()).
   bool begin(int64_t now);
   /// Ends the warp at `now` (the final settle follows).
-  void end(int64_t now) {end_ns_ = now;}
+  void end(int64_t now) { end_ns_ = now; }
 
   /// A node or endpoint was created or destroyed: a timer that creates something is not
   /// fast-forwarded.
@@ -44,8 +44,7 @@ public:
   void on_poll();
   void on_activity();
 
-  enum class Jump
-  {
+  enum class Jump {
     kJumped,  // virtual time was advanced to the target (or to the horizon)
     kPassed,  // virtual time is already past the target: no jump, but not quiet either
     kEnded,   // the budget is spent or the target is past the horizon: the warp is over
@@ -61,10 +60,10 @@ public:
     int64_t now, bool any_blocked, const std::function<bool()> & idle_polls_proven,
     int64_t * look_at_ns);
 
-  uint64_t jumps() const {return jumps_;}
-  bool loop_seen() const {return loop_seen_;}
-  bool stalled() const {return stalled_;}
-  bool fast_forwarded() const {return fast_forwarded_;}
+  uint64_t jumps() const { return jumps_; }
+  bool loop_seen() const { return loop_seen_; }
+  bool stalled() const { return stalled_; }
+  bool fast_forwarded() const { return fast_forwarded_; }
   /// The warp's part of a capture header at `now`.
   void fill_header(int64_t now, CaptureHeader * header) const;
 

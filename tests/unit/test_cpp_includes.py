@@ -34,7 +34,6 @@ LAYERS: list[tuple[str, set[str]]] = [
 #: Includes that still point up, each with what it needs from above; the test fails when one
 #: is gone (take it off the list) or another appears.
 UPWARD: dict[tuple[str, str], str] = {
-    ("log.cpp", "runtime"): "whether the configuration is verbose (Runtime::instance)",
     ("delivery.cpp", "runtime"): "the wait hub, the delivery and the injector (Runtime::instance)",
     ("delivery.cpp", "endpoint_common"): "the endpoint helpers the loaned-message calls use",
 }

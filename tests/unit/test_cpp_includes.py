@@ -35,7 +35,6 @@ LAYERS: list[tuple[str, set[str]]] = [
 #: is gone (take it off the list) or another appears.
 UPWARD: dict[tuple[str, str], str] = {
     ("delivery.cpp", "runtime"): "the wait hub, the delivery and the injector (Runtime::instance)",
-    ("delivery.cpp", "endpoint_common"): "the endpoint helpers the loaned-message calls use",
 }
 
 INCLUDE = re.compile(r'^#include "detail/([a-z_]+)\.hpp"', re.MULTILINE)

@@ -15,7 +15,6 @@
 #include "rmw/serialized_message.h"
 
 #include "detail/common.hpp"
-#include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/identifier.hpp"
 #include "detail/injector.hpp"

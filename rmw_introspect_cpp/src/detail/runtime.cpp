@@ -98,6 +98,7 @@ Session::Settings session_settings(const Config & config)
 
 Runtime::Runtime()
 : config_(Config::from_environment(static_cast<long>(getpid()))),
+  delivery_(wait_hub_),
   probe_driver_(config_.probe, config_.stimuli, config_.component_loads, recorder_, injector_),
   session_(clock_, virtual_clock_, session_settings(config_), &main_thread_state_),
   sleeps_stepped_(config_.virtual_sleeps && config_.horizon_ms > 0)

@@ -155,9 +155,10 @@ rmw_ret_t rmw_publish_loaned_message(
   RMWI_CHECK_HANDLE(publisher);
   RMWI_CHECK_CAN_LOAN(publisher);
   RMW_CHECK_ARGUMENT_FOR_NULL(ros_message, RMW_RET_INVALID_ARGUMENT);
+  rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
   auto * impl = static_cast<PublisherImpl *>(publisher->data);
-  note_publication(rmw_introspect::Runtime::instance(), *impl);
-  return rmw_introspect::publish_loaned_message(*impl, ros_message);
+  note_publication(runtime, *impl);
+  return rmw_introspect::publish_loaned_message(runtime.delivery(), *impl, ros_message);
 }
 
 rmw_ret_t rmw_return_loaned_message_from_publisher(

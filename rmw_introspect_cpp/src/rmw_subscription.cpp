@@ -333,9 +333,11 @@ rmw_ret_t rmw_take_loaned_message(
   RMWI_CHECK_CAN_LOAN(subscription);
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
+  rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
+  runtime.on_activity();
   return rmw_introspect::take_loaned_message(
-    *static_cast<SubscriptionImpl *>(subscription->data), loaned_message, taken, nullptr);
+    runtime.injector(), *static_cast<SubscriptionImpl *>(subscription->data), loaned_message, taken,
+    nullptr);
 }
 
 rmw_ret_t rmw_take_loaned_message_with_info(
@@ -348,9 +350,11 @@ rmw_ret_t rmw_take_loaned_message_with_info(
   RMW_CHECK_ARGUMENT_FOR_NULL(loaned_message, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(taken, RMW_RET_INVALID_ARGUMENT);
   RMW_CHECK_ARGUMENT_FOR_NULL(message_info, RMW_RET_INVALID_ARGUMENT);
-  rmw_introspect::Runtime::instance().on_activity();
+  rmw_introspect::Runtime & runtime = rmw_introspect::Runtime::instance();
+  runtime.on_activity();
   return rmw_introspect::take_loaned_message(
-    *static_cast<SubscriptionImpl *>(subscription->data), loaned_message, taken, message_info);
+    runtime.injector(), *static_cast<SubscriptionImpl *>(subscription->data), loaned_message, taken,
+    message_info);
 }
 
 rmw_ret_t rmw_return_loaned_message_from_subscription(

@@ -15,13 +15,12 @@
 #include "rmw/serialized_message.h"
 
 #include "detail/common.hpp"
-#include "detail/endpoint_common.hpp"
 #include "detail/handles.hpp"
 #include "detail/identifier.hpp"
 #include "detail/injector.hpp"
 #include "detail/members.hpp"
 #include "detail/qos.hpp"
-#include "detail/runtime.hpp"
+#include "detail/wait_hub.hpp"
 
 namespace rmw_introspect
 {
@@ -140,7 +139,7 @@ void erase(std::vector<T *> * items, T * item)
 
 void Delivery::wake()
 {
-  Runtime::instance().wait_hub().update_and_wake([]() {});
+  wait_hub_.update_and_wake([]() {});
 }
 
 void Delivery::change_matched(PublisherImpl & publisher, SubscriptionImpl & subscription, int delta)
@@ -490,7 +489,7 @@ rmw_ret_t borrow_loaned_message(PublisherImpl & publisher, void ** ros_message)
   return RMW_RET_OK;
 }
 
-rmw_ret_t publish_loaned_message(PublisherImpl & publisher, void * ros_message)
+rmw_ret_t publish_loaned_message(Delivery & delivery, PublisherImpl & publisher, void * ros_message)
 {
   if (!is_lent(publisher.loans, ros_message)) {
     RMW_SET_ERROR_MSG("ros_message was not loaned by this publisher");
@@ -503,7 +502,7 @@ rmw_ret_t publish_loaned_message(PublisherImpl & publisher, void * ros_message)
     RMW_SET_ERROR_MSG_WITH_FORMAT_STRING("cannot serialize the message: %s", error.c_str());
     ret = RMW_RET_ERROR;
   } else {
-    Runtime::instance().delivery().publish(publisher, ros_message, data.data(), data.size());
+    delivery.publish(publisher, ros_message, data.data(), data.size());
   }
   // Published or not, the loan ends here (rmw.h: the message must not be used afterwards).
   const rmw_ret_t returned = return_loaned_message(publisher.loans, publisher.layout, ros_message);
@@ -511,7 +510,8 @@ rmw_ret_t publish_loaned_message(PublisherImpl & publisher, void * ros_message)
 }
 
 rmw_ret_t take_loaned_message(
-  SubscriptionImpl & subscription, void ** loaned_message, bool * taken, rmw_message_info_t * info)
+  Injector & injector, SubscriptionImpl & subscription, void ** loaned_message, bool * taken,
+  rmw_message_info_t * info)
 {
   *taken = false;
   if (subscription.inbox.count.load() == 0u && !Injector::ready(&subscription)) {
@@ -523,8 +523,7 @@ rmw_ret_t take_loaned_message(
     return RMW_RET_BAD_ALLOC;
   }
   // A stimulus of the middleware's own first, then what the process sent.
-  const rmw_ret_t ret =
-    Runtime::instance().injector().take_message(&subscription, message, taken, info) ?
+  const rmw_ret_t ret = injector.take_message(&subscription, message, taken, info) ?
     RMW_RET_OK :
     take_message(subscription, message, taken, info);
   if (ret != RMW_RET_OK || !*taken) {

@@ -19,6 +19,8 @@ struct ClientImpl;
 struct EventSource;
 struct Loans;
 struct MessageLayout;
+class Injector;
+class WaitHub;
 
 /// In-process delivery (RMW_INTROSPECT_DELIVERY=1): what a publisher publishes is copied (as
 /// CDR, through each side's own type support) to every subscription of this process that
@@ -29,9 +31,17 @@ struct MessageLayout;
 /// the same matching. Nothing leaves the process: no socket, no shared memory, no thread.
 ///
 /// Endpoints are registered here only when delivery is on, so with it off nothing changes.
+/// What it delivers wakes the threads waiting in rmw_wait through `wait_hub`.
 class Delivery
 {
 public:
+  explicit Delivery(WaitHub & wait_hub)
+  : wait_hub_(wait_hub)
+  {
+  }
+  Delivery(const Delivery &) = delete;
+  Delivery & operator=(const Delivery &) = delete;
+
   void add(PublisherImpl * publisher);
   void remove(PublisherImpl * publisher);
   void add(SubscriptionImpl * subscription);
@@ -52,8 +62,9 @@ public:
 
 private:
   void change_matched(PublisherImpl & publisher, SubscriptionImpl & subscription, int delta);
-  static void wake();
+  void wake();
 
+  WaitHub & wait_hub_;
   std::mutex mutex_;
   std::vector<PublisherImpl *> publishers_;
   std::vector<SubscriptionImpl *> subscriptions_;
@@ -78,10 +89,13 @@ rmw_ret_t take_response(
 /// on rmw_fastrtps_cpp: a loaned message is an initialised message of the endpoint's type.
 bool can_loan(const MessageLayout & layout);
 rmw_ret_t borrow_loaned_message(PublisherImpl & publisher, void ** ros_message);
-/// Publish a message borrowed from `publisher` and take it back.
-rmw_ret_t publish_loaned_message(PublisherImpl & publisher, void * ros_message);
+/// Publish a message borrowed from `publisher` through `delivery` and take it back.
+rmw_ret_t publish_loaned_message(
+  Delivery & delivery, PublisherImpl & publisher, void * ros_message);
+/// Take into a loaned message: a stimulus of `injector`'s first, then what the process sent.
 rmw_ret_t take_loaned_message(
-  SubscriptionImpl & subscription, void ** loaned_message, bool * taken, rmw_message_info_t * info);
+  Injector & injector, SubscriptionImpl & subscription, void ** loaned_message, bool * taken,
+  rmw_message_info_t * info);
 /// Give a loan back (RMW_RET_ERROR when `message` is not one of `loans`).
 rmw_ret_t return_loaned_message(Loans & loans, const MessageLayout & layout, void * message);
 /// Free the loans still out (the endpoint is being destroyed).

@@ -90,14 +90,6 @@ inline QosSide topic_side(EndpointKind kind)
                                                                            QosSide::kReader;
 }
 
-/// The actual QoS of a service's or client's request or response entity (`side`).
-inline rmw_qos_profile_t service_actual_qos(const rmw_qos_profile_t & requested, QosSide side)
-{
-  rmw_qos_profile_t qos = requested;
-  resolve_best_available_for_service(&qos);
-  return resolve_system_defaults(qos, side);
-}
-
 /// The actual QoS of an endpoint about to be recorded, as a real middleware resolves it at
 /// creation: BEST_AVAILABLE from the actual QoS of the endpoints now on the other side of the
 /// topic (publishers and subscriptions), then what is left to the middleware (system defaults).

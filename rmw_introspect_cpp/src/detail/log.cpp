@@ -1,17 +1,26 @@
 // Copyright 2025 pytest-rmw-introspect contributors. Apache License 2.0.
 #include "detail/log.hpp"
 
+#include <atomic>
 #include <cstdarg>
 #include <cstdio>
-
-#include "detail/runtime.hpp"
 
 namespace rmw_introspect
 {
 
+namespace
+{
+std::atomic<bool> g_verbose{false};
+}  // namespace
+
+void set_verbose_log(bool verbose)
+{
+  g_verbose.store(verbose);
+}
+
 void verbose_log(const char * format, ...)
 {
-  if (!Runtime::instance().config().verbose) {
+  if (!g_verbose.load()) {
     return;
   }
   char buffer[1024];

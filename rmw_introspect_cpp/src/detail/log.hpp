@@ -5,7 +5,11 @@
 namespace rmw_introspect
 {
 
-/// A "[rmw_introspect] ..." line on stderr when RMW_INTROSPECT_VERBOSE=1.
+/// Whether verbose_log writes (RMW_INTROSPECT_VERBOSE; off until set). The Runtime sets it from
+/// its configuration as it is made, and every caller of verbose_log reaches the Runtime first.
+void set_verbose_log(bool verbose);
+
+/// A "[rmw_introspect] ..." line on stderr when verbose (set_verbose_log).
 void verbose_log(const char * format, ...) __attribute__((format(printf, 1, 2)));
 
 }  // namespace rmw_introspect

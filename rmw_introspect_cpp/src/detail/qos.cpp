@@ -380,6 +380,13 @@ void resolve_best_available_for_service(rmw_qos_profile_t * qos)
   }
 }
 
+rmw_qos_profile_t service_actual_qos(const rmw_qos_profile_t & requested, QosSide side)
+{
+  rmw_qos_profile_t qos = requested;
+  resolve_best_available_for_service(&qos);
+  return resolve_system_defaults(qos, side);
+}
+
 bool qos_match(const rmw_qos_profile_t & publisher, const rmw_qos_profile_t & subscription)
 {
   rmw_qos_compatibility_type_t compatibility = RMW_QOS_COMPATIBILITY_OK;

@@ -50,6 +50,8 @@ void resolve_best_available_for_subscription(
 /// Services and clients: BEST_AVAILABLE is RELIABLE, VOLATILE, AUTOMATIC, default durations
 /// (rmw_dds_common::qos_profile_update_best_available_for_services).
 void resolve_best_available_for_service(rmw_qos_profile_t * qos);
+/// The actual QoS of a service's or client's request or response entity (`side`).
+rmw_qos_profile_t service_actual_qos(const rmw_qos_profile_t & requested, QosSide side);
 
 /// A publisher and a subscription with these (actual) QoS match: the compatibility check
 /// finds no error. Allocates nothing.

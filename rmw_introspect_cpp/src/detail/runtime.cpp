@@ -17,6 +17,7 @@
 
 #include "detail/capture_writer.hpp"
 #include "detail/handles.hpp"
+#include "detail/log.hpp"
 #include "detail/python.hpp"
 
 namespace rmw_introspect
@@ -97,10 +98,13 @@ Session::Settings session_settings(const Config & config)
 
 Runtime::Runtime()
 : config_(Config::from_environment(static_cast<long>(getpid()))),
+  delivery_(wait_hub_),
   probe_driver_(config_.probe, config_.stimuli, config_.component_loads, recorder_, injector_),
   session_(clock_, virtual_clock_, session_settings(config_), &main_thread_state_),
   sleeps_stepped_(config_.virtual_sleeps && config_.horizon_ms > 0)
 {
+  // Before anything can log: verbose_log's callers all reach this Runtime first (instance()).
+  set_verbose_log(config_.verbose);
   for (const auto & warning : config_.warnings) {
     std::fprintf(stderr, "[rmw_introspect] warning: %s\n", warning.c_str());
   }

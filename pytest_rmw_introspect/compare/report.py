@@ -82,13 +82,19 @@ def _entry_details(kind: str, entry: Any, change: str) -> str:
     return f" ({', '.join(details)})" if details else ""
 
 
-def _drift_line(item: DriftItem) -> str:
-    line = f"[{item.rule}] {item.message}"
+def _drift_change(item: DriftItem) -> str:
+    """The change for people: its message and, where it helps, what was added or removed or the
+    two type hashes."""
+    line = item.message
     if item.change in ("added", "removed"):
         line += _entry_details(item.kind, item.new if item.change == "added" else item.old, item.change)
     elif item.change == "type_hash" and isinstance(item.old, str) and isinstance(item.new, str):
         line += f" ({_short_hash(item.old)} -> {_short_hash(item.new)})"
     return line
+
+
+def _drift_line(item: DriftItem) -> str:
+    return f"[{item.rule}] {_drift_change(item)}"
 
 
 def render_text(
@@ -360,7 +366,7 @@ def left_out(places: int, findings: int, *, place: str = "process", noun: str = 
 def drift_place_line(item: DriftItem) -> str:
     """One drift item under its node in a report at scale: the interface, then the change."""
     what = "" if item.kind == "node" else f"{LABELS.get(item.kind, item.kind)} {item.name}: "
-    return what + _drift_line(item).split("] ", 1)[1]
+    return what + _drift_change(item)
 
 
 def _rule_lines(groups: Sequence[RuleGroup], all_items: Sequence[Any], threshold: Severity, *, noun: str,

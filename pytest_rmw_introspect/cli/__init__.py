@@ -1,20 +1,26 @@
-"""The ``rmw-introspect`` command line: capture, check, diff, compat.
+"""The ``rmw-introspect`` command line: capture, check, diff, compat, graph, init, validate, lock.
 
+A module per command declares its subparser (``add_parser``) beside the ``cmd_*`` it runs, and
+imports what that command runs inside it (building the parser loads every command module).
 One line per module (:func:`main` here is the console script):
 
-- ``parser``: arguments and help texts
-- ``option_flags``: the flags of the option tables (``model.option_tables``)
-- ``commands``: ``check``, ``diff``, ``compat``, ``graph`` over the check pipeline
-- ``gate``: ``diff --against REF``: every contract against its version at a git revision
+- ``parser``: the program's parser, built from the command modules (``COMMANDS``)
 - ``capture``: ``capture``: one target (or a launch file's processes), printed or written
-- ``formats``: what ``capture`` prints or writes (contract, JSON, NoDL, raw)
-- ``system_contracts``: system contracts on the command line (``capture --launch``, ``*.system.yaml``)
-- ``system_options``: the command-line options of system contracts
-- ``launch_options``: what the command line says of a launch file, without the system pipeline
-- ``baselines``: ``--baseline`` and ``--write-baseline``
+- ``check``: ``check``: each contract's target run and compared with it (``--update`` writes it)
+- ``diff``: ``diff``: two contract files compared, or every contract with a git revision
+- ``gate``: ``diff --against REF``: every contract against its version at a git revision
+- ``compat``: ``compat``: do the nodes of several contracts fit together
+- ``graph``: ``graph``: the nodes of contracts drawn, and what does not fit
 - ``init``: ``init --package P``: contract testing started on a package
 - ``validate``: ``validate``: contract files checked without running anything
 - ``lock``: ``lock``: the package's type-hash lockfile
+- ``arguments``: the option groups several commands share, and the readers of their values
+- ``option_flags``: the flags of the option tables (``model.option_tables``)
+- ``exit_status``: the exit statuses
+- ``formats``: what the commands print or write (contract, JSON, NoDL, raw; ``--summary``)
+- ``system_contracts``: system contracts on the command line (``capture --launch``, ``*.system.yaml``)
+- ``launch_options``: the launch-file options, declared and read without the system pipeline
+- ``baselines``: ``--baseline`` and ``--write-baseline``
 - ``ros_setup``: the ROS environment and middleware library, found on first use
 """
 
@@ -29,9 +35,12 @@ from pathlib import Path
 from types import FrameType
 
 from ..errors import RmwIntrospectError, Terminated
-from .parser import EXIT_ERROR, ONE_CAPTURE_STARTS_COLD, build_parser
+from .capture import ONE_CAPTURE_STARTS_COLD
+from .exit_status import EXIT_ERROR, EXIT_INTERRUPTED, EXIT_TERMINATED
+from .parser import build_parser
 
-EXIT_TERMINATED = 128 + signal.SIGTERM
+#: the commands that run a target given as ``-- COMMAND ARGS...``
+TAKE_A_COMMAND = ("capture", "check")
 
 
 def _raise_terminated(signum: int, frame: FrameType | None) -> None:
@@ -50,19 +59,17 @@ def main(argv: Sequence[str] | None = None) -> int:
             return EXIT_ERROR
     parser = build_parser()
     args = parser.parse_args(argv)
-    if command is not None and args.command not in ("capture", "check"):
+    if command is not None and args.command not in TAKE_A_COMMAND:
         print(f"rmw-introspect: error: `-- COMMAND` is only for capture and check, not {args.command}",
               file=sys.stderr)
         return EXIT_ERROR
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _raise_terminated)
     if args.command == "validate":  # only the contract loader: fast enough for a pre-commit hook
-        from .validate import cmd_validate
-
         try:
-            return cmd_validate(args)
+            return int(args.handler(args))
         except KeyboardInterrupt:
-            return 130
+            return EXIT_INTERRUPTED
     # Each command imports what it needs once the arguments are valid (`--help` and usage errors
     # answer in a fraction of the time); `capture` never loads the comparison pipeline
     # (deepdiff, jsonschema, ...) nor, without a launch file, the system pipeline, nor the warm
@@ -102,34 +109,17 @@ def _run_reporting_errors(args: argparse.Namespace, command: list[str] | None) -
         return EXIT_ERROR
     except KeyboardInterrupt:
         print("rmw-introspect: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     except Terminated:
         print("rmw-introspect: terminated", file=sys.stderr)
         return EXIT_TERMINATED
 
 
 def _run_command(args: argparse.Namespace, command: list[str] | None) -> int:
-    if args.command == "capture":
-        from .capture import cmd_capture
-
-        return cmd_capture(args, command)
-    if args.command == "init":
-        from .init import cmd_init
-
-        return cmd_init(args)
-    if args.command == "lock":
-        from .lock import cmd_lock
-
-        return cmd_lock(args)
-    from . import commands, gate
-
-    if args.command == "check":
-        return commands.cmd_check(args, command)
-    if args.command == "diff":
-        return gate.cmd_gate(args) if args.against is not None else commands.cmd_diff(args)
-    if args.command == "graph":
-        return commands.cmd_graph(args)
-    return commands.cmd_compat(args)
+    """The chosen command's ``cmd_*`` (``args.handler``, set by its ``add_parser``)."""
+    if args.command in TAKE_A_COMMAND:
+        return int(args.handler(args, command))
+    return int(args.handler(args))
 
 
 __all__ = ["main"]

@@ -1,4 +1,5 @@
-"""What ``rmw-introspect capture`` prints or writes: a contract, JSON, NoDL or the raw capture."""
+"""What the commands print or write: ``capture``'s contract, JSON, NoDL or raw capture; any
+command's output to ``-o FILE`` or stdout; JSON; the Markdown report appended to ``--summary FILE``."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ..errors import UsageError
 from ..model import nodl
 from ..model import qos as qos_module
 from ..model.contract_shapes import ContractNodes, InterfaceEntry, empty_node
@@ -83,3 +85,14 @@ def emit(text: str, output: str | None) -> None:
 def print_json(document: Any) -> None:
     """A report document (``--format json`` or ``sarif``) on stdout."""
     print(json.dumps(document, indent=2, default=str))
+
+
+def append_summary(path: str, markdown: str) -> None:
+    """Append the Markdown report to ``path`` (``$GITHUB_STEP_SUMMARY`` collects what each step
+    appends; the run's own result is never replaced)."""
+    try:
+        with open(path, "a", encoding="utf-8") as summary:
+            summary.write(markdown if markdown.endswith("\n") else markdown + "\n")
+    except OSError as exc:
+        raise UsageError(f"--summary {path}: cannot append the report ({exc.strerror or exc}); "
+                         "give a file in a directory that exists and is writable") from None

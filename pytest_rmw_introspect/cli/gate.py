@@ -1,5 +1,6 @@
 """``rmw-introspect diff --against REF [CONTRACT...]``: the pull-request gate (``check.gate``),
-printed in the formats of ``diff`` with its exit status."""
+printed in the formats of ``diff`` with its exit status (``diff`` declares the options and
+hands over to ``cmd_gate``)."""
 
 from __future__ import annotations
 
@@ -11,9 +12,9 @@ from .._version import __version__
 from ..check import gate
 from ..compare import baseline as baseline_module
 from ..compare import ci_report, sarif
-from .commands import append_summary
-from .formats import print_json
-from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, compare_from_args
+from .arguments import compare_from_args
+from .exit_status import EXIT_DRIFT, EXIT_ERROR, EXIT_OK
+from .formats import append_summary, print_json
 
 
 def cmd_gate(args: argparse.Namespace) -> int:

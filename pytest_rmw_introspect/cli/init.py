@@ -11,23 +11,43 @@ import argparse
 import os
 import sys
 import threading
-import xml.etree.ElementTree as ET
 from collections.abc import Sequence
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-from ..check import golden
 from ..errors import RmwIntrospectError, UsageError
-from ..model import ament_index
-from ..run import runner
-from ..run.target import TargetSpec, package_executables
-from .parser import EXIT_ERROR, EXIT_OK
-from .ros_setup import Setup
+from ..model.option_tables import TARGET
+from . import option_flags
+from .exit_status import EXIT_ERROR, EXIT_OK
 
 if TYPE_CHECKING:
     from ..model.capture import Capture
     from ..run.ros_env import RosEnvironment
+    from .ros_setup import Setup
+
+INIT_EPILOG = """\
+Each executable is captured with default options (no parameters, remappings or namespace);
+edit a contract's `target:` block and run `rmw-introspect check --update` on it for another
+configuration. Executables that cannot be captured (they need arguments, hardware, a peer)
+are listed with the reason and get no contract. Existing contracts are kept unless --force.
+
+exit status: 0 every executable captured, 2 at least one could not be (or no executables).
+"""
+
+
+def add_parser(sub: Any) -> None:
+    """Declare ``init`` (``sub``: the subparsers of ``rmw-introspect``)."""
+    ini = sub.add_parser("init", help="write a contract for every executable of a package",
+                         description="Capture every executable an installed package provides and write one "
+                         "contract per executable into DIR/contracts/.", epilog=INIT_EPILOG,
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
+    ini.add_argument("--package", required=True, metavar="P", help="the installed package (ament index, or a "
+                     "Python distribution with console scripts)")
+    ini.add_argument("--output-dir", default=".", metavar="DIR",
+                     help="the package's source directory: contracts go to DIR/contracts (default: .)")
+    ini.add_argument("--force", action="store_true", help="overwrite existing contracts")
+    option_flags.add(ini, (TARGET[name] for name in ("settle", "timeout", "horizon")))
+    ini.set_defaults(handler=cmd_init)
 
 _CMAKE_WIRING = """\
   if(BUILD_TESTING)
@@ -37,6 +57,8 @@ _CMAKE_WIRING = """\
 
 
 def _build_type(package_dir: Path) -> str | None:
+    import xml.etree.ElementTree as ET
+
     try:
         root = ET.parse(package_dir / "package.xml").getroot()
     except (OSError, ET.ParseError):
@@ -49,6 +71,8 @@ def package_build_type(package: str, output_dir: Path, prefixes: Sequence[Path])
     """The package's build type: from ``output_dir/package.xml`` (init run in the package's
     source), else the installed ``share/<package>/package.xml``, else ``ament_python`` for a
     Python distribution found only by its console scripts (``pip install -e .``)."""
+    from ..model import ament_index
+
     installed = ament_index.providers(package, prefixes)
     for directory in (output_dir, *(prefix / "share" / package for prefix in installed[:1])):
         build_type = _build_type(directory)
@@ -61,6 +85,11 @@ def _capture_all(package: str, executables: list[str], timing: dict[str, float],
                  ros: RosEnvironment) -> dict[str, Capture | RmwIntrospectError]:
     """Every executable captured, several at a time (one that hangs costs its timeout once, not
     once per executable after it): the capture or the error of each."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from ..run import runner
+    from ..run.target import TargetSpec
+
     library = setup.library()
     cancel = threading.Event()
 
@@ -85,6 +114,10 @@ def _capture_all(package: str, executables: list[str], timing: dict[str, float],
 
 
 def cmd_init(args: argparse.Namespace) -> int:
+    from ..check import golden
+    from ..run.target import TargetSpec, package_executables
+    from .ros_setup import Setup
+
     setup = Setup()
     ros = setup.ros()
     package_dir = Path(args.output_dir)

@@ -1,6 +1,6 @@
-"""What the command line says about a launch file (``--launch``, ``--launch-package``/``--launch-file``,
-``--launch-arg``, ``--allow-unsupported``): read by ``capture`` and ``check`` before they decide
-whether a system is involved, so without importing the system pipeline."""
+"""The launch-file options of ``capture`` and ``check`` (``--launch``, ``--launch-package``/``--launch-file``,
+``--launch-arg``, ``--allow-unsupported``, ``--jobs``): declared for both, and read before they
+decide whether a system is involved, so without importing the system pipeline."""
 
 from __future__ import annotations
 
@@ -8,6 +8,29 @@ import argparse
 from typing import Any
 
 from ..errors import UsageError
+from ..model.option_tables import TARGET, FrontEnd
+
+LAUNCH_HELP = """\
+a system (a launch file: every process it starts is captured, in parallel):
+  --launch FILE                        an XML, YAML or Python launch file, or a record.json of dump_launch
+  --launch-package P --launch-file F   a launch file of a package, found like `ros2 launch P F`
+With a launch file, `capture` writes a system contract (NAME.system.yaml) and the target
+options apply to every process ({flags} only).
+""".format(flags=", ".join(option.flag if option.default is not True else f"--[no-]{option.flag[2:]}"
+                           for option in TARGET.exposed(FrontEnd.SYSTEM)))
+
+
+def add_launch(parser: argparse.ArgumentParser) -> None:
+    """``--launch``, ``--launch-package``/``--launch-file``, ``--launch-arg``, ``--allow-unsupported``, ``--jobs``."""
+    g = parser.add_argument_group("system (launch file)", LAUNCH_HELP)
+    g.add_argument("--launch", metavar="FILE", help="launch file (XML, YAML, Python) or dump_launch record.json")
+    g.add_argument("--launch-package", metavar="P", help="package of the launch file (with --launch-file)")
+    g.add_argument("--launch-file", metavar="F", help="launch file name inside the package's share directory")
+    g.add_argument("--launch-arg", action="append", metavar="NAME:=VALUE",
+                   help="launch argument, as `ros2 launch ... NAME:=VALUE` (repeatable)")
+    g.add_argument("--allow-unsupported", action="store_true", default=None,
+                   help="capture what the launch reader supports and note the rest, instead of failing")
+    g.add_argument("--jobs", type=int, metavar="N", help="processes captured at a time (default: the number of cores)")
 
 
 def wants_launch(args: argparse.Namespace) -> bool:

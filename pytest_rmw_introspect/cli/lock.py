@@ -6,18 +6,40 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import Any
 
-from ..check import golden
 from ..errors import TypeLockError
-from ..model import contract as contract_module
-from ..model import type_lock
-from ..model.paths import shown as display
-from .parser import EXIT_OK
+from .exit_status import EXIT_OK
+
+LOCK_EPILOG = """\
+Each contract needs a types: section (`rmw-introspect check --update --include-types CONTRACT`
+writes it). The lockfile is JSON, sorted: commit it. `check` (and pytest) then compare every
+interface type of a capture, nested types included, with it: a type that changed upstream is
+TYPE_LOCK_CHANGED with the path to it (sensor_msgs/msg/Image -> std_msgs/msg/Header changed), a
+type it does not list TYPE_NOT_LOCKED. check finds the file in a contract's directory or above,
+up to the package root (package.xml, setup.py, pyproject.toml or .git).
+
+exit status: 0 written (or unchanged), 2 a contract is missing, invalid or has no types: section.
+"""
+
+
+def add_parser(sub: Any) -> None:
+    """Declare ``lock`` (``sub``: the subparsers of ``rmw-introspect``)."""
+    lck = sub.add_parser("lock", help="write the type-hash lockfile of a package's contracts (no target is run)",
+                         description="Write the RIHS01 hash of every interface type the contracts use, nested types "
+                         "included (from their types: sections), into a lockfile that check compares with.",
+                         epilog=LOCK_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    lck.add_argument("contracts", nargs="+", metavar="CONTRACT", help="node contract files with a types: section")
+    lck.add_argument("-o", "--output", metavar="FILE",
+                     help="the lockfile (default: interfaces.lock.json at the package root above the contracts)")
+    lck.set_defaults(handler=cmd_lock)
 
 
 def default_path(contracts: list[Path]) -> Path:
     """``interfaces.lock.json`` at the package root above the contracts (the first directory with a
     package.xml, setup.py, pyproject.toml or .git), else in the contracts' common directory."""
+    from ..model import type_lock
+
     directories = [c.absolute().parent for c in contracts]
     common = Path(*[parts[0] for parts in zip(*(d.parts for d in directories), strict=False)
                     if all(p == parts[0] for p in parts)])
@@ -28,6 +50,11 @@ def default_path(contracts: list[Path]) -> Path:
 
 
 def cmd_lock(args: argparse.Namespace) -> int:
+    from ..check import golden
+    from ..model import contract as contract_module
+    from ..model import type_lock
+    from ..model.paths import shown as display
+
     contracts = [Path(c) for c in args.contracts]
     output = Path(args.output) if args.output else default_path(contracts)
     types: dict[str, str] = {}

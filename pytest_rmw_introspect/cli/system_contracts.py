@@ -1,6 +1,6 @@
-"""System contracts on the command line: ``capture --launch``, ``check``/``diff``/``compat`` of
-``*.system.yaml`` files, and ``graph``. ``commands`` hands over to these when a launch file or
-a system contract is involved."""
+"""System contracts on the command line: ``capture --launch`` and ``check``/``diff`` of
+``*.system.yaml`` files. ``capture``, ``check`` and ``diff`` hand over to these when a launch
+file or a system contract is involved."""
 
 from __future__ import annotations
 
@@ -14,19 +14,18 @@ from typing import Any, cast
 from .._version import __version__
 from ..check import system_pipeline
 from ..check.pipeline import Layers
-from ..compare import graph as graph_module
 from ..compare import sarif
 from ..compare.compatibility import propose_external
 from ..errors import TargetConfigError, UsageError
 from ..model import system_contract
 from ..model.contract_shapes import TargetBlock
-from ..model.vocabulary import parse_threshold
 from ..run import system_capture
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
 from . import formats
+from .arguments import compare_from_args, target_from_args
+from .exit_status import EXIT_DRIFT, EXIT_OK
 from .launch_options import launch_arguments, launch_block, wants_launch
-from .parser import EXIT_DRIFT, EXIT_OK, compare_from_args, target_from_args
 
 
 def is_system(path: Path, args: argparse.Namespace | None = None) -> bool:
@@ -124,20 +123,3 @@ def cmd_diff(args: argparse.Namespace) -> int:
 
 def any_system(paths: Sequence[str]) -> bool:
     return any(Path(p).exists() and system_contract.is_system_contract(p) for p in paths)
-
-
-def drawing_title(paths: Sequence[str], *, any_system: bool) -> str:
-    """A drawing's default title says what is drawn: a system, or one or several node contracts."""
-    names = ", ".join(Path(p).name for p in paths)
-    if any_system:
-        return f"System {names}"
-    return f"Node contract {names}" if len(paths) == 1 else f"Node contracts {names}"
-
-
-def cmd_graph(args: argparse.Namespace) -> int:
-    loaded = system_pipeline.load_any(args.contracts)
-    items = system_pipeline.compatibility_items(loaded, strict_system_default=args.strict_system_default)
-    title = args.title or drawing_title(args.contracts, any_system=loaded.any_system)
-    drawing = graph_module.build(loaded.processes, items, title=title)
-    formats.emit(graph_module.render(drawing, args.format, threshold=parse_threshold(args.fail_on)), args.output)
-    return EXIT_OK

@@ -1,5 +1,5 @@
 """``rmw-introspect validate``: contract files checked without running anything (a pre-commit
-hook). Kept apart from the other commands so that it imports only the contract loaders. A file
+hook): it imports only the contract loaders, and only once its arguments are valid. A file
 is a system contract exactly when every other command takes it for one
 (``system_contract.is_system_contract``: ``*.system.yaml`` or ``system_version:``)."""
 
@@ -8,18 +8,47 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from typing import Any
 
 from .._version import __version__
-from ..compare import acceptance, sarif
-from ..compare.ci_report import annotation
 from ..errors import ContractError
-from ..model import contract as contract_module
-from ..model import system_contract
-from .parser import EXIT_ERROR, EXIT_OK
+from .exit_status import EXIT_ERROR, EXIT_OK
+
+VALIDATE_EPILOG = """\
+Each file is read like `check` reads it (YAML syntax, the contract schema, QoS values, duplicate
+interfaces, contract_version); nothing is run. A NoDL v2 document is checked against NoDL's own
+schema when it is found (the nodl_schema package, or RMW_INTROSPECT_NODL_SCHEMA); the line
+says when it was not. As a pre-commit hook (.pre-commit-hooks.yaml of
+this repository):
+
+  - repo: https://github.com/<owner>/pytest-rmw-introspect
+    rev: <version>
+    hooks:
+      - id: rmw-introspect-validate
+
+exit status: 0 all valid, 2 at least one invalid file (each named with its line and reason).
+"""
+
+
+def add_parser(sub: Any) -> None:
+    """Declare ``validate`` (``sub``: the subparsers of ``rmw-introspect``)."""
+    val = sub.add_parser("validate", help="check that contract files are valid (no target is run)",
+                         description="Load and validate contract files (YAML, schema, QoS values, duplicates) "
+                         "without running anything: fast enough for a pre-commit hook. *.system.yaml files (and "
+                         "files saying system_version:) are read as system contracts.",
+                         epilog=VALIDATE_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    val.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML), node or system contracts")
+    val.add_argument("--format", choices=("text", "github", "sarif"), default="text",
+                     help="text: one line per file (default); github: an annotation per invalid file; "
+                     "sarif: a SARIF 2.1.0 log with a result per invalid file")
+    val.set_defaults(handler=cmd_validate)
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
     """Load every contract (nothing runs): one line per file, exit 2 when any is invalid."""
+    from ..compare import sarif
+    from ..compare.ci_report import annotation
+
     status = EXIT_OK
     invalid: list[tuple[str, int | None, str]] = []
     for shown in args.contracts:
@@ -44,6 +73,10 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 def _validated(shown: str) -> str:
     """What a valid file holds, in words (raises ContractError)."""
+    from ..compare import acceptance
+    from ..model import contract as contract_module
+    from ..model import system_contract
+
     if system_contract.is_system_contract(shown):
         system = system_contract.load(shown)
         acceptance.check_rules(system.accept)  # a rule id no check has would never match

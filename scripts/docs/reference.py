@@ -107,7 +107,7 @@ def cli_reference(parser: argparse.ArgumentParser | None = None) -> str:
 
         parser = build_parser()
     commands = _subcommands(parser)
-    lines = [GENERATED_NOTE.format(source="pytest_rmw_introspect/cli/parser.py"), "",
+    lines = [GENERATED_NOTE.format(source="pytest_rmw_introspect/cli (each command's add_parser)"), "",
              "# Command-line reference", "",
              "Every command and option of `rmw-introspect`, as `rmw-introspect COMMAND --help` prints "
              "them (this page is generated from the same parser). How to use them: "

@@ -8,7 +8,7 @@ from __future__ import annotations
 import pytest
 
 from pytest_rmw_introspect import cli
-from pytest_rmw_introspect.cli import commands
+from pytest_rmw_introspect.check import pipeline
 
 GOOD = """contract_version: 1
 nodes:
@@ -62,10 +62,10 @@ def test_a_usage_error_of_the_command_line_says_what_goes_together(capsys):
 def test_a_programming_error_is_not_reported_as_a_user_error(contract, monkeypatch, capsys):
     """A ValueError inside a command is a bug: it propagates (its traceback shows) instead of
     becoming exit status 2 with a message that would blame the user's input."""
-    def broken(args):
+    def broken(*args, **kwargs):
         raise ValueError("an internal invariant broke")
 
-    monkeypatch.setattr(commands, "cmd_diff", broken)
+    monkeypatch.setattr(pipeline, "diff_contracts", broken)
     with pytest.raises(ValueError, match="an internal invariant broke"):
         cli.main(["diff", str(contract), str(contract)])
     assert "rmw-introspect: an internal invariant broke" not in capsys.readouterr().err

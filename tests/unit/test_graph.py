@@ -212,7 +212,7 @@ def test_a_box_of_a_marked_interface_keeps_its_type_and_adds_its_rule():
 
 
 def test_a_drawing_is_titled_by_what_it_draws():
-    from pytest_rmw_introspect.cli.system_contracts import drawing_title
+    from pytest_rmw_introspect.cli.graph import drawing_title
 
     assert drawing_title(["contracts/talker.interfaces.yaml"], any_system=False) == "Node contract talker.interfaces.yaml"
     assert drawing_title(["a.yaml", "b/c.yaml"], any_system=False) == "Node contracts a.yaml, c.yaml"

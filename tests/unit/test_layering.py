@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 
 import pytest_rmw_introspect
+from pytest_rmw_introspect.cli import parser as cli_parser
 
 PACKAGE = Path(pytest_rmw_introspect.__file__).parent
 NAME = "pytest_rmw_introspect"
@@ -49,8 +50,8 @@ LOCAL_IMPORTS = {
     ("model.contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a contract needs it",
     ("model.system_contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a system contract needs it",
     ("compare.drift", "deepdiff"): "deepdiff costs 0.1-0.2 s; only comparing needs it",
-    ("cli", "pytest_rmw_introspect.cli"): "`--help` and usage errors answer without the pipeline",
-    ("cli", "pytest_rmw_introspect.cli.validate"): "`validate` (a pre-commit hook) loads only the contract reader",
+    ("cli", "pytest_rmw_introspect.cli.system_contracts"): "`--help`, usage errors and `capture` of one target "
+                                                           "answer without the system pipeline",
     ("cli", "pytest_rmw_introspect.run.warm"): "`capture` (one target, started cold), `--help` and usage errors answer "
                                           "without the warm start client (~15 ms)",
     ("run.runner", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only when a target may start warm: "
@@ -67,13 +68,6 @@ LOCAL_IMPORTS = {
                                    "ros-<distro>-rclpy dist-info needs the scan of installed distributions",
     ("run.target", "importlib"): "importlib.metadata (+ email) costs ~15 ms; only console scripts and packages "
                                  "without an ament index need the scan of installed distributions",
-    ("cli", "pytest_rmw_introspect.cli.capture"): "`capture` starts without the comparison pipeline",
-    ("cli", "pytest_rmw_introspect.cli.init"): "`init` imports what it needs when it runs",
-    ("cli", "pytest_rmw_introspect.cli.system_contracts"): "`--help`, usage errors and `capture` of one target "
-                                                           "answer without the system pipeline",
-    ("cli", "pytest_rmw_introspect.cli.lock"): "`lock` imports what it needs when it runs",
-    ("cli.capture", "pytest_rmw_introspect.cli"): "the system pipeline and launch readers (~25 ms) only for "
-                                                  "`capture --launch`",
     ("model.untrusted", "yaml"): "PyYAML costs ~20 ms; `rmw-introspect capture` reads JSON captures only",
     ("model.yaml_blocks", "yaml"): "PyYAML costs ~20 ms; only writing a contract needs it",
     ("model.types", "yaml"): "PyYAML costs ~20 ms; only writing a `types:` section needs it",
@@ -82,7 +76,7 @@ LOCAL_IMPORTS = {
     ("model.nodl", "referencing"): "jsonschema's reference registry: only validating a NoDL document needs it",
     ("model.nodl", "referencing.jsonschema"): "as referencing: only validating a NoDL document needs it",
     ("run.target", "yaml"): "PyYAML costs ~20 ms; only a string parameter value on the command line needs it",
-    ("cli.parser", "yaml"): "PyYAML costs ~20 ms; only --param values need it",
+    ("cli.arguments", "yaml"): "PyYAML costs ~20 ms; only --param values need it",
     ("cli.formats", "yaml"): "PyYAML costs ~20 ms; `capture` starts without it, it prints with it",
     ("cli.formats", "pytest_rmw_introspect.check"): "the contract writer (~25 ms with PyYAML): `capture` "
                                                     "starts without it, it prints with it",
@@ -105,6 +99,13 @@ LOCAL_IMPORTS = {
     ("plugin.system_marker", "pytest_rmw_introspect.check"): "the system pipeline and launch readers (~15 ms): "
                                                              "only system contracts need them",
 }
+
+
+#: the command modules of the command line (``cli.parser.COMMANDS``): building the parser imports
+#: every one of them (each declares its subparser beside its ``cmd_*``), so what a command runs is
+#: imported inside its functions, and only when it runs: `--help`, a usage error and `capture`
+#: answer without the pipelines (``test_building_the_parser_loads_no_pipeline``)
+COMMAND_MODULES = frozenset(module.__name__.removeprefix(NAME + ".") for module in cli_parser.COMMANDS)
 
 
 def _modules() -> dict[str, ast.Module]:
@@ -212,6 +213,7 @@ def test_imports_are_at_module_level_unless_they_cut_start_up_time(module):
         (node.lineno, imported)
         for node, imported, _names, top in _imports(module, tree)
         if not top and not _under_type_checking(tree, node) and (module, imported) not in LOCAL_IMPORTS
+        and module not in COMMAND_MODULES
     ]
     assert not local, f"{module}: function-local imports {local}; import at module level, or list the " \
                       "import in LOCAL_IMPORTS with the start-up time it saves"
@@ -293,7 +295,7 @@ NOT_FOR_CAPTURE = ("yaml", "deepdiff", "jsonschema", "numpy", "ctypes.util", "im
                    "pytest_rmw_introspect.run.warm.client", "socket",
                    "pytest_rmw_introspect.check.pipeline", "pytest_rmw_introspect.check.golden",
                    "pytest_rmw_introspect.compare.drift", "pytest_rmw_introspect.cli.system_contracts",
-                   "pytest_rmw_introspect.cli.commands", "pytest_rmw_introspect.launch.reader")
+                   "pytest_rmw_introspect.launch.reader")
 
 
 def _modules_loaded_by(code: str) -> set[str]:
@@ -303,12 +305,63 @@ def _modules_loaded_by(code: str) -> set[str]:
     return set(result.stdout.split())
 
 
+def _is_module(absolute: str) -> bool:
+    path = PACKAGE.joinpath(*absolute.split(".")[1:])
+    return path.with_suffix(".py").is_file() or (path / "__init__.py").is_file()
+
+
+def _imported_when_run(module: str, function: str) -> list[str]:
+    """The modules ``function`` of ``module`` imports in its own body (not in a branch of it)."""
+    tree = MODULES[module]
+    body = next(n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef) and n.name == function).body
+    found = []
+    for statement in body:
+        if isinstance(statement, ast.ImportFrom):
+            base = _resolve(module, statement)
+            found += [f"{base}.{a.name}" if _is_module(f"{base}.{a.name}") else base for a in statement.names]
+        elif isinstance(statement, ast.Import):
+            found += [a.name for a in statement.names]
+    return found
+
+
 def test_the_capture_command_starts_without_the_pipeline_and_yaml():
+    """What ``rmw-introspect capture`` of one target loads: the parser and what ``cmd_capture``
+    imports when it runs (its launch-file branch left out)."""
+    when_run = _imported_when_run("cli.capture", "cmd_capture")
+    assert "pytest_rmw_introspect.run.runner" in when_run
     loaded = _modules_loaded_by("from pytest_rmw_introspect.cli import parser\n"
-                                "import pytest_rmw_introspect.cli.capture\n"
-                                "parser.build_parser().parse_args(['capture', '--script', 'node.py'])")
+                                + "".join(f"import {m}\n" for m in when_run)
+                                + "parser.build_parser().parse_args(['capture', '--script', 'node.py'])")
     assert "pytest_rmw_introspect.run.runner" in loaded  # the probe did import the command
     assert sorted(loaded & set(NOT_FOR_CAPTURE)) == []
+
+
+#: what building the parser must load, of this package: the parser's own modules, the command
+#: modules (``cli.parser.COMMANDS``) and the option tables their flags come from; everything a
+#: command runs is imported when it runs
+FOR_THE_PARSER = {"pytest_rmw_introspect", "pytest_rmw_introspect._version", "pytest_rmw_introspect.errors",
+                  "pytest_rmw_introspect.cli", "pytest_rmw_introspect.cli.parser",
+                  "pytest_rmw_introspect.cli.arguments", "pytest_rmw_introspect.cli.option_flags",
+                  "pytest_rmw_introspect.cli.exit_status", "pytest_rmw_introspect.cli.launch_options",
+                  "pytest_rmw_introspect.model", "pytest_rmw_introspect.model.option_tables",
+                  "pytest_rmw_introspect.model.vocabulary", "pytest_rmw_introspect.model.qos",
+                  "pytest_rmw_introspect.model.contract_shapes",
+                  *(f"{NAME}.{module}" for module in COMMAND_MODULES)}
+
+#: the slow parts of the standard library no command needs to parse its arguments (each 5-15 ms)
+NOT_FOR_THE_PARSER = ("logging", "concurrent.futures", "xml.etree.ElementTree")
+
+
+def test_building_the_parser_loads_no_pipeline():
+    """Every run of ``rmw-introspect`` (``--help``, a usage error, ``validate`` as a pre-commit
+    hook) builds the whole parser, so the command modules it imports hold only their declarations."""
+    loaded = _modules_loaded_by("from pytest_rmw_introspect.cli import parser\n"
+                                "commands = parser.build_parser()._subparsers._group_actions[0].choices\n"
+                                "assert len(commands) == len(parser.COMMANDS)\n"
+                                "helps = [command.format_help() for command in commands.values()]")
+    assert "pytest_rmw_introspect.cli.graph" in loaded  # the probe did import the command modules
+    assert sorted({m for m in loaded if m.startswith(NAME)} - FOR_THE_PARSER) == []
+    assert sorted(loaded & {*NOT_FOR_CAPTURE, *NOT_FOR_THE_PARSER}) == []
 
 
 #: what the pytest entry point (all a pytest-xdist controller imports of the plugin) must load

@@ -17,8 +17,9 @@ import pytest
 
 from pytest_rmw_introspect import options_reference
 from pytest_rmw_introspect.check.pipeline import Layers
-from pytest_rmw_introspect.cli import commands
-from pytest_rmw_introspect.cli.parser import build_parser, compare_from_args, target_from_args
+from pytest_rmw_introspect.cli.arguments import compare_from_args, target_from_args
+from pytest_rmw_introspect.cli.check import accept_command
+from pytest_rmw_introspect.cli.parser import build_parser
 from pytest_rmw_introspect.compare.options import OPTION_KEYS, ComparisonOptions, parse_layer, parse_one
 from pytest_rmw_introspect.errors import OptionError
 from pytest_rmw_introspect.model import contract, system_contract
@@ -197,7 +198,7 @@ def test_the_update_hint_says_every_flag_again():
     words += [word for name in COMPARISON.names(FrontEnd.CLI) for word in SAMPLES[name][1]]
     words += ["--script", "node.py"]
     args = build_parser().parse_args(["check", "c.yaml", *words])
-    hint = commands.accept_command(args, "c.yaml", None)
+    hint = accept_command(args, "c.yaml", None)
     again = build_parser().parse_args(shlex.split(hint)[1:])
     assert again.update and "--stimulus /reset" in hint and "--cold-start" in hint
     for name in (*TARGET.names(FrontEnd.CLI), *COMPARISON.names(FrontEnd.CLI)):

@@ -1,7 +1,8 @@
-"""The commands of ``rmw-introspect`` that check contracts: check, diff, compat, graph (capture
-is ``capture``, init is ``init``). Each goes through the same pipeline as the pytest plugin
-(``check.pipeline`` and ``check.outcome``), so a contract checks the same way from both and
-the reports are the same text; this module only turns outcomes into output and an exit status."""
+"""``rmw-introspect check``: run the target of each contract and compare it with the contract.
+Each contract goes through the same pipeline as the pytest plugin (``check.pipeline``,
+``check.system_pipeline`` for a system contract, ``check.outcome``), so a contract checks the same
+way from both and the reports are the same text; this module only turns outcomes into output, a
+golden written with ``--update`` and an exit status."""
 
 from __future__ import annotations
 
@@ -11,19 +12,80 @@ import os
 import shlex
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
-from ..check import golden, golden_record, pipeline, sharding
-from ..check.outcome import Checked, Verdict, decide
-from ..compare import ci_report, sarif
 from ..errors import GoldenWriteError, UsageError
-from ..model.contract import Contract
 from ..model.option_tables import COMPARISON, TARGET, FrontEnd
-from . import baselines, option_flags, system_contracts
-from .formats import print_json
-from .parser import EXIT_DRIFT, EXIT_ERROR, EXIT_OK, compare_from_args, target_from_args
-from .ros_setup import Setup
+from . import option_flags
+from .arguments import add_baseline, add_compare, add_format, add_target, compare_from_args, target_from_args
+from .exit_status import EXIT_DRIFT, EXIT_ERROR, EXIT_OK
+from .launch_options import add_launch
+
+if TYPE_CHECKING:
+    from ..check.outcome import Checked
+    from ..compare.ci_report import ContractOutcome
+    from ..model.contract import Contract
+
+CHECK_EPILOG = """\
+Each contract's target comes from its `target:` block (paths relative to the contract); target
+options given here override it (paths relative to the current directory), and a target named
+here (--package/--executable, --script, --module, -- COMMAND) replaces the contract's.
+
+Comparison options given here override the contract's `options:` block, which overrides the
+defaults (fail_on: any, nothing ignored). Drift rules and severities: docs/drift-rules.md.
+
+--update rewrites the `nodes:` block of every drifted contract from the capture (keeping the
+comments, target and options above it) and creates missing ones (with a `target:` block from
+the target options given here); it is refused when the CI environment variable is set.
+
+--baseline FILE fails only on findings that FILE (written by --write-baseline FILE) does not
+hold; the known ones are reported as accepted by the baseline.
+
+A NoDL v2 document (*.nodl.yaml, or a file with `nodl_version:`) is a contract too: name the
+target here; what NoDL cannot express (type hashes, lifecycle states, parameter ranges, service
+QoS) and what the document leaves out are not compared. NoDL's schema is used when found (the
+nodl_schema package, or RMW_INTROSPECT_NODL_SCHEMA).
+
+--format json prints one JSON array with an object per drift item: contract, node, kind
+(publishers, subscriptions, service_servers, service_clients, action_servers, action_clients,
+parameters or node), name, change, rule, severity (SAFE, RISKY, BREAKING), old, new, message.
+
+Parameters and lifecycle: a capture reads every node's parameters and drives lifecycle nodes
+to --lifecycle (default active). A contract node without `parameters:` does not compare them;
+--update adds them to contracts that match but do not state them yet. A lifecycle transition
+that fails is an error (exit 2) naming the node, the transition and what to set instead.
+
+exit status: 0 all contracts match (or drift below --fail-on), 1 drift at or above --fail-on,
+2 errors (missing/malformed contract, no target, target failure, ROS 2/middleware missing).
+"""
+
+
+def add_parser(sub: Any) -> None:
+    """Declare ``check`` (``sub``: the subparsers of ``rmw-introspect``)."""
+    chk = sub.add_parser("check", help="run the target of each contract and compare it with the contract (drift report)",
+                         description="Capture the target of each contract and compare it with the contract.",
+                         epilog=CHECK_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
+                         usage="%(prog)s [options] CONTRACT... [-- COMMAND ...]")
+    chk.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML)")
+    add_target(chk)
+    add_compare(chk)
+    add_format(chk)
+    chk.add_argument("--update", action="store_true",
+                     help="rewrite drifted contracts and create missing ones (refused when CI is set)")
+    add_baseline(chk)
+    chk.add_argument("--summary", metavar="FILE",
+                     help="also append the Markdown report (a table of the contracts, the drift by severity) to FILE, "
+                     "whatever --format prints: --format github --summary \"$GITHUB_STEP_SUMMARY\" gives the "
+                     "annotations and the job summary from one run")
+    chk.add_argument("--shard", metavar="I/N",
+                     help="check only this CI job's share of the contracts: job I of N (e.g. 2/4); the contracts are "
+                     "sorted by path and dealt round-robin, so the N jobs together check each exactly once")
+    add_launch(chk)
+    chk.add_argument("-v", "--verbose", action="store_true",
+                     help="a passing system contract names every node it matched (else it says how many nodes in "
+                     "how many processes)")
+    chk.set_defaults(handler=cmd_check)
 
 
 def accept_command(args: argparse.Namespace, contract: str, command: list[str] | None) -> str:
@@ -48,6 +110,8 @@ def _no_target(contract: Contract | None, shown: str) -> str:
 
 def _write_golden(result: Checked, path: Path, shown: str) -> str:
     """Write the golden of ``result``; returns what to say on stderr (raises GoldenWriteError)."""
+    from ..check import golden, pipeline
+
     if not isinstance(result, pipeline.CheckResult):  # a system contract writes its own header
         return f"{result.update() or 'unchanged'} {shown}"
     if result.missing:
@@ -61,6 +125,13 @@ def _write_golden(result: Checked, path: Path, shown: str) -> str:
 
 
 def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
+    from ..check import golden_record, pipeline, sharding
+    from ..check.outcome import Verdict, decide
+    from ..compare import ci_report, sarif
+    from . import baselines, system_contracts
+    from .formats import append_summary, print_json
+    from .ros_setup import Setup
+
     if args.update:
         refusal = golden_record.ci_refusal()
         if refusal:
@@ -80,7 +151,7 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     checked: list[Checked] = []
     status = EXIT_OK
     all_items: list[dict[str, Any]] = []
-    for_ci: list[ci_report.ContractOutcome] = []
+    for_ci: list[ContractOutcome] = []
     for shown in args.contracts:
         path = Path(shown)
         result: Checked
@@ -139,65 +210,3 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     elif args.format == "sarif":
         print_json(sarif.drift_log(for_ci, tool_version=__version__))
     return status
-
-
-def append_summary(path: str, markdown: str) -> None:
-    """Append the Markdown report to ``path`` (``$GITHUB_STEP_SUMMARY`` collects what each step
-    appends; the run's own result is never replaced)."""
-    try:
-        with open(path, "a", encoding="utf-8") as summary:
-            summary.write(markdown if markdown.endswith("\n") else markdown + "\n")
-    except OSError as exc:
-        raise UsageError(f"--summary {path}: cannot append the report ({exc.strerror or exc}); "
-                         "give a file in a directory that exists and is writable") from None
-
-
-def cmd_diff(args: argparse.Namespace) -> int:
-    given = [flag for flag, value in (("--system", args.against_systems), ("--baseline", args.baseline),
-                                      ("--summary", args.summary)) if value]
-    if given:
-        raise UsageError(f"{' and '.join(given)} go with --against REF (the gate against a git revision), not with "
-                         "`diff OLD NEW`")
-    if len(args.files) != 2:
-        raise UsageError(f"diff compares two files, OLD and NEW ({len(args.files)} given); to compare every contract "
-                         "with a git revision: rmw-introspect diff --against REF [CONTRACT...]")
-    args.old, args.new = args.files
-    if system_contracts.any_system([args.old, args.new]):
-        return system_contracts.cmd_diff(args)
-    result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    elif args.format == "markdown":
-        sys.stdout.write(ci_report.drift_markdown([result.for_ci()], title=f"Interface drift of {result.new_shown}"))
-    elif args.format == "github":
-        sys.stdout.write(ci_report.drift_github([result.for_ci()]))
-    elif args.format == "sarif":
-        print_json(sarif.drift_log([result.for_ci()], tool_version=__version__))
-    else:
-        sys.stdout.write(result.render_text())
-    return EXIT_DRIFT if result.failed else EXIT_OK
-
-
-def cmd_compat(args: argparse.Namespace) -> int:
-    baseline = baselines.load(args)
-    result = system_contracts.system_pipeline.check_contracts(args.contracts, fail_on=args.fail_on,
-                                                              strict_system_default=args.strict_system_default)
-    baselines.apply(baseline, result)
-    baselines.finish(args, baseline, [result])
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    elif args.format == "markdown":
-        sys.stdout.write(ci_report.compat_markdown(result.items, threshold=result.threshold, labels=result.labels))
-    elif args.format == "github":
-        sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines,
-                                                 file_of=result.file_of, accepted=result.accepted, stale=result.stale))
-    elif args.format == "sarif":
-        print_json(sarif.compat_log(result.items, threshold=result.threshold, lines=result.lines, file_of=result.file_of,
-                                    tool_version=__version__, accepted=result.accepted, stale=result.stale))
-    else:
-        sys.stdout.write(result.render_text())
-    return EXIT_DRIFT if result.failed and not args.write_baseline else EXIT_OK
-
-
-def cmd_graph(args: argparse.Namespace) -> int:
-    return system_contracts.cmd_graph(args)

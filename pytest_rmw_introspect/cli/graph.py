@@ -1,25 +1,17 @@
-"""The command-line options of system contracts (``parser`` calls these): launch files for
-``capture`` and ``check``, and the ``graph`` command (``--system-fail-on`` is a comparison
-option, ``model.option_tables.COMPARISON``)."""
+"""``rmw-introspect graph``: the nodes of contracts drawn with their connections, and what the
+compatibility rules find marked on them (``compare.graph``); nothing is run."""
 
 from __future__ import annotations
 
 import argparse
+from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
-from ..model.option_tables import TARGET, FrontEnd
-from ..model.vocabulary import FAIL_ON
+from ..model.vocabulary import FAIL_ON, parse_threshold
+from .exit_status import EXIT_OK
 
 GRAPH_FORMATS = ("mermaid", "dot", "html")
-
-LAUNCH_HELP = """\
-a system (a launch file: every process it starts is captured, in parallel):
-  --launch FILE                        an XML, YAML or Python launch file, or a record.json of dump_launch
-  --launch-package P --launch-file F   a launch file of a package, found like `ros2 launch P F`
-With a launch file, `capture` writes a system contract (NAME.system.yaml) and the target
-options apply to every process ({flags} only).
-""".format(flags=", ".join(option.flag if option.default is not True else f"--[no-]{option.flag[2:]}"
-                           for option in TARGET.exposed(FrontEnd.SYSTEM)))
 
 GRAPH_EPILOG = """\
 Draws the nodes of the contracts (system contracts, node contracts, or both) with their topics,
@@ -40,21 +32,8 @@ use `rmw-introspect compat` or `check` to gate on them.
 """
 
 
-def add_launch(parser: argparse.ArgumentParser) -> None:
-    """``--launch``, ``--launch-package``/``--launch-file``, ``--launch-arg``, ``--allow-unsupported``."""
-    g = parser.add_argument_group("system (launch file)", LAUNCH_HELP)
-    g.add_argument("--launch", metavar="FILE", help="launch file (XML, YAML, Python) or dump_launch record.json")
-    g.add_argument("--launch-package", metavar="P", help="package of the launch file (with --launch-file)")
-    g.add_argument("--launch-file", metavar="F", help="launch file name inside the package's share directory")
-    g.add_argument("--launch-arg", action="append", metavar="NAME:=VALUE",
-                   help="launch argument, as `ros2 launch ... NAME:=VALUE` (repeatable)")
-    g.add_argument("--allow-unsupported", action="store_true", default=None,
-                   help="capture what the launch reader supports and note the rest, instead of failing")
-    g.add_argument("--jobs", type=int, metavar="N", help="processes captured at a time (default: the number of cores)")
-
-
-def add_graph(sub: Any, parser_class: type[argparse.ArgumentParser]) -> None:
-    """The ``graph`` command."""
+def add_parser(sub: Any) -> None:
+    """Declare ``graph`` (``sub``: the subparsers of ``rmw-introspect``)."""
     gra = sub.add_parser("graph", help="draw a system: nodes, topics, services, actions and what does not fit",
                          description="Draw the nodes of the contracts with their connections; mark the problems.",
                          epilog=GRAPH_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -66,3 +45,25 @@ def add_graph(sub: Any, parser_class: type[argparse.ArgumentParser]) -> None:
                      help="also mark policies left at SYSTEM_DEFAULT on both ends")
     gra.add_argument("--fail-on", choices=FAIL_ON, default="breaking",
                      help="threshold the html page's verdict line uses (default breaking)")
+    gra.set_defaults(handler=cmd_graph)
+
+
+def cmd_graph(args: argparse.Namespace) -> int:
+    from ..check import system_pipeline
+    from ..compare import graph as graph_module
+    from . import formats
+
+    loaded = system_pipeline.load_any(args.contracts)
+    items = system_pipeline.compatibility_items(loaded, strict_system_default=args.strict_system_default)
+    title = args.title or drawing_title(args.contracts, any_system=loaded.any_system)
+    drawing = graph_module.build(loaded.processes, items, title=title)
+    formats.emit(graph_module.render(drawing, args.format, threshold=parse_threshold(args.fail_on)), args.output)
+    return EXIT_OK
+
+
+def drawing_title(paths: Sequence[str], *, any_system: bool) -> str:
+    """A drawing's default title says what is drawn: a system, or one or several node contracts."""
+    names = ", ".join(Path(p).name for p in paths)
+    if any_system:
+        return f"System {names}"
+    return f"Node contract {names}" if len(paths) == 1 else f"Node contracts {names}"

@@ -1,0 +1,103 @@
+"""``rmw-introspect diff``: two contract files compared (OLD plays the contract, NEW the capture),
+or, with ``--against REF``, every contract with its version at a git revision (``gate``);
+nothing is run."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from typing import Any
+
+from .._version import __version__
+from ..errors import UsageError
+from ..model.option_tables import FrontEnd
+from .arguments import add_compare, add_format, compare_from_args
+from .exit_status import EXIT_DRIFT, EXIT_OK
+
+DIFF_EPILOG = """\
+OLD plays the contract and NEW the capture, so the drift rules and severities are exactly those
+of `check`: NEW losing a publisher of OLD is BREAKING, NEW adding one is SAFE. OLD's `options:`
+block applies, overridden by the comparison options given here.
+
+--against REF (the pull-request gate, docs/ci.md): each contract is compared with its file at
+REF the same way (a renamed file with its old name; a removed one loses everything it promised;
+an added one adds its nodes). It fails on BREAKING changes unless --fail-on says otherwise. A
+contract with `interface_version: MAJOR.MINOR.PATCH` at REF and now is judged by semantic
+versioning: a BREAKING change needs a MAJOR bump, a RISKY one at least a MINOR bump (the
+message says which version to write); changes the bump covers are accepted. With system
+contracts (--system, or those git tracks here) a changed topic, service or action is checked
+against the nodes that use it: one that no longer fits them is BREAKING and named. The git
+history must hold REF: in CI fetch the base branch (actions/checkout `fetch-depth: 0`).
+
+  rmw-introspect diff --against origin/main --format markdown
+  rmw-introspect diff --against origin/main...HEAD contracts/talker.interfaces.yaml
+
+exit status: 0 no drift (or below --fail-on), 1 drift at or above --fail-on, 2 errors (a missing
+or invalid contract, also one invalid at REF; REF not found; not a git repository; a shallow
+clone without REF).
+"""
+
+
+def add_parser(sub: Any) -> None:
+    """Declare ``diff`` (``sub``: the subparsers of ``rmw-introspect``)."""
+    dif = sub.add_parser("diff", help="compare two contract files, or every contract with a git revision (no "
+                         "target is run)",
+                         description="Compare two contract files, or every contract with its version at a git "
+                         "revision (--against REF: the pull-request gate), without running anything.",
+                         epilog=DIFF_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
+                         usage="%(prog)s [options] OLD NEW\n       %(prog)s --against REF [options] [CONTRACT...]")
+    dif.add_argument("files", nargs="*", metavar="FILE",
+                     help="OLD NEW: the contract as it was and as it is now; with --against: the contracts to compare "
+                     "(default: every *.interfaces.yaml and *.system.yaml git tracks under the current directory)")
+    gate = dif.add_argument_group("the pull-request gate (docs/ci.md)")
+    gate.add_argument("--against", metavar="REF",
+                      help="compare every contract with its version at the git revision REF: a branch, tag or commit, "
+                      "or BASE...HEAD (their merge base, as git diff reads it); renamed, added and removed contract "
+                      "files included; interface_version bumps judged by semantic versioning; fails on BREAKING "
+                      "unless --fail-on says otherwise")
+    gate.add_argument("--system", action="append", dest="against_systems", metavar="FILE",
+                      help="a system contract whose nodes judge who consumes a changed interface (repeatable; "
+                      "default: every *.system.yaml git tracks under the current directory)")
+    gate.add_argument("--baseline", metavar="FILE",
+                      help="fail only on findings that FILE (written by `check --write-baseline`) does not hold")
+    gate.add_argument("--summary", metavar="FILE",
+                      help="also append the Markdown report to FILE (\"$GITHUB_STEP_SUMMARY\"), whatever --format prints")
+    add_compare(dif, FrontEnd.DIFF)
+    add_format(dif)
+    dif.set_defaults(handler=cmd_diff)
+
+
+def cmd_diff(args: argparse.Namespace) -> int:
+    if args.against is not None:
+        from .gate import cmd_gate
+
+        return cmd_gate(args)
+    from ..check import pipeline
+    from ..compare import ci_report, sarif
+    from . import system_contracts
+    from .formats import print_json
+
+    given = [flag for flag, value in (("--system", args.against_systems), ("--baseline", args.baseline),
+                                      ("--summary", args.summary)) if value]
+    if given:
+        raise UsageError(f"{' and '.join(given)} go with --against REF (the gate against a git revision), not with "
+                         "`diff OLD NEW`")
+    if len(args.files) != 2:
+        raise UsageError(f"diff compares two files, OLD and NEW ({len(args.files)} given); to compare every contract "
+                         "with a git revision: rmw-introspect diff --against REF [CONTRACT...]")
+    args.old, args.new = args.files
+    if system_contracts.any_system([args.old, args.new]):
+        return system_contracts.cmd_diff(args)
+    result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])
+    if args.format == "json":
+        print(json.dumps(result.to_json(), indent=2, default=str))
+    elif args.format == "markdown":
+        sys.stdout.write(ci_report.drift_markdown([result.for_ci()], title=f"Interface drift of {result.new_shown}"))
+    elif args.format == "github":
+        sys.stdout.write(ci_report.drift_github([result.for_ci()]))
+    elif args.format == "sarif":
+        print_json(sarif.drift_log([result.for_ci()], tool_version=__version__))
+    else:
+        sys.stdout.write(result.render_text())
+    return EXIT_DRIFT if result.failed else EXIT_OK

@@ -19,12 +19,14 @@ from pytest_rmw_introspect.run import middleware, progress, ros_env
 
 @pytest.fixture
 def said(monkeypatch):
-    """The lines said during the test (the sink and the scope are restored afterwards)."""
+    """The lines said during the test, outside any run (the sink and the scope another test of
+    the same worker may have set are put back afterwards)."""
     lines: list[str] = []
-    previous = progress.set_sink(lines.append)
+    previous, previous_scope = progress.set_sink(lines.append), progress.scope()
+    progress.set_scope(None)
     yield lines
     progress.set_sink(previous)
-    progress.set_scope(None)
+    progress.set_scope(previous_scope)
 
 
 def fake_ros(prefix: Path, kind: str = ros_env.WHEELS, distro: str = "jazzy") -> ros_env.RosEnvironment:

@@ -20,6 +20,7 @@ from ..run.target import TargetSpec
 if TYPE_CHECKING:  # the capture model is imported by the runner while the target starts
     from ..model.capture import Capture
 
+
 def nodl_documents(cap: Capture, *, raw: bool) -> str:
     """One NoDL v2 document per node (a YAML stream, ``model.nodl.render``); ``raw``: every live
     endpoint as created, ungrouped and unfiltered."""

@@ -49,6 +49,7 @@ def add_parser(sub: Any) -> None:
     option_flags.add(ini, (TARGET[name] for name in ("settle", "timeout", "horizon")))
     ini.set_defaults(handler=cmd_init)
 
+
 _CMAKE_WIRING = """\
   if(BUILD_TESTING)
     find_package(pytest_rmw_introspect REQUIRED)

@@ -91,7 +91,7 @@ bench: bootstrap
 	$(VENV)/bin/python bench/bench_quiescence.py
 	$(VENV)/bin/python bench/bench_cold_capture.py
 	$(VENV)/bin/python bench/bench_system_rules.py
-	$(VENV)/bin/python bench/bench_system_scale.py --plot docs/system-scale.png
+	$(VENV)/bin/python bench/bench_system_scale.py --pytest --plot docs/system-scale.png
 	$(VENV)/bin/python bench/bench_gate.py
 
 ## soak: the example package's contracts checked SOAK_RUNS times (default 1000; -n 2, warm and cold

@@ -11,6 +11,11 @@ everything it started (``os.wait4``), the peak RSS of the CLI process itself (it
 read while it runs) and the largest of its descendants (``ru_maxrss``). Capture and check of a
 size run back to back, so their ratio is taken under the same load.
 
+With ``--pytest`` each repetition also runs the contract as pytest would in CI, ``python -m pytest
+N.system.yaml`` once with ``-n 0`` and once with ``-n 2`` (pytest-xdist), and takes the system
+item's own duration from its JUnit XML (set-up, call and tear-down: what the item costs, without
+pytest's start-up, collection and starting the workers) and the whole pytest process's wall time.
+
 Prints a Markdown table (medians), the check/capture ratios, the cost per process (slope
 between the smallest and the largest size) and the CPU per process; ``--plot`` draws the
 times against N into a PNG (matplotlib, from the lock's development tools; ``make bench`` draws
@@ -28,6 +33,7 @@ import sys
 import tempfile
 import threading
 import time
+import xml.etree.ElementTree as ElementTree
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -56,10 +62,11 @@ def _hwm(pid: int) -> float:
     return 0.0
 
 
-def run(args: list[str], cwd: Path, expect: str | None = None) -> Run:
-    """Run the CLI; exits the benchmark (status 1) when it fails."""
+def run(args: list[str], cwd: Path, expect: str | None = None, program: list[str] | None = None) -> Run:
+    """Run the CLI (or ``program``); exits the benchmark (status 1) when it fails."""
+    argv = [*(program or [str(CLI)]), *args]
     started = time.perf_counter()
-    proc = subprocess.Popen([str(CLI), *args], cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     peak = [0.0]
     done = threading.Event()
 
@@ -86,9 +93,24 @@ def run(args: list[str], cwd: Path, expect: str | None = None) -> Run:
     watcher.join()
     stdout, stderr = outs.get("out", ""), outs.get("err", "")
     if proc.returncode != 0 or (expect is not None and expect not in stdout):
-        sys.exit(f"bench_system_scale: `rmw-introspect {' '.join(args)}` failed (exit status {proc.returncode})"
+        sys.exit(f"bench_system_scale: `{' '.join(argv)}` failed (exit status {proc.returncode})"
                  f"\n--- stdout\n{stdout}\n--- stderr\n{stderr}")
     return Run(wall, usage.ru_utime + usage.ru_stime, peak[0], usage.ru_maxrss / 1024)
+
+
+@dataclass
+class PytestRun:
+    wall: float  # s, the whole pytest process
+    item: float  # s, the system item's set-up, call and tear-down (JUnit XML)
+
+
+def run_pytest(n: int, workers: int, cwd: Path) -> PytestRun:
+    """``pytest N.system.yaml -n WORKERS``; exits the benchmark when the item does not pass."""
+    report = cwd / f"{n}-n{workers}.junit.xml"
+    whole = run(["-m", "pytest", f"{n}.system.yaml", "-n", str(workers), "-q", "-p", "no:cacheprovider",
+                 f"--junitxml={report}"], cwd, expect="1 passed", program=[sys.executable])
+    cases = ElementTree.parse(report).getroot().iter("testcase")
+    return PytestRun(whole.wall, sum(float(case.get("time", "0")) for case in cases))
 
 
 def median(runs: list[Run], key: str) -> float:
@@ -99,6 +121,8 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--sizes", default="1,10,50,150,300", help="numbers of processes, comma-separated")
     parser.add_argument("--reps", type=int, default=1)
+    parser.add_argument("--pytest", action="store_true",
+                        help="also run the contract with pytest, -n 0 and -n 2, and time its item")
     parser.add_argument("--plot", type=Path, metavar="FILE.png", help="draw the times into this PNG (matplotlib)")
     args = parser.parse_args()
     sizes = [int(s) for s in args.sizes.split(",")]
@@ -111,6 +135,7 @@ def main() -> int:
         matplotlib.use("Agg")
     print(f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at the start", flush=True)
     results: dict[int, tuple[list[Run], list[Run]]] = {}
+    pytest_results: dict[int, dict[int, list[PytestRun]]] = {}
     with tempfile.TemporaryDirectory(prefix="bench_system_scale_") as d:
         root = Path(d)
         for n in sizes:
@@ -119,6 +144,9 @@ def main() -> int:
             for _ in range(args.reps):
                 captures.append(run(["capture", "--launch", f"{n}.launch.xml", "-o", f"{n}.system.yaml"], root))
                 checks.append(run(["check", f"{n}.system.yaml"], root, expect=f"{n}.system.yaml: matches ("))
+                if args.pytest:
+                    for workers in (0, 2):
+                        pytest_results.setdefault(n, {}).setdefault(workers, []).append(run_pytest(n, workers, root))
             results[n] = (captures, checks)
             print(f"  {n} processes: capture {median(captures, 'wall'):.2f} s, check {median(checks, 'wall'):.2f} s",
                   flush=True)
@@ -130,6 +158,15 @@ def main() -> int:
         print(f"| {n} | {median(captures, 'wall'):.2f} | {median(checks, 'wall'):.2f} "
               f"| {median(checks, 'wall') / median(captures, 'wall'):.2f} | {median(captures, 'cpu'):.1f} "
               f"| {median(checks, 'cpu'):.1f} | {median(checks, 'rss_cli'):.0f} | {median(checks, 'rss_max'):.0f} |")
+    if pytest_results:
+        print("\n| processes | capture --launch (s) | pytest -n 0: item (s) | item / capture | whole pytest (s) "
+              "| pytest -n 2: item (s) | item / capture | whole pytest (s) |")
+        print("|---|---|---|---|---|---|---|---|")
+        for n, by_workers in pytest_results.items():
+            capture = median(results[n][0], "wall")
+            cells = [f"{median(by_workers[w], 'item'):.2f} | {median(by_workers[w], 'item') / capture:.2f} "
+                     f"| {median(by_workers[w], 'wall'):.2f}" for w in (0, 2)]
+            print(f"| {n} | {capture:.2f} | {cells[0]} | {cells[1]} |")
     if len(sizes) > 1:
         low, high = min(sizes), max(sizes)
         for kind, index in (("capture", 0), ("check", 1)):

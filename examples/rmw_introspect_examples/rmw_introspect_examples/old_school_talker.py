@@ -33,6 +33,12 @@ def main(args=None):
         node.destroy_node()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except RuntimeError:
+        # Ctrl-C between rclpy.ok() and publish(): rclpy's handler shut the context down from a
+        # thread of its own, and publish() failed ("publisher's context is invalid", an RCLError)
+        # before Python raised KeyboardInterrupt here. Shut down is shut down; else a real error.
+        if rclpy.ok():
+            raise
     finally:
         try:
             rclpy.try_shutdown()

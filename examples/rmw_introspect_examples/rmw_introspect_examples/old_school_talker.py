@@ -34,9 +34,10 @@ def main(args=None):
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except RuntimeError:
-        # Ctrl-C between rclpy.ok() and publish(): rclpy's handler shut the context down from a
-        # thread of its own, and publish() failed ("publisher's context is invalid", an RCLError)
-        # before Python raised KeyboardInterrupt here. Shut down is shut down; else a real error.
+        # SIGINT shut the context down (rclpy's handler) while no KeyboardInterrupt came first:
+        # a node started with SIGINT ignored (`cmd &` in a script) gets none at all, and the
+        # next publish() fails ("publisher's context is invalid", an RCLError). Shut down is
+        # shut down; anything else is a real error.
         if rclpy.ok():
             raise
     finally:

@@ -14,7 +14,6 @@ from ..errors import TargetError, UsageError
 from . import launch_options
 from .arguments import add_target, target_from_args
 from .exit_status import EXIT_OK
-from .launch_options import add_launch
 
 #: the start note of a command's only capture: a warm start server pays off from the second one
 ONE_CAPTURE_STARTS_COLD = "a run with one capture starts it cold (a warm start server pays off from the second)"
@@ -78,7 +77,7 @@ def add_parser(sub: Any) -> None:
     out.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
     out.add_argument("--partial", action="store_true",
                      help="when the target fails or hangs, still write what was captured (exit status stays 2)")
-    add_launch(cap)
+    launch_options.add_launch(cap)
     cap.set_defaults(handler=cmd_capture)
 
 

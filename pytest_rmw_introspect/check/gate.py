@@ -35,7 +35,7 @@ from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
 from ..errors import ContractError, RevisionError
 from ..model import contract as contract_module
-from ..model import system_contract
+from ..model import contract_kind, system_contract
 from ..model.contract import Contract
 from ..model.contract_shapes import ContractNodes
 from ..model.interface_version import Bump
@@ -155,8 +155,8 @@ class GateResult:
 
 
 def is_system_text(name: str, text: str) -> bool:
-    """A system contract: named ``*.system.yaml``, or saying ``system_version:`` first."""
-    return name.endswith(system_contract.SUFFIX) or bool(re.search(r"^system_version\s*:", text, re.M))
+    """A system contract's text (``model.contract_kind``)."""
+    return contract_kind.is_system_text(text, name)
 
 
 def load_text(text: str, label: str) -> Contract:

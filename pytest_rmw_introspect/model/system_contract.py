@@ -51,7 +51,7 @@ from typing import Any, Literal, cast, get_args
 import yaml
 
 from ..errors import ContractError, InputError
-from . import acceptance, stand_ins, untrusted
+from . import acceptance, contract_kind, stand_ins, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
 from . import unstable_names as unstable_model
@@ -78,15 +78,8 @@ DEFAULT_HEADER = (
 
 
 def is_system_contract(path: str | Path) -> bool:
-    """``*.system.yaml``, or a YAML file whose first keys say ``system_version``."""
-    path = Path(path)
-    if path.name.endswith(SUFFIX):
-        return True
-    try:  # never opens a FIFO (it would block): the loader then says what the file is
-        head = untrusted.read_bytes(path, 4096)[:4096].decode("utf-8", errors="replace")
-    except (OSError, InputError):
-        return False
-    return any(line.startswith("system_version:") for line in head.splitlines())
+    """A system contract file (``model.contract_kind``: ``system_version:``, or ``*.system.yaml``)."""
+    return contract_kind.is_system_file(path)
 
 
 @functools.lru_cache(maxsize=1)

@@ -1,10 +1,14 @@
 """The pull-request gate: every contract compared with its version at a git revision
 (``rmw-introspect diff --against REF``, ``pytest --against REF``), without running anything.
 
-The contracts (node and system contracts; named, or every contract file git tracks under the
-current directory) are paired with their files at REF (``check.revision``): a renamed file with
-its old name, an added one with nothing (every node added), a removed one with nothing now (the
-removal of everything it promised). Each pair is compared with the rules of ``diff``
+The contracts (named, or every contract git tracks under the current directory, found by its
+content whatever its name: node contracts, marker goldens, system contracts, NoDL documents;
+``model.contract_kind``) are paired with their files at REF (``check.revision``): a renamed file
+with its old name, a named one with the same file at REF, an added one with nothing (every node
+added), a removed one with nothing now (the removal of everything it promised). A gate that
+finds no contract at all is an error (:class:`NoContracts`): it never passes having compared
+nothing. The report's first line counts the contracts of each kind, the next names the tracked
+YAML files that are not contracts. Each pair is compared with the rules of ``diff``
 (``pipeline.compare_contracts``; the contract's ``options:`` apply, the command line's on top),
 then judged in this order:
 
@@ -22,6 +26,7 @@ from it, not about changes to the contract.
 from __future__ import annotations
 
 import dataclasses
+import os
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -37,6 +42,7 @@ from ..errors import ContractError, RevisionError
 from ..model import contract as contract_module
 from ..model import contract_kind, system_contract
 from ..model.contract import Contract
+from ..model.contract_kind import Kind
 from ..model.contract_shapes import ContractNodes
 from ..model.interface_version import Bump
 from ..model.locate import LineIndex
@@ -49,6 +55,27 @@ DEFAULT_FAIL_ON = "breaking"
 _VERSION_LINE = re.compile(rf"^{contract_module.VERSION_KEY}\s*:", re.M)
 #: a node of a contract written as updates write it (for the report's list of an unchanged file's nodes)
 _NODE_LINE = re.compile(r"^  (/[^:\s]*):", re.M)
+#: how many of the YAML files that are not contracts the text and Markdown reports name (JSON: all)
+SKIPPED_SHOWN = 5
+#: why a YAML file is not a contract (``model.contract_kind``)
+NOT_A_CONTRACT = "no top-level contract_version:, system_version: or nodl_version: key"
+
+
+class NoContracts(RevisionError):
+    """The gate found no contract to compare (exit 2: a gate that compared nothing never passes)."""
+
+
+def counted(n: int, kind: Kind | str) -> str:
+    """``1 node contract``, ``2 system contracts``."""
+    if isinstance(kind, Kind):
+        return f"{n} {kind.value if n == 1 else kind.plural}"
+    return f"{n} {kind}{'' if n == 1 else 's'}"
+
+
+def skipped_text(skipped: Sequence[str], shown: int = SKIPPED_SHOWN) -> str:
+    """``2 tracked YAML files: a.yaml, b.yaml`` (the first ``shown`` names, then how many more)."""
+    names = ", ".join(skipped[:shown]) + (f" and {len(skipped) - shown} more" if len(skipped) > shown else "")
+    return f"{counted(len(skipped), 'tracked YAML file')}: {names}"
 
 
 @dataclass
@@ -59,6 +86,7 @@ class GateContract:
     path: Path  # the file in the work tree (a removed one: where it was)
     before: str | None  # ``REF:path`` (None: added since REF)
     status: str  # added | removed | renamed | changed | unchanged
+    kind: Kind = Kind.NODE  # what the file is now (a removed one: what it was)
     threshold: Severity = Severity.BREAKING
     items: list[DriftItem] = field(default_factory=list)
     accepted: list[Accepted] = field(default_factory=list)
@@ -111,6 +139,8 @@ class GateResult:
     commit: str
     contracts: list[GateContract]
     systems: list[str]
+    #: the tracked YAML files under the directory that are not contracts (shown names)
+    skipped: list[str] = field(default_factory=list)
 
     @property
     def failed(self) -> bool:
@@ -130,11 +160,33 @@ class GateResult:
     def title(self) -> str:
         return f"Interface changes against {self.against} ({self.commit[:12]})"
 
+    def kinds(self) -> dict[Kind, int]:
+        """How many contracts of each kind were compared (kinds in ``Kind``'s order, none left out)."""
+        return {kind: n for kind in Kind if (n := sum(1 for c in self.contracts if c.kind is kind))}
+
+    def compared(self) -> str:
+        """``3 contracts: 2 node contracts, 1 system contract; 1 changed, 2 unchanged``: the
+        report's first words, in every format."""
+        kinds = ", ".join(counted(n, kind) for kind, n in self.kinds().items())
+        statuses = {status: sum(1 for c in self.contracts if c.status == status)
+                    for status in ("changed", "renamed", "added", "removed", "unchanged")}
+        said = ", ".join(f"{n} {status}" for status, n in statuses.items() if n)
+        return f"{counted(len(self.contracts), 'contract')}: {kinds}; {said}"
+
+    def not_contracts(self) -> str | None:
+        """The line that names the tracked YAML files the gate decided were not contracts."""
+        if not self.skipped:
+            return None
+        return f"not contracts ({NOT_A_CONTRACT}): {skipped_text(self.skipped)}"
+
+    def intro(self) -> list[str]:
+        """What the gate looked at, for the Markdown and GitHub reports."""
+        return [self.compared()] + ([said] if (said := self.not_contracts()) else [])
+
     def render_text(self) -> str:
-        counts = {status: sum(1 for c in self.contracts if c.status == status)
-                  for status in ("changed", "renamed", "added", "removed", "unchanged")}
-        said = ", ".join(f"{n} {status}" for status, n in counts.items() if n)
-        lines = [f"{self.title()}: {len(self.contracts)} contract(s){': ' + said if said else ''}"]
+        lines = [f"{self.title()}: {self.compared()}"]
+        if self.skipped:
+            lines.append(self.not_contracts() or "")
         if self.systems:
             lines.append(f"consumers judged with {', '.join(self.systems)}")
         out = "\n".join(lines) + "\n"
@@ -144,8 +196,12 @@ class GateResult:
             out += "\n" + contract.render_text()
         return out
 
-    def to_json(self) -> list[dict[str, Any]]:
-        return [item for contract in self.ordered() for item in contract.to_json()]
+    def to_json(self) -> dict[str, Any]:
+        """What the gate looked at and found: ``items`` are the drift items (those of ``diff``,
+        each naming its contract), ``not_contracts`` every tracked YAML file it passed over."""
+        return {"against": self.against, "commit": self.commit, "contracts": len(self.contracts),
+                "kinds": {kind.value: n for kind, n in self.kinds().items()}, "not_contracts": self.skipped,
+                "items": [item for contract in self.ordered() for item in contract.to_json()]}
 
     def for_ci(self) -> list[ContractOutcome]:
         return [contract.for_ci() for contract in self.ordered()]
@@ -202,29 +258,58 @@ class Pair:
 
 
 def pairs(revision: Revision, named: Sequence[str | Path] = ()) -> list[Pair]:
-    """The contracts to compare: those named (paths relative to the current directory), or every
-    contract file git tracks under it now or tracked at REF. A renamed file is one pair."""
+    """The contracts to compare: those named (paths relative to the current directory, compared
+    with the same file at REF, or the file it was renamed from), or every contract git tracks
+    under it now or tracked at REF (by content: ``Revision.survey``). A renamed file is one pair."""
     changes = revision.changes()
     renamed_from = {c.new: c.old for c in changes if c.status == "R" and c.new and c.old}
     renamed_to = {old: new for new, old in renamed_from.items()}
-    exists = {name for name in revision.contracts_at_ref()}
     if named:
+        fulls = [revision.full_name(given) for given in named]
+        exists = revision.exists_at_ref(renamed_from.get(full, full) for full in fulls)
         out = []
-        for given in named:
-            full = revision.full_name(given)
+        for given, full in zip(named, fulls, strict=True):
             now = full if (revision.top / full).is_file() else None
             old = renamed_from.get(full, full)
-            if now is None and full not in exists:
+            if now is None and old not in exists:
                 raise RevisionError(f"{given} exists neither in the work tree nor at {revision.ref}: name a contract "
                                     "file of the repository (or leave the names out to compare every contract)")
             out.append(Pair(old if old in exists else None, now))
         return out
+    exists = set(revision.contracts_at_ref())
     present = [name for name in revision.contracts_now() if (revision.top / name).is_file()]
     found = [Pair(renamed_from.get(name, name) if renamed_from.get(name, name) in exists else None, name)
              for name in present]
     kept = {pair.old for pair in found}
     found += [Pair(name, None) for name in sorted(exists) if name not in kept and name not in renamed_to]
     return sorted(found, key=lambda pair: pair.new or pair.old or "")
+
+
+def kind_of_pair(revision: Revision, pair: Pair) -> Kind:
+    """What the pair's file is now (a removed one: what it was at REF); a named file that is no
+    contract by its content is taken for what its name says, else a node contract (its loader says
+    what is wrong with it)."""
+    survey = revision.survey()
+    if pair.new is not None:
+        kind = survey.now.get(pair.new) or contract_kind.kind_of_file(revision.top / pair.new)
+    else:
+        assert pair.old is not None
+        kind = survey.at_ref.get(pair.old) or contract_kind.kind_of_text(revision.text(pair.old) or "", pair.old)
+    return kind or Kind.NODE
+
+
+def no_contracts(revision: Revision) -> NoContracts:
+    """The error of a gate that found nothing to compare: where it looked, what it passed over."""
+    inside = Path(os.path.relpath(revision.cwd, revision.top)).as_posix()
+    where = str(revision.cwd) + (f" ({inside}/ of the repository at {revision.top})" if inside != "." else "")
+    skipped = revision.survey().skipped
+    passed = (f"; it passed over {skipped_text([revision.shown(n) for n in skipped])} ({NOT_A_CONTRACT})"
+              if skipped else "; git tracks no YAML file there")
+    return NoContracts(
+        f"no contract to compare: git tracks no contract under {where}, neither in the work tree nor at {revision.ref} "
+        f"({revision.commit[:12]}){passed}. A gate that compares nothing does not pass: run it where the "
+        "contracts are (or name them), commit them first (`pytest --update-golden` writes marker goldens, "
+        "`rmw-introspect capture ... -o FILE` node contracts), docs/ci.md")
 
 
 # ---------------------------------------------------------------------------- the gate
@@ -240,8 +325,8 @@ def system_nodes(revision: Revision, named: Sequence[str | Path] | None) -> dict
             path = revision.top / revision.full_name(given)
             out[revision.shown(revision.full_name(given))] = system_contract.load(path).nodes
         return out
-    for name in revision.contracts_now():
-        if name.endswith(system_contract.SUFFIX) and (revision.top / name).is_file():
+    for name, kind in revision.survey().now.items():
+        if kind is Kind.SYSTEM and (revision.top / name).is_file():
             try:
                 out[revision.shown(name)] = system_contract.load(revision.top / name).nodes
             except ContractError:
@@ -255,15 +340,18 @@ def run(against: str, contracts: Sequence[str | Path] = (), *, systems: Sequence
     """Compare every contract with its version at ``against``. Raises RevisionError (no git
     repository, no such revision, a shallow clone without it) and ContractError (a ``--system``
     file that does not load); a contract that does not load now or at REF is an error of its own
-    entry (``GateContract.error``)."""
+    entry (``GateContract.error``); no contract at all is :class:`NoContracts`."""
     revision = open_revision(against, cwd)
     found = pairs(revision, contracts)
+    if not found:
+        raise no_contracts(revision)
     revision.read(pair.old for pair in found if pair.old is not None)
     consumers_at_hand = system_nodes(revision, systems)
     threshold = parse_threshold(fail_on or DEFAULT_FAIL_ON)
     compared = [compare_pair(revision, pair, consumers_at_hand, options=options, threshold=threshold,
                              baseline=baseline) for pair in found]
-    return GateResult(against=against, commit=revision.commit, contracts=compared, systems=list(consumers_at_hand))
+    return GateResult(against=against, commit=revision.commit, contracts=compared, systems=list(consumers_at_hand),
+                      skipped=[revision.shown(name) for name in revision.survey().skipped])
 
 
 def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractNodes], *,
@@ -274,7 +362,7 @@ def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractN
     assert name is not None
     shown = revision.shown(name)
     result = GateContract(shown=shown, path=revision.top / name, status=pair.status, threshold=threshold,
-                          before=revision.at_ref(pair.old) if pair.old else None)
+                          before=revision.at_ref(pair.old) if pair.old else None, kind=kind_of_pair(revision, pair))
     if _unchanged(revision, pair):  # nothing to compare, nothing to load (most contracts of a pull request)
         result.status = "unchanged" if pair.old == pair.new else "renamed"
         result.nodes = sorted(_NODE_LINE.findall(revision.text(pair.old or "") or ""))

@@ -1,9 +1,11 @@
 """Contract files at a git revision, for ``rmw-introspect diff --against REF`` (``check.gate``).
 
 git is the only tool: ``rev-parse`` resolves REF (a branch, tag or commit, or ``A...B``: their
-merge base, as ``git diff`` reads it), ``ls-files``/``ls-tree`` list the contract files of the
-work tree and of REF, ``diff --name-status -M`` finds renamed ones, and one ``cat-file --batch``
-process reads every file at REF. Paths inside this module are relative to the repository's top
+merge base, as ``git diff`` reads it), ``ls-files``/``ls-tree`` list the files of the work tree
+and of REF, ``diff --name-status -M`` finds renamed ones, and one ``cat-file --batch`` process
+reads every file at REF. A file is a contract by its content (``model.contract_kind``), whatever
+its name: every tracked YAML file is read now, and at REF only those that differ from the work
+tree (an unchanged file is at REF what it is now). Paths inside this module are relative to the repository's top
 (git's "full names"); :meth:`Revision.shown` gives them as people read them, relative to the
 directory the command runs in. Every failure a user can cause is a :class:`RevisionError` that
 says what to do next.
@@ -19,16 +21,22 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import RevisionError
+from ..model import contract_kind
+from ..model.contract_kind import Kind
 
-#: the contract files found when none are named (the pytest plugin's default patterns too)
-CONTRACT_SUFFIXES = (".interfaces.yaml", ".system.yaml")
 #: what a CI job must fetch for REF to be there, said in every message about a missing revision
 FETCH_ADVICE = ("fetch it first: `git fetch origin <branch>` (in GitHub Actions `actions/checkout` with "
                 "`fetch-depth: 0`; in GitLab CI `GIT_DEPTH: 0`), docs/ci.md")
 
 
-def is_contract_name(path: str) -> bool:
-    return path.endswith(CONTRACT_SUFFIXES)
+@dataclass(frozen=True)
+class Survey:
+    """What the gate looked at: the contracts git tracks under ``cwd`` now and at REF (full name:
+    kind), and the tracked YAML files it decided were not contracts (full names, now)."""
+
+    now: dict[str, Kind]
+    at_ref: dict[str, Kind]
+    skipped: list[str]
 
 
 @dataclass(frozen=True)
@@ -50,6 +58,8 @@ class Revision:
     cwd: Path
     shallow: bool = False
     _texts: dict[str, str | None] = field(default_factory=dict, repr=False)
+    _survey: Survey | None = field(default=None, repr=False)
+    _changes: list[FileChange] | None = field(default=None, repr=False)
 
     def shown(self, full_name: str) -> str:
         """A repository path as a message shows it: relative to the directory the command runs in."""
@@ -68,19 +78,59 @@ class Revision:
         """``REF:path`` as messages name a file at REF."""
         return f"{self.ref}:{self.shown(full_name)}"
 
+    def survey(self) -> Survey:
+        """Every contract git tracks under ``cwd`` now and at REF, found by its content."""
+        if self._survey is not None:
+            return self._survey
+        tracked = _git(["ls-files", "-z", "--full-name", "--", "."], self.cwd).split("\0")
+        now: dict[str, Kind] = {}
+        skipped: list[str] = []
+        for name in sorted(p for p in tracked if p and contract_kind.is_candidate(p)):
+            path = self.top / name
+            if not path.is_file():
+                continue  # deleted in the work tree, not yet in the index
+            kind = contract_kind.kind_of_file(path)
+            if kind is None:
+                skipped.append(name)
+            else:
+                now[name] = kind
+        at_ref_names = _git(["ls-tree", "-r", "-z", "--name-only", "--full-name", self.commit, "--", "."],
+                            self.cwd).split("\0")
+        candidates = [p for p in at_ref_names if p and contract_kind.is_candidate(p)]
+        differ = {change.old for change in self.changes() if change.old is not None}
+        # a file that does not differ from the work tree is at REF what it is now: read only the others
+        self.read(name for name in candidates if name in differ)
+        at_ref: dict[str, Kind] = {}
+        for name in sorted(candidates):
+            if name in differ:
+                text = self._texts.get(name)
+                kind = contract_kind.kind_of_text(text, name) if text is not None else None
+            else:
+                kind = now.get(name)
+            if kind is not None:
+                at_ref[name] = kind
+        self._survey = Survey(now=now, at_ref=at_ref, skipped=skipped)
+        return self._survey
+
     def contracts_now(self) -> list[str]:
         """The contract files git tracks under ``cwd`` (as they are in the work tree)."""
-        out = _git(["ls-files", "-z", "--full-name", "--", "."], self.cwd)
-        return sorted(p for p in out.split("\0") if p and is_contract_name(p))
+        return sorted(self.survey().now)
 
     def contracts_at_ref(self) -> list[str]:
         """The contract files under ``cwd`` at REF."""
-        out = _git(["ls-tree", "-r", "-z", "--name-only", "--full-name", self.commit, "--", "."], self.cwd)
-        return sorted(p for p in out.split("\0") if p and is_contract_name(p))
+        return sorted(self.survey().at_ref)
+
+    def exists_at_ref(self, full_names: Iterable[str]) -> set[str]:
+        """Those of these files that exist at REF (whatever they hold; read with the others)."""
+        names = list(full_names)
+        self.read(names)
+        return {name for name in names if self._texts.get(name) is not None}
 
     def changes(self) -> list[FileChange]:
         """Every file under ``cwd`` that differs between REF and the work tree, renames found as
         ``git diff -M`` finds them (50 % similar content)."""
+        if self._changes is not None:
+            return self._changes
         out = _git(["diff", "-z", "--no-color", "--no-ext-diff", "--name-status", "-M", self.commit, "--", "."],
                    self.cwd)
         words = out.split("\0")
@@ -95,6 +145,7 @@ class Revision:
             path = words[i + 1]
             changes.append(FileChange(status, None if status == "A" else path, None if status == "D" else path))
             i += 2
+        self._changes = changes
         return changes
 
     def read(self, full_names: Iterable[str]) -> None:

@@ -20,12 +20,16 @@ OLD plays the contract and NEW the capture, so the drift rules and severities ar
 of `check`: NEW losing a publisher of OLD is BREAKING, NEW adding one is SAFE. OLD's `options:`
 block applies, overridden by the comparison options given here.
 
---against REF (the pull-request gate, docs/ci.md): each contract is compared with its file at
-REF the same way (a renamed file with its old name; a removed one loses everything it promised;
-an added one adds its nodes). It fails on BREAKING changes unless --fail-on says otherwise. A
-contract with `interface_version: MAJOR.MINOR.PATCH` at REF and now is judged by semantic
-versioning: a BREAKING change needs a MAJOR bump, a RISKY one at least a MINOR bump (the
-message says which version to write); changes the bump covers are accepted. With system
+--against REF (the pull-request gate, docs/ci.md): each contract git tracks here, found by its
+content whatever its name (node contracts, marker goldens, system contracts, NoDL documents), is
+compared with its file at REF the same way (a named file with the same file at REF; a renamed
+file with its old name; a removed one loses everything it promised; an added one adds its
+nodes). The first line counts the contracts of each kind and names the tracked YAML files that
+are not contracts; finding no contract at all is an error (exit 2). It fails on BREAKING
+changes unless --fail-on says otherwise. A contract with `interface_version: MAJOR.MINOR.PATCH`
+at REF and now is judged by semantic versioning: a BREAKING change needs a MAJOR bump, a RISKY
+one at least a MINOR bump (the message says which version to write); changes the bump covers
+are accepted. With system
 contracts (--system, or those git tracks here) a changed topic, service or action is checked
 against the nodes that use it: one that no longer fits them is BREAKING and named. The git
 history must hold REF: in CI fetch the base branch (actions/checkout `fetch-depth: 0`).
@@ -34,8 +38,8 @@ history must hold REF: in CI fetch the base branch (actions/checkout `fetch-dept
   rmw-introspect diff --against origin/main...HEAD contracts/talker.interfaces.yaml
 
 exit status: 0 no drift (or below --fail-on), 1 drift at or above --fail-on, 2 errors (a missing
-or invalid contract, also one invalid at REF; REF not found; not a git repository; a shallow
-clone without REF).
+or invalid contract, also one invalid at REF; no contract to compare; REF not found; not a git
+repository; a shallow clone without REF).
 """
 
 
@@ -49,7 +53,7 @@ def add_parser(sub: Any) -> None:
                          usage="%(prog)s [options] OLD NEW\n       %(prog)s --against REF [options] [CONTRACT...]")
     dif.add_argument("files", nargs="*", metavar="FILE",
                      help="OLD NEW: the contract as it was and as it is now; with --against: the contracts to compare "
-                     "(default: every *.interfaces.yaml and *.system.yaml git tracks under the current directory)")
+                     "(default: every contract git tracks under the current directory, found by its content)")
     gate = dif.add_argument_group("the pull-request gate (docs/ci.md)")
     gate.add_argument("--against", metavar="REF",
                       help="compare every contract with its version at the git revision REF: a branch, tag or commit, "

@@ -12,6 +12,7 @@ from .._version import __version__
 from ..check import gate
 from ..compare import baseline as baseline_module
 from ..compare import ci_report, sarif
+from ..errors import RmwIntrospectError
 from .arguments import compare_from_args
 from .exit_status import EXIT_DRIFT, EXIT_ERROR, EXIT_OK
 from .formats import append_summary, print_json
@@ -21,11 +22,19 @@ def cmd_gate(args: argparse.Namespace) -> int:
     options = compare_from_args(args)
     fail_on = options.pop("fail_on", None)
     baseline = baseline_module.load(args.baseline) if args.baseline else None
-    result = gate.run(args.against, args.files, systems=args.against_systems,
-                      options=[(options, "command line")], fail_on=fail_on, baseline=baseline)
+    try:
+        result = gate.run(args.against, args.files, systems=args.against_systems,
+                          options=[(options, "command line")], fail_on=fail_on, baseline=baseline)
+    except RmwIntrospectError as exc:  # exit 2 (cli.main says it): the job summary and annotations say it too
+        if args.summary:
+            append_summary(args.summary, f"## Interface changes against {args.against}: error (exit 2)\n\n"
+                           f"```\n{exc}\n```\n")
+        if args.format == "github":
+            print(ci_report.annotation("error", str(exc), title="rmw-introspect gate"))
+        raise
     for contract in result.errors:
         print(f"rmw-introspect: {contract.error}", file=sys.stderr)
-    markdown = ci_report.drift_markdown(result.for_ci(), title=result.title())
+    markdown = ci_report.drift_markdown(result.for_ci(), title=result.title(), intro=result.intro())
     if args.summary:
         append_summary(args.summary, markdown)
     if args.format == "json":
@@ -33,6 +42,8 @@ def cmd_gate(args: argparse.Namespace) -> int:
     elif args.format == "markdown":
         sys.stdout.write(markdown)
     elif args.format == "github":
+        print(ci_report.annotation("notice", f"{result.title()}: {'; '.join(result.intro())}",
+                                   title="rmw-introspect gate"))
         sys.stdout.write(ci_report.drift_github(result.for_ci()))
     elif args.format == "sarif":
         print_json(sarif.drift_log(result.for_ci(), tool_version=__version__))

@@ -90,11 +90,14 @@ def _drift_bullets(items: Sequence[DriftItem], threshold: Severity) -> list[str]
     return lines
 
 
-def drift_markdown(outcomes: Sequence[ContractOutcome], *, title: str = "Interface contracts") -> str:
-    """A summary table (one row per contract) and each contract's drift grouped by severity."""
+def drift_markdown(outcomes: Sequence[ContractOutcome], *, title: str = "Interface contracts",
+                   intro: Sequence[str] = ()) -> str:
+    """A summary table (one row per contract) and each contract's drift grouped by severity;
+    ``intro``: lines said between the heading and the table (the gate: what it looked at)."""
     failing = sum(1 for o in outcomes if o.failed)
     verdict = f"{failing} of {len(outcomes)} failing" if failing else f"all {len(outcomes)} pass"
-    lines = [f"## {title}: {verdict}", "", "| contract | nodes | result |", "|---|---|---|"]
+    lines = [f"## {title}: {verdict}", ""] + [f"{line}  " for line in intro] + ([""] if intro else [])
+    lines += ["| contract | nodes | result |", "|---|---|---|"]
     for o in outcomes:
         nodes = ", ".join(f"`{n}`" for n in o.nodes[:NODES_SHOWN]) or "-"
         if len(o.nodes) > NODES_SHOWN:

@@ -6,13 +6,14 @@
 
 The gate reads files only, so it runs once when the session collects; each item then reports its
 contract: it fails with the contract's report (the bump its changes need, the consumers they
-break), or passes. The contracts are those git tracks under the directory pytest was started in
-(and those it tracked at REF: a removed contract is an item too); the system contracts among them
+break), or passes. The contracts are those git tracks under the directory pytest was started in,
+found by their content whatever their names (marker goldens too), and those it tracked at REF
+(a removed contract is an item too); the system contracts among them
 judge consumers, or those ``--against-system`` names. Comparison options come from pytest's
 command line (``--rmw-introspect-fail-on``, ``--rmw-introspect-ignore-qos``, ...) over each
 contract's ``options:``; the session's baseline (ini ``rmw_introspect_baseline``) applies. A
 REF that cannot be read (no git repository, no such revision, a shallow clone without it) is a
-usage error: one message, nothing collected.
+usage error: one message, nothing collected; so is a gate that finds no contract at all.
 """
 
 from __future__ import annotations
@@ -35,13 +36,14 @@ if TYPE_CHECKING:  # the gate (and the comparison pipeline) is imported when --a
 def addoption(parser: pytest.Parser) -> None:
     group = parser.getgroup("rmw-introspect")
     group.addoption("--against", dest="rmw_introspect_against", metavar="REF", default=None,
-                    help="the pull-request gate: one item per contract file comparing it with its version at the git "
+                    help="the pull-request gate: one item per contract git tracks here (found by its content; none "
+                    "is a usage error) comparing it with its version at the git "
                     "revision REF (a branch, tag, commit or BASE...HEAD), without running anything: renamed, added "
                     "and removed contracts included, interface_version bumps judged by semantic versioning "
                     "(docs/ci.md)")
     group.addoption("--against-system", dest="rmw_introspect_against_system", metavar="FILE", action="append",
                     default=None, help="a system contract whose nodes judge who consumes a changed interface "
-                    "(repeatable; default: every *.system.yaml git tracks here)")
+                    "(repeatable; default: every system contract git tracks here)")
 
 
 class GateItem(pytest.Item):
@@ -83,6 +85,10 @@ def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config
                           options=[(options, "pytest command line")], fail_on=fail_on, baseline=known,
                           cwd=config.invocation_params.dir)
     except RmwIntrospectError as exc:
+        # A usage error, as for a REF that cannot be read: `--against` asked for a gate, and a gate that
+        # finds nothing to compare is a mistake of the set-up (the wrong directory, contracts not committed),
+        # not a test result; an item that fails would sit among passing tests, a usage error stops the
+        # session with pytest's exit status 4 and this one message (nothing "passed" with no gate item).
         raise pytest.UsageError(f"--against {against}: {exc}") from None
     for compared in result.contracts:
         items.append(GateItem.from_parent(session, name=f"{compared.shown}::against:{against}",

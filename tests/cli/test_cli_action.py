@@ -75,6 +75,33 @@ def test_the_action_gates_a_pull_request_against_its_base(tmp_path):
     repo.write("contracts/talker.interfaces.yaml", node_contract(publishers=endpoint("/chatter", "std_msgs/msg/Int32"),
                                                                  version="1.1.0"))
     repo.commit("retype with a minor bump")
+    result, summary, output = _run_gate_step(repo, tmp_path)
+    assert result.returncode == 1, result
+    assert ("::error file=contracts/talker.interfaces.yaml,line=2,title=INTERFACE_VERSION_BUMP_MISSING (BREAKING)::"
+            in result.stdout), result.stdout
+    assert "write interface_version: 2.0.0" in summary and summary.startswith("# earlier")
+    assert "1 contract: 1 marker golden; 1 changed" in summary
+    assert output == "exit-code=1\n"
+
+    repo.write("contracts/talker.interfaces.yaml", node_contract(publishers=endpoint("/chatter", "std_msgs/msg/Int32"),
+                                                                 version="2.0.0"))
+    repo.commit("2.0.0")
+    again, _, output = _run_gate_step(repo, tmp_path)
+    assert again.returncode == 0 and output == "exit-code=0\n", again
+
+
+def test_the_action_gate_fails_when_it_finds_no_contract(tmp_path):
+    """Issue 47: the gate step wrote "all 0 pass" with an empty table, exit 0."""
+    repo = GitRepo(tmp_path / "repo")
+    repo.write("config/params.yaml", "driver:\n  ros__parameters:\n    rate: 10\n")
+    repo.commit("no contract")
+    result, summary, output = _run_gate_step(repo, tmp_path)
+    assert result.returncode == 2 and output == "exit-code=2\n", result
+    assert "::error title=rmw-introspect gate::no contract to compare" in result.stdout, result.stdout
+    assert "error (exit 2)" in summary and "config/params.yaml" in summary, summary
+
+
+def _run_gate_step(repo: GitRepo, tmp_path: Path) -> tuple[subprocess.CompletedProcess[str], str, str]:
     summary, output = tmp_path / "summary.md", tmp_path / "output.txt"
     summary.write_text("# earlier step\n")
     output.write_text("")
@@ -83,16 +110,4 @@ def test_the_action_gates_a_pull_request_against_its_base(tmp_path):
                RMWI_FAIL_ON="", RMWI_BASELINE="")
     result = subprocess.run(["bash", "-e", "-c", _step("gate")["run"]], cwd=repo.path, env=env, capture_output=True,
                             text=True, timeout=180)
-    assert result.returncode == 1, result
-    assert ("::error file=contracts/talker.interfaces.yaml,line=2,title=INTERFACE_VERSION_BUMP_MISSING (BREAKING)::"
-            in result.stdout), result.stdout
-    assert "write interface_version: 2.0.0" in summary.read_text() and summary.read_text().startswith("# earlier")
-    assert output.read_text() == "exit-code=1\n"
-
-    repo.write("contracts/talker.interfaces.yaml", node_contract(publishers=endpoint("/chatter", "std_msgs/msg/Int32"),
-                                                                 version="2.0.0"))
-    repo.commit("2.0.0")
-    output.write_text("")
-    again = subprocess.run(["bash", "-e", "-c", _step("gate")["run"]], cwd=repo.path, env=env, capture_output=True,
-                           text=True, timeout=180)
-    assert again.returncode == 0 and output.read_text() == "exit-code=0\n", again
+    return result, summary.read_text(), output.read_text()

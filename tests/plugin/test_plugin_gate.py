@@ -58,3 +58,29 @@ def test_update_golden_keeps_the_interface_version_and_says_which_bump_the_updat
     assert ("talker.interfaces.yaml: interface_version 2.0.0 was not changed: this update holds RISKY change(s), "
             "which need a MINOR bump: write interface_version: 2.1.0") in result.stdout.str()
     assert project.read("talker.interfaces.yaml").startswith(versioned)
+
+
+def test_finding_1_marker_goldens_named_as_the_readme_names_them_are_gate_items(project):
+    """Issue 47: `pytest --against main` printed `2 passed` with no gate item for goldens named
+    `test/contracts/driver.yaml` (no `target:`, no contract suffix)."""
+    repo = GitRepo(project.path)
+    repo.write("test/contracts/driver.yaml", node_contract("/driver", publishers=endpoint("/scan")))
+    repo.write("config/params.yaml", "driver:\n  ros__parameters:\n    rate: 10\n")
+    repo.commit("golden")
+    repo.git("checkout", "-q", "-b", "rename-scan")
+    repo.write("test/contracts/driver.yaml", node_contract("/driver", publishers=endpoint("/scan_raw")))
+    repo.commit("rename /scan")
+    result = project.run("--against", "main", "--rmw-introspect-contracts", "none", "-v")
+    result.assert_outcomes(failed=1)
+    assert "test/contracts/driver.yaml::against:main FAILED" in result.stdout.str()
+
+
+def test_a_gate_with_no_contract_is_a_usage_error(project):
+    repo = GitRepo(project.path)
+    repo.write("config/params.yaml", "driver:\n  ros__parameters:\n    rate: 10\n")
+    repo.commit("no contract")
+    result = project.run("--against", "main", "--rmw-introspect-contracts", "none")
+    assert result.ret == 4
+    err = result.stderr.str()
+    assert "--against main: no contract to compare: git tracks no contract under" in err, err
+    assert "it passed over 1 tracked YAML file: config/params.yaml" in err, err

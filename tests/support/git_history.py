@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import subprocess
 from pathlib import Path
+from typing import Any
 
 #: a fixed identity and dates: the tests never read the user's git configuration
 GIT_ENV = {
@@ -92,3 +93,12 @@ def system_contract(nodes: dict[str, tuple[str, str]], *, version: str | None = 
         text += "    publishers:\n" + publishers if publishers else "    publishers: []\n"
         text += "    subscriptions:\n" + subscriptions if subscriptions else "    subscriptions: []\n"
     return text
+
+
+def run_gate(capsys: Any, *args: str) -> tuple[int, str, str]:
+    """``rmw-introspect diff --against ARGS...`` in this process: its exit status, stdout and stderr."""
+    from pytest_rmw_introspect.cli import main
+
+    status = main(["diff", "--against", *args])
+    out, err = capsys.readouterr()
+    return status, out, err

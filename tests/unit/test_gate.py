@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from git_history import GitRepo, endpoint, node_contract, system_contract
+from git_history import GitRepo, endpoint, node_contract, run_gate, system_contract
 
 from pytest_rmw_introspect.check import gate as gate_module
 from pytest_rmw_introspect.cli import main
@@ -34,16 +34,13 @@ def repo(tmp_path, monkeypatch):
     monkeypatch.chdir(repo.path)
     return repo
 
-
-def gate(capsys, *args: str) -> tuple[int, str, str]:
-    status = main(["diff", "--against", *args])
-    out, err = capsys.readouterr()
-    return status, out, err
+gate = run_gate
 
 
 def as_json(capsys, *args: str) -> tuple[int, list[dict]]:
+    """The exit status and the drift items of the JSON report."""
     status, out, _ = gate(capsys, *args, "--format", "json")
-    return status, json.loads(out)
+    return status, json.loads(out)["items"]
 
 
 # ---------------------------------------------------------------------------- what it finds
@@ -52,7 +49,7 @@ def as_json(capsys, *args: str) -> tuple[int, list[dict]]:
 def test_nothing_changed_passes(repo, capsys):
     status, out, err = gate(capsys, "main")
     assert status == 0, out + err
-    assert "1 contract(s): 1 unchanged" in out
+    assert "1 contract: 1 marker golden; 1 unchanged" in out.splitlines()[0]
 
 
 def test_a_weakened_qos_without_a_major_bump_fails_and_says_which_version_to_write(repo, capsys):

@@ -354,6 +354,22 @@ def run(against: str, contracts: Sequence[str | Path] = (), *, systems: Sequence
                       skipped=[revision.shown(name) for name in revision.survey().skipped])
 
 
+def update_advice(against: str, path: str | Path, *, cwd: str | Path | None = None) -> str | None:
+    """What the gate against ``against`` says of the ``interface_version`` of the contract at
+    ``path`` once an update wrote it (``pytest --update-golden --against REF``): the version finding
+    that fails it (the version to write), or that the version covers the changes, or the note of a
+    version on one side only; None: no change against REF. Raises what :func:`run` raises."""
+    (compared,) = run(against, [path], cwd=cwd).contracts
+    said = [item.message for item in compared.items if item.node == versioning.VERSION_NODE]
+    said += [note for note in compared.notes if "interface_version" in note]
+    old, new = compared.versions
+    if not said and compared.needs is not Bump.NONE and old is not None and new is not None:
+        said.append(f"interface_version {old} → {new} covers the changes since {against}: it stays as it is")
+    if not said:
+        return None
+    return f"{compared.shown}: against {against}: {'; '.join(said)}"
+
+
 def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractNodes], *,
                  options: Sequence[OptionLayer] = (), threshold: Severity = Severity.BREAKING,
                  baseline: Baseline | None = None) -> GateContract:
@@ -380,7 +396,7 @@ def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractN
     items = compare_contracts(old, new, dataclasses.replace(opts, fail_on=threshold.name.lower()))
     if systems and not is_system_text(name, new.text or old.text):
         items = consumers.judge(items, new.nodes, old.nodes, systems)
-    _judge(result, drift.sort_items(items), old, new, baseline)
+    _judge(result, drift.sort_items(items), old, new, baseline, revision.ref)
     result.nodes = sorted((new if pair.new is not None else old).nodes)
     result.lines = _lines(new) if pair.new is not None else {}
     return result
@@ -416,11 +432,11 @@ def _load_pair(revision: Revision, pair: Pair, shown: str) -> tuple[Contract, Co
 
 
 def _judge(result: GateContract, items: list[DriftItem], old: Contract, new: Contract,
-           baseline: Baseline | None) -> None:
+           baseline: Baseline | None, ref: str) -> None:
     """The versions, then the contract's ``accept:`` entries, then the baseline."""
     present = new if result.status != "removed" else old
     versioned = versioning.judge(items, old.interface_version, new.interface_version, source=result.shown,
-                                 line=_version_line(new.text))
+                                 line=_version_line(new.text), ref=ref)
     judged = acceptance.judge([*versioned.findings, *versioned.kept], present.accept, rules=frozenset())
     kept = [item for item in judged.kept if isinstance(item, DriftItem)]
     result.accepted = [*versioned.accepted, *judged.accepted]
@@ -434,7 +450,3 @@ def _judge(result: GateContract, items: list[DriftItem], old: Contract, new: Con
     if result.status in ("added", "removed"):  # the file comes or goes with its version: nothing to say of it
         return
     result.notes = versioned.notes
-    if versioned.needs is not Bump.NONE and (old.interface_version is None or new.interface_version is None):
-        worst = max(item.severity for item in items)
-        result.notes.append(f"under semantic versioning these {worst.name} change(s) need a {versioned.needs.name} "
-                            "bump; state `interface_version: MAJOR.MINOR.PATCH` for the gate to judge it (docs/ci.md)")

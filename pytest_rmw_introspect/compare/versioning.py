@@ -12,9 +12,10 @@ drift between the contract at a base revision and the contract now (``rmw-intros
 A change covered by the bump made is *accepted by the version* (reported as accepted, never
 failing); a BREAKING or RISKY change without the bump it needs adds the finding
 ``INTERFACE_VERSION_BUMP_MISSING`` (BREAKING: it fails the gate) that says which version to
-write; a version that went down is ``INTERFACE_VERSION_DECREASED``. A bump with no change, a
-SAFE change without one and a version added or removed are notes. Without a version on both
-sides nothing here applies: the gate judges the drift as ``diff`` does.
+write; a version that went down is ``INTERFACE_VERSION_DECREASED``. A bump with no change and a
+SAFE change without one are notes. Without a version on both sides (a version added or removed
+since the base) nothing here applies: the gate judges the drift as ``diff`` does, and the one
+note of ``model.interface_version.advice`` says so.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from ..model.acceptance import Acceptance
-from ..model.interface_version import Bump, Version, made, needed, needed_by
+from ..model.interface_version import Bump, Version, advice, made, needed, needed_by
 from ..model.vocabulary import Severity
 from .acceptance import Accepted
 from .drift import RULES, DriftItem
@@ -45,17 +46,16 @@ class VersionJudgement:
 
 
 def judge(items: Sequence[DriftItem], old_text: str | None, new_text: str | None, *, source: str,
-          line: int | None = None) -> VersionJudgement:
-    """Sort ``items`` (the drift from the contract at the base revision to the contract now) by
-    the two versions. ``source``/``line``: where the version is written now (for the accepted
-    findings' reason)."""
+          line: int | None = None, ref: str = "the base revision") -> VersionJudgement:
+    """Sort ``items`` (the drift from the contract at the base revision ``ref`` to the contract
+    now) by the two versions. ``source``/``line``: where the version is written now (for the
+    accepted findings' reason)."""
     judged = VersionJudgement(needs=needed_by(items))
     if old_text is None or new_text is None:
         judged.kept = list(items)
-        if old_text is None and new_text is not None:
-            judged.notes.append(f"interface_version {new_text} is new here: the next change is judged against it")
-        elif old_text is not None:
-            judged.notes.append(f"interface_version {old_text} was removed: the gate judges the drift without it")
+        note = advice(items, new_text, base=old_text, base_known=True, ref=ref)
+        if note is not None:
+            judged.notes.append(note)
         return judged
     old, new = Version.parse(old_text), Version.parse(new_text)
     if new < old:

@@ -90,19 +90,42 @@ def needed_by(items: Sequence[_Graded]) -> Bump:
     return max((needed(item.severity) for item in items), default=Bump.NONE)
 
 
-def advice(items: Sequence[_Graded], version: str | None) -> str | None:
-    """What an update that writes ``items`` into a contract at ``version`` must do to the version
-    (``check --update``, ``--update-golden``: they never change it themselves); None without a
-    version or drift."""
+def advice(items: Sequence[_Graded], version: str | None, *, base: str | None = None, base_known: bool = False,
+           ref: str = "the base revision") -> str | None:
+    """The one piece of ``interface_version`` advice the gate and the updates give beside what the
+    gate decides (``compare.versioning.judge`` turns a bump that is missing between two versions
+    into a finding; this says everything else), or None: nothing to say.
+
+    ``items``: the changes; ``version``: the contract's version now. ``base_known`` (the gate):
+    ``base`` is the version at ``ref``, and the advice is what the gate decides against it: a
+    version on one side only is no version for this change (judged as ``diff`` judges it), the
+    next change is judged against it. Not ``base_known`` (``check --update``, ``pytest
+    --update-golden``: they never change the version): the bump is owed to the version at the base
+    revision the pull request goes to, which an update cannot know; the gate against it decides."""
     need = needed_by(items)
-    if version is None or need is Bump.NONE:
-        return None
+    worst = max((item.severity for item in items), default=None)
+    changes = f"these {worst.name} change(s)" if worst is not None else "no change"
     try:
-        current = Version.parse(version)
+        now = Version.parse(version) if version is not None else None
+        old = Version.parse(base) if base is not None else None
     except ValueError:
         return None
-    worst = max(item.severity for item in items)
-    return (f"interface_version {current} was not changed: this update holds {worst.name} change(s), which need "
-            f"a {need.name} bump: write interface_version: {current.bumped(need)} (docs/ci.md)")
-
-
+    if not base_known:
+        if now is None or worst is None:
+            return None
+        return (f"interface_version {now} was not changed: this update holds {worst.name} change(s), which need a {need.name} "
+                f"bump over the version at the base revision (an update cannot know it): write interface_version: "
+                f"{now.bumped(need)}, unless {now} already is such a bump over the base; `rmw-introspect diff "
+                "--against BASE` (pytest --against BASE) decides (docs/ci.md)")
+    if old is not None and now is not None:
+        return None  # both versions: compare.versioning.judge decides, and its findings say what to write
+    if now is not None:
+        return (f"interface_version {now} is new here (none at {ref}): {changes} judged without a version, as "
+                f"`diff` judges them; the next change is judged against {now}")
+    if old is not None:
+        keep = f" (kept, they would need interface_version: {old.bumped(need)})" if need is not Bump.NONE else ""
+        return f"interface_version {old} was removed: {changes} judged without it{keep}"
+    if need is Bump.NONE:
+        return None
+    return (f"under semantic versioning {changes} need a {need.name} bump; with `interface_version: "
+            f"MAJOR.MINOR.PATCH` at {ref} and now the gate judges changes by their bump (docs/ci.md)")

@@ -46,6 +46,21 @@ def addoption(parser: pytest.Parser) -> None:
                     "(repeatable; default: every system contract git tracks here)")
 
 
+def version_advice(config: pytest.Config, path: Path, advice: str) -> str:
+    """The ``interface_version`` advice of a golden ``--update-golden`` just wrote (``advice``:
+    the update's own, which cannot know the base): with ``--against REF`` what the gate against
+    REF decides of it (``check.gate.update_advice``), else ``advice``."""
+    against = config.getoption("rmw_introspect_against", None)
+    if not against:
+        return advice
+    from ..check import gate
+
+    try:
+        return gate.update_advice(against, path, cwd=config.invocation_params.dir) or ""
+    except RmwIntrospectError:  # not a contract of the repository: the gate items say what is wrong
+        return advice
+
+
 class GateItem(pytest.Item):
     """One contract against its version at REF."""
 

@@ -14,6 +14,7 @@ import pytest
 from ..check import golden_record
 from ..check.outcome import Checked, Verdict, decide
 from ..errors import BaselineError, ContractError, GoldenWriteError, RmwIntrospectError
+from . import gate_items
 from .session import STOOD_IN_PROPERTY, SessionState, state
 
 #: user property with the drift items as JSON (report.to_json + contract), for JUnit XML
@@ -64,8 +65,9 @@ def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> No
             pytest.fail(str(exc), pytrace=False)
         if action is not None:
             item.user_properties.append((golden_record.USER_PROPERTY, golden_record.property_value(action, result.path)))
-        if outcome.version_advice:  # --update-golden never changes interface_version itself
-            item.warn(pytest.PytestWarning(outcome.version_advice))
+        advice = gate_items.version_advice(item.config, result.path, outcome.version_advice)
+        if advice:  # --update-golden never changes interface_version itself
+            item.warn(pytest.PytestWarning(advice))
     elif outcome.failed:
         pytest.fail(outcome.message, pytrace=False)
     elif outcome.verdict is Verdict.WARN:

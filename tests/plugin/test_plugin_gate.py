@@ -55,8 +55,10 @@ def test_update_golden_keeps_the_interface_version_and_says_which_bump_the_updat
                                                              header=versioned))
     result = project.run("--update-golden", "-W", "default")
     result.assert_outcomes(passed=1)
+    # without --against the update cannot know the base the bump is owed to, and says so (issue 47)
     assert ("talker.interfaces.yaml: interface_version 2.0.0 was not changed: this update holds RISKY change(s), "
-            "which need a MINOR bump: write interface_version: 2.1.0") in result.stdout.str()
+            "which need a MINOR bump over the version at the base revision (an update cannot know it): write "
+            "interface_version: 2.1.0, unless 2.0.0 already is such a bump over the base") in result.stdout.str()
     assert project.read("talker.interfaces.yaml").startswith(versioned)
 
 
@@ -84,3 +86,22 @@ def test_a_gate_with_no_contract_is_a_usage_error(project):
     err = result.stderr.str()
     assert "--against main: no contract to compare: git tracks no contract under" in err, err
     assert "it passed over 1 tracked YAML file: config/params.yaml" in err, err
+
+
+def test_finding_5_update_golden_with_against_gives_the_advice_of_the_gate_against_that_base(project):
+    """Issue 47: on a branch already bumped to 2.0.0, --update-golden warned "write
+    interface_version: 2.1.0" (over the branch's own version) while the gate against main accepts
+    2.0.0. With --against main the advice is the gate's against main."""
+    repo = GitRepo(project.path)
+    target = f"script: {project.node('talker.py')}"
+    project.write("talker.interfaces.yaml", talker_contract(target=target, depth=20, header="interface_version: 1.0.0\n"))
+    repo.commit("1.0.0")
+    repo.git("checkout", "-q", "-b", "bumped")
+    project.write("talker.interfaces.yaml", talker_contract(target=target, depth=20, header="interface_version: 2.0.0\n"))
+    repo.commit("2.0.0")
+    result = project.run("--update-golden", "--against", "main", "-W", "default", "talker.interfaces.yaml")
+    result.assert_outcomes(passed=2)  # the contract, written; its gate item against main
+    out = result.stdout.str()
+    assert ("talker.interfaces.yaml: against main: interface_version 1.0.0 → 2.0.0 covers the changes since main: "
+            "it stays as it is") in out, out
+    assert "write interface_version" not in out, out

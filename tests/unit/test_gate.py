@@ -93,8 +93,9 @@ def test_a_retype_is_breaking_and_an_unversioned_contract_fails_on_it(repo, caps
     status, out, _ = gate(capsys, "main")
     assert status == 1
     assert "[TYPE_CHANGED]" in out
-    assert "interface_version 1.2.0 was removed" in out
-    assert "need a MAJOR bump; state `interface_version: MAJOR.MINOR.PATCH`" in out
+    assert ("interface_version 1.2.0 was removed: these BREAKING change(s) judged without it (kept, they would need "
+            "interface_version: 2.0.0)") in out
+    assert "state `interface_version" not in out
 
 
 def test_a_bump_without_a_change_is_a_note(repo, capsys):
@@ -378,10 +379,12 @@ def test_a_safe_change_without_a_bump_is_a_note_and_a_patch_covers_it():
     assert not judged.kept and len(judged.accepted) == 1
 
 
-def test_the_update_advice():
+def test_the_update_advice_says_it_cannot_know_the_base():
     assert interface_version.advice([_item(Severity.BREAKING)], "1.4.2") == (
-        "interface_version 1.4.2 was not changed: this update holds BREAKING change(s), which need a MAJOR bump: "
-        "write interface_version: 2.0.0 (docs/ci.md)")
+        "interface_version 1.4.2 was not changed: this update holds BREAKING change(s), which need a MAJOR bump "
+        "over the version at the base revision (an update cannot know it): write interface_version: 2.0.0, "
+        "unless 1.4.2 already is such a bump over the base; `rmw-introspect diff --against BASE` (pytest --against "
+        "BASE) decides (docs/ci.md)")
     assert interface_version.advice([], "1.4.2") is None and interface_version.advice([_item(Severity.SAFE)], None) is None
 
 

@@ -12,9 +12,13 @@ import pytest
 from git_history import GitRepo, endpoint, node_contract, run_gate
 
 from pytest_rmw_introspect.check import gate as gate_module
+from pytest_rmw_introspect.compare.drift import DriftItem
+from pytest_rmw_introspect.model import interface_version
+from pytest_rmw_introspect.model.vocabulary import Severity
 
 DRIVER = "test/contracts/driver.yaml"
 PLANNER = "test/contracts/planner.yaml"
+NAMED = "test/contracts/driver.interfaces.yaml"
 SCAN, TWIST = "sensor_msgs/msg/LaserScan", "geometry_msgs/msg/Twist"
 
 
@@ -84,6 +88,47 @@ def test_finding_2_a_named_file_that_exists_at_ref_is_compared_with_it(user_repo
     assert status == 1, out + err
     assert "added" not in out.splitlines()[0] and out.splitlines()[0].endswith("; 2 changed"), out
     assert f"against main:{DRIVER}" in out and "[PUB_RENAMED]" in out
+
+
+def test_finding_5_a_version_new_on_the_branch_gets_one_note_that_agrees_with_the_verdict(user_repo, capsys):
+    """fbec52c said both "2.0.0 is new here" and "state interface_version ... for the gate to judge it"
+    (the file has the suffix fbec52c looked for, so that this test fails there for this finding)."""
+    user_repo.git("checkout", "-q", "main")
+    user_repo.write(NAMED, _driver())
+    user_repo.commit("a contract named as docs/ci.md names them")
+    user_repo.git("checkout", "-q", "-b", "versioned")
+    user_repo.write(NAMED, _driver("/scan_raw", version="2.0.0"))
+    user_repo.commit("2.0.0 on the branch only")
+    status, out, _ = gate(capsys, "main", NAMED)
+    assert status == 1  # no version at main: judged as `diff` judges it, as docs/ci.md says
+    notes = [line for line in out.splitlines() if line.strip().startswith("note:")]
+    assert notes == ["  note: interface_version 2.0.0 is new here (none at main): these BREAKING change(s) judged "
+                     "without a version, as `diff` judges them; the next change is judged against 2.0.0"], out
+
+
+def test_finding_5_an_update_on_a_bumped_branch_follows_the_gate_against_the_base(user_repo, capsys):
+    """fbec52c: a second breaking change under --update-golden on a branch already at 2.0.0 warned
+    "write interface_version: 3.0.0" while the gate against main accepted 2.0.0."""
+    breaking = [DriftItem("/driver", "subscriptions", "/cmd_vel", "removed", None, None, "SUB_REMOVED",
+                          Severity.BREAKING, "m")]
+    unknown = interface_version.advice(breaking, "2.0.0")  # the update alone cannot know the base
+    assert unknown is not None and "an update cannot know it" in unknown and "unless 2.0.0 already is" in unknown
+    user_repo.git("checkout", "-q", "main")
+    user_repo.write(DRIVER, _driver(version="1.0.0"))
+    user_repo.commit("1.0.0")
+    user_repo.git("checkout", "-q", "-b", "bumped")
+    user_repo.write(DRIVER, _driver("/scan_raw", version="2.0.0"))
+    user_repo.commit("rename /scan: 2.0.0")
+    # what --update-golden writes for a second breaking change (the version is never changed by it)
+    user_repo.write(DRIVER, node_contract("/driver", publishers=endpoint("/scan_raw", SCAN), version="2.0.0"))
+    advice = gate_module.update_advice("main", DRIVER)
+    assert advice == (f"{DRIVER}: against main: interface_version 1.0.0 → 2.0.0 covers the changes since main: "
+                      "it stays as it is")
+    assert gate(capsys, "main")[0] == 0  # and the gate agrees
+    user_repo.git("checkout", "-q", "-f", "main")
+    user_repo.write(DRIVER, _driver("/scan_raw", version="1.0.0"))
+    advice = gate_module.update_advice("main", DRIVER)
+    assert advice is not None and "write interface_version: 2.0.0" in advice and "3.0.0" not in advice
 
 
 # ---------------------------------------------------------------------------- zero contracts is an error

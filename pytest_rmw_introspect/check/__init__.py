@@ -15,6 +15,7 @@ One line per module:
 - ``baselines``: a baseline file applied to check results
 - ``sharding``: which contracts one CI job of several checks
 - ``gate``: the pull-request gate: every contract against its version at a git revision
+- ``contract_files``: the contract files under a directory, found by their content
 - ``revision``: contract files at a git revision (git ``rev-parse``, ``ls-tree``, ``diff -M``, ``cat-file``)
 
 It may import ``compare``, ``run``, ``launch``, ``model`` and ``errors``; the front ends

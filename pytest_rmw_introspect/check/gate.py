@@ -47,6 +47,7 @@ from ..model.contract_shapes import ContractNodes
 from ..model.interface_version import Bump
 from ..model.locate import LineIndex
 from ..model.vocabulary import Severity, parse_threshold
+from .contract_files import NOT_A_CONTRACT, counted, kinds_text, skipped_text
 from .pipeline import Layers, OptionLayer, compare_contracts
 from .revision import Revision, open_revision
 
@@ -55,27 +56,8 @@ DEFAULT_FAIL_ON = "breaking"
 _VERSION_LINE = re.compile(rf"^{contract_module.VERSION_KEY}\s*:", re.M)
 #: a node of a contract written as updates write it (for the report's list of an unchanged file's nodes)
 _NODE_LINE = re.compile(r"^  (/[^:\s]*):", re.M)
-#: how many of the YAML files that are not contracts the text and Markdown reports name (JSON: all)
-SKIPPED_SHOWN = 5
-#: why a YAML file is not a contract (``model.contract_kind``)
-NOT_A_CONTRACT = "no top-level contract_version:, system_version: or nodl_version: key"
-
-
 class NoContracts(RevisionError):
     """The gate found no contract to compare (exit 2: a gate that compared nothing never passes)."""
-
-
-def counted(n: int, kind: Kind | str) -> str:
-    """``1 node contract``, ``2 system contracts``."""
-    if isinstance(kind, Kind):
-        return f"{n} {kind.value if n == 1 else kind.plural}"
-    return f"{n} {kind}{'' if n == 1 else 's'}"
-
-
-def skipped_text(skipped: Sequence[str], shown: int = SKIPPED_SHOWN) -> str:
-    """``2 tracked YAML files: a.yaml, b.yaml`` (the first ``shown`` names, then how many more)."""
-    names = ", ".join(skipped[:shown]) + (f" and {len(skipped) - shown} more" if len(skipped) > shown else "")
-    return f"{counted(len(skipped), 'tracked YAML file')}: {names}"
 
 
 @dataclass
@@ -167,7 +149,7 @@ class GateResult:
     def compared(self) -> str:
         """``3 contracts: 2 node contracts, 1 system contract; 1 changed, 2 unchanged``: the
         report's first words, in every format."""
-        kinds = ", ".join(counted(n, kind) for kind, n in self.kinds().items())
+        kinds = kinds_text(c.kind for c in self.contracts)
         statuses = {status: sum(1 for c in self.contracts if c.status == status)
                     for status in ("changed", "renamed", "added", "removed", "unchanged")}
         said = ", ".join(f"{n} {status}" for status, n in statuses.items() if n)

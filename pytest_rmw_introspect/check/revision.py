@@ -23,6 +23,7 @@ from pathlib import Path
 from ..errors import RevisionError
 from ..model import contract_kind
 from ..model.contract_kind import Kind
+from .contract_files import classify
 
 #: what a CI job must fetch for REF to be there, said in every message about a missing revision
 FETCH_ADVICE = ("fetch it first: `git fetch origin <branch>` (in GitHub Actions `actions/checkout` with "
@@ -83,32 +84,21 @@ class Revision:
         if self._survey is not None:
             return self._survey
         tracked = _git(["ls-files", "-z", "--full-name", "--", "."], self.cwd).split("\0")
-        now: dict[str, Kind] = {}
-        skipped: list[str] = []
-        for name in sorted(p for p in tracked if p and contract_kind.is_candidate(p)):
-            path = self.top / name
-            if not path.is_file():
-                continue  # deleted in the work tree, not yet in the index
-            kind = contract_kind.kind_of_file(path)
-            if kind is None:
-                skipped.append(name)
-            else:
-                now[name] = kind
+        present = [name for name in tracked if contract_kind.is_candidate(name) and (self.top / name).is_file()]
+        now, skipped = classify(present, lambda name: contract_kind.kind_of_file(self.top / name))
         at_ref_names = _git(["ls-tree", "-r", "-z", "--name-only", "--full-name", self.commit, "--", "."],
                             self.cwd).split("\0")
-        candidates = [p for p in at_ref_names if p and contract_kind.is_candidate(p)]
         differ = {change.old for change in self.changes() if change.old is not None}
         # a file that does not differ from the work tree is at REF what it is now: read only the others
-        self.read(name for name in candidates if name in differ)
-        at_ref: dict[str, Kind] = {}
-        for name in sorted(candidates):
-            if name in differ:
-                text = self._texts.get(name)
-                kind = contract_kind.kind_of_text(text, name) if text is not None else None
-            else:
-                kind = now.get(name)
-            if kind is not None:
-                at_ref[name] = kind
+        self.read(name for name in at_ref_names if name in differ and contract_kind.is_candidate(name))
+
+        def kind_at_ref(name: str) -> Kind | None:
+            if name not in differ:
+                return now.get(name)
+            text = self._texts.get(name)
+            return contract_kind.kind_of_text(text, name) if text is not None else None
+
+        at_ref, _ = classify(at_ref_names, kind_at_ref)
         self._survey = Survey(now=now, at_ref=at_ref, skipped=skipped)
         return self._survey
 

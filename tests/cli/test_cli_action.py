@@ -58,6 +58,25 @@ def test_the_action_fails_when_no_contract_matches(cli):
     assert "::error title=rmw-introspect action::no contract file matches 'nothing/**/*.interfaces.yaml'" in result.stdout
 
 
+def test_the_action_finds_the_contracts_by_their_content_by_default(cli):
+    """Issue 47: the check step's `**/*.interfaces.yaml` found no contract named as the README
+    names them; without `contracts` it checks every contract under working-directory by content."""
+    cli.write("test/contracts/talker.yaml", talker_contract(target=TALKER))
+    cli.write("config/params.yaml", "talker:\n  ros__parameters:\n    rate: 10\n")
+    result, summary, output = _run_check_step(cli, "")
+    assert result.returncode == 0 and output == "exit-code=0\n", result
+    assert "| `test/contracts/talker.yaml` |" in summary and "✅ matches" in summary, summary
+    assert "1 contract under . (1 node contract); not contracts" in result.stderr and "config/params.yaml" in result.stderr
+
+
+def test_the_action_fails_when_it_finds_no_contract_by_content(cli_nodes_only):
+    cli_nodes_only.write("config/params.yaml", "talker:\n  ros__parameters:\n    rate: 10\n")
+    result, summary, output = _run_check_step(cli_nodes_only, "")
+    assert result.returncode == 2 and output == "exit-code=2\n", result
+    assert "::error title=rmw-introspect action::no `node` or `golden` or `system` contract under ." in result.stdout
+    assert "error (exit 2)" in summary and "config/params.yaml" in summary, summary
+
+
 def test_check_summary_to_a_file_that_cannot_be_written_is_an_error(cli):
     cli.write("talker.interfaces.yaml", talker_contract(target=TALKER))
     result = cli("check", "talker.interfaces.yaml", "--summary", "no/such/dir/summary.md")

@@ -7,7 +7,7 @@ import pytest
 
 from pytest_rmw_introspect.cli.parser import build_parser
 
-COMMANDS = ("capture", "check", "diff", "init", "validate", "lock", "compat", "graph")
+COMMANDS = ("capture", "check", "diff", "init", "validate", "contracts", "lock", "compat", "graph")
 
 
 def _help(*command: str) -> str:

@@ -176,3 +176,25 @@ def test_the_first_line_counts_each_kind(tmp_path, monkeypatch, capsys):
     assert out.splitlines()[0].endswith(
         ": 4 contracts: 2 node contracts, 1 marker golden, 1 system contract; 4 unchanged"), out
     assert out.splitlines()[1].endswith(": 1 tracked YAML file: notes.yml"), out
+
+
+# ---------------------------------------------------------------------------- listing contracts by content
+
+
+def test_contracts_under_a_directory_by_content(user_repo, tmp_path, monkeypatch):
+    from pytest_rmw_introspect.check import contract_files
+    from pytest_rmw_introspect.model.contract_kind import Kind
+
+    user_repo.write("test/contracts/new.yaml", node_contract("/new"))  # not added yet: still found
+    user_repo.write(".gitignore", "build/\n")
+    user_repo.write("build/robot/test/contracts/driver.yaml", _driver())  # ignored: not found
+    listing = contract_files.find_contracts(user_repo.path)
+    assert listing.contracts == {DRIVER: Kind.GOLDEN, PLANNER: Kind.GOLDEN, "test/contracts/new.yaml": Kind.GOLDEN}
+    assert listing.skipped == ["config/params.yaml", "launch/robot.launch.yaml"]
+    plain = tmp_path / "plain"
+    (plain / "build").mkdir(parents=True)
+    (plain / "build" / "x.yaml").write_text(_driver())
+    (plain / "driver.yaml").write_text(_driver())
+    monkeypatch.setenv("GIT_CEILING_DIRECTORIES", str(tmp_path))
+    listing = contract_files.find_contracts(plain)
+    assert listing.contracts == {"driver.yaml": Kind.GOLDEN} and "not a git repository" in listing.how

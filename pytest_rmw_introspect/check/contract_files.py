@@ -1,0 +1,110 @@
+"""The contract files under a directory, found by their content (``model.contract_kind``),
+whatever their names: for ``rmw-introspect contracts`` (the GitHub action's check step), and for
+any command that is given a directory instead of files.
+
+In a git repository the files are those git knows of under the directory: tracked, and untracked
+but not ignored (a contract written a minute ago and not yet added is found; a build tree that
+``.gitignore`` names is not). Elsewhere every file below it, except hidden directories and the
+trees colcon and Python leave behind (``build``, ``install``, ``log``, ``__pycache__``, ...).
+Only YAML files (and NoDL JSON) are read; the others are not looked at. The gate lists the
+tracked files of a revision itself (``check.revision``) and sorts them with :func:`classify`.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+from collections.abc import Callable, Collection, Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..model import contract_kind
+from ..model.contract_kind import Kind
+
+#: why a YAML file is not a contract, as reports say it
+NOT_A_CONTRACT = "no top-level contract_version:, system_version: or nodl_version: key"
+#: how many of the YAML files that are not contracts the text and Markdown reports name (JSON: all)
+SKIPPED_SHOWN = 5
+#: directories never walked outside a git repository (colcon's and Python's leftovers)
+_NOT_WALKED = frozenset({"build", "install", "log", "__pycache__", "node_modules", "site-packages"})
+
+
+@dataclass
+class Listing:
+    """The contracts under a directory (paths relative to it, posix) by kind, the YAML files that
+    are not contracts, and how they were found."""
+
+    directory: Path
+    contracts: dict[str, Kind] = field(default_factory=dict)
+    skipped: list[str] = field(default_factory=list)
+    how: str = "the files git knows of there"
+
+    def of_kind(self, kinds: Collection[Kind] | None = None) -> list[str]:
+        """The contract files of these kinds (all: None), sorted."""
+        return sorted(name for name, kind in self.contracts.items() if kinds is None or kind in kinds)
+
+
+def counted(n: int, kind: Kind | str) -> str:
+    """``1 node contract``, ``2 system contracts``, ``3 contracts``."""
+    if isinstance(kind, Kind):
+        return f"{n} {kind.value if n == 1 else kind.plural}"
+    return f"{n} {kind}{'' if n == 1 else 's'}"
+
+
+def skipped_text(skipped: list[str], noun: str = "tracked YAML file", shown: int = SKIPPED_SHOWN) -> str:
+    """``2 tracked YAML files: a.yaml, b.yaml`` (the first ``shown`` names, then how many more)."""
+    names = ", ".join(skipped[:shown]) + (f" and {len(skipped) - shown} more" if len(skipped) > shown else "")
+    return f"{counted(len(skipped), noun)}: {names}"
+
+
+def kinds_text(kinds: Iterable[Kind]) -> str:
+    """``2 node contracts, 1 system contract``: how many of each kind (in ``Kind``'s order)."""
+    seen = list(kinds)
+    return ", ".join(counted(n, kind) for kind in Kind if (n := seen.count(kind)))
+
+
+def classify(names: Iterable[str], kind_of: Callable[[str], Kind | None]) -> tuple[dict[str, Kind], list[str]]:
+    """The candidates among ``names`` (YAML, NoDL JSON) sorted into contracts by kind and the files
+    that are not contracts; ``kind_of`` reads one (``contract_kind.kind_of_file`` of its path)."""
+    contracts: dict[str, Kind] = {}
+    skipped: list[str] = []
+    for name in sorted(name for name in names if name and contract_kind.is_candidate(name)):
+        kind = kind_of(name)
+        if kind is None:
+            skipped.append(name)
+        else:
+            contracts[name] = kind
+    return contracts, skipped
+
+
+def find_contracts(directory: str | Path = ".") -> Listing:
+    """Every contract under ``directory`` by its content (see the module's text for which files)."""
+    root = Path(directory)
+    names = _git_files(root)
+    how = "the files git knows of there (tracked, and untracked ones it does not ignore)"
+    if names is None:
+        names, how = _walk(root), "every file below it (not a git repository)"
+    present = [name for name in names if (root / name).is_file()]
+    contracts, skipped = classify(present, lambda name: contract_kind.kind_of_file(root / name))
+    return Listing(directory=root, contracts=contracts, skipped=skipped, how=how)
+
+
+def _git_files(root: Path) -> list[str] | None:
+    """The files git knows of under ``root`` (relative to it), or None: not in a git work tree."""
+    if shutil.which("git") is None or not root.is_dir():
+        return None
+    result = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard", "--", "."],
+                            cwd=root, capture_output=True, check=False, timeout=120)
+    if result.returncode != 0:
+        return None
+    return list(dict.fromkeys(os.fsdecode(name) for name in result.stdout.split(b"\0") if name))
+
+
+def _walk(root: Path) -> list[str]:
+    out: list[str] = []
+    for here, dirs, files in os.walk(root):
+        dirs[:] = sorted(d for d in dirs if not d.startswith(".") and d not in _NOT_WALKED)
+        rel = Path(here).relative_to(root)
+        out += [(rel / name).as_posix() for name in files]
+    return out

@@ -255,5 +255,7 @@ def test_check_update_never_changes_the_interface_version_but_says_which_bump_it
     updated = cli("check", "--update", "talker.interfaces.yaml")
     assert updated.returncode == 0, updated
     assert ("note: talker.interfaces.yaml: interface_version 1.4.2 was not changed: this update holds RISKY "
-            "change(s), which need a MINOR bump: write interface_version: 1.5.0") in updated.stderr, updated.stderr
+            "change(s), which need a MINOR bump over the version at the base revision (an update cannot know it): "
+            "write interface_version: 1.5.0, unless 1.4.2 already is such a bump over the base") in updated.stderr, \
+        updated.stderr
     assert cli.read("talker.interfaces.yaml") == talker_contract(target=TALKER, depth=10, header=versioned)

@@ -340,10 +340,13 @@ def update_advice(against: str, path: str | Path, *, cwd: str | Path | None = No
     """What the gate against ``against`` says of the ``interface_version`` of the contract at
     ``path`` once an update wrote it (``pytest --update-golden --against REF``): the version finding
     that fails it (the version to write), or that the version covers the changes, or the note of a
-    version on one side only; None: no change against REF. Raises what :func:`run` raises."""
+    version on one side only; None: nothing to say (no change against REF, a contract added since).
+    Raises what :func:`run` raises, and RevisionError when the gate cannot compare it."""
     (compared,) = run(against, [path], cwd=cwd).contracts
+    if compared.error is not None:
+        raise RevisionError(compared.error)
     said = [item.message for item in compared.items if item.node == versioning.VERSION_NODE]
-    said += [note for note in compared.notes if "interface_version" in note]
+    said += compared.notes  # the gate's notes are those of the versions (compare.versioning)
     old, new = compared.versions
     if not said and compared.needs is not Bump.NONE and old is not None and new is not None:
         said.append(f"interface_version {old} → {new} covers the changes since {against}: it stays as it is")

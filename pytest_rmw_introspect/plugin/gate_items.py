@@ -57,7 +57,7 @@ def version_advice(config: pytest.Config, path: Path, advice: str) -> str:
 
     try:
         return gate.update_advice(against, path, cwd=config.invocation_params.dir) or ""
-    except RmwIntrospectError:  # not a contract of the repository: the gate items say what is wrong
+    except RmwIntrospectError:  # the gate cannot compare it (REF missing, invalid there): its items say why
         return advice
 
 

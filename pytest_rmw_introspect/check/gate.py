@@ -56,6 +56,8 @@ DEFAULT_FAIL_ON = "breaking"
 _VERSION_LINE = re.compile(rf"^{contract_module.VERSION_KEY}\s*:", re.M)
 #: a node of a contract written as updates write it (for the report's list of an unchanged file's nodes)
 _NODE_LINE = re.compile(r"^  (/[^:\s]*):", re.M)
+
+
 class NoContracts(RevisionError):
     """The gate found no contract to compare (exit 2: a gate that compared nothing never passes)."""
 
@@ -121,7 +123,8 @@ class GateResult:
     commit: str
     contracts: list[GateContract]
     systems: list[str]
-    #: the tracked YAML files under the directory that are not contracts (shown names)
+    #: the tracked YAML files under the directory that are not contracts (shown names; none when
+    #: the contracts were named)
     skipped: list[str] = field(default_factory=list)
 
     @property
@@ -167,8 +170,8 @@ class GateResult:
 
     def render_text(self) -> str:
         lines = [f"{self.title()}: {self.compared()}"]
-        if self.skipped:
-            lines.append(self.not_contracts() or "")
+        if (said := self.not_contracts()) is not None:
+            lines.append(said)
         if self.systems:
             lines.append(f"consumers judged with {', '.join(self.systems)}")
         out = "\n".join(lines) + "\n"
@@ -333,7 +336,7 @@ def run(against: str, contracts: Sequence[str | Path] = (), *, systems: Sequence
     compared = [compare_pair(revision, pair, consumers_at_hand, options=options, threshold=threshold,
                              baseline=baseline) for pair in found]
     return GateResult(against=against, commit=revision.commit, contracts=compared, systems=list(consumers_at_hand),
-                      skipped=[revision.shown(name) for name in revision.survey().skipped])
+                      skipped=[] if contracts else [revision.shown(name) for name in revision.survey().skipped])
 
 
 def update_advice(against: str, path: str | Path, *, cwd: str | Path | None = None) -> str | None:

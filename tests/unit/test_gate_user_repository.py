@@ -87,6 +87,7 @@ def test_finding_2_a_named_file_that_exists_at_ref_is_compared_with_it(user_repo
     status, out, err = gate(capsys, "main", DRIVER, PLANNER)
     assert status == 1, out + err
     assert "added" not in out.splitlines()[0] and out.splitlines()[0].endswith("; 2 changed"), out
+    assert "not contracts" not in out  # the user named the files: the others are not listed
     assert f"against main:{DRIVER}" in out and "[PUB_RENAMED]" in out
 
 

@@ -56,8 +56,9 @@ to --lifecycle (default active). A contract node without `parameters:` does not 
 --update adds them to contracts that match but do not state them yet. A lifecycle transition
 that fails is an error (exit 2) naming the node, the transition and what to set instead.
 
-exit status: 0 all contracts match (or drift below --fail-on), 1 drift at or above --fail-on,
-2 errors (missing/malformed contract, no target, target failure, ROS 2/middleware missing).
+exit status: 0 all contracts match (or drift below --fail-on), 1 drift at or above --fail-on, or
+(--update) a contract written over a system problem at or above system_fail_on, 2 errors
+(missing/malformed contract, no target, target failure, ROS 2/middleware missing).
 """
 
 
@@ -184,6 +185,10 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             if outcome.version_advice:  # an update never changes interface_version itself
                 print(f"note: {outcome.version_advice}", file=sys.stderr)
             for_ci.append(result.for_ci(written=said.split(" ", 1)[0]))
+            if outcome.unfixed:  # written, and the system still broken: not a green update
+                print(f"rmw-introspect: {said}, but {outcome.unfixed}", file=sys.stderr)
+                if status == EXIT_OK:
+                    status = EXIT_DRIFT
             continue
         for_ci.append(result.for_ci())
         if not (args.format == "text" and outcome.report):  # (a drift report lists them itself)

@@ -47,7 +47,10 @@ class ContractOutcome:
 
     @property
     def failed(self) -> bool:
-        return (self.error is not None or any(i.severity >= self.threshold for i in self.items)
+        """An error, drift at or above the threshold (not when the update wrote it: ``written``),
+        or a system problem at or above its threshold (an update does not fix those)."""
+        drift_fails = self.written is None and any(i.severity >= self.threshold for i in self.items)
+        return (self.error is not None or drift_fails
                 or any(i.severity >= self.system_threshold for i in self.system_items))
 
 
@@ -65,6 +68,8 @@ def _result_cell(outcome: ContractOutcome) -> str:
     if outcome.error is not None:
         return f"🛑 error: {_cell(outcome.error)}"
     if outcome.written:
+        if outcome.failed:  # written, and the system still broken
+            return f"✏️ {outcome.written}, but ❌ system check: {_counts(outcome.system_items)}"
         return f"✏️ {outcome.written}"
     everything: list[DriftItem | CompatItem] = [*outcome.items, *outcome.system_items]
     if not everything:

@@ -66,6 +66,9 @@ def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> No
             item.user_properties.append((golden_record.USER_PROPERTY, golden_record.property_value(action, result.path)))
         if outcome.version_advice:  # --update-golden never changes interface_version itself
             item.warn(pytest.PytestWarning(outcome.version_advice))
+        if outcome.unfixed:  # the golden is written, the system is still broken: not a green update
+            said = f"{action or 'unchanged'} {session_state.display(result.path)}"
+            pytest.fail(f"{said}, but {outcome.unfixed}\n\n{outcome.report}".rstrip("\n"), pytrace=False)
     elif outcome.failed:
         pytest.fail(outcome.message, pytrace=False)
     elif outcome.verdict is Verdict.WARN:

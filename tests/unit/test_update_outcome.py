@@ -1,5 +1,6 @@
 """Issue 47: an update that leaves a system broken writes the golden and fails the run (finding
-3): ``check.outcome.decide`` and ``compare.ci_report`` without capturing."""
+3), and a check's notes are said once per run, as notices under ``--format github`` (finding 7):
+``check.outcome.decide`` and ``compare.ci_report`` without capturing."""
 
 from __future__ import annotations
 
@@ -56,3 +57,15 @@ def test_the_ci_formats_count_a_written_contract_by_what_the_update_left():
     clean = result().for_ci(written="updated")
     assert not clean.failed and "all 1 pass" in ci_report.drift_markdown([clean])
 
+
+def test_notes_are_notices_said_once_per_run():
+    note = ("/driver: parameter `port` is '/dev/ttyFAKE': the device /dev/ttyFAKE, which this machine does not have "
+            "(not judged: the robot has it)")
+    first = ci_report.ContractOutcome(contract="a.system.yaml", notices=[(note, 7)])
+    second = ci_report.ContractOutcome(contract="b.system.yaml", notices=[(note, 9)], notes=["a rename"])
+    assert ci_report.once([first, second]) == [[(note, 7)], []]
+    github = ci_report.drift_github([first, second]).splitlines()
+    assert github == [f"::notice file=a.system.yaml,line=7,title=note::{note}",
+                      "::notice file=b.system.yaml,title=note::a rename"]
+    markdown = ci_report.drift_markdown([first, second])
+    assert markdown.count("parameter `port`") == 1 and "> a rename" in markdown

@@ -191,8 +191,23 @@ class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]
         return [f"{item.requester.node}: {item.message}" for item in self.rule_notes]
 
     def notes(self) -> list[str]:
-        """The notes of this check's report: the capture's (the rules' are :meth:`check_notes`)."""
-        return self.capture.notes() if self.capture is not None else []
+        """The notes of this check's report: the capture's (the rules' are :meth:`check_notes`),
+        and the stand-in advice where it applies: a node that ran without its device and lost
+        interfaces."""
+        return (self.capture.notes() if self.capture is not None else []) + self.stand_in_advice()
+
+    def stand_in_advice(self) -> list[str]:
+        """For each node that ran without a device it names (``rule_notes``) and lost what its
+        contract has (drift ``removed`` at or above ``fail_on``): stand in for its process. (A
+        node that ran fine gets the note only, said once per run: :meth:`check_notes`.)"""
+        failing = {item.node for item in self.drift_items if item.change == "removed" and item.severity >= self.threshold}
+        devices: dict[str, list[str]] = {}
+        for item in self.rule_notes:
+            if item.requester.node in failing:
+                devices.setdefault(item.requester.node, []).append(f"`{item.name}`")
+        return [f"{node} ran without the device its parameter {', '.join(names)} names, which this machine lacks, "
+                "and lost interfaces its contract has: if that is for lack of the hardware, stand in for its process "
+                "(`stand_ins:`, docs/system-contracts.md, \"Hardware processes\")" for node, names in devices.items()]
 
     @property
     def stood_in(self) -> list[str]:

@@ -69,3 +69,17 @@ def test_notes_are_notices_said_once_per_run():
                       "::notice file=b.system.yaml,title=note::a rename"]
     markdown = ci_report.drift_markdown([first, second])
     assert markdown.count("parameter `port`") == 1 and "> a rename" in markdown
+
+
+def test_the_stand_in_advice_is_given_where_a_node_without_its_device_fails():
+    note = CompatItem("PARAM_DEVICE_ABSENT", Severity.SAFE, "port", ContractEndpoint("python", "/base", "node"), None,
+                      "parameter `port` is '/dev/ttyFAKE': ...")
+    checked = result()  # /base drifts: it gains a subscription
+    checked.rule_notes = [note]
+    assert checked.stand_in_advice() == []
+    checked.drift_items = compare(BASE, {"/base": {}})  # it lost its subscription
+    [advice] = checked.stand_in_advice()
+    assert advice.startswith("/base ran without the device its parameter `port` names") and "stand_ins:" in advice
+    assert "Hardware processes" in checked.render_text()
+    checked.drift_items = []  # the node matches: a note, and no advice
+    assert checked.stand_in_advice() == [] and "stand_ins" not in checked.render_text()

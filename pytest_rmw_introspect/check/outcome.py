@@ -86,6 +86,7 @@ class Checked(Protocol):
     def to_json(self) -> list[dict[str, Any]]: ...
     def render_text(self, accept_command: str | None = None) -> str: ...
     def update(self) -> str | None: ...
+    def unfixed(self) -> Sequence[CompatItem]: ...
     def matched(self, *, names: bool) -> str: ...
     def check_notes(self) -> list[str]: ...
     def for_ci(self, *, written: str | None = None) -> ContractOutcome: ...
@@ -111,10 +112,29 @@ class Outcome:
     json: list[dict[str, Any]] = field(default_factory=list)
     #: for ``WRITE``: the bump of ``interface_version`` the update needs (updates never change it)
     version_advice: str = ""
+    #: for ``WRITE``: what the update leaves broken (system problems at or above ``system_fail_on``),
+    #: one sentence; the run fails after writing the golden (:func:`still_broken`)
+    unfixed: str = ""
 
     @property
     def failed(self) -> bool:
-        return self.verdict in (Verdict.FAIL, Verdict.ERROR)
+        """The run fails: a failure, an error, or a golden written over a system still broken."""
+        return self.verdict in (Verdict.FAIL, Verdict.ERROR) or bool(self.unfixed)
+
+
+def still_broken(result: Checked) -> str:
+    """What an update of ``result`` leaves broken, for people ("" when nothing), to follow "updated
+    FILE, but": the golden is written, the system problems at or above ``system_fail_on`` are not
+    the golden's to fix."""
+    unfixed = result.unfixed()
+    if not unfixed:
+        return ""
+    rules = sorted({f"{item.rule} {item.name}" for item in unfixed})
+    shown = "; ".join(rules[:5]) + (f"; and {len(rules) - 5} more" if len(rules) > 5 else "")
+    return (f"the system still fails its check: {len(unfixed)} system problem(s) "
+            f"at or above system_fail_on ({result.options.system_fail_on}): {shown}. An update writes the "
+            "contract's nodes, not the launch file's wiring: fix the launch file (or declare the outside world "
+            "under `external:`, or accept the finding under `accept:`)")
 
 
 def decide(result: Checked, *, update: bool, accept_command: str | None = None, verbose: bool = False) -> Outcome:
@@ -126,7 +146,8 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None, 
     items = result.to_json()
     if result.contract is None:
         if update:
-            return Outcome(Verdict.WRITE, f"{result.shown}: to be created", json=items)
+            return Outcome(Verdict.WRITE, f"{result.shown}: to be created", report=result.render_text()
+                           if result.unfixed() else "", json=items, unfixed=still_broken(result))
         assert result.spec is not None and result.capture is not None
         return Outcome(
             Verdict.FAIL,
@@ -157,7 +178,7 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None, 
         text = result.render_text() if result.items else f"{result.shown}: adds {', '.join(gains)}\n"
         advice = interface_version.advice(result.items, result.contract.interface_version)
         return Outcome(Verdict.WRITE, text, report=text, json=items,
-                       version_advice=f"{result.shown}: {advice}" if advice else "")
+                       version_advice=f"{result.shown}: {advice}" if advice else "", unfixed=still_broken(result))
     # a system check can find problems without drift: nothing to accept then
     text = result.render_text(accept_command=accept_command if result.drifted else None)
     if result.failed:

@@ -197,13 +197,14 @@ class CheckResult(ContractCheck[Contract, TargetSpec, Capture]):
         return nodl.is_nodl("", self.path)
 
     def check_notes(self) -> list[str]:
-        """What a NoDL document could not state (not compared)."""
+        """What a NoDL document could not state (not compared): said once per run by the front
+        end (``check``'s notes, pytest's terminal summary), not in every report."""
         return list(self.contract.nodl.notes) if self.contract is not None and self.contract.nodl is not None else []
 
     def notes(self) -> list[str]:
-        """What to know about the result beside the drift: how the capture came about, and what
-        a NoDL document could not state (not compared)."""
-        return (self.capture.notes() if self.capture is not None else []) + self.check_notes()
+        """What to know about the result beside the drift: how the capture came about (what the
+        check notes is :meth:`check_notes`)."""
+        return self.capture.notes() if self.capture is not None else []
 
     def update(self, *, new_header: str | None = None) -> str | None:
         """Write the golden (``golden.update``): ``created``, ``updated`` or None."""
@@ -236,7 +237,7 @@ class CheckResult(ContractCheck[Contract, TargetSpec, Capture]):
             contract=self.shown, items=self.drift_items, threshold=self.threshold, nodes=nodes,
             error=str(self.error) if self.error is not None else None, written=written,
             lines=self.contract.lines() if self.contract is not None else {},
-            accepted=self.accepted, stale=self.stale,
+            accepted=self.accepted, stale=self.stale, notices=[(note, None) for note in self.check_notes()],
         )
 
 

@@ -121,6 +121,11 @@ class ContractCheck(abc.ABC, Generic[ContractT, SpecT, CaptureT]):
         return (self.error is not None or self.missing or report.fails(self.drift_items, self.threshold)
                 or report.fails(self.system_items, self.system_threshold))
 
+    def unfixed(self) -> list[CompatItem]:
+        """The system problems at or above ``system_fail_on``: what an update leaves broken (it
+        writes the contract's nodes, not the launch file's wiring). A node check has none."""
+        return [item for item in self.system_items if item.severity >= self.system_threshold]
+
     @property
     def drifted(self) -> bool:
         """The golden differs from what updating would write: drift, or sections the contract

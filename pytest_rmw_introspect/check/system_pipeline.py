@@ -41,12 +41,12 @@ from ..model import system_contract
 from ..model.acceptance import Acceptance
 from ..model.contract import Contract
 from ..model.contract_shapes import ContractNode
-from ..model.locate import LineIndex, line_index
+from ..model.locate import LineIndex, line_index, line_of
 from ..model.paths import shown as display
 from ..model.stand_ins import StoodIn
 from ..model.system_contract import SYSTEM_TARGET_KEYS, SystemContract
 from ..model.unstable_names import NameRules
-from ..model.vocabulary import parse_threshold
+from ..model.vocabulary import PARAMETERS, parse_threshold
 from ..run import system_capture
 from ..run.ros_env import RosEnvironment
 from ..run.system_capture import LaunchSpec, ProcessCapture, SystemCapture
@@ -186,13 +186,28 @@ class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]
     rule_notes: list[CompatItem] = field(default_factory=list)
 
     def check_notes(self) -> list[str]:
-        """What the system rules note (devices this machine lacks)."""
+        """What the system rules note (devices this machine lacks): said once per run by the
+        front end (``check``'s notes, pytest's terminal summary), not in every report."""
         return [f"{item.requester.node}: {item.message}" for item in self.rule_notes]
 
     def notes(self) -> list[str]:
-        """The notes of this check: the rules' and the capture's."""
-        ours = [f"{item.requester.node}: {item.message} [{item.rule}]" for item in self.rule_notes]
-        return ours + (self.capture.notes() if self.capture is not None else [])
+        """The notes of this check's report: the capture's (the rules' are :meth:`check_notes`),
+        and the stand-in advice where it applies: a node that ran without its device and lost
+        interfaces."""
+        return (self.capture.notes() if self.capture is not None else []) + self.stand_in_advice()
+
+    def stand_in_advice(self) -> list[str]:
+        """For each node that ran without a device it names (``rule_notes``) and lost what its
+        contract has (drift ``removed`` at or above ``fail_on``): stand in for its process. (A
+        node that ran fine gets the note only, said once per run: :meth:`check_notes`.)"""
+        failing = {item.node for item in self.drift_items if item.change == "removed" and item.severity >= self.threshold}
+        devices: dict[str, list[str]] = {}
+        for item in self.rule_notes:
+            if item.requester.node in failing:
+                devices.setdefault(item.requester.node, []).append(f"`{item.name}`")
+        return [f"{node} ran without the device its parameter {', '.join(names)} names, which this machine lacks, "
+                "and lost interfaces its contract has: if that is for lack of the hardware, stand in for its process "
+                "(`stand_ins:`, docs/system-contracts.md, \"Hardware processes\")" for node, names in devices.items()]
 
     @property
     def stood_in(self) -> list[str]:
@@ -213,14 +228,18 @@ class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]
     def for_ci(self, *, written: str | None = None) -> ContractOutcome:
         """This result for the CI formats (``--format markdown|github``)."""
         nodes = sorted(self.contract.nodes) if self.contract is not None else []
+        lines = line_index(self.contract.text) if self.contract is not None else {}
         return ContractOutcome(
             contract=self.shown, items=self.drift_items, threshold=self.threshold, nodes=nodes,
             error=str(self.error) if self.error is not None else None, written=written,
-            lines=line_index(self.contract.text) if self.contract is not None else {},
+            lines=lines,
             system_items=self.system_items, system_threshold=self.system_threshold,
             accepted=self.accepted, stale=self.stale,
             launched_at={p.label: p.where for p in launched_processes(self.capture) if p.where}
             if self.capture is not None else {},
+            notices=[(f"{item.requester.node}: {item.message}",
+                      line_of(lines, item.requester.node, PARAMETERS, item.name))
+                     for item in self.rule_notes],
         )
 
     def name_rules(self) -> NameRules:

@@ -56,8 +56,9 @@ to --lifecycle (default active). A contract node without `parameters:` does not 
 --update adds them to contracts that match but do not state them yet. A lifecycle transition
 that fails is an error (exit 2) naming the node, the transition and what to set instead.
 
-exit status: 0 all contracts match (or drift below --fail-on), 1 drift at or above --fail-on,
-2 errors (missing/malformed contract, no target, target failure, ROS 2/middleware missing).
+exit status: 0 all contracts match (or drift below --fail-on), 1 drift at or above --fail-on, or
+(--update) a contract written over a system problem at or above system_fail_on, 2 errors
+(missing/malformed contract, no target, target failure, ROS 2/middleware missing).
 """
 
 
@@ -129,7 +130,7 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     from ..check.outcome import Verdict, decide
     from ..compare import ci_report, sarif
     from . import baselines, system_contracts
-    from .formats import append_summary, print_json
+    from .formats import append_summary, print_json, say_notes
     from .ros_setup import Setup
 
     if args.update:
@@ -152,6 +153,7 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     status = EXIT_OK
     all_items: list[dict[str, Any]] = []
     for_ci: list[ContractOutcome] = []
+    noted: dict[str, list[str]] = {}
     for shown in args.contracts:
         path = Path(shown)
         result: Checked
@@ -165,6 +167,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         outcome = decide(result, update=args.update, accept_command=accept_command(args, shown, command),
                          verbose=args.verbose)
         all_items += outcome.json
+        for note in result.check_notes():  # said once per run, after the reports
+            noted.setdefault(note, []).append(shown)
         if outcome.verdict is Verdict.ERROR:
             print(f"rmw-introspect: {outcome.message}", file=sys.stderr)
             for_ci.append(result.for_ci())
@@ -184,11 +188,12 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
             if outcome.version_advice:  # an update never changes interface_version itself
                 print(f"note: {outcome.version_advice}", file=sys.stderr)
             for_ci.append(result.for_ci(written=said.split(" ", 1)[0]))
+            if outcome.unfixed:  # written, and the system still broken: not a green update
+                print(f"rmw-introspect: {said}, but {outcome.unfixed}", file=sys.stderr)
+                if status == EXIT_OK:
+                    status = EXIT_DRIFT
             continue
         for_ci.append(result.for_ci())
-        if not (args.format == "text" and outcome.report):  # (a drift report lists them itself)
-            for note in result.check_notes():
-                print(f"note: {shown}: {note}", file=sys.stderr)
         if args.format == "text":
             if outcome.report:
                 sys.stdout.write(outcome.report + "\n")
@@ -196,6 +201,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
                 print(outcome.message)
         if outcome.failed and status == EXIT_OK:
             status = EXIT_DRIFT
+    if args.format != "github":  # (github: notices on the contracts, ci_report.drift_github)
+        say_notes(noted)
     baselines.finish(args, baseline, checked, [Path(c) for c in args.contracts])
     if args.write_baseline and status == EXIT_DRIFT:
         status = EXIT_OK  # today's findings are what the baseline records

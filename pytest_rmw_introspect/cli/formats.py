@@ -97,3 +97,11 @@ def append_summary(path: str, markdown: str) -> None:
     except OSError as exc:
         raise UsageError(f"--summary {path}: cannot append the report ({exc.strerror or exc}); "
                          "give a file in a directory that exists and is writable") from None
+
+
+def say_notes(noted: dict[str, list[str]]) -> None:
+    """The notes of a run (note → the contracts that noted it) on stderr, each once, however many
+    contracts note it: ``note: CONTRACT: NOTE`` (``CONTRACT (and N more)``)."""
+    for note, contracts in noted.items():
+        more = f" (and {len(contracts) - 1} more)" if len(contracts) > 1 else ""
+        print(f"note: {contracts[0]}{more}: {note}", file=sys.stderr)

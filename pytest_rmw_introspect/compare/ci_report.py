@@ -44,10 +44,16 @@ class ContractOutcome:
     launched_at: Mapping[str, str] = field(default_factory=dict)
     #: what to know beside the findings (``diff --against``: the bump the changes need, a rename)
     notes: Sequence[str] = ()
+    #: what the check notes (a device this machine lacks), each with its line in the contract
+    #: (None: unknown); said once per run (:func:`once`) however many contracts note it
+    notices: Sequence[tuple[str, int | None]] = ()
 
     @property
     def failed(self) -> bool:
-        return (self.error is not None or any(i.severity >= self.threshold for i in self.items)
+        """An error, drift at or above the threshold (not when the update wrote it: ``written``),
+        or a system problem at or above its threshold (an update does not fix those)."""
+        drift_fails = self.written is None and any(i.severity >= self.threshold for i in self.items)
+        return (self.error is not None or drift_fails
                 or any(i.severity >= self.system_threshold for i in self.system_items))
 
 
@@ -65,6 +71,8 @@ def _result_cell(outcome: ContractOutcome) -> str:
     if outcome.error is not None:
         return f"🛑 error: {_cell(outcome.error)}"
     if outcome.written:
+        if outcome.failed:  # written, and the system still broken
+            return f"✏️ {outcome.written}, but ❌ system check: {_counts(outcome.system_items)}"
         return f"✏️ {outcome.written}"
     everything: list[DriftItem | CompatItem] = [*outcome.items, *outcome.system_items]
     if not everything:
@@ -98,19 +106,21 @@ def drift_markdown(outcomes: Sequence[ContractOutcome], *, title: str = "Interfa
     verdict = f"{failing} of {len(outcomes)} failing" if failing else f"all {len(outcomes)} pass"
     lines = [f"## {title}: {verdict}", ""] + [f"{line}  " for line in intro] + ([""] if intro else [])
     lines += ["| contract | nodes | result |", "|---|---|---|"]
+    noted = once(outcomes)
     for o in outcomes:
         nodes = ", ".join(f"`{n}`" for n in o.nodes[:NODES_SHOWN]) or "-"
         if len(o.nodes) > NODES_SHOWN:
             nodes += f" and {len(o.nodes) - NODES_SHOWN} more"
         lines.append(f"| `{o.contract}` | {nodes} | {_result_cell(o)} |")
-    for o in outcomes:
-        if o.error is None and (o.accepted or o.stale or o.notes) and not (o.items or o.system_items):
-            lines += ["", f"### `{o.contract}`"] + _note_lines(o.notes)
+    for o, notices in zip(outcomes, noted, strict=True):
+        notes = [*o.notes, *(text for text, _ in notices)]
+        if o.error is None and (o.accepted or o.stale or notes) and not (o.items or o.system_items):
+            lines += ["", f"### `{o.contract}`"] + _note_lines(notes)
         if o.error is not None:
             lines += ["", f"### `{o.contract}`", "", "```", o.error.rstrip("\n"), "```"]
         elif o.items or o.system_items:
             lines += ["", f"### `{o.contract}`: {len(o.items)} change(s) ({_counts(o.items)})"]
-            lines += _note_lines(o.notes)
+            lines += _note_lines(notes)
             lines += _drift_bullets(o.items, o.threshold)
             if o.system_items:
                 lines += _system_bullets(o.system_items)
@@ -154,6 +164,18 @@ def _drift_bullets_at_scale(items: Sequence[DriftItem], threshold: Severity) -> 
         if more_nodes:
             lines.append(f"  - {report.left_out(more_nodes, more_changes, place='node', noun='change')}")
     return lines
+
+
+def once(outcomes: Sequence[ContractOutcome]) -> list[list[tuple[str, int | None]]]:
+    """Each outcome's ``notices`` not said by an outcome before it: a note is said once per run
+    (the same device of the same node, noted by every contract that launches it)."""
+    said: set[str] = set()
+    out = []
+    for o in outcomes:
+        fresh = [(text, line) for text, line in o.notices if text not in said]
+        said.update(text for text, _ in fresh)
+        out.append(fresh)
+    return out
 
 
 def _note_lines(notes: Sequence[str]) -> list[str]:
@@ -225,13 +247,16 @@ def annotation_level(severity: Severity, threshold: Severity) -> str:
 
 def drift_github(outcomes: Sequence[ContractOutcome]) -> str:
     """An annotation per drift item (:func:`annotation_level`: error when it fails the gate), on the
-    contract's line of the interface (or of its node), and one per contract that could not be
-    checked."""
+    contract's line of the interface (or of its node), one per contract that could not be
+    checked, and a notice per note (once per run: :func:`once`)."""
     lines = []
-    for o in outcomes:
+    for o, notices in zip(outcomes, once(outcomes), strict=True):
         if o.error is not None:
             lines.append(annotation("error", o.error.rstrip("\n"), file=o.contract, title="contract not checked"))
             continue
+        # notes are notices on the contract (the line of what they are about), once per run
+        lines += [annotation("notice", text, file=o.contract, line=line, title="note") for text, line in notices]
+        lines += [annotation("notice", text, file=o.contract, title="note") for text in o.notes]
         shown, counted = _drift_annotated(o.items)
         for item in shown:
             level = annotation_level(item.severity, o.threshold)

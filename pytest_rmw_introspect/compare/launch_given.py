@@ -301,9 +301,10 @@ _PATH_CONSEQUENCES = {
                "on; install the file or fix the value",
     "machine": "a file of one machine, outside every ROS prefix: the node finds it only where it was put by "
                "hand; check that the machines that run the node have it, or install it with a package",
-    "device": "needs hardware the capture machine lacks (a device is not a file: the robot has it); stand the "
-              "process in for where the hardware is missing (docs/system-contracts.md, \"Hardware processes\")",
 }
+#: a device note, said once per run beside the findings: short, and without the stand-in advice
+#: (that is for a process that failed for lack of its device: ``run.system_capture``)
+_DEVICE_NOTE = "not judged: the robot has it"
 
 
 def _missing_paths(process: Any, fqn: str, node: ContractNode, missing_path: MissingPath) -> list[Finding]:
@@ -315,9 +316,12 @@ def _missing_paths(process: Any, fqn: str, node: ContractNode, missing_path: Mis
             missing = missing_path(text) if isinstance(text, str) else None
             if missing is None or (missing.where != "device" and node_writes(name)):
                 continue  # a file the node writes need not exist before it runs
-            out.append(Finding(_PATH_RULES[missing.where], process.label, fqn, name,
-                               f"parameter `{name}` of {fqn} is {text!r}, which points at {missing.why}: "
-                               f"{_PATH_CONSEQUENCES[missing.where]}"))
+            if missing.where == "device":  # a note (NOTES): its node is named where it is said
+                message = f"parameter `{name}` is {text!r}: {missing.why} ({_DEVICE_NOTE})"
+            else:
+                message = (f"parameter `{name}` of {fqn} is {text!r}, which points at {missing.why}: "
+                           f"{_PATH_CONSEQUENCES[missing.where]}")
+            out.append(Finding(_PATH_RULES[missing.where], process.label, fqn, name, message))
     return out
 
 

@@ -46,6 +46,9 @@ class SessionState:
     #: the processes system checks did not run because a ``stand_ins:`` entry stood in for them:
     #: contract as shown -> "process by stand-in contract" (from test reports: xdist workers too)
     stood_in: dict[str, list[str]] = field(default_factory=dict)
+    #: what the checks noted beside their findings (a device this machine lacks, what a NoDL
+    #: document cannot state): note -> contracts as shown; said once in the terminal summary
+    notes: dict[str, list[str]] = field(default_factory=dict)
     #: how many contract items ahead of the running one have their capture started already
     #: (``items.ContractItem.capture_ahead``); 0: each item captures when it runs
     capture_ahead: int = DEFAULT_CAPTURE_AHEAD
@@ -247,6 +250,9 @@ def _baseline_path(config: pytest.Config) -> Path | None:
 #: user property of a system check's item, one per process a ``stand_ins:`` entry stood in for:
 #: ``"<contract as shown>\t<process> by <stand-in contract>"``
 STOOD_IN_PROPERTY = "rmw_introspect_stood_in"
+#: user property of a check's item, one per note of the check (``check_notes``):
+#: ``"<contract as shown>\t<note>"``
+NOTE_PROPERTY = "rmw_introspect_note"
 
 
 class SessionReporter:
@@ -267,6 +273,11 @@ class SessionReporter:
                 entries = self.state.stood_in.setdefault(contract, [])
                 if entry not in entries:
                     entries.append(entry)
+            elif name == NOTE_PROPERTY and isinstance(value, str) and "\t" in value:
+                contract, note = value.split("\t", 1)
+                contracts = self.state.notes.setdefault(note, [])
+                if contract not in contracts:
+                    contracts.append(contract)
 
 
 def terminal_summary(terminalreporter: pytest.TerminalReporter, config: pytest.Config) -> None:
@@ -278,6 +289,12 @@ def terminal_summary(terminalreporter: pytest.TerminalReporter, config: pytest.C
         terminalreporter.section("rmw-introspect: processes stood in for, not run here (stand_ins:)")
         for contract in sorted(session_state.stood_in):
             terminalreporter.write_line(f"{contract}: {', '.join(session_state.stood_in[contract])}")
+    if session_state.notes:
+        # once per run, not in every failure report (issue 47)
+        terminalreporter.section("rmw-introspect: notes")
+        for note, contracts in session_state.notes.items():
+            more = f" (and {len(contracts) - 1} more)" if len(contracts) > 1 else ""
+            terminalreporter.write_line(f"{contracts[0]}{more}: {note}")
     if session_state.update:
         terminalreporter.section("rmw-introspect: golden contracts")
         for line in session_state.golden.summary_lines(session_state.invocation_dir):

@@ -15,7 +15,7 @@ from ..check import golden_record
 from ..check.outcome import Checked, Verdict, decide
 from ..errors import BaselineError, ContractError, GoldenWriteError, RmwIntrospectError
 from . import gate_items
-from .session import STOOD_IN_PROPERTY, SessionState, state
+from .session import NOTE_PROPERTY, STOOD_IN_PROPERTY, SessionState, state
 
 #: user property with the drift items as JSON (report.to_json + contract), for JUnit XML
 DRIFT_PROPERTY = "rmw_introspect_drift"
@@ -55,6 +55,8 @@ def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> No
                      verbose=item.config.getoption("verbose", 0) > 0)
     for stood_in in result.stood_in:  # listed in the terminal summary (session.terminal_summary)
         item.user_properties.append((STOOD_IN_PROPERTY, f"{session_state.display(result.path)}\t{stood_in}"))
+    for note in result.check_notes():  # said once, in the terminal summary, not in every report
+        item.user_properties.append((NOTE_PROPERTY, f"{session_state.display(result.path)}\t{note}"))
     if outcome.json:
         # the machine-readable drift on the report (JUnit writes it as a <property>)
         item.user_properties.append((DRIFT_PROPERTY, json.dumps(outcome.json, sort_keys=True, default=str)))
@@ -68,6 +70,9 @@ def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> No
         advice = gate_items.version_advice(item.config, result.path, outcome.version_advice)
         if advice:  # --update-golden never changes interface_version itself
             item.warn(pytest.PytestWarning(advice))
+        if outcome.unfixed:  # the golden is written, the system is still broken: not a green update
+            said = f"{action or 'unchanged'} {session_state.display(result.path)}"
+            pytest.fail(f"{said}, but {outcome.unfixed}\n\n{outcome.report}".rstrip("\n"), pytrace=False)
     elif outcome.failed:
         pytest.fail(outcome.message, pytrace=False)
     elif outcome.verdict is Verdict.WARN:

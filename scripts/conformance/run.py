@@ -35,6 +35,7 @@ import hashlib
 import json
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -138,11 +139,73 @@ def run_logged(cmd: list[str], logfile: Path, env: dict[str, str]) -> None:
         raise SetupError(f"command failed ({status}): {' '.join(cmd)}\n{tail}\nfull log: {logfile}")
 
 
-def build(test_dir: Path, tools_dir: Path, prefix: Path, python: Path, build_root: Path,
+def checkout_id(path: Path) -> str:
+    """A source tree's identity: its git commit plus a hash of uncommitted changes; a tree
+    outside git is named by its path and the newest modification time under it."""
+    head = subprocess.run(["git", "-C", str(path), "rev-parse", "HEAD"], capture_output=True, text=True)
+    if head.returncode != 0:
+        newest = max((f.stat().st_mtime for f in path.rglob("*") if f.is_file()), default=0.0)
+        return f"{path}@{newest}"
+    diff = subprocess.run(["git", "-C", str(path), "diff", "HEAD"], capture_output=True).stdout
+    return head.stdout.strip() + ("+" + hashlib.sha256(diff).hexdigest()[:12] if diff else "")
+
+
+def prefix_id(prefix: Path, is_venv: bool) -> str:
+    """What the suite is built against: a venv's ROS 2 wheels (name-version: every venv made from
+    the same lock has the same ones, wherever it is) and its Python; another prefix by its path
+    and its rmw version."""
+    if is_venv:
+        wheels = sorted(p.name for p in prefix.glob("lib/python3*/site-packages/ros_*.dist-info"))
+        pythons = sorted(p.name for p in prefix.glob("lib/python3*"))
+        return "\n".join([*pythons, *wheels])
+    package_xml = prefix / "share" / "rmw" / "package.xml"
+    return f"{prefix.resolve()}\n" + (hashlib.sha256(package_xml.read_bytes()).hexdigest()
+                                       if package_xml.is_file() else "")
+
+
+def _first_line(cmd: list[str]) -> str:
+    try:
+        out = subprocess.run(cmd, capture_output=True, text=True, timeout=60).stdout
+    except (OSError, subprocess.TimeoutExpired):
+        return ""
+    return (out.splitlines() or [""])[0]
+
+
+def _configured_source(tree: Path) -> str | None:
+    """The source directory a CMake build tree was configured for (None: not configured)."""
+    cache = tree / "CMakeCache.txt"
+    if not cache.is_file():
+        return None
+    found = re.search(r"^CMAKE_HOME_DIRECTORY:INTERNAL=(.*)$", cache.read_text(errors="replace"), re.M)
+    return found.group(1) if found else None
+
+
+def build_key(test_dir: Path, tools_dir: Path, prefix: Path, is_venv: bool) -> str:
+    """The cache key of a build: what it is built from (the two checkouts' commits and changes,
+    the ROS 2 prefix's content, this directory's CMakeLists.txt, the compiler and CMake), not
+    where those are: a fresh clone with a new venv of the same lock reuses the build (issue 48)."""
+    h = hashlib.sha256()
+    for part in (checkout_id(test_dir), checkout_id(tools_dir), prefix_id(prefix, is_venv),
+                 (HERE / "CMakeLists.txt").read_text(), _first_line(["c++", "--version"]),
+                 _first_line(["cmake", "--version"])):
+        h.update(part.encode() + b"\0")
+    return h.hexdigest()[:16]
+
+
+def build(test_dir: Path, tools_dir: Path, prefix: Path, is_venv: bool, python: Path, build_root: Path,
           jobs: int) -> Path:
-    """Build (incrementally) and return the directory holding the 16 gtest binaries."""
-    key = hashlib.sha256(f"{test_dir}\0{tools_dir}\0{prefix.resolve()}".encode()).hexdigest()[:12]
+    """Build (incrementally) and return the directory holding the 16 gtest binaries. A complete
+    build of the same key (``built.json``, written last) is reused as it is: the binaries find the
+    current prefix's libraries through LD_LIBRARY_PATH (library_env), which the run sets."""
+    key = build_key(test_dir, tools_dir, prefix, is_venv)
     root = build_root / key
+    tests_build = root / "test_rmw_implementation"
+    done = root / "built.json"
+    if done.is_file() and all((tests_build / name).is_file() for name in TESTS):
+        info = json.loads(done.read_text())
+        log(f"reusing the build {root} (built {info.get('built', '?')} against {info.get('prefix', '?')}, "
+            "the same sources, wheels and compiler)")
+        return tests_build
     root.mkdir(parents=True, exist_ok=True)
     logfile = root / "build.log"
     logfile.write_text("")
@@ -151,6 +214,11 @@ def build(test_dir: Path, tools_dir: Path, prefix: Path, python: Path, build_roo
         p for p in [str(prefix), env.get("AMENT_PREFIX_PATH", "")] if p)
     tools_prefix = root / "osrf_testing_tools_cpp-install"
     common = ["-DCMAKE_BUILD_TYPE=RelWithDebInfo", "-DBUILD_TESTING=OFF"]
+    # an unfinished build of this key left by another clone: CMake refuses a build tree made for
+    # another source directory, so start such a tree again
+    for tree, source in ((root / "osrf_testing_tools_cpp", tools_dir), (tests_build, HERE)):
+        if _configured_source(tree) not in (None, str(source)):
+            shutil.rmtree(tree)
     log(f"building osrf_testing_tools_cpp from {tools_dir} (log: {logfile})")
     run_logged(["cmake", "-S", str(tools_dir), "-B", str(root / "osrf_testing_tools_cpp"),
                 f"-DCMAKE_INSTALL_PREFIX={tools_prefix}", *common], logfile, env)
@@ -158,12 +226,13 @@ def build(test_dir: Path, tools_dir: Path, prefix: Path, python: Path, build_roo
                logfile, env)
     run_logged(["cmake", "--install", str(root / "osrf_testing_tools_cpp")], logfile, env)
     log(f"building test_rmw_implementation from {test_dir}")
-    tests_build = root / "test_rmw_implementation"
     run_logged(["cmake", "-S", str(HERE), "-B", str(tests_build),
                 f"-DCMAKE_PREFIX_PATH={tools_prefix};{prefix}",
                 f"-DRMW_CONFORMANCE_TEST_DIR={test_dir}",
                 f"-DPython3_EXECUTABLE={python}", "-DCMAKE_BUILD_TYPE=RelWithDebInfo"], logfile, env)
     run_logged(["cmake", "--build", str(tests_build), "-j", str(jobs)], logfile, env)
+    done.write_text(json.dumps({"key": key, "built": time.strftime("%Y-%m-%d %H:%M:%S"), "prefix": str(prefix),
+                                "sources": [str(test_dir), str(tools_dir)]}, indent=1) + "\n")
     return tests_build
 
 
@@ -450,11 +519,9 @@ def main(argv: list[str] | None = None) -> int:
         if is_venv:
             ensure_build_wheels(prefix, python)
         if args.no_build:
-            key = hashlib.sha256(f"{test_dir}\0{tools_dir}\0{prefix.resolve()}".encode()
-                                 ).hexdigest()[:12]
-            tests_build = args.build_dir / key / "test_rmw_implementation"
+            tests_build = args.build_dir / build_key(test_dir, tools_dir, prefix, is_venv) / "test_rmw_implementation"
         else:
-            tests_build = build(test_dir, tools_dir, prefix, python, args.build_dir, args.jobs)
+            tests_build = build(test_dir, tools_dir, prefix, is_venv, python, args.build_dir, args.jobs)
         interpose = tests_build.parent / "osrf_testing_tools_cpp-install" / "lib" / \
             "libmemory_tools_interpose.so"
         library = middleware_library(python) if any(c.startswith("introspect") for c in configs) \

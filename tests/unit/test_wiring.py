@@ -604,7 +604,9 @@ def test_whose_file_is_missing_decides_the_rule(where, rule, severity):
                             if where == "device" else [(rule, "port", None)])
     assert {i.severity for i in items} == {severity}
     if where == "device":
-        assert "needs hardware the capture machine lacks" in items[0].message
+        # a note: short, said once per run, no stand-in advice (the process ran: issue 47, finding 7)
+        assert "(not judged: the robot has it)" in items[0].message and "stand" not in items[0].message
+        assert len(items[0].message) < 120, items[0].message
         assert not report.fails(items, Severity.RISKY)
 
 

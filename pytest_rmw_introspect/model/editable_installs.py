@@ -13,6 +13,7 @@ all. ``run.editable`` makes an ament prefix of each such source tree that has a 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import os
 import re
@@ -47,14 +48,23 @@ def installs(path: Sequence[str] | None = None) -> list[Editable]:
     found: dict[Path, Editable] = {}
     for entry in sys.path if path is None else path:
         try:
-            names = sorted(os.listdir(entry or "."))
+            modified = os.stat(entry or ".").st_mtime_ns
         except OSError:
             continue
-        for name in names:
-            editable = _editable(Path(entry or "."), name)
-            if editable is not None:
-                found.setdefault(editable.source, editable)
+        for editable in _in_directory(entry or ".", modified):
+            found.setdefault(editable.source, editable)
     return list(found.values())
+
+
+@functools.lru_cache(maxsize=64)
+def _in_directory(directory: str, modified: int) -> tuple[Editable, ...]:
+    """The editable installs of one directory, listed again only when it changed (``modified``:
+    its mtime; a site-packages directory of a ROS venv holds a thousand entries)."""
+    try:
+        names = sorted(name for name in os.listdir(directory) if name.endswith((".pth", ".egg-link")))
+    except OSError:
+        return ()
+    return tuple(e for e in (_editable(Path(directory), name) for name in names) if e is not None)
 
 
 def _editable(site: Path, name: str) -> Editable | None:

@@ -87,7 +87,7 @@ def _prefix(package: str, source: Path, cache: Path) -> Path:
     directories = _link(package, source, data_files, tmp)
     (tmp / MANIFEST).write_text(json.dumps({
         "package": package, "source": str(source), "directories": directories,
-        "how": "data_files" if data_files is not None else "source tree",
+        "how": "source tree" if (tmp / "share" / package).is_symlink() else "data_files",
         "key": _key(source, directories)}, indent=1) + "\n")
     shutil.rmtree(prefix, ignore_errors=True)
     try:

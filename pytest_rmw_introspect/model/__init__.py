@@ -30,6 +30,7 @@ One line per module:
 - ``untrusted``: reading files people hand us: bounded, typed and fast
 - ``versioned_json``: the format and version check of the JSON files the tool writes
 - ``paths``: how paths are shown and written
+- ``editable_installs``: Python distributions installed editable (``pip install -e .``) and their source trees
 - ``ament_index``: the ament index: which install prefixes provide a package (or a NoDL document)
 - ``project_urls``: where the project lives on the web: the repository, links to its docs pages
 

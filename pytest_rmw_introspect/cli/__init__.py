@@ -1,4 +1,5 @@
-"""The ``rmw-introspect`` command line: capture, check, diff, compat, graph, init, validate, lock.
+"""The ``rmw-introspect`` command line: capture, check, diff, compat, graph, init, validate, lock,
+install-launch.
 
 A module per command declares its subparser (``add_parser``) beside the ``cmd_*`` it runs, and
 imports what that command runs inside it (building the parser loads every command module).
@@ -14,6 +15,7 @@ One line per module (:func:`main` here is the console script):
 - ``init``: ``init --package P``: contract testing started on a package
 - ``validate``: ``validate``: contract files checked without running anything
 - ``lock``: ``lock``: the package's type-hash lockfile
+- ``install_launch``: ``install-launch``: ROS 2's launch packages into the venv, for Python launch files
 - ``arguments``: the option groups several commands share, and the readers of their values
 - ``option_flags``: the flags of the option tables (``model.option_tables``)
 - ``exit_status``: the exit statuses

@@ -8,11 +8,11 @@ from __future__ import annotations
 import argparse
 
 from .._version import __version__
-from . import capture, check, compat, contracts, diff, graph, init, lock, validate
+from . import capture, check, compat, contracts, diff, graph, init, install_launch, lock, validate
 from .arguments import CliParser
 
 #: the command modules, in the order ``rmw-introspect --help`` lists them
-COMMANDS = (capture, check, diff, init, validate, contracts, lock, compat, graph)
+COMMANDS = (capture, check, diff, init, validate, contracts, lock, compat, graph, install_launch)
 
 _DESCRIPTION = """\
 Interface contracts of ROS 2 nodes: run a node on the recording middleware (rmw_introspect_cpp)

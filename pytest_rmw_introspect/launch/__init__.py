@@ -6,6 +6,7 @@ One line per module:
 - ``entities``: XML and YAML as one entity tree with lines
 - ``substitutions``: ``$(...)`` parsing and evaluation
 - ``python_file``: Python launch files through ``launch``/``launch_ros``
+- ``composition_stand_in``: composition_interfaces' LoadNode request for launch_ros where no such package is installed
 - ``python_events``: event handlers of Python launch files, with the meaning a capture gives them
 - ``record``: play_launch's ``record.json``
 - ``components``: composable nodes as the LoadNode requests launch_ros makes of them

@@ -31,8 +31,10 @@ each action is created (the innermost stack frame outside launch's own code, :cl
 so that every node and every unsupported action names its file and line.
 
 The ROS 2 PyPI wheels do not include ``launch`` or ``launch_ros``; there, a Python launch file
-is a :class:`LaunchError` that says so (write the launch file in XML or YAML, or give a
-``record.json`` written by ``dump_launch`` on a machine with ROS 2 installed).
+is a :class:`LaunchError` that names the one command that installs them (``rmw-introspect
+install-launch``, ``cli.install_launch``). Installed so, launch_ros finds no
+``composition_interfaces`` (no wheel of it exists): ``composition_stand_in`` supplies its LoadNode
+request while launch_ros is imported.
 """
 
 from __future__ import annotations
@@ -50,16 +52,17 @@ from typing import Any
 from ..errors import LaunchError
 from ..model import ament_index
 from ..model.paths import shown
-from . import python_events
+from . import composition_stand_in, python_events
 from .entities import yaml_value
 from .result import ComponentLoad, ComponentParameter, LaunchedNode, LaunchParameter, LaunchResult, Unsupported, Where
 from .substitutions import anon_name
 
 _NOT_AVAILABLE = (
     "{file} is a Python launch file, which is read through the ROS 2 `launch` and `launch_ros` packages; "
-    "they cannot be imported here ({reason}). The ROS 2 PyPI wheels do not include them. Run the check where "
-    "ROS 2 is installed (source /opt/ros/jazzy/setup.bash), write the launch file in XML or YAML (read without "
-    "launch_ros), or give the record.json that play_launch's dump_launch writes for it."
+    "they cannot be imported here ({reason}). The ROS 2 PyPI wheels do not include them: run "
+    "`rmw-introspect install-launch` once (it installs launch, launch_xml, launch_yaml and launch_ros of your "
+    "ROS 2 distribution into this Python environment; `--from DIR` installs them from local checkouts), or "
+    "source a ROS 2 install (/opt/ros/<distro>/setup.bash) in the shell that runs the check."
 )
 
 
@@ -69,8 +72,9 @@ def modules() -> tuple[ModuleType, ModuleType]:
     if not hasattr(launch, "LaunchDescription") or not hasattr(launch, "LaunchContext"):
         raise ImportError(f"the module `launch` at {getattr(launch, '__file__', '?')} is not ROS 2's launch "
                           "(the PyPI package named `launch` is an unrelated project)")
-    launch_ros = importlib.import_module("launch_ros")
-    importlib.import_module("launch_ros.actions")
+    with composition_stand_in.imported_with_stand_in():  # no wheel of composition_interfaces exists
+        launch_ros = importlib.import_module("launch_ros")
+        importlib.import_module("launch_ros.actions")
     importlib.import_module("launch.launch_description_sources")
     return launch, launch_ros
 

@@ -15,7 +15,7 @@ from typing import Any
 import yaml
 
 from ..errors import LaunchError, SubstitutionError
-from ..model import ament_index
+from ..model import ament_index, editable_installs
 from ..model.paths import shown
 
 
@@ -208,5 +208,5 @@ def find_package_prefix(package: str, prefixes: Sequence[Path]) -> Path:
     searched = ", ".join(str(p) for p in prefixes) or "none: AMENT_PREFIX_PATH is empty"
     raise SubstitutionError(
         f"package '{package}' is not in the ament index (searched the prefixes {searched}); build and "
-        "install it, or add its install prefix to AMENT_PREFIX_PATH"
+        "install it, or add its install prefix to AMENT_PREFIX_PATH." + editable_installs.not_found_hint(package)
     )

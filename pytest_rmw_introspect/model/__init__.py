@@ -16,6 +16,8 @@ One line per module:
 - ``portable``: parameter values written portably (an install location as a token), what they point at
 - ``option_tables``: the comparison and target options, their front ends and precedence
 - ``contract``: contract files: load, validate, render, update
+- ``contract_kind``: whether a file is a contract and of which kind (node, marker golden, system,
+  NoDL), by its content: the one place every command and pytest ask
 - ``contract_shapes``: the contract's mappings as ``TypedDict``s: node, entries, QoS, blocks
 - ``system_contract``: system contracts (``*.system.yaml``): a launch file's processes
 - ``stand_ins``: a system contract's processes not run where it is checked, and what stands in for them
@@ -28,6 +30,7 @@ One line per module:
 - ``untrusted``: reading files people hand us: bounded, typed and fast
 - ``versioned_json``: the format and version check of the JSON files the tool writes
 - ``paths``: how paths are shown and written
+- ``editable_installs``: Python distributions installed editable (``pip install -e .``) and their source trees
 - ``ament_index``: the ament index: which install prefixes provide a package (or a NoDL document)
 - ``project_urls``: where the project lives on the web: the repository, links to its docs pages
 

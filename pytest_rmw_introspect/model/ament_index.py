@@ -5,7 +5,9 @@ provides a name wins, as ``ros2 run`` and ``$(find-pkg-share)`` do.
 
 The one reader of the index: ``run`` (a target's package and executables, the installed
 middleware, the share directories of ROS detection), ``launch`` (``$(find-pkg-*)``, ``ros2 launch
-PACKAGE``) and ``model.nodl`` (``nodl://`` references) ask it. It reads files only.
+PACKAGE``) and ``model.nodl`` (``nodl://`` references) ask it. It reads files only. A package
+installed with ``pip install -e .`` has no index entry; ``run.editable`` makes a prefix that has
+one (``model.editable_installs`` finds such installs).
 """
 
 from __future__ import annotations

@@ -4,6 +4,8 @@ One line per module:
 
 - ``target``: what to run and how, as one validated spec, resolved into what the runner starts
 - ``ros_env``: the detected ROS 2 install and the middleware's activation environment
+- ``editable``: ament_python packages installed with ``pip install -e .``, made into symlink prefixes as colcon would
+- ``cache``: where the plugin keeps what it builds and makes (``RMW_INTROSPECT_CACHE``)
 - ``middleware``: finding (installed, prebuilt) or building ``librmw_introspect_cpp.so``
 - ``progress``: the lines that tell the user what a slow step does (the front end says where they go)
 - ``process``: a cold start's process: its group, output tails and stop

@@ -36,6 +36,7 @@ from typing import BinaryIO
 from ..errors import LockTimeout, SetupError
 from ..model import ament_index
 from . import locks, progress, ros_env
+from .cache import cache_root
 from .process import process_state
 
 LIBRARY_FILE = "librmw_introspect_cpp.so"
@@ -74,14 +75,6 @@ def source_dir() -> Path:
         f"(looked in {_PACKAGE_DIR / 'rmw_introspect_cpp'}). Reinstall the package, or point "
         "RMW_INTROSPECT_LIBRARY at a built librmw_introspect_cpp.so."
     )
-
-
-def cache_root() -> Path:
-    explicit = os.environ.get("RMW_INTROSPECT_CACHE")
-    if explicit:
-        return Path(explicit)
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "pytest-rmw-introspect"
 
 
 def _build_inputs(src: Path) -> list[tuple[Path, os.stat_result]]:

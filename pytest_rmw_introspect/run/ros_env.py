@@ -25,6 +25,7 @@ from pathlib import Path
 
 from ..errors import SetupError
 from ..model import ament_index
+from . import editable
 
 WHEELS = "wheels"
 SYSTEM = "system"
@@ -61,12 +62,13 @@ class RosEnvironment:
 
 
 def ament_prefixes(extra: tuple[Path, ...] = ()) -> list[Path]:
-    """The ament prefixes to search, in order: ``AMENT_PREFIX_PATH`` first, then ``extra``."""
+    """The ament prefixes to search, in order: ``AMENT_PREFIX_PATH`` first, then ``extra``, then
+    the symlink prefixes of ament_python packages installed editable (``run.editable``)."""
     seen: list[Path] = []
     for prefix in [*ament_index.env_prefixes(), *extra]:
         if prefix not in seen:
             seen.append(prefix)
-    return seen
+    return [*seen, *(p for p in editable.prefixes(seen) if p not in seen)]
 
 
 @functools.lru_cache(maxsize=8)

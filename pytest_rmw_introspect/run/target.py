@@ -30,7 +30,7 @@ from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ExecutableNotFound, TargetConfigError
-from ..model import ament_index
+from ..model import ament_index, editable_installs
 from ..model.option_tables import MAX_SECONDS, TARGET
 from ..model.vocabulary import DEFAULT_LIFECYCLE_TARGET, LIFECYCLE_TARGETS
 from . import middleware, ros_env
@@ -494,7 +494,8 @@ def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> 
             f"Package '{package}' was not found in the ament index. Searched the prefixes "
             f"{searched or '(none: AMENT_PREFIX_PATH is empty)'}"
             " for share/ament_index/resource_index/packages/" + package + ". Build and source the "
-            "workspace that provides it (or add its install prefix to AMENT_PREFIX_PATH).",
+            "workspace that provides it (or add its install prefix to AMENT_PREFIX_PATH)."
+            + editable_installs.not_found_hint(package, if_absent=False),
             target=f"{package}/{executable}",
             searched=searched,
         )

@@ -1,7 +1,8 @@
 """Python launch files walked through ROS 2's own launch and launch_ros (launch.python_file).
 
-These run only where launch_ros can be imported (a standard ROS 2 install); the ROS 2 PyPI
-wheels have no launch_ros, and there the error path is tested instead
+These run only where launch_ros can be imported (a standard ROS 2 install, the overlay, or a venv
+with the ROS 2 PyPI wheels after `rmw-introspect install-launch`: tests/cli/test_install_launch.py
+runs them so); elsewhere the error path is tested instead
 (test_launch_reader.py::test_python_launch_files_need_launch_ros)."""
 
 from __future__ import annotations
@@ -11,23 +12,30 @@ from pathlib import Path
 
 import pytest
 
+from pytest_rmw_introspect.launch import python_file
 from pytest_rmw_introspect.launch import reader as launch_reader
 
-pytest.importorskip("launch_ros.actions", reason="launch_ros is not importable here (the ROS 2 PyPI wheels lack it)")
+try:
+    python_file.modules()
+except ImportError as exc:
+    pytest.skip(f"launch/launch_ros cannot be imported here ({exc}): `rmw-introspect install-launch` installs them",
+                allow_module_level=True)
 
 
 @pytest.fixture
 def prefix(tmp_path: Path) -> Path:
-    """An ament prefix with a package `demo` and its executables talker, laser, listener."""
+    """An ament prefix with a package `demo` and its executables talker, laser, listener, and
+    rclcpp_components' component_container (a stand-in where rclcpp is not built: the wheels)."""
     root = tmp_path / "prefix"
     (root / "share" / "ament_index" / "resource_index" / "packages").mkdir(parents=True)
-    (root / "share" / "ament_index" / "resource_index" / "packages" / "demo").write_text("")
-    (root / "share" / "demo").mkdir(parents=True)
-    (root / "lib" / "demo").mkdir(parents=True)
-    for name in ("talker", "laser", "listener"):
-        exe = root / "lib" / "demo" / name
-        exe.write_text("#!/bin/sh\n")
-        exe.chmod(0o755)
+    for package, names in (("demo", ("talker", "laser", "listener")), ("rclcpp_components", ("component_container",))):
+        (root / "share" / "ament_index" / "resource_index" / "packages" / package).write_text("")
+        (root / "share" / package).mkdir(parents=True)
+        (root / "lib" / package).mkdir(parents=True)
+        for name in names:
+            exe = root / "lib" / package / name
+            exe.write_text("#!/bin/sh\n")
+            exe.chmod(0o755)
     return root
 
 
@@ -287,3 +295,38 @@ def test_anon_names_of_a_python_launch_file_are_those_of_xml_and_stable_across_r
     # launch's own AnonName is itself again after reading
     from launch.substitutions import AnonName
     assert "worker_anon_" not in AnonName("worker").compute_name("worker")
+
+
+COMPONENTS = """
+from launch import LaunchDescription
+from launch.actions import GroupAction
+from launch_ros.actions import ComposableNodeContainer, PushRosNamespace, SetRemap
+from launch_ros.descriptions import ComposableNode
+
+
+def generate_launch_description():
+    return LaunchDescription([GroupAction([
+        PushRosNamespace('robot'),
+        SetRemap(src='scan', dst='lidar/scan'),
+        ComposableNodeContainer(name='container', namespace='', package='rclcpp_components',
+                                executable='component_container', composable_node_descriptions=[
+            ComposableNode(package='demo', plugin='demo::Talker', name='talker',
+                           remappings=[('chatter', 'status')], parameters=[{'rate': 2.5, 'ids': [1, 2]}],
+                           extra_arguments=[{'use_intra_process_comms': True}]),
+        ]),
+    ])])
+"""
+
+
+def test_a_component_is_the_load_node_request_launch_ros_builds(tmp_path, prefix):
+    """With or without a real composition_interfaces (the wheels have none: launch_ros then builds
+    the request on launch.composition_stand_in's LoadNode), the request holds what launch_ros put in."""
+    path = tmp_path / "components.launch.py"
+    path.write_text(textwrap.dedent(COMPONENTS))
+    [container] = launch_reader.read(path, prefixes=[prefix]).nodes
+    [component] = container.components
+    assert (component.package, component.plugin, component.name, component.namespace) == (
+        "demo", "demo::Talker", "talker", "/robot")
+    assert component.remap_rules == ("scan:=lidar/scan", "chatter:=status")
+    assert component.parameters == (("rate", 3, 2.5), ("ids", 7, (1, 2)))
+    assert component.extra_arguments == (("use_intra_process_comms", 1, True),)

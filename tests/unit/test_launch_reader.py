@@ -750,7 +750,7 @@ def test_python_launch_files_need_launch_ros(tmp_path):
     message = str(info.value)
     assert "robot.launch.py is a Python launch file" in message
     assert "ROS 2 PyPI wheels do not include them" in message
-    assert "write the launch file in XML or YAML" in message and "record.json" in message
+    assert "run `rmw-introspect install-launch` once" in message  # the one command (issue 47, finding 8)
     # also when an XML file includes it, with the line of the include
     top = write(tmp_path / "top.launch.xml", '<launch>\n  <include file="robot.launch.py"/>\n</launch>\n')
     with pytest.raises(LaunchError, match=r"top.launch.xml:2: .*robot.launch.py is a Python launch file"):

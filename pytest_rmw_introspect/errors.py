@@ -468,6 +468,11 @@ class RevisionError(RmwIntrospectError):
     repository, REF names no commit, or a shallow clone does not hold it."""
 
 
+class NoContracts(RevisionError):
+    """The gate (``diff --against``, ``pytest --against``) found no contract to compare: an error
+    (exit 2) that names where it looked, never a pass on nothing (``check.gate.no_contracts``)."""
+
+
 class UsageError(RmwIntrospectError):
     """A bad command line or option value (``rmw-introspect``'s arguments, ``--shard``): the
     message says which and what to write; exit status 2."""

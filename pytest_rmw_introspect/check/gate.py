@@ -38,7 +38,7 @@ from ..compare.acceptance import Accepted
 from ..compare.baseline import Baseline
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
-from ..errors import ContractError, RevisionError
+from ..errors import ContractError, NoContracts, RevisionError
 from ..model import contract as contract_module
 from ..model import contract_kind, system_contract
 from ..model.contract import Contract
@@ -56,10 +56,6 @@ DEFAULT_FAIL_ON = "breaking"
 _VERSION_LINE = re.compile(rf"^{contract_module.VERSION_KEY}\s*:", re.M)
 #: a node of a contract written as updates write it (for the report's list of an unchanged file's nodes)
 _NODE_LINE = re.compile(r"^  (/[^:\s]*):", re.M)
-
-
-class NoContracts(RevisionError):
-    """The gate found no contract to compare (exit 2: a gate that compared nothing never passes)."""
 
 
 @dataclass

@@ -15,6 +15,7 @@ One line per module (:func:`main` here is the console script):
 - ``init``: ``init --package P``: contract testing started on a package
 - ``validate``: ``validate``: contract files checked without running anything
 - ``lock``: ``lock``: the package's type-hash lockfile
+- ``contracts``: ``contracts``: the contract files under a directory, found by content
 - ``install_launch``: ``install-launch``: ROS 2's launch packages into the venv, for Python launch files
 - ``arguments``: the option groups several commands share, and the readers of their values
 - ``option_flags``: the flags of the option tables (``model.option_tables``)

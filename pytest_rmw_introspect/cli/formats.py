@@ -4,7 +4,9 @@ command's output to ``-o FILE`` or stdout; JSON; the Markdown report appended to
 from __future__ import annotations
 
 import argparse
+import errno
 import json
+import os
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -92,7 +94,18 @@ def append_summary(path: str, markdown: str) -> None:
     """Append the Markdown report to ``path`` (``$GITHUB_STEP_SUMMARY`` collects what each step
     appends; the run's own result is never replaced)."""
     try:
-        with open(path, "a", encoding="utf-8") as summary:
+        # O_NONBLOCK: a FIFO nobody reads is refused at once (ENXIO) instead of blocking forever
+        # (issue 50, N22); one somebody reads (``--summary /dev/stdout`` in a pipe) is written to
+        fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT | os.O_NONBLOCK | os.O_CLOEXEC, 0o666)
+    except OSError as exc:
+        if exc.errno == errno.ENXIO:
+            raise UsageError(f"--summary {path}: is a FIFO (named pipe) that nobody reads: the report cannot be "
+                             "appended; give a regular file (in GitHub Actions \"$GITHUB_STEP_SUMMARY\")") from None
+        raise UsageError(f"--summary {path}: cannot append the report ({exc.strerror or exc}); "
+                         "give a file in a directory that exists and is writable") from None
+    try:
+        os.set_blocking(fd, True)
+        with os.fdopen(fd, "a", encoding="utf-8") as summary:
             summary.write(markdown if markdown.endswith("\n") else markdown + "\n")
     except OSError as exc:
         raise UsageError(f"--summary {path}: cannot append the report ({exc.strerror or exc}); "

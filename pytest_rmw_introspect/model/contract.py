@@ -298,6 +298,9 @@ def _schema_reason(error: Any) -> str:
                 else "a pattern needs a reason: say why the names change every run")
     if error.absolute_path and error.absolute_path[0] == acceptance.SECTION_KEY and validator in ("pattern", "minLength"):
         return _ACCEPT_REASONS.get(str(error.absolute_path[-1]), str(error.message)).format(instance=instance)
+    if validator == "pattern" and list(error.absolute_path) == [VERSION_KEY]:
+        return (f"interface_version {instance!r} is not MAJOR.MINOR.PATCH with parts of at most 18 digits "
+                "(e.g. 1.0.0)")
     if validator == "pattern" and error.absolute_path and error.absolute_path[-1] == "name":
         return f"{instance!r} is not a fully resolved ROS name (it must start with '/')"
     if validator == "pattern" and error.absolute_path and "type_hash" in error.absolute_path:

@@ -20,7 +20,10 @@ class _Graded(Protocol):
     def severity(self) -> Severity: ...
 
 
-_VERSION = re.compile(r"^(0|[1-9][0-9]*)\.(0|[1-9][0-9]*)\.(0|[1-9][0-9]*)$")
+#: each part at most 18 digits (the schema says so too): a version of 5,000 digits is refused, not
+#: converted (int() of more than 4,300 digits raises, and nobody numbers an interface that far)
+MAX_DIGITS = 18
+_VERSION = re.compile(r"^(0|[1-9][0-9]{0,17})\.(0|[1-9][0-9]{0,17})\.(0|[1-9][0-9]{0,17})$")
 
 
 class Bump(enum.IntEnum):
@@ -43,7 +46,9 @@ class Version:
         """``1.2.3`` (the schema checked the form; raises ValueError otherwise)."""
         found = _VERSION.match(str(text).strip())
         if found is None:
-            raise ValueError(f"interface_version {text!r} is not MAJOR.MINOR.PATCH (e.g. 1.0.0)")
+            shown = str(text) if len(str(text)) <= 60 else f"{str(text)[:30]}... ({len(str(text)):,} characters)"
+            raise ValueError(f"interface_version {shown!r} is not MAJOR.MINOR.PATCH with parts of at most "
+                             f"{MAX_DIGITS} digits (e.g. 1.0.0)")
         return cls(*(int(part) for part in found.groups()))
 
     def __str__(self) -> str:

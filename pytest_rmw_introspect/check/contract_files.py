@@ -19,13 +19,20 @@ from collections.abc import Callable, Collection, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..model import contract_kind
+from ..errors import InputError
+from ..model import contract_kind, untrusted
 from ..model.contract_kind import Kind
 
 #: why a YAML file is not a contract, as reports say it
 NOT_A_CONTRACT = "no top-level contract_version:, system_version: or nodl_version: key"
 #: how many of the YAML files that are not contracts the text and Markdown reports name (JSON: all)
 SKIPPED_SHOWN = 5
+#: the first line of a git LFS pointer file (what git stores for a file kept in LFS)
+LFS_POINTER_START = "version https://git-lfs.github.com/spec/v1\n"
+#: what to do about a contract kept in git LFS, said wherever one is met
+LFS_ADVICE = ("the gate reads files as git stores them: run `git lfs pull` before it (GitHub Actions: "
+              "actions/checkout with `lfs: true`), and keep contracts out of LFS (at the base revision git "
+              "stores only the pointer): `git lfs untrack PATTERN` and commit them again (docs/known-limits.md)")
 #: directories never walked outside a git repository (colcon's and Python's leftovers)
 _NOT_WALKED = frozenset({"build", "install", "log", "__pycache__", "node_modules", "site-packages"})
 
@@ -78,6 +85,63 @@ def classify(names: Iterable[str], kind_of: Callable[[str], Kind | None]) -> tup
     return contracts, skipped
 
 
+def lfs_pointer(text: str) -> str | None:
+    """Why ``text`` cannot be read as a contract when it is a git LFS pointer (the sentence's end),
+    else None."""
+    if not text.startswith(LFS_POINTER_START) or len(text) > 1024:
+        return None
+    size = next((line.split()[1] for line in text.splitlines() if line.startswith("size ")), "?")
+    return f"is a git LFS pointer (to a file of {size} bytes kept in LFS), not the file: {LFS_ADVICE}"
+
+
+def display(name: str) -> str:
+    """A file name as messages show it: bytes that are not UTF-8 (decoded with surrogateescape)
+    as ``\\xff`` and control characters (a newline) escaped, so that every name prints, on one line."""
+    if name.isprintable():
+        return name
+    raw = name.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    return "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii") for c in raw)
+
+
+def outside(top: Path, name: str) -> str | None:
+    """Why the work tree's ``name`` is not read when it is a symbolic link that leads outside the
+    repository at ``top`` (the sentence's end), else None."""
+    real = Path(os.path.realpath(top / name))
+    try:
+        real.relative_to(os.path.realpath(top))
+        return None
+    except ValueError:
+        return (f"is a symbolic link to {display(os.fsdecode(real))}, outside the repository: not followed (the gate "
+                "compares what the repository holds); commit the contract itself instead of a link to it")
+
+
+def read_tracked(top: Path, name: str) -> str:
+    """The text of the work tree's file ``name`` (relative to ``top``) as the gate reads it: a
+    symbolic link that leads outside the repository is not followed, a FIFO is refused unopened,
+    the size is bounded, a git LFS pointer is named. Raises FileNotFoundError, or InputError whose
+    text ends a sentence about the file ("is a FIFO ...")."""
+    why = outside(top, name)
+    if why is not None:
+        raise InputError(why)
+    try:
+        text = untrusted.read_text(top / name)
+    except InputError as exc:
+        raise InputError(f"cannot be read: {exc}") from None
+    why = lfs_pointer(text)
+    if why is not None:
+        raise InputError(why)
+    return text
+
+
+def kind_in_repository(top: Path, name: str) -> Kind | None:
+    """The kind of contract the work tree's ``name`` is (as :func:`read_tracked` reads it; a file it
+    cannot read: by its name alone, its loader says what is wrong)."""
+    try:
+        return contract_kind.kind_of_text(read_tracked(top, name), name)
+    except (OSError, InputError):
+        return contract_kind.kind_of_name(name)
+
+
 def find_contracts(directory: str | Path = ".") -> Listing:
     """Every contract under ``directory`` by its content (see the module's text for which files)."""
     root = Path(directory)
@@ -86,7 +150,7 @@ def find_contracts(directory: str | Path = ".") -> Listing:
     if names is None:
         names, how = _walk(root), "every file below it (not a git repository)"
     present = [name for name in names if (root / name).is_file()]
-    contracts, skipped = classify(present, lambda name: contract_kind.kind_of_file(root / name))
+    contracts, skipped = classify(present, lambda name: kind_in_repository(root, name))
     return Listing(directory=root, contracts=contracts, skipped=skipped, how=how)
 
 

@@ -89,6 +89,8 @@ class GateContract:
             return f"{self.shown} (added since the base revision)"
         if self.status == "removed":
             return f"{self.shown} (removed: everything it promised is gone)"
+        if self.status == "unreadable":
+            return f"{self.shown} (could not be read)"
         return self.shown
 
     def render_text(self) -> str:
@@ -122,6 +124,8 @@ class GateResult:
     #: the tracked YAML files under the directory that are not contracts (shown names; none when
     #: the contracts were named)
     skipped: list[str] = field(default_factory=list)
+    #: the tracked YAML files it could not read and that did not change (``shown why``): said, not failed
+    unread: list[str] = field(default_factory=list)
 
     @property
     def failed(self) -> bool:
@@ -143,14 +147,15 @@ class GateResult:
 
     def kinds(self) -> dict[Kind, int]:
         """How many contracts of each kind were compared (kinds in ``Kind``'s order, none left out)."""
-        return {kind: n for kind in Kind if (n := sum(1 for c in self.contracts if c.kind is kind))}
+        return {kind: n for kind in Kind
+                if (n := sum(1 for c in self.contracts if c.kind is kind and c.status != "unreadable"))}
 
     def compared(self) -> str:
         """``3 contracts: 2 node contracts, 1 system contract; 1 changed, 2 unchanged``: the
         report's first words, in every format."""
-        kinds = kinds_text(c.kind for c in self.contracts)
+        kinds = kinds_text(c.kind for c in self.contracts if c.status != "unreadable")
         statuses = {status: sum(1 for c in self.contracts if c.status == status)
-                    for status in ("changed", "renamed", "added", "removed", "unchanged")}
+                    for status in ("changed", "renamed", "added", "removed", "unchanged", "unreadable")}
         said = ", ".join(f"{n} {status}" for status, n in statuses.items() if n)
         return f"{counted(len(self.contracts), 'contract')}: {kinds}; {said}"
 
@@ -160,14 +165,19 @@ class GateResult:
             return None
         return f"not contracts ({NOT_A_CONTRACT}): {skipped_text(self.skipped)}"
 
+    def not_read(self) -> str | None:
+        """The line that names the tracked YAML files the gate could not read (and need not have)."""
+        if not self.unread:
+            return None
+        return f"not read ({counted(len(self.unread), 'tracked YAML file')}): " + "; ".join(self.unread)
+
     def intro(self) -> list[str]:
         """What the gate looked at, for the Markdown and GitHub reports."""
-        return [self.compared()] + ([said] if (said := self.not_contracts()) else [])
+        return [self.compared()] + [said for said in (self.not_contracts(), self.not_read()) if said]
 
     def render_text(self) -> str:
         lines = [f"{self.title()}: {self.compared()}"]
-        if (said := self.not_contracts()) is not None:
-            lines.append(said)
+        lines += [said for said in (self.not_contracts(), self.not_read()) if said]
         if self.systems:
             lines.append(f"consumers judged with {', '.join(self.systems)}")
         out = "\n".join(lines) + "\n"
@@ -182,6 +192,7 @@ class GateResult:
         each naming its contract), ``not_contracts`` every tracked YAML file it passed over."""
         return {"against": self.against, "commit": self.commit, "contracts": len(self.contracts),
                 "kinds": {kind.value: n for kind, n in self.kinds().items()}, "not_contracts": self.skipped,
+                "not_read": self.unread,
                 "items": [item for contract in self.ordered() for item in contract.to_json()]}
 
     def for_ci(self) -> list[ContractOutcome]:
@@ -250,7 +261,7 @@ def pairs(revision: Revision, named: Sequence[str | Path] = ()) -> list[Pair]:
         exists = revision.exists_at_ref(renamed_from.get(full, full) for full in fulls)
         out = []
         for given, full in zip(named, fulls, strict=True):
-            now = full if (revision.top / full).is_file() else None
+            now = full if os.path.lexists(revision.top / full) else None
             old = renamed_from.get(full, full)
             if now is None and old not in exists:
                 raise RevisionError(f"{given} exists neither in the work tree nor at {revision.ref}: name a contract "
@@ -258,7 +269,7 @@ def pairs(revision: Revision, named: Sequence[str | Path] = ()) -> list[Pair]:
             out.append(Pair(old if old in exists else None, now))
         return out
     exists = set(revision.contracts_at_ref())
-    present = [name for name in revision.contracts_now() if (revision.top / name).is_file()]
+    present = [name for name in revision.contracts_now() if os.path.lexists(revision.top / name)]
     found = [Pair(renamed_from.get(name, name) if renamed_from.get(name, name) in exists else None, name)
              for name in present]
     kept = {pair.old for pair in found}
@@ -272,7 +283,7 @@ def kind_of_pair(revision: Revision, pair: Pair) -> Kind:
     what is wrong with it)."""
     survey = revision.survey()
     if pair.new is not None:
-        kind = survey.now.get(pair.new) or contract_kind.kind_of_file(revision.top / pair.new)
+        kind = survey.now.get(pair.new) or revision.kind_now(pair.new)
     else:
         assert pair.old is not None
         kind = survey.at_ref.get(pair.old) or contract_kind.kind_of_text(revision.text(pair.old) or "", pair.old)
@@ -286,6 +297,9 @@ def no_contracts(revision: Revision) -> NoContracts:
     skipped = revision.survey().skipped
     passed = (f"; it passed over {skipped_text([revision.shown(n) for n in skipped])} ({NOT_A_CONTRACT})"
               if skipped else "; git tracks no YAML file there")
+    unread = revision.survey().unread
+    if unread:
+        passed += "; it could not read " + "; ".join(f"{revision.shown(n)} {why}" for n, why in sorted(unread.items()))
     return NoContracts(
         f"no contract to compare: git tracks no contract under {where}, neither in the work tree nor at {revision.ref} "
         f"({revision.commit[:12]}){passed}. A gate that compares nothing does not pass: run it where the "
@@ -307,9 +321,10 @@ def system_nodes(revision: Revision, named: Sequence[str | Path] | None) -> dict
             out[revision.shown(revision.full_name(given))] = system_contract.load(path).nodes
         return out
     for name, kind in revision.survey().now.items():
-        if kind is Kind.SYSTEM and (revision.top / name).is_file():
+        text = revision.text_now(name) if kind is Kind.SYSTEM else None
+        if text is not None:
             try:
-                out[revision.shown(name)] = system_contract.load(revision.top / name).nodes
+                out[revision.shown(name)] = system_contract.loads(text, path=revision.shown(name)).nodes
             except ContractError:
                 continue  # its own comparison reports it
     return out
@@ -324,15 +339,40 @@ def run(against: str, contracts: Sequence[str | Path] = (), *, systems: Sequence
     entry (``GateContract.error``); no contract at all is :class:`NoContracts`."""
     revision = open_revision(against, cwd)
     found = pairs(revision, contracts)
-    if not found:
+    unreadable, unread = ([], []) if contracts else _unreadable(revision, found)
+    if not found and not unreadable:
         raise no_contracts(revision)
     revision.read(pair.old for pair in found if pair.old is not None)
     consumers_at_hand = system_nodes(revision, systems)
     threshold = parse_threshold(fail_on or DEFAULT_FAIL_ON)
     compared = [compare_pair(revision, pair, consumers_at_hand, options=options, threshold=threshold,
                              baseline=baseline) for pair in found]
-    return GateResult(against=against, commit=revision.commit, contracts=compared, systems=list(consumers_at_hand),
-                      skipped=[] if contracts else [revision.shown(name) for name in revision.survey().skipped])
+    return GateResult(against=against, commit=revision.commit, contracts=compared + unreadable,
+                      systems=list(consumers_at_hand),
+                      skipped=[] if contracts else [revision.shown(name) for name in revision.survey().skipped],
+                      unread=unread)
+
+
+def _unreadable(revision: Revision, found: Sequence[Pair]) -> tuple[list[GateContract], list[str]]:
+    """The tracked YAML files the gate could not read (``Survey.unread``) and paired with no
+    contract: an error entry each for one that changed since REF and cannot be read now (it may be
+    a contract that changed: the gate cannot tell), a line of the report for the others."""
+    paired = {name for pair in found for name in (pair.old, pair.new) if name}
+    errors: list[GateContract] = []
+    said: list[str] = []
+    for name, why in sorted(revision.survey().unread.items()):
+        if name in paired:
+            continue
+        shown = revision.shown(name)
+        if revision.changed(name) and revision.text_now(name) is None:
+            errors.append(GateContract(
+                shown=shown, path=revision.top / name, before=None, status="unreadable",
+                kind=contract_kind.kind_of_name(name) or Kind.NODE,
+                error=f"{shown} {why}\n  It changed since {revision.ref} and the gate cannot tell whether it is a "
+                      "contract: make it readable (or, if it is no contract, name the contracts to compare)"))
+        else:
+            said.append(f"{shown} {why}")
+    return errors, said
 
 
 def update_advice(against: str, path: str | Path, *, cwd: str | Path | None = None) -> str | None:
@@ -365,7 +405,7 @@ def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractN
                           before=revision.at_ref(pair.old) if pair.old else None, kind=kind_of_pair(revision, pair))
     if _unchanged(revision, pair):  # nothing to compare, nothing to load (most contracts of a pull request)
         result.status = "unchanged" if pair.old == pair.new else "renamed"
-        result.nodes = sorted(_NODE_LINE.findall(revision.text(pair.old or "") or ""))
+        result.nodes = sorted(_NODE_LINE.findall(revision.text_now(pair.new or "") or ""))
         return result
     loaded = _load_pair(revision, pair, shown)
     if isinstance(loaded, str):
@@ -387,17 +427,24 @@ def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractN
 
 
 def _unchanged(revision: Revision, pair: Pair) -> bool:
+    """Git says the file did not change (a contract kept in git LFS is not read at REF then), or
+    it reads the same at REF and now."""
     if pair.old is None or pair.new is None:
         return False
-    try:
-        return revision.text(pair.old) == (revision.top / pair.new).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
-        return False  # loading it says what is wrong
+    if pair.old == pair.new and not revision.changed(pair.new) and not (revision.top / pair.new).is_symlink():
+        return True  # (a link git did not see change may lead to a file that did: read both)
+    now = revision.text_now(pair.new)
+    return now is not None and revision.text(pair.old) == now  # one that cannot be read: loading it says why
 
 
 def _load_pair(revision: Revision, pair: Pair, shown: str) -> tuple[Contract, Contract] | str:
     """The contract at REF and now (an empty one where the file is not), or the error to report."""
     old = new = Contract(path=None, nodes={})
+    if pair.old is not None and (why := revision.problem_at_ref(pair.old)) is not None:
+        return (f"{revision.at_ref(pair.old)} {why}\n  The gate cannot compare {shown} with its version at "
+                f"{revision.ref}; fix what is said, or compare two files with `rmw-introspect diff OLD NEW`")
+    if pair.new is not None and (why := revision.problem_now(pair.new)) is not None:
+        return f"{shown} {why}"
     if pair.old is not None:
         try:
             old = load_text(revision.text(pair.old) or "", revision.at_ref(pair.old))
@@ -407,11 +454,9 @@ def _load_pair(revision: Revision, pair: Pair, shown: str) -> tuple[Contract, Co
                     "two files with `rmw-introspect diff OLD NEW`")
     if pair.new is not None:
         try:
-            new = load_text((revision.top / pair.new).read_text(encoding="utf-8"), shown)
+            new = load_text(revision.text_now(pair.new) or "", shown)
         except ContractError as exc:
             return str(exc)
-        except (OSError, UnicodeDecodeError) as exc:
-            return f"{shown}: cannot be read ({exc})"
     return old, new
 
 

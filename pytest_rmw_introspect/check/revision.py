@@ -20,10 +20,10 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import RevisionError
-from ..model import contract_kind
+from ..errors import InputError, RevisionError
+from ..model import contract_kind, untrusted
 from ..model.contract_kind import Kind
-from .contract_files import classify
+from .contract_files import classify, display, lfs_pointer, read_tracked
 
 #: what a CI job must fetch for REF to be there, said in every message about a missing revision
 FETCH_ADVICE = ("fetch it first: `git fetch origin <branch>` (in GitHub Actions `actions/checkout` with "
@@ -33,11 +33,13 @@ FETCH_ADVICE = ("fetch it first: `git fetch origin <branch>` (in GitHub Actions 
 @dataclass(frozen=True)
 class Survey:
     """What the gate looked at: the contracts git tracks under ``cwd`` now and at REF (full name:
-    kind), and the tracked YAML files it decided were not contracts (full names, now)."""
+    kind), the tracked YAML files it decided were not contracts (full names, now), and the ones it
+    could not read (full name: why, as the end of a sentence about the file)."""
 
     now: dict[str, Kind]
     at_ref: dict[str, Kind]
     skipped: list[str]
+    unread: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -49,9 +51,24 @@ class FileChange:
     new: str | None  # in the work tree (None: removed)
 
 
+@dataclass(frozen=True)
+class TreeEntry:
+    """A file of REF's tree as ``git ls-tree -l`` lists it."""
+
+    mode: str  # 100644, 100755, 120000 (a symbolic link), 160000 (a submodule)
+    oid: str
+    size: int | None  # None: not a blob
+
+
+#: how many symbolic links at REF are followed, one to the next, before giving up
+_MAX_LINKS = 8
+
+
 @dataclass
 class Revision:
-    """REF resolved in the repository that holds ``cwd``."""
+    """REF resolved in the repository that holds ``cwd``. Names are read from git as bytes (``-z``)
+    and decoded with surrogateescape (``os.fsdecode``), the same way now and at REF, so that a name
+    that is not UTF-8 or holds a newline is one name everywhere; files at REF are read by object id."""
 
     ref: str
     commit: str
@@ -59,12 +76,17 @@ class Revision:
     cwd: Path
     shallow: bool = False
     _texts: dict[str, str | None] = field(default_factory=dict, repr=False)
+    _problems: dict[str, str] = field(default_factory=dict, repr=False)
+    _tree: dict[str, TreeEntry] | None = field(default=None, repr=False)
+    _now: dict[str, str] = field(default_factory=dict, repr=False)
+    _now_problems: dict[str, str] = field(default_factory=dict, repr=False)
     _survey: Survey | None = field(default=None, repr=False)
     _changes: list[FileChange] | None = field(default=None, repr=False)
 
     def shown(self, full_name: str) -> str:
-        """A repository path as a message shows it: relative to the directory the command runs in."""
-        return os.path.relpath(self.top / full_name, self.cwd)
+        """A repository path as a message shows it: relative to the directory the command runs in
+        (bytes that are not UTF-8 and control characters escaped: ``contract_files.display``)."""
+        return display(os.path.relpath(self.top / full_name, self.cwd))
 
     def full_name(self, path: str | Path) -> str:
         """A path given on the command line (relative to ``cwd``, or absolute) as git names it."""
@@ -80,27 +102,63 @@ class Revision:
         return f"{self.ref}:{self.shown(full_name)}"
 
     def survey(self) -> Survey:
-        """Every contract git tracks under ``cwd`` now and at REF, found by its content."""
+        """Every contract git tracks under ``cwd`` now and at REF, found by its content. A file that
+        cannot be read (a FIFO, too large, a git LFS pointer, a symbolic link out of the repository)
+        is a contract when its name says so or the file on the other side is one; the others are in
+        ``unread``."""
         if self._survey is not None:
             return self._survey
-        tracked = _git(["ls-files", "-z", "--full-name", "--", "."], self.cwd).split("\0")
-        present = [name for name in tracked if contract_kind.is_candidate(name) and (self.top / name).is_file()]
-        now, skipped = classify(present, lambda name: contract_kind.kind_of_file(self.top / name))
-        at_ref_names = _git(["ls-tree", "-r", "-z", "--name-only", "--full-name", self.commit, "--", "."],
-                            self.cwd).split("\0")
+        tracked = _names(_git_bytes(["ls-files", "-z", "--full-name", "--", "."], self.cwd))
+        present = [name for name in tracked if contract_kind.is_candidate(name) and os.path.lexists(self.top / name)]
+        now, skipped = classify(present, self.kind_now)
+        tree = self._ref_tree()
         differ = {change.old for change in self.changes() if change.old is not None}
+        renamed = {change.old: change.new for change in self.changes() if change.old and change.new}
         # a file that does not differ from the work tree is at REF what it is now: read only the others
-        self.read(name for name in at_ref_names if name in differ and contract_kind.is_candidate(name))
+        self.read(name for name in tree if name in differ and contract_kind.is_candidate(name))
 
         def kind_at_ref(name: str) -> Kind | None:
             if name not in differ:
                 return now.get(name)
             text = self._texts.get(name)
-            return contract_kind.kind_of_text(text, name) if text is not None else None
+            if text is not None:
+                return contract_kind.kind_of_text(text, name)
+            if name in self._problems:
+                return contract_kind.kind_of_name(name) or now.get(renamed.get(name) or name)
+            return None
 
-        at_ref, _ = classify(at_ref_names, kind_at_ref)
-        self._survey = Survey(now=now, at_ref=at_ref, skipped=skipped)
+        at_ref, _ = classify(tree, kind_at_ref)
+        for name in [name for name in present if name in self._now_problems and name in at_ref]:
+            now[name] = at_ref[name]  # a contract at REF that cannot be read now: compared, and said why
+        unread = {name: why for name, why in self._now_problems.items() if name in present and name not in now}
+        for name, why in self._problems.items():  # (each says "at REF")
+            if name in differ and name not in at_ref and contract_kind.is_candidate(name):
+                unread.setdefault(name, why)
+        self._survey = Survey(now=now, at_ref=at_ref, skipped=[name for name in skipped if name not in unread],
+                              unread=unread)
         return self._survey
+
+    def kind_now(self, name: str) -> Kind | None:
+        """The kind of contract the work tree's file is (one that cannot be read: by its name)."""
+        text = self.text_now(name)
+        return contract_kind.kind_of_text(text, name) if text is not None else contract_kind.kind_of_name(name)
+
+    def text_now(self, full_name: str) -> str | None:
+        """The work tree's file as the gate reads it (``contract_files.read_tracked``), or None: it
+        is not there, or cannot be read (:meth:`problem_now` says why)."""
+        if full_name not in self._now and full_name not in self._now_problems:
+            try:
+                self._now[full_name] = read_tracked(self.top, full_name)
+            except FileNotFoundError:
+                self._now_problems[full_name] = "does not exist"
+            except (OSError, InputError) as exc:
+                self._now_problems[full_name] = str(exc)
+        return self._now.get(full_name)
+
+    def problem_now(self, full_name: str) -> str | None:
+        """Why the work tree's file cannot be read (the end of a sentence about it), or None."""
+        self.text_now(full_name)
+        return self._now_problems.get(full_name)
 
     def contracts_now(self) -> list[str]:
         """The contract files git tracks under ``cwd`` (as they are in the work tree)."""
@@ -111,19 +169,29 @@ class Revision:
         return sorted(self.survey().at_ref)
 
     def exists_at_ref(self, full_names: Iterable[str]) -> set[str]:
-        """Those of these files that exist at REF (whatever they hold; read with the others)."""
+        """Those of these files that exist at REF (whatever they hold, readable or not)."""
         names = list(full_names)
         self.read(names)
-        return {name for name in names if self._texts.get(name) is not None}
+        return {name for name in names if self._texts.get(name) is not None or name in self._problems}
+
+    def changed(self, full_name: str) -> bool:
+        """Whether the file differs between REF and the work tree (by git: a file kept in LFS is
+        compared by its content, as ``git diff`` compares it); a file outside ``cwd`` counts as changed."""
+        if not self._under_cwd(full_name):
+            return True
+        return any(full_name in (change.old, change.new) for change in self.changes())
+
+    def _under_cwd(self, full_name: str) -> bool:
+        inside = Path(os.path.relpath(self.cwd, self.top)).as_posix()
+        return inside == "." or full_name.startswith(inside + "/")
 
     def changes(self) -> list[FileChange]:
         """Every file under ``cwd`` that differs between REF and the work tree, renames found as
         ``git diff -M`` finds them (50 % similar content)."""
         if self._changes is not None:
             return self._changes
-        out = _git(["diff", "-z", "--no-color", "--no-ext-diff", "--name-status", "-M", self.commit, "--", "."],
-                   self.cwd)
-        words = out.split("\0")
+        words = _names(_git_bytes(["diff", "-z", "--no-color", "--no-ext-diff", "--name-status", "-M", self.commit,
+                                   "--", "."], self.cwd), keep_empty=True)
         changes: list[FileChange] = []
         i = 0
         while i < len(words) - 1:
@@ -138,39 +206,139 @@ class Revision:
         self._changes = changes
         return changes
 
+    def _ref_tree(self) -> dict[str, TreeEntry]:
+        """Every file under ``cwd`` at REF (``git ls-tree -r -z -l``: names as bytes, with modes and sizes)."""
+        if self._tree is None:
+            self._tree = _tree_entries(_git_bytes(["ls-tree", "-r", "-z", "-l", "--full-name", self.commit, "--", "."],
+                                                  self.cwd))
+        return self._tree
+
+    def _entries(self, full_names: Sequence[str]) -> dict[str, TreeEntry]:
+        """The tree entries of these files at REF (those that exist there), wherever they are."""
+        tree = self._ref_tree()
+        found = {name: tree[name] for name in full_names if name in tree}
+        others = [name for name in full_names if name not in tree and not self._under_cwd(name)]
+        if others:
+            listed = _tree_entries(_git_bytes(["--literal-pathspecs", "ls-tree", "-z", "-l", "--full-name", self.commit,
+                                               "--", *others], self.top))
+            found.update((name, entry) for name, entry in listed.items() if name in others)
+        return found
+
     def read(self, full_names: Iterable[str]) -> None:
-        """Read these files at REF (one ``git cat-file --batch`` for all); :meth:`text` gives them."""
-        wanted = [name for name in dict.fromkeys(full_names) if name not in self._texts]
+        """Read these files at REF (one ``git cat-file --batch`` for all, by object id: a name that
+        holds a newline cannot shift the others); :meth:`text` gives them, :meth:`problem_at_ref`
+        says why one cannot be read (too large, a symbolic link out of the repository, a git LFS
+        pointer, not UTF-8: the checks the work tree's files get)."""
+        wanted = [name for name in dict.fromkeys(full_names) if name not in self._texts and name not in self._problems]
         if not wanted:
             return
-        request = "".join(f"{self.commit}:{name}\n" for name in wanted).encode()
-        result = subprocess.run(["git", "cat-file", "--batch"], cwd=self.top, input=request,
-                                capture_output=True, check=False, timeout=120)
+        entries = self._entries(wanted)
+        targets: dict[str, str] = {}  # name -> the file it is at REF (itself, or where its links lead)
+        for name in wanted:
+            entry = entries.get(name)
+            if entry is None or entry.size is None or entry.mode == "160000":
+                self._texts[name] = None  # not there (or a submodule: no file of this repository)
+                continue
+            target, why = self._follow(name, entry)
+            if why is not None:
+                self._problems[name] = why
+                continue
+            target_entry = self._entries([target]).get(target) if target != name else entry
+            assert target_entry is not None and target_entry.size is not None
+            if target_entry.size > untrusted.MAX_FILE_BYTES:
+                self._problems[name] = (f"is {target_entry.size:,} bytes at {self.ref}, more than the "
+                                        f"{untrusted.MAX_FILE_BYTES:,} bytes a contract may be (as in the work tree): "
+                                        "not read; compare with a later revision (--against COMMIT)")
+                continue
+            targets[name] = target_entry.oid
+        blobs = self._blobs(set(targets.values()))
+        for name, oid in targets.items():
+            try:
+                text = blobs[oid].decode("utf-8")
+            except UnicodeDecodeError as exc:
+                self._problems[name] = f"is not UTF-8 text at {self.ref} (byte {exc.start}: {exc.reason})"
+                continue
+            why = lfs_pointer(text)
+            if why is not None:
+                self._problems[name] = why.replace("not the file:", f"not the file, at {self.ref}:", 1)
+                continue
+            self._texts[name] = text
+
+    def _follow(self, name: str, entry: TreeEntry) -> tuple[str, str | None]:
+        """Where the file ``name`` leads at REF: itself, or the file its symbolic links lead to
+        inside the repository (as the work tree follows them); or why it is not read."""
+        seen = [name]
+        while entry.mode == "120000":
+            link = os.fsdecode(self._blobs({entry.oid})[entry.oid])
+            target = os.path.normpath(os.path.join(os.path.dirname(seen[-1]), link))
+            if os.path.isabs(link) or target == ".." or target.startswith("../"):
+                return name, (f"is a symbolic link at {self.ref} to {display(link)}, outside the repository: not "
+                              "followed (the gate compares what the repository holds); commit the contract itself")
+            found = self._entries([target]).get(target)
+            if found is None or found.size is None or target in seen or len(seen) > _MAX_LINKS:
+                return name, (f"is a symbolic link at {self.ref} to {display(link)}, which is no file of the "
+                              "repository there: commit the contract itself")
+            seen.append(target)
+            entry = found
+        return seen[-1], None
+
+    def _blobs(self, oids: set[str]) -> dict[str, bytes]:
+        """The content of these blobs (one ``git cat-file --batch``)."""
+        if not oids:
+            return {}
+        ordered = sorted(oids)
+        result = subprocess.run(["git", "cat-file", "--batch"], cwd=self.top,
+                                input="".join(f"{oid}\n" for oid in ordered).encode(), capture_output=True,
+                                check=False, timeout=120)
         if result.returncode != 0:
             raise RevisionError(f"git cat-file could not read the contracts at {self.ref}: "
                                 f"{result.stderr.decode(errors='replace').strip()}")
-        data, offset = result.stdout, 0
-        for name in wanted:
+        data, offset, out = result.stdout, 0, {}
+        for oid in ordered:
             end = data.index(b"\n", offset)
-            header = data[offset:end].decode()
+            header = data[offset:end].decode("ascii", "replace").split()
             offset = end + 1
-            if header.endswith(" missing") or " blob " not in header:
-                self._texts[name] = None
-                continue
-            size = int(header.rsplit(" ", 1)[1])
-            self._texts[name] = data[offset:offset + size].decode("utf-8", errors="replace")
+            if len(header) != 3:  # "<oid> missing": the object is not in this clone
+                raise RevisionError(f"git cat-file found no object {oid} at {self.ref}: " + FETCH_ADVICE)
+            size = int(header[2])
+            out[oid] = data[offset:offset + size]
             offset += size + 1
+        return out
 
     def text(self, full_name: str) -> str | None:
-        """The file's text at REF (None: it did not exist there)."""
+        """The file's text at REF (None: it did not exist there, or cannot be read: :meth:`problem_at_ref`)."""
         self.read([full_name])
-        return self._texts[full_name]
+        return self._texts.get(full_name)
+
+    def problem_at_ref(self, full_name: str) -> str | None:
+        """Why the file cannot be read at REF (the end of a sentence about it), or None."""
+        self.read([full_name])
+        return self._problems.get(full_name)
 
 
-def _git(args: Sequence[str], cwd: Path, *, check: bool = True) -> str:
-    result = subprocess.run(["git", *args], cwd=cwd, capture_output=True, text=True, check=False, timeout=120)
-    if check and result.returncode != 0:
-        raise RevisionError(f"`git {' '.join(args)}` failed in {cwd}: {result.stderr.strip()}")
+def _names(out: bytes, *, keep_empty: bool = False) -> list[str]:
+    """The NUL-separated names of git's ``-z`` output, decoded as the file system decodes names
+    (surrogateescape: a name that is not UTF-8 is still one name, and opens the same file)."""
+    words = [os.fsdecode(word) for word in out.split(b"\0")]
+    return words if keep_empty else [word for word in words if word]
+
+
+def _tree_entries(out: bytes) -> dict[str, TreeEntry]:
+    """``git ls-tree -z -l`` records (``MODE TYPE OID SIZE\tNAME``) by name."""
+    entries: dict[str, TreeEntry] = {}
+    for record in out.split(b"\0"):
+        if not record:
+            continue
+        meta, _, raw_name = record.partition(b"\t")
+        mode, kind, oid, size = meta.decode("ascii").split()
+        entries[os.fsdecode(raw_name)] = TreeEntry(mode, oid, int(size) if kind == "blob" and size != "-" else None)
+    return entries
+
+
+def _git_bytes(args: Sequence[str], cwd: Path) -> bytes:
+    result = subprocess.run(["git", *args], cwd=cwd, capture_output=True, check=False, timeout=120)
+    if result.returncode != 0:
+        raise RevisionError(f"`git {' '.join(args)}` failed in {cwd}: {result.stderr.decode(errors='replace').strip()}")
     return result.stdout
 
 

@@ -1,6 +1,8 @@
-"""Untrusted input, fuzzed: contracts, launch files, the target's parameters and the capture-file reader.
+"""Untrusted input, fuzzed: contracts, launch files, the target's parameters, the capture-file reader, git trees
+for the gate, unstable_names patterns, stand_ins: and baselines.
 
-A fixed seed and a bounded number of cases (``RMWI_FUZZ_CASES``, default 150 per input kind;
+A fixed seed and a bounded number of cases (``RMWI_FUZZ_CASES``, default 150 per input kind, a
+fraction of that for git trees, stand-ins and baselines;
 `make fuzz` runs many more): no traceback (only the documented errors), no hang (each case
 under a few seconds), and the command line's exit status is 0, 1 or 2.
 """
@@ -652,3 +654,267 @@ def test_a_launch_file_with_many_lets_and_includes_is_still_read(tmp_path):
     with deadline(CASE_SECONDS, "many includes"):
         result = launch_reader.read(tmp_path / "main.launch.xml")
     assert [n.name for n in result.nodes] == [f"r{n}_199" for n in range(60)]
+
+
+# ---------------------------------------------------------------------------- git trees (the gate, issue 50)
+
+#: pieces of file names as git stores them (bytes): not UTF-8, a newline, a tab, quotes, a leading
+#: dash, a right-to-left mark, glob characters
+_NAME_PIECES = [b"driver", b"a b", b"a\nb", b"\xff\xfe", b"\xc3\xa9t\xc3\xa9", b"-x", b"*", b'"q"', b"back\\slash",
+                b"tab\there", b"..x", b" lead", b"\xe2\x80\xae", b"x:y", b"[ab]"]
+_LFS = "version https://git-lfs.github.com/spec/v1\noid sha256:{}\nsize 1234\n".format("0" * 64)
+#: what a file of the base revision holds (or is): contracts, other YAML, and what the gate cannot read
+_FILE_KINDS = ["contract", "contract", "golden", "not a contract", "lfs pointer", "empty", "latin-1", "too large",
+               "link inside", "link outside", "dangling link"]
+#: what the branch does to a file of the base
+_CHANGES = ["keep", "keep", "edit", "remove", "rename", "fifo", "link outside", "lfs pointer", "directory",
+            "not a contract"]
+
+
+def _fuzzed_name(rng: random.Random, i: int) -> str:
+    pieces = b"".join(rng.choice(_NAME_PIECES) for _ in range(rng.randint(1, 3)))
+    folder = rng.choice([b"", b"contracts/", b"test/\xff/", b"a\nb/"])
+    return os.fsdecode(folder + pieces + b"%d" % i + rng.choice([b".yaml", b".yml", b".interfaces.yaml"]))
+
+
+def _fuzzed_text(rng: random.Random, i: int, kind: str) -> str | bytes:
+    from git_history import endpoint, node_contract
+
+    contract = node_contract(f"/n{i}", publishers=endpoint(f"/t{i}_{rng.randrange(3)}"),
+                             version=rng.choice([None, "1.0.0", "2.0.0", "1" * 30 + ".0.0"]))
+    return {"contract": contract.replace("nodes:", "target: {script: x.py}\nnodes:"), "golden": contract,
+            "not a contract": "rate: 10\n", "lfs pointer": _LFS, "empty": "",
+            "latin-1": b"contract_version: 1\n# \xff\xfe\nnodes: {}\n",
+            "too large": contract + "# padding\n" * 300}.get(kind, contract)
+
+
+def _place(path: Path, content: str | bytes | None, *, link: str | None = None) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if link is not None:
+        path.symlink_to(link)
+    elif isinstance(content, bytes):
+        path.write_bytes(content)
+    else:
+        path.write_text(content or "", encoding="utf-8")
+
+
+def _unlink(path: Path) -> None:
+    if path.is_dir() and not path.is_symlink():
+        import shutil
+
+        shutil.rmtree(path)
+    else:
+        path.unlink()
+
+
+def _fuzzed_repository(rng: random.Random, root: Path, outside: Path) -> set[str]:
+    """A base commit on ``main`` of random files (names, kinds, sizes) and a work tree that changes
+    some of them; the names of the contracts it left as they were (regular files)."""
+    from git_history import GitRepo
+
+    repo = GitRepo(root)
+    names = [_fuzzed_name(rng, i) for i in range(rng.randint(1, 8))]
+    kinds = {name: rng.choice(_FILE_KINDS) for name in names}
+    for i, name in enumerate(names):
+        kind = kinds[name]
+        link = {"link inside": os.path.relpath(root / names[0], (root / name).parent),
+                "link outside": str(outside), "dangling link": "nope.yaml"}.get(kind)
+        _place(root / name, _fuzzed_text(rng, i, kind), link=link if name != names[0] or kind != "link inside" else None)
+    repo.commit("base")
+    untouched: set[str] = set()
+    for i, name in enumerate(names):
+        change, path = rng.choice(_CHANGES), root / name
+        if change == "keep":
+            if kinds[name] in ("contract", "golden"):
+                untouched.add(name)
+            continue
+        if not os.path.lexists(path):
+            continue
+        _unlink(path)
+        if change == "edit":
+            _place(path, _fuzzed_text(rng, i, "golden"))
+        elif change == "rename":
+            _place(root / (name + ".moved.yaml"), _fuzzed_text(rng, i, kinds[name]))
+            repo.git("--literal-pathspecs", "add", "--", name + ".moved.yaml")
+        elif change == "fifo":
+            os.mkfifo(path)
+        elif change == "link outside":
+            _place(path, None, link=str(outside))
+        elif change == "lfs pointer":
+            _place(path, _LFS)
+        elif change == "directory":
+            _place(path / "inside.yaml", "x: 1\n")
+        elif change == "not a contract":
+            _place(path, "rate: 10\n")
+    return untouched
+
+
+def test_fuzzed_git_trees_never_crash_hang_or_misreport_an_unchanged_contract(tmp_path, monkeypatch):
+    """Issue 50 (N19-N24): random base trees (names that are not UTF-8 or hold newlines, symlinks in
+    and out of the repository, LFS pointers, files over the size limit, FIFOs and directories where
+    a contract was): `diff --against main` exits 0, 1 or 2, prints only what a terminal can print,
+    within a few seconds, and an untouched contract is never an error."""
+    from pytest_rmw_introspect.check.contract_files import display
+
+    monkeypatch.setattr("pytest_rmw_introspect.model.untrusted.MAX_FILE_BYTES", 2000)
+    outside = tmp_path / "outside.yaml"
+    outside.write_text(CONTRACT)
+    rng = random.Random(SEED)
+    for n in range(max(4, CASES // 25)):
+        root = tmp_path / f"r{n}"
+        untouched = _fuzzed_repository(rng, root, outside)
+        monkeypatch.chdir(root)
+        for form in ("text", "json"):
+            out, err = io.StringIO(), io.StringIO()
+            with deadline(CASE_SECONDS * 2, f"the gate on fuzzed tree {n}"), contextlib.redirect_stderr(err), \
+                    contextlib.redirect_stdout(out):
+                status = cli.main(["diff", "--against", "main", "--format", form])
+            assert status in (0, 1, 2), (n, form, status, err.getvalue())
+            assert "Traceback" not in err.getvalue()
+            out.getvalue().encode("utf-8"), err.getvalue().encode("utf-8")  # no lone surrogate: it prints
+            if form == "json" and out.getvalue():
+                report = json.loads(out.getvalue())
+                failed = {item["contract"] for item in report["items"] if "error" in item}
+                assert not failed & {display(name) for name in untouched}, (n, failed, err.getvalue())
+
+
+# ---------------------------------------------------------------------------- unstable_names patterns
+
+def _fuzzed_pattern(rng: random.Random) -> str:
+    segments = ["".join(rng.choice("ab_*9") for _ in range(rng.randint(1, 8))) for _ in range(rng.randint(1, 3))]
+    pattern = "/" + "/".join(segments)
+    if "*" not in pattern or pattern.count("*") > 4:  # more stars: the known backtracking below (N17)
+        pattern = "/" + "/".join(segment.replace("*", "") or "a" for segment in segments)[:-1] + "*"
+    return pattern
+
+
+def test_fuzzed_unstable_names_patterns_load_and_match_quickly():
+    """Issue 50: random ``unstable_names:`` patterns (and some that are not patterns) in a contract
+    load or are refused with a ContractError; those that load match random node names quickly."""
+    from pytest_rmw_introspect.model.unstable_names import NamePattern, NameRules
+
+    rng = random.Random(SEED)
+    for _ in range(CASES):
+        pattern = _fuzzed_pattern(rng) if rng.random() < 0.8 else rng.choice(
+            ["", "/", "*", "/a**", "/a/*/", "a_*", "/a b*", "/\xff*", "/*" * 30, "/a*" + "x" * 2000])
+        text = CONTRACT + f"unstable_names:\n  - {{pattern: {json.dumps(pattern)}, reason: fuzzed}}\n"
+        with deadline(CASE_SECONDS, f"loading unstable_names {pattern!r}"):
+            try:
+                contract = loads(text, path="fuzzed.interfaces.yaml")
+            except ContractError as exc:
+                assert "fuzzed.interfaces.yaml" in str(exc) and len(exc.reason) < 600, exc.reason
+                continue
+        rules = NameRules.of_contract(contract.unstable_names, contract.nodes)
+        names = ["/" + "/".join("".join(rng.choice("ab_9") for _ in range(rng.randint(1, 30)))
+                                for _ in range(rng.randint(1, 3))) for _ in range(5)]
+        with deadline(CASE_SECONDS, f"matching {pattern!r}"):
+            for name in names:
+                rules.pattern_for(name, None)
+                NamePattern(pattern).matches(name)
+
+
+@pytest.mark.xfail(reason="issue 50 N17, known: a pattern of many `*` backtracks catastrophically; the "
+                          "unstable_names matching is being made linear in another change", strict=False)
+def test_a_pattern_of_many_stars_matches_in_linear_time():
+    from pytest_rmw_introspect.model.unstable_names import NamePattern
+
+    with deadline(0.5, "matching /*a*a*a*a*a*a*a*a*b"):
+        assert not NamePattern("/*a*a*a*a*a*a*a*a*b").matches("/" + "a" * 60)
+
+
+# ---------------------------------------------------------------------------- stand_ins
+
+SYSTEM_WITH_STAND_INS = """\
+system_version: 1
+launch: {path: robot.launch.xml}
+stand_ins:
+  - package: drivers
+    executable: lidar_driver
+    name: /robot1/lidar
+    contract: lidar.interfaces.yaml
+    reason: needs the lidar on /dev/ttyUSB0
+  - {executable: imu, contract: imu.nodl.yaml}
+processes: []
+nodes: {}
+"""
+
+
+def test_fuzzed_stand_ins_load_or_fail_with_a_contract_error(tmp_path):
+    """Issue 50: mutated ``stand_ins:`` blocks, and stand-in files that are missing, mutated, FIFOs,
+    directories or links: a ContractError that names the system contract, never a traceback or a hang."""
+    from pytest_rmw_introspect.model import stand_ins, system_contract
+
+    system = tmp_path / "robot.system.yaml"
+    os.mkfifo(tmp_path / "imu.nodl.yaml")
+    rng = random.Random(SEED)
+    mutated = list(mutated_contracts(CASES // 3))
+    for n in range(CASES // 3):
+        text = SYSTEM_WITH_STAND_INS
+        for _ in range(rng.randint(1, 3)):
+            text = rng.choice(MUTATORS)(rng, text)
+        lidar = tmp_path / "lidar.interfaces.yaml"
+        if os.path.lexists(lidar):
+            _unlink(lidar)
+        shape = rng.choice(["contract", "mutated", "missing", "fifo", "directory", "link outside"])
+        if shape == "contract":
+            lidar.write_text(CONTRACT)
+        elif shape == "mutated":
+            lidar.write_text(mutated[n], encoding="utf-8", errors="surrogatepass")
+        elif shape == "fifo":
+            os.mkfifo(lidar)
+        elif shape == "directory":
+            lidar.mkdir()
+        elif shape == "link outside":
+            lidar.symlink_to("/etc/hostname")
+        with deadline(CASE_SECONDS, f"stand-ins case {n} ({shape})"):
+            try:
+                loaded = system_contract.loads(text, path=system)
+                stand_ins.load_all(loaded.stand_ins, system)
+            except ContractError as exc:
+                assert "robot.system.yaml" in str(exc)
+
+
+# ---------------------------------------------------------------------------- baselines
+
+BASELINE = {"format": "rmw_introspect_baseline", "version": 1, "findings": [
+    {"key": ["c.interfaces.yaml", "/talker", "publishers", "/chatter", "QOS_DEPTH_CHANGED"], "rule": "QOS_DEPTH_CHANGED",
+     "contract": "c.interfaces.yaml", "message": "depth 10 -> 5"},
+    {"key": ["", "/listener", "node", "/listener", "NODE_REMOVED"], "rule": "NODE_REMOVED", "contract": None,
+     "message": "gone"}]}
+
+
+def test_fuzzed_baselines_load_or_fail_with_a_baseline_error(tmp_path):
+    """Issue 50: mutated baseline files (and ones that are not files) load, apply to findings, or
+    are refused with a BaselineError that names the file."""
+    from pytest_rmw_introspect.compare import baseline as baseline_module
+    from pytest_rmw_introspect.compare.drift import DriftItem
+    from pytest_rmw_introspect.errors import BaselineError
+    from pytest_rmw_introspect.model.vocabulary import Severity
+
+    item = DriftItem("/talker", "publishers", "/chatter", "changed", 10, 5, "QOS_DEPTH_CHANGED", Severity.RISKY, "m")
+    path = tmp_path / "baseline.json"
+    text = json.dumps(BASELINE, indent=2)
+    rng = random.Random(SEED)
+    for n in range(CASES // 3):
+        mutated = text
+        for _ in range(rng.randint(1, 3)):
+            mutated = rng.choice(MUTATORS)(rng, mutated)
+        if os.path.lexists(path):
+            _unlink(path)
+        shape = rng.choice(["text"] * 6 + ["fifo", "directory", "latin-1"])
+        if shape == "fifo":
+            os.mkfifo(path)
+        elif shape == "directory":
+            path.mkdir()
+        elif shape == "latin-1":
+            path.write_bytes(mutated.encode("utf-8", "surrogatepass") + b"\xff")
+        else:
+            path.write_text(mutated, encoding="utf-8", errors="surrogatepass")
+        with deadline(CASE_SECONDS, f"baseline case {n} ({shape})"):
+            try:
+                loaded = baseline_module.load(path)
+            except BaselineError as exc:
+                assert "baseline.json" in str(exc)
+                continue
+            loaded.split(tmp_path / "c.interfaces.yaml", [item])
+            loaded.fixed_note()

@@ -46,6 +46,9 @@ class Listing:
     contracts: dict[str, Kind] = field(default_factory=dict)
     skipped: list[str] = field(default_factory=list)
     how: str = "the files git knows of there"
+    #: the YAML files it could not read (name: why, the end of a sentence about the file) and whose
+    #: names do not say they are contracts (a symbolic link out of the repository, an LFS pointer, a FIFO)
+    unread: dict[str, str] = field(default_factory=dict)
 
     def of_kind(self, kinds: Collection[Kind] | None = None) -> list[str]:
         """The contract files of these kinds (all: None), sorted."""
@@ -61,7 +64,7 @@ def counted(n: int, kind: Kind | str) -> str:
 
 def skipped_text(skipped: list[str], noun: str = "tracked YAML file", shown: int = SKIPPED_SHOWN) -> str:
     """``2 tracked YAML files: a.yaml, b.yaml`` (the first ``shown`` names, then how many more)."""
-    names = ", ".join(skipped[:shown]) + (f" and {len(skipped) - shown} more" if len(skipped) > shown else "")
+    names = ", ".join(display(name) for name in skipped[:shown]) + (f" and {len(skipped) - shown} more" if len(skipped) > shown else "")
     return f"{counted(len(skipped), noun)}: {names}"
 
 
@@ -133,15 +136,6 @@ def read_tracked(top: Path, name: str) -> str:
     return text
 
 
-def kind_in_repository(top: Path, name: str) -> Kind | None:
-    """The kind of contract the work tree's ``name`` is (as :func:`read_tracked` reads it; a file it
-    cannot read: by its name alone, its loader says what is wrong)."""
-    try:
-        return contract_kind.kind_of_text(read_tracked(top, name), name)
-    except (OSError, InputError):
-        return contract_kind.kind_of_name(name)
-
-
 def find_contracts(directory: str | Path = ".") -> Listing:
     """Every contract under ``directory`` by its content (see the module's text for which files)."""
     root = Path(directory)
@@ -149,9 +143,23 @@ def find_contracts(directory: str | Path = ".") -> Listing:
     how = "the files git knows of there (tracked, and untracked ones it does not ignore)"
     if names is None:
         names, how = _walk(root), "every file below it (not a git repository)"
-    present = [name for name in names if (root / name).is_file()]
-    contracts, skipped = classify(present, lambda name: kind_in_repository(root, name))
-    return Listing(directory=root, contracts=contracts, skipped=skipped, how=how)
+    present = [name for name in names if os.path.lexists(root / name) and not (root / name).is_dir()]
+    unread: dict[str, str] = {}
+
+    def kind_of(name: str) -> Kind | None:
+        try:
+            return contract_kind.kind_of_text(read_tracked(root, name), name)
+        except FileNotFoundError:
+            return None  # (a dangling link, or gone since git listed it)
+        except (OSError, InputError) as exc:
+            kind = contract_kind.kind_of_name(name)
+            if kind is None:
+                unread[name] = str(exc)
+            return kind
+
+    contracts, skipped = classify(present, kind_of)
+    return Listing(directory=root, contracts=contracts, skipped=[name for name in skipped if name not in unread],
+                   how=how, unread=unread)
 
 
 def _git_files(root: Path) -> list[str] | None:

@@ -6,6 +6,7 @@ for contracts?". Nothing is loaded or run."""
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from typing import Any
 
@@ -55,15 +56,26 @@ def cmd_contracts(args: argparse.Namespace) -> int:
     chosen = listing.of_kind(kinds)
     passed = (f"; not contracts ({contract_files.NOT_A_CONTRACT}): {contract_files.skipped_text(listing.skipped, 'YAML file')}"
               if listing.skipped else "")
+    unread = ("; not read: " + "; ".join(f"{contract_files.display(name)} {why}" for name, why in listing.unread.items())
+              if listing.unread else "")
     if not chosen:
         others = (f"; it found {contract_files.kinds_text(listing.contracts.values())}, of other kinds"
                   if listing.contracts else "")
         wanted = " or ".join(f"`{word}`" for word in args.kinds) + " " if args.kinds else ""
-        raise UsageError(f"no {wanted}contract under {args.directory}: it looked at {listing.how}{others}{passed}")
+        raise UsageError(f"no {wanted}contract under {args.directory}: it looked at {listing.how}{others}{passed}"
+                         f"{unread}")
     prefix = "" if args.directory in (".", "./") else args.directory.rstrip("/") + "/"
     end = "\0" if args.null else "\n"
-    sys.stdout.write("".join(f"{prefix}{name}{end}" for name in chosen))
+    # the names as the file system spells them (a name that is not UTF-8 is still the file's name)
+    listed = "".join(f"{prefix}{name}{end}" for name in chosen)
+    raw = getattr(sys.stdout, "buffer", None)
+    if raw is None:  # a text stream without bytes under it (a test's StringIO): the names as they print
+        sys.stdout.write(listed.encode("utf-8", "surrogateescape").decode("utf-8", "replace"))
+    else:
+        sys.stdout.flush()
+        raw.write(os.fsencode(listed))
+        raw.flush()
     said = contract_files.kinds_text(listing.contracts[name] for name in chosen)
-    print(f"rmw-introspect: {contract_files.counted(len(chosen), 'contract')} under {args.directory} ({said}){passed}",
-          file=sys.stderr)
+    print(f"rmw-introspect: {contract_files.counted(len(chosen), 'contract')} under {args.directory} ({said}){passed}"
+          f"{unread}", file=sys.stderr)
     return EXIT_OK

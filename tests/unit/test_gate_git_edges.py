@@ -163,3 +163,21 @@ def test_a_symlink_at_the_base_is_followed_inside_the_repository_only(repo, caps
     assert status == 2, out + err
     assert out.count("[PUB_RENAMED]") == 2  # driver.yaml and the link to it, both sides followed
     assert "main:contracts/host.yaml is a symbolic link at main to /etc/hostname, outside the repository" in err
+
+
+def test_contracts_lists_names_as_bytes_and_says_what_it_could_not_read(repo, capfdbinary):
+    """`rmw-introspect contracts` (the action's check step) reads the work tree as the gate does: a
+    name that is not UTF-8 is listed as the file system spells it, a link out of the repository and
+    an LFS pointer are not read and are said."""
+    from pytest_rmw_introspect.cli import main
+
+    odd = os.fsdecode(b"contracts/\xe9t\xe9.yaml")
+    (repo.path / odd).write_text(_contract())
+    (repo.path / "contracts/out.yaml").symlink_to("/etc/hostname")
+    repo.write("contracts/big.yaml", LFS)
+    repo.git("add", "-A")
+    assert main(["contracts", "-0"]) == 0
+    out, raw_err = capfdbinary.readouterr()
+    err = raw_err.decode()
+    assert out.split(b"\0")[:-1] == [b"contracts/driver.yaml", b"contracts/\xe9t\xe9.yaml"]
+    assert "contracts/out.yaml is a symbolic link to " in err and "contracts/big.yaml is a git LFS pointer" in err

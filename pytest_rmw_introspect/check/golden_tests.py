@@ -18,15 +18,19 @@ from pathlib import Path
 _SKIPPED_DIRS = frozenset({"build", "install", "log", "node_modules", "__pycache__", "site", "dist", "venv"})
 #: what marks the root of the package (or repository) around a golden
 _ROOT_FILES = ("package.xml", "pyproject.toml", "setup.py", "setup.cfg", ".git")
-#: at most this many test files are read
+#: at most this many test files are read, in at most this many directories
 MAX_FILES = 2000
+MAX_DIRECTORIES = 5000
+#: how far above the golden's directory the package root is looked for
+MAX_LEVELS = 4
 
 
 def search_root(golden: Path) -> Path:
     """The package (or repository) directory around ``golden``: the nearest directory above it
-    holding a package.xml, pyproject.toml, setup.py, setup.cfg or .git; else its parent's parent."""
+    holding a package.xml, pyproject.toml, setup.py, setup.cfg or .git (at most MAX_LEVELS up);
+    else its parent's parent."""
     start = golden.absolute().parent
-    for directory in (start, *start.parents):
+    for directory in (start, *start.parents[:MAX_LEVELS]):
         if any((directory / name).exists() for name in _ROOT_FILES):
             return directory
     return start.parent
@@ -34,7 +38,9 @@ def search_root(golden: Path) -> Path:
 
 def _test_files(root: Path) -> list[Path]:
     found: list[Path] = []
-    for directory, subdirs, files in os.walk(root):
+    for visited, (directory, subdirs, files) in enumerate(os.walk(root)):
+        if visited >= MAX_DIRECTORIES:
+            break
         subdirs[:] = sorted(d for d in subdirs if not d.startswith(".") and d not in _SKIPPED_DIRS)
         for name in sorted(files):
             if name.endswith(".py") and (name.startswith("test_") or name.endswith("_test.py")):

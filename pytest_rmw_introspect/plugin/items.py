@@ -117,9 +117,10 @@ def _no_target(contract: Contract | None, shown: str) -> str:
         "  target:\n    package: my_pkg\n    executable: my_node\n"
         "(or command:, script:, module:), or check the contract from a test with "
         "@pytest.mark.interfaces(..., package=..., executable=...). If it is the golden of such a test, "
-        "run that test with it (the test checks the file and this item is skipped), or keep pytest "
-        "from collecting it as an item: name it without `.interfaces.yaml`, or narrow the ini option "
-        "rmw_introspect_contracts."
+        "run that test with it (the test checks the file and this item is skipped; `pytest --update-golden` "
+        "on that test writes its target into the file), or keep pytest from collecting it as an item: "
+        "set the ini option rmw_introspect_contracts to glob patterns that leave it out, or list its "
+        "directory in norecursedirs."
     )
 
 

@@ -9,7 +9,8 @@ One line per module:
 - ``result``: the one result core of node and system checks (findings, thresholds, the golden's nodes)
 - ``launch_settings``: what a launch file gives each process, as ``compare.launch_given`` reads it
 - ``outcome``: the pure decision: pass, warn, fail, write, error
-- ``golden``: every contract write: atomic, locked, CI-aware
+- ``golden``: every contract write: atomic, locked, CI-aware; a marker test's target into its golden
+- ``golden_tests``: the marker tests that name a golden (for the command that gives it a target)
 - ``golden_record``: what a session wrote and whether it may write (the part a pytest-xdist
   controller needs without the writer)
 - ``baselines``: a baseline file applied to check results

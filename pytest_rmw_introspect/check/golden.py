@@ -34,7 +34,7 @@ import yaml
 from ..errors import ContractError, GoldenWriteError, LockTimeout, UnsafeLockDirectory
 from ..model import contract as contract_module
 from ..model import types as type_model
-from ..model import untrusted
+from ..model import untrusted, yaml_blocks
 from ..model.contract_shapes import ContractNode
 from ..model.paths import relative_or_absolute
 from ..run import locks
@@ -210,7 +210,8 @@ def write_text(path: str | Path, text: str, *, timeout: float = LOCK_TIMEOUT) ->
 
 def update(path: str | Path, nodes: Mapping[str, ContractNode], *, new_header: str | None = None,
            types: Mapping[str, type_model.TypeDescription] | None = None,
-           distribution: str | None = None, timeout: float = LOCK_TIMEOUT) -> str | None:
+           distribution: str | None = None, target: Mapping[str, Any] | None = None,
+           timeout: float = LOCK_TIMEOUT) -> str | None:
     """Write the golden at ``path`` with ``nodes``; return ``CREATED``, ``UPDATED`` or None
     (nothing to change). A new file starts with ``new_header`` (default: the plain contract
     header). Entries the golden spells differently but equivalently keep their spelling
@@ -218,15 +219,18 @@ def update(path: str | Path, nodes: Mapping[str, ContractNode], *, new_header: s
     can be found. ``types``: the ``types:`` section to write (``types.replace_section``);
     None leaves the file's section, if any, as it is. ``distribution``: the ROS 2 distribution
     the nodes were captured on, written as ``ros_distribution:`` into a new file and into an
-    existing one that records one already (None leaves it as it is)."""
+    existing one that records one already (None leaves it as it is). ``target``: the
+    ``target:`` block the golden states (a marker test's target, :func:`with_target`); None
+    leaves the file's, if any, as it is."""
     path = Path(path)
     existed = path.exists()
 
     def new_text(old: str | None) -> str:
         # a new file records the distribution; an existing one keeps its header, but for the
         # distribution it already records
-        return contract_module.with_distribution(with_types(nodes_text(old), types), distribution,
+        text = contract_module.with_distribution(with_types(nodes_text(old), types), distribution,
                                                  add_missing=not old)
+        return with_target(text, target)
 
     def nodes_text(old: str | None) -> str:
         wanted = nodes
@@ -260,6 +264,33 @@ def update_with(path: str | Path, new_text: Callable[[str | None], str], *,
 def with_types(text: str, types: Mapping[str, type_model.TypeDescription] | None) -> str:
     """``text`` with its ``types:`` section replaced by ``types`` (None: unchanged)."""
     return text if types is None else type_model.replace_section(text, types)
+
+
+def with_target(text: str, target: Mapping[str, Any] | None) -> str:
+    """``text`` whose top-level ``target:`` block states ``target`` (None: unchanged). A block
+    that states it already (whatever its spelling) is kept byte for byte; one that states
+    something else is replaced (its comments with it); a file without one gets it right above
+    ``nodes:`` (above the comment lines directly over ``nodes:``). Every other line is kept."""
+    if target is None:
+        return text
+    wanted = yaml.safe_dump({"target": dict(target)}, sort_keys=False, default_flow_style=False, allow_unicode=True)
+    block = yaml_blocks.top_level_block(text, "target")
+    if block is not None:
+        lines, first, end = block
+        try:
+            current = yaml.safe_load("".join(lines[first:end]))
+        except yaml.YAMLError:
+            current = None
+        if current == {"target": dict(target)}:
+            return text
+        return "".join(lines[:first]) + wanted + "".join(lines[end:])
+    nodes = yaml_blocks.top_level_block(text, "nodes")
+    if nodes is None:
+        return text
+    lines, at, _end = nodes
+    while at > 0 and lines[at - 1].startswith("#"):
+        at -= 1
+    return "".join(lines[:at]) + wanted + "".join(lines[at:])
 
 
 # ---------------------------------------------------------------------------- new contracts

@@ -157,7 +157,10 @@ def read_as_asked(spec: TargetSpec, options: ComparisonOptions) -> ComparisonOpt
 class CheckResult(ContractCheck[Contract, TargetSpec, Capture]):
     """What checking one node contract found (``result.ContractCheck``: the fields and rules it
     shares with a system check): a target and its capture, drift and no system problems; the
-    contract may be a NoDL document."""
+    contract may be a NoDL document. ``golden_target``: the ``target:`` block the golden should
+    state (a marker test's target, written by an update; None: the file's stays as it is)."""
+
+    golden_target: dict[str, Any] | None = None
 
     @property
     def stood_in(self) -> list[str]:
@@ -172,6 +175,17 @@ class CheckResult(ContractCheck[Contract, TargetSpec, Capture]):
     def can_gain(self) -> bool:
         """A NoDL document states parameters always, and can never state a lifecycle."""
         return self.contract is None or self.contract.nodl is None
+
+    @property
+    def gains(self) -> list[str]:
+        """What updating would add (``result.ContractCheck.gains``), and the target of a marker
+        test that the golden does not state (yet): it makes the golden checkable by itself."""
+        gains = super().gains
+        if gains or self.drift_items or self.contract is None or self.capture is None or not self.can_gain():
+            return gains  # (a target alone is written with any other change)
+        if self.golden_target is not None and self.contract.target != self.golden_target:
+            gains.append("its target")
+        return gains
 
     def name_rules(self) -> NameRules:
         """The contract's patterns of names that change every run (the built-in rules alone
@@ -213,7 +227,8 @@ class CheckResult(ContractCheck[Contract, TargetSpec, Capture]):
             text = nodl.render(self.golden_nodes(), previous, self.path)
             return golden.update_with(self.path, lambda _old: text)
         return golden.update(self.path, self.golden_nodes(), new_header=new_header, types=self.golden_types(),
-                             distribution=self.capture.ros_distribution if self.capture is not None else None)
+                             distribution=self.capture.ros_distribution if self.capture is not None else None,
+                             target=self.golden_target)
 
     def render_text(self, accept_command: str | None = None) -> str:
         """The report for people (the same text as a failing test)."""

@@ -104,6 +104,11 @@ def _no_target(contract: Contract | None, shown: str) -> str:
     if contract is None:
         return (f"{shown} does not exist; to create it, name the target, e.g. "
                 f"rmw-introspect check --update --script node.py {shlex.quote(shown)}")
+    from ..check import golden_tests
+
+    marker_test = golden_tests.how_to_check(contract.path or shown, shown)
+    if marker_test is not None:  # a marker test's golden: its test writes the target
+        return marker_test
     return (f"{shown} has no `target:` block naming what to run; add one (package+executable, "
             "command, script or module) or name the target on the command line "
             "(--package P --executable E, --script FILE, --module M or -- COMMAND)")

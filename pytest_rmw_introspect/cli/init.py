@@ -57,6 +57,12 @@ _CMAKE_WIRING = """\
   endif()"""
 
 
+#: the one story of contract files (docs/contract-files.md#one-file-every-check)
+_SAME_FILES = ("The same files are checked by `rmw-introspect check`, the pull-request gate "
+               "(`rmw-introspect diff --against REF`) and the GitHub action; a marker test may name one as its golden "
+               "(@pytest.mark.interfaces(\"../contracts/<executable>.interfaces.yaml\")).")
+
+
 def _build_type(package_dir: Path) -> str | None:
     import xml.etree.ElementTree as ET
 
@@ -165,9 +171,11 @@ def cmd_init(args: argparse.Namespace) -> int:
     if build_type == "ament_cmake":
         print("To run the contracts with `colcon test`, add to CMakeLists.txt:\n" + _CMAKE_WIRING)
     elif build_type == "ament_python":
-        print(f"Run the contracts with `pytest {contracts_dir}` (each *.interfaces.yaml is a test); in the package's "
-              "test/ directory `colcon test` runs them too.")
+        print(f"Run the contracts with `pytest {contracts_dir}` (each contract file is a test); in the package's "
+              f"test/ directory `colcon test` runs them too. {_SAME_FILES}")
     else:
-        print(f"Run the contracts with `pytest {contracts_dir}` (each *.interfaces.yaml is a test); in an ament_cmake "
+        print(f"Run the contracts with `pytest {contracts_dir}` (each contract file is a test); in an ament_cmake "
               "package, from CMake with:\n" + _CMAKE_WIRING)
+    if build_type != "ament_python":
+        print(_SAME_FILES)
     return EXIT_ERROR if failed else EXIT_OK

@@ -137,9 +137,9 @@ def pytest_unconfigure(config: pytest.Config) -> None:
 
 
 def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.File | None:
-    """Contract files (``rmw_introspect_contracts``) are test items of their own (``items``;
-    system contracts: ``system_marker``)."""
-    if items.matches(file_path, parent.config, items.patterns(parent.config)):
+    """Contract files (by their content, or the globs of ``rmw_introspect_contracts``) are test
+    items of their own (``items``; system contracts: ``system_marker``)."""
+    if items.collects(file_path, parent.config):
         # the first contract file of a session starts the warm start server, which then imports
         # rclpy while the rest is collected (a `-k` that deselects every contract item wastes it);
         # a system contract's processes start warm from it too (issue 42)

@@ -1,10 +1,14 @@
 """Contract files as pytest items: no Python test file needed.
 
-pytest collects every file whose name matches the ini option ``rmw_introspect_contracts``
-(default ``*.interfaces.yaml``; several patterns separated by spaces; a pattern with a ``/``
-is matched against the path relative to the rootdir; ``none`` turns collection off) or the
-command-line option ``--rmw-introspect-contracts``. Each contract file is **one** test item,
-named after its node(s)::
+pytest collects every contract file under the paths it is asked to collect, by its content
+(``model.contract_kind``): a ``*.yaml`` / ``*.yml`` file with a top-level ``contract_version:``
+(a node contract, or a marker test's golden) or ``system_version:`` (a system contract; those
+are ``system_marker``'s items), whatever its name; any other YAML file (parameters, launch, CI)
+is not collected. Only the top-level keys of the text are looked at, no YAML is parsed, so
+collecting a large repository stays cheap. The ini option ``rmw_introspect_contracts`` or the
+command-line option ``--rmw-introspect-contracts`` replaces that with glob patterns (several,
+separated by spaces; a pattern with a ``/`` is matched against the path relative to the rootdir;
+``none`` turns collection off). Each contract file is **one** test item, named after its node(s)::
 
     contracts/talker.interfaces.yaml::/talker
     contracts/pipeline.interfaces.yaml::/camera,/detector     # several nodes: one item, one capture
@@ -38,6 +42,7 @@ import pytest
 
 from ..errors import RmwIntrospectError, SetupError
 from ..model import contract as contract_module
+from ..model import contract_kind
 from ..model.contract import Contract
 from . import verdict
 from .session import state
@@ -46,16 +51,34 @@ if TYPE_CHECKING:  # imported by the first item that runs: a session without one
     from ..check import pipeline
     from ..model.capture import Capture
 
-def patterns(config: pytest.Config) -> list[str]:
-    """The glob patterns of contract files for this session (empty: collection is off)."""
+def patterns(config: pytest.Config) -> list[str] | None:
+    """The glob patterns of contract files for this session: None when none are set (files are
+    collected by their content, :func:`collects`), empty when collection is off."""
     cli = config.getoption("rmw_introspect_contracts", None)
     if cli is not None:
         raw = [p for p in cli.replace(",", " ").split() if p]
     else:
         raw = list(config.getini("rmw_introspect_contracts"))
+    if not raw:
+        return None
     if any(p.lower() in ("none", "off") for p in raw):
         return []
     return raw
+
+
+#: the kinds of contract file collected by content: those that name (or may name) what to run; a
+#: NoDL document never does (a marker test or ``rmw-introspect check --package`` names its target)
+COLLECTED_KINDS = (contract_kind.Kind.NODE, contract_kind.Kind.GOLDEN, contract_kind.Kind.SYSTEM)
+
+
+def collects(file_path: Path, config: pytest.Config) -> bool:
+    """Whether pytest collects ``file_path`` as a contract file: by the glob patterns when the
+    session sets some (:func:`patterns`), else by its content (a YAML file that
+    ``contract_kind`` says is a node or system contract; its text is read, not parsed)."""
+    globs = patterns(config)
+    if globs is not None:
+        return matches(file_path, config, globs)
+    return file_path.suffix.lower() in (".yaml", ".yml") and contract_kind.kind_of_file(file_path) in COLLECTED_KINDS
 
 
 def matches(file_path: Path, config: pytest.Config, globs: list[str]) -> bool:
@@ -83,15 +106,21 @@ class ContractFile(pytest.File):
 
 
 def _no_target(contract: Contract | None, shown: str) -> str:
+    from ..check import golden_tests
+
+    marker_test = golden_tests.how_to_check(contract.path, shown) if contract and contract.path else None
+    if marker_test is not None:  # a marker test's golden, that test not run here: it writes the target
+        return marker_test
     return (
         f"The contract {shown} has no `target:` block, so there is nothing to run. Contract files "
         "collected as tests name their target themselves, e.g.\n"
         "  target:\n    package: my_pkg\n    executable: my_node\n"
         "(or command:, script:, module:), or check the contract from a test with "
         "@pytest.mark.interfaces(..., package=..., executable=...). If it is the golden of such a test, "
-        "run that test with it (the test checks the file and this item is skipped), or keep pytest "
-        "from collecting it as an item: name it without `.interfaces.yaml`, or narrow the ini option "
-        "rmw_introspect_contracts."
+        "run that test with it (the test checks the file and this item is skipped; `pytest --update-golden` "
+        "on that test writes its target into the file), or keep pytest from collecting it as an item: "
+        "set the ini option rmw_introspect_contracts to glob patterns that leave it out, or list its "
+        "directory in norecursedirs."
     )
 
 

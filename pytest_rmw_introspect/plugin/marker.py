@@ -18,6 +18,7 @@ import pytest
 
 from ..errors import OptionError, RmwIntrospectError
 from ..model.option_tables import COMPARISON, TARGET, FrontEnd
+from ..run.target import merge
 from . import verdict
 from .session import SessionState
 
@@ -43,6 +44,8 @@ class ItemState:
     prepared: Prepared | None = None
     capture: Capture | None = None
     error: RmwIntrospectError | None = None
+    #: the ``target:`` block an update writes into the golden (:func:`golden_target`)
+    golden_target: dict[str, Any] | None = None
 
 
 ITEM = pytest.StashKey[ItemState]()
@@ -109,6 +112,7 @@ def prepare(item: pytest.Item, session_state: SessionState) -> ItemState:
                                       strong_options=[(option_kw, source(item))])
         st.prepared = pipeline.prepare(path, layers=layers, shown=session_state.display(path),
                                        allow_missing=True, no_target=no_target)
+        st.golden_target = golden_target(st.prepared.contract, path, target_kw, Path(item.path).parent, source(item))
         st.capture = pipeline.run_capture(st.prepared, library=session_state.library(), ros=session_state.ros())
     except RmwIntrospectError as exc:
         st.error = exc
@@ -120,4 +124,31 @@ def check_marker_item(item: pytest.Item, st: ItemState, session_state: SessionSt
     from ..check import pipeline
 
     assert st.prepared is not None and st.capture is not None
-    verdict.apply(item, pipeline.compare(st.prepared, st.capture), session_state)
+    result = pipeline.compare(st.prepared, st.capture)
+    result.golden_target = st.golden_target
+    verdict.apply(item, result, session_state)
+
+
+def golden_target(contract: Contract | None, path: Path, target_kw: dict[str, Any], test_dir: Path,
+                  where: str) -> dict[str, Any] | None:
+    """The ``target:`` block that ``--update-golden`` writes into the golden at ``path`` for a
+    marker naming its target, so that the golden is checkable by itself (``rmw-introspect check``,
+    ``pytest contracts/``, the action): the file's own block with the marker's keywords over it
+    (the marker decides, as when the test runs; paths relative to the golden's directory). The
+    file's block as it is when the marker adds nothing to it; None when the marker names no
+    target keywords, the result names nothing to run, or the golden is a NoDL document."""
+    from ..check import golden
+
+    if not target_kw or (contract is not None and contract.nodl is not None) or path.name.endswith(
+            (".nodl.yaml", ".nodl.yml", ".nodl.json")):
+        return None
+    own = dict(contract.target) if contract is not None and contract.target else None
+    base = path.absolute().parent
+    ours = merge((own, base, f"{path}: target"))
+    spec = merge((own, base, f"{path}: target"), (target_kw, test_dir, where))
+    if spec.kind is None:
+        return None
+    if own is not None and spec == ours:
+        return own  # the file says it already, in its own words
+    allowed = TARGET.names(FrontEnd.CONTRACT)
+    return {key: value for key, value in golden.target_block(spec, base).items() if key in allowed}

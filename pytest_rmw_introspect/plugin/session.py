@@ -148,11 +148,12 @@ def addoption(parser: pytest.Parser) -> None:
         "--rmw-introspect-contracts",
         default=None,
         metavar="GLOBS",
-        help="contract files collected as test items: glob patterns, comma-separated "
-        "(default: ini rmw_introspect_contracts, *.interfaces.yaml *.system.yaml; 'none' turns it off)",
+        help="contract files collected as test items: glob patterns, comma-separated, instead of every YAML "
+        "file that is a contract by its content (default: ini rmw_introspect_contracts; 'none' turns it off)",
     )
-    parser.addini("rmw_introspect_contracts", "glob patterns of contract files collected as test items "
-                  "('none' turns it off)", type="args", default=["*.interfaces.yaml", "*.system.yaml"])
+    parser.addini("rmw_introspect_contracts", "glob patterns of contract files collected as test items (default: "
+                  "every YAML file that is a node or system contract by its content; 'none' turns it off)",
+                  type="args", default=[])
     parser.addini("rmw_introspect_baseline", "a baseline file (rmw-introspect check --write-baseline FILE): "
                   "findings it holds are reported as accepted and do not fail; relative to the ini file", default="")
     parser.addini("rmw_introspect_capture_ahead", "how many of the next contract items start their capture while "

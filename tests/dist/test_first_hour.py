@@ -42,6 +42,7 @@ def test_the_page_has_the_whole_package_and_the_commands():
     commands = shell_lines(blocks)
     assert "pip install -e ." in commands
     assert "pytest test/test_interfaces.py --update-golden" in commands and "pytest test/" in commands
+    assert "rmw-introspect check test/contracts/talker.interfaces.yaml" in commands  # the golden checks alone
 
 
 def _run(cmd: str, cwd: Path, env: dict[str, str], timeout: float = 300) -> subprocess.CompletedProcess[str]:
@@ -75,9 +76,9 @@ def test_a_new_package_from_the_getting_started_page_to_a_drift_report(installed
     assert update.returncode == 0, update.stdout + update.stderr
     after_update = time.monotonic()
     assert "1 passed" in update.stdout
-    assert "test/contracts/talker.yaml" in update.stdout and "1 golden contract(s) written" in update.stdout
+    assert "test/contracts/talker.interfaces.yaml" in update.stdout and "1 golden contract(s) written" in update.stdout
     assert "building the recording middleware" not in update.stdout + update.stderr
-    golden = (package / "test" / "contracts" / "talker.yaml").read_text()
+    golden = (package / "test" / "contracts" / "talker.interfaces.yaml").read_text()
     assert "/talker:" in golden and "name: /chatter" in golden and "std_msgs/msg/String" in golden
 
     # 4. run again: green, nothing written
@@ -86,7 +87,10 @@ def test_a_new_package_from_the_getting_started_page_to_a_drift_report(installed
     first_green = time.monotonic()
     assert green.returncode == 0, green.stdout + green.stderr
     assert re.search(r"\b1 passed\b", green.stdout) and "written" not in green.stdout
-    assert (package / "test" / "contracts" / "talker.yaml").read_text() == golden
+    assert (package / "test" / "contracts" / "talker.interfaces.yaml").read_text() == golden
+    # the same golden from the command line (issue 47: it names the marker's target)
+    checked = _run(next(c for c in commands if c.startswith("rmw-introspect check ")), package, env)
+    assert checked.returncode == 0, checked.stdout + checked.stderr
 
     # the node changes (its topic is renamed): the test fails and says what drifted and what to do
     talker = package / "my_pkg" / "talker.py"

@@ -40,16 +40,18 @@ def test_contract_files_are_collected_as_one_item_each_named_after_their_nodes(p
     project.write("contracts/pipeline.interfaces.yaml", "contract_version: 1\nnodes:\n  /camera: {}\n  /detector: {}\n")
     project.write("contracts/empty.interfaces.yaml", "contract_version: 1\nnodes: {}\n")
     project.write("contracts/broken.interfaces.yaml", "contract_version: 1\nnodes: [\n")
-    project.write("contracts/other.yaml", talker(project))  # does not match the default glob
+    project.write("contracts/other.yaml", talker(project))  # a contract by its content, whatever its name
+    project.write("contracts/params.yaml", "/talker:\n  ros__parameters:\n    depth: 10\n")  # not a contract
     result = project.run("--collect-only", "-q")
     result.stdout.fnmatch_lines([
         "contracts/broken.interfaces.yaml::invalid",
         "contracts/empty.interfaces.yaml::no-nodes",
+        "contracts/other.yaml::/talker",
         "contracts/pipeline.interfaces.yaml::/camera,/detector",
         "contracts/talker.interfaces.yaml::/talker",
-        "4 tests collected*",
+        "5 tests collected*",
     ])
-    assert "other.yaml" not in result.stdout.str()
+    assert "params.yaml" not in result.stdout.str()
 
 
 def test_a_matching_contract_passes_and_drift_fails_with_the_report(project):

@@ -22,6 +22,11 @@ EXPECTED_TALKER_CONTRACT = talker_contract(
     distribution=DISTRIBUTION)
 
 
+def expected_talker_contract(project) -> str:
+    """The golden TALKER_TEST writes: with its marker's target (issue 47: checkable by itself)."""
+    return EXPECTED_TALKER_CONTRACT.replace(RECORDED, f"{RECORDED}target:\n  script: {project.node('talker.py')}\n")
+
+
 def test_missing_golden_fails_with_the_command_that_creates_it(project):
     project.test(TALKER_TEST)
     result = project.run()
@@ -47,14 +52,14 @@ def test_update_golden_creates_the_contract_and_then_it_passes(project):
         "created  contracts/talker.yaml",
         "1 golden contract(s) written",
     ])
-    assert project.read("contracts/talker.yaml") == EXPECTED_TALKER_CONTRACT
+    assert project.read("contracts/talker.yaml") == expected_talker_contract(project)
 
-    project.run().assert_outcomes(passed=1)
+    project.run().assert_outcomes(passed=1, skipped=1)  # the golden's own item: skipped, its marker test checks it
 
     again = project.run("--update-golden")
-    again.assert_outcomes(passed=1)
+    again.assert_outcomes(passed=1, skipped=1)
     again.stdout.fnmatch_lines(["*no golden contract needed changes*"])
-    assert project.read("contracts/talker.yaml") == EXPECTED_TALKER_CONTRACT
+    assert project.read("contracts/talker.yaml") == expected_talker_contract(project)
 
 
 def test_update_golden_on_an_invalid_golden_says_so_and_leaves_it(project):
@@ -62,7 +67,7 @@ def test_update_golden_on_an_invalid_golden_says_so_and_leaves_it(project):
     broken = "contract_version: 1\nnodes:\n  /talker:\n    publishers: [\n"
     project.write("contracts/talker.yaml", broken)
     result = project.run("--update-golden")
-    result.assert_outcomes(failed=1)
+    result.assert_outcomes(failed=1, skipped=1)
     out = result.stdout.str()
     # the path as everywhere else in pytest's messages: relative to where pytest was started
     assert "invalid contract contracts/talker.yaml:5: YAML syntax error" in out
@@ -100,14 +105,14 @@ def test_update_rewrites_a_drifted_golden_keeping_header_target_and_options(proj
         def test_talker(interfaces):
             pass
     """)
-    project.run().assert_outcomes(failed=1)
+    project.run().assert_outcomes(failed=2)  # the golden names its target and the marker adds nothing: both check it
     result = project.run("--update-golden")
-    result.assert_outcomes(passed=1)
+    result.assert_outcomes(passed=2)
     result.stdout.fnmatch_lines(["updated  contracts/talker.yaml"])
     text = project.read("contracts/talker.yaml")
     assert text.startswith(header)
     assert text == header + EXPECTED_TALKER_CONTRACT.split(RECORDED, 1)[1]
-    project.run().assert_outcomes(passed=1)
+    project.run().assert_outcomes(passed=2)
 
 
 def test_update_golden_refuses_a_read_only_golden(project):
@@ -116,7 +121,7 @@ def test_update_golden_refuses_a_read_only_golden(project):
     golden.chmod(0o444)
     project.test(TALKER_TEST)
     result = project.run("--update-golden")
-    result.assert_outcomes(failed=1)
+    result.assert_outcomes(failed=1, skipped=1)
     result.stdout.fnmatch_lines(["*cannot write *contracts/talker.yaml: it is read-only (mode 0444*"
                                  "Make it writable (chmod u+w *"])
     assert project.read("contracts/talker.yaml") == drifted and golden.stat().st_mode & 0o777 == 0o444
@@ -137,7 +142,7 @@ def test_update_keeps_equivalent_spellings_of_undrifted_entries(project):
         def test_talker():
             pass
     """)
-    project.run("--update-golden").assert_outcomes(passed=1)
+    project.run("--update-golden").assert_outcomes(passed=1, skipped=1)
     text = project.read("contracts/svc.yaml")
     # the untouched entry keeps its profile name and its (absent) type hash; the new one is complete
     assert "      - name: /chatter\n        type: std_msgs/msg/String\n        qos: default\n" in text

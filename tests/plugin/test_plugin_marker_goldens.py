@@ -32,36 +32,31 @@ def skipped_as_checked_by(golden: str, test: str, *, runs_alone: bool = True) ->
 def test_update_then_plain_then_xdist_runs_of_the_issue_are_green(project, golden):
     project.write("qos_zoo.py", (NODES / "qos_node.py").read_text())
     project.write("test_zoo.py", ZOO_TEST.format(golden=golden))
-    collected_as_item = golden.endswith(".interfaces.yaml")
 
     written = project.run("--update-golden")
     written.assert_outcomes(passed=1)
     written.stdout.fnmatch_lines([f"created  {golden}", "1 golden contract(s) written"])
+    assert "\ntarget:\n  command:\n" in project.read(golden)  # the marker's target (issue 47)
 
+    # a contract by its content whatever its name (issue 47): collected, and skipped for its test
     for extra in ((), ("-n", "2")):
         result = project.run("-rs", *extra)
-        result.assert_outcomes(passed=1, skipped=1 if collected_as_item else 0)
-        if collected_as_item:
-            # the golden names no target (the marker does): nothing to run it alone with
-            result.stdout.fnmatch_lines([skipped_as_checked_by(golden, "test_zoo.py::test_zoo", runs_alone=False)])
+        result.assert_outcomes(passed=1, skipped=1)
+        result.stdout.fnmatch_lines([skipped_as_checked_by(golden, "test_zoo.py::test_zoo")])
         assert "has no `target:` block" not in result.stdout.str()
 
     again = project.run("--update-golden")
-    again.assert_outcomes(passed=1, skipped=1 if collected_as_item else 0)
+    again.assert_outcomes(passed=1, skipped=1)
     again.stdout.fnmatch_lines(["*no golden contract needed changes*"])
 
-    if collected_as_item:  # run alone, without the test that names its target: what to do next
-        alone = project.run(golden)
-        alone.assert_outcomes(failed=1)
-        alone.stdout.fnmatch_lines([f"*The contract {golden} has no `target:` block*",
-                                    "*If it is the golden of such a test, run that test with it (the test checks the "
-                                    "file and this item is skipped)*"])
+    # run alone, without the test: the golden names the marker's target, so it checks by itself
+    project.run(golden).assert_outcomes(passed=1)
 
 
 def test_the_marker_checks_its_golden_with_its_keywords_and_the_item_only_runs_without_it(project):
     """A contract file with a target of its own, and a marker test naming it with keywords that
-    change what the target creates: checked once, by the marker test, with the marker's keywords
-    (as the item, with the file's target alone, it drifts)."""
+    change what the target creates: checked once, by the marker test, with the marker's keywords;
+    --update-golden writes them into the file's target (issue 47), so the item alone checks the same."""
     project.write("contracts/talker.interfaces.yaml",
                   f"contract_version: 1\ntarget:\n  script: {NODES / 'talker.py'}\nnodes: {{}}\n")
     project.test("""
@@ -80,10 +75,10 @@ def test_the_marker_checks_its_golden_with_its_keywords_and_the_item_only_runs_w
         result.stdout.fnmatch_lines([skipped_as_checked_by("contracts/talker.interfaces.yaml",
                                                            "test_nodes.py::test_talker")])
 
-    # a deselected marker test checks nothing: the file is an item of its own again
-    alone = project.run("--deselect", "test_nodes.py::test_talker")
-    alone.assert_outcomes(failed=1)
-    alone.stdout.fnmatch_lines(["*[[]NODE_REMOVED[]]*/robot1/talker*"])
+    assert "\n  namespace: /robot1\n" in project.read("contracts/talker.interfaces.yaml")
+
+    # a deselected marker test checks nothing: the file is an item of its own again, with the marker's target
+    project.run("--deselect", "test_nodes.py::test_talker").assert_outcomes(passed=1)
 
 
 def test_a_golden_named_through_a_symlink_is_the_file_it_links_to(project):
@@ -97,10 +92,11 @@ def test_a_golden_named_through_a_symlink_is_the_file_it_links_to(project):
         def test_talker(interfaces):
             pass
         """, name="pkg/test_nodes.py")
-    project.run("--update-golden").assert_outcomes(passed=1, skipped=1)
+    # the link is a contract by its content too: both items are skipped for the test
+    project.run("--update-golden").assert_outcomes(passed=1, skipped=2)
     assert (project.path / "pkg" / "talker.yaml").is_symlink()
     result = project.run("-rs")
-    result.assert_outcomes(passed=1, skipped=1)
+    result.assert_outcomes(passed=1, skipped=2)
     result.stdout.fnmatch_lines([skipped_as_checked_by("shared/talker.interfaces.yaml", "pkg/test_nodes.py::test_talker")])
 
 

@@ -9,6 +9,14 @@ tree (an unchanged file is at REF what it is now). Paths inside this module are 
 (git's "full names"); :meth:`Revision.shown` gives them as people read them, relative to the
 directory the command runs in. Every failure a user can cause is a :class:`RevisionError` that
 says what to do next.
+
+What git stores is read as git stores it (issue 50): names as bytes (``-z``, decoded with
+surrogateescape as the file system decodes them, shown escaped), files at REF by object id (a
+name with a newline shifts nothing), their sizes asked (``cat-file --batch-check``) before
+anything is read. The checks the work tree's files get apply at REF too: the size limit of
+``model.untrusted``, symbolic links (mode 120000) followed inside the repository only, git LFS
+pointers named, UTF-8; a file that fails one is not read, and :meth:`Revision.problem_at_ref`
+(:meth:`Revision.problem_now` in the work tree) says why.
 """
 
 from __future__ import annotations
@@ -53,11 +61,11 @@ class FileChange:
 
 @dataclass(frozen=True)
 class TreeEntry:
-    """A file of REF's tree as ``git ls-tree -l`` lists it."""
+    """A file of REF's tree as ``git ls-tree`` lists it."""
 
     mode: str  # 100644, 100755, 120000 (a symbolic link), 160000 (a submodule)
+    kind: str  # blob (a file or a link), commit (a submodule)
     oid: str
-    size: int | None  # None: not a blob
 
 
 #: how many symbolic links at REF are followed, one to the next, before giving up
@@ -207,9 +215,10 @@ class Revision:
         return changes
 
     def _ref_tree(self) -> dict[str, TreeEntry]:
-        """Every file under ``cwd`` at REF (``git ls-tree -r -z -l``: names as bytes, with modes and sizes)."""
+        """Every file under ``cwd`` at REF (``git ls-tree -r -z``: names as bytes, with their modes;
+        the sizes of those read are asked for then, not of every file of a large tree)."""
         if self._tree is None:
-            self._tree = _tree_entries(_git_bytes(["ls-tree", "-r", "-z", "-l", "--full-name", self.commit, "--", "."],
+            self._tree = _tree_entries(_git_bytes(["ls-tree", "-r", "-z", "--full-name", self.commit, "--", "."],
                                                   self.cwd))
         return self._tree
 
@@ -219,7 +228,7 @@ class Revision:
         found = {name: tree[name] for name in full_names if name in tree}
         others = [name for name in full_names if name not in tree and not self._under_cwd(name)]
         if others:
-            listed = _tree_entries(_git_bytes(["--literal-pathspecs", "ls-tree", "-z", "-l", "--full-name", self.commit,
+            listed = _tree_entries(_git_bytes(["--literal-pathspecs", "ls-tree", "-z", "--full-name", self.commit,
                                                "--", *others], self.top))
             found.update((name, entry) for name, entry in listed.items() if name in others)
         return found
@@ -236,7 +245,7 @@ class Revision:
         targets: dict[str, str] = {}  # name -> the file it is at REF (itself, or where its links lead)
         for name in wanted:
             entry = entries.get(name)
-            if entry is None or entry.size is None or entry.mode == "160000":
+            if entry is None or entry.kind != "blob":
                 self._texts[name] = None  # not there (or a submodule: no file of this repository)
                 continue
             target, why = self._follow(name, entry)
@@ -244,13 +253,15 @@ class Revision:
                 self._problems[name] = why
                 continue
             target_entry = self._entries([target]).get(target) if target != name else entry
-            assert target_entry is not None and target_entry.size is not None
-            if target_entry.size > untrusted.MAX_FILE_BYTES:
-                self._problems[name] = (f"is {target_entry.size:,} bytes at {self.ref}, more than the "
+            assert target_entry is not None
+            targets[name] = target_entry.oid
+        sizes = self._sizes(set(targets.values()))
+        for name, oid in list(targets.items()):
+            if sizes[oid] > untrusted.MAX_FILE_BYTES:
+                self._problems[name] = (f"is {sizes[oid]:,} bytes at {self.ref}, more than the "
                                         f"{untrusted.MAX_FILE_BYTES:,} bytes a contract may be (as in the work tree): "
                                         "not read; compare with a later revision (--against COMMIT)")
-                continue
-            targets[name] = target_entry.oid
+                del targets[name]
         blobs = self._blobs(set(targets.values()))
         for name, oid in targets.items():
             try:
@@ -275,7 +286,7 @@ class Revision:
                 return name, (f"is a symbolic link at {self.ref} to {display(link)}, outside the repository: not "
                               "followed (the gate compares what the repository holds); commit the contract itself")
             found = self._entries([target]).get(target)
-            if found is None or found.size is None or target in seen or len(seen) > _MAX_LINKS:
+            if found is None or found.kind != "blob" or target in seen or len(seen) > _MAX_LINKS:
                 return name, (f"is a symbolic link at {self.ref} to {display(link)}, which is no file of the "
                               "repository there: commit the contract itself")
             seen.append(target)
@@ -284,16 +295,24 @@ class Revision:
 
     def _blobs(self, oids: set[str]) -> dict[str, bytes]:
         """The content of these blobs (one ``git cat-file --batch``)."""
+        return {oid: content for oid, _, content in self._cat_file(oids, "--batch")}
+
+    def _sizes(self, oids: set[str]) -> dict[str, int]:
+        """The size of these blobs (one ``git cat-file --batch-check``: nothing is read)."""
+        return {oid: size for oid, size, _ in self._cat_file(oids, "--batch-check")}
+
+    def _cat_file(self, oids: set[str], mode: str) -> list[tuple[str, int, bytes]]:
+        """(object id, size, content: none for ``--batch-check``) of each object, by ``git cat-file MODE``."""
         if not oids:
-            return {}
+            return []
         ordered = sorted(oids)
-        result = subprocess.run(["git", "cat-file", "--batch"], cwd=self.top,
+        result = subprocess.run(["git", "cat-file", mode], cwd=self.top,
                                 input="".join(f"{oid}\n" for oid in ordered).encode(), capture_output=True,
                                 check=False, timeout=120)
         if result.returncode != 0:
             raise RevisionError(f"git cat-file could not read the contracts at {self.ref}: "
                                 f"{result.stderr.decode(errors='replace').strip()}")
-        data, offset, out = result.stdout, 0, {}
+        data, offset, out = result.stdout, 0, []
         for oid in ordered:
             end = data.index(b"\n", offset)
             header = data[offset:end].decode("ascii", "replace").split()
@@ -301,8 +320,11 @@ class Revision:
             if len(header) != 3:  # "<oid> missing": the object is not in this clone
                 raise RevisionError(f"git cat-file found no object {oid} at {self.ref}: " + FETCH_ADVICE)
             size = int(header[2])
-            out[oid] = data[offset:offset + size]
-            offset += size + 1
+            if mode == "--batch":
+                out.append((oid, size, data[offset:offset + size]))
+                offset += size + 1
+            else:
+                out.append((oid, size, b""))
         return out
 
     def text(self, full_name: str) -> str | None:
@@ -324,14 +346,14 @@ def _names(out: bytes, *, keep_empty: bool = False) -> list[str]:
 
 
 def _tree_entries(out: bytes) -> dict[str, TreeEntry]:
-    """``git ls-tree -z -l`` records (``MODE TYPE OID SIZE\tNAME``) by name."""
+    """``git ls-tree -z`` records (``MODE TYPE OID\tNAME``) by name."""
     entries: dict[str, TreeEntry] = {}
     for record in out.split(b"\0"):
         if not record:
             continue
         meta, _, raw_name = record.partition(b"\t")
-        mode, kind, oid, size = meta.decode("ascii").split()
-        entries[os.fsdecode(raw_name)] = TreeEntry(mode, oid, int(size) if kind == "blob" and size != "-" else None)
+        mode, kind, oid = meta.decode("ascii").split()
+        entries[os.fsdecode(raw_name)] = TreeEntry(mode, kind, oid)
     return entries
 
 

@@ -90,6 +90,7 @@ class Revision:
     _now_problems: dict[str, str] = field(default_factory=dict, repr=False)
     _survey: Survey | None = field(default=None, repr=False)
     _changes: list[FileChange] | None = field(default=None, repr=False)
+    _changed: set[str] | None = field(default=None, repr=False)
 
     def shown(self, full_name: str) -> str:
         """A repository path as a message shows it: relative to the directory the command runs in
@@ -187,7 +188,9 @@ class Revision:
         compared by its content, as ``git diff`` compares it); a file outside ``cwd`` counts as changed."""
         if not self._under_cwd(full_name):
             return True
-        return any(full_name in (change.old, change.new) for change in self.changes())
+        if self._changed is None:
+            self._changed = {name for change in self.changes() for name in (change.old, change.new) if name}
+        return full_name in self._changed
 
     def _under_cwd(self, full_name: str) -> bool:
         inside = Path(os.path.relpath(self.cwd, self.top)).as_posix()

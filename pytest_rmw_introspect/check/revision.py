@@ -392,12 +392,13 @@ def open_revision(ref: str, cwd: str | Path | None = None) -> Revision:
         raise RevisionError("git is not installed: `diff --against` reads the contracts at a revision with git; "
                             "install git (apt-get install git) or compare two files with `diff OLD NEW`")
     probe = subprocess.run(["git", "rev-parse", "--show-toplevel", "--is-shallow-repository"], cwd=here,
-                           capture_output=True, text=True, check=False, timeout=60)
+                           capture_output=True, check=False, timeout=60)
     if probe.returncode != 0:
         raise RevisionError(f"{here} is not inside a git repository: `diff --against {ref}` compares the contracts "
                             "with their versions at a git revision; run it in a clone of the repository (in CI, "
                             "check the repository out with git), or compare two files with `diff OLD NEW`")
-    top_line, shallow_line = (probe.stdout.splitlines() + ["", ""])[:2]
+    # (bytes: the repository's own path may be a name that is not UTF-8)
+    top_line, shallow_line = ([os.fsdecode(line) for line in probe.stdout.splitlines()] + ["", ""])[:2]
     top, shallow = Path(top_line), shallow_line.strip() == "true"
     if ".." in ref and "..." not in ref:
         raise RevisionError(f"--against {ref}: a range of two dots compares two commits, but the gate compares the "

@@ -181,3 +181,13 @@ def test_contracts_lists_names_as_bytes_and_says_what_it_could_not_read(repo, ca
     err = raw_err.decode()
     assert out.split(b"\0")[:-1] == [b"contracts/driver.yaml", b"contracts/\xe9t\xe9.yaml"]
     assert "contracts/out.yaml is a symbolic link to " in err and "contracts/big.yaml is a git LFS pointer" in err
+
+
+def test_n19_a_repository_whose_own_path_is_not_utf8(tmp_path, monkeypatch, capsys):
+    repo = GitRepo(tmp_path / os.fsdecode(b"robot\xff"))
+    repo.write("contracts/driver.yaml", _contract())
+    repo.commit("the golden")
+    repo.write("contracts/driver.yaml", _contract("/scan_raw"))
+    monkeypatch.chdir(repo.path)
+    status, out, err = run_gate(capsys, "main")
+    assert status == 1 and "[PUB_RENAMED]" in out, out + err

@@ -7,7 +7,10 @@ content whatever its name: node contracts, marker goldens, system contracts, NoD
 with its old name, a named one with the same file at REF, an added one with nothing (every node
 added), a removed one with nothing now (the removal of everything it promised). A gate that
 finds no contract at all is an error (:class:`NoContracts`): it never passes having compared
-nothing. The report's first line counts the contracts of each kind, the next names the tracked
+nothing. A contract it cannot read, now or at REF (a FIFO, too large, a git LFS pointer, a symbolic
+link out of the repository: ``check.revision``), is an error of its own entry (exit 2), and so is a
+tracked YAML file it cannot read that changed since REF; one that did not change is named on a
+line of the report. The report's first line counts the contracts of each kind, the next names the tracked
 YAML files that are not contracts. Each pair is compared with the rules of ``diff``
 (``pipeline.compare_contracts``; the contract's ``options:`` apply, the command line's on top),
 then judged in this order:

@@ -6,6 +6,7 @@ file sections for no node, remappings that change nothing."""
 from __future__ import annotations
 
 import textwrap
+import time
 
 import pytest
 
@@ -647,3 +648,13 @@ def test_a_parameter_name_no_ros_parameter_can_have_is_breaking_even_for_an_acce
                                             given=given(files=[lost_hash], parameters=["max speed"]))])
     assert found(items) == [("PARAM_NAME_INVALID", "(see x description) (bool, default", None),
                             ("PARAM_NAME_INVALID", "max speed", None)]
+
+
+def test_a_section_key_of_many_double_stars_is_matched_in_linear_time():
+    """Issue 50, N26: a key with many `**` backtracked (exponential in the `**` against a deep name)."""
+    deep = "/" + "/".join(f"n{i}" for i in range(40))
+    began = time.monotonic()
+    assert not launch_given.section_matches("/**" * 60 + "/nowhere", deep)
+    assert launch_given.section_matches("/**" * 60 + "/n39", deep)
+    assert not launch_given.section_matches("/*a*a*a*a*a*a*a*a*b", "/" + "a" * 60)
+    assert time.monotonic() - began < 0.5

@@ -545,7 +545,6 @@ def test_parameter_values_that_point_at_missing_files(tmp_path):
 
 
 def test_a_device_value_and_its_baud_rate_are_told_from_a_file():
-
     from pytest_rmw_introspect.model import portable
 
     def share(package):

@@ -347,12 +347,27 @@ def source_build(ros: ros_env.RosEnvironment, cache_dir: Path | None = None, rea
     stamp = dest / "complete"
     if stamp.exists() and library.is_file():  # built already: no lock needed to read it
         return library
-    root.mkdir(parents=True, exist_ok=True)
-    with _build_lock(root / f"{dest.name}.lock", dest, ros):
-        if not (stamp.exists() and library.is_file()):
-            build(src, ros, dest, reason)
-            stamp.write_text(str(library) + "\n")
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+        with _build_lock(root / f"{dest.name}.lock", dest, ros):
+            if not (stamp.exists() and library.is_file()):
+                build(src, ros, dest, reason)
+                stamp.write_text(str(library) + "\n")
+    except OSError as exc:  # a read-only cache, a cache path that is a file (issue 50, N28)
+        raise SetupError(
+            f"The recording middleware must be built, but its cache directory {root} cannot be written: "
+            f"{_unwritable(root, exc)}. Point RMW_INTROSPECT_CACHE at a writable directory (or make {root} "
+            "one), or point RMW_INTROSPECT_LIBRARY at a built librmw_introspect_cpp.so.") from None
     return library
+
+
+def _unwritable(root: Path, exc: OSError) -> str:
+    """Why the cache directory ``root`` cannot be written, from the error that said so."""
+    for place in (root, *root.parents):
+        if place.exists() and not place.is_dir():
+            return f"{place} is a file, not a directory"
+    where = f" ({exc.filename})" if exc.filename else ""
+    return f"{exc.strerror or exc}{where}"
 
 
 @contextmanager

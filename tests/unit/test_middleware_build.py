@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import os
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -158,3 +161,58 @@ def test_the_library_is_looked_up_once_per_process_while_it_is_there(tmp_path, m
     chosen.write_bytes(b"")
     monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(chosen))  # the environment's choice still wins
     assert middleware.ensure_library(ros, tmp_path / "cache") == chosen.resolve()
+
+
+def _unwritable_caches(tmp_path: Path) -> list[tuple[Path, str]]:
+    """Cache directories the middleware cannot be built in, and what the error says of each."""
+    a_file = tmp_path / "cache-file"
+    a_file.write_text("not a directory\n")
+    cases = [(a_file, f"{a_file} is a file, not a directory"),
+             (a_file / "below", f"{a_file} is a file, not a directory")]
+    read_only = tmp_path / "read-only"
+    read_only.mkdir()
+    read_only.chmod(0o555)
+    if not os.access(read_only, os.W_OK):  # root writes anyway: that case is then told by /sys
+        cases.append((read_only, "Permission denied"))
+    sys_fs = Path("/sys/fs/pytest-rmw-introspect-cache")
+    if Path("/sys/fs").is_dir() and _cannot_create(sys_fs):  # sysfs takes no new directory, even from root
+        cases.append((sys_fs, str(sys_fs)))
+    return cases
+
+
+def _cannot_create(path: Path) -> bool:
+    try:
+        path.mkdir()
+    except OSError:
+        return True
+    path.rmdir()
+    return False
+
+
+def test_a_cache_that_cannot_be_written_is_an_error_that_says_what_to_do(tmp_path, monkeypatch):
+    """Issue 50, N28: a read-only cache directory, or a cache path that is a file, was a traceback
+    when the middleware had to be built."""
+    monkeypatch.delenv("RMW_INTROSPECT_LIBRARY", raising=False)
+    monkeypatch.setattr(middleware, "build", lambda *a, **k: pytest.fail("built in a cache it cannot write"))
+    try:
+        for cache, why in _unwritable_caches(tmp_path):
+            with pytest.raises(SetupError) as refused:
+                middleware.resolve_library(ros=fake_ros(tmp_path / "empty-prefix"), cache_dir=cache)
+            message = str(refused.value)
+            assert message.startswith("The recording middleware must be built, but its cache directory "), message
+            assert why in message and "RMW_INTROSPECT_CACHE" in message and "RMW_INTROSPECT_LIBRARY" in message
+    finally:
+        (tmp_path / "read-only").chmod(0o755)
+
+
+def test_the_capture_command_with_a_cache_path_that_is_a_file_exits_2_with_the_reason(tmp_path):
+    """N28 as the user met it: `capture` with RMW_INTROSPECT_CACHE naming a file."""
+    a_file = tmp_path / "cache"
+    a_file.write_text("")
+    env = {k: v for k, v in os.environ.items() if k != "RMW_INTROSPECT_LIBRARY"}
+    env["RMW_INTROSPECT_CACHE"] = str(a_file)
+    done = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", "capture", "--", "true"],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert "Traceback" not in done.stderr
+    assert f"{a_file} is a file, not a directory" in done.stderr and "RMW_INTROSPECT_CACHE" in done.stderr

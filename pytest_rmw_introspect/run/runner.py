@@ -509,7 +509,7 @@ class _Run:
                 raise StimulusFailed(target.name, problems, _mark(loaded, start), stderr, argv)
         if loaded is None or not loaded.settled_once or crashed:
             raise TargetExited(target.name, returncode, stderr, _mark(loaded, start), argv,
-                               hint=failure_hints.missing_module_hint(stderr), crashed=crashed)
+                               hint=failure_hints.exit_hint(stderr), crashed=crashed)
         return loaded
 
     def judge(self, captured: Capture, start: _Started, ended: _Ended) -> Capture:

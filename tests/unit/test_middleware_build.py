@@ -8,6 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import fake_library
 import pytest
 
 from pytest_rmw_introspect.errors import SetupError
@@ -20,7 +21,7 @@ def fake_ros(prefix: Path) -> ros_env.RosEnvironment:
 
 def test_explicit_library_wins(tmp_path, monkeypatch):
     lib = tmp_path / "librmw_introspect_cpp.so"
-    lib.write_bytes(b"")
+    lib.write_bytes(fake_library.WHOLE)
     monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(lib))
     found = middleware.resolve_library(ros=fake_ros(tmp_path))
     assert (found.path, found.origin) == (lib.resolve(), "environment")
@@ -39,7 +40,7 @@ def test_installed_package_is_found_through_the_ament_index(tmp_path, monkeypatc
     index.mkdir(parents=True)
     (index / "rmw_introspect_cpp").write_text("")
     (prefix / "lib").mkdir()
-    (prefix / "lib" / "librmw_introspect_cpp.so").write_bytes(b"")
+    (prefix / "lib" / "librmw_introspect_cpp.so").write_bytes(fake_library.WHOLE)
     found = middleware.resolve_library(ros=fake_ros(prefix))
     assert (found.path, found.origin) == (prefix / "lib" / "librmw_introspect_cpp.so", "installed")
 
@@ -102,7 +103,7 @@ def test_cached_build_is_reused_without_rebuilding(tmp_path, monkeypatch):
         calls.append(dest)
         lib = dest / "install" / "lib" / middleware.LIBRARY_FILE
         lib.parent.mkdir(parents=True)
-        lib.write_bytes(b"")
+        lib.write_bytes(fake_library.WHOLE)
         return lib
 
     monkeypatch.setattr(middleware, "build", fake_build)
@@ -145,7 +146,7 @@ def test_the_library_is_looked_up_once_per_process_while_it_is_there(tmp_path, m
     def fake_build(src, ros, dest, reason=""):
         lib = dest / "install" / "lib" / middleware.LIBRARY_FILE
         lib.parent.mkdir(parents=True, exist_ok=True)
-        lib.write_bytes(b"")
+        lib.write_bytes(fake_library.WHOLE)
         return lib
 
     monkeypatch.setattr(middleware, "sources_hash", counting_hash)
@@ -158,7 +159,7 @@ def test_the_library_is_looked_up_once_per_process_while_it_is_there(tmp_path, m
     assert middleware.ensure_library(ros, tmp_path / "cache") == first and first.is_file()
     assert len(hashed) == 2
     chosen = tmp_path / "mine.so"
-    chosen.write_bytes(b"")
+    chosen.write_bytes(fake_library.WHOLE)
     monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(chosen))  # the environment's choice still wins
     assert middleware.ensure_library(ros, tmp_path / "cache") == chosen.resolve()
 
@@ -216,3 +217,37 @@ def test_the_capture_command_with_a_cache_path_that_is_a_file_exits_2_with_the_r
     assert done.returncode == 2, done.stderr
     assert "Traceback" not in done.stderr
     assert f"{a_file} is a file, not a directory" in done.stderr and "RMW_INTROSPECT_CACHE" in done.stderr
+
+
+def test_a_damaged_cached_library_is_named_with_its_cache_directory_to_delete(tmp_path, monkeypatch):
+    """Issue 50, N29: a corrupted or truncated cached library was reported as the target exiting
+    with status 102 (rcl found another middleware), the library not named."""
+    monkeypatch.delenv("RMW_INTROSPECT_LIBRARY", raising=False)
+    ros, cache = fake_ros(tmp_path / "empty-prefix"), tmp_path / "cache"
+    entry = middleware.cache_entry(ros, cache)
+    library = entry / "install" / "lib" / middleware.LIBRARY_FILE
+    library.parent.mkdir(parents=True)
+    (entry / "complete").write_text(f"{library}\n")
+    for content, damage in ((fake_library.elf_header(900_000), "it is truncated (64 bytes; its ELF headers describe at least "
+                                                              "900192)"),
+                            (bytes(4096), "it is not an ELF shared library (4096 bytes that do not start like one)"),
+                            (b"", "it is not an ELF shared library (0 bytes")):
+        library.write_bytes(content)
+        with pytest.raises(SetupError) as damaged:
+            middleware.resolve_library(ros=ros, cache_dir=cache)
+        assert str(damaged.value) == (
+            f"The recording middleware library {library} (built) is damaged: {damage}"
+            + str(damaged.value).split(damage, 1)[1])
+        assert str(damaged.value).endswith(f"Delete its cache directory {entry} (rm -r) and run again: the "
+                                           "middleware is built anew.")
+    library.write_bytes(fake_library.WHOLE)
+    assert middleware.resolve_library(ros=ros, cache_dir=cache).path == library
+
+
+def test_a_damaged_library_named_by_the_environment_says_to_fix_the_variable(tmp_path, monkeypatch):
+    damaged = tmp_path / middleware.LIBRARY_FILE
+    damaged.write_bytes(fake_library.elf_header(900_000))
+    monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(damaged))
+    with pytest.raises(SetupError, match="Point RMW_INTROSPECT_LIBRARY at a whole build of it") as refused:
+        middleware.resolve_library()
+    assert f"library {damaged.resolve()} (environment) is damaged: it is truncated" in str(refused.value)

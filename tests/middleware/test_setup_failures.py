@@ -1,0 +1,46 @@
+"""What a broken set-up makes of a capture, with real processes: a damaged middleware library
+(issue 50, N29)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from pytest_rmw_introspect.errors import TargetExited
+from pytest_rmw_introspect.run import runner
+from pytest_rmw_introspect.run.target import TargetSpec
+
+NODES = Path(__file__).parent / "nodes"
+TALKER = NODES / "talker.py"
+
+
+def _damaged_copy(library: Path, where: Path) -> Path:
+    """The first 100 bytes of ``library`` (a library cut short: ld.so "cannot read file data")."""
+    where.mkdir(parents=True, exist_ok=True)
+    damaged = where / library.name
+    damaged.write_bytes(library.read_bytes()[:100])
+    return damaged
+
+
+def test_a_target_run_on_a_damaged_library_is_told_to_delete_it(middleware_library, tmp_path):
+    """Issue 50, N29: the loader skips a damaged library, rcl finds another middleware and exits
+    with status 102; the error named neither the library nor what to do."""
+    damaged = _damaged_copy(middleware_library, tmp_path / "cache")
+    with pytest.raises(TargetExited) as exited:
+        runner.run(TargetSpec(script=TALKER, timeout=20, cold_start=True), library=damaged)
+    message = str(exited.value)
+    assert f"could not load the recording middleware {damaged} (cannot read file data)" in message
+    assert "delete it" in message and "RMW_INTROSPECT_LIBRARY" in message
+
+
+def test_the_capture_command_refuses_a_damaged_library_before_it_runs_anything(middleware_library, tmp_path):
+    damaged = _damaged_copy(middleware_library, tmp_path / "cache")
+    env = dict(os.environ, RMW_INTROSPECT_LIBRARY=str(damaged))
+    done = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", "capture", "--", sys.executable, str(TALKER)],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert done.returncode == 2 and "Traceback" not in done.stderr
+    assert f"The recording middleware library {damaged} (environment) is damaged: it is truncated" in done.stderr

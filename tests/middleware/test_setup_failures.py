@@ -1,9 +1,10 @@
-"""What a broken set-up makes of a capture, with real processes: a damaged middleware library
-(issue 50, N29)."""
+"""What a set-up makes of a capture, with real processes: a damaged middleware library (issue
+50, N29), a library whose path holds a space (N16)."""
 
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -44,3 +45,16 @@ def test_the_capture_command_refuses_a_damaged_library_before_it_runs_anything(m
                           capture_output=True, text=True, env=env, timeout=120)
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert f"The recording middleware library {damaged} (environment) is damaged: it is truncated" in done.stderr
+
+
+def test_the_capture_command_works_with_a_library_whose_path_holds_a_space(middleware_library, tmp_path):
+    """Issue 50, N16: the loader splits LD_PRELOAD at spaces, so the prebuilt wheel in a venv whose
+    path has a space captured nothing (and the message did not say why)."""
+    spaced = tmp_path / "My Projects" / "venv lib" / middleware_library.name
+    spaced.parent.mkdir(parents=True)
+    shutil.copy2(middleware_library, spaced)
+    env = dict(os.environ, RMW_INTROSPECT_LIBRARY=str(spaced))
+    done = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", "capture", "--cold-start", "--script",
+                           str(TALKER)], capture_output=True, text=True, env=env, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "/talker:" in done.stdout and "/chatter" in done.stdout

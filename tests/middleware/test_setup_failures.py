@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect.errors import TargetExited
+from pytest_rmw_introspect.errors import NoNodeCreated, TargetExited
 from pytest_rmw_introspect.run import runner
 from pytest_rmw_introspect.run.target import TargetSpec
 
@@ -58,3 +58,23 @@ def test_the_capture_command_works_with_a_library_whose_path_holds_a_space(middl
                            str(TALKER)], capture_output=True, text=True, env=env, timeout=120)
     assert done.returncode == 0, done.stderr
     assert "/talker:" in done.stdout and "/chatter" in done.stdout
+
+
+@pytest.mark.parametrize(("target", "asked"), [
+    # a compiled program (an ELF executable): not told to check rclpy.init()
+    ({"command": ["true"]}, "does it call rclcpp::init() (rcl_init in C), create a node and spin"),
+    ({"script": "exits.py"}, "does it call rclpy.init(), create a Node and spin"),
+    ({"command": ["./exits.sh"]}, "does it initialise ROS 2 (rclpy.init() in Python, rclcpp::init() in C++)"),
+])
+def test_a_program_that_creates_no_node_is_asked_about_its_own_init(middleware_library, tmp_path, target, asked):
+    """Issue 50: a capture of a program that creates no node told a C++ program to check `rclpy.init()`."""
+    (tmp_path / "exits.py").write_text("print('no node')\n")
+    (tmp_path / "exits.sh").write_text("#!/bin/sh\nexit 0\n")
+    (tmp_path / "exits.sh").chmod(0o755)
+    spec = TargetSpec.from_mapping({**target, "cwd": str(tmp_path), "timeout": 20, "cold_start": True},
+                                   base_dir=tmp_path)
+    with pytest.raises(NoNodeCreated) as none:
+        runner.run(spec, library=middleware_library)
+    assert asked in str(none.value)
+    if target == {"command": ["true"]}:
+        assert "rclpy" not in str(none.value)

@@ -7,7 +7,8 @@ Here a segment pattern is its literal pieces between the ``*``: the first must s
 segment, the last end it, and each other is found at its leftmost place after the one before
 (leftmost is never worse for what follows), so a match costs one scan of the name. Segments
 are matched as a set of positions in the pattern (``**`` keeps its place or moves on), so a key
-with many ``**`` costs (segments x tokens), not one try per way of splitting the name.
+with many ``**`` costs at most (segments x tokens, a run of ``**`` one token), never one try per
+way of splitting the name.
 """
 
 from __future__ import annotations
@@ -43,7 +44,10 @@ def name_matches(pattern: str, fqn: str) -> bool:
 def section_key_matches(key: str, fqn: str) -> bool:
     """Whether a parameters file's section ``key`` applies to the node ``fqn``: its segments
     with ``*`` (any run of characters but ``/``) and ``**`` (any number of non-empty segments)."""
-    tokens = [t for t in key.strip("/").split("/") if t]
+    tokens: list[str] = []
+    for token in key.strip("/").split("/"):
+        if token and not (token == ANY_SEGMENTS and tokens[-1:] == [ANY_SEGMENTS]):  # `**/**` is `**`
+            tokens.append(token)
     if not tokens:
         return fqn == "/"
     if not fqn.startswith("/"):
@@ -67,10 +71,13 @@ def section_key_matches(key: str, fqn: str) -> bool:
 
 
 def _closure(states: set[int], tokens: list[str]) -> set[int]:
-    """``states`` and every state a ``**`` that matches no segment reaches from them."""
-    out = set(states)
+    """``states`` and every state a ``**`` that matches no segment reaches from them (each
+    state visited once: a run of ``**`` is walked once, not once per state in it)."""
+    out: set[int] = set()
     for state in sorted(states):
-        while state < len(tokens) and tokens[state] == ANY_SEGMENTS:
-            state += 1
+        while state not in out:
             out.add(state)
+            if state == len(tokens) or tokens[state] != ANY_SEGMENTS:
+                break
+            state += 1
     return out

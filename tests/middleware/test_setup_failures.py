@@ -1,5 +1,6 @@
 """What a set-up makes of a capture, with real processes: a damaged middleware library (issue
-50, N29), a library whose path holds a space (N16)."""
+50, N29), a cache it cannot be built in (N28), a library whose path holds a space (N16), a
+program that creates no node."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from pytest_rmw_introspect.errors import NoNodeCreated, TargetExited
-from pytest_rmw_introspect.run import runner
+from pytest_rmw_introspect.run import middleware, runner
 from pytest_rmw_introspect.run.target import TargetSpec
 
 NODES = Path(__file__).parent / "nodes"
@@ -45,6 +46,23 @@ def test_the_capture_command_refuses_a_damaged_library_before_it_runs_anything(m
                           capture_output=True, text=True, env=env, timeout=120)
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert f"The recording middleware library {damaged} (environment) is damaged: it is truncated" in done.stderr
+
+
+def test_the_capture_command_with_a_cache_path_that_is_a_file_exits_2_with_the_reason(tmp_path, monkeypatch):
+    """Issue 50, N28 as the user met it: `capture` with RMW_INTROSPECT_CACHE naming a file, where
+    the middleware is built in the cache (not installed, not prebuilt)."""
+    monkeypatch.delenv("RMW_INTROSPECT_LIBRARY", raising=False)
+    if middleware.resolve_library().origin != "built":
+        pytest.skip("the middleware is not built in the cache here: no cache is written")
+    a_file = tmp_path / "cache"
+    a_file.write_text("")
+    env = {k: v for k, v in os.environ.items() if k != "RMW_INTROSPECT_LIBRARY"}
+    env["RMW_INTROSPECT_CACHE"] = str(a_file)
+    done = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", "capture", "--", "true"],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert "Traceback" not in done.stderr
+    assert f"{a_file} is a file, not a directory" in done.stderr and "RMW_INTROSPECT_CACHE" in done.stderr
 
 
 def test_the_capture_command_works_with_a_library_whose_path_holds_a_space(middleware_library, tmp_path):

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import fake_library
@@ -204,19 +202,6 @@ def test_a_cache_that_cannot_be_written_is_an_error_that_says_what_to_do(tmp_pat
             assert why in message and "RMW_INTROSPECT_CACHE" in message and "RMW_INTROSPECT_LIBRARY" in message
     finally:
         (tmp_path / "read-only").chmod(0o755)
-
-
-def test_the_capture_command_with_a_cache_path_that_is_a_file_exits_2_with_the_reason(tmp_path):
-    """N28 as the user met it: `capture` with RMW_INTROSPECT_CACHE naming a file."""
-    a_file = tmp_path / "cache"
-    a_file.write_text("")
-    env = {k: v for k, v in os.environ.items() if k != "RMW_INTROSPECT_LIBRARY"}
-    env["RMW_INTROSPECT_CACHE"] = str(a_file)
-    done = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", "capture", "--", "true"],
-                          capture_output=True, text=True, env=env, timeout=120)
-    assert done.returncode == 2, done.stderr
-    assert "Traceback" not in done.stderr
-    assert f"{a_file} is a file, not a directory" in done.stderr and "RMW_INTROSPECT_CACHE" in done.stderr
 
 
 def test_a_damaged_cached_library_is_named_with_its_cache_directory_to_delete(tmp_path, monkeypatch):

@@ -24,6 +24,7 @@ import re
 import select
 import shutil
 import stat
+import struct
 import subprocess
 import sys
 import time
@@ -329,8 +330,6 @@ def library_damage(path: Path) -> str | None:
     """Why the file at ``path`` is no whole ELF shared object (the loader would skip it and every
     target would run on another middleware: rcl's exit status 102, or a SIGBUS for a truncated
     one), or None. Reads its first 64 bytes."""
-    import struct
-
     try:
         size = path.stat().st_size
         with path.open("rb") as f:

@@ -24,6 +24,7 @@ One line per module:
 - ``nodl``: NoDL v2 documents as contracts, and contracts written as NoDL
 - ``acceptance``: the ``accept:`` entries of a contract
 - ``unstable_names``: node names that change every run, and the pattern a contract keys them by
+- ``name_patterns``: patterns of names (``*``, a section key's ``**``) matched in linear time
 - ``interface_version``: ``interface_version: MAJOR.MINOR.PATCH``: bumps by semantic versioning
 - ``locate``: the line of each node and interface entry of a contract file
 - ``yaml_blocks``: where a top-level block sits in a YAML text, for updates that keep the rest

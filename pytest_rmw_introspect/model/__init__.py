@@ -34,6 +34,8 @@ One line per module:
 - ``editable_installs``: Python distributions installed editable (``pip install -e .``) and their source trees
 - ``ament_index``: the ament index: which install prefixes provide a package (or a NoDL document)
 - ``project_urls``: where the project lives on the web: the repository, links to its docs pages
+- ``tally``: development accounting: target starts, commands, formats, rules, contract kinds, to a file
+  ``RMW_INTROSPECT_TALLY`` names (the test suite's cost and coverage reports; nothing without it)
 
 It may import ``errors`` and nothing else of the package.
 """

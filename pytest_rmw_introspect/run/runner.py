@@ -73,6 +73,7 @@ from ..errors import (
     TargetTimeout,
     WarmStartFailed,
 )
+from ..model import tally
 from . import failure_hints, process, progress, ros_env
 from .deadline import Watchdog
 from .target import resolve
@@ -252,7 +253,7 @@ def _start(target: ResolvedTarget, python: str | None, warm_wait: float | None) 
         if isinstance(server, warm.WarmServer):
             try:
                 child = server.spawn(target.warm, env=env, cwd=cwd)
-                return _Started(child, child.stdout, child.stderr, None, list(target.warm.orig_argv), child)
+                return _tallied(_Started(child, child.stdout, child.stderr, None, list(target.warm.orig_argv), child))
             except WarmStartFailed as exc:
                 note = str(exc)
         else:
@@ -266,7 +267,14 @@ def _start(target: ResolvedTarget, python: str | None, warm_wait: float | None) 
             searched=[argv[0]],
         ) from None
     assert proc.stdout is not None and proc.stderr is not None
-    return _Started(proc, proc.stdout, proc.stderr, note)
+    return _tallied(_Started(proc, proc.stdout, proc.stderr, note))
+
+
+def _tallied(start: _Started) -> _Started:
+    """``start``, counted for the test suite's cost report (``model.tally``: nothing unless
+    ``RMW_INTROSPECT_TALLY`` is set; issue 48)."""
+    tally.note("start", start.how)
+    return start
 
 
 @dataclass

@@ -18,7 +18,7 @@ endif
 LOCK_FILE ?= $(CURDIR)/requirements/$(DISTRO).txt
 export VENV LOCK_FILE PYTHON_VERSION
 
-.PHONY: example test test-fast test-slow dist typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs precision-table soak clean
+.PHONY: example test test-fast test-slow test-cost coverage dist typecheck fuzz lint bootstrap lock lowest newest bench asan conformance overlay docs precision-table soak clean
 
 ## bootstrap: .venv/ with exactly the packages of requirements/jazzy.txt (hash-checked), the
 ## package editable, the middleware built and the example package installed
@@ -58,6 +58,37 @@ test-fast: bootstrap
 ## a new user's first hour); deselected from every other run (tests/conftest.py)
 test-slow: bootstrap
 	$(VENV)/bin/pytest -m slow $(PYTEST_ARGS)
+
+## test-cost: what each test costs (issue 48; docs/development.md, "What a test costs"): per tier the
+## totals and the 30 slowest tests with the target processes each started; writes
+## build/test-cost/<venv>-<TIER>/report.json. TIER=all (default), unit, plugin, e2e or slow; PYTEST_ARGS
+## as for `make test` (-n 2, a path); DISTRO and PYTHON_VERSION as everywhere
+TIER ?= all
+TIER_all :=
+TIER_unit := -m "not e2e and not plugin"
+TIER_plugin := -m plugin
+TIER_e2e := -m e2e
+TIER_slow := -m slow
+TIER_MARKS = $(if $(filter $(TIER),all unit plugin e2e slow),$(TIER_$(TIER)),$(error TIER=$(TIER): one of all, unit, plugin, e2e, slow))
+RUN_NAME = $(notdir $(VENV))-$(TIER)
+test-cost: bootstrap
+	RMWI_TEST_COST=$(CURDIR)/build/test-cost/$(RUN_NAME) $(VENV)/bin/pytest $(TIER_MARKS) $(PYTEST_ARGS)
+
+## coverage: line coverage of pytest_rmw_introspect/ over TIER (as test-cost), its subprocesses
+## included, and the rules, commands, report formats and contract kinds exercised end to end;
+## writes build/coverage/<venv>-<TIER>/summary.json (COVERAGE_COMPARE=<an older summary.json> says
+## what is less now, exit 1). docs/development.md, "Line coverage and the exercised set"
+COVERAGE_DIR = $(CURDIR)/build/coverage/$(RUN_NAME)
+coverage: bootstrap
+	rm -rf $(COVERAGE_DIR) && mkdir -p $(COVERAGE_DIR)
+	@# the report is written whatever the tests' outcome; the target then fails as they did
+	export COVERAGE_FILE=$(COVERAGE_DIR)/.coverage COVERAGE_RCFILE=$(CURDIR)/pyproject.toml; status=0; \
+	RMWI_TEST_COST=$(COVERAGE_DIR)/cost $(VENV)/bin/python -m coverage run -m pytest $(TIER_MARKS) $(PYTEST_ARGS) || status=$$?; \
+	$(VENV)/bin/python -m coverage combine --quiet && \
+	$(VENV)/bin/python -m coverage report --sort=cover | tail -25 && \
+	$(VENV)/bin/python -m coverage json --quiet -o $(COVERAGE_DIR)/coverage.json && \
+	$(VENV)/bin/python scripts/coverage_summary.py $(COVERAGE_DIR) $(if $(COVERAGE_COMPARE),--compare $(COVERAGE_COMPARE)) \
+	  && exit $$status
 
 ## dist: the sdist, the platform-independent wheel and the Linux x86_64 wheel with the middleware
 ## prebuilt for each of DIST_DISTROS (each built with its own venv: `make bootstrap DISTRO=<d>`)

@@ -272,6 +272,16 @@ class TargetExited(_WithPartialCapture):
         super().__init__("\n".join(parts), target=target)
 
 
+#: what a target that created no node is asked, by what it is (``language``: "python" for a Python
+#: program, "compiled" for an ELF executable, None when it is not known): a C++ program is not
+#: told to check rclpy.init() (issue 50)
+_NO_NODE_QUESTION = {
+    "python": "call rclpy.init(), create a Node and spin before it exits?",
+    "compiled": "call rclcpp::init() (rcl_init in C), create a node and spin before it exits?",
+    None: "initialise ROS 2 (rclpy.init() in Python, rclcpp::init() in C++), create a node and spin before it exits?",
+}
+
+
 class NoNodeCreated(_WithPartialCapture):
     """The target ran (and settled or exited) but never created a ROS node."""
 
@@ -283,6 +293,7 @@ class NoNodeCreated(_WithPartialCapture):
         argv: Sequence[str] = (),
         detail: str | None = None,
         hint: str | None = None,
+        language: str | None = None,
     ) -> None:
         self.hint = hint
         self.stderr_tail = _tail(stderr_tail)
@@ -292,8 +303,7 @@ class NoNodeCreated(_WithPartialCapture):
         parts = [
             f"The target {target} created no ROS node"
             + (f" ({detail})" if detail else "")
-            + ": is it the right executable, and does it call rclpy.init() / create a Node "
-            "and spin before it exits?"
+            + f": is it the right executable, and does it {_NO_NODE_QUESTION.get(language, _NO_NODE_QUESTION[None])}"
         ]
         if self.argv:
             parts.append("Command: " + shlex.join(self.argv))

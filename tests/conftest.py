@@ -1,11 +1,12 @@
 """Shared test configuration.
 
 ``pytester`` and the shared fixtures of tests/support/middleware_fixtures.py are enabled here
-(a top-level conftest) because pytest only honours ``pytest_plugins`` in conftest files it
+(a top-level conftest), and so is ``cost_report`` (what each test costs: `make test-cost`, off
+unless RMWI_TEST_COST is set), because pytest only honours ``pytest_plugins`` in conftest files it
 loads at start-up.
 """
 
-pytest_plugins = ["pytester", "middleware_fixtures"]
+pytest_plugins = ["pytester", "middleware_fixtures", "cost_report"]
 
 
 # ---------------------------------------------------------------------------- tiers

@@ -38,6 +38,7 @@ from pathlib import Path
 from types import FrameType
 
 from ..errors import RmwIntrospectError, Terminated
+from ..model import tally
 from .capture import ONE_CAPTURE_STARTS_COLD
 from .exit_status import EXIT_ERROR, EXIT_INTERRUPTED, EXIT_TERMINATED
 from .parser import build_parser
@@ -66,6 +67,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"rmw-introspect: error: `-- COMMAND` is only for capture and check, not {args.command}",
               file=sys.stderr)
         return EXIT_ERROR
+    tally.note("command", args.command)  # the test suite's exercised set (model.tally; issue 48)
+    if getattr(args, "format", None):
+        tally.note("format", f"{args.command} {args.format}")
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _raise_terminated)
     if args.command == "validate":  # only the contract loader: fast enough for a pre-commit hook

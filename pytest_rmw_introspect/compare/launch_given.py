@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 from ..model.contract_shapes import ContractNode
+from ..model.name_patterns import section_key_matches
 from ..model.vocabulary import LISTS, PARAMETERS, Severity, is_infrastructure_parameter
 from .similarity import typo_distance
 from .wiring import near_miss
@@ -136,16 +137,10 @@ def _flatten(value: Any, prefix: str = "") -> list[str]:
     return names
 
 
-def _key_pattern(key: str) -> re.Pattern[str]:
-    tokens = [t for t in key.strip("/").split("/") if t]
-    parts = ["(?:/[^/]+)*" if token == "**" else "/" + re.escape(token).replace(r"\*", "[^/]*")
-             for token in tokens]
-    return re.compile("".join(parts) or "/")
-
-
 def section_matches(key: str, fqn: str) -> bool:
-    """Whether the parameters file section ``key`` applies to the node ``fqn``."""
-    return _key_pattern(key).fullmatch(fqn) is not None
+    """Whether the parameters file section ``key`` applies to the node ``fqn`` (in linear time
+    however many ``**`` it has: issue 50, N26)."""
+    return section_key_matches(key, fqn)
 
 
 def resolve(name: str, node_fqn: str) -> str:

@@ -24,6 +24,7 @@ One line per module:
 - ``nodl``: NoDL v2 documents as contracts, and contracts written as NoDL
 - ``acceptance``: the ``accept:`` entries of a contract
 - ``unstable_names``: node names that change every run, and the pattern a contract keys them by
+- ``name_patterns``: patterns of names (``*``, a section key's ``**``) matched in linear time
 - ``interface_version``: ``interface_version: MAJOR.MINOR.PATCH``: bumps by semantic versioning
 - ``locate``: the line of each node and interface entry of a contract file
 - ``yaml_blocks``: where a top-level block sits in a YAML text, for updates that keep the rest
@@ -33,6 +34,8 @@ One line per module:
 - ``editable_installs``: Python distributions installed editable (``pip install -e .``) and their source trees
 - ``ament_index``: the ament index: which install prefixes provide a package (or a NoDL document)
 - ``project_urls``: where the project lives on the web: the repository, links to its docs pages
+- ``tally``: development accounting: target starts, commands, formats, rules, contract kinds, to a file
+  ``RMW_INTROSPECT_TALLY`` names (the test suite's cost and coverage reports; nothing without it)
 
 It may import ``errors`` and nothing else of the package.
 """

@@ -379,6 +379,9 @@ def _loads(text: str, path: Path | None) -> Contract:
     error = _schema_error(root, data, path)
     if error is not None:
         raise error
+    too_broad = unstable_model.refused(data)
+    if too_broad is not None:
+        raise ContractError(path, format_location(too_broad[0]), too_broad[1], line=_line(root, too_broad[0]))
     nodes = normalize_nodes(data.get("nodes") or {})
     _check_semantics(root, nodes, path)
     types = None

@@ -76,8 +76,12 @@ def resolve(text: str, find_share: Callable[[str], Path | None], home: str | Non
     if not text or any(c.isspace() for c in text.replace("$(find-pkg-share ", "", 1).replace(HOME_TOKEN, "", 1)):
         return None
     if text.startswith("file://"):
-        inner = resolve(text[len("file://"):], find_share, home)
-        return inner if inner is not None else Located(Path(text[len("file://"):]))
+        # every file:// at once, not one call each: ~1,000 of them were a RecursionError (issue 50, N25)
+        inner_text = text
+        while inner_text.startswith("file://"):
+            inner_text = inner_text[len("file://"):]
+        inner = resolve(inner_text, find_share, home)
+        return inner if inner is not None else Located(Path(inner_text))
     if _NETWORK_URL.match(text):
         return None
     serial = _SERIAL_URL.match(text)

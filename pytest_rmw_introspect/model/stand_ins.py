@@ -30,6 +30,7 @@ import yaml
 
 from ..errors import ContractError
 from . import contract as contract_module
+from . import untrusted
 from .contract_shapes import ContractNodes, StandInEntry
 from .paths import shown
 
@@ -109,10 +110,16 @@ def load(stand_in: StandIn, index: int, system_path: Path | None) -> StoodIn:
     path = Path(stand_in.contract).expanduser()
     path = path if path.is_absolute() else base / path
     location = f"{SECTION_KEY}[{index}].contract"
-    if not path.is_file():
+    problem = untrusted.file_problem(path)  # a FIFO or a directory is said as such (issue 50, N27)
+    if problem == "does not exist":
         raise ContractError(system_path, location, (
             f"the stand-in for {stand_in.describe()}, {shown(path)}, does not exist: capture it where the hardware "
             f"is (`rmw-introspect capture ... -o {stand_in.contract}` on the robot), or write it as a NoDL document"),
+            line=stand_in.line)
+    if problem is not None:
+        raise ContractError(system_path, location, (
+            f"the stand-in for {stand_in.describe()}, {shown(path)}, {problem}: point `contract:` at the node "
+            f"contract (.interfaces.yaml) or NoDL document of that process, or replace {shown(path)} with one"),
             line=stand_in.line)
     try:
         contract = contract_module.load(path)

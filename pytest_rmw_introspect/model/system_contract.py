@@ -238,6 +238,10 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
     if has_file == ("path" in launch) or ("file" in launch) != ("package" in launch):
         raise ContractError(path, "launch", "name the launch file with `package` and `file` (like ros2 launch), "
                             "or with `path` (relative to this file), not both", line=_where(root, ["launch"]))
+    too_broad = unstable_model.refused(data)
+    if too_broad is not None:
+        raise ContractError(path, contract_module.format_location(too_broad[0]), too_broad[1],
+                            line=_where(root, too_broad[0]))
     nodes = contract_module.normalize_nodes(data.get("nodes") or {})
     for fqn, node in nodes.items():
         for list_name in LISTS:

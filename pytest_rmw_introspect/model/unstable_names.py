@@ -23,7 +23,6 @@ is written under the pattern (``/static_transform_publisher_*/reset``) and compa
 
 from __future__ import annotations
 
-import functools
 import json
 import re
 from collections.abc import Collection, Iterable, Mapping, Sequence
@@ -31,6 +30,7 @@ from dataclasses import dataclass, field
 from typing import Any, cast
 
 from .contract_shapes import ContractNode, InterfaceEntry
+from .name_patterns import name_matches
 from .vocabulary import LISTS, PARAMETERS
 
 #: the top-level contract key of the declared patterns, and the node key of the reason
@@ -54,12 +54,34 @@ class NamePattern:
     reason: str | None = None
 
     def matches(self, fqn: str) -> bool:
-        return _compiled(self.pattern).fullmatch(fqn) is not None
+        return name_matches(self.pattern, fqn)  # in linear time (issue 50, N17)
 
 
-@functools.lru_cache(maxsize=256)
-def _compiled(pattern: str) -> re.Pattern[str]:
-    return re.compile("[^/]*".join(re.escape(part) for part in pattern.split("*")))
+def too_broad(pattern: str) -> str | None:
+    """Why ``pattern`` is refused, or None: a base name of only ``*`` (``/*``, ``/*/*``,
+    ``/ns/*``) matches every node of its namespace, so a node that was renamed would still
+    match it and a check would say the contract matches (issue 50, N18)."""
+    base = pattern_of_key(pattern).rpartition("/")[2]
+    if base.strip("*"):
+        return None
+    return (f"the pattern {pattern_of_key(pattern)} matches every node name in its namespace, so a renamed node "
+            "would still match it and the check could not see the rename; keep the part of the name that does "
+            "not change (`/worker_*`, `/transform_listener_impl_*`)")
+
+
+def refused(data: Mapping[str, Any]) -> tuple[list[str | int], str] | None:
+    """The first pattern of a schema-valid contract document that is too broad
+    (:func:`too_broad`): its place in the document and why, or None."""
+    for index, entry in enumerate(data.get(SECTION_KEY) or ()):
+        reason = too_broad(str(entry["pattern"]))
+        if reason is not None:
+            return [SECTION_KEY, index, "pattern"], reason
+    for key in data.get("nodes") or {}:
+        if is_pattern_key(str(key)):
+            reason = too_broad(str(key))
+            if reason is not None:
+                return ["nodes", str(key)], reason
+    return None
 
 
 def is_pattern_key(key: str) -> bool:

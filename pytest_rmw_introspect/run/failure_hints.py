@@ -1,7 +1,9 @@
-"""What to do next, for a target that ran but could not import a module or created no node.
+"""What to do next, for a target that ran but could not import a module, could not load the
+middleware, or created no node.
 
 The runner adds these hints to its ``TargetExited`` and ``NoNodeCreated`` errors: a module the
-target could not import (:func:`missing_module_hint`, from its stderr), and a ``module`` target
+target could not import (:func:`missing_module_hint`, from its stderr), a middleware library
+the dynamic loader refused (:func:`preload_hint`, from its stderr), and a ``module`` target
 whose file defines ``main`` but never calls it (:func:`no_node_hint`: asked only after the
 target created no node, because finding the module's file starts an interpreter).
 """
@@ -27,6 +29,33 @@ def missing_module_hint(stderr: str) -> str | None:
         "that checks it plus the target's `env:`, and a contract records only what `env:` lists: if the "
         "module comes from a workspace or another virtual environment, give PYTHONPATH (or "
         "AMENT_PREFIX_PATH) in the target's `env:`, or run the check where the node's environment is set up."
+    )
+
+
+_NOT_PRELOADED = re.compile(r"ld\.so: object '([^']*librmw_introspect_cpp\.so)' from LD_PRELOAD cannot be preloaded "
+                            r"\(([^)]*)\)")
+
+
+def exit_hint(stderr: str) -> str | None:
+    """The hints for a target that exited before it settled, told from its stderr (a middleware
+    the loader refused, a module it could not import), or None."""
+    hints = [hint for hint in (preload_hint(stderr), missing_module_hint(stderr)) if hint]
+    return "\n".join(hints) or None
+
+
+def preload_hint(stderr: str) -> str | None:
+    """What to do when the dynamic loader could not load the recording middleware (a damaged
+    or truncated library: the target then runs on another middleware and rcl exits with status
+    102), or None."""
+    found = _NOT_PRELOADED.search(stderr)
+    if found is None:
+        return None
+    library, why = found.groups()
+    return (
+        f"Hint: the dynamic loader could not load the recording middleware {library} ({why}), so the target ran "
+        "without it. The file is damaged or truncated: delete it (a build in the cache, "
+        "~/.cache/pytest-rmw-introspect/ or RMW_INTROSPECT_CACHE: delete its directory and the next run builds it "
+        "again), or point RMW_INTROSPECT_LIBRARY at a whole build."
     )
 
 

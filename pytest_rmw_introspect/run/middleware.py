@@ -24,6 +24,7 @@ import re
 import select
 import shutil
 import stat
+import struct
 import subprocess
 import sys
 import time
@@ -305,7 +306,62 @@ def ensure_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path | 
 
 
 def resolve_library(ros: ros_env.RosEnvironment | None = None, cache_dir: Path | None = None) -> MiddlewareLibrary:
-    """The middleware library to run targets on and where it came from, building it if need be."""
+    """The middleware library to run targets on and where it came from, building it if need be;
+    a library that is not a whole ELF shared object is a SetupError (:func:`check_library`)."""
+    found = _resolve_library(ros, cache_dir)
+    check_library(found)
+    return found
+
+
+#: the ELF header fields read (64-bit and 32-bit layouts): e_type, then e_phoff, e_shoff, and
+#: e_phentsize, e_phnum, e_shentsize, e_shnum
+_ELF_HEADER = {1: ("H10xI I 6xHHHH", 16), 2: ("H14xQ Q 6xHHHH", 16)}
+_ET_DYN = 3
+
+
+def library_damage(path: Path) -> str | None:
+    """Why the file at ``path`` is no whole ELF shared object (the loader would skip it and every
+    target would run on another middleware: rcl's exit status 102, or a SIGBUS for a truncated
+    one), or None. Reads its first 64 bytes."""
+    try:
+        size = path.stat().st_size
+        with path.open("rb") as f:
+            head = f.read(64)
+    except OSError as exc:
+        return f"it cannot be read ({exc.strerror or exc})"
+    if len(head) < 52 or head[:4] != b"\x7fELF" or head[4] not in _ELF_HEADER or head[5] not in (1, 2):
+        return f"it is not an ELF shared library ({size} bytes that do not start like one)"
+    layout, offset = _ELF_HEADER[head[4]]
+    try:
+        e_type, phoff, shoff, phentsize, phnum, shentsize, shnum = struct.unpack_from(
+            ("<" if head[5] == 1 else ">") + layout, head, offset)
+    except struct.error:
+        return f"it is truncated ({size} bytes, not even a whole ELF header)"
+    if e_type != _ET_DYN:
+        return "it is an ELF file but not a shared library"
+    needed = max(phoff + phentsize * phnum, shoff + shentsize * shnum)
+    if needed > size:
+        return f"it is truncated ({size} bytes; its ELF headers describe at least {needed})"
+    return None
+
+
+def check_library(found: MiddlewareLibrary) -> None:
+    """Raise a SetupError that names a damaged library (:func:`library_damage`) and says what
+    to do: delete a cached build (the next run builds it again), fix the others' source."""
+    damage = library_damage(found.path)
+    if damage is None:
+        return
+    if found.origin == "built":
+        entry = found.path.parent.parent.parent
+        advice = f"Delete its cache directory {entry} (rm -r) and run again: the middleware is built anew."
+    elif found.origin == "environment":
+        advice = "Point RMW_INTROSPECT_LIBRARY at a whole build of it, or unset the variable."
+    else:
+        advice = "Reinstall the package it comes from, or point RMW_INTROSPECT_LIBRARY at a built library."
+    raise SetupError(f"The recording middleware library {found.path} ({found.origin}) is damaged: {damage}. {advice}")
+
+
+def _resolve_library(ros: ros_env.RosEnvironment | None, cache_dir: Path | None) -> MiddlewareLibrary:
     explicit = os.environ.get("RMW_INTROSPECT_LIBRARY")
     if explicit:
         path = Path(explicit)
@@ -340,12 +396,27 @@ def source_build(ros: ros_env.RosEnvironment, cache_dir: Path | None = None, rea
     stamp = dest / "complete"
     if stamp.exists() and library.is_file():  # built already: no lock needed to read it
         return library
-    root.mkdir(parents=True, exist_ok=True)
-    with _build_lock(root / f"{dest.name}.lock", dest, ros):
-        if not (stamp.exists() and library.is_file()):
-            build(src, ros, dest, reason)
-            stamp.write_text(str(library) + "\n")
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+        with _build_lock(root / f"{dest.name}.lock", dest, ros):
+            if not (stamp.exists() and library.is_file()):
+                build(src, ros, dest, reason)
+                stamp.write_text(str(library) + "\n")
+    except OSError as exc:  # a read-only cache, a cache path that is a file (issue 50, N28)
+        raise SetupError(
+            f"The recording middleware must be built, but its cache directory {root} cannot be written: "
+            f"{_unwritable(root, exc)}. Point RMW_INTROSPECT_CACHE at a writable directory (or make {root} "
+            "one), or point RMW_INTROSPECT_LIBRARY at a built librmw_introspect_cpp.so.") from None
     return library
+
+
+def _unwritable(root: Path, exc: OSError) -> str:
+    """Why the cache directory ``root`` cannot be written, from the error that said so."""
+    for place in (root, *root.parents):
+        if place.exists() and not place.is_dir():
+            return f"{place} is a file, not a directory"
+    where = f" ({exc.filename})" if exc.filename else ""
+    return f"{exc.strerror or exc}{where}"
 
 
 @contextmanager

@@ -11,7 +11,9 @@ output kept as a bounded tail, stopped with escalating signals.
   vfork and its prctl) open.
 * stdout and stderr are read by one thread into :class:`OutputTail` buffers of a fixed size: a
   target logging in a loop cannot fill the disk (only the tail is ever shown).
-* :func:`stop`: SIGINT, SIGTERM, then SIGKILL to the whole group, with short grace periods.
+* :func:`stop`: SIGINT, SIGTERM, then SIGKILL to the whole group, with short grace periods. A
+  target starts with SIGINT and SIGQUIT at their default action (:data:`DEFAULT_IN_TARGETS`),
+  also when the runner ignores them.
 * :class:`Process` (what :func:`start` returns) waits with a timeout by being woken the moment the
   target ends (a pidfd), where ``subprocess.Popen.wait(timeout)`` polls with sleeps growing to
   50 ms: a cold capture of a short-lived target ended up to 50 ms after its target did.
@@ -43,6 +45,11 @@ KILL_WAIT = 5.0
 #: bytes of stdout and of stderr kept (the end of each)
 TAIL_BYTES = 16_384
 _PR_SET_PDEATHSIG = 1
+_SIG_DFL = 0
+#: the signals every target starts with at their default action: a runner started with `cmd &`
+#: by a non-interactive shell (as CI scripts do) ignores SIGINT and SIGQUIT, and an ignored
+#: signal is inherited, so each stop (SIGINT first) waited out its grace period (issue 50, N30)
+DEFAULT_IN_TARGETS = (signal.SIGINT, signal.SIGQUIT)
 
 
 def _load_libc() -> ctypes.CDLL | None:
@@ -216,10 +223,29 @@ def _found(program: str, env: Mapping[str, str]) -> bool:
     return shutil.which(program, path=path) is not None
 
 
+def ignored_stop_signals() -> tuple[int, ...]:
+    """The signals of :data:`DEFAULT_IN_TARGETS` this process ignores (an ignored signal stays
+    ignored across fork and exec)."""
+    return tuple(sig for sig in DEFAULT_IN_TARGETS if signal.getsignal(sig) == signal.SIG_IGN)
+
+
+def _restore_and_die_with_parent(parent: int, ignored: Sequence[int]) -> None:
+    """In the child, between fork and exec: ``ignored`` back to their default action (libc's
+    signal(): the child may be forked from any thread, where Python's signal.signal refuses),
+    then :func:`die_with_parent`."""
+    if _LIBC is not None:
+        for sig in ignored:
+            _LIBC.signal(sig, ctypes.c_void_p(_SIG_DFL))
+    die_with_parent(parent)
+
+
 def start(argv: Sequence[str], *, env: Mapping[str, str], cwd: Path | None) -> Process:
     """Start ``argv`` in a new session (its own process group), stdin closed, output piped, with
-    SIGKILL as its parent-death signal. Raises OSError when it cannot be started."""
-    wrapper = death_signal_wrapper() if argv and _found(argv[0], env) else None
+    SIGKILL as its parent-death signal and SIGINT and SIGQUIT at their default action even when
+    this process ignores them. Raises OSError when it cannot be started."""
+    ignored = ignored_stop_signals()
+    # setpriv cannot reset a signal: a runner that ignores one starts the target the slower way
+    wrapper = death_signal_wrapper() if argv and not ignored and _found(argv[0], env) else None
     return Process(
         [*wrapper, *argv] if wrapper else list(argv),
         env=dict(env),
@@ -228,7 +254,7 @@ def start(argv: Sequence[str], *, env: Mapping[str, str], cwd: Path | None) -> P
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         start_new_session=True,
-        preexec_fn=None if wrapper else functools.partial(die_with_parent, os.getpid()),
+        preexec_fn=None if wrapper else functools.partial(_restore_and_die_with_parent, os.getpid(), ignored),
     )
 
 

@@ -186,6 +186,23 @@ def _is_sanitizer_runtime(path: str) -> bool:
     return os.path.basename(path).startswith(_SANITIZER_RUNTIMES)
 
 
+def _preload_entry(library: Path) -> tuple[str, bool]:
+    """What ``LD_PRELOAD`` names ``library`` by, and whether its directory must then come first
+    in ``LD_LIBRARY_PATH``. The loader splits ``LD_PRELOAD`` at spaces and colons, with no way to
+    quote them: a library whose path holds one (a venv in "~/My Projects") is named by its
+    file name alone, which the loader looks up in ``LD_LIBRARY_PATH`` (split at colons only) like
+    a needed library (issue 50, N16)."""
+    if not any(c.isspace() or c == ":" for c in str(library)):
+        return str(library), False
+    if ":" in str(library.parent) or any(c.isspace() for c in library.name):
+        raise SetupError(
+            f"The recording middleware library {library} cannot be preloaded: the dynamic loader splits "
+            "LD_PRELOAD at spaces and colons and LD_LIBRARY_PATH at colons, so its directory must not hold a "
+            "colon. Point RMW_INTROSPECT_LIBRARY at a copy in a directory without one (or RMW_INTROSPECT_CACHE, "
+            "for a library built in the cache).")
+    return library.name, True
+
+
 def activation_env(library: Path, ros: RosEnvironment, base: Mapping[str, str] | None = None) -> dict[str, str]:
     """Environment variables that make a process of ``ros`` run on the middleware ``library``.
 
@@ -207,15 +224,16 @@ def activation_env(library: Path, ros: RosEnvironment, base: Mapping[str, str] |
     # install RMW_IMPLEMENTATION selects it too, but only a preloaded library's definitions of
     # rcutils_steady_time_now/rcutils_system_time_now replace librcutils' (virtual time).
     # Sanitizer runtimes must come first in LD_PRELOAD, so they stay ahead of the library.
-    others = [p for p in base.get("LD_PRELOAD", "").replace(":", " ").split() if p != str(library)]
+    preloaded, library_first = _preload_entry(library)
+    others = [p for p in base.get("LD_PRELOAD", "").replace(":", " ").split() if p not in (str(library), preloaded)]
     sanitizers = [p for p in others if _is_sanitizer_runtime(p)]
     rest = [p for p in others if p not in sanitizers]
-    env["LD_PRELOAD"] = " ".join([*sanitizers, str(library), *rest])
+    env["LD_PRELOAD"] = " ".join([*sanitizers, preloaded, *rest])
     # Set on both kinds: a user's RMW_IMPLEMENTATION=rmw_fastrtps_cpp would make rcl refuse the
     # preloaded middleware (RCL_RET_MISMATCHED_RMW_ID, exit 102) in the wheels setup.
     env["RMW_IMPLEMENTATION"] = MIDDLEWARE_NAME
     if ros.kind == WHEELS:
-        env["LD_LIBRARY_PATH"] = library_dirs
+        env["LD_LIBRARY_PATH"] = os.pathsep.join([str(library.parent), library_dirs]) if library_first else library_dirs
         # The wheels' bootstrapper would re-exec the interpreter just to set LD_LIBRARY_PATH;
         # it is set already, so tell it to skip that (saves a whole interpreter start).
         env["_ROS_WHEELS_BOOTSTRAP_COMPLETE"] = "1"

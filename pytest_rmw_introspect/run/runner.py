@@ -73,6 +73,7 @@ from ..errors import (
     TargetTimeout,
     WarmStartFailed,
 )
+from ..model import tally
 from . import failure_hints, process, progress, ros_env
 from .deadline import Watchdog
 from .target import resolve
@@ -252,7 +253,7 @@ def _start(target: ResolvedTarget, python: str | None, warm_wait: float | None) 
         if isinstance(server, warm.WarmServer):
             try:
                 child = server.spawn(target.warm, env=env, cwd=cwd)
-                return _Started(child, child.stdout, child.stderr, None, list(target.warm.orig_argv), child)
+                return _tallied(_Started(child, child.stdout, child.stderr, None, list(target.warm.orig_argv), child))
             except WarmStartFailed as exc:
                 note = str(exc)
         else:
@@ -266,7 +267,14 @@ def _start(target: ResolvedTarget, python: str | None, warm_wait: float | None) 
             searched=[argv[0]],
         ) from None
     assert proc.stdout is not None and proc.stderr is not None
-    return _Started(proc, proc.stdout, proc.stderr, note)
+    return _tallied(_Started(proc, proc.stdout, proc.stderr, note))
+
+
+def _tallied(start: _Started) -> _Started:
+    """``start``, counted for the test suite's cost report (``model.tally``: nothing unless
+    ``RMW_INTROSPECT_TALLY`` is set; issue 48)."""
+    tally.note("start", start.how)
+    return start
 
 
 @dataclass
@@ -476,10 +484,11 @@ class _Run:
                 raise NoNodeCreated(target.name, stderr, None, argv,
                                     detail="it exited with status 0 and wrote no capture: it never initialised "
                                     "ROS 2, or it did not run on the recording middleware",
-                                    hint=_no_node_hint(target))
+                                    hint=_no_node_hint(target), language=_language(target))
             loaded = Capture.load(output, include_infrastructure=self.include_infrastructure)
         if not loaded.raw_nodes:
-            raise NoNodeCreated(target.name, stderr, _mark(loaded, start), argv, hint=_no_node_hint(target))
+            raise NoNodeCreated(target.name, stderr, _mark(loaded, start), argv, hint=_no_node_hint(target),
+                                language=_language(target))
         captured = _with_facts(loaded, start, returncode=ended.returncode, stderr=stderr,
                                wall_time=self.wall_time, command=target.argv,
                                other_processes=tuple(others), from_child=from_child,
@@ -509,7 +518,7 @@ class _Run:
                 raise StimulusFailed(target.name, problems, _mark(loaded, start), stderr, argv)
         if loaded is None or not loaded.settled_once or crashed:
             raise TargetExited(target.name, returncode, stderr, _mark(loaded, start), argv,
-                               hint=failure_hints.missing_module_hint(stderr), crashed=crashed)
+                               hint=failure_hints.exit_hint(stderr), crashed=crashed)
         return loaded
 
     def judge(self, captured: Capture, start: _Started, ended: _Ended) -> Capture:
@@ -553,6 +562,27 @@ def crash_evidence(returncode: int, stderr: str) -> bool:
 def _home(target: ResolvedTarget) -> str | None:
     """The home directory the target ran with (its environment's HOME)."""
     return dict(target.env).get("HOME") or os.environ.get("HOME")
+
+
+def _language(target: ResolvedTarget) -> str | None:
+    """What the program of ``target`` is, for :class:`NoNodeCreated`: "python" (a module or
+    script target, a Python interpreter, a script whose ``#!`` line names one), "compiled" (an
+    ELF executable) or None (not known)."""
+    if target.module is not None or not target.argv:
+        return "python" if target.module is not None else None
+    program = target.argv[0]
+    if os.path.basename(program).startswith("python"):
+        return "python"
+    found = program if os.sep in program else shutil.which(program, path=target.env.get("PATH"))
+    try:
+        with open(found or program, "rb") as f:
+            head = f.read(128)
+    except OSError:
+        return None
+    if head.startswith(b"\x7fELF"):
+        return "compiled"
+    first_line = head.split(b"\n", 1)[0]
+    return "python" if first_line.startswith(b"#!") and b"python" in first_line else None
 
 
 def _no_node_hint(target: ResolvedTarget) -> str | None:

@@ -15,6 +15,7 @@ from pathlib import Path
 import jsonschema
 import yaml
 
+from pytest_rmw_introspect.model import tally
 from pytest_rmw_introspect.run import ros_env
 
 REPO = Path(__file__).resolve().parents[2]
@@ -90,6 +91,7 @@ def run_on_middleware(library: Path, argv, tmp_path: Path, *, env: dict | None =
     extra.update(env or {})
     argv = [str(a) for a in argv]
     t0 = time.monotonic()
+    tally.note("start", "direct")  # make test-cost (tests/support/cost_report.py)
     proc = subprocess.Popen(argv, env=ros_environment(extra), stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     try:
@@ -240,6 +242,8 @@ def spawn(library: Path | None, argv, capture: Path, env: dict | None = None) ->
     if library is not None:
         extra["LD_PRELOAD"] = str(library)
     extra.update(env or {})
+    if library is not None:
+        tally.note("start", "direct")  # make test-cost (tests/support/cost_report.py)
     return subprocess.Popen([str(a) for a in argv], env=ros_environment(extra),
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
+import fake_library
 import pytest
 
 from pytest_rmw_introspect.errors import SetupError
@@ -17,7 +19,7 @@ def fake_ros(prefix: Path) -> ros_env.RosEnvironment:
 
 def test_explicit_library_wins(tmp_path, monkeypatch):
     lib = tmp_path / "librmw_introspect_cpp.so"
-    lib.write_bytes(b"")
+    lib.write_bytes(fake_library.WHOLE)
     monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(lib))
     found = middleware.resolve_library(ros=fake_ros(tmp_path))
     assert (found.path, found.origin) == (lib.resolve(), "environment")
@@ -36,7 +38,7 @@ def test_installed_package_is_found_through_the_ament_index(tmp_path, monkeypatc
     index.mkdir(parents=True)
     (index / "rmw_introspect_cpp").write_text("")
     (prefix / "lib").mkdir()
-    (prefix / "lib" / "librmw_introspect_cpp.so").write_bytes(b"")
+    (prefix / "lib" / "librmw_introspect_cpp.so").write_bytes(fake_library.WHOLE)
     found = middleware.resolve_library(ros=fake_ros(prefix))
     assert (found.path, found.origin) == (prefix / "lib" / "librmw_introspect_cpp.so", "installed")
 
@@ -99,7 +101,7 @@ def test_cached_build_is_reused_without_rebuilding(tmp_path, monkeypatch):
         calls.append(dest)
         lib = dest / "install" / "lib" / middleware.LIBRARY_FILE
         lib.parent.mkdir(parents=True)
-        lib.write_bytes(b"")
+        lib.write_bytes(fake_library.WHOLE)
         return lib
 
     monkeypatch.setattr(middleware, "build", fake_build)
@@ -142,7 +144,7 @@ def test_the_library_is_looked_up_once_per_process_while_it_is_there(tmp_path, m
     def fake_build(src, ros, dest, reason=""):
         lib = dest / "install" / "lib" / middleware.LIBRARY_FILE
         lib.parent.mkdir(parents=True, exist_ok=True)
-        lib.write_bytes(b"")
+        lib.write_bytes(fake_library.WHOLE)
         return lib
 
     monkeypatch.setattr(middleware, "sources_hash", counting_hash)
@@ -155,6 +157,82 @@ def test_the_library_is_looked_up_once_per_process_while_it_is_there(tmp_path, m
     assert middleware.ensure_library(ros, tmp_path / "cache") == first and first.is_file()
     assert len(hashed) == 2
     chosen = tmp_path / "mine.so"
-    chosen.write_bytes(b"")
+    chosen.write_bytes(fake_library.WHOLE)
     monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(chosen))  # the environment's choice still wins
     assert middleware.ensure_library(ros, tmp_path / "cache") == chosen.resolve()
+
+
+def _unwritable_caches(tmp_path: Path) -> list[tuple[Path, str]]:
+    """Cache directories the middleware cannot be built in, and what the error says of each."""
+    a_file = tmp_path / "cache-file"
+    a_file.write_text("not a directory\n")
+    cases = [(a_file, f"{a_file} is a file, not a directory"),
+             (a_file / "below", f"{a_file} is a file, not a directory")]
+    read_only = tmp_path / "read-only"
+    read_only.mkdir()
+    read_only.chmod(0o555)
+    if not os.access(read_only, os.W_OK):  # root writes anyway: that case is then told by /sys
+        cases.append((read_only, "Permission denied"))
+    sys_fs = Path("/sys/fs/pytest-rmw-introspect-cache")
+    if Path("/sys/fs").is_dir() and _cannot_create(sys_fs):  # sysfs takes no new directory, even from root
+        cases.append((sys_fs, str(sys_fs)))
+    return cases
+
+
+def _cannot_create(path: Path) -> bool:
+    try:
+        path.mkdir()
+    except OSError:
+        return True
+    path.rmdir()
+    return False
+
+
+def test_a_cache_that_cannot_be_written_is_an_error_that_says_what_to_do(tmp_path, monkeypatch):
+    """Issue 50, N28: a read-only cache directory, or a cache path that is a file, was a traceback
+    when the middleware had to be built."""
+    monkeypatch.delenv("RMW_INTROSPECT_LIBRARY", raising=False)
+    monkeypatch.setattr(middleware, "build", lambda *a, **k: pytest.fail("built in a cache it cannot write"))
+    try:
+        for cache, why in _unwritable_caches(tmp_path):
+            with pytest.raises(SetupError) as refused:
+                middleware.resolve_library(ros=fake_ros(tmp_path / "empty-prefix"), cache_dir=cache)
+            message = str(refused.value)
+            assert message.startswith("The recording middleware must be built, but its cache directory "), message
+            assert why in message and "RMW_INTROSPECT_CACHE" in message and "RMW_INTROSPECT_LIBRARY" in message
+    finally:
+        (tmp_path / "read-only").chmod(0o755)
+
+
+def test_a_damaged_cached_library_is_named_with_its_cache_directory_to_delete(tmp_path, monkeypatch):
+    """Issue 50, N29: a corrupted or truncated cached library was reported as the target exiting
+    with status 102 (rcl found another middleware), the library not named."""
+    monkeypatch.delenv("RMW_INTROSPECT_LIBRARY", raising=False)
+    ros, cache = fake_ros(tmp_path / "empty-prefix"), tmp_path / "cache"
+    entry = middleware.cache_entry(ros, cache)
+    library = entry / "install" / "lib" / middleware.LIBRARY_FILE
+    library.parent.mkdir(parents=True)
+    (entry / "complete").write_text(f"{library}\n")
+    for content, damage in ((fake_library.elf_header(900_000), "it is truncated (64 bytes; its ELF headers describe at least "
+                                                              "900192)"),
+                            (bytes(4096), "it is not an ELF shared library (4096 bytes that do not start like one)"),
+                            (b"", "it is not an ELF shared library (0 bytes")):
+        library.write_bytes(content)
+        with pytest.raises(SetupError) as damaged:
+            middleware.resolve_library(ros=ros, cache_dir=cache)
+        assert str(damaged.value) == (
+            f"The recording middleware library {library} (built) is damaged: {damage}"
+            + str(damaged.value).split(damage, 1)[1])
+        assert str(damaged.value).endswith(f"Delete its cache directory {entry} (rm -r) and run again: the "
+                                           "middleware is built anew.")
+    library.write_bytes(fake_library.WHOLE)
+    assert middleware.resolve_library(ros=ros, cache_dir=cache).path == library
+
+
+def test_a_damaged_library_named_by_the_environment_says_to_fix_the_variable(tmp_path, monkeypatch):
+    damaged = tmp_path / middleware.LIBRARY_FILE
+    damaged.write_bytes(fake_library.elf_header(900_000))
+    monkeypatch.setenv("RMW_INTROSPECT_LIBRARY", str(damaged))
+    with pytest.raises(SetupError, match="Point RMW_INTROSPECT_LIBRARY at a whole build of it") as refused:
+        middleware.resolve_library()
+    assert f"library {damaged.resolve()} (environment) is damaged: it is truncated" in str(refused.value)

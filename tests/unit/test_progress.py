@@ -12,6 +12,7 @@ import time
 import types
 from pathlib import Path
 
+import fake_library
 import pytest
 
 from pytest_rmw_introspect.run import middleware, progress, ros_env
@@ -98,7 +99,7 @@ def test_why_the_middleware_is_built_from_source(monkeypatch, tmp_path):
     wheels = fake_ros(tmp_path / "venv")
     assert "no prebuilt middleware in this installation" in middleware.source_build_reason(wheels)
     (tmp_path / "prebuilt" / "kilted").mkdir(parents=True)
-    (tmp_path / "prebuilt" / "kilted" / middleware.LIBRARY_FILE).write_bytes(b"")
+    (tmp_path / "prebuilt" / "kilted" / middleware.LIBRARY_FILE).write_bytes(fake_library.WHOLE)
     assert middleware.source_build_reason(wheels) == "the prebuilt middleware of this installation is for kilted, not jazzy"
     system = fake_ros(Path("/opt/ros/jazzy"), kind=ros_env.SYSTEM)
     assert middleware.source_build_reason(system).startswith("a standard ROS 2 install at /opt/ros/jazzy")
@@ -109,7 +110,7 @@ def test_the_prebuilt_library_of_the_wheels_distribution_is_chosen(monkeypatch, 
     monkeypatch.setattr(middleware, "PREBUILT_DIR", tmp_path / "prebuilt")
     for distro in ("jazzy", "kilted"):
         (tmp_path / "prebuilt" / distro).mkdir(parents=True)
-        (tmp_path / "prebuilt" / distro / middleware.LIBRARY_FILE).write_bytes(b"")
+        (tmp_path / "prebuilt" / distro / middleware.LIBRARY_FILE).write_bytes(fake_library.WHOLE)
     found = middleware.resolve_library(ros=fake_ros(tmp_path / "venv", distro="kilted"), cache_dir=tmp_path / "cache")
     assert (found.origin, found.path) == ("prebuilt", tmp_path / "prebuilt" / "kilted" / middleware.LIBRARY_FILE)
     # a standard install builds against its own rmw: never the prebuilt one
@@ -127,7 +128,7 @@ HOLD_THE_LOCK = textwrap.dedent("""
         time.sleep(2.5)
         library = entry / "install" / "lib" / "librmw_introspect_cpp.so"
         library.parent.mkdir(parents=True)
-        library.write_bytes(b"")
+        library.write_bytes(bytes.fromhex(sys.argv[3]))  # a whole library (fake_library.WHOLE)
         (entry / "complete").write_text(str(library))
         Path(f"{entry}.lock.pid").unlink()
 """)
@@ -135,7 +136,7 @@ HOLD_THE_LOCK = textwrap.dedent("""
 
 def _held_by_another_process(entry: Path, scope: str) -> subprocess.Popen[str]:
     entry.parent.mkdir(parents=True, exist_ok=True)
-    holder = subprocess.Popen([sys.executable, "-c", HOLD_THE_LOCK, str(entry), scope], stdout=subprocess.PIPE, text=True)
+    holder = subprocess.Popen([sys.executable, "-c", HOLD_THE_LOCK, str(entry), scope, fake_library.WHOLE.hex()], stdout=subprocess.PIPE, text=True)
     assert holder.stdout is not None and holder.stdout.readline() == "holding\n"
     return holder
 

@@ -109,6 +109,32 @@ def test_sanitizer_runtimes_stay_first_and_the_library_follows(tmp_path):
                                          "/opt/libfoo.so"]
 
 
+@pytest.mark.parametrize("kind", [ros_env.WHEELS, ros_env.SYSTEM])
+def test_a_library_whose_path_holds_a_space_is_preloaded_by_name_from_its_directory(tmp_path, kind):
+    """Issue 50, N16: the loader splits LD_PRELOAD at spaces (a venv in "My Projects" captured
+    nothing); the library is named by its file name, found first in LD_LIBRARY_PATH."""
+    prefix = make_wheels_prefix(tmp_path / "venv") if kind == ros_env.WHEELS else make_system_prefix(tmp_path / "opt")
+    ros = ros_env.RosEnvironment(kind, prefix, "jazzy", (prefix,), (prefix / "lib",))
+    lib = tmp_path / "My Projects" / "install" / "lib" / "librmw_introspect_cpp.so"
+    lib.parent.mkdir(parents=True)
+    lib.write_bytes(b"")
+    env = ros_env.activation_env(lib, ros, base={"LD_PRELOAD": "/other.so", "LD_LIBRARY_PATH": "/x"})
+    assert env["LD_PRELOAD"] == "librmw_introspect_cpp.so /other.so"
+    assert ros_env.activation_env(lib, ros, base=env)["LD_PRELOAD"] == env["LD_PRELOAD"]  # activated twice: once
+    assert env["LD_LIBRARY_PATH"].split(":")[0] == str(lib.parent.resolve())
+    assert env["LD_LIBRARY_PATH"].split(":")[1:] == [str(prefix / "lib"), "/x"]
+
+
+def test_a_library_in_a_directory_with_a_colon_cannot_be_preloaded_and_says_so(tmp_path):
+    prefix = make_wheels_prefix(tmp_path / "venv")
+    ros = ros_env.RosEnvironment(ros_env.WHEELS, prefix, "jazzy", (prefix,), (prefix / "lib",))
+    lib = tmp_path / "a:b" / "librmw_introspect_cpp.so"
+    lib.parent.mkdir()
+    lib.write_bytes(b"")
+    with pytest.raises(SetupError, match=r"a:b/librmw_introspect_cpp\.so cannot be preloaded: .* must not hold a colon"):
+        ros_env.activation_env(lib, ros, base={})
+
+
 def test_the_process_own_ament_prefixes_come_first(tmp_path):
     prefix = make_wheels_prefix(tmp_path / "venv")
     ros = ros_env.RosEnvironment(ros_env.WHEELS, prefix, "jazzy", (prefix,), (prefix / "lib",))

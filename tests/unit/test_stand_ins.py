@@ -4,6 +4,7 @@ lacks its device."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -58,6 +59,24 @@ def test_the_stand_in_files_are_read_and_validated(tmp_path):
     assert str(missing.value).startswith(f"invalid contract {system}:7: at stand_ins[2].contract: the stand-in for "
                                          "lidar_driver, ")
     assert "none.yaml, does not exist" in str(missing.value)
+
+
+@pytest.mark.parametrize(("kind", "said"), [("fifo", "is a FIFO (named pipe), not a regular file"),
+                                            ("directory", "is a directory, not a file")])
+def test_a_stand_in_that_is_a_fifo_or_a_directory_is_said_as_such(tmp_path, kind, said):
+    """Issue 50, N27: a stand-in contract that was a FIFO or a directory was reported as "does not exist"."""
+    stand_in_path = tmp_path / "lidar.interfaces.yaml"
+    if kind == "fifo":
+        os.mkfifo(stand_in_path)
+    else:
+        stand_in_path.mkdir()
+    system = tmp_path / "robot.system.yaml"
+    with pytest.raises(ContractError) as refused:  # a FIFO is refused from its stat, never opened (no hang)
+        stand_ins.load(stand_ins.StandIn("lidar_driver", "lidar.interfaces.yaml", line=5), 0, system)
+    message = str(refused.value)
+    assert message.startswith(f"invalid contract {system}:5: at stand_ins[0].contract: the stand-in for lidar_driver, ")
+    assert f"lidar.interfaces.yaml, {said}: point `contract:` at the node contract" in message
+    assert "does not exist" not in message
 
 
 def launched(executable="driver", name="/robot1/driver", parameters=()):

@@ -3,12 +3,14 @@ nodes (as a set), and contracts that write and read patterns (model/unstable_nam
 
 from __future__ import annotations
 
+import time
+
 import pytest
 
 from pytest_rmw_introspect.check import golden
 from pytest_rmw_introspect.compare import drift
 from pytest_rmw_introspect.errors import ContractError
-from pytest_rmw_introspect.model import contract
+from pytest_rmw_introspect.model import contract, system_contract
 from pytest_rmw_introspect.model.unstable_names import (
     NODE_KEY_SYNTAX,
     PATTERN_SYNTAX,
@@ -167,3 +169,35 @@ def test_a_declared_pattern_may_stand_in_a_namespace():
     loaded = contract.loads("contract_version: 1\nunstable_names:\n  - {pattern: /robot_*/camera, reason: r}\n"
                             "nodes:\n  /robot_*/camera: {}\n")
     assert dict(contract_keys([("/robot_7f3a/camera", node(), None)], loaded.name_rules())).keys() == {"/robot_*/camera"}
+
+
+def test_a_pattern_that_backtracks_in_a_regex_matches_in_linear_time():
+    """Issue 50, N17: `/*a*a*a*a*a*a*a*a*b` against a 60-character name took 68 s a match."""
+    loaded = contract.loads("contract_version: 1\nunstable_names:\n  - {pattern: /*a*a*a*a*a*a*a*a*b, reason: r}\n"
+                            "nodes: {}\n")
+    began = time.monotonic()
+    keys = contract_keys([("/" + "a" * 60, node(), None), ("/" + "a" * 60 + "b", node(), None)], loaded.name_rules())
+    assert [key for key, _node in keys] == ["/" + "a" * 60, "/*a*a*a*a*a*a*a*a*b"]
+    assert time.monotonic() - began < 0.5
+    assert NamePattern("/x_*_" + "*" * 5000 + "y").matches("/x_" + "_" * 10000) is False
+
+
+@pytest.mark.parametrize("pattern", ["/*", "/*/*", "/robot1/*", "/**", "/*_*/*"])
+def test_a_pattern_that_matches_every_node_is_refused_with_its_place(pattern):
+    """Issue 50, N18: a catch-all pattern hid a real rename (`check` said "matches")."""
+    for text, where in ((f"contract_version: 1\nunstable_names:\n  - {{pattern: '{pattern}', reason: r}}\nnodes: {{}}\n",
+                         "unstable_names[0].pattern"),
+                        (f"contract_version: 1\nnodes:\n  '{pattern}': {{}}\n", "nodes")):
+        with pytest.raises(ContractError) as raised:
+            contract.loads(text, path="broad.interfaces.yaml")
+        message = str(raised.value)
+        assert "broad.interfaces.yaml" in message and where in message
+        assert "matches every node name in its namespace" in message and "/worker_*" in message
+
+
+def test_a_system_contract_refuses_a_catch_all_pattern_too(tmp_path):
+    path = tmp_path / "demo.system.yaml"
+    path.write_text("system_version: 1\nlaunch: {path: demo.launch.py}\nunstable_names:\n"
+                    "  - {pattern: '/*/*', reason: r}\nnodes: {}\n")
+    with pytest.raises(ContractError, match=r"demo\.system\.yaml.*unstable_names\[0\]\.pattern.*matches every node"):
+        system_contract.load(path)

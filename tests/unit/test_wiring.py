@@ -6,6 +6,8 @@ file sections for no node, remappings that change nothing."""
 from __future__ import annotations
 
 import textwrap
+import time
+from pathlib import Path
 
 import pytest
 
@@ -543,8 +545,6 @@ def test_parameter_values_that_point_at_missing_files(tmp_path):
 
 
 def test_a_device_value_and_its_baud_rate_are_told_from_a_file():
-    from pathlib import Path
-
     from pytest_rmw_introspect.model import portable
 
     def share(package):
@@ -647,3 +647,28 @@ def test_a_parameter_name_no_ros_parameter_can_have_is_breaking_even_for_an_acce
                                             given=given(files=[lost_hash], parameters=["max speed"]))])
     assert found(items) == [("PARAM_NAME_INVALID", "(see x description) (bool, default", None),
                             ("PARAM_NAME_INVALID", "max speed", None)]
+
+
+def test_a_section_key_of_many_double_stars_is_matched_in_linear_time():
+    """Issue 50, N26: a key with many `**` backtracked (exponential in the `**` against a deep name)."""
+    deep = "/" + "/".join(f"n{i}" for i in range(40))
+    began = time.monotonic()
+    assert not launch_given.section_matches("/**" * 60 + "/nowhere", deep)
+    assert launch_given.section_matches("/**" * 60 + "/n39", deep)
+    assert not launch_given.section_matches("/*a*a*a*a*a*a*a*a*b", "/" + "a" * 60)
+    assert time.monotonic() - began < 0.5
+
+
+def test_a_value_of_a_thousand_nested_file_urls_is_resolved_without_recursion(tmp_path):
+    """Issue 50, N25: ~1,000 nested `file://` prefixes in a parameter value were a RecursionError."""
+    from pytest_rmw_introspect.check.launch_settings import missing_path
+    from pytest_rmw_introspect.model import portable
+
+    nested = "file://" * 5000
+    assert portable.resolve(nested + "/dev/ttyFAKE37", lambda package: None) == portable.Located(
+        Path("/dev/ttyFAKE37"), device=True)
+    assert portable.resolve(nested + "x.yaml", lambda package: None) == portable.Located(Path("x.yaml"))
+    why = missing_path([tmp_path], home=str(tmp_path))
+    missing = why(nested + f"{tmp_path}/gone.yaml")
+    assert missing is not None and missing.why.endswith("gone.yaml, which does not exist")
+    assert why(nested + f"{tmp_path}") is None

@@ -402,6 +402,11 @@ class Server:
         valid = sorted(signal.valid_signals())
         self.initial_signals = {sig: signal.getsignal(sig) for sig in valid
                                 if sig not in (signal.SIGKILL, signal.SIGSTOP)}
+        # a target starts with SIGINT and SIGQUIT at their default, as a cold start of
+        # `python script` does (process.DEFAULT_IN_TARGETS), even when the runner, and so this
+        # server, ignores them (started with `cmd &` by a non-interactive shell: issue 50, N30)
+        self.initial_signals[signal.SIGINT] = signal.default_int_handler
+        self.initial_signals[signal.SIGQUIT] = signal.SIG_DFL
         self.initial_mask = signal.pthread_sigmask(signal.SIG_BLOCK, [])
         self.wake_r, self.wake_w = os.pipe()
         os.set_blocking(self.wake_r, False)

@@ -812,8 +812,10 @@ def _fuzzed_pattern(rng: random.Random) -> str:
 
 
 def test_fuzzed_unstable_names_patterns_load_and_match_quickly():
-    """Issue 50: random ``unstable_names:`` patterns (and some that are not patterns) in a contract
-    load or are refused with a ContractError; those that load match random node names quickly."""
+    """Issue 50: random ``unstable_names:`` patterns (and some that are not patterns: empty, a lone
+    ``/``, a byte that is not ASCII, 2,000 characters) in a whole contract load or are refused with
+    a ContractError; those that load name random node names quickly, through the contract's rules
+    (the many-star case of N17 is in test_fuzzed_unstable_names_patterns_key_nodes_quickly_or_are_refused)."""
     from pytest_rmw_introspect.model.unstable_names import NamePattern, NameRules
 
     rng = random.Random(SEED)
@@ -834,14 +836,6 @@ def test_fuzzed_unstable_names_patterns_load_and_match_quickly():
             for name in names:
                 rules.pattern_for(name, None)
                 NamePattern(pattern).matches(name)
-
-
-def test_a_pattern_of_many_stars_matches_in_linear_time():
-    """Issue 50, N17: this pattern took 68 s against a 60-character name."""
-    from pytest_rmw_introspect.model.unstable_names import NamePattern
-
-    with deadline(0.5, "matching /*a*a*a*a*a*a*a*a*b"):
-        assert not NamePattern("/*a*a*a*a*a*a*a*a*b").matches("/" + "a" * 60)
 
 
 # ---------------------------------------------------------------------------- stand_ins

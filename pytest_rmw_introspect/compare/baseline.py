@@ -92,7 +92,11 @@ def load(path: str | Path, shown: str | None = None) -> Baseline:
     except UnreadableFile as problem:
         raise BaselineError(shown, problem.reason) from None
     entries: dict[tuple[str, ...], dict[str, Any]] = {}
-    for i, entry in enumerate(document.get("findings") or []):
+    found = document.get("findings") or []
+    if not isinstance(found, list):  # (issue 50: a number here was a TypeError traceback)
+        raise BaselineError(shown, f"\"findings\" is {type(found).__name__}, not a list; write the baseline again "
+                                   "(--write-baseline FILE)")
+    for i, entry in enumerate(found):
         key = entry.get("key") if isinstance(entry, dict) else None
         if not isinstance(key, list) or not all(isinstance(part, str) for part in key):
             raise BaselineError(shown, f"findings[{i}] has no \"key\" list of strings")

@@ -855,6 +855,20 @@ nodes: {}
 """
 
 
+_HOSTILE_VALUES = ["", "/", "..", "../../etc/passwd", "/dev/zero", "~", "a\nb", "x" * 3000, "/robot1/*", "imu.nodl.yaml",
+                   "lidar.interfaces.yaml", "\u202e", 0, -1, 1e309, None, True, [], {}, ["a"], {"a": 1}]
+
+
+def _stand_in_entries(rng: random.Random) -> str:
+    """A ``stand_ins:`` block whose shape is right and whose values are hostile (JSON is YAML)."""
+    entries = []
+    for _ in range(rng.randint(0, 4)):
+        entry = {key: rng.choice(_HOSTILE_VALUES) for key in ("package", "executable", "name", "contract", "reason")
+                 if rng.random() < 0.8}
+        entries.append(entry)
+    return json.dumps(entries)
+
+
 def test_fuzzed_stand_ins_load_or_fail_with_a_contract_error(tmp_path):
     """Issue 50: mutated ``stand_ins:`` blocks, and stand-in files that are missing, mutated, FIFOs,
     directories or links: a ContractError that names the system contract, never a traceback or a hang."""
@@ -866,8 +880,11 @@ def test_fuzzed_stand_ins_load_or_fail_with_a_contract_error(tmp_path):
     mutated = list(mutated_contracts(CASES // 3))
     for n in range(CASES // 3):
         text = SYSTEM_WITH_STAND_INS
-        for _ in range(rng.randint(1, 3)):
-            text = rng.choice(MUTATORS)(rng, text)
+        if rng.random() < 0.5:
+            text = _mutated(rng, text)
+        else:
+            head, _, tail = text.partition("stand_ins:\n")
+            text = head + f"stand_ins: {_stand_in_entries(rng)}\n" + tail[tail.index("processes:"):]
         lidar = tmp_path / "lidar.interfaces.yaml"
         if os.path.lexists(lidar):
             _unlink(lidar)
@@ -899,6 +916,17 @@ BASELINE = {"format": "rmw_introspect_baseline", "version": 1, "findings": [
      "message": "gone"}]}
 
 
+def _mutated(rng: random.Random, text: str) -> str:
+    """``text`` after 1 to 3 of the MUTATORS (those that need a ``key: value`` line or any text only
+    where there is one)."""
+    for _ in range(rng.randint(1, 3)):
+        usable = [m for m in MUTATORS if text and (m is not _odd_value or ": " in text)]
+        if not usable:
+            break
+        text = rng.choice(usable)(rng, text)
+    return text
+
+
 def test_fuzzed_baselines_load_or_fail_with_a_baseline_error(tmp_path):
     """Issue 50: mutated baseline files (and ones that are not files) load, apply to findings, or
     are refused with a BaselineError that names the file."""
@@ -913,8 +941,21 @@ def test_fuzzed_baselines_load_or_fail_with_a_baseline_error(tmp_path):
     rng = random.Random(SEED)
     for n in range(CASES // 3):
         mutated = text
-        for _ in range(rng.randint(1, 3)):
-            mutated = rng.choice(MUTATORS)(rng, mutated)
+        if rng.random() < 0.5:
+            mutated = _mutated(rng, mutated)
+        else:  # the shape of a baseline, hostile values
+            document = copy.deepcopy(BASELINE)
+            for _ in range(rng.randint(1, 3)):
+                finding = rng.choice(document["findings"])
+                key = rng.choice(["key", "rule", "contract", "message", "findings", "version"])
+                value = rng.choice(_HOSTILE_VALUES + [[rng.choice(_HOSTILE_VALUES) for _ in range(5)]])
+                if key in ("findings", "version"):
+                    document[key] = value
+                elif isinstance(finding, dict):
+                    finding[key] = value
+                if not isinstance(document["findings"], list) or not document["findings"]:
+                    break
+            mutated = json.dumps(document)
         if os.path.lexists(path):
             _unlink(path)
         shape = rng.choice(["text"] * 6 + ["fifo", "directory", "latin-1"])

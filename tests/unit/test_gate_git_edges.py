@@ -191,3 +191,10 @@ def test_n19_a_repository_whose_own_path_is_not_utf8(tmp_path, monkeypatch, caps
     monkeypatch.chdir(repo.path)
     status, out, err = run_gate(capsys, "main")
     assert status == 1 and "[PUB_RENAMED]" in out, out + err
+
+
+def test_a_baseline_whose_findings_are_not_a_list_is_a_baseline_error(repo, capsys):
+    """Found by the baseline fuzzer (issue 50 item 5): `"findings": 1.5` was a TypeError traceback."""
+    repo.write("baseline.json", '{"format": "rmw_introspect_baseline", "version": 1, "findings": 1.5}')
+    status, out, err = run_gate(capsys, "main", "--baseline", "baseline.json")
+    assert status == 2 and "baseline.json" in err and "not a list" in err, out + err

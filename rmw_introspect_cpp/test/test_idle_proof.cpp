@@ -25,7 +25,8 @@ class FakeCensus : public rmw_introspect::ThreadCensus
 public:
   bool others_blocked(
     const std::vector<pid_t> & known, int64_t until_ns, std::string * culprit,
-    const std::vector<pid_t> * settling, rmw_introspect::SettingUp * setting_up) const override
+    const std::vector<pid_t> * settling, rmw_introspect::SettingUp * setting_up,
+    const std::vector<pid_t> * looping) const override
   {
     ++calls;
     last_known = known;
@@ -44,8 +45,15 @@ public:
     if (!blocked && culprit != nullptr) {
       *culprit = "thread 7 is not blocked (clock_nanosleep)";
     }
+    if (blocked && loop_tid != 0 && setting_up != nullptr && looping != nullptr &&
+        std::find(looping->begin(), looping->end(), loop_tid) != looping->end())
+    {
+      setting_up->loop_wait_ns = loop_until;  // its Rate::sleep, counted: it is in its loop
+    }
     return blocked;
   }
+  pid_t loop_tid = 0;  // a thread in its loop waiting on the real clock, until:
+  int64_t loop_until = 0;
   bool blocked = true;
   pid_t waiting_tid = 0;  // a thread in a wait with a deadline past the window, until:
   int64_t waiting_until = 0;
@@ -81,7 +89,8 @@ protected:
       std::string culprit;
       rmw_introspect::SettingUp setting_up;
       const bool idle = census.others_blocked(
-        request.known, request.until_ns, &culprit, &request.settling, &setting_up);
+        request.known, request.until_ns, &culprit, &request.settling, &setting_up,
+        &request.looping);
       session.census_done(request.version, idle, culprit, setting_up);
     }
   }
@@ -556,7 +565,7 @@ TEST_F(IdleTest, a_thread_parked_in_rmw_wait_does_not_make_one_still_setting_up_
   Session::Step step = poll(session);
   EXPECT_EQ(Session::Action::kNone, step.action);
   ASSERT_TRUE(step.has_deadline);
-  EXPECT_EQ(clock.now + 480 * kMs, step.deadline_ns);  // when it wakes, not the window's end
+  EXPECT_EQ(clock.now + 480 * kMs, step.deadline_ns);  // looked at when it wakes, not before
   EXPECT_EQ(1, census.calls);  // and not read again meanwhile
   clock.advance_ms(130);  // past the quiet window: it does not settle either
   step = poll(session);
@@ -584,7 +593,7 @@ TEST_F(IdleTest, a_sleep_before_the_program_used_ros_again_holds_the_settle_unti
   clock.advance_ms(20);  // (the progress snapshot)
   const Session::Step step = poll(session);
   EXPECT_EQ(Session::Action::kNone, step.action);
-  EXPECT_EQ(clock.now + 480 * kMs, step.deadline_ns);
+  EXPECT_EQ(clock.now + 580 * kMs, step.deadline_ns);
   EXPECT_EQ(0, census.calls);
   clock.advance_ms(180);
   EXPECT_EQ(Session::Action::kNone, poll(session).action);
@@ -609,6 +618,8 @@ TEST_F(IdleTest, a_thread_that_waits_again_with_nothing_created_is_a_loop_and_ho
   EXPECT_EQ(Session::Action::kNone, poll(session).action);
   clock.advance_ms(500);
   census.waiting_until = clock.now + 500 * kMs;  // the next wait, nothing created meanwhile
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);  // (a window after the first wake)
+  clock.advance_ms(100);
   EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
   const CaptureHeader header = header_of(session, "warping");
   EXPECT_EQ(1u, header.window_settles);
@@ -642,6 +653,37 @@ TEST_F(IdleTest, without_virtual_time_a_thread_setting_up_leaves_the_settle_to_t
   EXPECT_EQ(Session::Action::kNone, poll(session).action);
   clock.advance_ms(100);
   EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+}
+
+TEST_F(IdleTest, a_warp_the_proof_ends_while_a_loop_waits_on_the_real_clock_says_so)
+{
+  // diagnostic_updater's example after its set-up: Rate::sleep(); publish; spin_some. The warp
+  // cannot step the Rate's timed wait: the final settle is proven at once, far short of the
+  // horizon, and the capture says why (warp_real_waits).
+  Session session{clock, virtual_clock, sleep_settings()};
+  session.start();
+  session.set_monitor_tid(99);
+  session.on_change(7);
+  session.enter_wait(42, -1);  // the clock thread
+  session.on_activity(7);  // its publish: in its loop
+  census.loop_tid = 7;
+  census.loop_until = clock.now + 500 * kMs;
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  CaptureHeader header = header_of(session);
+  EXPECT_TRUE(header.warp_real_waits);
+  EXPECT_FALSE(header.horizon_reached || header.warp_stalled || header.warp_budget_exhausted);
+  // A thread that waits past the horizon: nothing the capture covers is lost, no note.
+  Session later{clock, virtual_clock, sleep_settings()};
+  later.start();
+  later.set_monitor_tid(99);
+  later.on_change(7);
+  later.enter_wait(42, -1);
+  later.on_activity(7);
+  census.loop_until = clock.now + 20000 * kMs;
+  EXPECT_EQ(Session::Action::kStartWarp, poll(later).action);
+  EXPECT_EQ(Session::Action::kSettle, poll(later).action);
+  EXPECT_FALSE(header_of(later).warp_real_waits);
 }
 
 TEST_F(IdleTest, without_virtual_time_or_with_sleeps_off_a_sleeper_proves_nothing)

@@ -299,7 +299,13 @@ void IdleProof::want_census(
   std::vector<pid_t> ros_threads;
   ros_threads_.collect(&ros_threads);
   const std::vector<pid_t> & known = census_request_.known;
+  census_request_.looping.clear();
   for (const pid_t tid : ros_threads) {
+    if (used_ros_in(tid, moment.generation) &&
+        std::find(known.begin(), known.end(), tid) == known.end())
+    {
+      census_request_.looping.push_back(tid);
+    }
     if (settling(tid, moment.generation) &&
         std::find(known.begin(), known.end(), tid) == known.end())
     {
@@ -332,8 +338,14 @@ bool IdleProof::hold_for(
 
 bool IdleProof::holding(int64_t now, int64_t * until_ns) const
 {
-  if (now < hold_until_ns_) {
-    *until_ns = hold_until_ns_;
+  // The quiet window counts from the wake: the woken thread gets settle_ms to create the rest
+  // (a hold that ended at the deadline let the window settle in the instant the thread woke).
+  if (hold_until_ns_ == INT64_MIN) {
+    return false;
+  }
+  const int64_t until = hold_until_ns_ + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
+  if (now < until) {
+    *until_ns = until;
     return true;
   }
   return false;
@@ -381,6 +393,7 @@ void IdleProof::census_done(
     }
   }
   answer_version_ = version;
+  loop_wait_ns_ = idle ? setting_up.loop_wait_ns : -1;
   answer_idle_ = idle;
   answered_ns_ = now;
   not_idle_reason_ = idle ? std::string() : culprit;

@@ -108,6 +108,7 @@ public:
     std::vector<pid_t> known;
     int64_t until_ns = 0;
     std::vector<pid_t> settling;
+    std::vector<pid_t> looping;  // threads of the program that used ROS since the last change
   };
   const CensusRequest & census_request() const { return census_request_; }
   /// The answer to census_request(), at `now` (see Session::census_done). `setting_up`: the
@@ -118,8 +119,12 @@ public:
   const std::string & not_idle_reason() const { return not_idle_reason_; }
 
   /// Whether a thread still setting up holds the settle at `now` (issue 50 item 1): neither the
-  /// proof nor the quiet window may take it before `*until_ns`, when that thread wakes.
+  /// proof nor the quiet window may take it before `*until_ns`, a quiet window after that
+  /// thread wakes.
   bool holding(int64_t now, int64_t * until_ns) const;
+  /// The earliest deadline on the real clock of a thread in its loop that the latest census
+  /// counted as blocked (-1: none): the warp does not step it (a Rate::sleep loop).
+  int64_t loop_wait_ns() const { return answer_idle_ ? loop_wait_ns_ : -1; }
 
 private:
   /// A thread's run of back-to-back polls that found nothing ready, in one poll epoch.
@@ -206,6 +211,7 @@ private:
   };
   std::vector<Held> held_;
   int64_t hold_until_ns_ = INT64_MIN;
+  int64_t loop_wait_ns_ = -1;
   uint64_t census_generation_ = 0;  // of the census request, and its hold limit
   int64_t census_hold_limit_ns_ = INT64_MIN;
 };

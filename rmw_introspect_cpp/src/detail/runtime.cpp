@@ -372,7 +372,7 @@ void Runtime::check_idle(std::unique_lock<std::mutex> & lock)
   std::string culprit;
   SettingUp setting_up;
   const bool idle = thread_census_.others_blocked(
-    request.known, request.until_ns, &culprit, &request.settling, &setting_up);
+    request.known, request.until_ns, &culprit, &request.settling, &setting_up, &request.looping);
   if (config_.verbose) {
     std::fprintf(
       stderr, "[rmw_introspect] %s\n", idle ? "every thread is blocked: idle" : culprit.c_str());

@@ -196,6 +196,12 @@ bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline
   if (provably_idle(now)) {
     settled_by_ = idle_.proven_by();
     ++idle_settles_;
+    const int64_t loop_wait = idle_.loop_wait_ns();
+    if ((phase_ == Phase::kWarping || phase_ == Phase::kFinalSettling) && loop_wait >= 0 &&
+        loop_wait < moment(now).deadlines_until_ns)
+    {
+      warp_.note_real_waits();  // (a note says virtual time ended short of the horizon, and why)
+    }
     return true;
   }
   int64_t held_until = 0;

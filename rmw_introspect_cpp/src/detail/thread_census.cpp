@@ -159,7 +159,8 @@ pid_t current_tid()
 
 bool ProcThreadCensus::others_blocked(
   const std::vector<pid_t> & known, int64_t until_ns, std::string * culprit,
-  const std::vector<pid_t> * settling, SettingUp * setting_up) const
+  const std::vector<pid_t> * settling, SettingUp * setting_up,
+  const std::vector<pid_t> * looping) const
 {
   auto say = [culprit](const std::string & why) {
     if (culprit != nullptr) {
@@ -223,6 +224,12 @@ bool ProcThreadCensus::others_blocked(
         return say(
           "thread " + tid + " waits until a deadline (" + wait.name +
           ") and has not used ROS since the last change: still setting up");
+      }
+      if (looping != nullptr && setting_up != nullptr &&
+          std::find(looping->begin(), looping->end(), id) != looping->end() &&
+          (setting_up->loop_wait_ns < 0 || deadline < setting_up->loop_wait_ns))
+      {
+        setting_up->loop_wait_ns = deadline;
       }
     }
     seen[tid].schedstat = schedstat;

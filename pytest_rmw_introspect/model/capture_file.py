@@ -132,6 +132,10 @@ class VirtualTime:
     warp_real_ms: float | None = None
     warp_polls: int | None = None
     warp_activity: int | None = None
+    #: the warp ended before its horizon because the process was proven idle while a thread of
+    #: the program, in its loop, waited on the real clock with a deadline before the horizon (a
+    #: Rate or WallRate sleep, a timed condition wait), which virtual time does not step
+    warp_real_waits: bool = False
 
     @property
     def enabled(self) -> bool:
@@ -435,6 +439,7 @@ def _virtual_time(data: Any, path: Path | None) -> VirtualTime | None:
             warp_real_ms=_optional_float(data.get("warp_real_ms")),
             warp_polls=None if data.get("warp_polls") is None else int(data["warp_polls"]),
             warp_activity=None if data.get("warp_activity") is None else int(data["warp_activity"]),
+            warp_real_waits=bool(data.get("warp_real_waits", False)),
         )
     except (TypeError, ValueError, OverflowError) as exc:
         raise CaptureFormatError(path, f"`time`: malformed field ({exc})") from None

@@ -87,7 +87,8 @@ def notes(capture: Noted) -> list[str]:
             "virtual time): the capture is what it had created until then"
         )
     vt = capture.virtual_time
-    if vt is not None and vt.enabled and not vt.horizon_reached and (vt.warp_stalled or vt.warp_budget_exhausted):
+    if vt is not None and vt.enabled and not vt.horizon_reached and (
+            vt.warp_stalled or vt.warp_budget_exhausted or vt.warp_real_waits):
         notes.append(horizon_note(vt, capture.polls))
     for node in capture:
         if node.uses_sim_time:
@@ -143,6 +144,11 @@ def horizon_note(vt: VirtualTime, polls: int) -> str:
     where = (f"virtual time stopped at {vt.virtual_elapsed_ms / 1000:.3g} s of the {vt.horizon_ms / 1000:g} s "
              f"horizon after {vt.jumps} jumps")
     later = "; interfaces created later are not in the capture"
+    if vt.warp_real_waits and not (vt.warp_stalled or vt.warp_budget_exhausted):
+        return (f"{where}: the idle proof ended it while a thread of the program waited on the real clock "
+                "until before the horizon (a Rate or WallRate sleep, a timed condition wait, Event.wait with a "
+                "timeout), which virtual time does not step: what that thread does after its wait is not in the "
+                "capture (a timer of the node, or a longer settle, would cover it)")
     if vt.warp_stalled:
         return f"{where}: the program kept running but never waited with a timeout: {stalled_loop(vt, polls)}" + later
     if vt.jumps >= 1000:

@@ -562,6 +562,7 @@ Value build_document(const CaptureHeader & header, const RecorderSnapshot & snap
   time.add("horizon_reached", Value::boolean(header.horizon_reached));
   time.add("warp_budget_exhausted", Value::boolean(header.warp_budget_exhausted));
   time.add("warp_stalled", Value::boolean(header.warp_stalled));
+  time.add("warp_real_waits", Value::boolean(header.warp_real_waits));
   time.add("warp_real_ms", Value::number(header.warp_real_ms));
   time.add("warp_polls", Value::integer(static_cast<int64_t>(header.warp_polls)));
   time.add("warp_activity", Value::integer(static_cast<int64_t>(header.warp_activity)));

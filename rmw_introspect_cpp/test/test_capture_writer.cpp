@@ -139,6 +139,7 @@ TEST(CaptureWriter, json_exact)
     "horizon_reached": false,
     "warp_budget_exhausted": false,
     "warp_stalled": false,
+    "warp_real_waits": false,
     "warp_real_ms": 0.000,
     "warp_polls": 0,
     "warp_activity": 0

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -23,17 +24,40 @@ class FakeCensus : public rmw_introspect::ThreadCensus
 {
 public:
   bool others_blocked(
-    const std::vector<pid_t> & known, int64_t until_ns, std::string * culprit) const override
+    const std::vector<pid_t> & known, int64_t until_ns, std::string * culprit,
+    const std::vector<pid_t> * settling, rmw_introspect::SettingUp * setting_up,
+    const std::vector<pid_t> * looping) const override
   {
     ++calls;
     last_known = known;
     last_until = until_ns;
+    last_settling = settling != nullptr ? *settling : std::vector<pid_t>();
+    // A thread of the program's in a wait with a deadline (Rate::sleep): still setting up
+    // unless it used ROS since the last change.
+    if (waiting_tid != 0 && settling != nullptr &&
+        std::find(settling->begin(), settling->end(), waiting_tid) != settling->end())
+    {
+      if (setting_up != nullptr) {
+        *setting_up = rmw_introspect::SettingUp{waiting_tid, waiting_until};
+      }
+      return false;
+    }
     if (!blocked && culprit != nullptr) {
       *culprit = "thread 7 is not blocked (clock_nanosleep)";
     }
+    if (blocked && loop_tid != 0 && setting_up != nullptr && looping != nullptr &&
+        std::find(looping->begin(), looping->end(), loop_tid) != looping->end())
+    {
+      setting_up->loop_wait_ns = loop_until;  // its Rate::sleep, counted: it is in its loop
+    }
     return blocked;
   }
+  pid_t loop_tid = 0;  // a thread in its loop waiting on the real clock, until:
+  int64_t loop_until = 0;
   bool blocked = true;
+  pid_t waiting_tid = 0;  // a thread in a wait with a deadline past the window, until:
+  int64_t waiting_until = 0;
+  mutable std::vector<pid_t> last_settling;
   mutable int calls = 0;
   mutable std::vector<pid_t> last_known;
   mutable int64_t last_until = 0;
@@ -63,8 +87,11 @@ protected:
       }
       const Session::CensusRequest request = session.census_request();
       std::string culprit;
-      const bool idle = census.others_blocked(request.known, request.until_ns, &culprit);
-      session.census_done(request.version, idle, culprit);
+      rmw_introspect::SettingUp setting_up;
+      const bool idle = census.others_blocked(
+        request.known, request.until_ns, &culprit, &request.settling, &setting_up,
+        &request.looping);
+      session.census_done(request.version, idle, culprit, setting_up);
     }
   }
   ManualClock clock;
@@ -517,6 +544,146 @@ TEST_F(IdleTest, a_sleeper_that_did_not_use_ros_since_the_last_change_proves_not
   session.enter_sleep(42, clock.now + 500 * kMs);
   EXPECT_EQ(Session::Action::kNone, poll(session).action);
   EXPECT_EQ(0, census.calls);
+}
+
+// Issue 50 item 1: a thread parked in rmw_wait (rclcpp's sim-time clock thread, a
+// TransformListener's spin thread, a multi-threaded executor) does not make a thread of the
+// program that is still setting up (it made ROS calls, none since the last change) and waits
+// with a deadline look idle: the settle waits until it wakes, the quiet window too.
+TEST_F(IdleTest, a_thread_parked_in_rmw_wait_does_not_make_one_still_setting_up_idle)
+{
+  Session session{clock, virtual_clock, sleep_settings()};
+  session.start();
+  session.set_monitor_tid(99);
+  session.on_change(7);  // the main thread creates its node
+  session.enter_wait(42, -1);  // the clock thread, parked from the start
+  census.waiting_tid = 7;  // the main thread in Rate::sleep() (a timed wait the census reads)
+  census.waiting_until = clock.now + 500 * kMs;
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  EXPECT_EQ((std::vector<pid_t>{7}), census.last_settling);
+  clock.advance_ms(20);  // (the progress snapshot)
+  Session::Step step = poll(session);
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  ASSERT_TRUE(step.has_deadline);
+  EXPECT_EQ(clock.now + 480 * kMs, step.deadline_ns);  // looked at when it wakes, not before
+  EXPECT_EQ(1, census.calls);  // and not read again meanwhile
+  clock.advance_ms(130);  // past the quiet window: it does not settle either
+  step = poll(session);
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  EXPECT_EQ(clock.now + 350 * kMs, step.deadline_ns);
+  clock.advance_ms(350);  // it wakes, declares its parameters, creates and spins
+  census.waiting_tid = 0;
+  session.on_change(7);
+  session.enter_wait(7, -1);
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  EXPECT_EQ(1u, header_of(session, "warping").idle_settles);
+}
+
+TEST_F(IdleTest, a_sleep_before_the_program_used_ros_again_holds_the_settle_until_it_ends)
+{
+  // The rclpy form: a second node spun in a thread, the main thread in time.sleep(0.5) before
+  // it declares a parameter and creates a publisher (an interposed sleep, not a census read).
+  Session session{clock, virtual_clock, sleep_settings()};
+  session.start();
+  session.set_monitor_tid(99);
+  session.on_change(7);
+  session.enter_wait(42, -1);
+  const uint64_t token = session.enter_sleep(7, clock.now + 500 * kMs);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  clock.advance_ms(20);  // (the progress snapshot)
+  const Session::Step step = poll(session);
+  EXPECT_EQ(Session::Action::kNone, step.action);
+  EXPECT_EQ(clock.now + 580 * kMs, step.deadline_ns);
+  EXPECT_EQ(0, census.calls);
+  clock.advance_ms(180);
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  clock.advance_ms(300);
+  session.leave_sleep(token);
+  session.on_change(7);
+  session.enter_wait(7, -1);
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+}
+
+TEST_F(IdleTest, a_thread_that_waits_again_with_nothing_created_is_a_loop_and_holds_once)
+{
+  // A loop that only waits on its own clock (Rate::sleep; spin_some): held for its first wait,
+  // then the rule before issue 50 (here: the quiet window, by the parked thread's wait).
+  Session session{clock, virtual_clock, sleep_settings()};
+  session.start();
+  session.set_monitor_tid(99);
+  session.on_change(7);
+  session.enter_wait(42, -1);
+  census.waiting_tid = 7;
+  census.waiting_until = clock.now + 500 * kMs;
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  clock.advance_ms(500);
+  census.waiting_until = clock.now + 500 * kMs;  // the next wait, nothing created meanwhile
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);  // (a window after the first wake)
+  clock.advance_ms(100);
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  const CaptureHeader header = header_of(session, "warping");
+  EXPECT_EQ(1u, header.window_settles);
+  EXPECT_EQ("wait", header.settled_by);
+}
+
+TEST_F(IdleTest, a_wait_of_a_thread_that_never_made_ros_calls_counts_as_before)
+{
+  // A library's periodic worker (spdlog's flusher: a 5 s timed wait) never calls ROS: its wait
+  // past the window is counted as blocked, as before issue 50.
+  Session session{clock, virtual_clock, sleep_settings()};
+  session.start();
+  session.set_monitor_tid(99);
+  session.on_change(7);
+  session.enter_wait(7, -1);
+  census.waiting_tid = 8;
+  census.waiting_until = clock.now + 5000 * kMs;
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  EXPECT_TRUE(census.last_settling.empty());
+}
+
+TEST_F(IdleTest, without_virtual_time_a_thread_setting_up_leaves_the_settle_to_the_window)
+{
+  // Horizon 0: the quiet window is all the time the process gets; it is not held.
+  Session session{clock, virtual_clock, idle_settings()};
+  session.start();
+  session.on_change(7);
+  session.enter_wait(42, -1);
+  census.waiting_tid = 7;
+  census.waiting_until = clock.now + 500 * kMs;
+  EXPECT_EQ(Session::Action::kNone, poll(session).action);
+  clock.advance_ms(100);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+}
+
+TEST_F(IdleTest, a_warp_the_proof_ends_while_a_loop_waits_on_the_real_clock_says_so)
+{
+  // diagnostic_updater's example after its set-up: Rate::sleep(); publish; spin_some. The warp
+  // cannot step the Rate's timed wait: the final settle is proven at once, far short of the
+  // horizon, and the capture says why (warp_real_waits).
+  Session session{clock, virtual_clock, sleep_settings()};
+  session.start();
+  session.set_monitor_tid(99);
+  session.on_change(7);
+  session.enter_wait(42, -1);  // the clock thread
+  session.on_activity(7);  // its publish: in its loop
+  census.loop_tid = 7;
+  census.loop_until = clock.now + 500 * kMs;
+  EXPECT_EQ(Session::Action::kStartWarp, poll(session).action);
+  EXPECT_EQ(Session::Action::kSettle, poll(session).action);
+  CaptureHeader header = header_of(session);
+  EXPECT_TRUE(header.warp_real_waits);
+  EXPECT_FALSE(header.horizon_reached || header.warp_stalled || header.warp_budget_exhausted);
+  // A thread that waits past the horizon: nothing the capture covers is lost, no note.
+  Session later{clock, virtual_clock, sleep_settings()};
+  later.start();
+  later.set_monitor_tid(99);
+  later.on_change(7);
+  later.enter_wait(42, -1);
+  later.on_activity(7);
+  census.loop_until = clock.now + 20000 * kMs;
+  EXPECT_EQ(Session::Action::kStartWarp, poll(later).action);
+  EXPECT_EQ(Session::Action::kSettle, poll(later).action);
+  EXPECT_FALSE(header_of(later).warp_real_waits);
 }
 
 TEST_F(IdleTest, without_virtual_time_or_with_sleeps_off_a_sleeper_proves_nothing)

@@ -95,7 +95,9 @@ TEST(ThreadCensus, sleeping_threads_count_by_their_deadline_and_waiting_ones_are
   std::mutex sleep_mutex;
   std::condition_variable sleep_cv;
   bool stop = false;
+  std::atomic<pid_t> sleeper_tid{0};
   std::thread sleeper([&]() {
+    sleeper_tid = rmw_introspect::current_tid();
     std::unique_lock<std::mutex> lock(sleep_mutex);
     sleep_cv.wait_for(lock, std::chrono::seconds(10), [&]() { return stop; });
   });
@@ -103,6 +105,17 @@ TEST(ThreadCensus, sleeping_threads_count_by_their_deadline_and_waiting_ones_are
   EXPECT_TRUE(census.others_blocked(me, now + 1000 * kMs, &culprit)) << culprit;
   EXPECT_FALSE(census.others_blocked(me, now + 20000 * kMs, &culprit));
   EXPECT_NE(std::string::npos, culprit.find("wakes by itself")) << culprit;
+  // ... unless it is a thread of the program's that is still setting up (issue 50 item 1):
+  // then not blocked, and said with when it wakes
+  const std::vector<pid_t> settling{sleeper_tid.load()};
+  rmw_introspect::SettingUp setting_up;
+  EXPECT_FALSE(census.others_blocked(me, now + 1000 * kMs, &culprit, &settling, &setting_up));
+  EXPECT_NE(std::string::npos, culprit.find("still setting up")) << culprit;
+  EXPECT_EQ(sleeper_tid.load(), setting_up.tid);
+  EXPECT_GE(setting_up.wakes_at_ns, now + 9000 * kMs);
+  EXPECT_LE(setting_up.wakes_at_ns, now + 11000 * kMs);
+  const std::vector<pid_t> others{me[0] + 100000};  // another thread's: it counts as before
+  EXPECT_TRUE(census.others_blocked(me, now + 1000 * kMs, &culprit, &others, &setting_up));
   {
     std::lock_guard<std::mutex> lock(sleep_mutex);
     stop = true;

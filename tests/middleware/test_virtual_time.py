@@ -55,7 +55,7 @@ def test_without_horizon_the_late_publisher_is_missed(run):
         "horizon_ms": 0, "virtual_elapsed_ms": result.capture["time"]["virtual_elapsed_ms"],
         "real_elapsed_ms": result.capture["time"]["real_elapsed_ms"], "jumps": 0, "warp_ms": 0.0,
         "horizon_reached": False, "warp_budget_exhausted": False, "warp_stalled": False,
-        "warp_real_ms": 0.0, "warp_polls": 0, "warp_activity": 0}
+        "warp_real_waits": False, "warp_real_ms": 0.0, "warp_polls": 0, "warp_activity": 0}
 
 
 def test_service_created_at_30s_with_a_60s_horizon(run):

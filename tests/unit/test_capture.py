@@ -453,6 +453,19 @@ def test_a_warp_that_ran_out_of_budget_is_noted(talker):
     assert "virtual time stopped at 2.5 s of the 10 s horizon" in note and "2500 jumps" in note
 
 
+def test_a_warp_the_idle_proof_ended_while_a_thread_waited_on_the_real_clock_is_noted(talker):
+    """Issue 50 item 1: diagnostic_updater's example loops on rclcpp::Rate::sleep(); the warp ends
+    when the process is proven idle, far short of the horizon, and says why."""
+    talker.doc["time"] = {"horizon_ms": 10000, "virtual_elapsed_ms": 1400.0, "real_elapsed_ms": 1400.0, "jumps": 0,
+                          "warp_ms": 0.0, "horizon_reached": False, "warp_budget_exhausted": False,
+                          "warp_stalled": False, "warp_real_waits": True}
+    (note,) = talker.capture().notes()
+    assert note.startswith("virtual time stopped at 1.4 s of the 10 s horizon after 0 jumps: the idle proof ended it")
+    assert "waited on the real clock" in note and "Rate" in note
+    talker.doc["time"]["warp_real_waits"] = False  # nothing was due: a listener, no note
+    assert talker.capture().notes() == []
+
+
 STALLED = {"horizon_ms": 10000, "virtual_elapsed_ms": 400.0, "real_elapsed_ms": 400.0, "jumps": 0, "warp_ms": 0.0,
            "horizon_reached": False, "warp_budget_exhausted": False, "warp_stalled": True}
 

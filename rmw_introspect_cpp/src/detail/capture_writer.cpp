@@ -484,6 +484,7 @@ void write_document(
   w.key("horizon_reached").boolean(header.horizon_reached);
   w.key("warp_budget_exhausted").boolean(header.warp_budget_exhausted);
   w.key("warp_stalled").boolean(header.warp_stalled);
+  w.key("warp_real_waits").boolean(header.warp_real_waits);
   w.key("warp_real_ms").fixed(header.warp_real_ms);
   w.key("warp_polls").integer(static_cast<int64_t>(header.warp_polls));
   w.key("warp_activity").integer(static_cast<int64_t>(header.warp_activity));

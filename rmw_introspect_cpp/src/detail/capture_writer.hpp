@@ -44,6 +44,7 @@ struct CaptureHeader
   bool horizon_reached = false;
   bool warp_budget_exhausted = false;
   bool warp_stalled = false;  // ended early: the process never waited with a timeout
+  bool warp_real_waits = false;  // ended early: idle while a loop waited on the real clock
   double warp_real_ms = 0.0;  // real time the warp lasted (so far)
   uint64_t warp_polls = 0;  // polls of rmw_wait in the warp (returns without waiting)
   uint64_t warp_activity = 0;  // activity calls in the warp

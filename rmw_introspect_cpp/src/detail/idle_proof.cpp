@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,9 @@ constexpr int64_t kCensusRecheckNs = 5 * 1000 * 1000;
 constexpr uint64_t kIdlePolls = 20;
 constexpr int64_t kIdlePollingNs = 10 * 1000 * 1000;
 constexpr int64_t kPollGapNs = 5 * 1000 * 1000;
+// Two deadlines of one thread this close are one wait (a CLOCK_REALTIME deadline is placed on
+// CLOCK_MONOTONIC anew at each census, within microseconds).
+constexpr int64_t kSameWaitNs = 1000 * 1000;
 }  // namespace
 
 IdleProof::IdleProof(const Settings & settings)
@@ -43,6 +47,7 @@ int64_t IdleProof::long_enough_ns() const
 
 bool IdleProof::on_poll(pid_t tid, int64_t now, bool found_nothing, uint64_t voluntary_switches)
 {
+  on_ros_call(tid);
   if (!found_nothing) {
     poll_runs_.erase(tid);  // it had something to do
     return false;
@@ -68,6 +73,7 @@ bool IdleProof::on_poll(pid_t tid, int64_t now, bool found_nothing, uint64_t vol
 
 uint64_t IdleProof::enter_wait(pid_t tid, int64_t deadline_ns, uint64_t quiet_epoch)
 {
+  on_ros_call(tid);
   poll_runs_.erase(tid);  // it blocks now: the blocked wait proves what it can
   ++version_;
   const uint64_t token = next_wait_token_++;
@@ -111,6 +117,7 @@ void IdleProof::on_activity(pid_t tid, uint64_t generation)
 {
   if (tid != 0) {
     activity_generation_.mark(tid, generation);
+    ros_threads_.mark(tid, 1);
   }
   new_epoch();  // a loop that publishes or takes is not an idle poller
 }
@@ -127,6 +134,18 @@ void IdleProof::on_wake(pid_t by)
 bool IdleProof::used_ros_in(pid_t tid, uint64_t generation) const
 {
   return activity_generation_.marked(tid, generation);
+}
+
+void IdleProof::on_ros_call(pid_t tid)
+{
+  if (tid != 0) {
+    ros_threads_.mark(tid, 1);
+  }
+}
+
+bool IdleProof::settling(pid_t tid, uint64_t generation) const
+{
+  return ros_threads_.marked(tid, 1) && !used_ros_in(tid, generation);
 }
 
 bool IdleProof::sleeper_counts(const Sleeper & sleeper, const Moment & moment) const
@@ -188,6 +207,19 @@ bool IdleProof::provably_idle(const Moment & moment)
     return false;
   }
   const int64_t now = moment.now_ns;
+  // A thread asleep before it used ROS again is still setting up: what it does when it wakes
+  // is not known, and the settle waits for it (issue 50 item 1; a census finds the same of the
+  // threads in other waits with a deadline, census_done).
+  if (!moment.warping) {
+    for (const auto & entry : sleepers_) {
+      const Sleeper & sleeper = entry.second;
+      if (settling(sleeper.tid, moment.generation) &&
+          hold_for(sleeper.tid, sleeper.deadline_ns, moment.generation, moment.hold_limit_ns, now))
+      {
+        return false;
+      }
+    }
+  }
   std::vector<pid_t> pollers;
   if (!idle_pollers(now, &pollers)) {
     return false;
@@ -238,7 +270,7 @@ bool IdleProof::provably_idle(const Moment & moment)
     asleep.push_back(entry.second.tid);
   }
   if (answer_version_ == version_) {
-    if (answer_idle_ || now < answered_ns_ + kCensusRecheckNs) {
+    if (answer_idle_ || now < answered_ns_ + kCensusRecheckNs || now < hold_until_ns_) {
       return answer_idle_;
     }
   }
@@ -263,7 +295,60 @@ void IdleProof::want_census(
     }
   }
   census_request_.known.insert(census_request_.known.end(), asleep.begin(), asleep.end());
+  census_request_.settling.clear();
+  std::vector<pid_t> ros_threads;
+  ros_threads_.collect(&ros_threads);
+  const std::vector<pid_t> & known = census_request_.known;
+  census_request_.looping.clear();
+  for (const pid_t tid : ros_threads) {
+    if (used_ros_in(tid, moment.generation) &&
+        std::find(known.begin(), known.end(), tid) == known.end())
+    {
+      census_request_.looping.push_back(tid);
+    }
+    if (settling(tid, moment.generation) &&
+        std::find(known.begin(), known.end(), tid) == known.end())
+    {
+      census_request_.settling.push_back(tid);
+    }
+  }
+  census_generation_ = moment.generation;
+  census_hold_limit_ns_ = moment.hold_limit_ns;
   census_wanted_ = true;
+}
+
+bool IdleProof::hold_for(
+  pid_t tid, int64_t wakes_at_ns, uint64_t generation, int64_t limit_ns, int64_t now)
+{
+  if (wakes_at_ns <= now || wakes_at_ns > limit_ns) {
+    return false;  // awake already, or it wakes past what the capture covers
+  }
+  for (const Held & held : held_) {
+    if (held.tid == tid && held.generation == generation) {
+      // The same wait still (held for), or another one with nothing created since the first:
+      // a loop that waits on its own clock, not set-up.
+      return std::llabs(held.wakes_at_ns - wakes_at_ns) <= kSameWaitNs;
+    }
+  }
+  held_.push_back(Held{tid, generation, wakes_at_ns});
+  hold_until_ns_ = std::max(hold_until_ns_, wakes_at_ns);
+  ++version_;
+  return true;
+}
+
+bool IdleProof::holding(int64_t now, int64_t * until_ns) const
+{
+  // The quiet window counts from the wake: the woken thread gets settle_ms to create the rest
+  // (a hold that ended at the deadline let the window settle in the instant the thread woke).
+  if (hold_until_ns_ == INT64_MIN) {
+    return false;
+  }
+  const int64_t until = hold_until_ns_ + static_cast<int64_t>(settings_.settle_ms) * kNsPerMs;
+  if (now < until) {
+    *until_ns = until;
+    return true;
+  }
+  return false;
 }
 
 const char * IdleProof::proven_by() const
@@ -287,14 +372,28 @@ bool IdleProof::look_done(int64_t now, int64_t * recheck_ns)
     return true;
   }
   if (answer_version_ == version_ && !answer_idle_) {
-    *recheck_ns = std::min(*recheck_ns, answered_ns_ + kCensusRecheckNs);
+    // (a thread setting up is not looked at again before it wakes)
+    *recheck_ns = std::min(*recheck_ns, std::max(answered_ns_ + kCensusRecheckNs, hold_until_ns_));
   }
   return false;
 }
 
-void IdleProof::census_done(uint64_t version, bool idle, const std::string & culprit, int64_t now)
+void IdleProof::census_done(
+  uint64_t version, bool idle, const std::string & culprit, int64_t now,
+  const SettingUp & setting_up)
 {
+  // What a census found setting up holds even when something else happened meanwhile (a wake
+  // of a parked thread): that thread still waits until its deadline.
+  if (!idle && setting_up.wakes_at_ns >= 0) {
+    const bool current = version == version_;
+    hold_for(
+      setting_up.tid, setting_up.wakes_at_ns, census_generation_, census_hold_limit_ns_, now);
+    if (current) {
+      version = version_;  // (hold_for moved it on: the answer stays the one for now)
+    }
+  }
   answer_version_ = version;
+  loop_wait_ns_ = idle ? setting_up.loop_wait_ns : -1;
   answer_idle_ = idle;
   answered_ns_ = now;
   not_idle_reason_ = idle ? std::string() : culprit;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "detail/thread_census.hpp"
 #include "detail/thread_marks.hpp"
 
 namespace rmw_introspect
@@ -45,6 +46,11 @@ public:
     int64_t deadlines_until_ns = INT64_MAX;
     /// False in a warp after jumps (the stall rule decides) or before its loop was seen.
     bool pollers_prove = true;
+    /// A thread still setting up (asleep, or in a wait with a deadline, without having used ROS
+    /// since the last change) holds the settle until it wakes when it wakes at or before this
+    /// (real time): the moment the node's virtual age reaches the horizon. INT64_MIN: never
+    /// (no virtual time: the quiet window is all the time the process gets).
+    int64_t hold_limit_ns = INT64_MIN;
   };
 
   explicit IdleProof(const Settings & settings);
@@ -64,6 +70,9 @@ public:
   void leave_sleep(uint64_t token);
   /// Thread `tid` made an activity call in generation `generation` (0: no thread known).
   void on_activity(pid_t tid, uint64_t generation);
+  /// Thread `tid` made one of the program's ROS calls (created or destroyed something, polled,
+  /// waited, used ROS): a thread of the program's, not a library's worker that never calls ROS.
+  void on_ros_call(pid_t tid);
   /// See Session::on_wake.
   void on_wake(pid_t by);
   void set_monitor_tid(pid_t tid) { monitor_tid_ = tid; }
@@ -91,16 +100,31 @@ public:
   /// What kCheckIdle asks (Session::census_request): are the threads not in `known` blocked
   /// until woken, or until `until_ns` (the end of the quiet window) at least? Answered for
   /// `version` only.
+  /// `settling`: the threads that made ROS calls, but none since the last change; a wait with a
+  /// deadline of one of them is set-up, not a loop's (ThreadCensus::others_blocked).
   struct CensusRequest
   {
     uint64_t version = 0;
     std::vector<pid_t> known;
     int64_t until_ns = 0;
+    std::vector<pid_t> settling;
+    std::vector<pid_t> looping;  // threads of the program that used ROS since the last change
   };
   const CensusRequest & census_request() const { return census_request_; }
-  /// The answer to census_request(), at `now` (see Session::census_done).
-  void census_done(uint64_t version, bool idle, const std::string & culprit, int64_t now);
+  /// The answer to census_request(), at `now` (see Session::census_done). `setting_up`: the
+  /// thread still setting up the census found, if any: it may hold the settle (holding).
+  void census_done(
+    uint64_t version, bool idle, const std::string & culprit, int64_t now,
+    const SettingUp & setting_up = SettingUp());
   const std::string & not_idle_reason() const { return not_idle_reason_; }
+
+  /// Whether a thread still setting up holds the settle at `now` (issue 50 item 1): neither the
+  /// proof nor the quiet window may take it before `*until_ns`, a quiet window after that
+  /// thread wakes.
+  bool holding(int64_t now, int64_t * until_ns) const;
+  /// The earliest deadline on the real clock of a thread in its loop that the latest census
+  /// counted as blocked (-1: none): the warp does not step it (a Rate::sleep loop).
+  int64_t loop_wait_ns() const { return answer_idle_ ? loop_wait_ns_ : -1; }
 
 private:
   /// A thread's run of back-to-back polls that found nothing ready, in one poll epoch.
@@ -139,6 +163,11 @@ private:
   bool sleeper_counts(const Sleeper & sleeper, const Moment & moment) const;
   /// Whether a deadline inside the rest of the quiet window keeps the settle from being proven.
   static bool deadline_matters(int64_t deadline_ns, const Moment & moment);
+  /// A thread still setting up, `tid`, waits until `wakes_at_ns`: hold the settle until then
+  /// when it wakes before the limit, once per thread and wait in a generation (a thread that
+  /// wakes and waits again with nothing created meanwhile is a loop, not set-up). True when
+  /// the settle is held for it.
+  bool hold_for(pid_t tid, int64_t wakes_at_ns, uint64_t generation, int64_t limit_ns, int64_t now);
   /// Asks the monitor for a census of the threads not in the proof.
   void want_census(
     const Moment & moment, const std::vector<pid_t> & pollers, const std::vector<pid_t> & asleep);
@@ -153,12 +182,16 @@ private:
   std::map<uint64_t, Sleeper> sleepers_;
   uint64_t next_sleep_token_ = 0;
   ThreadMarks activity_generation_;  // fixed storage: on_activity never allocates
+  ThreadMarks ros_threads_;  // on_ros_call, all in "generation" 1
+  /// Whether `tid` made ROS calls, but none since the last change (`generation`): still setting up
+  /// when it waits with a deadline.
+  bool settling(pid_t tid, uint64_t generation) const;
   // Idle pollers: each polling thread's current run; a new epoch starts every run again.
   std::map<pid_t, PollRun> poll_runs_;
   uint64_t poll_epoch_ = 0;
   bool poller_recheck_ = false;
   pid_t monitor_tid_ = 0;
-  bool by_polls_ = false;   // the latest proof counted idle pollers
+  bool by_polls_ = false;  // the latest proof counted idle pollers
   bool by_sleeps_ = false;  // ... only sleepers
   // The census: anything that may change whether the process is idle bumps the version, and
   // an answer is for one version.
@@ -169,6 +202,18 @@ private:
   bool answer_idle_ = false;
   int64_t answered_ns_ = 0;
   std::string not_idle_reason_;
+  // Holds (hold_for): the threads held for in a generation, with the end of the wait held for.
+  struct Held
+  {
+    pid_t tid = 0;
+    uint64_t generation = 0;
+    int64_t wakes_at_ns = 0;
+  };
+  std::vector<Held> held_;
+  int64_t hold_until_ns_ = INT64_MIN;
+  int64_t loop_wait_ns_ = -1;
+  uint64_t census_generation_ = 0;  // of the census request, and its hold limit
+  int64_t census_hold_limit_ns_ = INT64_MIN;
 };
 
 }  // namespace rmw_introspect

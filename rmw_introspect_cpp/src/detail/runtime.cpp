@@ -150,7 +150,7 @@ void Runtime::on_change()
 {
   {
     std::lock_guard<std::mutex> lock(session_mutex_);
-    session_.on_change();
+    session_.on_change(current_tid());
   }
   session_cv_.notify_all();
 }
@@ -370,13 +370,15 @@ void Runtime::check_idle(std::unique_lock<std::mutex> & lock)
   const Session::CensusRequest request = session_.census_request();
   lock.unlock();
   std::string culprit;
-  const bool idle = thread_census_.others_blocked(request.known, request.until_ns, &culprit);
+  SettingUp setting_up;
+  const bool idle = thread_census_.others_blocked(
+    request.known, request.until_ns, &culprit, &request.settling, &setting_up, &request.looping);
   if (config_.verbose) {
     std::fprintf(
       stderr, "[rmw_introspect] %s\n", idle ? "every thread is blocked: idle" : culprit.c_str());
   }
   lock.lock();
-  session_.census_done(request.version, idle, culprit);
+  session_.census_done(request.version, idle, culprit, setting_up);
 }
 
 void Runtime::exit_if_asked(double time_to_settle_ms)

@@ -64,8 +64,9 @@ void Session::break_quiet(int64_t now, bool voids_polls)
   polls_current_ = 0;
 }
 
-void Session::on_change()
+void Session::on_change(pid_t tid)
 {
+  idle_.on_ros_call(tid);
   warp_.on_change();
   ++generation_;
   last_change_ns_ = clock_.now_ns();
@@ -144,6 +145,11 @@ IdleProof::Moment Session::moment(int64_t now) const
   } else {
     moment.deadlines_until_ns = t0_ns_ + horizon_ns - virtual_clock_.offset_ns();
   }
+  // A thread still setting up is waited for when it wakes before the node's virtual age
+  // reaches the horizon (issue 50 item 1); without virtual time, the quiet window decides.
+  if (horizon_ns > 0) {
+    moment.hold_limit_ns = t0_ns_ + horizon_ns - virtual_clock_.offset_ns();
+  }
   // After jumps, rcl polls while a timer due in real time catches up: the stall rule of the
   // warp decides. Before any, idle polls stall the warp (poll()), they do not settle it.
   moment.pollers_prove = !(moment.warping && (warp_.jumps() > 0 || !warp_.loop_seen()));
@@ -190,7 +196,19 @@ bool Session::quiet_settled(int64_t now, bool * has_deadline, int64_t * deadline
   if (provably_idle(now)) {
     settled_by_ = idle_.proven_by();
     ++idle_settles_;
+    const int64_t loop_wait = idle_.loop_wait_ns();
+    if ((phase_ == Phase::kWarping || phase_ == Phase::kFinalSettling) && loop_wait >= 0 &&
+        loop_wait < moment(now).deadlines_until_ns)
+    {
+      warp_.note_real_waits();  // (a note says virtual time ended short of the horizon, and why)
+    }
     return true;
+  }
+  int64_t held_until = 0;
+  if (idle_.holding(now, &held_until)) {
+    // A thread still setting up wakes then: neither the proof nor the window settles before.
+    propose(held_until, has_deadline, deadline);
+    return false;
   }
   const bool by_wait = waiters_current_ > 0;
   const bool by_poll = !by_wait && polls_current_ >= kSettlingActivity;

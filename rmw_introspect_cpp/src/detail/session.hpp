@@ -79,8 +79,8 @@ public:
   bool start();
   bool started() const { return started_; }
 
-  /// A node or endpoint was created or destroyed.
-  void on_change();
+  /// A node or endpoint was created or destroyed, by thread `tid` (0: not known).
+  void on_change(pid_t tid = 0);
   /// A thread enters rmw_wait (any wait, a poll included). In the warp this breaks the quiet:
   /// a process that keeps entering waits that jump or poll is still driven by its timers
   /// (on a busy machine real time alone can keep its short timers due).
@@ -116,9 +116,12 @@ public:
   const CensusRequest & census_request() const { return idle_.census_request(); }
   /// The answer to census_request() (read with no lock held: anything that happened meanwhile
   /// changed the version, and the answer is dropped). `culprit`: why not, for people.
-  void census_done(uint64_t version, bool idle, const std::string & culprit)
+  /// `setting_up`: a thread still setting up that the census found (it may hold the settle).
+  void census_done(
+    uint64_t version, bool idle, const std::string & culprit,
+    const SettingUp & setting_up = SettingUp())
   {
-    idle_.census_done(version, idle, culprit, clock_.now_ns());
+    idle_.census_done(version, idle, culprit, clock_.now_ns(), setting_up);
   }
   /// Why the latest census found the process not idle ("" when it did, or none ran).
   const std::string & not_idle_reason() const { return idle_.not_idle_reason(); }

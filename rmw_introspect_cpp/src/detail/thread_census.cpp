@@ -158,7 +158,9 @@ pid_t current_tid()
 }
 
 bool ProcThreadCensus::others_blocked(
-  const std::vector<pid_t> & known, int64_t until_ns, std::string * culprit) const
+  const std::vector<pid_t> & known, int64_t until_ns, std::string * culprit,
+  const std::vector<pid_t> * settling, SettingUp * setting_up,
+  const std::vector<pid_t> * looping) const
 {
   auto say = [culprit](const std::string & why) {
     if (culprit != nullptr) {
@@ -209,6 +211,25 @@ bool ProcThreadCensus::others_blocked(
       if (deadline < until_ns) {
         return say(
           "thread " + tid + " wakes by itself (" + wait.name + ") before the quiet window ends");
+      }
+      const pid_t id = static_cast<pid_t>(std::atoi(tid.c_str()));
+      if (settling != nullptr &&
+          std::find(settling->begin(), settling->end(), id) != settling->end())
+      {
+        // Not a loop's wait: the thread has not used ROS since the last change (issue 50).
+        if (setting_up != nullptr) {
+          setting_up->tid = id;
+          setting_up->wakes_at_ns = deadline;
+        }
+        return say(
+          "thread " + tid + " waits until a deadline (" + wait.name +
+          ") and has not used ROS since the last change: still setting up");
+      }
+      if (looping != nullptr && setting_up != nullptr &&
+          std::find(looping->begin(), looping->end(), id) != looping->end() &&
+          (setting_up->loop_wait_ns < 0 || deadline < setting_up->loop_wait_ns))
+      {
+        setting_up->loop_wait_ns = deadline;
       }
     }
     seen[tid].schedstat = schedstat;

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace rmw_introspect
 {
@@ -40,6 +41,17 @@ public:
     }
     if (reusable != nullptr) {
       *reusable = Slot{tid, generation};
+    }
+  }
+
+  /// Every thread marked in some generation, appended to `*tids` (the monitor asks: it may
+  /// allocate).
+  void collect(std::vector<pid_t> * tids) const
+  {
+    for (const Slot & slot : slots_) {
+      if (slot.tid != 0) {
+        tids->push_back(slot.tid);
+      }
     }
   }
 

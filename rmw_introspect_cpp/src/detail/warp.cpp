@@ -155,6 +155,7 @@ void Warp::fill_header(int64_t now, CaptureHeader * header) const
   header->horizon_reached = horizon_reached_;
   header->warp_budget_exhausted = budget_exhausted_;
   header->warp_stalled = stalled_;
+  header->warp_real_waits = real_waits_ && !horizon_reached_;
   const bool warped = start_ns_ != 0;
   header->warp_real_ms = warped ? ns_to_ms((end_ns_ != 0 ? end_ns_ : now) - start_ns_) : 0.0;
   header->warp_polls = polls_;

@@ -60,6 +60,9 @@ public:
     int64_t now, bool any_blocked, const std::function<bool()> & idle_polls_proven,
     int64_t * look_at_ns);
 
+  /// The final settle was proven while a thread in its loop waited on the real clock until
+  /// before the horizon (the warp cannot step it).
+  void note_real_waits() { real_waits_ = true; }
   uint64_t jumps() const { return jumps_; }
   bool loop_seen() const { return loop_seen_; }
   bool stalled() const { return stalled_; }
@@ -92,6 +95,7 @@ private:
   bool fast_forwarded_ = false;
   bool horizon_reached_ = false;
   bool budget_exhausted_ = false;
+  bool real_waits_ = false;
 };
 
 }  // namespace rmw_introspect

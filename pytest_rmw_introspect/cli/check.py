@@ -68,7 +68,9 @@ def add_parser(sub: Any) -> None:
                          description="Capture the target of each contract and compare it with the contract.",
                          epilog=CHECK_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
                          usage="%(prog)s [options] CONTRACT... [-- COMMAND ...]")
-    chk.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML)")
+    chk.add_argument("contracts", nargs="+", metavar="CONTRACT",
+                     help="contract files (YAML), or directories: every node contract, marker golden and system "
+                     "contract under one, found by its content")
     add_target(chk)
     add_compare(chk)
     add_format(chk)
@@ -130,6 +132,32 @@ def _write_golden(result: Checked, path: Path, shown: str) -> str:
     return f"{result.update() or 'unchanged'} {shown}"
 
 
+def contract_files_given(given: list[str]) -> list[str]:
+    """The contract files to check: each file given, and for a directory every node contract,
+    marker golden and system contract under it, found by its content (``check.contract_files``),
+    said on stderr; a directory with none is an error that names where it looked."""
+    from ..check import contract_files
+    from ..model.contract_kind import Kind
+
+    files: list[str] = []
+    for shown in given:
+        if not os.path.isdir(shown):
+            files.append(shown)
+            continue
+        listing = contract_files.find_contracts(shown)
+        chosen = listing.of_kind({Kind.NODE, Kind.GOLDEN, Kind.SYSTEM})
+        passed = (f"; not contracts ({contract_files.NOT_A_CONTRACT}): "
+                  f"{contract_files.skipped_text(listing.skipped, 'YAML file')}" if listing.skipped else "")
+        if not chosen:
+            raise UsageError(f"check {shown}: no contract to check under it: it looked at {listing.how}{passed} "
+                             "(`rmw-introspect contracts DIR` lists what it finds; docs/contract-files.md)")
+        said = contract_files.kinds_text(listing.contracts[name] for name in chosen)
+        print(f"rmw-introspect: {shown}: {contract_files.counted(len(chosen), 'contract')} ({said}){passed}",
+              file=sys.stderr)
+        files += [os.path.join(shown, name) for name in chosen]
+    return files
+
+
 def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     from ..check import golden_record, pipeline, sharding
     from ..check.outcome import Verdict, decide
@@ -143,6 +171,7 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         if refusal:
             raise UsageError(refusal.replace("--update-golden", "--update").replace(
                 "run `pytest --update` on", "run `rmw-introspect check --update` on"))
+    args.contracts = contract_files_given(args.contracts)
     baseline = baselines.load(args)
     if args.shard:
         shard = sharding.parse(args.shard)

@@ -13,10 +13,19 @@ TALKER = f"script: {NODES / 'talker.py'}"
 
 
 def test_check_passes_when_the_capture_matches(cli):
-    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER))
-    result = cli("check", "talker.interfaces.yaml")
+    # a directory is every contract under it, found by its content whatever its name (issue 47)
+    cli.write("contracts/talker.yaml", talker_contract(target=TALKER))
+    cli.write("contracts/params.yaml", "/talker:\n  ros__parameters: {rate: 1.0}\n")
+    result = cli("check", "contracts")
     assert result.returncode == 0, result
-    assert result.stdout == "talker.interfaces.yaml: matches (/talker)\n"
+    assert result.stdout == "contracts/talker.yaml: matches (/talker)\n"
+    assert "contracts: 1 contract (1 node contract); not contracts" in result.stderr, result
+    assert "1 YAML file: params.yaml" in result.stderr, result
+    (cli.path / "empty").mkdir()
+    cli.write("empty/params.yaml", "/talker:\n  ros__parameters: {rate: 1.0}\n")
+    nothing = cli("check", "empty")
+    assert nothing.returncode == 2, nothing
+    assert "check empty: no contract to check under it" in nothing.stderr and "params.yaml" in nothing.stderr, nothing
 
 
 def test_check_reports_drift_with_exit_1_and_the_accept_command(cli):

@@ -9,7 +9,7 @@ unless ``RMW_INTROSPECT_TALLY`` names a file, and then each call appends one lin
 - ``rule\t<id>``: a drift or compatibility item of that rule was made;
 - ``kind\t<kind>``: a file was read as a contract of that kind (``model/contract_kind.py``).
 
-The test suite's plugin (``tests/support/test_cost.py``) gives each xdist worker a file of its
+The test suite's plugin (``tests/support/cost_report.py``) gives each xdist worker a file of its
 own and reads the lines a test appended while it ran: the variable is inherited by the pytest
 and ``rmw-introspect`` subprocesses a test starts, so their starts count for that test. Lines
 other than ``start`` are written once per process. The file is opened in append mode for

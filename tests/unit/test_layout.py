@@ -89,3 +89,15 @@ def test_the_repository_layout_table_names_every_directory():
     tests = sorted(p.name for p in (REPO / "tests").iterdir() if p.is_dir() and not p.name.startswith((".", "__")))
     missing += [f"tests/{d}/" for d in tests if f"`{d}/`" not in table]
     assert missing == [], f"docs/development.md, \"Repository layout\": add a row or a mention for {missing}"
+
+
+def test_test_files_have_unique_basenames() -> None:
+    """pytest imports the suite's test files by their basename (no ``__init__.py``, the prepend
+    import mode): two files of one name in different tiers make the second an "import file
+    mismatch" error at collection (it stopped CI's unit tier once)."""
+    seen: dict[str, list[str]] = {}
+    for path in sorted((REPO / "tests").rglob("test_*.py")):
+        if ".venv" in path.parts or "site-packages" in path.parts:
+            continue
+        seen.setdefault(path.name, []).append(str(path.relative_to(REPO)))
+    assert {name: paths for name, paths in seen.items() if len(paths) > 1} == {}

@@ -8,6 +8,7 @@ import os
 import shutil
 import subprocess
 from pathlib import Path
+from typing import Any
 
 import pytest
 import rmwi_helpers as h
@@ -25,6 +26,16 @@ def _build_key(root: Path) -> str:
     never reuse, or reconfigure, each other's build."""
     keyed = h.ament_prefix_path() + "\0" + tree_hash(root)
     return hashlib.sha256(keyed.encode()).hexdigest()[:16]
+
+
+def _building(dest: Path) -> Any:
+    """A lock held while ``dest`` is checked and built: xdist workers each set up their session
+    fixtures, and two that build the same directory at once undo each other's build (one removes
+    the tree the other is building; seen as a failed C node build in a fresh clone's CI run)."""
+    from filelock import FileLock
+
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    return FileLock(str(dest) + ".lock")
 
 
 def _cmake_build(src: Path, build_dir: Path, *extra: str) -> None:
@@ -49,10 +60,11 @@ def gtest_build_dir() -> Path:
     """The package built with BUILD_TESTING=ON (cached by its sources and ROS prefix)."""
     dest = middleware.cache_root() / f"gtest-{_build_key(SOURCES)}"
     stamp = dest / "complete"
-    if not stamp.exists():
-        shutil.rmtree(dest, ignore_errors=True)
-        _cmake_build(SOURCES, dest / "build", "-DCMAKE_BUILD_TYPE=RelWithDebInfo", "-DBUILD_TESTING=ON")
-        stamp.write_text("ok\n")
+    with _building(dest):
+        if not stamp.exists():
+            shutil.rmtree(dest, ignore_errors=True)
+            _cmake_build(SOURCES, dest / "build", "-DCMAKE_BUILD_TYPE=RelWithDebInfo", "-DBUILD_TESTING=ON")
+            stamp.write_text("ok\n")
     return dest / "build"
 
 
@@ -62,15 +74,18 @@ def c_node(tmp_path_factory) -> Path:
     src = Path(__file__).parent / "c_node"
     dest = middleware.cache_root() / f"c_node-{_build_key(src)}"
     exe = dest / "build" / "rmwi_c_node"
-    if not exe.exists():
-        shutil.rmtree(dest, ignore_errors=True)
-        import sysconfig
+    stamp = dest / "complete"
+    with _building(dest):
+        if not stamp.exists():
+            shutil.rmtree(dest, ignore_errors=True)
+            import sysconfig
 
-        _cmake_build(
-            src, dest / "build", "-DCMAKE_BUILD_TYPE=Release",
-            f"-DPYTHON_LIBDIR={sysconfig.get_config_var('LIBDIR')}",
-            f"-DPYTHON_LIBRARY_NAME=python{sysconfig.get_config_var('LDVERSION')}",
-        )
+            _cmake_build(
+                src, dest / "build", "-DCMAKE_BUILD_TYPE=Release",
+                f"-DPYTHON_LIBDIR={sysconfig.get_config_var('LIBDIR')}",
+                f"-DPYTHON_LIBRARY_NAME=python{sysconfig.get_config_var('LDVERSION')}",
+            )
+            stamp.write_text("ok\n")
     return exe
 
 

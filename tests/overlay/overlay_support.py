@@ -12,6 +12,7 @@ import hashlib
 import importlib.util
 import json
 import os
+import shutil
 import subprocess
 import sys
 from dataclasses import dataclass
@@ -80,6 +81,9 @@ def cmake_build(overlay: Overlay, src: Path, name: str, *args: str) -> Path:
     with FileLock(str(dest) + ".lock"):
         if stamp.exists():
             return dest
+        # an unfinished build (an interrupted run, perhaps of another clone: CMake refuses a build tree
+        # configured from another source directory) starts again
+        shutil.rmtree(dest / "build", ignore_errors=True)
         log = dest / "build.log"
         dest.mkdir(parents=True, exist_ok=True)
         with log.open("w") as out:

@@ -82,4 +82,5 @@ def pytest_report_header(config: pytest.Config) -> list[str] | None:
 
 def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter, exitstatus: int, config: pytest.Config) -> None:
     session.terminal_summary(terminalreporter, config)
+    gate_items.terminal_summary(terminalreporter, config)
 

@@ -13,7 +13,10 @@ judge consumers, or those ``--against-system`` names. Comparison options come fr
 command line (``--rmw-introspect-fail-on``, ``--rmw-introspect-ignore-qos``, ...) over each
 contract's ``options:``; the session's baseline (ini ``rmw_introspect_baseline``) applies. A
 REF that cannot be read (no git repository, no such revision, a shallow clone without it) is a
-usage error: one message, nothing collected; so is a gate that finds no contract at all.
+usage error: one message, nothing collected; so is a gate that finds no contract at all. The
+terminal summary says what the gate looked at (a section "rmw-introspect: the gate against REF":
+how many contracts of each kind it compared, the tracked YAML files it decided were not contracts,
+those it could not read), as ``diff --against`` does on its first lines.
 """
 
 from __future__ import annotations
@@ -30,7 +33,10 @@ from . import option_flags
 from .session import state
 
 if TYPE_CHECKING:  # the gate (and the comparison pipeline) is imported when --against is given
-    from ..check.gate import GateContract
+    from ..check.gate import GateContract, GateResult
+
+#: what the gate of this session looked at (``GateResult.intro``), for the terminal summary
+_LOOKED_AT = pytest.StashKey[list[str]]()
 
 
 def addoption(parser: pytest.Parser) -> None:
@@ -105,7 +111,33 @@ def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config
         # not a test result; an item that fails would sit among passing tests, a usage error stops the
         # session with pytest's exit status 4 and this one message (nothing "passed" with no gate item).
         raise pytest.UsageError(f"--against {against}: {exc}") from None
+    config.stash[_LOOKED_AT] = _looked_at(result)
     for compared in result.contracts:
         items.append(GateItem.from_parent(session, name=f"{compared.shown}::against:{against}",
                                           nodeid=f"{compared.shown}::against:{against}", path=compared.path,
                                           compared=compared, against=against))
+
+
+def _looked_at(result: GateResult) -> list[str]:
+    return [f"{result.title()}: {result.intro()[0]}", *result.intro()[1:]]
+
+
+def terminal_summary(terminalreporter: pytest.TerminalReporter, config: pytest.Config) -> None:
+    """What the gate looked at, once at the end of the session (a gate must say what it read).
+    Under xdist the controller collects nothing: it reads the gate itself (files only, no target
+    is run); a gate that could not run said so as a usage error already."""
+    against = config.getoption("rmw_introspect_against", None)
+    if not against or hasattr(config, "workerinput"):
+        return
+    said = config.stash.get(_LOOKED_AT, None)
+    if said is None:
+        from ..check import gate
+
+        try:
+            said = _looked_at(gate.run(against, systems=config.getoption("rmw_introspect_against_system", None),
+                                       cwd=config.invocation_params.dir))
+        except RmwIntrospectError:
+            return
+    terminalreporter.section(f"rmw-introspect: the gate against {against}")
+    for line in said:
+        terminalreporter.write_line(line)

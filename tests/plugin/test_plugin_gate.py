@@ -34,6 +34,9 @@ def test_one_item_per_contract_failing_with_the_report(project):
     assert f"{TALKER}::against:main FAILED" in out and f"{GONE}::against:main FAILED" in out
     assert "[INTERFACE_VERSION_BUMP_MISSING]" in out and "write interface_version: 2.0.0" in out
     assert f"{GONE} (removed: everything it promised is gone)" in out
+    # the session says what the gate looked at, as `diff --against` does (issue 47)
+    assert "rmw-introspect: the gate against main" in out
+    assert "Interface changes against main (" in out and "): 3 contracts: 3 marker goldens; 2 changed, 1 removed" in out
 
 
 def test_items_are_selected_like_any_other(project):
@@ -75,6 +78,12 @@ def test_finding_1_marker_goldens_named_as_the_readme_names_them_are_gate_items(
     result = project.run("--against", "main", "--rmw-introspect-contracts", "none", "-v")
     result.assert_outcomes(failed=1)
     assert "test/contracts/driver.yaml::against:main FAILED" in result.stdout.str()
+    # what it looked at, in the terminal summary; under xdist too, where the controller collects nothing
+    for run in (result, project.run("--against", "main", "--rmw-introspect-contracts", "none", "-n", "2")):
+        out = run.stdout.str()
+        assert "1 contract: 1 marker golden; 1 changed" in out, out
+        assert "not contracts (no top-level contract_version:, system_version: or nodl_version: key): " \
+               "1 tracked YAML file: config/params.yaml" in out, out
 
 
 def test_a_gate_with_no_contract_is_a_usage_error(project):

@@ -20,7 +20,8 @@ fails the test unless the nodes of the contracts fit together (a compatibility c
 The package is layered (docs/design.md): ``model`` (the vocabulary, captures, contracts),
 ``compare`` (options, drift, compatibility checks, reports), ``launch`` (reading launch files)
 and ``run`` (targets, the runner, ROS detection, the middleware library, system captures), then
-``check`` (the pipeline, outcomes, the golden writer) and the two front ends, ``plugin`` (pytest)
+``check`` (the pipeline, outcomes, the golden writer), ``live`` (a running graph read on the real
+middleware and checked against contracts) and the two front ends, ``plugin`` (pytest)
 and ``cli`` (``rmw-introspect``). Beside them: ``errors`` (every exception class of the package:
 the errors a user can cause and the few that stay inside it), ``_version`` (the one version) and
 ``__main__`` (``python -m pytest_rmw_introspect``); ``options_reference`` renders the option tables

@@ -43,6 +43,7 @@ __all__ = [
     "ExecutableNotFound",
     "LaunchError",
     "LifecycleTransitionFailed",
+    "LiveGraphError",
     "NoNodeCreated",
     "OptionError",
     "RevisionError",
@@ -486,6 +487,12 @@ class NoContracts(RevisionError):
 class UsageError(RmwIntrospectError):
     """A bad command line or option value (``rmw-introspect``'s arguments, ``--shard``): the
     message says which and what to write; exit status 2."""
+
+
+class LiveGraphError(RmwIntrospectError):
+    """The live check could not read a running graph (``check --live``, ``capture --live``):
+    nothing running in the domain, a middleware that is not installed or is the recording one,
+    a reader that failed; the message says which and what to do; exit status 2."""
 
 
 class OptionError(RmwIntrospectError):

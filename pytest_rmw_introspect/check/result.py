@@ -190,6 +190,22 @@ class ContractCheck(abc.ABC, Generic[ContractT, SpecT, CaptureT]):
         """What the check notes beside its findings, not about the capture (the report lists
         them with the capture's notes; ``check`` says them when there is no report)."""
 
+    def findings_text(self, *, accept_command: str | None, system_title: str) -> str:
+        """The drift report (also when nothing at all was found), then the system problems under
+        ``system_title``, then what was accepted and the stale ``accept:`` entries."""
+        parts = []
+        if self.drift_items or not self.system_items:
+            parts.append(report.render_text(self.drift_items, contract_path=self.shown, threshold=self.threshold,
+                                            accept_command=accept_command if self.drift_items else None,
+                                            title=self.title()))
+        if self.system_items:
+            parts.append(report.render_system_problems(self.system_items, threshold=self.system_threshold,
+                                                       title=system_title))
+        text = "\n".join(p.rstrip("\n") + "\n" for p in parts)
+        if self.accepted or self.stale:
+            text += "\n".join(report.render_acceptances(self.accepted, self.stale)).lstrip("\n") + "\n"
+        return text
+
     @abc.abstractmethod
     def render_text(self, accept_command: str | None = None) -> str:
         """The report for people (the same text as a failing test)."""

@@ -281,17 +281,7 @@ class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]
     def render_text(self, accept_command: str | None = None) -> str:
         if self.error is not None:
             return str(self.error)
-        parts = []
-        if self.drift_items or not self.system_items:
-            parts.append(report.render_text(self.drift_items, contract_path=self.shown, threshold=self.threshold,
-                                            accept_command=accept_command if self.drift_items else None,
-                                            title=self.title()))
-        if self.system_items:
-            parts.append(report.render_system_problems(self.system_items, threshold=self.system_threshold,
-                                                       title=f"System check of {self.shown}"))
-        text = "\n".join(p.rstrip("\n") + "\n" for p in parts)
-        if self.accepted or self.stale:
-            text += "\n".join(report.render_acceptances(self.accepted, self.stale)).lstrip("\n") + "\n"
+        text = self.findings_text(accept_command=accept_command, system_title=f"System check of {self.shown}")
         notes = self.notes()
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes) + "\n"

@@ -23,6 +23,8 @@ One line per module (:func:`main` here is the console script):
 - ``formats``: what the commands print or write (contract, JSON, NoDL, raw; ``--summary``)
 - ``system_contracts``: system contracts on the command line (``capture --launch``, ``*.system.yaml``)
 - ``launch_options``: the launch-file options, declared and read without the system pipeline
+- ``live_options``: ``--live`` and ``--parameter-timeout``, declared without the live check
+- ``live``: ``check --live`` and ``capture --live``: the running graph read once and compared
 - ``baselines``: ``--baseline`` and ``--write-baseline``
 - ``ros_setup``: the ROS environment and middleware library, found on first use
 """

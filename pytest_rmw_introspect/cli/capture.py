@@ -14,6 +14,7 @@ from ..errors import TargetError, UsageError
 from . import launch_options
 from .arguments import add_target, target_from_args
 from .exit_status import EXIT_OK
+from .live_options import add_live
 
 #: the start note of a command's only capture: a warm start server pays off from the second one
 ONE_CAPTURE_STARTS_COLD = "a run with one capture starts it cold (a warm start server pays off from the second)"
@@ -78,12 +79,17 @@ def add_parser(sub: Any) -> None:
     out.add_argument("--partial", action="store_true",
                      help="when the target fails or hangs, still write what was captured (exit status stays 2)")
     launch_options.add_launch(cap)
+    add_live(cap)  # --live: the running graph (issue 52, cli/live.py)
     cap.set_defaults(handler=cmd_capture)
 
 
 def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
     from .ros_setup import Setup
 
+    if args.live:  # issue 52: a system contract of the running graph
+        from . import live
+
+        return live.cmd_capture(args, command)
     setup = Setup()  # the ROS environment and the middleware, found on first use
     if launch_options.wants_launch(args):
         from . import system_contracts  # the system pipeline and launch readers: only for a launch file

@@ -21,6 +21,7 @@ from . import option_flags
 from .arguments import add_baseline, add_compare, add_format, add_target, compare_from_args, target_from_args
 from .exit_status import EXIT_DRIFT, EXIT_ERROR, EXIT_OK
 from .launch_options import add_launch
+from .live_options import add_live
 
 if TYPE_CHECKING:
     from ..check.outcome import Checked
@@ -88,6 +89,7 @@ def add_parser(sub: Any) -> None:
     chk.add_argument("-v", "--verbose", action="store_true",
                      help="a passing system contract names every node it matched (else it says how many nodes in "
                      "how many processes)")
+    add_live(chk)  # --live: the running graph (issue 52, cli/live.py)
     chk.set_defaults(handler=cmd_check)
 
 
@@ -178,8 +180,15 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         everything = args.contracts
         args.contracts = shard.select(everything, lambda shown: Path(os.path.normpath(shown)).as_posix())
         print(f"shard {shard}: {len(args.contracts)} of {len(everything)} contract(s)", file=sys.stderr)
+    # --live (issue 52): the running graph, read once, stands in for every contract's target
+    live_graph = None
+    if args.live:
+        from . import live as live_check
+
+        live_check.refuse_with_live(args, command)
+        live_graph = live_check.read(args)
     cwd = Path.cwd()
-    target = target_from_args(args, command)
+    target = target_from_args(args, command) if live_graph is None else {}
     layers = pipeline.Layers(strong_target=[(target, cwd, "command line")] if target else [],
                              strong_options=[(compare_from_args(args), "command line")])
     setup = Setup()
@@ -191,7 +200,9 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     for shown in args.contracts:
         path = Path(shown)
         result: Checked
-        if system_contracts.is_system(path, args):
+        if live_graph is not None:  # --live (issue 52)
+            result = live_check.check_one(path, shown, live_graph, layers)
+        elif system_contracts.is_system(path, args):
             result = system_contracts.check_system_contract(args, path, shown, command, setup.ros, setup.library)
         else:
             result = pipeline.check_contract(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,

@@ -14,6 +14,8 @@ state and its summary. Everything else lives in the modules next to it:
 * ``verdict``: an outcome (``check.outcome``) as a pytest outcome;
 * ``assertions``: ``check_compatible``;
 * ``system_marker``: the ``system_contract`` marker, the ``system_capture`` fixture, system contract items;
+* ``live_fixtures``: the ``live_system`` fixture and ``system_contract(..., live=True)``: a launch
+  file brought up on the real middleware and checked live (issue 52);
 * ``lookahead``: which items run next, for capturing ahead;
 * ``gate_items``: ``--against REF``, the pull-request gate: one item per contract.
 * ``notices``: the progress lines of slow steps (a middleware build) on the terminal.

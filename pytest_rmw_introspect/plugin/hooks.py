@@ -24,10 +24,12 @@ from . import items, lookahead, marker, marker_goldens, session, system_marker, 
 from . import items as items_module
 from . import session as session_module
 from .fixtures import interfaces, rmw_capture, rmw_introspect_library, rmw_introspect_marker_check, rmw_introspect_ros
+from .live_fixtures import live_system
 from .system_marker import rmw_introspect_system_marker_check, system_capture
 
 __all__ = [
     "interfaces",
+    "live_system",
     "rmw_capture",
     "rmw_introspect_library",
     "rmw_introspect_ros",

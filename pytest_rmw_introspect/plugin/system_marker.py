@@ -26,7 +26,7 @@ import os
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import pytest
 
@@ -34,13 +34,15 @@ from ..errors import OptionError, RmwIntrospectError
 from ..model import system_contract
 from ..model.option_tables import COMPARISON, FrontEnd
 from ..model.system_contract import SYSTEM_TARGET_KEYS
-from . import verdict
+from . import live_fixtures, verdict
 from .fixtures import UnavailableCapture
 from .session import SessionState, state
 
 if TYPE_CHECKING:  # the system pipeline and launch readers: imported by the first system test that runs
     from ..check.system_pipeline import SystemPrepared
+    from ..model.capture import Capture
     from ..run.system_capture import SystemCapture
+    from .live_fixtures import LiveMarkerState
 
 MARKER = "system_contract"
 OPTION_KEYS = COMPARISON.names(FrontEnd.SYSTEM)
@@ -48,7 +50,8 @@ MARKER_DOC = (
     f"{MARKER}(contract, **options): capture every process the system contract's launch file starts and "
     "compare the system with the contract (path relative to the test file); run the compatibility rules. Keyword "
     f"arguments: launch_arguments, target options ({', '.join(SYSTEM_TARGET_KEYS)}), comparison options "
-    f"({', '.join(OPTION_KEYS)})."
+    f"({', '.join(OPTION_KEYS)}); live=True: bring the launch file up on the real middleware in a domain of its "
+    "own and check the running graph instead (`check --live`)."
 )
 ITEM_NAME = "system"
 
@@ -56,8 +59,10 @@ ITEM_NAME = "system"
 @dataclass
 class SystemItemState:
     prepared: SystemPrepared | None = None
-    capture: SystemCapture | None = None
+    capture: SystemCapture | Capture | None = None
     error: RmwIntrospectError | None = None
+    #: ``live=True`` (issue 52): the system brought up on the real middleware and its graph
+    live: LiveMarkerState | None = None
 
 
 ITEM = pytest.StashKey[SystemItemState]()
@@ -73,6 +78,7 @@ def parse(item: pytest.Item) -> tuple[Path, dict[str, Any], dict[str, Any], dict
     marker = item.get_closest_marker(MARKER)
     assert marker is not None
     kwargs = dict(marker.kwargs)
+    kwargs.pop("live", None)  # is_live
     where = source(item)
     args = list(marker.args)
     contract = kwargs.pop("contract", None)
@@ -97,8 +103,16 @@ def parse(item: pytest.Item) -> tuple[Path, dict[str, Any], dict[str, Any], dict
     return path, dict(launch_arguments), target, options
 
 
-def prepare(item: pytest.Item, session_state: SessionState) -> SystemItemState:
-    """Load the marker's system contract and capture every process of its launch file."""
+def is_live(item: pytest.Item) -> bool:
+    """``live=True``: the launch file runs on the real middleware and is checked live (issue 52)."""
+    marker = item.get_closest_marker(MARKER)
+    return marker is not None and bool(marker.kwargs.get("live", False))
+
+
+def prepare(item: pytest.Item, session_state: SessionState,
+            request: pytest.FixtureRequest | None = None) -> SystemItemState:
+    """Load the marker's system contract and capture every process of its launch file (with
+    ``live=True``: bring it up on the real middleware and read its graph)."""
     from ..check import system_pipeline
 
     st = SystemItemState()
@@ -109,8 +123,15 @@ def prepare(item: pytest.Item, session_state: SessionState) -> SystemItemState:
         st.prepared = system_pipeline.prepare(path, layers=layers, launch_arguments=launch_arguments,
                                               shown=session_state.display(path),
                                               ros=session_state.ros)
-        st.capture = system_pipeline.run_capture(st.prepared, library=session_state.library(),
-                                                 ros=session_state.ros())
+        if request is not None and is_live(item):  # issue 52 item 4
+            launch = st.prepared.launch
+            block = {"path": str(launch.path), "arguments": dict(launch.arguments),
+                     "allow_unsupported": launch.allow_unsupported}
+            st.live = live_fixtures.bring_up_for_marker(request, path, block, Path(item.path).parent, layers)
+            st.capture = st.live.graph.capture
+        else:
+            st.capture = system_pipeline.run_capture(st.prepared, library=session_state.library(),
+                                                     ros=session_state.ros())
     except RmwIntrospectError as exc:
         st.error = exc
     return st
@@ -121,20 +142,24 @@ def check_system_marker_item(item: pytest.Item, st: SystemItemState, session_sta
     from ..check import system_pipeline
 
     assert st.prepared is not None and st.capture is not None
-    verdict.apply(item, system_pipeline.compare(st.prepared, st.capture), session_state)
+    if st.live is not None:  # live=True (issue 52)
+        live_fixtures.check_marker(item, st.prepared.path, st.live, session_state)
+        return
+    verdict.apply(item, system_pipeline.compare(st.prepared, cast("SystemCapture", st.capture)), session_state)
 
 
 @pytest.fixture
-def system_capture(request: pytest.FixtureRequest) -> SystemCapture | UnavailableCapture:
+def system_capture(request: pytest.FixtureRequest) -> SystemCapture | Capture | UnavailableCapture:
     """The :class:`~pytest_rmw_introspect.run.system_capture.SystemCapture` of the test's
-    ``@pytest.mark.system_contract(...)``: every process of the launch file and what it created."""
+    ``@pytest.mark.system_contract(...)``: every process of the launch file and what it created
+    (with ``live=True``: the :class:`~pytest_rmw_introspect.model.capture.Capture` of the live graph)."""
     item = request.node
     if item.get_closest_marker(MARKER) is None:
         pytest.fail(f"the `system_capture` fixture needs an @pytest.mark.{MARKER}(\"robot.system.yaml\") marker",
                     pytrace=False)
     existing = item.stash.get(ITEM, None)
     if existing is None:
-        existing = prepare(item, state(request.config))
+        existing = prepare(item, state(request.config), request)
         item.stash[ITEM] = existing
     if existing.error is not None:
         return UnavailableCapture(existing.error)

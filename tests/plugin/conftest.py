@@ -4,6 +4,7 @@ real recording middleware."""
 
 from __future__ import annotations
 
+import sys
 import textwrap
 from pathlib import Path
 
@@ -34,6 +35,19 @@ class Project:
 
     def read(self, relpath: str) -> str:
         return (self.path / relpath).read_text()
+
+    def robot_launch(self, more: str = "") -> Path:
+        """launch/robot.launch.xml: the talker node script as /<ns>/talker (argument ``ns``, default
+        robot), and ``more`` (XML lines) in the same group."""
+        return self.write("launch/robot.launch.xml", f"""\
+            <launch>
+              <arg name="ns" default="robot"/>
+              <group>
+                <push-ros-namespace namespace="$(var ns)"/>
+                <node exec="{sys.executable}" args="{self.node('talker.py')}" name="talker"/>
+            {more}  </group>
+            </launch>
+            """)
 
     def run(self, *args: str, timeout: float = 120) -> pytest.RunResult:
         return self.pytester.runpytest_subprocess("-p", "no:cacheprovider", "-p", "no:randomly", *args,

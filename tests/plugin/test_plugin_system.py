@@ -13,16 +13,7 @@ def launch(project, *, mistake: bool = False) -> None:
     with the same node name."""
     second = (f'    <node exec="{sys.executable}" args="{project.node("talker.py")}" name="talker"/>\n'
               if mistake else "")
-    project.write("launch/robot.launch.xml", f"""\
-        <launch>
-          <arg name="ns" default="robot"/>
-          <group>
-            <push-ros-namespace namespace="$(var ns)"/>
-            <node exec="{sys.executable}" args="{project.node('talker.py')}" name="talker"/>
-        {second}    <node exec="{sys.executable}" args="{project.node('qos_node.py')}"/>
-          </group>
-        </launch>
-        """)
+    project.robot_launch(f'{second}    <node exec="{sys.executable}" args="{project.node("qos_node.py")}"/>\n')
 
 
 def test_update_golden_writes_a_system_contract_and_the_item_checks_it(project):

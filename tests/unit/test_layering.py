@@ -97,6 +97,8 @@ LOCAL_IMPORTS = {
     ("plugin.gate_items", "pytest_rmw_introspect.check"): "the gate and the comparison pipeline (~40 ms): only "
                                                           "a session with --against",
     ("plugin.gate_items", "pytest_rmw_introspect.compare"): "the baseline reader (with the drift rules): as above",
+    ("plugin.live_fixtures", "pytest_rmw_introspect.live"): "the live check, the bring-up and the launch readers: "
+                                                            "only tests that bring a system up",
     ("plugin.system_marker", "pytest_rmw_introspect.check"): "the system pipeline and launch readers (~15 ms): "
                                                              "only system contracts need them",
 }

@@ -25,13 +25,14 @@ import signal
 import subprocess
 import tempfile
 import time
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
 from ..errors import LiveGraphError
 from ..launch import reader as launch_reader
+from ..launch.result import LaunchedNode
 from ..run import ros_env, system_capture
 from ..run import target as target_module
 from ..run.target import TargetSpec
@@ -164,19 +165,27 @@ def bring_up(launch: Mapping[str, Any], *, base_dir: str | Path, ros: Any = None
         raise LiveGraphError(f"{spec.path} loads components into a container ({containers[0].where}): a live bring-up "
                              "without launch_ros cannot load them; start it with `ros2 launch` and check it with "
                              "`rmw-introspect check --live`")
+    return start(launched.nodes, ros=ros, domain=domain, env=env)
+
+
+def start(processes: Sequence[LaunchedNode | TargetSpec], *, ros: Any = None, domain: Domain | None = None,
+          env: Mapping[str, str] | None = None) -> RunningSystem:
+    """Start ``processes`` (a launch file's, or targets of node contracts) on the real middleware
+    in a domain of their own (``domain``, default: :func:`reserve_domain`); nothing is left
+    running when starting one fails."""
+    ros = ros or ros_env.detect()
     domain = domain or reserve_domain()
     system = RunningSystem(domain=domain, env=isolated_env(domain.id, env))
     system.workdir = Path(tempfile.mkdtemp(prefix="rmw_introspect_live_"))
     try:
-        for index, node in enumerate(launched.nodes):
+        for index, node in enumerate(processes):
             directory = system.workdir / str(index)
             directory.mkdir()
-            process = system_capture.process_spec(node, TargetSpec(), directory)
+            process = node if isinstance(node, TargetSpec) else system_capture.process_spec(node, TargetSpec(), directory)
             resolved = target_module.resolve(process, workdir=directory, library=_NO_LIBRARY, ros=ros,
                                              cold_note="a live bring-up")
             process_env = isolated_env(domain.id, {**resolved.env, **{k: v for k, v in system.env.items()
                                                                       if k == "RMW_IMPLEMENTATION"}})
-            process_env.pop("ROS_LOG_DIR", None)
             process_env["ROS_LOG_DIR"] = str(directory / "log")
             log = directory / "output.log"
             with open(log, "wb") as out:
@@ -184,7 +193,7 @@ def bring_up(launch: Mapping[str, Any], *, base_dir: str | Path, ros: Any = None
                                                          stdin=subprocess.DEVNULL, stdout=out,
                                                          stderr=subprocess.STDOUT, start_new_session=True))
             system.logs.append(log)
-            system.expected.append(node.expected_fqn)
+            system.expected.append(None if isinstance(node, TargetSpec) else node.expected_fqn)
     except BaseException:
         system.stop()
         raise

@@ -1,0 +1,55 @@
+"""Every node of the example package, started from its own contract's `target:` on Fast DDS (one
+ROS_DOMAIN_ID of their own, localhost discovery) and checked live against that contract in one
+`check --live` run (issue 52 item 5, over every node of examples/; the launch file is
+tests/cli/test_cli_live.py's). The contracts are the recording middleware's captures, so what the
+live check finds beyond its notes is what the capture and the running node really differ in, each
+said here: the one-shot clients have exited (their node is gone), and the lifecycle node that a
+capture drives to `active` is `unconfigured` when nobody drives it (and lacks the publisher it
+creates on activation). About 17 s on a shared 2-core machine."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+from cli_helpers import Cli
+
+from pytest_rmw_introspect.live import bringup
+from pytest_rmw_introspect.model import contract as contract_model
+from pytest_rmw_introspect.run.target import TargetSpec
+
+CONTRACTS = Path(__file__).resolve().parents[2] / "examples" / "rmw_introspect_examples" / "contracts"
+#: the programs that do their work once and exit (their node is gone from a live graph)
+ONE_SHOT = {"fibonacci_client", "motor_deadline_client", "motor_enable_client", "self_test"}
+#: what the live check finds, by contract: the one-shot nodes gone, the lifecycle node not driven
+EXPECTED = {
+    **{f"{name}.interfaces.yaml": {"NODE_REMOVED", "SERVICE_CLIENT_REMOVED", "ACTION_CLIENT_REMOVED", "PUB_REMOVED"}
+       for name in ONE_SHOT},
+    "lifecycle_talker.interfaces.yaml": {"LIFECYCLE_STATE_CHANGED", "PUB_REMOVED"},
+}
+
+
+def test_every_example_node_runs_on_fast_dds_as_its_capture_says(cli: Cli):
+    files = sorted(CONTRACTS.glob("*.interfaces.yaml"))
+    targets = [TargetSpec.from_mapping(contract_model.load(f).target or {}, base_dir=f.parent, source=str(f))
+               for f in files]
+    started = time.monotonic()
+    system = bringup.start(targets)
+    try:
+        deadline = time.monotonic() + 30  # the one-shot programs end by themselves: read after they did
+        while time.monotonic() < deadline and sum(p.poll() is not None for p in system.processes) < len(ONE_SHOT):
+            time.sleep(0.2)
+        assert sum(p.poll() == 0 for p in system.processes) == len(ONE_SHOT), system.exited()
+        print(f"the one-shot programs ended {time.monotonic() - started:.1f} s after the start")
+        result = cli("check", "--live", "--settle", "1.5", *files, "--format", "json",
+                     env={k: system.env[k] for k in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")}, timeout=120)
+    finally:
+        system.stop()
+    assert result.returncode == 1, result
+    found: dict[str, set[str]] = {}
+    for item in json.loads(result.stdout):
+        found.setdefault(Path(item["contract"]).name, set()).add(item["rule"])
+    assert set(found) == set(EXPECTED), found
+    for name, rules in found.items():
+        assert rules <= EXPECTED[name], (name, rules)

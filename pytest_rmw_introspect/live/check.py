@@ -85,7 +85,7 @@ class LiveView:
         return nodes
 
     def notes(self) -> list[str]:
-        return [*self.graph.notes(), *self.unobserved]
+        return [*self.graph.notes(self.nodes), *self.unobserved]
 
     def summary(self) -> str:
         names = sorted(self.graph.capture.nodes)
@@ -192,7 +192,9 @@ class LiveCheckResult(ContractCheck[Any, LiveSpec, LiveView]):
         return []
 
     def check_notes(self) -> list[str]:
-        return []
+        """What the live graph could not show, said once per run (``note:`` lines, pytest's
+        terminal summary) when there is no report to say it in."""
+        return self.notes() if not self.items and self.error is None else []
 
     def notes(self) -> list[str]:
         return self.capture.notes() if self.capture is not None else []

@@ -15,7 +15,7 @@ import json
 import os
 import subprocess
 import sys
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -59,18 +59,21 @@ class LiveGraph:
     def describe(self) -> str:
         return f"the running graph of ROS_DOMAIN_ID {self.domain_id} ({self.rmw_implementation})"
 
-    def notes(self) -> list[str]:
-        """What a report's reader should know about the read (not drift)."""
+    def notes(self, nodes: Collection[str] | None = None) -> list[str]:
+        """What a report's reader should know about the read (not drift); ``nodes``: only about
+        these nodes (default: every node)."""
         out = []  # (the environment notes are said on stderr as the read starts)
+        parameters = [n for n in self.parameters_unanswered if nodes is None or n in nodes]
+        lifecycle = [n for n in self.lifecycle_unanswered if nodes is None or n in nodes]
         if not self.settled:
             out.append(f"the graph was still changing after {self.settings.timeout:g} s (--timeout): it was read as it "
                        "was then")
-        if self.parameters_unanswered:
+        if parameters:
             out.append(f"parameters not read (the node's parameter services did not answer within "
-                       f"{self.settings.parameter_timeout:g} s), not compared: {', '.join(self.parameters_unanswered)}")
-        if self.lifecycle_unanswered:
+                       f"{self.settings.parameter_timeout:g} s), not compared: {', '.join(parameters)}")
+        if lifecycle:
             out.append(f"lifecycle state not read (`get_state` did not answer within "
-                       f"{self.settings.parameter_timeout:g} s), not compared: {', '.join(self.lifecycle_unanswered)}")
+                       f"{self.settings.parameter_timeout:g} s), not compared: {', '.join(lifecycle)}")
         return out
 
 

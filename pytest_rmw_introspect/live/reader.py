@@ -165,7 +165,7 @@ class Reader:
         while time.monotonic() < deadline and not all(f.done() for f in futures):
             self.spin_once(0.02)
 
-    def ask(self, requests: dict[str, tuple[Any, str, Any]], deadline: float) -> dict[str, Any]:
+    def ask(self, requests: dict[Any, tuple[Any, str, Any]], deadline: float) -> dict[Any, Any]:
         """Send each request (key → (service type, service name, request)) once its server is
         ready; the answers by key (absent: no server, or no answer before ``deadline``)."""
         clients = {key: self.node.create_client(srv, name) for key, (srv, name, _req) in requests.items()}
@@ -185,27 +185,34 @@ class Reader:
 
     def parameters(self, records: list[dict[str, Any]], endpoints: list[dict[str, Any]], budget: float) -> list[str]:
         """Each node's parameters into its record (``parameters``, or ``parameters_error``);
-        returns the nodes whose services did not answer."""
+        returns the nodes whose services did not answer. Every node is asked on its own, so a
+        node that never answers does not hold up the others (they all share ``budget``)."""
         served = {(e["node"], e["name"]) for e in endpoints if e["kind"] == "service"}
         deadline = time.monotonic() + budget
-        asking = [r for r in records if (r["fqn"], f"{r['fqn']}/list_parameters") in served]
-        lists = self.ask({r["fqn"]: (ListParameters, f"{r['fqn']}/list_parameters", ListParameters.Request(depth=0))
-                          for r in asking}, deadline)
-        names = {fqn: list(answer.result.names) for fqn, answer in lists.items()}
-        got = self.ask({fqn: (GetParameters, f"{fqn}/get_parameters", GetParameters.Request(names=n))
-                        for fqn, n in names.items()}, deadline)
-        described = self.ask({fqn: (DescribeParameters, f"{fqn}/describe_parameters",
-                                    DescribeParameters.Request(names=n)) for fqn, n in names.items()}, deadline)
+        asking = {r["fqn"]: ParameterQuestions(self.node, r["fqn"])
+                  for r in records if (r["fqn"], f"{r['fqn']}/list_parameters") in served}
+        try:
+            waiting = set(asking)
+            while waiting and time.monotonic() < deadline:
+                waiting = {fqn for fqn in waiting if not asking[fqn].step()}
+                if waiting:
+                    self.spin_once(0.02)
+        finally:
+            for questions in asking.values():
+                questions.destroy()
         unanswered = []
-        for record in asking:
-            fqn = record["fqn"]
-            if fqn not in got or fqn not in described:
-                unanswered.append(fqn)
+        for record in records:
+            if record["fqn"] not in asking:
+                continue
+            questions = asking[record["fqn"]]
+            if questions.values is None:
+                unanswered.append(record["fqn"])
                 record["parameters_error"] = (f"its parameter services did not answer the live reader within "
                                               f"{budget:g} s")
                 continue
             record["parameters"] = [_parameter(name, value, descriptor) for name, value, descriptor
-                                    in zip(names[fqn], got[fqn].values, described[fqn].descriptors, strict=False)]
+                                    in zip(questions.names or [], questions.values, questions.descriptors,
+                                           strict=False)]
         return unanswered
 
     def lifecycle(self, records: list[dict[str, Any]], endpoints: list[dict[str, Any]], budget: float) -> list[str]:
@@ -225,7 +232,58 @@ class Reader:
         return unanswered
 
 
+class ParameterQuestions:
+    """One node's parameter services asked in turn: ListParameters, then GetParameters and
+    DescribeParameters (and, when rclpy answers an empty list because one parameter has no
+    value, GetParameters for each name); :meth:`step` moves on as answers come."""
+
+    def __init__(self, node: Any, fqn: str) -> None:
+        self.node = node
+        self.lister = node.create_client(ListParameters, f"{fqn}/list_parameters")
+        self.getter = node.create_client(GetParameters, f"{fqn}/get_parameters")
+        self.describer = node.create_client(DescribeParameters, f"{fqn}/describe_parameters")
+        self.futures: dict[str, Any] = {}
+        self.singles: list[Any] = []
+        self.names: list[str] | None = None
+        self.values: list[Any] | None = None
+        self.descriptors: list[Any] = []
+
+    def step(self) -> bool:
+        """Send what can be sent; True once every answer is in."""
+        f = self.futures
+        if "list" not in f:
+            if self.lister.service_is_ready():
+                f["list"] = self.lister.call_async(ListParameters.Request(depth=0))
+            return False
+        if not f["list"].done() or f["list"].result() is None:
+            return False
+        names = self.names = list(f["list"].result().result.names)
+        if "get" not in f:
+            if self.getter.service_is_ready() and self.describer.service_is_ready():
+                f["get"] = self.getter.call_async(GetParameters.Request(names=names))
+                f["describe"] = self.describer.call_async(DescribeParameters.Request(names=names))
+            return False
+        if not all(f[k].done() and f[k].result() is not None for k in ("get", "describe")):
+            return False
+        values = list(f["get"].result().values)
+        if len(values) != len(names):
+            if not self.singles:
+                self.singles = [self.getter.call_async(GetParameters.Request(names=[n])) for n in names]
+                return False
+            if not all(x.done() and x.result() is not None for x in self.singles):
+                return False
+            values = [x.result().values[0] if x.result().values else None for x in self.singles]
+        self.values, self.descriptors = values, list(f["describe"].result().descriptors)
+        return True
+
+    def destroy(self) -> None:
+        for client in (self.lister, self.getter, self.describer):
+            self.node.destroy_client(client)
+
+
 def _value(value: Any) -> Any:
+    if value is None:
+        return None
     kind = int(value.type)
     if kind not in _VALUE_FIELDS:
         return None
@@ -258,7 +316,7 @@ def _range(ranges: Any, integer: bool) -> dict[str, Any] | None:
 
 
 def _parameter(name: str, value: Any, descriptor: Any) -> dict[str, Any]:
-    kind = int(value.type) or int(descriptor.type)
+    kind = (int(value.type) if value is not None else 0) or int(descriptor.type)
     return {
         "name": name,
         "type": PARAMETER_TYPES.get(kind),

@@ -18,9 +18,10 @@ from pathlib import Path
 
 import pytest
 import yaml
-from cli_helpers import Cli
+from cli_helpers import NODES, Cli
 
 from pytest_rmw_introspect.live import bringup
+from pytest_rmw_introspect.run.target import TargetSpec
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLES = REPO / "examples" / "rmw_introspect_examples"
@@ -135,3 +136,42 @@ def test_contracts_are_read_before_the_graph_is_joined(cli, empty_domain):
     assert missing.returncode == 2 and "CONTRACT" in missing.stderr, missing
     target = cli("check", "--live", "--script", "node.py", "broken.interfaces.yaml")
     assert target.returncode == 2 and "cannot be given with it" in target.stderr, target
+
+
+def test_parameters_and_lifecycle_states_are_read_and_a_node_that_does_not_answer_is_a_note(cli):
+    """The camera (a lifecycle node with a driver's mix of parameter descriptors) captured in
+    `unconfigured` on the recording middleware matches it running on Fast DDS, parameters and state
+    included; a node that never spins cannot answer for its parameters: a note, not drift."""
+    camera = NODES / "managed_camera.py"
+    captured = cli("capture", "--script", camera, "--lifecycle", "unconfigured", "-o", "camera.interfaces.yaml")
+    assert captured.returncode == 0, captured
+    assert "lifecycle: unconfigured" in cli.read("camera.interfaces.yaml")
+    cli.write("sleeper.interfaces.yaml", """\
+        contract_version: 1
+        nodes:
+          /sleeper:
+            publishers:
+              - {name: /snore, type: std_msgs/msg/String, qos: {history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}}
+            subscriptions: []
+            service_servers: []
+            service_clients: []
+            action_servers: []
+            action_clients: []
+            parameters:
+              - {name: volume, type: integer, default_value: 3}
+        """)
+    system = bringup.start([TargetSpec(script=camera), TargetSpec(script=NODES / "hanging_node.py")])
+    try:
+        result = cli("check", "--live", "--settle", "1", "--parameter-timeout", "4", "camera.interfaces.yaml",
+                     "sleeper.interfaces.yaml", "-v", env={k: system.env[k] for k in ("ROS_DOMAIN_ID",
+                                                                                       "ROS_AUTOMATIC_DISCOVERY_RANGE")},
+                     timeout=120)
+    finally:
+        system.stop()
+    assert result.returncode == 0, result
+    assert "camera.interfaces.yaml: matches (1 node running in ROS_DOMAIN_ID" in result.stdout, result
+    assert "sleeper.interfaces.yaml: matches" in result.stdout, result
+    # the camera's parameters and state were read and compared; only the sleeper's are noted
+    assert ("note: sleeper.interfaces.yaml: parameters not read (the node's parameter services did not answer "
+            "within 4 s), not compared: /sleeper\n") in result.stderr, result
+    assert "lifecycle state not read" not in result.stderr, result

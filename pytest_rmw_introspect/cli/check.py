@@ -21,7 +21,7 @@ from . import option_flags
 from .arguments import add_baseline, add_compare, add_format, add_target, compare_from_args, target_from_args
 from .exit_status import EXIT_DRIFT, EXIT_ERROR, EXIT_OK
 from .launch_options import add_launch
-from .live_options import add_live
+from .live_options import add_live, add_watch
 
 if TYPE_CHECKING:
     from ..check.outcome import Checked
@@ -90,6 +90,7 @@ def add_parser(sub: Any) -> None:
                      help="a passing system contract names every node it matched (else it says how many nodes in "
                      "how many processes)")
     add_live(chk)  # --live: the running graph (issue 52, cli/live.py)
+    add_watch(chk)
     chk.set_defaults(handler=cmd_check)
 
 
@@ -182,10 +183,14 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         print(f"shard {shard}: {len(args.contracts)} of {len(everything)} contract(s)", file=sys.stderr)
     # --live (issue 52): the running graph, read once, stands in for every contract's target
     live_graph = None
+    if (args.watch or args.duration is not None) and not args.live:
+        raise UsageError("--watch and --duration watch a running graph: give --live too")
     if args.live:
         from . import live as live_check
 
         live_check.refuse_with_live(args, command)
+        if args.watch:
+            return live_check.cmd_watch(args)
         live_graph = live_check.read(args)
     cwd = Path.cwd()
     target = target_from_args(args, command) if live_graph is None else {}

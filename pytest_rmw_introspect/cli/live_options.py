@@ -21,3 +21,14 @@ def add_live(parser: argparse.ArgumentParser) -> None:
     g = parser.add_argument_group("live graph (a running system)")
     g.add_argument("--live", action="store_true", help=LIVE_HELP)
     g.add_argument("--parameter-timeout", type=float, metavar="SECONDS", help=PARAMETER_TIMEOUT_HELP)
+
+
+def add_watch(parser: argparse.ArgumentParser) -> None:
+    """``--watch`` and ``--duration`` (``check --live``)."""
+    g = parser.add_argument_group("watching a live graph")
+    g.add_argument("--watch", action="store_true",
+                   help="with --live: after the check, keep watching and report each change of the graph as it "
+                   "happens (a node gone, an interface added, a QoS changed; text lines, or JSON lines with "
+                   "--format json), then on Ctrl-C or at --duration check the contracts again and sum up")
+    g.add_argument("--duration", type=float, metavar="SECONDS",
+                   help="with --watch: seconds to watch (default: until Ctrl-C)")

@@ -98,6 +98,8 @@ class RunningSystem:
     logs: list[Path] = field(default_factory=list)
     #: the node each process is named by the launch file (None: the program names it)
     expected: list[str | None] = field(default_factory=list)
+    #: the domain was reserved for this system (released when it stops); False: the caller's
+    owns_domain: bool = True
 
     @property
     def domain_id(self) -> int:
@@ -130,7 +132,7 @@ class RunningSystem:
 
     def stop(self, grace: float = 5.0) -> None:
         """SIGINT to every process (as ``ros2 launch`` ends them), SIGKILL after ``grace`` seconds;
-        the domain is released and the working directory removed."""
+        the domain is released (when it reserved it) and the working directory removed."""
         for process in self.processes:
             if process.poll() is None:
                 with contextlib.suppress(ProcessLookupError):
@@ -143,7 +145,8 @@ class RunningSystem:
                 with contextlib.suppress(ProcessLookupError):
                     os.killpg(process.pid, signal.SIGKILL)
                 process.wait()
-        self.domain.release()
+        if self.owns_domain:
+            self.domain.release()
         if self.workdir is not None:
             shutil.rmtree(self.workdir, ignore_errors=True)
             self.workdir = None
@@ -174,8 +177,9 @@ def start(processes: Sequence[LaunchedNode | TargetSpec], *, ros: Any = None, do
     in a domain of their own (``domain``, default: :func:`reserve_domain`); nothing is left
     running when starting one fails."""
     ros = ros or ros_env.detect()
+    owns = domain is None
     domain = domain or reserve_domain()
-    system = RunningSystem(domain=domain, env=isolated_env(domain.id, env))
+    system = RunningSystem(domain=domain, env=isolated_env(domain.id, env), owns_domain=owns)
     system.workdir = Path(tempfile.mkdtemp(prefix="rmw_introspect_live_"))
     try:
         for index, node in enumerate(processes):

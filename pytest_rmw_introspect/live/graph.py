@@ -13,9 +13,10 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import sys
-from collections.abc import Collection, Mapping
+from collections.abc import Collection, Generator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -55,6 +56,10 @@ class LiveGraph:
     lifecycle_unanswered: list[str] = field(default_factory=list)
     #: what was said about the environment (a stripped preload)
     environment_notes: list[str] = field(default_factory=list)
+    #: when it was read (seconds since the epoch; 0: not said)
+    at: float = 0.0
+    #: other live readers that were in the graph (left out of it)
+    other_readers: list[str] = field(default_factory=list)
 
     def describe(self) -> str:
         return f"the running graph of ROS_DOMAIN_ID {self.domain_id} ({self.rmw_implementation})"
@@ -68,6 +73,8 @@ class LiveGraph:
         if not self.settled:
             out.append(f"the graph was still changing after {self.settings.timeout:g} s (--timeout): it was read as it "
                        "was then")
+        if self.other_readers:
+            out.append(f"other live readers were in the graph, left out of it: {', '.join(self.other_readers)}")
         if parameters:
             out.append(f"parameters not read (the node's parameter services did not answer within "
                        f"{self.settings.parameter_timeout:g} s), not compared: {', '.join(parameters)}")
@@ -130,6 +137,18 @@ def reader_environment(ros: RosEnvironment, base: Mapping[str, str] | None = Non
     return env, notes
 
 
+def _reader_command(settings: LiveSettings) -> list[str]:
+    return [sys.executable, "-m", "pytest_rmw_introspect.live.reader", "--settle", f"{settings.settle:g}",
+            "--timeout", f"{settings.timeout:g}", "--parameter-timeout", f"{settings.parameter_timeout:g}"]
+
+
+def _nothing_running(domain: str, settings: LiveSettings, env: Mapping[str, str]) -> str:
+    where = env.get("ROS_AUTOMATIC_DISCOVERY_RANGE")
+    return (f"nothing is running in ROS_DOMAIN_ID {domain}: no node appeared within {settings.timeout:g} s (--timeout)"
+            + (f" with ROS_AUTOMATIC_DISCOVERY_RANGE={where}" if where else "")
+            + "; start the system, or set ROS_DOMAIN_ID (and ROS_AUTOMATIC_DISCOVERY_RANGE) as the robot has them")
+
+
 def read_graph(settings: LiveSettings = LiveSettings(), *, ros: RosEnvironment | None = None,
                include_infrastructure: bool = False, base_env: Mapping[str, str] | None = None) -> LiveGraph:
     """Read the running graph (raises LiveGraphError); progress goes to stderr as it comes."""
@@ -137,8 +156,7 @@ def read_graph(settings: LiveSettings = LiveSettings(), *, ros: RosEnvironment |
     env, notes = reader_environment(ros, base_env)
     for note in notes:
         print(f"rmw-introspect: live: {note}", file=sys.stderr)
-    command = [sys.executable, "-m", "pytest_rmw_introspect.live.reader", "--settle", f"{settings.settle:g}",
-               "--timeout", f"{settings.timeout:g}", "--parameter-timeout", f"{settings.parameter_timeout:g}"]
+    command = _reader_command(settings)
     limit = settings.timeout + 2 * settings.parameter_timeout + 30  # start-up and teardown included
     try:
         done = subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=None, text=True, timeout=limit,
@@ -147,26 +165,64 @@ def read_graph(settings: LiveSettings = LiveSettings(), *, ros: RosEnvironment |
         raise LiveGraphError(f"the live reader did not finish within {limit:g} s") from None
     domain = env.get("ROS_DOMAIN_ID") or "0"
     if done.returncode == EXIT_EMPTY:
-        where = env.get("ROS_AUTOMATIC_DISCOVERY_RANGE")
-        raise LiveGraphError(
-            f"nothing is running in ROS_DOMAIN_ID {domain}: no node appeared within {settings.timeout:g} s (--timeout)"
-            + (f" with ROS_AUTOMATIC_DISCOVERY_RANGE={where}" if where else "")
-            + "; start the system, or set ROS_DOMAIN_ID (and ROS_AUTOMATIC_DISCOVERY_RANGE) as the robot has them")
+        raise LiveGraphError(_nothing_running(domain, settings, env))
     if done.returncode == EXIT_WRONG_MIDDLEWARE:
         raise LiveGraphError("the live reader found itself on the recording middleware rmw_introspect_cpp: remove its "
                              "activation from the environment (LD_PRELOAD, RMW_IMPLEMENTATION)")
     if done.returncode != 0:
         raise LiveGraphError(f"the live reader failed (exit status {done.returncode}) in ROS_DOMAIN_ID {domain}; its "
                              "error output is above")
+    return parse_answer(done.stdout, settings, include_infrastructure=include_infrastructure, notes=notes,
+                        domain=domain)
+
+
+def parse_answer(text: str, settings: LiveSettings, *, include_infrastructure: bool, notes: list[str],
+                 domain: str) -> LiveGraph:
+    """One answer of the reader (a JSON object) as a :class:`LiveGraph` (raises LiveGraphError);
+    an answer without a capture (the graph emptied while watching) is an empty graph."""
     try:
-        answer: Any = json.loads(done.stdout)
+        answer: Any = json.loads(text)
         live: Mapping[str, Any] = answer["live"]
-        capture = Capture.from_dict(answer["capture"], include_infrastructure=include_infrastructure)
-    except (ValueError, KeyError, TypeError, CaptureFormatError) as exc:
+        document = answer.get("capture") or {"format": "rmw_introspect_capture", "format_version": 1, "state": "live"}
+        capture = Capture.from_dict(document, include_infrastructure=include_infrastructure)
+    except (ValueError, KeyError, TypeError, AttributeError, CaptureFormatError) as exc:
         raise LiveGraphError(f"the live reader's answer could not be read: {exc}") from None
     return LiveGraph(capture=capture, domain_id=int(live.get("domain_id", domain)),
                      rmw_implementation=str(live.get("rmw_implementation")), settled=bool(live.get("settled")),
                      waited=float(live.get("waited_s", 0.0)), settings=settings,
                      parameters_unanswered=list(live.get("parameters_unanswered", [])),
                      lifecycle_unanswered=list(live.get("lifecycle_unanswered", [])),
-                     environment_notes=notes)
+                     environment_notes=notes, at=float(live.get("at", 0.0)),
+                     other_readers=list(live.get("other_readers", [])))
+
+
+def watch_graph(settings: LiveSettings, duration: float, *, ros: RosEnvironment | None = None,
+                base_env: Mapping[str, str] | None = None) -> Generator[LiveGraph, None, None]:
+    """The running graph once stable (as :func:`read_graph`), then again at every change, until
+    ``duration`` seconds have passed (0: until Ctrl-C or the generator is closed); the reader is
+    stopped when the generator ends."""
+    ros = ros if ros is not None else ros_env.detect()
+    env, notes = reader_environment(ros, base_env)
+    for note in notes:
+        print(f"rmw-introspect: live: {note}", file=sys.stderr)
+    command = [*_reader_command(settings), "--watch", "--duration", f"{duration:g}"]
+    domain = env.get("ROS_DOMAIN_ID") or "0"
+    process = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, text=True)
+    try:
+        assert process.stdout is not None
+        for number, line in enumerate(process.stdout):
+            graph = parse_answer(line, settings, include_infrastructure=True, notes=notes, domain=domain)
+            if number == 0 and not graph.capture.nodes:
+                raise LiveGraphError(_nothing_running(domain, settings, env))
+            yield graph
+        if process.wait() not in (0, -signal.SIGINT):
+            raise LiveGraphError(f"the live reader failed (exit status {process.returncode}) in ROS_DOMAIN_ID "
+                                 f"{domain}; its error output is above")
+    finally:
+        if process.poll() is None:
+            process.send_signal(signal.SIGINT)
+            try:
+                process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()

@@ -33,7 +33,7 @@ from typing import Any
 import rclpy
 from lifecycle_msgs.srv import GetState  # type: ignore[import-untyped]
 from rcl_interfaces.srv import DescribeParameters, GetParameters, ListParameters  # type: ignore[import-untyped]
-from rclpy.executors import SingleThreadedExecutor
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.utilities import get_rmw_implementation_identifier
 
 from . import EXIT_EMPTY, EXIT_WRONG_MIDDLEWARE
@@ -48,6 +48,8 @@ _VALUE_FIELDS = {1: "bool_value", 2: "integer_value", 3: "double_value", 4: "str
 RECORDING_MIDDLEWARE = "rmw_introspect_cpp"
 #: the node name prefix of the ros2 command line's daemon: not part of any system
 ROS2CLI_DAEMON = "_ros2cli_daemon_"
+#: the node name prefix of live readers (this one's and others': not part of any system)
+READER_PREFIX = "_rmw_introspect_live_"
 INFINITE_NS = 9_223_372_036_854_775_807
 #: seconds after joining before the graph can count as stable, whatever the settle time: a new
 #: participant learns of the others one by one (measured with Fast DDS on a loaded 2-core machine:
@@ -94,6 +96,8 @@ class Reader:
         self.node = node
         self.executor = executor
         self.own = node.get_fully_qualified_name()
+        #: other live readers seen in the graph (left out like this one)
+        self.other_readers: set[str] = set()
 
     def spin_once(self, timeout: float) -> None:
         self.executor.spin_once(timeout_sec=timeout)
@@ -104,6 +108,9 @@ class Reader:
         out = []
         for name, namespace, enclave in self.node.get_node_names_and_namespaces_with_enclaves():
             if _fqn(namespace, name) == self.own or name.startswith(ROS2CLI_DAEMON):
+                continue
+            if name.startswith(READER_PREFIX):
+                self.other_readers.add(_fqn(namespace, name))
                 continue
             out.append((name, namespace, enclave))
         return sorted(out)
@@ -135,7 +142,7 @@ class Reader:
         def add(kind: str, node_name: str, namespace: str, name: str, type_name: str, type_hash: str | None,
                 qos: dict[str, Any]) -> None:
             fqn = _fqn(namespace, node_name)
-            if fqn == self.own or node_name.startswith(ROS2CLI_DAEMON) or fqn not in records:
+            if fqn not in records:  # the reader's own endpoints, the daemon's, another reader's
                 return
             record = records[fqn]
             endpoints.append({"seq": len(endpoints) + 1, "kind": kind, "node_id": record["id"], "node": fqn,
@@ -355,11 +362,59 @@ def wait_stable(reader: Reader, settle: float, timeout: float) -> tuple[bool, fl
         time.sleep(0.1)
 
 
+def snapshot(reader: Reader, args: argparse.Namespace, live: dict[str, Any], identifier: str, *,
+             parameters: bool) -> dict[str, Any] | None:
+    """The graph now as the reader's answer (``parameters``: ask the nodes' services too); None
+    when it holds no node."""
+    records, endpoints = reader.read()
+    if not records:
+        return None
+    if parameters:
+        say(f"read {len(records)} node(s), {len(endpoints)} endpoint(s) after {live['waited_s']:.1f} s"
+            f"{'' if live['settled'] else ' (the graph was still changing when the time was up)'}; asking their "
+            "parameters")
+        live["parameters_unanswered"] = reader.parameters(records, endpoints, args.parameter_timeout)
+        live["lifecycle_unanswered"] = reader.lifecycle(records, endpoints, args.parameter_timeout)
+    capture = {"format": "rmw_introspect_capture", "format_version": 1, "format_minor": 0,
+               "rmw_implementation": identifier, "pid": None, "argv": [], "state": "live",
+               "nodes": records, "endpoints": endpoints}
+    return {"capture": capture, "live": {**live, "at": time.time(), "other_readers": sorted(reader.other_readers)}}
+
+
+def watch(reader: Reader, args: argparse.Namespace, live: dict[str, Any], identifier: str) -> None:
+    """After the first answer: a new answer (a line, without parameters) each time the graph has
+    changed and is stable again for ``--settle`` seconds, until ``--duration`` seconds have
+    passed (0: until interrupted). Memory stays flat: nothing is kept but the last signature."""
+    end = time.monotonic() + args.duration if args.duration > 0 else math.inf
+    last = reader.signature()
+    try:
+        while time.monotonic() < end:
+            reader.spin_once(0.05)
+            time.sleep(0.2)
+            current = reader.signature()
+            if current == last:
+                continue
+            since = time.monotonic()  # changed: wait until it is stable again (or the time is up)
+            while time.monotonic() < end and time.monotonic() - since < args.settle:
+                reader.spin_once(0.05)
+                time.sleep(0.1)
+                newer = reader.signature()
+                if newer != current:
+                    current, since = newer, time.monotonic()
+            last = current
+            answer = snapshot(reader, args, {**live, "settled": True, "waited_s": 0.0}, identifier, parameters=False)
+            print(json.dumps(answer if answer is not None else {"live": {**live, "at": time.time()}}), flush=True)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pytest_rmw_introspect.live.reader")
     parser.add_argument("--settle", type=float, default=2.0)
     parser.add_argument("--timeout", type=float, default=30.0)
     parser.add_argument("--parameter-timeout", type=float, default=5.0)
+    parser.add_argument("--watch", action="store_true", help="a new answer (one JSON line) at every change")
+    parser.add_argument("--duration", type=float, default=0.0, help="with --watch: seconds to watch (0: until Ctrl-C)")
     args = parser.parse_args(argv)
 
     context = rclpy.Context()
@@ -379,28 +434,24 @@ def main(argv: list[str] | None = None) -> int:
         domain = context.get_domain_id()
         say(f"joined ROS_DOMAIN_ID {domain} on {identifier}; waiting for the graph to be stable for {args.settle:g} s")
         settled, waited = wait_stable(reader, args.settle, args.timeout)
-        records, endpoints = reader.read()
         live: dict[str, Any] = {"domain_id": domain, "rmw_implementation": identifier, "settled": settled,
                                 "waited_s": round(waited, 2), "settle_s": args.settle, "timeout_s": args.timeout,
                                 "parameter_timeout_s": args.parameter_timeout, "hidden": [reader.own]}
-        if not records:
+        answer = snapshot(reader, args, live, identifier, parameters=True)
+        if answer is None:
             print(json.dumps({"live": live}))
             return EXIT_EMPTY
-        say(f"read {len(records)} node(s), {len(endpoints)} endpoint(s) after {waited:.1f} s"
-            f"{'' if settled else ' (the graph was still changing when the time was up)'}; asking their parameters")
-        live["parameters_unanswered"] = reader.parameters(records, endpoints, args.parameter_timeout)
-        live["lifecycle_unanswered"] = reader.lifecycle(records, endpoints, args.parameter_timeout)
-        capture = {"format": "rmw_introspect_capture", "format_version": 1, "format_minor": 0,
-                   "rmw_implementation": identifier, "pid": None, "argv": [], "state": "live",
-                   "nodes": records, "endpoints": endpoints}
-        print(json.dumps({"capture": capture, "live": live}))
+        print(json.dumps(answer), flush=True)
+        if args.watch:
+            watch(reader, args, live, identifier)
         return 0
     finally:
         if executor is not None:
             executor.shutdown()
         if node is not None:
             node.destroy_node()
-        rclpy.shutdown(context=context)
+        if context.ok():
+            rclpy.shutdown(context=context)
 
 
 if __name__ == "__main__":

@@ -88,8 +88,10 @@ def test_a_contract_of_the_running_robot_checks_against_it_and_leaves_nothing_be
     assert not any("_rmw_introspect_live" in n for n in nodes), nodes  # its own node is hidden
     lidar = contract["nodes"]["/robot1/lidar"]
     assert {p["name"]: p["default_value"] for p in lidar["parameters"]}["rate"] == 20.0  # from the params file
-    # a second reader sees no node of the first (destroyed with its context), and the same graph; a node
+    # a second reader sees no node of the first (destroyed with its context) and the same graph; a node
     # contract is compared with the nodes it names only
+    nodes_only = live_cli("capture", "--live", *QUICK, "--format", "json", timeout=120)
+    assert json.loads(nodes_only.stdout)["other_readers"] == [], nodes_only
     talker = str(EXAMPLES / "contracts" / "talker.interfaces.yaml")
     again = live_cli("check", "--live", *QUICK, "live.system.yaml", talker, "--format", "sarif", "--summary", "sum.md",
                      timeout=120)

@@ -90,6 +90,8 @@ def cmd_capture(args: argparse.Namespace, command: list[str] | None) -> int:
         from . import live
 
         return live.cmd_capture(args, command)
+    if args.parameter_timeout is not None:
+        raise UsageError("--parameter-timeout is for a running graph: give --live too")
     setup = Setup()  # the ROS environment and the middleware, found on first use
     if launch_options.wants_launch(args):
         from . import system_contracts  # the system pipeline and launch readers: only for a launch file

@@ -183,8 +183,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         print(f"shard {shard}: {len(args.contracts)} of {len(everything)} contract(s)", file=sys.stderr)
     # --live (issue 52): the running graph, read once, stands in for every contract's target
     live_graph = None
-    if (args.watch or args.duration is not None) and not args.live:
-        raise UsageError("--watch and --duration watch a running graph: give --live too")
+    if (args.watch or args.duration is not None or args.parameter_timeout is not None) and not args.live:
+        raise UsageError("--watch, --duration and --parameter-timeout are for a running graph: give --live too")
     if args.live:
         from . import live as live_check
 

@@ -25,7 +25,7 @@ import signal
 import subprocess
 import tempfile
 import time
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Collection, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
@@ -114,16 +114,17 @@ class RunningSystem:
                 out.append(f"{process.args!s} exited with {process.returncode}: {tail}")
         return out
 
-    def wait_until_up(self, timeout: float = 30.0, settle: float = 1.0) -> LiveGraph:
+    def wait_until_up(self, timeout: float = 30.0, settle: float = 1.0, nodes: Collection[str] = ()) -> LiveGraph:
         """Read the graph until every node the launch file names is in it (but those of processes
-        that have ended), at most ``timeout`` seconds; the last graph read (raises LiveGraphError)."""
+        that have ended), and ``nodes``, at most ``timeout`` seconds; the last graph read (raises
+        LiveGraphError)."""
         deadline = time.monotonic() + timeout
         while True:
             left = max(settle + 0.5, deadline - time.monotonic())
             graph = read_graph(LiveSettings(settle=settle, timeout=left), base_env=self.env)
             running = [name for name, process in zip(self.expected, self.processes, strict=True)
                        if name is not None and process.poll() is None]
-            missing = sorted(set(running) - set(graph.capture.nodes))
+            missing = sorted((set(running) | set(nodes)) - set(graph.capture.nodes))
             if not missing:
                 return graph
             if time.monotonic() >= deadline:

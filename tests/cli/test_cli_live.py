@@ -164,6 +164,7 @@ def test_parameters_and_lifecycle_states_are_read_and_a_node_that_does_not_answe
         """)
     system = bringup.start([TargetSpec(script=camera), TargetSpec(script=NODES / "hanging_node.py")])
     try:
+        system.wait_until_up(nodes={"/camera", "/sleeper"})  # both started (slowly, under load)
         result = cli("check", "--live", "--settle", "1", "--parameter-timeout", "4", "camera.interfaces.yaml",
                      "sleeper.interfaces.yaml", "-v", env={k: system.env[k] for k in ("ROS_DOMAIN_ID",
                                                                                        "ROS_AUTOMATIC_DISCOVERY_RANGE")},

@@ -32,8 +32,9 @@ EXPECTED = {
 
 def test_every_example_node_runs_on_fast_dds_as_its_capture_says(cli: Cli):
     files = sorted(CONTRACTS.glob("*.interfaces.yaml"))
-    targets = [TargetSpec.from_mapping(contract_model.load(f).target or {}, base_dir=f.parent, source=str(f))
-               for f in files]
+    contracts = [contract_model.load(f) for f in files]
+    targets = [TargetSpec.from_mapping(c.target or {}, base_dir=f.parent, source=str(f))
+               for f, c in zip(files, contracts, strict=True)]
     started = time.monotonic()
     system = bringup.start(targets)
     try:
@@ -49,6 +50,9 @@ def test_every_example_node_runs_on_fast_dds_as_its_capture_says(cli: Cli):
         running = [p.args for p in system.processes if p not in one_shot and p.poll() is not None]
         assert not running, system.exited()  # every other node keeps running
         print(f"the one-shot programs ended {time.monotonic() - started:.1f} s after the start")
+        system.wait_until_up(nodes={name for f, contract in zip(files, contracts, strict=True)
+                                    if f.name.removesuffix(".interfaces.yaml") not in ONE_SHOT
+                                    for name in contract.nodes})  # every other node is up
         result = cli("check", "--live", "--settle", "1.5", *files, "--format", "json",
                      env={k: system.env[k] for k in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")}, timeout=120)
     finally:

@@ -141,7 +141,7 @@ class GateResult:
     def ordered(self) -> list[GateContract]:
         """Errors and failing contracts first, then by their worst finding (breaking changes lead)."""
         def rank(c: GateContract) -> tuple[int, int, str]:
-            worst = max((item.severity for item in c.items), default=-1)
+            worst = max((item.severity for item in c.items), default=-2)
             return (0 if c.error else 1, -int(c.failed) * 10 - int(worst), c.shown)
         return sorted(self.contracts, key=rank)
 

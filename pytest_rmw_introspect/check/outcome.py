@@ -21,6 +21,7 @@ from ..errors import RmwIntrospectError
 from ..model import interface_version
 from ..model.acceptance import Acceptance
 from ..model.contract_shapes import ContractNode
+from ..model.vocabulary import Severity
 
 if TYPE_CHECKING:  # the findings' types: the drift rules are loaded by the first check (plugin hooks)
     from ..compare.acceptance import Accepted, Finding
@@ -157,6 +158,12 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None, 
             json=items,
         )
     gains = result.gains
+    if result.items and all(i.severity is Severity.NOTE for i in result.items) and not result.failed and not (update and result.drifted):
+        # notes (Severity.NOTE) only: a pass, with the notes shown (report, JSON) and nothing to accept
+        nodes = result.matched(names=verbose)
+        count = len(result.items)
+        return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}); {count} note{'' if count == 1 else 's'}",
+                       report=result.render_text(), json=items)
     if not result.items and not (update and gains):
         nodes = result.matched(names=verbose)
         hint = (f"; it does not state {', '.join(gains)} yet: {accept_command} adds them"

@@ -129,8 +129,9 @@ class ContractCheck(abc.ABC, Generic[ContractT, SpecT, CaptureT]):
     @property
     def drifted(self) -> bool:
         """The golden differs from what updating would write: drift, or sections the contract
-        does not state yet (:attr:`gains`). (System problems are not the golden's to fix.)"""
-        return bool(self.drift_items) or bool(self.gains)
+        does not state yet (:attr:`gains`). (System problems are not the golden's to fix; a note,
+        ``Severity.NOTE``, is no drift an update must accept.)"""
+        return any(item.severity > Severity.NOTE for item in self.drift_items) or bool(self.gains)
 
     def to_json(self) -> list[dict[str, Any]]:
         """``report.to_json`` of the drift and ``report.compat_to_json`` of the system problems,

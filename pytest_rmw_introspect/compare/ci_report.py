@@ -58,7 +58,7 @@ class ContractOutcome:
 
 
 def _counts(items: Sequence[DriftItem | CompatItem]) -> str:
-    return ", ".join(f"{sum(1 for i in items if i.severity is s)} {s.name.lower()}" for s in reversed(Severity))
+    return report.counts(items)
 
 
 def _cell(text: str) -> str:
@@ -79,6 +79,8 @@ def _result_cell(outcome: ContractOutcome) -> str:
         return "✅ matches"
     if outcome.failed:
         return f"❌ {_counts(everything)}"
+    if report.notes_only(everything):
+        return f"✅ matches ({_counts(everything)})"
     return f"⚠️ {_counts(everything)} (below the fail threshold: {THRESHOLD_WORDS[outcome.threshold]})"
 
 
@@ -90,7 +92,8 @@ def _drift_bullets(items: Sequence[DriftItem], threshold: Severity) -> list[str]
         group = [i for i in items if i.severity is severity]
         if not group:
             continue
-        note = "" if severity >= threshold else " (below the fail threshold)"
+        note = " (notes, never failing)" if severity is Severity.NOTE else \
+            "" if severity >= threshold else " (below the fail threshold)"
         lines += ["", f"**{severity.name}** ({len(group)}){note}", ""]
         for item in group:
             where = f"`{item.node}`" if item.kind == "node" else f"`{item.node}` {LABELS.get(item.kind, item.kind)} `{item.name}`"
@@ -153,7 +156,8 @@ def _drift_bullets_at_scale(items: Sequence[DriftItem], threshold: Severity) -> 
     """Drift in many nodes (``report.at_scale``) by rule and node, cut like the text report."""
     lines: list[str] = []
     for group in report.drift_by_rule_and_node(items):
-        note = "" if group.severity >= threshold else " (below the fail threshold)"
+        note = " (a note, never failing)" if group.severity is Severity.NOTE else \
+            "" if group.severity >= threshold else " (below the fail threshold)"
         lines += ["", f"- {group.severity.name}{note} `{group.rule}`: {group.count} change(s) in "
                       f"{len(group.places)} node(s)"]
         kept, more_nodes, more_changes = group.shown()
@@ -240,6 +244,8 @@ def annotation_level(severity: Severity, threshold: Severity) -> str:
     nothing: ``warning`` even when ``--fail-on any`` fails on it); below the threshold ``warning``,
     or ``notice`` for a SAFE one."""
     fails = severity >= threshold
+    if severity is Severity.NOTE:
+        return "notice"
     if severity == Severity.SAFE:
         return "warning" if fails else "notice"
     return "error" if fails else "warning"

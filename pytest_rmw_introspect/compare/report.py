@@ -25,12 +25,22 @@ def fails(items: Iterable[DriftItem | CompatItem], threshold: Severity) -> bool:
     return any(item.severity >= threshold for item in items)
 
 
-def _counts(items: Sequence) -> str:
+def counts(items: Sequence) -> str:
+    """"1 breaking, 0 risky, 2 safe" (and ", 1 note" when there are notes: a note never fails)."""
     parts = [
         f"{sum(1 for i in items if i.severity is severity)} {severity.name.lower()}"
         for severity in reversed(Severity)
+        if severity is not Severity.NOTE or any(i.severity is Severity.NOTE for i in items)
     ]
     return ", ".join(parts)
+
+
+_counts = counts
+
+
+def notes_only(items: Iterable[DriftItem | CompatItem]) -> bool:
+    """True when every item is a note (``Severity.NOTE``: shown, never failing)."""
+    return all(item.severity is Severity.NOTE for item in items)
 
 
 def _plural(count: int, word: str) -> str:
@@ -39,7 +49,9 @@ def _plural(count: int, word: str) -> str:
 
 def _section_header(severity: Severity, count: int, threshold: Severity) -> str:
     header = f"{severity.name} ({count})"
-    if severity < threshold:
+    if severity is Severity.NOTE:
+        header += " - notes, never failing"
+    elif severity < threshold:
         header += f" - below the fail threshold ({THRESHOLD_WORDS[threshold]}), not failing"
     return header
 
@@ -199,7 +211,7 @@ def _plain(value: Any) -> Any:
 
 
 def to_json(items: Iterable[DriftItem]) -> list[dict[str, Any]]:
-    """Plain dicts for machines; ``severity`` as its name ("BREAKING", "RISKY", "SAFE")."""
+    """Plain dicts for machines; ``severity`` as its name ("BREAKING", "RISKY", "SAFE", "NOTE")."""
     return [
         {
             "node": item.node,

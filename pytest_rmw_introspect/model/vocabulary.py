@@ -152,8 +152,11 @@ LIFECYCLE_TRANSITIONS: tuple[str, ...] = tuple(TRANSITION_FROM_STATE)
 
 
 class Severity(enum.IntEnum):
-    """How much a change or a mismatch can hurt the node's peers."""
+    """How much a change or a mismatch can hurt the node's peers. ``NOTE`` is below every
+    ``fail_on`` threshold: shown in every report, never failing, never drift a golden update
+    must accept (a dead remapping, a file of the robot the capture machine lacks)."""
 
+    NOTE = -1
     SAFE = 0
     RISKY = 1
     BREAKING = 2

@@ -105,13 +105,17 @@ SUMMARIES: dict[str, str] = {
         "a parameter name the launch file gives a node (a parameters file key, `<param>`, `-p`) that cannot be a "
         "ROS parameter name: a space, a parenthesis, a colon, a comma"
     ),
+    "REMAP_NEAR_MISS": (
+        "a remapping the launch file gives a node changed none of its names, and its `from` is a near miss of a "
+        "name the node does create (a typo: the node stays unwired)"
+    ),
     "REMAP_UNUSED": (
-        "a remapping the launch file gives a node changed none of its names, and a connection was meant: another "
-        "node of the system uses the remapping's target, or its `from` is a near miss of a name the node created"
+        "a remapping the launch file gives a node changed none of its names (its `from` is no near miss), and "
+        "another node of the system uses its target: a note"
     ),
     "REMAP_UNUSED_UNCONNECTED": (
-        "a remapping the launch file gives a node changed none of its names, and nothing shows a connection was "
-        "meant (no other node uses its target, its `from` is no near miss); identity remappings are not judged"
+        "a remapping the launch file gives a node changed none of its names, no other node uses its target and "
+        "its `from` is no near miss: a note; identity remappings are not judged"
     ),
     "PARAM_PATH_MISSING": (
         "a node's string parameter (as captured, overrides applied) points at a file of a package that is missing:"

@@ -36,11 +36,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import acceptance, consumers, drift, report, versioning
+from ..compare import acceptance, consumers, drift, report, rule_levels, versioning
 from ..compare.acceptance import Accepted
 from ..compare.baseline import Baseline
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
+from ..compare.rule_levels import RuleLevel
 from ..errors import ContractError, NoContracts, RevisionError
 from ..model import contract as contract_module
 from ..model import contract_kind, system_contract
@@ -77,6 +78,9 @@ class GateContract:
     error: str | None = None
     nodes: list[str] = field(default_factory=list)
     lines: LineIndex = field(default_factory=dict)
+    #: the project's levels of rules (``compare.rule_levels``) and how many findings they turned off
+    rules: tuple[RuleLevel, ...] = ()
+    turned_off: int = 0
     #: the bump the drift needs under semantic versioning, and the versions at REF and now
     needs: Bump = Bump.NONE
     versions: tuple[str | None, str | None] = (None, None)
@@ -423,6 +427,7 @@ def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractN
     items = compare_contracts(old, new, dataclasses.replace(opts, fail_on=threshold.name.lower()))
     if systems and not is_system_text(name, new.text or old.text):
         items = consumers.judge(items, new.nodes, old.nodes, systems)
+    result.rules = opts.rules
     _judge(result, drift.sort_items(items), old, new, baseline, revision.ref)
     result.nodes = sorted((new if pair.new is not None else old).nodes)
     result.lines = _lines(new) if pair.new is not None else {}
@@ -467,9 +472,12 @@ def _judge(result: GateContract, items: list[DriftItem], old: Contract, new: Con
            baseline: Baseline | None, ref: str) -> None:
     """The versions, then the contract's ``accept:`` entries, then the baseline."""
     present = new if result.status != "removed" else old
-    versioned = versioning.judge(items, old.interface_version, new.interface_version, source=result.shown,
+    leveled = rule_levels.apply(items, result.rules)  # the project's levels of rules, before the versions
+    versioned = versioning.judge(leveled.items, old.interface_version, new.interface_version, source=result.shown,
                                  line=_version_line(new.text), ref=ref)
-    judged = acceptance.judge([*versioned.findings, *versioned.kept], present.accept, rules=frozenset())
+    findings = rule_levels.apply(versioned.findings, result.rules)
+    result.turned_off = leveled.off + findings.off
+    judged = acceptance.judge([*findings.items, *versioned.kept], present.accept, rules=frozenset())
     kept = [item for item in judged.kept if isinstance(item, DriftItem)]
     result.accepted = [*versioned.accepted, *judged.accepted]
     if baseline is not None:
@@ -479,6 +487,8 @@ def _judge(result: GateContract, items: list[DriftItem], old: Contract, new: Con
     result.items = kept
     result.needs = versioned.needs
     result.versions = (old.interface_version, new.interface_version)
+    turned_off = [rule_levels.turned_off_text(result.turned_off)] if result.turned_off else []
     if result.status in ("added", "removed"):  # the file comes or goes with its version: nothing to say of it
+        result.notes = turned_off
         return
-    result.notes = versioned.notes
+    result.notes = [*versioned.notes, *turned_off]

@@ -90,6 +90,7 @@ class Checked(Protocol):
     def unfixed(self) -> Sequence[CompatItem]: ...
     def matched(self, *, names: bool) -> str: ...
     def check_notes(self) -> list[str]: ...
+    def rule_level_notes(self) -> list[str]: ...
     def for_ci(self, *, written: str | None = None) -> ContractOutcome: ...
 
 
@@ -162,7 +163,9 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None, 
         # notes (Severity.NOTE) only: a pass, with the notes shown (report, JSON) and nothing to accept
         nodes = result.matched(names=verbose)
         count = len(result.items)
-        return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}); {count} note{'' if count == 1 else 's'}",
+        turned_off = "".join(f"; {said}" for said in result.rule_level_notes())
+        return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}); {count} note{'' if count == 1 else 's'}"
+                       f"{turned_off}",
                        report=result.render_text(), json=items)
     if not result.items and not (update and gains):
         nodes = result.matched(names=verbose)
@@ -170,6 +173,7 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None, 
                 if gains and accept_command else "")
         if result.stood_in:
             hint += f"; stood in for, not run here: {', '.join(result.stood_in)}"
+        hint += "".join(f"; {said}" for said in result.rule_level_notes())
         in_baseline = sum(1 for entry in result.accepted if entry.acceptance.baseline)
         if in_baseline:
             hint = f"; {in_baseline} finding(s) in the baseline{hint}"

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import acceptance, drift, launch_given, report
+from ..compare import acceptance, drift, launch_given, report, rule_levels
 from ..compare.ci_report import ContractOutcome
 from ..compare.compatibility import CompatItem, LaunchedProcess, check_compatibility, check_launched, propose_external
 from ..compare.drift import DriftItem
@@ -240,6 +240,7 @@ class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]
             notices=[(f"{item.requester.node}: {item.message}",
                       line_of(lines, item.requester.node, PARAMETERS, item.name))
                      for item in self.rule_notes],
+            notes=self.rule_level_notes(),
         )
 
     def name_rules(self) -> NameRules:
@@ -295,6 +296,8 @@ class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]
         notes = self.notes()
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes) + "\n"
+        for said in self.rule_level_notes():
+            text = text.rstrip("\n") + f"\n\n{said}.\n"
         return text
 
 
@@ -305,14 +308,17 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
     external = prepared.contract.external if prepared.contract is not None else None
     missing_path = launch_settings.missing_path(system_capture.ament_prefixes(prepared.ros))
     system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path)
-    result.rule_notes = [item for item in system_items if item.rule in launch_given.NOTES]
-    system_items = [item for item in system_items if item.rule not in launch_given.NOTES]
     drift_items = []
     if prepared.contract is not None:
         drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(names=result.name_rules()),
                                     prepared.options)
+    leveled = rule_levels.apply([*drift_items, *system_items], prepared.options.rules)  # the project's levels
+    result.turned_off = leveled.off
+    # a device the capture machine lacks is said once per run (unless the project gave its rule a level)
+    result.rule_notes = [item for item in leveled.items
+                         if isinstance(item, CompatItem) and item.rule in launch_given.NOTES and not item.level_set_by]
     accept = prepared.contract.accept if prepared.contract is not None else ()
-    judged = acceptance.judge([*drift_items, *system_items], accept,
+    judged = acceptance.judge([item for item in leveled.items if item not in result.rule_notes], accept,
                               rules=acceptance.DRIFT_RULES | acceptance.SYSTEM_RULES)
     result.keep(judged.kept, judged.accepted)
     result.stale = judged.stale
@@ -504,4 +510,5 @@ def diff_system(old_path: str | Path, new_path: str | Path, options: Sequence[Op
     old_shown = display(old_path)
     opts = Layers(strong_options=options).options(old, shown=old_shown)
     lines = line_index(Path(new_path).read_text(encoding="utf-8"))
-    return SystemDiff(old_shown, display(new_path), opts, drift.compare(old.nodes, new.nodes, opts), lines)
+    leveled = rule_levels.apply(drift.compare(old.nodes, new.nodes, opts), opts.rules)  # the project's levels
+    return SystemDiff(old_shown, display(new_path), opts, leveled.items, lines)

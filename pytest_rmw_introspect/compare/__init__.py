@@ -19,6 +19,7 @@ One line per module:
 - ``type_lock``: a capture's interface types against the package's type lock
 - ``report``: text for people and JSON for machines
 - ``ci_report``: Markdown and GitHub workflow annotations
+- ``rule_levels``: the option ``rules``, a project's level of each rule, and the list of every rule id
 - ``sarif``: SARIF 2.1.0 logs
 - ``graph``: a system drawn (Mermaid, Graphviz DOT, HTML) with the findings on it
 

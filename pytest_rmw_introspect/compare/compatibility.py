@@ -154,6 +154,8 @@ class CompatItem:
     message: str
     #: the provider's name when it differs from ``name`` (a mis-wired name: ``*_NAME_MISMATCH``)
     other_name: str | None = None
+    #: where the project set this rule's level (``compare.rule_levels``: the option ``rules``); None: its default
+    level_set_by: str | None = None
 
     def __post_init__(self) -> None:
         tally.note("rule", self.rule)  # the test suite's exercised set (model.tally; issue 48)

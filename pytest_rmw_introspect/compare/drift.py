@@ -51,6 +51,8 @@ class DriftItem:
     rule: str  # stable rule id, see RULES
     severity: Severity
     message: str  # one line for people
+    #: where the project set this rule's level (``compare.rule_levels``: the option ``rules``); None: its default
+    level_set_by: str | None = None
 
     def __post_init__(self) -> None:
         tally.note("rule", self.rule)  # the test suite's exercised set (model.tally; issue 48)

@@ -105,8 +105,14 @@ def _drift_change(item: DriftItem) -> str:
     return line
 
 
+def set_by(item: DriftItem | CompatItem) -> str:
+    """`` (RISKY, set by rules: in contracts/x.yaml: options)`` when the project set the item's
+    level (``compare.rule_levels``), else nothing."""
+    return f" ({item.severity.name}, {item.level_set_by})" if item.level_set_by else ""
+
+
 def _drift_line(item: DriftItem) -> str:
-    return f"[{item.rule}] {_drift_change(item)}"
+    return f"[{item.rule}] {_drift_change(item)}{set_by(item)}"
 
 
 def render_text(
@@ -223,6 +229,7 @@ def to_json(items: Iterable[DriftItem]) -> list[dict[str, Any]]:
             "old": _plain(item.old),
             "new": _plain(item.new),
             "message": item.message,
+            **({"level_set_by": item.level_set_by} if item.level_set_by else {}),
         }
         for item in items
     ]
@@ -262,7 +269,7 @@ def render_compat_text(
                 ends = f"{item.provider} and {item.requester}"
             else:
                 ends = f"{item.provider} -> {item.requester}"
-            lines.append(f"    [{item.rule}] {ends}: {item.message}")
+            lines.append(f"    [{item.rule}] {ends}: {item.message}{set_by(item)}")
     lines += render_acceptances(accepted, stale)
     return "\n".join(lines) + "\n"
 
@@ -283,6 +290,7 @@ def compat_to_json(items: Iterable[CompatItem]) -> list[dict[str, Any]]:
             "provider": _endpoint_json(item.provider),
             "message": item.message,
             **({"other_name": item.other_name} if item.other_name else {}),
+            **({"level_set_by": item.level_set_by} if item.level_set_by else {}),
         }
         for item in items
     ]
@@ -378,7 +386,7 @@ def left_out(places: int, findings: int, *, place: str = "process", noun: str = 
 def drift_place_line(item: DriftItem) -> str:
     """One drift item under its node in a report at scale: the interface, then the change."""
     what = "" if item.kind == "node" else f"{LABELS.get(item.kind, item.kind)} {item.name}: "
-    return what + _drift_change(item)
+    return what + _drift_change(item) + set_by(item)
 
 
 def _rule_lines(groups: Sequence[RuleGroup], all_items: Sequence[Any], threshold: Severity, *, noun: str,
@@ -416,7 +424,7 @@ def render_system_problems(items: Sequence[CompatItem], *, threshold: Severity =
     lines = [f"{heading}: {_plural(len(items), 'problem')} in {len(processes)} process"
              f"{'' if len(processes) == 1 else 'es'} ({_counts(items)})", _verdict(items, threshold)]
     lines += _rule_lines(by_rule_and_process(items), items, threshold, noun="finding", place="process",
-                         line=lambda item: f"{item.name}: {finding_ends(item)}: {item.message}")
+                         line=lambda item: f"{item.name}: {finding_ends(item)}: {item.message}{set_by(item)}")
     return "\n".join(lines) + "\n"
 
 

@@ -110,6 +110,11 @@ def _launch_locations(item: CompatItem, launched_at: Mapping[str, str]) -> list[
     return related
 
 
+def _set_by(item: DriftItem | CompatItem) -> dict[str, str]:
+    """A result's ``levelSetBy`` property when the project set its rule's level (``rules``)."""
+    return {"levelSetBy": item.level_set_by} if item.level_set_by else {}
+
+
 class _Log:
     """One SARIF run being filled: results refer to the rule table by index."""
 
@@ -144,7 +149,7 @@ class _Log:
                  _location(file, line_of(lines, item.node, item.kind, item.name), logical),
                  fingerprint=findings.fingerprint(item),
                  properties={"severity": item.severity.name, "node": item.node, "kind": item.kind,
-                             "name": item.name, "change": item.change}, accepted_by=accepted_by)
+                             "name": item.name, "change": item.change, **_set_by(item)}, accepted_by=accepted_by)
 
     def add_compat(self, item: CompatItem, *, file: str, lines: LineIndex, threshold: Severity,
                    accepted_by: Acceptance | None = None, launched_at: Mapping[str, str] | None = None) -> None:
@@ -154,7 +159,8 @@ class _Log:
                            f"{item.requester.node}/{item.requester.kind}/{item.name}"),
                  fingerprint=findings.fingerprint(item),
                  properties={"severity": item.severity.name, "name": item.name,
-                             "requester": item.requester.label, "provider": item.provider.label if item.provider else None},
+                             "requester": item.requester.label, "provider": item.provider.label if item.provider else None,
+                             **_set_by(item)},
                  accepted_by=accepted_by)
         related = _launch_locations(item, launched_at or {})
         if related:

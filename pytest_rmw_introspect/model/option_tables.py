@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
 from .qos import FIELDS as QOS_FIELDS
-from .vocabulary import DEFAULT_LIFECYCLE_TARGET, FAIL_ON, LIFECYCLE_TARGETS
+from .vocabulary import DEFAULT_LIFECYCLE_TARGET, FAIL_ON, LIFECYCLE_TARGETS, RULE_LEVELS
 
 #: the largest settle, timeout or horizon accepted (a day); beyond it a value is a mistake
 MAX_SECONDS = 86_400.0
@@ -222,6 +222,15 @@ COMPARISON = Family(
         Option("ignore_parameter_values", Shape.WORDS, frozenset(), "parameters whose default values are not "
                "compared: true (no value is compared), or a list of names or patterns", _COMPARISON_EVERYWHERE,
                _true_or_unique(_TEXT), "true, or a list of name patterns", metavar="PATTERNS"),
+        # ---- issue 49: rule levels per project (compare.rule_levels) ----
+        Option("rules", Shape.REPEATED, (), "the project's level of a rule: a mapping of rule ids, or fnmatch "
+               "patterns of them (`QOS_*`), to off, note, safe, risky or breaking (on a command line RULE=LEVEL); "
+               "an exact id wins over a pattern, a longer pattern over a shorter one", _COMPARISON_EVERYWHERE,
+               {"type": "object", "propertyNames": {"pattern": "^[A-Z0-9_*?\\[\\]!]+$"},
+                "additionalProperties": {"enum": list(RULE_LEVELS)}}, "mapping of rule ids or patterns to levels",
+               default_text="every rule at its default level (docs/drift-rules.md)", metavar="RULE=LEVEL",
+               cli_flag="--rule"),
+        # ---- end of issue 49's rows ----
         Option("system_fail_on", Shape.CHOICE, "breaking", "least severe system problem that fails a system "
                "contract's check (as `compat --fail-on`)", _SYSTEM_ONLY, {"enum": list(FAIL_ON)}, " | ".join(FAIL_ON),
                choices=FAIL_ON),

@@ -169,6 +169,8 @@ THRESHOLDS: dict[str, Severity] = {
     "breaking": Severity.BREAKING,
 }
 FAIL_ON: tuple[str, ...] = tuple(THRESHOLDS)
+#: the levels the option ``rules`` gives a rule (``compare.rule_levels``): ``off`` drops its findings
+RULE_LEVELS: tuple[str, ...] = ("off", "note", "safe", "risky", "breaking")
 THRESHOLD_WORDS: dict[Severity, str] = {severity: word for word, severity in THRESHOLDS.items()}
 
 

@@ -50,6 +50,8 @@ LOCAL_IMPORTS = {
     ("model.contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a contract needs it",
     ("model.system_contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a system contract needs it",
     ("compare.drift", "deepdiff"): "deepdiff costs 0.1-0.2 s; only comparing needs it",
+    ("compare.rule_levels", "pytest_rmw_introspect.compare"): "the tables of every rule (with the drift rules' "
+                                                              "deepdiff, 0.1-0.2 s) only when a project sets `rules`",
     ("cli", "pytest_rmw_introspect.cli.system_contracts"): "`--help`, usage errors and `capture` of one target "
                                                            "answer without the system pipeline",
     ("cli", "pytest_rmw_introspect.run.warm"): "`capture` (one target, started cold), `--help` and usage errors answer "

@@ -47,6 +47,8 @@ SAMPLES: dict[str, tuple[Any, list[str]]] = {
     "ignore_parameters": (["qos_overrides.*"], ["--ignore-parameters", "qos_overrides.*"]),
     "ignore_parameter_values": (["rate"], ["--ignore-parameter-values", "rate"]),
     "system_fail_on": ("any", ["--system-fail-on", "any"]),
+    # issue 49: rule levels per project
+    "rules": ({"SUB_ADDED": "breaking"}, ["--rule", "SUB_ADDED=breaking"]),
     "package": ("demo_pkg", ["--package", "demo_pkg"]),
     "executable": ("talker", ["--executable", "talker"]),
     "command": (["echo", "hi"], []),

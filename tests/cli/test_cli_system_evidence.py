@@ -89,6 +89,14 @@ def test_the_rules_judge_by_evidence(camera, tmp_path):
     assert ("note: camera.system.yaml: /robot1/camera: parameter `port` is '/dev/ttyFAKE37:57600': the device "
             "/dev/ttyFAKE37, which this machine does not have (not judged: the robot has it)\n") in checked.stderr
 
+    # the project's rule levels apply to the system rules (issue 49): a dead remapping made to fail,
+    # the machine-local file turned off
+    strict = camera("check", "camera.system.yaml", "--rule", "REMAP_UNUSED*=breaking", "--rule",
+                    "PARAM_PATH_MACHINE_LOCAL=off", "--format", "json", env=here, timeout=180)
+    assert strict.returncode == 1, strict
+    assert [(i["rule"], i["severity"], i.get("level_set_by")) for i in json.loads(strict.stdout)] == [
+        ("REMAP_UNUSED_UNCONNECTED", "BREAKING", "set by rules `REMAP_UNUSED*`: in command line")]
+
     missing_calibration = camera("check", "camera.system.yaml", "--launch-arg", "calibration:=front.yaml",
                                  "--format", "json", env=here, timeout=180)
     assert missing_calibration.returncode == 1, missing_calibration

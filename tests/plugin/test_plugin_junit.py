@@ -112,3 +112,6 @@ def test_a_marker_sets_a_rule_s_level_and_the_junit_property_says_so(project):
     [item] = drift_property(cases(project.path / "report.xml")["test_nodes::test_noted"])
     assert (item["rule"], item["severity"]) == ("QOS_DEPTH_INCREASED", "NOTE")
     assert item["level_set_by"].startswith("set by rules `QOS_DEPTH_*`: in "), item
+    # the note is said in the session's summary too
+    result.stdout.fnmatch_lines(["*rmw-introspect: notes*",
+                                 "contracts/talker.yaml: [[]QOS_DEPTH_INCREASED] depth 3 -> 10*"])

@@ -379,7 +379,8 @@ class DiffResult:
     def for_ci(self) -> ContractOutcome:
         """For the CI formats: annotations point at NEW, the file a pull request changes."""
         return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.threshold,
-                               nodes=sorted(self.new.nodes), lines=self.new.lines())
+                               nodes=sorted(self.new.nodes), lines=self.new.lines(),
+                               notes=[rule_levels.turned_off_text(self.turned_off)] if self.turned_off else [])
 
 
 def diff_contracts(

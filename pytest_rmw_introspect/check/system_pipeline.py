@@ -474,6 +474,8 @@ class SystemDiff:
     items: list[DriftItem]
     #: where NEW lists its nodes and interfaces, for the CI formats
     lines: LineIndex = field(default_factory=dict)
+    #: how many findings the project's ``rules`` turned off (``compare.rule_levels``)
+    turned_off: int = 0
 
     @property
     def failed(self) -> bool:
@@ -482,11 +484,13 @@ class SystemDiff:
     def for_ci(self) -> ContractOutcome:
         """For the CI formats: results point at NEW, the file a pull request changes."""
         return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.options.threshold(),
-                               lines=self.lines)
+                               lines=self.lines,
+                               notes=[rule_levels.turned_off_text(self.turned_off)] if self.turned_off else [])
 
     def render_text(self) -> str:
-        return report.render_text(self.items, contract_path=self.old_shown, threshold=self.options.threshold(),
+        text = report.render_text(self.items, contract_path=self.old_shown, threshold=self.options.threshold(),
                                   title=f"Interface drift of {self.new_shown}")
+        return text + (f"\n{rule_levels.turned_off_text(self.turned_off)}.\n" if self.turned_off else "")
 
     def to_json(self) -> list[dict[str, Any]]:
         return [{"contract": self.old_shown, **item} for item in report.to_json(self.items)]
@@ -511,4 +515,4 @@ def diff_system(old_path: str | Path, new_path: str | Path, options: Sequence[Op
     opts = Layers(strong_options=options).options(old, shown=old_shown)
     lines = line_index(Path(new_path).read_text(encoding="utf-8"))
     leveled = rule_levels.apply(drift.compare(old.nodes, new.nodes, opts), opts.rules)  # the project's levels
-    return SystemDiff(old_shown, display(new_path), opts, leveled.items, lines)
+    return SystemDiff(old_shown, display(new_path), opts, leveled.items, lines, leveled.off)

@@ -51,7 +51,7 @@ from typing import Any, Literal, cast, get_args
 import yaml
 
 from ..errors import ContractError, InputError
-from . import acceptance, contract_kind, stand_ins, untrusted
+from . import acceptance, stand_ins, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
 from . import unstable_names as unstable_model
@@ -75,11 +75,6 @@ DEFAULT_HEADER = (
     "# `rmw-introspect check --update`; comments and keys above `processes:` are kept.\n"
     f"system_version: {SYSTEM_VERSION}\n"
 )
-
-
-def is_system_contract(path: str | Path) -> bool:
-    """A system contract file (``model.contract_kind``: ``system_version:``, or ``*.system.yaml``)."""
-    return contract_kind.is_system_file(path)
 
 
 @functools.lru_cache(maxsize=1)

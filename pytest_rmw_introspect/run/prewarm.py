@@ -11,13 +11,12 @@ from __future__ import annotations
 import os
 import tempfile
 from pathlib import Path
-from typing import Any
 
 from . import middleware, ros_env
 from .target import OUTPUT_PATTERN, TargetSpec, environment
 
 
-def warm_up(spec: TargetSpec | None = None, *, library: str | Path | None = None, ros: Any = None,
+def warm_up(spec: TargetSpec | None = None, *, library: str | Path | None = None, ros: ros_env.RosEnvironment | None = None,
             wait: float = 0.0, python: str | None = None) -> str | None:
     """Start the warm start server for targets like ``spec`` (default: a target with no `env` of
     its own, in the current directory) ahead of their captures, waiting up to ``wait`` seconds

@@ -360,7 +360,7 @@ def run(
     spec: TargetSpec,
     *,
     library: str | Path | None = None,
-    ros: Any = None,
+    ros: ros_env.RosEnvironment | None = None,
     include_infrastructure: bool = False,
     keep_files: bool | None = None,
     python: str | None = None,
@@ -419,7 +419,7 @@ class _Run:
     wall_time: float | None = None
 
     @classmethod
-    def begin(cls, spec: TargetSpec, *, library: str | Path | None, ros: Any, python: str | None,
+    def begin(cls, spec: TargetSpec, *, library: str | Path | None, ros: ros_env.RosEnvironment | None, python: str | None,
               cold_note: str | None, include_infrastructure: bool, keep_files: bool) -> _Run:
         """A working directory of its own (stale ones of killed runners swept now and then) and
         the target resolved into it (``target.resolve``), with its deadline not yet started."""

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import ExecutableNotFound, TargetConfigError
 from ..model import ament_index, editable_installs
 from ..model.option_tables import MAX_SECONDS, TARGET
+from ..model.parameters import flatten
 from ..model.vocabulary import DEFAULT_LIFECYCLE_TARGET, LIFECYCLE_TARGETS
 from . import middleware, ros_env
 
@@ -406,25 +407,14 @@ def merge(*layers: tuple[Mapping[str, Any] | None, str | Path | None, str]) -> T
 # ---------------------------------------------------------------------- parameters
 
 
-def _flatten(params: Mapping[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
-    out: list[tuple[str, Any]] = []
-    for name, value in params.items():
-        full = f"{prefix}{name}"
-        if isinstance(value, Mapping):
-            out.extend(_flatten(value, full + "."))
-        else:
-            out.append((full, value))
-    return out
-
-
-def yaml_value(value: Any) -> str:
+def ros_argument_value(value: Any) -> str:
     """Encode a parameter value the way rcl parses ``-p name:=<value>`` (a YAML scalar or flow list).
 
     Strings that YAML would read as something else (``"true"``, ``"1"``, ``""``) are quoted;
     floats always carry a decimal point so that ``1.0`` stays a double.
     """
     if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(yaml_value(v) for v in value) + "]"
+        return "[" + ", ".join(ros_argument_value(v) for v in value) + "]"
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, int):
@@ -470,8 +460,8 @@ def ros_arguments(spec: TargetSpec) -> list[str]:
         args += ["-r", f"__node:={spec.node_name}"]
     for a, b in spec.remappings:
         args += ["-r", f"{a}:={b}"]
-    for name, value in _flatten(spec.parameters):
-        args += ["-p", f"{name}:={yaml_value(value)}"]
+    for name, value in flatten(spec.parameters).items():
+        args += ["-p", f"{name}:={ros_argument_value(value)}"]
     if spec.params_file is not None:
         args += ["--params-file", str(spec.params_file)]
     return ["--ros-args", *args] if args else []
@@ -698,7 +688,7 @@ OUTPUT_PATTERN = "capture.<pid>.json"
 def environment(
     spec: TargetSpec,
     library: Path,
-    ros: Any,
+    ros: ros_env.RosEnvironment,
     output: Path,
     base: Mapping[str, str] | None = None,
 ) -> dict[str, str]:
@@ -787,7 +777,7 @@ def resolve(
     *,
     workdir: Path,
     library: str | Path | None = None,
-    ros: Any = None,
+    ros: ros_env.RosEnvironment | None = None,
     python: str | None = None,
     cold_note: str | None = None,
 ) -> ResolvedTarget:

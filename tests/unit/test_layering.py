@@ -73,6 +73,8 @@ LOCAL_IMPORTS = {
     ("model.types", "yaml"): "PyYAML costs ~20 ms; only writing a `types:` section needs it",
     ("model.nodl", "yaml"): "PyYAML costs ~20 ms; `capture --format nodl` starts without it",
     ("model.nodl", "jsonschema"): "jsonschema costs ~80 ms; only validating a NoDL document needs it",
+    ("model.nodl", "pytest_rmw_introspect.model.locate"): "the YAML locator (with PyYAML, ~20 ms): only a NoDL "
+                                                          "document with a problem is located",
     ("model.nodl", "referencing"): "jsonschema's reference registry: only validating a NoDL document needs it",
     ("model.nodl", "referencing.jsonschema"): "as referencing: only validating a NoDL document needs it",
     ("run.target", "yaml"): "PyYAML costs ~20 ms; only a string parameter value on the command line needs it",

@@ -19,8 +19,8 @@ from pytest_rmw_introspect.run.target import (
     TargetSpec,
     build_argv,
     merge,
+    ros_argument_value,
     ros_arguments,
-    yaml_value,
 )
 
 
@@ -203,19 +203,19 @@ def test_missing_params_file_is_a_config_error(tmp_path):
     ],
 )
 def test_parameter_values_are_yaml_encoded(value, encoded):
-    assert yaml_value(value) == encoded
+    assert ros_argument_value(value) == encoded
 
 
 def test_parameter_values_round_trip_through_yaml():
     import yaml
 
     for value in [True, 3, 2.0, 1e-9, "str", "true", "", "null", "~", "0x10", [1, 2], ["a", "b"]]:
-        assert yaml.safe_load(yaml_value(value)) == value
+        assert yaml.safe_load(ros_argument_value(value)) == value
 
 
 def test_unsupported_parameter_value_is_refused():
     with pytest.raises(TargetConfigError, match="cannot hold"):
-        yaml_value(object())
+        ros_argument_value(object())
 
 
 # ---------------------------------------------------------------------------- validation & merging

@@ -56,8 +56,12 @@ LOCAL_IMPORTS = {
                                           "without the warm start client (~15 ms)",
     ("run.runner", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only when a target may start warm: "
                                                  "`rmw-introspect capture` starts its one target cold without it",
-    ("run.target", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only to plan a start that may be "
-                                                 "warm: `rmw-introspect capture` resolves its one target cold without it",
+    ("run.resolution", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only to plan a start that "
+                                                     "may be warm: `rmw-introspect capture` resolves its one target "
+                                                     "cold without it",
+    ("run.target", "pytest_rmw_introspect.run.executables"): "the spec's modules form no cycle: the executables "
+                                                             "lookup (which reads the spec) only to list a "
+                                                             "package's executables in an error message",
     ("run.prewarm", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only when a session starts a "
                                                   "warm start server ahead of its captures",
     ("run.runner", "pytest_rmw_introspect.model.capture"): "the capture model (~30 ms of dataclass creation) is "
@@ -66,7 +70,7 @@ LOCAL_IMPORTS = {
                                                                      "imported with it, once a target has ended",
     ("run.ros_env", "importlib"): "importlib.metadata (+ email) costs ~10 ms; only a venv without the "
                                    "ros-<distro>-rclpy dist-info needs the scan of installed distributions",
-    ("run.target", "importlib"): "importlib.metadata (+ email) costs ~15 ms; only console scripts and packages "
+    ("run.executables", "importlib"): "importlib.metadata (+ email) costs ~15 ms; only console scripts and packages "
                                  "without an ament index need the scan of installed distributions",
     ("model.untrusted", "yaml"): "PyYAML costs ~20 ms; `rmw-introspect capture` reads JSON captures only",
     ("model.yaml_blocks", "yaml"): "PyYAML costs ~20 ms; only writing a contract needs it",

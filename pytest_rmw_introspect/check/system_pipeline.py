@@ -36,10 +36,9 @@ from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError, TargetConfigError, UsageError
 from ..launch import component_loads
 from ..model import contract as contract_module
+from ..model import contract_kind, system_contract
 from ..model import stand_ins as stand_in_model
-from ..model import system_contract
 from ..model.acceptance import Acceptance
-from ..model.contract import Contract
 from ..model.contract_shapes import ContractNode
 from ..model.locate import LineIndex, line_index, line_of
 from ..model.paths import shown as display
@@ -74,13 +73,6 @@ class SystemPrepared:
     stand_ins: list[StoodIn] = field(default_factory=list)
 
 
-def _as_contract(system: SystemContract | None) -> Contract | None:
-    """The parts ``Layers`` reads (``target:``, ``options:``) as a node contract."""
-    if system is None:
-        return None
-    return Contract(path=system.path, nodes=system.nodes, target=system.target, options=system.options)
-
-
 def prepare(
     contract_path: str | Path,
     *,
@@ -104,7 +96,7 @@ def prepare(
         contract = system_contract.load(path)
         acceptance.check_rules(contract.accept)
         stood_in = stand_in_model.load_all(contract.stand_ins, path)
-    as_contract = _as_contract(contract)
+    as_contract = None if contract is None else contract_kind.as_node_contract(contract)
     options = layers.options(as_contract, shown=shown)
     target = layers.target(as_contract, path=path, shown=shown)
     extra = sorted(k for k in target.to_mapping() if k not in SYSTEM_TARGET_KEYS)
@@ -409,7 +401,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
         if label in labels:
             continue
         labels.append(label)
-        if system_contract.is_system_contract(path):
+        if contract_kind.is_system_file(path):
             any_system = True
             system = system_contract.load(path)
             for kind, declared in system.external.items():
@@ -486,21 +478,11 @@ class SystemDiff:
         return [{"contract": self.old_shown, **item} for item in report.to_json(self.items)]
 
 
-def load_nodes(path: str | Path) -> tuple[Contract, str]:
-    """A contract file of either kind as a node ``Contract`` (the nodes and options a diff reads)."""
-    if system_contract.is_system_contract(path):
-        system = system_contract.load(path)
-        as_contract = _as_contract(system)
-        assert as_contract is not None
-        return as_contract, "system"
-    return contract_module.load(path), "node"
-
-
 def diff_system(old_path: str | Path, new_path: str | Path, options: Sequence[OptionLayer] = ()) -> SystemDiff:
     """Compare the nodes of two contracts of which at least one is a system contract, with the
     drift rules (raises ContractError)."""
-    old, _ = load_nodes(old_path)
-    new, _ = load_nodes(new_path)
+    old, _ = contract_kind.load(old_path)
+    new, _ = contract_kind.load(new_path)
     old_shown = display(old_path)
     opts = Layers(strong_options=options).options(old, shown=old_shown)
     lines = line_index(Path(new_path).read_text(encoding="utf-8"))

@@ -101,9 +101,9 @@ def _several_captures(args: argparse.Namespace) -> bool:
     contracts = list(getattr(args, "contracts", ()))
     if len(contracts) != 1:
         return len(contracts) > 1
-    from .system_contracts import is_system
+    from .system_contracts import checks_as_system
 
-    return is_system(Path(contracts[0]), args)
+    return checks_as_system(Path(contracts[0]), args)
 
 
 def _run_reporting_errors(args: argparse.Namespace, command: list[str] | None) -> int:

@@ -191,7 +191,7 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     for shown in args.contracts:
         path = Path(shown)
         result: Checked
-        if system_contracts.is_system(path, args):
+        if system_contracts.checks_as_system(path, args):
             result = system_contracts.check_system_contract(args, path, shown, command, setup.ros, setup.library)
         else:
             result = pipeline.check_contract(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,

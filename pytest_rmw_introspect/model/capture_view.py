@@ -50,6 +50,7 @@ from .vocabulary import (
     LOGGER_SERVICES,
     PARAMETER_SERVICES,
     PARAMETERS,
+    TOPIC_KINDS,
 )
 
 SIM_CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
@@ -204,7 +205,7 @@ def is_infrastructure(endpoint: Endpoint, node_fqn: str) -> bool:
     rosout, parameter_events = INFRASTRUCTURE_TOPICS
     if name == rosout and kind == "publisher":
         return True
-    if name == parameter_events and kind in ("publisher", "subscription"):
+    if name == parameter_events and kind in TOPIC_KINDS:
         return True
     prefix = node_fqn.rstrip("/") + "/"
     if not name.startswith(prefix):
@@ -335,7 +336,7 @@ def build_view(
                 first = target_list[idx]
                 target_list[idx] = Interface(first.name, first.type, first.type_hash, first.qos, first.endpoints + (e,))
                 continue
-            is_topic = e.kind in ("publisher", "subscription")
+            is_topic = e.kind in TOPIC_KINDS
             seen[key] = len(target_list)
             target_list.append(
                 Interface(

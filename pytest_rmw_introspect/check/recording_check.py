@@ -24,17 +24,19 @@ from pathlib import Path
 from ..compare import acceptance, report
 from ..compare import recordings as compare_recordings
 from ..compare.ci_report import ContractOutcome
+from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError
 from ..model import contract as contract_module
 from ..model import recording as recording_model
 from ..model import system_contract
 from ..model.acceptance import Acceptance
 from ..model.contract import Contract
-from ..model.contract_shapes import ContractNodes
+from ..model.contract_shapes import ContractNodes, ContractOptions
 from ..model.locate import LineIndex, line_index
 from ..model.paths import shown as display
 from ..model.recording import Recording
 from ..model.unstable_names import NameRules
+from ..model.vocabulary import parse_threshold
 from .pipeline import Layers, OptionLayer
 from .result import ContractCheck
 
@@ -215,6 +217,8 @@ class BagCheck:
     #: every contract checked so far: (as shown, nodes), and their ``external:`` blocks
     seen: list[tuple[str, ContractNodes]] = field(default_factory=list)
     external: list[dict[str, dict[str, str]]] = field(default_factory=list)
+    #: the options each contract was judged by (the recording's result takes the strictest)
+    judged_by: list[ComparisonOptions] = field(default_factory=list)
 
     @classmethod
     def read(cls, path: str | Path, options: Sequence[OptionLayer] = ()) -> BagCheck:
@@ -254,6 +258,7 @@ class BagCheck:
             return self._result(path, shown, error=exc)
         self.seen.append((shown, contract.nodes))
         self.external.append(external)
+        self.judged_by.append(options)
         found = compare_recordings.compare_contract(shown, contract.nodes, self.recording, options)
         result = self._result(path, shown, contract=contract, options=options, recorded=found.recorded, lines=lines)
         self._judge(result, [*found.drift_items, *found.system_items], accept)
@@ -261,8 +266,14 @@ class BagCheck:
 
     def check_recording(self) -> RecordingCheckResult:
         """The recording against every contract checked (call after :meth:`check` of each): the
-        recorded topics none of them declares."""
-        options = self.layers.options(None, shown=self.shown)
+        recorded topics none of them declares, judged by the strictest ``fail_on`` and
+        ``system_fail_on`` of the contracts (under the command line's)."""
+        strictest = ContractOptions()
+        if self.judged_by:
+            strictest["fail_on"] = min((o.fail_on for o in self.judged_by), key=parse_threshold)
+            strictest["system_fail_on"] = min((o.system_fail_on for o in self.judged_by), key=parse_threshold)
+        as_contract = Contract(path=None, nodes={}, options=strictest)
+        options = self.layers.options(as_contract, shown=f"{self.shown} (the strictest options of the contracts)")
         items = compare_recordings.undeclared(self.recording, self.seen, self.external, options)
         result = self._result(self.recording.path, self.shown, contract=_NoPromises(), options=options, own=True)
         self._judge(result, items, [])

@@ -35,7 +35,6 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-from mcap.exceptions import McapError
 from mcap.reader import make_reader
 
 from ..errors import RecordingError
@@ -241,7 +240,8 @@ def read_mcap(path: Path, shown: str) -> tuple[list[RecordedTopic], int | None, 
         raise
     except OSError as exc:
         raise RecordingError(f"{shown}: cannot be read ({exc.strerror or exc})") from None
-    except (McapError, ValueError, EOFError, KeyError, IndexError) as exc:
+    except Exception as exc:  # the library's parser meets any bytes: besides its McapError, each release raises
+        # other types on a bad file (OverflowError, struct.error, EOFError, a codec's errors)
         raise RecordingError(f"{shown}: not a readable MCAP file ({type(exc).__name__}: {exc}): the file is corrupt "
                              f"or truncated; {_what_to_do('mcap')}") from None
     version: int | None = None

@@ -289,6 +289,79 @@ def test_a_baseline_holds_todays_findings(tmp_path, contracts, capsys):
     assert check("--bag", "rec", "--baseline", "base.json", *contracts) == 0
 
 
+SYSTEM = f"""\
+system_version: 1
+launch: {{package: bringup, file: robot.launch.xml}}
+options: {{system_fail_on: risky}}
+external:
+  publishers: {{/cmd_vel: teleop}}
+processes:
+  - {{package: demo, executable: talker, name: /talker, nodes: [/talker]}}
+  - {{package: demo, executable: fibonacci, name: /fibonacci_server, nodes: [/fibonacci_server]}}
+nodes:
+{TALKER.split("nodes:" + chr(10), 1)[1]}\
+  /fibonacci_server:
+    publishers: []
+    subscriptions: []
+    service_servers: []
+    service_clients: []
+    action_servers:
+      - {{name: /fibonacci, type: example_interfaces/action/Fibonacci}}
+    action_clients: []
+"""
+
+
+def test_a_system_contract_knows_its_outside_publishers_and_its_actions_topics(tmp_path, contracts, capsys):
+    Path("robot.system.yaml").write_text(SYSTEM)
+    bag(tmp_path, [topic(), topic("/cmd_vel", "geometry_msgs/msg/Twist", count=9),
+                   topic("/fibonacci/_action/status", "action_msgs/msg/GoalStatusArray", count=1),
+                   topic("/fibonacci/_action/feedback", "example_interfaces/action/Fibonacci_FeedbackMessage"),
+                   topic("/unknown", count=2)])
+    # the recording's own result is judged by the strictest options of the contracts: system_fail_on risky
+    assert check("--bag", "rec", "robot.system.yaml") == 1
+    out = capsys.readouterr().out
+    assert "robot.system.yaml: matches (1 publisher on recorded topics, 5 messages, in rec)" in out
+    assert "/unknown" in out and "[RECORDED_TOPIC_UNDECLARED] 1 finding" in out
+    assert "/cmd_vel (" not in out and "_action/status (" not in out
+
+
+def test_a_system_contracts_system_fail_on_fails_on_a_missing_topic(tmp_path, contracts, capsys):
+    Path("robot.system.yaml").write_text(SYSTEM)
+    bag(tmp_path, [topic("/other")])
+    assert check("--bag", "rec", "robot.system.yaml") == 1
+    assert "[CONTRACT_TOPIC_NOT_RECORDED]" in capsys.readouterr().out
+
+
+def test_a_split_recording_counts_every_file(tmp_path, contracts, capsys):
+    rec = bag(tmp_path, [topic(count=3)])
+    write_mcap(rec / "rec_1.mcap", [topic(count=4)])
+    meta = yaml.safe_load((rec / "metadata.yaml").read_text())
+    meta["rosbag2_bagfile_information"]["relative_file_paths"].append("rec_1.mcap")
+    (rec / "metadata.yaml").write_text(yaml.safe_dump(meta, sort_keys=False))
+    assert check("--bag", "rec", "-v", "talker.interfaces.yaml") == 0
+    assert "matches (1 publisher on recorded topics, 7 messages: /talker /chatter 7 messages, in rec)" in \
+        capsys.readouterr().out
+
+
+def test_a_compressed_recording_is_read_from_its_metadata_and_says_so(tmp_path, contracts, capsys):
+    rec = bag(tmp_path, [topic(count=3)])
+    (rec / "rec_0.mcap").rename(rec / "rec_0.mcap.zstd")
+    meta = yaml.safe_load((rec / "metadata.yaml").read_text())
+    meta["rosbag2_bagfile_information"].update(compression_format="zstd", compression_mode="file",
+                                               relative_file_paths=["rec_0.mcap.zstd"])
+    (rec / "metadata.yaml").write_text(yaml.safe_dump(meta, sort_keys=False))
+    assert recording_model.read(rec).notes == (
+        "its files are compressed (zstd): topics, QoS and counts are metadata.yaml's, the files were not read",)
+    assert check("--bag", "rec", *contracts) == 0
+    assert "/chatter 3 messages" in capsys.readouterr().out
+
+
+def test_infrastructure_topics_are_compared_when_asked(tmp_path, contracts, capsys):
+    bag(tmp_path, [topic(), topic("/rosout", "rcl_interfaces/msg/Log")])
+    assert check("--bag", "rec", "--include-ros-infra", "--system-fail-on", "risky", *contracts) == 1
+    assert "the recording holds /rosout (rcl_interfaces/msg/Log" in capsys.readouterr().out
+
+
 # ---------------------------------------------------------------------------- formats
 
 

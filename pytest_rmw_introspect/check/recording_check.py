@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from ..compare import acceptance, report
 from ..compare import recordings as compare_recordings
@@ -109,6 +110,8 @@ class RecordingCheckResult(ContractCheck[Contract | _NoPromises, RecordingSpec, 
     own: bool = False
     #: the contract's publishers whose topics were recorded: (node, topic, message count)
     recorded: list[tuple[str, str, int | None]] = field(default_factory=list)
+    #: how many of the contract's subscriptions have their topic in the recording
+    subscribed: int = 0
     lines: LineIndex = field(default_factory=dict)
 
     @property
@@ -148,7 +151,21 @@ class RecordingCheckResult(ContractCheck[Contract | _NoPromises, RecordingSpec, 
         said = f"{_counted(len(self.recorded), 'publisher')} on recorded topics, {_counted(counted, 'message')}"
         if names and self.recorded:
             said += ": " + ", ".join(f"{node} {topic} {_messages(count)}" for node, topic, count in self.recorded)
+        if self.subscribed:
+            said += f"; {_counted(self.subscribed, 'subscription')} fit the recorded publishers"
         return f"{said}, in {recording.shown}"
+
+    def to_json(self) -> list[dict[str, Any]]:
+        """The findings (``ContractCheck.to_json``), each about a recorded topic with its
+        ``message_count`` and every one with the ``recording`` it was found in."""
+        counts = {t.name: t.message_count for t in self.recording.topics} if self.spec is not None else {}
+        out = []
+        for item in super().to_json():
+            extra: dict[str, Any] = {"recording": self.recording.shown} if self.spec is not None else {}
+            if item.get("name") in counts:
+                extra["message_count"] = counts[item["name"]]
+            out.append({**item, **extra})
+        return out
 
     def notes(self) -> list[str]:
         return list(self.recording.notes) if self.own else []
@@ -259,8 +276,10 @@ class BagCheck:
         self.seen.append((shown, contract.nodes))
         self.external.append(external)
         self.judged_by.append(options)
-        found = compare_recordings.compare_contract(shown, contract.nodes, self.recording, options)
-        result = self._result(path, shown, contract=contract, options=options, recorded=found.recorded, lines=lines)
+        found = compare_recordings.compare_contract(shown, contract.nodes, self.recording, options,
+                                                    contract.ros_distribution)
+        result = self._result(path, shown, contract=contract, options=options, recorded=found.recorded,
+                              subscribed=found.subscribed, lines=lines)
         self._judge(result, [*found.drift_items, *found.system_items], accept)
         return result
 

@@ -48,7 +48,7 @@ RECORDER_TOPICS = ("/events/write_split",)
 CONNECTION_RULES = frozenset({"TYPE_MISMATCH", "TYPE_HASH_MISMATCH", "QOS_INCOMPATIBLE", "QOS_MAYBE_INCOMPATIBLE"})
 #: every rule a recording can be found to break (an ``accept:`` entry of another rule is not stale here)
 CHECKED_RULES = frozenset(
-    {"TYPE_CHANGED", "TYPE_HASH_CHANGED"} | CONNECTION_RULES | set(RULES)
+    {"TYPE_CHANGED", "TYPE_HASH_CHANGED", "TYPE_HASH_DISTRIBUTION_CHANGED"} | CONNECTION_RULES | set(RULES)
     | {rule for rule in drift.RULES if rule.startswith("QOS_") and not rule.endswith(("_REQUEST_RAISED",
                                                                                       "_REQUEST_LOWERED"))})
 _LEFT_TO_MIDDLEWARE = ("SYSTEM_DEFAULT", "BEST_AVAILABLE")
@@ -136,10 +136,15 @@ class Found:
     system_items: list[CompatItem]
     #: the contract's publishers (node, topic) whose topic is in the recording, and its count
     recorded: list[tuple[str, str, int | None]]
+    #: how many of the contract's subscriptions have their topic in the recording
+    subscribed: int = 0
 
 
-def compare_contract(label: str, nodes: ContractNodes, recording: Recording, options: ComparisonOptions) -> Found:
-    """A contract's nodes (``label``: the contract as shown) against ``recording``."""
+def compare_contract(label: str, nodes: ContractNodes, recording: Recording, options: ComparisonOptions,
+                     distribution: str | None = None) -> Found:
+    """A contract's nodes (``label``: the contract as shown) against ``recording``; ``distribution``:
+    the ROS 2 distribution the contract was captured on (a type hash that differs between it and
+    the recording's is ``TYPE_HASH_DISTRIBUTION_CHANGED``, as in any check)."""
     expected: dict[str, ContractNode] = {}
     actual: dict[str, ContractNode] = {}
     system_items: list[CompatItem] = []
@@ -166,6 +171,7 @@ def compare_contract(label: str, nodes: ContractNodes, recording: Recording, opt
             expected.setdefault(fqn, empty_node())["publishers"].append(promised)
             actual.setdefault(fqn, empty_node())["publishers"].append(recorded_entry(promised, topic))
     drift_items = drift.compare(expected, actual, options) if expected else []
+    drift_items = drift.attribute_to_distribution(drift_items, distribution, recording.ros_distro)
     label_of_recording = f"recording {recording.shown}"
     providers: ContractNodes = {UNKNOWN_NODE: empty_node()}
     providers[UNKNOWN_NODE]["publishers"] = provider_entries(recording)
@@ -177,7 +183,9 @@ def compare_contract(label: str, nodes: ContractNodes, recording: Recording, opt
         if (item.rule in CONNECTION_RULES and item.provider is not None and item.provider.label == label_of_recording
                 and not is_left_out(item.name, options)):
             system_items.append(item)
-    return Found(drift_items, system_items, recorded)
+    subscribed = sum(1 for node in nodes.values() for e in (node or {}).get("subscriptions") or []
+                     if recording.topic(str(e.get("name"))) is not None)
+    return Found(drift_items, system_items, recorded, subscribed)
 
 
 def _action_of(name: str) -> str | None:

@@ -176,7 +176,8 @@ def test_a_matching_recording_passes_and_says_the_counts(tmp_path, contracts, ca
     assert check("--bag", "rec", *contracts) == 0
     out, err = capsys.readouterr()
     assert "talker.interfaces.yaml: matches (1 publisher on recorded topics, 5 messages, in rec)" in out
-    assert "listener.interfaces.yaml: matches (0 publishers on recorded topics, 0 messages, in rec)" in out
+    assert ("listener.interfaces.yaml: matches (0 publishers on recorded topics, 0 messages; 1 subscription fit the "
+            "recorded publishers, in rec)") in out
     assert "rec: matches (every topic declared; 1 recorded topic, 5 messages: /chatter 5 messages)" in out
     assert "note: rec: a recording shows topics" in err and "not subscriptions, services" in err
     assert recording_model.read(rec).storage == storage
@@ -218,6 +219,14 @@ def test_a_changed_type_hash_is_drift(tmp_path, contracts, capsys):
     assert check("--bag", "rec", *contracts) == 1
     out = capsys.readouterr().out
     assert "[TYPE_HASH_CHANGED]" in out and "[TYPE_HASH_MISMATCH]" in out
+
+
+def test_a_type_hash_of_another_distribution_is_said_so(tmp_path, contracts, capsys):
+    Path("talker.interfaces.yaml").write_text("ros_distribution: humble\n" + TALKER)
+    bag(tmp_path, [topic(type_hash=OTHER_HASH)])
+    assert check("--bag", "rec", "talker.interfaces.yaml") == 1
+    out = capsys.readouterr().out
+    assert "[TYPE_HASH_DISTRIBUTION_CHANGED]" in out and "between ROS 2 humble (the contract) and jazzy" in out
 
 
 def test_a_recording_without_type_hashes_compares_none(tmp_path, contracts, capsys):
@@ -371,8 +380,11 @@ def test_every_report_format(tmp_path, contracts, capsys, fmt):
     assert check("--bag", "rec", "--format", fmt, *contracts) == 1
     out = capsys.readouterr().out
     if fmt == "json":
-        rules = {item["rule"] for item in json.loads(out)}
-        assert rules == {"QOS_RELIABILITY_WEAKENED", "QOS_INCOMPATIBLE", "RECORDED_TOPIC_UNDECLARED"}
+        items = json.loads(out)
+        assert {item["rule"] for item in items} == {"QOS_RELIABILITY_WEAKENED", "QOS_INCOMPATIBLE",
+                                                    "RECORDED_TOPIC_UNDECLARED"}
+        assert {(item["name"], item["message_count"], item["recording"]) for item in items} == {
+            ("/chatter", 5, "rec"), ("/debug", 4, "rec")}
     elif fmt == "markdown":
         assert "| `rec` | `/chatter (5 messages)`, `/debug (4 messages)` |" in out
         assert "`QOS_INCOMPATIBLE`" in out and "`talker.interfaces.yaml`" in out

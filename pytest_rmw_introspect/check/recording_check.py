@@ -136,7 +136,7 @@ class RecordingCheckResult(ContractCheck[Contract | _NoPromises, RecordingSpec, 
         return [CANNOT_SHOW] if self.own else []
 
     def title(self) -> str:
-        return f"Interface drift of the recording {self.recording.shown} against {self.shown}"
+        return f"Interface drift of the recording {self.recording.shown}"  # the report adds "against CONTRACT"
 
     def matched(self, *, names: bool) -> str:
         recording = self.recording

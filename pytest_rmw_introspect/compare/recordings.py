@@ -41,7 +41,7 @@ from .options import ComparisonOptions
 from .recording_rules import RULES
 
 #: the node that publishes in a recording: the recording does not say which one
-UNKNOWN_NODE = "(a node the recording does not name)"
+UNKNOWN_NODE = "(unknown node)"
 #: what rosbag2's recorder publishes itself
 RECORDER_TOPICS = ("/events/write_split",)
 #: the compatibility rules a recording's publishers meet a contract's subscriptions with

@@ -17,6 +17,9 @@ def start(args: argparse.Namespace, command: list[str] | None) -> BagCheck:
     if args.update:
         raise UsageError("--bag checks a recording and writes nothing: leave out --update (accept drift on "
                          "purpose with `accept:` entries in the contract, or --write-baseline FILE)")
+    if args.shard:
+        raise UsageError("--bag with --shard: a recording is checked against every contract at once (a topic is "
+                         "undeclared only if no contract declares it); leave out --shard")
     if target_from_args(args, command) or wants_launch(args) or launch_arguments(args):
         raise UsageError("--bag checks a recording: nothing runs, so target and launch options (and -- COMMAND) "
                          "cannot be given with it")

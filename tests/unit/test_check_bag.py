@@ -472,3 +472,5 @@ def test_nothing_runs_and_nothing_is_written_with_a_recording(tmp_path, contract
     assert "--bag checks a recording and writes nothing: leave out --update" in capsys.readouterr().err
     assert check("--bag", "rec", "--script", "node.py", *contracts) == 2
     assert "nothing runs, so target and launch options" in capsys.readouterr().err
+    assert check("--bag", "rec", "--shard", "1/2", *contracts) == 2
+    assert "a recording is checked against every contract at once" in capsys.readouterr().err

@@ -34,10 +34,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import yaml
 from mcap.reader import make_reader
 
-from ..errors import RecordingError
+from ..errors import InputError, RecordingError
+from . import untrusted
 from .paths import shown as display
 
 #: the storage identifiers this reader reads (``storage_identifier`` of ``metadata.yaml``)
@@ -100,6 +100,20 @@ class Recording:
 # ---------------------------------------------------------------------------- QoS
 
 
+def _yaml(text: str, where: str, what: str) -> Any:
+    """A YAML document read as any untrusted file is (``model.untrusted``: bounded nesting and
+    expansion, unique string keys); raises RecordingError naming ``where`` and ``what``."""
+    try:
+        root = untrusted.compose_yaml(text)
+        if root is None:
+            return None
+        untrusted.check_tree(root)
+        return untrusted.construct(root)
+    except InputError as exc:
+        at = f" (line {exc.line})" if exc.line else ""
+        raise RecordingError(f"{where}: {what} cannot be read{at}: {exc.reason}") from None
+
+
 def _enum(policy: str, value: Any, where: str) -> str:
     if isinstance(value, bool):
         raise RecordingError(f"{where}: QoS {policy} {value!r} is not a policy value")
@@ -158,10 +172,7 @@ def parse_qos_profiles(value: Any, where: str) -> tuple[dict[str, Any], ...]:
     if value is None or value == "":
         return ()
     if isinstance(value, str):
-        try:
-            value = yaml.safe_load(value)
-        except yaml.YAMLError as exc:
-            raise RecordingError(f"{where}: offered_qos_profiles is not YAML ({exc})") from None
+        value = _yaml(value, where, "offered_qos_profiles (YAML)")
         if value is None:
             return ()
     if not isinstance(value, list):
@@ -207,7 +218,7 @@ def read_sqlite(path: Path, shown: str) -> list[RecordedTopic]:
                   "type_description_hash" if "type_description_hash" in columns else "''"]
         rows = db.execute(f"SELECT {', '.join(wanted)} FROM topics ORDER BY id").fetchall()
         counts = dict(db.execute("SELECT topic_id, COUNT(*) FROM messages GROUP BY topic_id").fetchall())
-    except sqlite3.DatabaseError as exc:
+    except (sqlite3.DatabaseError, UnicodeDecodeError) as exc:  # a damaged page can hold any bytes
         raise RecordingError(f"{shown}: the SQLite database cannot be read ({exc}): the file is corrupt or "
                              f"truncated; {_what_to_do('sqlite3')}") from None
     finally:
@@ -242,15 +253,16 @@ def read_mcap(path: Path, shown: str) -> tuple[list[RecordedTopic], int | None, 
         raise RecordingError(f"{shown}: cannot be read ({exc.strerror or exc})") from None
     except Exception as exc:  # the library's parser meets any bytes: besides its McapError, each release raises
         # other types on a bad file (OverflowError, struct.error, EOFError, a codec's errors)
-        raise RecordingError(f"{shown}: not a readable MCAP file ({type(exc).__name__}: {exc}): the file is corrupt "
+        why = f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
+        raise RecordingError(f"{shown}: not a readable MCAP file ({why}): the file is corrupt "
                              f"or truncated; {_what_to_do('mcap')}") from None
     version: int | None = None
     distro: str | None = None
     rosbag2 = metadata.get("rosbag2", {})
     if rosbag2.get("serialized_metadata"):
-        try:
-            info = yaml.safe_load(rosbag2["serialized_metadata"])
-        except yaml.YAMLError:
+        try:  # it only says the metadata version and distribution: a broken one is not needed
+            info = _yaml(rosbag2["serialized_metadata"], shown, "the rosbag2 metadata record")
+        except RecordingError:
             info = None
         if isinstance(info, Mapping):
             info = info.get("rosbag2_bagfile_information", info)
@@ -278,13 +290,11 @@ def _metadata(directory: Path, shown: str) -> Mapping[str, Any]:
     file = directory / METADATA_FILE
     where = display(file)
     try:
-        text = file.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise RecordingError(f"{where}: cannot be read ({exc.strerror or exc})") from None
-    try:
-        document = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        raise RecordingError(f"{where}: not YAML ({exc}); `ros2 bag reindex {shown}` writes it anew") from None
+        text = untrusted.read_text(file)
+    except (OSError, InputError) as exc:
+        reason = exc.reason if isinstance(exc, InputError) else exc.strerror or str(exc)
+        raise RecordingError(f"{where}: cannot be read ({reason})") from None
+    document = _yaml(text, where, f"the metadata (`ros2 bag reindex {shown}` writes it anew)")
     info = document.get("rosbag2_bagfile_information") if isinstance(document, Mapping) else None
     if not isinstance(info, Mapping):
         raise RecordingError(f"{where}: not rosbag2 metadata (no `rosbag2_bagfile_information:`); "

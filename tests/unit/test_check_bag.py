@@ -459,6 +459,53 @@ def test_a_truncated_db3_file_is_an_error(tmp_path, contracts, capsys):
     assert "the file is corrupt or truncated" in err
 
 
+@pytest.mark.parametrize("suffix", [".mcap", ".db3"])
+def test_every_cut_or_damaged_storage_file_is_an_error_or_a_recording(tmp_path, monkeypatch, suffix):
+    """Whatever bytes a damaged file holds, reading it ends in a RecordingError or a recording,
+    never another exception (a traceback)."""
+    import random
+
+    monkeypatch.chdir(tmp_path)
+    (write_mcap if suffix == ".mcap" else write_db3)(tmp_path / f"good{suffix}", [topic(count=30),
+                                                                                  topic("/debug", count=30)])
+    data = (tmp_path / f"good{suffix}").read_bytes()
+    rng = random.Random(52)
+    damaged = [data[:n] for n in (0, 3, 8, 9, 40, len(data) // 3, len(data) - 30, len(data) - 1)]
+    for _ in range(40):
+        flipped = bytearray(data)
+        for _ in range(rng.randint(1, 8)):
+            flipped[rng.randrange(len(flipped))] = rng.randrange(256)
+        damaged.append(bytes(flipped))
+    for i, payload in enumerate(damaged):
+        (tmp_path / f"bad{suffix}").write_bytes(payload)
+        try:
+            recording_model.read(f"bad{suffix}")
+        except recording_model.RecordingError as exc:
+            assert str(exc).startswith(f"bad{suffix}: "), (i, exc)
+
+
+@pytest.mark.parametrize(("text", "said"), [
+    ("a: [1, 2\n", "rec/metadata.yaml: the metadata (`ros2 bag reindex rec` writes it anew) cannot be read (line 2): "
+                   "YAML syntax error"),
+    ("- just a list\n", "rec/metadata.yaml: not rosbag2 metadata (no `rosbag2_bagfile_information:`)"),
+    ("rosbag2_bagfile_information: {version: nine}\n", "rec/metadata.yaml: no metadata `version:` (an integer)"),
+    ("rosbag2_bagfile_information:\n  version: 9\n  storage_identifier: mcap\n  relative_file_paths: []\n"
+     "  topics_with_message_count: [{topic_metadata: {name: /a, type: t, offered_qos_profiles: [{reliability: 7}]}}]\n",
+     "rec/metadata.yaml: topic /a: QoS reliability 7 is not one of rmw's values"),
+    ("a: &a [x, x, x, x, x, x, x, x, x, x]\nb: &b [*a, *a, *a, *a, *a, *a, *a, *a, *a, *a]\n"
+     "c: &c [*b, *b, *b, *b, *b, *b, *b, *b, *b, *b]\nd: &d [*c, *c, *c, *c, *c, *c, *c, *c, *c, *c]\n"
+     "e: &e [*d, *d, *d, *d, *d, *d, *d, *d, *d, *d]\nf: &f [*e, *e, *e, *e, *e, *e, *e, *e, *e, *e]\n"
+     "g: [*f, *f, *f, *f, *f, *f, *f, *f, *f, *f]\n", "an alias bomb?"),
+])
+def test_a_broken_metadata_file_is_an_error(tmp_path, monkeypatch, text, said):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "rec").mkdir()
+    (tmp_path / "rec" / "metadata.yaml").write_text(text)
+    with pytest.raises(recording_model.RecordingError) as caught:
+        recording_model.read("rec")
+    assert said in str(caught.value)
+
+
 def test_a_missing_path_is_an_error(tmp_path, contracts, capsys):
     assert check("--bag", "nowhere", *contracts) == 2
     assert capsys.readouterr().err.strip() == (

@@ -369,7 +369,6 @@ def _read_directory(directory: Path, shown: str) -> Recording:
     compressed = str(info.get("compression_mode") or "").lower() == "file" and info.get("compression_format")
     notes: list[str] = []
     from_files: list[RecordedTopic] | None = []
-    version_seen: int | None = version
     for name in files:
         file = directory / name
         file_shown = display(file)
@@ -391,7 +390,7 @@ def _read_directory(directory: Path, shown: str) -> Recording:
     distro = info.get("ros_distro") if isinstance(info.get("ros_distro"), str) else None
     return Recording(path=directory, shown=shown, storage=str(storage),
                      topics=tuple(_merge(_metadata_topics(info, version, where), from_files)),
-                     version=version_seen, ros_distro=distro or None, files=tuple(files), notes=tuple(notes))
+                     version=version, ros_distro=distro or None, files=tuple(files), notes=tuple(notes))
 
 
 def read(path: str | os.PathLike[str]) -> Recording:

@@ -29,7 +29,7 @@ from ..model.vocabulary import (
     ListName,
     Severity,
 )
-from . import launch_given, wiring
+from . import launch_given, recording_rules, wiring
 
 _WITHOUT_PROVIDER = {
     "subscriptions": "SUBSCRIPTION_WITHOUT_PUBLISHER",
@@ -59,6 +59,8 @@ RULES: dict[str, Severity] = {
     **wiring.RULES,
     # what the launch file gives a node and the node ignores (compare.launch_given)
     **launch_given.RULES,
+    # what a recording shows (check --bag: compare.recordings)
+    **recording_rules.RULES,
 }
 
 #: rule id → what it reports, for the docs and SARIF's rule descriptions (the "what" column of
@@ -127,6 +129,7 @@ SUMMARIES: dict[str, str] = {
         "a node's string parameter names a hardware device the capture machine lacks: `/dev/...` (with or "
         "without a `:baud` suffix), `serial:///dev/...`"
     ),
+    **recording_rules.SUMMARIES,
 }
 
 

@@ -15,6 +15,7 @@ One line per module:
 - ``parameters``: a node's parameters and lifecycle state, captured and in contracts
 - ``portable``: parameter values written portably (an install location as a token), what they point at
 - ``option_tables``: the comparison and target options, their front ends and precedence
+- ``recording``: rosbag2 recordings (a bag directory, an MCAP or sqlite3 file) read for their topics, QoS and counts
 - ``contract``: contract files: load, validate, render, update
 - ``contract_kind``: whether a file is a contract and of which kind (node, marker golden, system,
   NoDL), by its content: the one place every command and pytest ask

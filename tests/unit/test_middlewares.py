@@ -236,3 +236,44 @@ def test_compat_takes_rmw_on_the_command_line(tmp_path, capsys):
     assert "rmw_zenoh_cpp connects these" in capsys.readouterr().out
     args = build_parser().parse_args(["compat", str(path)])
     assert cmd_compat(args) == 1
+
+
+# ------------------------------------------------------------------- diff
+
+NODE = """\
+contract_version: 1
+nodes:
+  /cam:
+    publishers: [{{name: /image, type: std_msgs/msg/String, qos: {qos}}}]
+"""
+
+
+def test_diff_judges_qos_drift_for_the_middleware(tmp_path):
+    from pytest_rmw_introspect.check import pipeline
+
+    old, new = tmp_path / "old.interfaces.yaml", tmp_path / "new.interfaces.yaml"
+    old.write_text(NODE.format(qos="default"))
+    new.write_text(NODE.format(qos="sensor_data"))
+    weakened = [i for i in pipeline.diff_contracts(old, new).items if i.rule == "QOS_RELIABILITY_WEAKENED"]
+    assert [i.severity for i in weakened] == [Severity.BREAKING]
+    zenoh = [i for i in pipeline.diff_contracts(old, new, {"rmw": "rmw_zenoh_cpp"}).items
+             if i.rule == "QOS_RELIABILITY_WEAKENED"]
+    assert [i.severity for i in zenoh] == [Severity.RISKY]
+
+
+def test_diff_of_system_contracts_takes_the_middleware_they_say(tmp_path):
+    reliable = NODES.replace("qos: sensor_data", "qos: default")
+    old = tmp_path / "old.system.yaml"
+    old.write_text(HEADER + reliable)
+    new = write(tmp_path, "", name="new.system.yaml")  # the camera now publishes BEST_EFFORT
+
+    def weakened(diff):
+        return [i.severity for i in diff.items if i.rule == "QOS_RELIABILITY_WEAKENED"]
+
+    assert weakened(system_pipeline.diff_system(old, new)) == [Severity.BREAKING]
+    new.write_text(HEADER + "rmw: rmw_zenoh_cpp\n" + NODES)
+    diff = system_pipeline.diff_system(old, new)
+    assert diff.options.rmw == "rmw_zenoh_cpp" and weakened(diff) == [Severity.RISKY]
+    # what a contract says beats --rmw
+    assert system_pipeline.diff_system(old, new, [({"rmw": "rmw_cyclonedds_cpp"}, "command line")]).options.rmw == \
+        "rmw_zenoh_cpp"

@@ -277,3 +277,14 @@ def test_diff_of_system_contracts_takes_the_middleware_they_say(tmp_path):
     # what a contract says beats --rmw
     assert system_pipeline.diff_system(old, new, [({"rmw": "rmw_cyclonedds_cpp"}, "command line")]).options.rmw == \
         "rmw_zenoh_cpp"
+
+
+def test_the_consumers_of_a_changed_interface_are_judged_for_the_middleware():
+    from pytest_rmw_introspect.compare import consumers, drift
+
+    old = {"/cam": {"publishers": [topic("default", "/image")]}}
+    new = {"/cam": {"publishers": [topic("sensor_data", "/image")]}}
+    systems = {"robot.system.yaml": {"/det": {"subscriptions": [topic("default", "/image")]}}}
+    items = drift.compare(old, new)
+    assert "CONSUMER_INCOMPATIBLE" in {i.rule for i in consumers.judge(items, new, old, systems)}
+    assert "CONSUMER_INCOMPATIBLE" not in {i.rule for i in consumers.judge(items, new, old, systems, rmw="rmw_zenoh_cpp")}

@@ -413,7 +413,7 @@ def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractN
         return result
     items = compare_contracts(old, new, dataclasses.replace(opts, fail_on=threshold.name.lower()))
     if systems and not contract_kind.is_system_text(new.text or old.text, name):
-        items = consumers.judge(items, new.nodes, old.nodes, systems)
+        items = consumers.judge(items, new.nodes, old.nodes, systems, rmw=opts.rmw)
     _judge(result, drift.sort_items(items), old, new, baseline, revision.ref)
     result.nodes = sorted((new if pair.new is not None else old).nodes)
     result.lines = _lines(new) if pair.new is not None else {}

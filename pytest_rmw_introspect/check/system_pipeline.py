@@ -21,6 +21,7 @@ without capturing (``compat``, ``graph``); :func:`diff_system` compares two syst
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -29,14 +30,21 @@ from typing import Any
 
 from ..compare import acceptance, drift, launch_given, report
 from ..compare.ci_report import ContractOutcome
-from ..compare.compatibility import CompatItem, LaunchedProcess, check_compatibility, check_launched, propose_external
+from ..compare.compatibility import (
+    NOTES,
+    CompatItem,
+    LaunchedProcess,
+    check_compatibility,
+    check_launched,
+    propose_external,
+)
 from ..compare.drift import DriftItem
 from ..compare.launch_given import Given
 from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError, TargetConfigError, UsageError
 from ..launch import component_loads
 from ..model import contract as contract_module
-from ..model import contract_kind, system_contract
+from ..model import contract_kind, middlewares, system_contract
 from ..model import stand_ins as stand_in_model
 from ..model.acceptance import Acceptance
 from ..model.contract_shapes import ContractNode
@@ -195,7 +203,7 @@ class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]
         failing = {item.node for item in self.drift_items if item.change == "removed" and item.severity >= self.threshold}
         devices: dict[str, list[str]] = {}
         for item in self.rule_notes:
-            if item.requester.node in failing:
+            if item.rule in launch_given.NOTES and item.requester.node in failing:
                 devices.setdefault(item.requester.node, []).append(f"`{item.name}`")
         return [f"{node} ran without the device its parameter {', '.join(names)} names, which this machine lacks, "
                 "and lost interfaces its contract has: if that is for lack of the hardware, stand in for its process "
@@ -296,19 +304,32 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
                                spec=prepared.launch, options=prepared.options, capture=capture)
     external = prepared.contract.external if prepared.contract is not None else None
     missing_path = launch_settings.missing_path(system_capture.ament_prefixes(prepared.ros))
-    system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path)
-    result.rule_notes = [item for item in system_items if item.rule in launch_given.NOTES]
-    system_items = [item for item in system_items if item.rule not in launch_given.NOTES]
+    options = dataclasses.replace(prepared.options, rmw=system_rmw(prepared, capture))
+    system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path,
+                                  rmw=options.rmw)
+    result.rule_notes = [item for item in system_items if item.rule in NOTES]
+    system_items = [item for item in system_items if item.rule not in NOTES]
     drift_items = []
     if prepared.contract is not None:
         drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(names=result.name_rules()),
-                                    prepared.options)
+                                    options)
     accept = prepared.contract.accept if prepared.contract is not None else ()
     judged = acceptance.judge([*drift_items, *system_items], accept,
                               rules=acceptance.DRIFT_RULES | acceptance.SYSTEM_RULES)
     result.keep(judged.kept, judged.accepted)
     result.stale = judged.stale
     return result
+
+
+def system_rmw(prepared: SystemPrepared, capture: SystemCapture) -> str | None:
+    """The middleware whose QoS rules judge the system (issue 49 item 3): the contract's ``rmw:``,
+    else RMW_IMPLEMENTATION in its launch environment (``target: {env:}``, what the launch file
+    gives each process), else the ``rmw`` option (``--rmw``), else None (the DDS rules)."""
+    launched = [(f"{p.label} at {p.launched.where}", p.launched.env) for p in capture.processes]
+    if prepared.contract is not None:
+        return prepared.contract.middleware(prepared.options.rmw, launched)
+    return middlewares.choose([("target.env", prepared.target.to_mapping().get("env") or {}), *launched],
+                              prepared.options.rmw, shown=prepared.shown)
 
 
 def run_capture(prepared: SystemPrepared, *, library: str | Path | None = None,
@@ -367,6 +388,20 @@ class LoadedContracts:
     external: dict[str, dict[str, str]] = field(default_factory=dict)
     #: where each file (by label) lists its nodes and interfaces, for annotations
     lines: dict[str, LineIndex] = field(default_factory=dict)
+    #: the middleware each system contract among them runs on, when it says (``rmw:``, its
+    #: ``target: {env:}``), by label
+    middlewares: dict[str, str] = field(default_factory=dict)
+
+    def middleware(self, option: str | None = None) -> str | None:
+        """The middleware whose QoS rules judge these contracts: the one their system contracts
+        say, else ``option`` (``--rmw``), else None (the DDS rules). Raises UsageError when the
+        system contracts say different ones."""
+        said = sorted(set(self.middlewares.values()))
+        if len(said) > 1:
+            named = ", ".join(f"{label} runs on {name}" for label, name in sorted(self.middlewares.items()))
+            raise UsageError(f"these system contracts run on different middlewares ({named}): a publisher on one never "
+                             "reaches a subscription on another; check them apart")
+        return said[0] if said else option
 
     def nodes_by_label(self) -> dict[str, Mapping[str, ContractNode]]:
         return {p.label: p.nodes for p in self.processes}
@@ -392,6 +427,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
     accept: list[Acceptance] = []
     any_system = False
     external: dict[str, dict[str, str]] = {}
+    said: dict[str, str] = {}
     paths = list(paths)
     for p in paths:
         path = Path(os.path.expanduser(str(p)))
@@ -404,6 +440,9 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
         if contract_kind.is_system_file(path):
             any_system = True
             system = system_contract.load(path)
+            middleware = system.middleware()
+            if middleware is not None:
+                said[label] = middleware
             for kind, declared in system.external.items():
                 external.setdefault(kind, {}).update(declared)
             # the process labels name the file only when several files are drawn together
@@ -419,15 +458,19 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
             lines[label] = contract.lines()
     if not labels:
         raise UsageError("no contracts given to the compatibility check")
-    return LoadedContracts(labels, processes, any_system, accept, external, lines)
+    return LoadedContracts(labels, processes, any_system, accept, external, lines, said)
 
 
-def compatibility_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
+def compatibility_items(loaded: LoadedContracts, *, strict_system_default: bool = False,
+                        rmw: str | None = None) -> list[CompatItem]:
     """The compatibility rules over loaded contracts: all of them when a system contract is among
-    them, the connection rules (``compat`` as before) for node contracts alone."""
+    them, the connection rules (``compat`` as before) for node contracts alone; QoS judged for the
+    middleware the system contracts say, else ``rmw`` (``LoadedContracts.middleware``)."""
+    rmw = loaded.middleware(rmw)
     if loaded.any_system:
-        return check_launched(loaded.processes, external=loaded.external, strict_system_default=strict_system_default)
-    return check_compatibility(loaded.nodes_by_label(), strict_system_default=strict_system_default)
+        return check_launched(loaded.processes, external=loaded.external, strict_system_default=strict_system_default,
+                              rmw=rmw)
+    return check_compatibility(loaded.nodes_by_label(), strict_system_default=strict_system_default, rmw=rmw)
 
 
 def check_contracts(
@@ -436,18 +479,23 @@ def check_contracts(
     fail_on: str = "breaking",
     strict_system_default: bool = False,
     base_dir: str | Path | None = None,
+    rmw: str | None = None,
 ) -> CompatibilityResult:
     """Load contract files of either kind (:func:`load_any`) and check that their nodes fit
     together (:func:`compatibility_items`), judged by their ``accept:`` entries (an entry accepts
     a problem one of whose ends is in its own file). Labels are the paths as shown (relative to
-    the current directory). Raises ContractError, UsageError (no contract given), or OptionError for a bad ``fail_on``."""
+    the current directory). ``rmw``: the middleware for contracts that do not say (``--rmw``).
+    Notes (``compatibility.NOTES``) are kept apart from the problems: they never fail.
+    Raises ContractError, UsageError (no contract given, or system contracts on different
+    middlewares), or OptionError for a bad ``fail_on``."""
     threshold = parse_threshold(fail_on)
     loaded = load_any(contract_paths, base_dir=base_dir)
-    judged = judge_compatibility(compatibility_items(loaded, strict_system_default=strict_system_default),
-                                 loaded.accept, loaded.file_of)
+    items = compatibility_items(loaded, strict_system_default=strict_system_default, rmw=rmw)
+    judged = judge_compatibility([i for i in items if i.rule not in NOTES], loaded.accept, loaded.file_of)
     return CompatibilityResult(labels=loaded.labels, items=[i for i in judged.kept if isinstance(i, CompatItem)],
                                threshold=threshold, lines=loaded.lines, accepted=judged.accepted,
-                               stale=judged.stale, file_of=loaded.file_of)
+                               stale=judged.stale, file_of=loaded.file_of,
+                               notes=[f"{i.name}: {i.message}" for i in items if i.rule in NOTES])
 
 
 @dataclass
@@ -478,6 +526,14 @@ class SystemDiff:
         return [{"contract": self.old_shown, **item} for item in report.to_json(self.items)]
 
 
+def said_middleware(path: str | Path) -> str | None:
+    """The middleware a system contract says it runs on (``rmw:``, its ``target: {env:}``); None
+    for a node contract or a system contract that does not say."""
+    if not contract_kind.is_system_file(path):
+        return None
+    return system_contract.load(path).middleware()
+
+
 def diff_system(old_path: str | Path, new_path: str | Path, options: Sequence[OptionLayer] = ()) -> SystemDiff:
     """Compare the nodes of two contracts of which at least one is a system contract, with the
     drift rules (raises ContractError)."""
@@ -485,5 +541,9 @@ def diff_system(old_path: str | Path, new_path: str | Path, options: Sequence[Op
     new, _ = contract_kind.load(new_path)
     old_shown = display(old_path)
     opts = Layers(strong_options=options).options(old, shown=old_shown)
+    # a system contract that says which middleware it runs on is judged for it (NEW's word first)
+    said = next((m for m in (said_middleware(new_path), said_middleware(old_path)) if m is not None), None)
+    if said is not None:
+        opts = dataclasses.replace(opts, rmw=said)
     lines = line_index(Path(new_path).read_text(encoding="utf-8"))
     return SystemDiff(old_shown, display(new_path), opts, drift.compare(old.nodes, new.nodes, opts), lines)

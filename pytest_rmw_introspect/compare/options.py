@@ -47,6 +47,9 @@ class ComparisonOptions:
     #: the least severe system problem that fails a system contract's check (its compatibility
     #: rules; a node contract has none)
     system_fail_on: str = "breaking"
+    #: the middleware whose QoS rules judge contracts that do not say (``model.middlewares``; None:
+    #: the DDS rules of rmw_dds_common)
+    rmw: str | None = None
 
     def ignores_parameter(self, name: str) -> bool:
         """Whether the parameter ``name`` is not compared at all (``ignore_parameters``)."""

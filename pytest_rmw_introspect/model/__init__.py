@@ -4,6 +4,7 @@ One line per module:
 
 - ``vocabulary``: interface lists, labels, action parts, severities, ``fail_on`` words
 - ``qos``: QoS spellings, expansion, named profiles, compatibility
+- ``middlewares``: the middlewares (rmw implementations) the QoS rules know, and which one a system runs on
 - ``capture``: one process's capture (``Capture``) and the runner's facts about its run (``RunFacts``)
 - ``capture_file``: the middleware's capture file: its format, its raw records, reading and checking it (its only reader)
 - ``capture_view``: the contract view of a capture: nodes, their six interface lists, actions grouped

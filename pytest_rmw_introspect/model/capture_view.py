@@ -286,6 +286,17 @@ def _contract_qos(raw: Mapping[str, Any]) -> QosFields:
     return qos_module.from_capture(raw)
 
 
+def _service_qos(endpoint: Endpoint) -> QosFields | None:
+    """A service server's or client's QoS where it matters (``qos.service_from_capture``); None
+    for anything else, or a QoS the rules cannot read."""
+    if endpoint.kind not in ("service", "client"):
+        return None
+    try:
+        return qos_module.service_from_capture(endpoint.qos)
+    except ValueError:
+        return None
+
+
 def build_view(
     raw_nodes: list[RawNode],
     endpoints: list[Endpoint],
@@ -343,7 +354,7 @@ def build_view(
                     name=e.name,
                     type=e.type,
                     type_hash=e.type_hash,
-                    qos=_contract_qos(e.qos) if is_topic else None,
+                    qos=_contract_qos(e.qos) if is_topic else _service_qos(e),
                     endpoints=(e,),
                 )
             )

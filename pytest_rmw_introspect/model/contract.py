@@ -61,7 +61,16 @@ from . import unstable_names as unstable_model
 from .contract_shapes import ContractNode, ContractNodes, ContractOptions, InterfaceEntry, ParameterEntry, TargetBlock
 from .locate import LineIndex, line_at, line_index, node_at
 from .paths import shown
-from .vocabulary import ACTION_HASHED_PARTS, DESTROYED_AT, DESTROYED_AT_TOLERANCE_S, LABELS, LIFECYCLE, LISTS, PARAMETERS
+from .vocabulary import (
+    ACTION_HASHED_PARTS,
+    DESTROYED_AT,
+    DESTROYED_AT_TOLERANCE_S,
+    LABELS,
+    LIFECYCLE,
+    LISTS,
+    PARAMETERS,
+    SERVICE_LISTS,
+)
 
 CONTRACT_VERSION = 1
 ENTRY_KEYS = ("name", "type", "type_hash", "qos", DESTROYED_AT)
@@ -662,8 +671,11 @@ def preserve_spelling(old_nodes: Mapping[str, ContractNode], new_nodes: Mapping[
                 if "type_hash" not in old:
                     entry.pop("type_hash", None)
                 if "qos" in entry:
+                    # a service without `qos` has the services default (a capture writes it only
+                    # where it differs): a new value is written; a topic's is not compared
                     if "qos" not in old:
-                        entry.pop("qos")
+                        if list_name not in SERVICE_LISTS:
+                            entry.pop("qos")
                     else:
                         try:
                             if qos_module.expand(old["qos"]) == qos_module.expand(entry["qos"]):

@@ -10,6 +10,7 @@
       file: robot.launch.xml         # (or `path: launch/robot.launch.xml`, relative to this file)
       arguments: {use_lidar: "true"}
       allow_unsupported: false       # true: capture what the launch reader supports, note the rest
+    rmw: rmw_cyclonedds_cpp          # optional: the middleware the robot runs (its QoS rules judge QoS)
     target: {timeout: 30}            # optional: settle, timeout, horizon, lifecycle, read_parameters, env
     options: {fail_on: any, system_fail_on: breaking}
     external:                        # what comes from outside the launch files, and who provides it
@@ -51,7 +52,7 @@ from typing import Any, Literal, cast, get_args
 import yaml
 
 from ..errors import ContractError, InputError
-from . import acceptance, stand_ins, untrusted
+from . import acceptance, middlewares, stand_ins, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
 from . import unstable_names as unstable_model
@@ -63,6 +64,8 @@ from .stand_ins import StandIn
 from .vocabulary import LABELS, LISTS
 
 SYSTEM_VERSION = 1
+#: the key that says which middleware the system runs on (``model.middlewares``)
+RMW_KEY = "rmw"
 SUFFIX = ".system.yaml"
 #: target options that apply to every process of a system
 SYSTEM_TARGET_KEYS = TARGET.names(FrontEnd.SYSTEM)
@@ -134,6 +137,9 @@ def schema() -> dict[str, Any]:
             "system_version": {"const": SYSTEM_VERSION},
             contract_module.VERSION_KEY: {"$ref": "#/definitions/interface_version"},
             "launch": {"$ref": "#/definitions/launch"},
+            RMW_KEY: {"description": "The middleware (rmw implementation) the system runs on: QoS is judged by its "
+                                     "rules (default: RMW_IMPLEMENTATION in the launch environment, else the DDS "
+                                     "rules of rmw_dds_common).", "enum": list(middlewares.KNOWN)},
             "target": {"$ref": "#/definitions/system_target"},
             "options": {"$ref": "#/definitions/options"},
             "external": {"$ref": "#/definitions/external"},
@@ -168,6 +174,20 @@ class SystemContract:
     unstable_names: tuple[unstable_model.NamePattern, ...] = ()
     #: the version of the interface it promises (``interface_version: MAJOR.MINOR.PATCH``), if stated
     interface_version: str | None = None
+    #: the middleware it says it runs on (``rmw:``), if stated
+    rmw: str | None = None
+
+    def middleware(self, option: str | None = None, launched: Sequence[tuple[str, Mapping[str, str]]] = ()) -> str | None:
+        """The middleware whose QoS rules judge this system: ``rmw:``, else RMW_IMPLEMENTATION in its
+        launch environment (its ``target: {env:}`` and what the launch file gives each process,
+        ``launched``: where, environment), else ``option`` (``--rmw``), else None (the DDS rules).
+        Raises ContractError when the launch environment names a middleware the rules do not know,
+        or several."""
+        if self.rmw is not None:
+            return self.rmw
+        shown_path = shown(self.path) if self.path else "<system contract>"
+        environments = [("target.env", (self.target or {}).get("env") or {}), *launched]
+        return middlewares.choose(environments, option, shown=shown_path)
 
     def process_nodes(self) -> list[tuple[ProcessEntry, ContractNodes]]:
         """Each process with the contract entries of the nodes it created."""
@@ -257,7 +277,7 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                           stand_ins=stand_ins.from_entries(data.get(stand_ins.SECTION_KEY),
                                                            line_of=lambda i: line_at(root, [stand_ins.SECTION_KEY, i])),
                           unstable_names=unstable_model.from_entries(data.get(unstable_model.SECTION_KEY)),
-                          interface_version=data.get(contract_module.VERSION_KEY))
+                          interface_version=data.get(contract_module.VERSION_KEY), rmw=data.get(RMW_KEY))
 
 
 def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:

@@ -160,7 +160,7 @@ def test_tolerates_missing_lists():
 
 def test_rules_table_is_complete():
     assert set(compatibility.RULES) == {row for rows in (
-        ["TYPE_MISMATCH", "TYPE_HASH_MISMATCH", "QOS_INCOMPATIBLE", "QOS_MAYBE_INCOMPATIBLE",
+        ["TYPE_MISMATCH", "TYPE_HASH_MISMATCH", "QOS_INCOMPATIBLE", "QOS_MAYBE_INCOMPATIBLE", "QOS_DDS_WOULD_REFUSE",
          "SUBSCRIPTION_WITHOUT_PUBLISHER", "CLIENT_WITHOUT_SERVER",
          "ACTION_CLIENT_WITHOUT_SERVER"],
         # system contracts only (check_launched)

@@ -352,6 +352,7 @@ FOR_THE_PARSER = {"pytest_rmw_introspect", "pytest_rmw_introspect._version", "py
                   "pytest_rmw_introspect.model", "pytest_rmw_introspect.model.option_tables",
                   "pytest_rmw_introspect.model.vocabulary", "pytest_rmw_introspect.model.qos",
                   "pytest_rmw_introspect.model.contract_shapes",
+                  "pytest_rmw_introspect.model.middlewares",  # the `--rmw` choices: a table, errors alone
                   "pytest_rmw_introspect.model.tally",  # the test suite's accounting: os alone (issue 48)
                   *(f"{NAME}.{module}" for module in COMMAND_MODULES)}
 

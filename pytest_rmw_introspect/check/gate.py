@@ -209,19 +209,10 @@ class GateResult:
 # ---------------------------------------------------------------------------- loading
 
 
-def is_system_text(name: str, text: str) -> bool:
-    """A system contract's text (``model.contract_kind``)."""
-    return contract_kind.is_system_text(text, name)
-
-
 def load_text(text: str, label: str) -> Contract:
-    """A node or system contract's text as a ``Contract`` (a system contract's nodes, comparison
-    options, ``accept:`` and version); ``label`` names it in messages. Raises ContractError."""
-    if is_system_text(label, text):
-        system = system_contract.loads(text, path=label)
-        return Contract(path=system.path, nodes=system.nodes, target=None, options=system.options,
-                        text=system.text, accept=system.accept, interface_version=system.interface_version)
-    return contract_module.loads(text, path=label)
+    """A contract's text of any kind as the node contract a comparison reads (``label`` names it in
+    messages; ``model.contract_kind``). Raises ContractError."""
+    return contract_kind.loads(text, label)[0]
 
 
 def _version_line(text: str) -> int | None:
@@ -425,8 +416,8 @@ def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractN
         result.error = str(exc)
         return result
     items = compare_contracts(old, new, dataclasses.replace(opts, fail_on=threshold.name.lower()))
-    if systems and not is_system_text(name, new.text or old.text):
-        items = consumers.judge(items, new.nodes, old.nodes, systems)
+    if systems and not contract_kind.is_system_text(new.text or old.text, name):
+        items = consumers.judge(items, new.nodes, old.nodes, systems, rmw=opts.rmw)
     result.rules = opts.rules
     _judge(result, drift.sort_items(items), old, new, baseline, revision.ref)
     result.nodes = sorted((new if pair.new is not None else old).nodes)

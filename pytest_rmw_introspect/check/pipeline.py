@@ -441,15 +441,20 @@ class CompatibilityResult:
     stale: list[Acceptance] = field(default_factory=list)
     #: the file of an end's label (a system contract's process labels name its file); None: the label
     file_of: Callable[[str], str] | None = None
+    #: what the rules note without finding a problem (``compatibility.NOTES``): never failing
+    notes: list[str] = field(default_factory=list)
 
     @property
     def failed(self) -> bool:
         return report.fails(self.items, self.threshold)
 
     def render_text(self) -> str:
-        return report.render_compat_text(self.items, threshold=self.threshold,
+        text = report.render_compat_text(self.items, threshold=self.threshold,
                                          title=f"Compatibility check of {len(self.labels)} contract(s)",
                                          accepted=self.accepted, stale=self.stale)
+        if self.notes:
+            text = text.rstrip("\n") + "\n\nNotes:\n" + "".join(f"  - {note}\n" for note in self.notes)
+        return text
 
     def to_json(self) -> list[dict[str, Any]]:
         return [*report.compat_to_json(self.items), *report.accepted_to_json(self.accepted),

@@ -85,6 +85,12 @@ def add_parser(sub: Any) -> None:
                      help="check only this CI job's share of the contracts: job I of N (e.g. 2/4); the contracts are "
                      "sorted by path and dealt round-robin, so the N jobs together check each exactly once")
     add_launch(chk)
+    chk.add_argument("--bag", metavar="PATH",  # check --bag (cli.recordings)
+                     help="check a recording instead of running each contract's target: a rosbag2 bag directory "
+                     "(metadata.yaml; sqlite3 or mcap storage), an .mcap or a .db3 file. Each recorded topic's type, "
+                     "type hash and offered QoS against the contracts' publishers and subscriptions; contract topics "
+                     "the recording lacks, recorded topics no contract declares, and each topic's message count "
+                     "(docs/recordings.md)")
     chk.add_argument("-v", "--verbose", action="store_true",
                      help="a passing system contract names every node it matched (else it says how many nodes in "
                      "how many processes)")
@@ -162,7 +168,7 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     from ..check import golden_record, pipeline, sharding
     from ..check.outcome import Verdict, decide
     from ..compare import ci_report, sarif
-    from . import baselines, system_contracts
+    from . import baselines, recordings, system_contracts
     from .formats import append_summary, print_json, say_notes
     from .ros_setup import Setup
 
@@ -183,23 +189,26 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     layers = pipeline.Layers(strong_target=[(target, cwd, "command line")] if target else [],
                              strong_options=[(compare_from_args(args), "command line")])
     setup = Setup()
+    bag = recordings.start(args, command) if args.bag else None  # check --bag: a recording, nothing runs
     checked: list[Checked] = []
     status = EXIT_OK
     all_items: list[dict[str, Any]] = []
     for_ci: list[ContractOutcome] = []
     noted: dict[str, list[str]] = {}
-    for shown in args.contracts:
+    for shown in bag.order(args.contracts) if bag else args.contracts:
         path = Path(shown)
         result: Checked
-        if system_contracts.is_system(path, args):
+        if bag is not None:
+            result = bag.result(path, shown)
+        elif system_contracts.checks_as_system(path, args):
             result = system_contracts.check_system_contract(args, path, shown, command, setup.ros, setup.library)
         else:
             result = pipeline.check_contract(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,
                                              allow_missing=args.update, no_target=_no_target)
         baselines.apply(baseline, result)
         checked.append(result)
-        outcome = decide(result, update=args.update, accept_command=accept_command(args, shown, command),
-                         verbose=args.verbose)
+        how = bag.how_to_accept if bag else accept_command(args, shown, command)
+        outcome = decide(result, update=args.update, accept_command=how, verbose=args.verbose)
         all_items += outcome.json
         for note in result.check_notes():  # said once per run, after the reports
             noted.setdefault(note, []).append(shown)

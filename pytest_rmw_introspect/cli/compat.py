@@ -9,6 +9,7 @@ import sys
 from typing import Any
 
 from .._version import __version__
+from ..model.option_tables import COMPARISON
 from ..model.vocabulary import FAIL_ON
 from .arguments import add_baseline, add_format
 from .exit_status import EXIT_DRIFT, EXIT_OK
@@ -18,7 +19,9 @@ All nodes of all contracts form one system. Every subscription, service client a
 client is matched with the publishers/servers of the same name: type, type hash and QoS
 compatibility (incompatible QoS is BREAKING, possibly incompatible RISKY); a requester without
 any provider is RISKY. A policy left at SYSTEM_DEFAULT on both ends is not reported unless
---strict-system-default. Rules: docs/drift-rules.md ("Compatibility rules").
+--strict-system-default. QoS is judged for the middleware a system contract says it runs on
+(`rmw:`, or RMW_IMPLEMENTATION in its launch environment), else --rmw, else by the DDS rules.
+Rules: docs/drift-rules.md ("Compatibility rules", "QoS per middleware").
 
 --fail-on defaults to `breaking` here (a partial system lacking some publisher is common).
 exit status: 0 compatible (or problems below --fail-on), 1 problems at or above --fail-on,
@@ -36,6 +39,9 @@ def add_parser(sub: Any) -> None:
                      help="least severe problem that fails (exit 1); default breaking")
     com.add_argument("--strict-system-default", action="store_true",
                      help="also report policies left at SYSTEM_DEFAULT on both ends (what rmw would warn about)")
+    rmw = COMPARISON["rmw"]
+    com.add_argument(rmw.flag, dest="rmw", default=None, choices=rmw.choices, metavar=rmw.metavar,
+                     help=rmw.flag_help() + f": one of {', '.join(rmw.choices)}")
     add_format(com)
     add_baseline(com)
     com.set_defaults(handler=cmd_compat)
@@ -49,7 +55,7 @@ def cmd_compat(args: argparse.Namespace) -> int:
 
     baseline = baselines.load(args)
     result = system_pipeline.check_contracts(args.contracts, fail_on=args.fail_on,
-                                             strict_system_default=args.strict_system_default)
+                                             strict_system_default=args.strict_system_default, rmw=args.rmw)
     baselines.apply(baseline, result)
     baselines.finish(args, baseline, [result])
     if args.format == "json":

@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
 from typing import Any
 
 from .._version import __version__
@@ -90,8 +91,10 @@ def cmd_diff(args: argparse.Namespace) -> int:
     if len(args.files) != 2:
         raise UsageError(f"diff compares two files, OLD and NEW ({len(args.files)} given); to compare every contract "
                          "with a git revision: rmw-introspect diff --against REF [CONTRACT...]")
+    from ..model import contract_kind
+
     args.old, args.new = args.files
-    if system_contracts.any_system([args.old, args.new]):
+    if any(Path(p).exists() and contract_kind.is_system_file(p) for p in (args.old, args.new)):
         return system_contracts.cmd_diff(args)
     result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])
     if args.format == "json":

@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, cast
 
@@ -17,7 +17,8 @@ from ..check.pipeline import Layers
 from ..compare import sarif
 from ..compare.compatibility import propose_external
 from ..errors import TargetConfigError, UsageError
-from ..model import system_contract
+from ..model import contract_kind, system_contract
+from ..model.contract_kind import Kind
 from ..model.contract_shapes import TargetBlock
 from ..run import system_capture
 from ..run.ros_env import RosEnvironment
@@ -28,12 +29,12 @@ from .exit_status import EXIT_DRIFT, EXIT_OK
 from .launch_options import launch_arguments, launch_block, wants_launch
 
 
-def is_system(path: Path, args: argparse.Namespace | None = None) -> bool:
+def checks_as_system(path: Path, args: argparse.Namespace | None = None) -> bool:
     """A system contract: ``*.system.yaml``, a file that says ``system_version``, or (for a
     contract still to be created) any path when a launch file is given."""
     if path.exists():
-        return system_contract.is_system_contract(path)
-    return path.name.endswith(system_contract.SUFFIX) or (args is not None and wants_launch(args))
+        return contract_kind.is_system_file(path)
+    return contract_kind.kind_of_name(path) is Kind.SYSTEM or (args is not None and wants_launch(args))
 
 
 def _process_target(args: argparse.Namespace, command: list[str] | None) -> dict[str, Any]:
@@ -121,5 +122,4 @@ def cmd_diff(args: argparse.Namespace) -> int:
     return EXIT_DRIFT if result.failed else EXIT_OK
 
 
-def any_system(paths: Sequence[str]) -> bool:
-    return any(Path(p).exists() and system_contract.is_system_contract(p) for p in paths)
+

@@ -1,7 +1,7 @@
 """``rmw-introspect validate``: contract files checked without running anything (a pre-commit
 hook): it imports only the contract loaders, and only once its arguments are valid. A file
 is a system contract exactly when every other command takes it for one
-(``system_contract.is_system_contract``: ``*.system.yaml`` or ``system_version:``)."""
+(``model.contract_kind``: ``*.system.yaml`` or ``system_version:``)."""
 
 from __future__ import annotations
 
@@ -75,9 +75,9 @@ def _validated(shown: str) -> str:
     """What a valid file holds, in words (raises ContractError)."""
     from ..compare import acceptance
     from ..model import contract as contract_module
-    from ..model import system_contract
+    from ..model import contract_kind, system_contract
 
-    if system_contract.is_system_contract(shown):
+    if contract_kind.is_system_file(shown):
         system = system_contract.load(shown)
         acceptance.check_rules(system.accept)  # a rule id no check has would never match
         count = len(system.processes)

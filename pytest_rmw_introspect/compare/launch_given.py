@@ -33,6 +33,7 @@ from typing import Any, Literal
 
 from ..model.contract_shapes import ContractNode
 from ..model.name_patterns import section_key_matches
+from ..model.parameters import flatten
 from ..model.vocabulary import LISTS, PARAMETERS, Severity, is_infrastructure_parameter
 from .similarity import typo_distance
 from .wiring import near_miss
@@ -122,22 +123,13 @@ def sections(data: Any) -> tuple[tuple[str, tuple[str, ...]], ...]:
     def walk(mapping: Mapping, path: list[str]) -> None:
         for key, value in mapping.items():
             if key == "ros__parameters" and path:
-                found.append(("/".join(path), tuple(_flatten(value))))
+                found.append(("/".join(path), tuple(flatten(value))))
             elif isinstance(value, Mapping):
                 walk(value, [*path, str(key)])
 
     if isinstance(data, Mapping):
         walk(data, [])
     return tuple(found)
-
-
-def _flatten(value: Any, prefix: str = "") -> list[str]:
-    if not isinstance(value, Mapping):
-        return [prefix] if prefix else []
-    names: list[str] = []
-    for key, inner in value.items():
-        names += _flatten(inner, f"{prefix}{key}.") if isinstance(inner, Mapping) else [f"{prefix}{key}"]
-    return names
 
 
 def section_matches(key: str, fqn: str) -> bool:

@@ -49,6 +49,9 @@ class ComparisonOptions:
     #: the least severe system problem that fails a system contract's check (its compatibility
     #: rules; a node contract has none)
     system_fail_on: str = "breaking"
+    #: the middleware whose QoS rules judge contracts that do not say (``model.middlewares``; None:
+    #: the DDS rules of rmw_dds_common)
+    rmw: str | None = None
     #: the project's levels of rules (``compare.rule_levels``), every layer's keys merged
     rules: tuple[RuleLevel, ...] = ()
 

@@ -21,6 +21,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
+from .middlewares import KNOWN as MIDDLEWARES
 from .qos import FIELDS as QOS_FIELDS
 from .vocabulary import DEFAULT_LIFECYCLE_TARGET, FAIL_ON, LIFECYCLE_TARGETS, RULE_LEVELS
 
@@ -206,6 +207,13 @@ COMPARISON = Family(
         Option("ignore_qos", Shape.WORDS, frozenset(), "QoS fields not to compare: a list of field names "
                "(depth, history) or true for all", _COMPARISON_EVERYWHERE,
                _true_or_unique({"enum": list(QOS_FIELDS)}), "true, or a list of QoS fields", metavar="FIELDS"),
+        # the middleware QoS is judged for (issue 49 item 3): a command line's and a session's, for the
+        # contracts that do not say; a system contract says it with its own top-level `rmw:` key
+        Option("rmw", Shape.CHOICE, None, "the middleware (rmw implementation) whose QoS rules judge the contracts "
+               "that do not say which one they run on (a system contract's `rmw:`, or RMW_IMPLEMENTATION in its "
+               "launch environment)", frozenset({FrontEnd.PYTEST, FrontEnd.INI, FrontEnd.CLI, FrontEnd.DIFF}),
+               {"enum": list(MIDDLEWARES)}, " | ".join(MIDDLEWARES), default_text="not set: the DDS rules of "
+               "rmw_dds_common", choices=tuple(MIDDLEWARES), metavar="NAME"),
         Option("allow_extra", Shape.SWITCH, False, "interfaces and nodes the contract does not list are not drift",
                _COMPARISON_EVERYWHERE, _BOOLEAN, "true or false"),
         Option("include_infrastructure", Shape.SWITCH, False, "also capture and compare /rosout, /parameter_events, "

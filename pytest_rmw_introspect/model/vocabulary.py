@@ -65,6 +65,9 @@ KIND_TO_LIST: dict[str, ListName] = {
     "client": "service_clients",
 }
 
+#: Raw endpoint kinds (as the middleware records them) of a topic's ends.
+TOPIC_KINDS: tuple[str, ...] = ("publisher", "subscription")
+
 #: The services and topics an action is made of (``/fib/_action/send_goal``, ...).
 ACTION_SERVICES: tuple[str, ...] = ("send_goal", "cancel_goal", "get_result")
 ACTION_TOPICS: tuple[str, ...] = ("feedback", "status")

@@ -33,6 +33,8 @@ VALUES = {
     "read_parameters": (["false"], "false"),
     # issue 49: rule levels per project
     "rules": (["SUB_ADDED=breaking"], "QOS_DEPTH_*=note SUB_ADDED=risky"),
+    # issue 49: the middleware whose QoS rules judge the contracts
+    "rmw": (["rmw_zenoh_cpp"], "rmw_cyclonedds_cpp"),
 }
 
 

@@ -40,6 +40,7 @@ from pytest_rmw_introspect.run.target import TARGET_KEYS, TargetSpec
 SAMPLES: dict[str, tuple[Any, list[str]]] = {
     "ignore_type_hash": (True, ["--ignore-type-hash"]),
     "ignore_qos": (["depth"], ["--ignore-qos", "depth"]),
+    "rmw": ("rmw_zenoh_cpp", ["--rmw", "rmw_zenoh_cpp"]),
     "allow_extra": (True, ["--allow-extra"]),
     "include_infrastructure": (True, ["--include-ros-infra"]),
     "fail_on": ("risky", ["--fail-on", "risky"]),

@@ -19,6 +19,7 @@ from pytest_rmw_introspect.compare.compatibility import CompatItem, ContractEndp
 from pytest_rmw_introspect.compare.drift import compare
 from pytest_rmw_introspect.compare.options import ComparisonOptions, resolve
 from pytest_rmw_introspect.errors import OptionError
+from pytest_rmw_introspect.model import qos
 from pytest_rmw_introspect.model.contract import loads
 from pytest_rmw_introspect.model.vocabulary import Severity
 
@@ -137,8 +138,8 @@ def test_every_rule_id_the_code_uses_is_in_the_one_list():
             if isinstance(node, ast.Constant) and isinstance(node.value, str) \
                     and re.fullmatch(r"[A-Z][A-Z0-9]*(_[A-Z0-9]+)+", node.value):
                 found.add(node.value)
-    qos_words = {"BEST_AVAILABLE", "BEST_EFFORT", "KEEP_ALL", "KEEP_LAST", "MANUAL_BY_TOPIC", "SYSTEM_DEFAULT",
-                 "TRANSIENT_LOCAL"}
+    # QoS values: the contract's enums, and rmw's deprecated MANUAL_BY_NODE liveliness
+    qos_words = {member.value for values in qos.ENUM_FIELDS.values() for member in values} | {"MANUAL_BY_NODE"}
     missing = sorted(w for w in found - known - qos_words if not _NOT_RULES.search(w))
     assert missing == [], f"rule ids used in the code but not in rule_levels.known(): {missing}"
     assert rule_levels.known()["REMAP_NEAR_MISS"] is Severity.BREAKING

@@ -5,12 +5,9 @@ nothing is run."""
 from __future__ import annotations
 
 import argparse
-import json
-import sys
 from pathlib import Path
 from typing import Any
 
-from .._version import __version__
 from ..errors import UsageError
 from ..model.option_tables import FrontEnd
 from .arguments import add_compare, add_format, compare_from_args
@@ -79,9 +76,8 @@ def cmd_diff(args: argparse.Namespace) -> int:
 
         return cmd_gate(args)
     from ..check import pipeline
-    from ..compare import ci_report, sarif
     from . import system_contracts
-    from .formats import print_json
+    from .emit import Report, emit
 
     given = [flag for flag, value in (("--system", args.against_systems), ("--baseline", args.baseline),
                                       ("--summary", args.summary)) if value]
@@ -97,14 +93,6 @@ def cmd_diff(args: argparse.Namespace) -> int:
     if any(Path(p).exists() and contract_kind.is_system_file(p) for p in (args.old, args.new)):
         return system_contracts.cmd_diff(args)
     result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    elif args.format == "markdown":
-        sys.stdout.write(ci_report.drift_markdown([result.for_ci()], title=f"Interface drift of {result.new_shown}"))
-    elif args.format == "github":
-        sys.stdout.write(ci_report.drift_github([result.for_ci()]))
-    elif args.format == "sarif":
-        print_json(sarif.drift_log([result.for_ci()], tool_version=__version__))
-    else:
-        sys.stdout.write(result.render_text())
+    emit(Report(text=result.render_text, data=result.to_json(), outcomes=[result.for_ci()],
+                title=f"Interface drift of {result.new_shown}"), args.format)
     return EXIT_DRIFT if result.failed else EXIT_OK

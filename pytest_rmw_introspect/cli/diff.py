@@ -9,7 +9,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import UsageError
-from ..model.option_tables import FrontEnd
+from ..model.option_tables import GATE, FrontEnd
+from . import option_flags
 from .arguments import add_compare, add_format, compare_from_args
 from .exit_status import EXIT_DRIFT, EXIT_OK
 
@@ -28,7 +29,7 @@ changes unless --fail-on says otherwise. A contract with `interface_version: MAJ
 at REF and now is judged by semantic versioning: a BREAKING change needs a MAJOR bump, a RISKY
 one at least a MINOR bump (the message says which version to write); changes the bump covers
 are accepted. With system
-contracts (--system, or those git tracks here) a changed topic, service or action is checked
+contracts (--against-system, or those git tracks here) a changed topic, service or action is checked
 against the nodes that use it: one that no longer fits them is BREAKING and named. The git
 history must hold REF: in CI fetch the base branch (actions/checkout `fetch-depth: 0`).
 
@@ -53,14 +54,9 @@ def add_parser(sub: Any) -> None:
                      help="OLD NEW: the contract as it was and as it is now; with --against: the contracts to compare "
                      "(default: every contract git tracks under the current directory, found by its content)")
     gate = dif.add_argument_group("the pull-request gate (docs/ci.md)")
-    gate.add_argument("--against", metavar="REF",
-                      help="compare every contract with its version at the git revision REF: a branch, tag or commit, "
-                      "or BASE...HEAD (their merge base, as git diff reads it); renamed, added and removed contract "
-                      "files included; interface_version bumps judged by semantic versioning; fails on BREAKING "
-                      "unless --fail-on says otherwise")
-    gate.add_argument("--system", action="append", dest="against_systems", metavar="FILE",
-                      help="a system contract whose nodes judge who consumes a changed interface (repeatable; "
-                      "default: every *.system.yaml git tracks under the current directory)")
+    option_flags.add(gate, GATE.exposed(FrontEnd.GATE))
+    # the gate's consumer systems were given as --system before the option tables named them
+    gate.add_argument("--system", action="append", dest="against_system", metavar="FILE", help=argparse.SUPPRESS)
     gate.add_argument("--baseline", metavar="FILE",
                       help="fail only on findings that FILE (written by `check --write-baseline`) does not hold")
     gate.add_argument("--summary", metavar="FILE",
@@ -79,7 +75,7 @@ def cmd_diff(args: argparse.Namespace) -> int:
     from . import system_contracts
     from .emit import Report, emit
 
-    given = [flag for flag, value in (("--system", args.against_systems), ("--baseline", args.baseline),
+    given = [flag for flag, value in (("--against-system", args.against_system), ("--baseline", args.baseline),
                                       ("--summary", args.summary)) if value]
     if given:
         raise UsageError(f"{' and '.join(given)} go with --against REF (the gate against a git revision), not with "

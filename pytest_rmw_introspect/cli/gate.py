@@ -22,7 +22,7 @@ def cmd_gate(args: argparse.Namespace) -> int:
     fail_on = options.pop("fail_on", None)
     baseline = baseline_module.load(args.baseline) if args.baseline else None
     try:
-        result = gate.run(args.against, args.files, systems=args.against_systems,
+        result = gate.run(args.against, args.files, systems=args.against_system,
                           options=[(options, "command line")], fail_on=fail_on, baseline=baseline)
     except RmwIntrospectError as exc:  # exit 2 (cli.main says it): the job summary and annotations say it too
         if args.summary:

@@ -310,7 +310,7 @@ def no_contracts(revision: Revision) -> NoContracts:
 
 def system_nodes(revision: Revision, named: Sequence[str | Path] | None) -> dict[str, ContractNodes]:
     """The nodes of the system contracts that judge consumers, by shown path: those named
-    (``--system``; an invalid one is an error), else every valid one git tracks under the
+    (``--against-system``; an invalid one is an error), else every valid one git tracks under the
     current directory."""
     out: dict[str, ContractNodes] = {}
     if named:
@@ -332,7 +332,7 @@ def run(against: str, contracts: Sequence[str | Path] = (), *, systems: Sequence
         options: Sequence[OptionLayer] = (), fail_on: str | None = None, baseline: Baseline | None = None,
         cwd: str | Path | None = None) -> GateResult:
     """Compare every contract with its version at ``against``. Raises RevisionError (no git
-    repository, no such revision, a shallow clone without it) and ContractError (a ``--system``
+    repository, no such revision, a shallow clone without it) and ContractError (a ``--against-system``
     file that does not load); a contract that does not load now or at REF is an error of its own
     entry (``GateContract.error``); no contract at all is :class:`NoContracts`."""
     revision = open_revision(against, cwd)

@@ -21,6 +21,7 @@ One line per module (:func:`main` here is the console script):
 - ``option_flags``: the flags of the option tables (``model.option_tables``)
 - ``exit_status``: the exit statuses
 - ``formats``: what the commands print or write (contract, JSON, NoDL, raw; ``--summary``)
+- ``emit``: the one writer of a report command's outcome in each ``--format`` (text, json, markdown, github, sarif)
 - ``recordings``: ``check --bag``: the options that go with a recording, and the recording read once
 - ``system_contracts``: system contracts on the command line (``capture --launch``, ``*.system.yaml``)
 - ``launch_options``: the launch-file options, declared and read without the system pipeline

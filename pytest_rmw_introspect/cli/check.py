@@ -7,14 +7,12 @@ golden written with ``--update`` and an exit status."""
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import shlex
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .._version import __version__
 from ..errors import GoldenWriteError, UsageError
 from ..model.option_tables import COMPARISON, TARGET, FrontEnd
 from . import option_flags
@@ -167,9 +165,10 @@ def contract_files_given(given: list[str]) -> list[str]:
 def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     from ..check import golden_record, pipeline, sharding
     from ..check.outcome import Verdict, decide
-    from ..compare import ci_report, sarif
+    from ..compare import ci_report
     from . import baselines, recordings, system_contracts
-    from .formats import append_summary, print_json, say_notes
+    from .emit import Report, emit
+    from .formats import append_summary, say_notes
     from .ros_setup import Setup
 
     if args.update:
@@ -249,14 +248,9 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     baselines.finish(args, baseline, checked, [Path(c) for c in args.contracts])
     if args.write_baseline and status == EXIT_DRIFT:
         status = EXIT_OK  # today's findings are what the baseline records
+    # the text report was written contract by contract, as each was checked
+    report = Report(text="", data=all_items, outcomes=for_ci)
     if args.summary:
-        append_summary(args.summary, ci_report.drift_markdown(for_ci))
-    if args.format == "json":
-        print(json.dumps(all_items, indent=2, default=str))
-    elif args.format == "markdown":
-        sys.stdout.write(ci_report.drift_markdown(for_ci))
-    elif args.format == "github":
-        sys.stdout.write(ci_report.drift_github(for_ci))
-    elif args.format == "sarif":
-        print_json(sarif.drift_log(for_ci, tool_version=__version__))
+        append_summary(args.summary, report.markdown())
+    emit(report, args.format)
     return status

@@ -4,11 +4,8 @@ rules, ``check.system_pipeline.check_contracts``); nothing is run."""
 from __future__ import annotations
 
 import argparse
-import json
-import sys
 from typing import Any
 
-from .._version import __version__
 from ..model.option_tables import COMPARISON
 from ..model.vocabulary import FAIL_ON
 from .arguments import add_baseline, add_format
@@ -49,25 +46,13 @@ def add_parser(sub: Any) -> None:
 
 def cmd_compat(args: argparse.Namespace) -> int:
     from ..check import system_pipeline
-    from ..compare import ci_report, sarif
     from . import baselines
-    from .formats import print_json
+    from .emit import Report, emit
 
     baseline = baselines.load(args)
     result = system_pipeline.check_contracts(args.contracts, fail_on=args.fail_on,
                                              strict_system_default=args.strict_system_default, rmw=args.rmw)
     baselines.apply(baseline, result)
     baselines.finish(args, baseline, [result])
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    elif args.format == "markdown":
-        sys.stdout.write(ci_report.compat_markdown(result.items, threshold=result.threshold, labels=result.labels))
-    elif args.format == "github":
-        sys.stdout.write(ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines,
-                                                 file_of=result.file_of, accepted=result.accepted, stale=result.stale))
-    elif args.format == "sarif":
-        print_json(sarif.compat_log(result.items, threshold=result.threshold, lines=result.lines, file_of=result.file_of,
-                                    tool_version=__version__, accepted=result.accepted, stale=result.stale))
-    else:
-        sys.stdout.write(result.render_text())
+    emit(Report(text=result.render_text, data=result.to_json(), compat=result), args.format)
     return EXIT_DRIFT if result.failed and not args.write_baseline else EXIT_OK

@@ -11,10 +11,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, cast
 
-from .._version import __version__
 from ..check import system_pipeline
 from ..check.pipeline import Layers
-from ..compare import sarif
 from ..compare.compatibility import propose_external
 from ..errors import TargetConfigError, UsageError
 from ..model import contract_kind, system_contract
@@ -25,6 +23,7 @@ from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
 from . import formats
 from .arguments import compare_from_args, target_from_args
+from .emit import Report, emit
 from .exit_status import EXIT_DRIFT, EXIT_OK
 from .launch_options import launch_arguments, launch_block, wants_launch
 
@@ -113,12 +112,8 @@ def check_system_contract(args: argparse.Namespace, path: Path, shown: str, comm
 
 def cmd_diff(args: argparse.Namespace) -> int:
     result = system_pipeline.diff_system(args.old, args.new, [(compare_from_args(args), "command line")])
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    elif args.format == "sarif":
-        formats.print_json(sarif.drift_log([result.for_ci()], tool_version=__version__))
-    else:
-        sys.stdout.write(result.render_text())
+    emit(Report(text=result.render_text, data=result.to_json(), outcomes=[result.for_ci()],
+                title=f"Interface drift of {result.new_shown}"), args.format)
     return EXIT_DRIFT if result.failed else EXIT_OK
 
 

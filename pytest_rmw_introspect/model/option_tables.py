@@ -39,6 +39,8 @@ class FrontEnd(enum.Enum):
     CONTRACT = "contract key"  # the `options:` or `target:` block of a node contract
     SYSTEM = "system contract key"  # a system contract's `options:` / `target:`, @pytest.mark.system_contract
     MARKER = "marker argument"  # keyword arguments of @pytest.mark.interfaces
+    GATE = "rmw-introspect diff --against flag"  # the pull-request gate's own flags
+    ACTION = "GitHub action input"  # an input of action.yml
 
 
 class Source(enum.Enum):
@@ -98,10 +100,23 @@ class Option:
     metavar: str | None = None
     #: the rmw-introspect flag when it is not ``--<name with dashes>``; ``dest`` stays ``name``
     cli_flag: str | None = None
+    #: the pytest option when it is not ``--rmw-introspect-<name with dashes>`` (the gate's:
+    #: ``pytest --against REF``, as ``rmw-introspect diff --against REF``)
+    pytest_name: str | None = None
 
     @property
     def pytest_flag(self) -> str:
-        return "--rmw-introspect-" + self.name.replace("_", "-")
+        return self.pytest_name or "--rmw-introspect-" + self.name.replace("_", "-")
+
+    @property
+    def pytest_dest(self) -> str:
+        """Where pytest keeps the option's value (``config.getoption``)."""
+        return "rmw_introspect_" + self.name
+
+    @property
+    def action_input(self) -> str:
+        """The input of the GitHub action (``action.yml``): the name with dashes."""
+        return self.name.replace("_", "-")
 
     @property
     def ini_key(self) -> str:
@@ -339,3 +354,24 @@ def family(name: str) -> Family:
         return FAMILIES[name]
     except KeyError:
         raise KeyError(f"no option family {name!r}; known: {', '.join(FAMILIES)}") from None
+
+
+# ---------------------------------------------------------------------------- the gate
+_GATE_EVERYWHERE = frozenset({FrontEnd.GATE, FrontEnd.PYTEST, FrontEnd.ACTION})
+
+GATE = Family(
+    name="gate",
+    title="The pull-request gate",
+    block="",
+    description="The flags of the gate against a git revision (docs/ci.md): `rmw-introspect diff --against`, "
+                "`pytest --against` and the GitHub action's inputs, one name each.",
+    options=(
+        Option("against", Shape.TEXT, None, "compare every contract with its version at the git revision REF (a "
+               "branch, tag or commit, or BASE...HEAD: their merge base), without running anything; renamed, added "
+               "and removed contract files included, interface_version bumps judged by semantic versioning",
+               _GATE_EVERYWHERE, _TEXT, "git revision", metavar="REF", pytest_name="--against"),
+        Option("against_system", Shape.REPEATED, None, "a system contract whose nodes judge who consumes a changed "
+               "interface (default: every system contract git tracks here)", _GATE_EVERYWHERE,
+               {"type": "array", "items": _PATH}, "paths", metavar="FILE", pytest_name="--against-system"),
+    ),
+)

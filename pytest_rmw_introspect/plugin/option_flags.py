@@ -20,6 +20,14 @@ def add(group: pytest.OptionGroup, parser: pytest.Parser, family: Family) -> Non
         parser.addini(option.ini_key, _ini_help(option), type=kind, default=default)
 
 
+def add_gate(group: pytest.OptionGroup, family: Family) -> None:
+    """The gate's pytest options (``--against``, ...: named as ``rmw-introspect diff`` names
+    them), their values kept as ``rmw_introspect_<name>``."""
+    for option in family.exposed(FrontEnd.PYTEST):
+        group.addoption(option.pytest_flag, dest=option.pytest_dest, default=None, help=option.flag_help(),
+                        **_flag_kind(option))
+
+
 def _flag_kind(option: Option) -> dict[str, Any]:
     if option.shape is Shape.SWITCH:
         # a switch that is off by default is switched on; one that is on says true or false

@@ -216,7 +216,7 @@ def test_a_change_nothing_consumes_says_so(repo, capsys):
     repo.git("branch", "-f", "base")
     repo.write(TALKER, node_contract(publishers=endpoint("/chatter", reliability="BEST_EFFORT"), version="1.2.0"))
     repo.commit("weaker")
-    status, items = as_json(capsys, "base", "--system", "robot.system.yaml", TALKER)
+    status, items = as_json(capsys, "base", "--against-system", "robot.system.yaml", TALKER)
     assert status == 1  # still BREAKING: not silently downgraded
     (weakened,) = [i for i in items if i["rule"] == "QOS_RELIABILITY_WEAKENED"]
     assert weakened["severity"] == "BREAKING" and weakened["message"].endswith("(no consumer in robot.system.yaml)")
@@ -344,7 +344,7 @@ def test_diff_without_against_still_takes_two_files(repo, capsys):
     assert main(["diff", TALKER]) == 2
     assert "diff compares two files, OLD and NEW (1 given)" in capsys.readouterr().err
     assert main(["diff", TALKER, TALKER, "--system", "x.system.yaml"]) == 2
-    assert "--system go with --against REF" in capsys.readouterr().err
+    assert "--against-system go with --against REF" in capsys.readouterr().err
     assert main(["diff", TALKER, TALKER]) == 0
 
 

@@ -48,7 +48,7 @@ RULES: dict[str, Severity] = {
     "QOS_INCOMPATIBLE": Severity.BREAKING,
     "QOS_MAYBE_INCOMPATIBLE": Severity.RISKY,
     # a note, not a finding (``NOTES``): the system runs on a middleware that matches any QoS
-    "QOS_DDS_WOULD_REFUSE": Severity.SAFE,
+    "QOS_DDS_WOULD_REFUSE": Severity.NOTE,
     "SUBSCRIPTION_WITHOUT_PUBLISHER": Severity.RISKY,
     "CLIENT_WITHOUT_SERVER": Severity.RISKY,
     "ACTION_CLIENT_WITHOUT_SERVER": Severity.RISKY,

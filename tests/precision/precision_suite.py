@@ -55,6 +55,7 @@ MUTATION_KINDS = {
 #: of the table
 OPTIONAL_MUTATION_KINDS = {
     "remap_near_miss": "a remap whose `from` is a near miss of the node's own name",
+    "moved_off_zenoh": "a Zenoh robot moved to a DDS middleware",
 }
 ALL_MUTATION_KINDS = {**MUTATION_KINDS, **OPTIONAL_MUTATION_KINDS}
 

@@ -69,6 +69,16 @@ def test_the_correct_system_passes_the_default_gate_with_no_finding(correct):
     assert problems == [] and run.returncode == 0, f"{system.name}: {run}"
 
 
+@pytest.mark.parametrize("correct", ["zenoh_mobile_base"], indirect=True)
+def test_a_zenoh_robot_passes_and_notes_each_pair_a_dds_middleware_would_refuse(correct):
+    """issue 49 item 3: its launch file selects rmw_zenoh_cpp, which connects any QoS; the two pairs
+    DDS would refuse (BEST_EFFORT scans to a RELIABLE subscriber, a VOLATILE map to a
+    TRANSIENT_LOCAL one) are notes, and its `moved_off_zenoh` bug makes them QOS_INCOMPATIBLE."""
+    run = correct["run"]
+    assert run.returncode == 0 and correct["findings"] == []
+    assert run.stderr.count("a DDS middleware would refuse the match") == 2, run.stderr
+
+
 @pytest.mark.parametrize("kind", list(suite.ALL_MUTATION_KINDS))
 def test_each_seeded_bug_fails_the_default_gate_naming_it(correct, kind, tmp_path, environment):
     system = correct["system"]

@@ -111,7 +111,7 @@ def test_on_zenoh_a_pair_dds_would_refuse_is_a_note_not_a_problem():
     contracts = pair("publishers", topic("sensor_data"), "subscriptions", topic("default"))
     assert [i.rule for i in check_compatibility(contracts)] == ["QOS_INCOMPATIBLE"]
     item, = check_compatibility(contracts, rmw="rmw_zenoh_cpp")
-    assert (item.rule, item.severity) == ("QOS_DDS_WOULD_REFUSE", Severity.SAFE) and item.rule in compatibility.NOTES
+    assert (item.rule, item.severity) == ("QOS_DDS_WOULD_REFUSE", Severity.NOTE) and item.rule in compatibility.NOTES
     assert "rmw_zenoh_cpp connects these" in item.message and "BEST_EFFORT publisher and RELIABLE subscription" in item.message
     # a pair every middleware connects has no note
     assert check_compatibility(pair("publishers", topic("default"), "subscriptions", topic("sensor_data")),

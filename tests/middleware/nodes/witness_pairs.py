@@ -34,6 +34,8 @@ TOTAL_S = 8.0
 #: the run ends early once nothing new got across for this long, after the first pair did (discovery
 #: here: 0.3 s median, up to 3 s)
 QUIET_S = 2.5
+#: a request unanswered this long is asked again (a BEST_EFFORT one may be lost)
+RETRY_S = 0.5
 
 
 def _duration(ns: int) -> Duration:
@@ -78,6 +80,7 @@ def main() -> int:
 
     got: dict[str, bool] = {pair["id"]: False for pair in pairs}
     publishers, subscriptions, clients, pending, action_clients = [], [], [], {}, []
+    asked: dict[str, float] = {}
 
     def on_message(pair_id: str):
         def callback(_msg) -> None:
@@ -121,10 +124,16 @@ def main() -> int:
         for _pid, pub, msg_type in publishers:
             pub.publish(msg_type())
         for pid, client, srv_type in clients:
-            if pid not in pending and client.service_is_ready():
-                pending[pid] = client.call_async(srv_type.Request())
             if pid in pending and pending[pid].done() and pending[pid].exception() is None:
                 got[pid] = True
+            # a request (or its response) sent BEST_EFFORT just after discovery may be lost, as a
+            # message may: ask again until one is answered, as a best-effort client must
+            stale = pid in pending and not got[pid] and time.monotonic() - asked.get(pid, 0.0) > RETRY_S
+            if (pid not in pending or stale) and client.service_is_ready():
+                if stale:
+                    client.remove_pending_request(pending[pid])
+                pending[pid] = client.call_async(srv_type.Request())
+                asked[pid] = time.monotonic()
         for pid, action_client in action_clients:
             if action_client.server_is_ready():
                 got[pid] = True

@@ -12,6 +12,7 @@ Hierarchy::
     ├── SetupError          ROS 2 / compiler / CMake / middleware library missing
     ├── ContractError       malformed contract file (YAML, schema, QoS, duplicates)
     ├── CaptureFormatError  a capture file that is not a valid capture
+    ├── RecordingError      ``check --bag``: a recording that cannot be read (missing, corrupt, truncated)
     ├── RevisionError       ``diff --against REF``: no git repository, no such revision, a shallow clone
     ├── UsageError          a bad command line or option value (``--shard``, arguments that go together)
     ├── OptionError         a comparison option with a value that makes no sense
@@ -46,6 +47,7 @@ __all__ = [
     "LiveGraphError",
     "NoNodeCreated",
     "OptionError",
+    "RecordingError",
     "RevisionError",
     "RmwIntrospectError",
     "SetupError",
@@ -461,6 +463,11 @@ class BaselineError(RmwIntrospectError):
             f"baseline {path}: {reason}. Write it anew with `rmw-introspect check --write-baseline {path} "
             "CONTRACT...` (or `compat --write-baseline`), or leave the baseline out."
         )
+
+
+class RecordingError(RmwIntrospectError):
+    """A recording (``check --bag``: a rosbag2 bag directory, an MCAP or sqlite3 file) that cannot be
+    read: the message names the path and what to do."""
 
 
 class TypeLockError(RmwIntrospectError):

@@ -6,7 +6,7 @@ unless RMWI_TEST_COST is set), because pytest only honours ``pytest_plugins`` in
 loads at start-up.
 """
 
-pytest_plugins = ["pytester", "middleware_fixtures", "cost_report"]
+pytest_plugins = ["pytester", "middleware_fixtures", "cost_report", "dimensions"]
 
 
 # ---------------------------------------------------------------------------- tiers

@@ -6,6 +6,7 @@ One line per module:
   compatibility checks over files
 - ``system_pipeline``: the same for a system contract (a launch file's processes), its diffs and
   the compatibility rules over contract files of either kind
+- ``recording_check``: ``check --bag``: contracts checked against a recording, a result per contract and one for it
 - ``result``: the one result core of node and system checks (findings, thresholds, the golden's nodes)
 - ``launch_settings``: what a launch file gives each process, as ``compare.launch_given`` reads it
 - ``outcome``: the pure decision: pass, warn, fail, write, error

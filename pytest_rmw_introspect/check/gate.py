@@ -36,11 +36,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import acceptance, consumers, drift, report, versioning
+from ..compare import acceptance, consumers, drift, report, rule_levels, versioning
 from ..compare.acceptance import Accepted
 from ..compare.baseline import Baseline
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
+from ..compare.rule_levels import RuleLevel
 from ..errors import ContractError, NoContracts, RevisionError
 from ..model import contract as contract_module
 from ..model import contract_kind, system_contract
@@ -77,6 +78,9 @@ class GateContract:
     error: str | None = None
     nodes: list[str] = field(default_factory=list)
     lines: LineIndex = field(default_factory=dict)
+    #: the project's levels of rules (``compare.rule_levels``) and how many findings they turned off
+    rules: tuple[RuleLevel, ...] = ()
+    turned_off: int = 0
     #: the bump the drift needs under semantic versioning, and the versions at REF and now
     needs: Bump = Bump.NONE
     versions: tuple[str | None, str | None] = (None, None)
@@ -141,7 +145,7 @@ class GateResult:
     def ordered(self) -> list[GateContract]:
         """Errors and failing contracts first, then by their worst finding (breaking changes lead)."""
         def rank(c: GateContract) -> tuple[int, int, str]:
-            worst = max((item.severity for item in c.items), default=-1)
+            worst = max((item.severity for item in c.items), default=-2)
             return (0 if c.error else 1, -int(c.failed) * 10 - int(worst), c.shown)
         return sorted(self.contracts, key=rank)
 
@@ -205,19 +209,10 @@ class GateResult:
 # ---------------------------------------------------------------------------- loading
 
 
-def is_system_text(name: str, text: str) -> bool:
-    """A system contract's text (``model.contract_kind``)."""
-    return contract_kind.is_system_text(text, name)
-
-
 def load_text(text: str, label: str) -> Contract:
-    """A node or system contract's text as a ``Contract`` (a system contract's nodes, comparison
-    options, ``accept:`` and version); ``label`` names it in messages. Raises ContractError."""
-    if is_system_text(label, text):
-        system = system_contract.loads(text, path=label)
-        return Contract(path=system.path, nodes=system.nodes, target=None, options=system.options,
-                        text=system.text, accept=system.accept, interface_version=system.interface_version)
-    return contract_module.loads(text, path=label)
+    """A contract's text of any kind as the node contract a comparison reads (``label`` names it in
+    messages; ``model.contract_kind``). Raises ContractError."""
+    return contract_kind.loads(text, label)[0]
 
 
 def _version_line(text: str) -> int | None:
@@ -315,7 +310,7 @@ def no_contracts(revision: Revision) -> NoContracts:
 
 def system_nodes(revision: Revision, named: Sequence[str | Path] | None) -> dict[str, ContractNodes]:
     """The nodes of the system contracts that judge consumers, by shown path: those named
-    (``--system``; an invalid one is an error), else every valid one git tracks under the
+    (``--against-system``; an invalid one is an error), else every valid one git tracks under the
     current directory."""
     out: dict[str, ContractNodes] = {}
     if named:
@@ -337,7 +332,7 @@ def run(against: str, contracts: Sequence[str | Path] = (), *, systems: Sequence
         options: Sequence[OptionLayer] = (), fail_on: str | None = None, baseline: Baseline | None = None,
         cwd: str | Path | None = None) -> GateResult:
     """Compare every contract with its version at ``against``. Raises RevisionError (no git
-    repository, no such revision, a shallow clone without it) and ContractError (a ``--system``
+    repository, no such revision, a shallow clone without it) and ContractError (a ``--against-system``
     file that does not load); a contract that does not load now or at REF is an error of its own
     entry (``GateContract.error``); no contract at all is :class:`NoContracts`."""
     revision = open_revision(against, cwd)
@@ -421,8 +416,9 @@ def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractN
         result.error = str(exc)
         return result
     items = compare_contracts(old, new, dataclasses.replace(opts, fail_on=threshold.name.lower()))
-    if systems and not is_system_text(name, new.text or old.text):
-        items = consumers.judge(items, new.nodes, old.nodes, systems)
+    if systems and not contract_kind.is_system_text(new.text or old.text, name):
+        items = consumers.judge(items, new.nodes, old.nodes, systems, rmw=opts.rmw)
+    result.rules = opts.rules
     _judge(result, drift.sort_items(items), old, new, baseline, revision.ref)
     result.nodes = sorted((new if pair.new is not None else old).nodes)
     result.lines = _lines(new) if pair.new is not None else {}
@@ -467,9 +463,12 @@ def _judge(result: GateContract, items: list[DriftItem], old: Contract, new: Con
            baseline: Baseline | None, ref: str) -> None:
     """The versions, then the contract's ``accept:`` entries, then the baseline."""
     present = new if result.status != "removed" else old
-    versioned = versioning.judge(items, old.interface_version, new.interface_version, source=result.shown,
+    leveled = rule_levels.apply(items, result.rules)  # the project's levels of rules, before the versions
+    versioned = versioning.judge(leveled.items, old.interface_version, new.interface_version, source=result.shown,
                                  line=_version_line(new.text), ref=ref)
-    judged = acceptance.judge([*versioned.findings, *versioned.kept], present.accept, rules=frozenset())
+    findings = rule_levels.apply(versioned.findings, result.rules)
+    result.turned_off = leveled.off + findings.off
+    judged = acceptance.judge([*findings.items, *versioned.kept], present.accept, rules=frozenset())
     kept = [item for item in judged.kept if isinstance(item, DriftItem)]
     result.accepted = [*versioned.accepted, *judged.accepted]
     if baseline is not None:
@@ -479,6 +478,8 @@ def _judge(result: GateContract, items: list[DriftItem], old: Contract, new: Con
     result.items = kept
     result.needs = versioned.needs
     result.versions = (old.interface_version, new.interface_version)
+    turned_off = [rule_levels.turned_off_text(result.turned_off)] if result.turned_off else []
     if result.status in ("added", "removed"):  # the file comes or goes with its version: nothing to say of it
+        result.notes = turned_off
         return
-    result.notes = versioned.notes
+    result.notes = [*versioned.notes, *turned_off]

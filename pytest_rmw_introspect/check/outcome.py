@@ -21,6 +21,7 @@ from ..errors import RmwIntrospectError
 from ..model import interface_version
 from ..model.acceptance import Acceptance
 from ..model.contract_shapes import ContractNode
+from ..model.vocabulary import Severity
 
 if TYPE_CHECKING:  # the findings' types: the drift rules are loaded by the first check (plugin hooks)
     from ..compare.acceptance import Accepted, Finding
@@ -89,6 +90,7 @@ class Checked(Protocol):
     def unfixed(self) -> Sequence[CompatItem]: ...
     def matched(self, *, names: bool) -> str: ...
     def check_notes(self) -> list[str]: ...
+    def rule_level_notes(self) -> list[str]: ...
     def for_ci(self, *, written: str | None = None) -> ContractOutcome: ...
 
 
@@ -157,12 +159,21 @@ def decide(result: Checked, *, update: bool, accept_command: str | None = None, 
             json=items,
         )
     gains = result.gains
+    if result.items and all(i.severity is Severity.NOTE for i in result.items) and not result.failed and not (update and result.drifted):
+        # notes (Severity.NOTE) only: a pass, with the notes shown (report, JSON) and nothing to accept
+        nodes = result.matched(names=verbose)
+        count = len(result.items)
+        turned_off = "".join(f"; {said}" for said in result.rule_level_notes())
+        return Outcome(Verdict.PASS, f"{result.shown}: matches ({nodes}); {count} note{'' if count == 1 else 's'}"
+                       f"{turned_off}",
+                       report=result.render_text(), json=items)
     if not result.items and not (update and gains):
         nodes = result.matched(names=verbose)
         hint = (f"; it does not state {', '.join(gains)} yet: {accept_command} adds them"
                 if gains and accept_command else "")
         if result.stood_in:
             hint += f"; stood in for, not run here: {', '.join(result.stood_in)}"
+        hint += "".join(f"; {said}" for said in result.rule_level_notes())
         in_baseline = sum(1 for entry in result.accepted if entry.acceptance.baseline)
         if in_baseline:
             hint = f"; {in_baseline} finding(s) in the baseline{hint}"

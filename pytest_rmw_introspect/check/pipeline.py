@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeAlias
 
-from ..compare import acceptance, drift, report
+from ..compare import acceptance, drift, report, rule_levels
 from ..compare import type_lock as type_lock_check
 from ..compare.acceptance import Accepted
 from ..compare.ci_report import ContractOutcome
@@ -240,6 +240,8 @@ class CheckResult(ContractCheck[Contract, TargetSpec, Capture]):
         notes = self.notes()
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes)
+        for said in self.rule_level_notes():
+            text = text.rstrip("\n") + f"\n\n{said}.\n"
         return text
 
     def for_ci(self, *, written: str | None = None) -> ContractOutcome:
@@ -253,6 +255,7 @@ class CheckResult(ContractCheck[Contract, TargetSpec, Capture]):
             error=str(self.error) if self.error is not None else None, written=written,
             lines=self.contract.lines() if self.contract is not None else {},
             accepted=self.accepted, stale=self.stale, notices=[(note, None) for note in self.check_notes()],
+            notes=self.rule_level_notes(),
         )
 
 
@@ -275,7 +278,9 @@ def compare(prepared: Prepared, capture: Capture) -> CheckResult:
             require_types=prepared.options.include_types and contract.nodl is None)
         items = drift.attribute_to_distribution(drift.sort_items(items + locked_type_items(prepared, capture)),
                                                 contract.ros_distribution, capture.ros_distribution)
-        judged = acceptance.judge(items, contract.accept, rules=acceptance.DRIFT_RULES)
+        leveled = rule_levels.apply(items, prepared.options.rules)  # the project's levels of rules
+        result.turned_off = leveled.off
+        judged = acceptance.judge(leveled.items, contract.accept, rules=acceptance.DRIFT_RULES)
         result.keep(judged.kept, judged.accepted)
         result.stale = judged.stale
     return result
@@ -352,6 +357,8 @@ class DiffResult:
     new_shown: str
     options: ComparisonOptions
     items: list[DriftItem]
+    #: how many findings the project's ``rules`` turned off (``compare.rule_levels``)
+    turned_off: int = 0
 
     @property
     def threshold(self) -> Severity:
@@ -362,8 +369,9 @@ class DiffResult:
         return report.fails(self.items, self.threshold)
 
     def render_text(self) -> str:
-        return report.render_text(self.items, contract_path=self.old_shown, threshold=self.threshold,
+        text = report.render_text(self.items, contract_path=self.old_shown, threshold=self.threshold,
                                   title=f"Interface drift of {self.new_shown}")
+        return text + (f"\n{rule_levels.turned_off_text(self.turned_off)}.\n" if self.turned_off else "")
 
     def to_json(self) -> list[dict[str, Any]]:
         return [{"contract": self.old_shown, **item} for item in report.to_json(self.items)]
@@ -371,7 +379,8 @@ class DiffResult:
     def for_ci(self) -> ContractOutcome:
         """For the CI formats: annotations point at NEW, the file a pull request changes."""
         return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.threshold,
-                               nodes=sorted(self.new.nodes), lines=self.new.lines())
+                               nodes=sorted(self.new.nodes), lines=self.new.lines(),
+                               notes=[rule_levels.turned_off_text(self.turned_off)] if self.turned_off else [])
 
 
 def diff_contracts(
@@ -398,7 +407,8 @@ def diff_contracts(
         else:
             layers = options or ()
         opts = Layers(strong_options=layers).options(old, shown=old_shown)
-    return DiffResult(old, new, old_shown, new_shown, opts, compare_contracts(old, new, opts))
+    leveled = rule_levels.apply(compare_contracts(old, new, opts), opts.rules)  # the project's levels of rules
+    return DiffResult(old, new, old_shown, new_shown, opts, leveled.items, leveled.off)
 
 
 def compare_contracts(old: Contract, new: Contract, options: ComparisonOptions) -> list[DriftItem]:
@@ -431,15 +441,20 @@ class CompatibilityResult:
     stale: list[Acceptance] = field(default_factory=list)
     #: the file of an end's label (a system contract's process labels name its file); None: the label
     file_of: Callable[[str], str] | None = None
+    #: what the rules note without finding a problem (``compatibility.NOTES``): never failing
+    notes: list[str] = field(default_factory=list)
 
     @property
     def failed(self) -> bool:
         return report.fails(self.items, self.threshold)
 
     def render_text(self) -> str:
-        return report.render_compat_text(self.items, threshold=self.threshold,
+        text = report.render_compat_text(self.items, threshold=self.threshold,
                                          title=f"Compatibility check of {len(self.labels)} contract(s)",
                                          accepted=self.accepted, stale=self.stale)
+        if self.notes:
+            text = text.rstrip("\n") + "\n\nNotes:\n" + "".join(f"  - {note}\n" for note in self.notes)
+        return text
 
     def to_json(self) -> list[dict[str, Any]]:
         return [*report.compat_to_json(self.items), *report.accepted_to_json(self.accepted),

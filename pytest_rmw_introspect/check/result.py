@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Generic, Protocol, TypeVar
 
-from ..compare import parameter_drift, report
+from ..compare import parameter_drift, report, rule_levels
 from ..compare.acceptance import Accepted, Finding
 from ..compare.ci_report import ContractOutcome
 from ..compare.compatibility import CompatItem
@@ -83,6 +83,8 @@ class ContractCheck(abc.ABC, Generic[ContractT, SpecT, CaptureT]):
     #: and the entries that accepted nothing
     accepted: list[Accepted] = field(default_factory=list)
     stale: list[Acceptance] = field(default_factory=list)
+    #: how many findings the project's ``rules`` turned off (``compare.rule_levels``)
+    turned_off: int = 0
 
     # ------------------------------------------------------------------------ the findings
 
@@ -129,8 +131,9 @@ class ContractCheck(abc.ABC, Generic[ContractT, SpecT, CaptureT]):
     @property
     def drifted(self) -> bool:
         """The golden differs from what updating would write: drift, or sections the contract
-        does not state yet (:attr:`gains`). (System problems are not the golden's to fix.)"""
-        return bool(self.drift_items) or bool(self.gains)
+        does not state yet (:attr:`gains`). (System problems are not the golden's to fix; a note,
+        ``Severity.NOTE``, is no drift an update must accept.)"""
+        return any(item.severity > Severity.NOTE for item in self.drift_items) or bool(self.gains)
 
     def to_json(self) -> list[dict[str, Any]]:
         """``report.to_json`` of the drift and ``report.compat_to_json`` of the system problems,
@@ -172,6 +175,10 @@ class ContractCheck(abc.ABC, Generic[ContractT, SpecT, CaptureT]):
         """Write the golden (``golden``): ``created``, ``updated`` or None."""
 
     # ------------------------------------------------------------------------ for people
+
+    def rule_level_notes(self) -> list[str]:
+        """What the project's ``rules`` did that no finding shows: the findings they turned off."""
+        return [rule_levels.turned_off_text(self.turned_off)] if self.turned_off else []
 
     def title(self) -> str:
         return f"Interface drift of {self.spec.describe()}" if self.spec is not None else "Interface drift"

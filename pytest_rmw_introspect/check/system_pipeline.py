@@ -21,25 +21,32 @@ without capturing (``compat``, ``graph``); :func:`diff_system` compares two syst
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import acceptance, drift, launch_given, report
+from ..compare import acceptance, drift, launch_given, report, rule_levels
 from ..compare.ci_report import ContractOutcome
-from ..compare.compatibility import CompatItem, LaunchedProcess, check_compatibility, check_launched, propose_external
+from ..compare.compatibility import (
+    NOTES,
+    CompatItem,
+    LaunchedProcess,
+    check_compatibility,
+    check_launched,
+    propose_external,
+)
 from ..compare.drift import DriftItem
 from ..compare.launch_given import Given
 from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError, TargetConfigError, UsageError
 from ..launch import component_loads
 from ..model import contract as contract_module
+from ..model import contract_kind, middlewares, system_contract
 from ..model import stand_ins as stand_in_model
-from ..model import system_contract
 from ..model.acceptance import Acceptance
-from ..model.contract import Contract
 from ..model.contract_shapes import ContractNode
 from ..model.locate import LineIndex, line_index, line_of
 from ..model.paths import shown as display
@@ -74,13 +81,6 @@ class SystemPrepared:
     stand_ins: list[StoodIn] = field(default_factory=list)
 
 
-def _as_contract(system: SystemContract | None) -> Contract | None:
-    """The parts ``Layers`` reads (``target:``, ``options:``) as a node contract."""
-    if system is None:
-        return None
-    return Contract(path=system.path, nodes=system.nodes, target=system.target, options=system.options)
-
-
 def prepare(
     contract_path: str | Path,
     *,
@@ -104,7 +104,7 @@ def prepare(
         contract = system_contract.load(path)
         acceptance.check_rules(contract.accept)
         stood_in = stand_in_model.load_all(contract.stand_ins, path)
-    as_contract = _as_contract(contract)
+    as_contract = None if contract is None else contract_kind.as_node_contract(contract)
     options = layers.options(as_contract, shown=shown)
     target = layers.target(as_contract, path=path, shown=shown)
     extra = sorted(k for k in target.to_mapping() if k not in SYSTEM_TARGET_KEYS)
@@ -203,7 +203,7 @@ class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]
         failing = {item.node for item in self.drift_items if item.change == "removed" and item.severity >= self.threshold}
         devices: dict[str, list[str]] = {}
         for item in self.rule_notes:
-            if item.requester.node in failing:
+            if item.rule in launch_given.NOTES and item.requester.node in failing:
                 devices.setdefault(item.requester.node, []).append(f"`{item.name}`")
         return [f"{node} ran without the device its parameter {', '.join(names)} names, which this machine lacks, "
                 "and lost interfaces its contract has: if that is for lack of the hardware, stand in for its process "
@@ -240,6 +240,7 @@ class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]
             notices=[(f"{item.requester.node}: {item.message}",
                       line_of(lines, item.requester.node, PARAMETERS, item.name))
                      for item in self.rule_notes],
+            notes=self.rule_level_notes(),
         )
 
     def name_rules(self) -> NameRules:
@@ -285,6 +286,8 @@ class SystemCheckResult(ContractCheck[SystemContract, LaunchSpec, SystemCapture]
         notes = self.notes()
         if notes:
             text = text.rstrip("\n") + "\n\nNotes on the capture:\n" + "\n".join(f"  - {note}" for note in notes) + "\n"
+        for said in self.rule_level_notes():
+            text = text.rstrip("\n") + f"\n\n{said}.\n"
         return text
 
 
@@ -294,19 +297,36 @@ def compare(prepared: SystemPrepared, capture: SystemCapture) -> SystemCheckResu
                                spec=prepared.launch, options=prepared.options, capture=capture)
     external = prepared.contract.external if prepared.contract is not None else None
     missing_path = launch_settings.missing_path(system_capture.ament_prefixes(prepared.ros))
-    system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path)
-    result.rule_notes = [item for item in system_items if item.rule in launch_given.NOTES]
-    system_items = [item for item in system_items if item.rule not in launch_given.NOTES]
+    options = dataclasses.replace(prepared.options, rmw=system_rmw(prepared, capture))
+    system_items = check_launched(launched_processes(capture), external=external, missing_path=missing_path,
+                                  rmw=options.rmw)
     drift_items = []
     if prepared.contract is not None:
         drift_items = drift.compare(prepared.contract.nodes, capture.to_contract_nodes(names=result.name_rules()),
-                                    prepared.options)
+                                    options)
+    leveled = rule_levels.apply([*drift_items, *system_items], options.rules)  # the project's levels of rules
+    result.turned_off = leveled.off
+    # what the rules note (``compatibility.NOTES``: a device the capture machine lacks, a pair only DDS
+    # would refuse) is said once per run, unless the project gave its rule a level
+    result.rule_notes = [item for item in leveled.items
+                         if isinstance(item, CompatItem) and item.rule in NOTES and not item.level_set_by]
     accept = prepared.contract.accept if prepared.contract is not None else ()
-    judged = acceptance.judge([*drift_items, *system_items], accept,
+    judged = acceptance.judge([item for item in leveled.items if item not in result.rule_notes], accept,
                               rules=acceptance.DRIFT_RULES | acceptance.SYSTEM_RULES)
     result.keep(judged.kept, judged.accepted)
     result.stale = judged.stale
     return result
+
+
+def system_rmw(prepared: SystemPrepared, capture: SystemCapture) -> str | None:
+    """The middleware whose QoS rules judge the system (issue 49 item 3): the contract's ``rmw:``,
+    else RMW_IMPLEMENTATION in its launch environment (``target: {env:}``, what the launch file
+    gives each process), else the ``rmw`` option (``--rmw``), else None (the DDS rules)."""
+    launched = [(f"{p.label} at {p.launched.where}", p.launched.env) for p in capture.processes]
+    if prepared.contract is not None:
+        return prepared.contract.middleware(prepared.options.rmw, launched)
+    return middlewares.choose([("target.env", prepared.target.to_mapping().get("env") or {}), *launched],
+                              prepared.options.rmw, shown=prepared.shown)
 
 
 def run_capture(prepared: SystemPrepared, *, library: str | Path | None = None,
@@ -365,6 +385,20 @@ class LoadedContracts:
     external: dict[str, dict[str, str]] = field(default_factory=dict)
     #: where each file (by label) lists its nodes and interfaces, for annotations
     lines: dict[str, LineIndex] = field(default_factory=dict)
+    #: the middleware each system contract among them runs on, when it says (``rmw:``, its
+    #: ``target: {env:}``), by label
+    middlewares: dict[str, str] = field(default_factory=dict)
+
+    def middleware(self, option: str | None = None) -> str | None:
+        """The middleware whose QoS rules judge these contracts: the one their system contracts
+        say, else ``option`` (``--rmw``), else None (the DDS rules). Raises UsageError when the
+        system contracts say different ones."""
+        said = sorted(set(self.middlewares.values()))
+        if len(said) > 1:
+            named = ", ".join(f"{label} runs on {name}" for label, name in sorted(self.middlewares.items()))
+            raise UsageError(f"these system contracts run on different middlewares ({named}): a publisher on one never "
+                             "reaches a subscription on another; check them apart")
+        return said[0] if said else option
 
     def nodes_by_label(self) -> dict[str, Mapping[str, ContractNode]]:
         return {p.label: p.nodes for p in self.processes}
@@ -390,6 +424,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
     accept: list[Acceptance] = []
     any_system = False
     external: dict[str, dict[str, str]] = {}
+    said: dict[str, str] = {}
     paths = list(paths)
     for p in paths:
         path = Path(os.path.expanduser(str(p)))
@@ -399,9 +434,12 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
         if label in labels:
             continue
         labels.append(label)
-        if system_contract.is_system_contract(path):
+        if contract_kind.is_system_file(path):
             any_system = True
             system = system_contract.load(path)
+            middleware = system.middleware()
+            if middleware is not None:
+                said[label] = middleware
             for kind, declared in system.external.items():
                 external.setdefault(kind, {}).update(declared)
             # the process labels name the file only when several files are drawn together
@@ -417,15 +455,19 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
             lines[label] = contract.lines()
     if not labels:
         raise UsageError("no contracts given to the compatibility check")
-    return LoadedContracts(labels, processes, any_system, accept, external, lines)
+    return LoadedContracts(labels, processes, any_system, accept, external, lines, said)
 
 
-def compatibility_items(loaded: LoadedContracts, *, strict_system_default: bool = False) -> list[CompatItem]:
+def compatibility_items(loaded: LoadedContracts, *, strict_system_default: bool = False,
+                        rmw: str | None = None) -> list[CompatItem]:
     """The compatibility rules over loaded contracts: all of them when a system contract is among
-    them, the connection rules (``compat`` as before) for node contracts alone."""
+    them, the connection rules (``compat`` as before) for node contracts alone; QoS judged for the
+    middleware the system contracts say, else ``rmw`` (``LoadedContracts.middleware``)."""
+    rmw = loaded.middleware(rmw)
     if loaded.any_system:
-        return check_launched(loaded.processes, external=loaded.external, strict_system_default=strict_system_default)
-    return check_compatibility(loaded.nodes_by_label(), strict_system_default=strict_system_default)
+        return check_launched(loaded.processes, external=loaded.external, strict_system_default=strict_system_default,
+                              rmw=rmw)
+    return check_compatibility(loaded.nodes_by_label(), strict_system_default=strict_system_default, rmw=rmw)
 
 
 def check_contracts(
@@ -434,18 +476,23 @@ def check_contracts(
     fail_on: str = "breaking",
     strict_system_default: bool = False,
     base_dir: str | Path | None = None,
+    rmw: str | None = None,
 ) -> CompatibilityResult:
     """Load contract files of either kind (:func:`load_any`) and check that their nodes fit
     together (:func:`compatibility_items`), judged by their ``accept:`` entries (an entry accepts
     a problem one of whose ends is in its own file). Labels are the paths as shown (relative to
-    the current directory). Raises ContractError, UsageError (no contract given), or OptionError for a bad ``fail_on``."""
+    the current directory). ``rmw``: the middleware for contracts that do not say (``--rmw``).
+    Notes (``compatibility.NOTES``) are kept apart from the problems: they never fail.
+    Raises ContractError, UsageError (no contract given, or system contracts on different
+    middlewares), or OptionError for a bad ``fail_on``."""
     threshold = parse_threshold(fail_on)
     loaded = load_any(contract_paths, base_dir=base_dir)
-    judged = judge_compatibility(compatibility_items(loaded, strict_system_default=strict_system_default),
-                                 loaded.accept, loaded.file_of)
+    items = compatibility_items(loaded, strict_system_default=strict_system_default, rmw=rmw)
+    judged = judge_compatibility([i for i in items if i.rule not in NOTES], loaded.accept, loaded.file_of)
     return CompatibilityResult(labels=loaded.labels, items=[i for i in judged.kept if isinstance(i, CompatItem)],
                                threshold=threshold, lines=loaded.lines, accepted=judged.accepted,
-                               stale=judged.stale, file_of=loaded.file_of)
+                               stale=judged.stale, file_of=loaded.file_of,
+                               notes=[f"{i.name}: {i.message}" for i in items if i.rule in NOTES])
 
 
 @dataclass
@@ -458,6 +505,8 @@ class SystemDiff:
     items: list[DriftItem]
     #: where NEW lists its nodes and interfaces, for the CI formats
     lines: LineIndex = field(default_factory=dict)
+    #: how many findings the project's ``rules`` turned off (``compare.rule_levels``)
+    turned_off: int = 0
 
     @property
     def failed(self) -> bool:
@@ -466,32 +515,37 @@ class SystemDiff:
     def for_ci(self) -> ContractOutcome:
         """For the CI formats: results point at NEW, the file a pull request changes."""
         return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.options.threshold(),
-                               lines=self.lines)
+                               lines=self.lines,
+                               notes=[rule_levels.turned_off_text(self.turned_off)] if self.turned_off else [])
 
     def render_text(self) -> str:
-        return report.render_text(self.items, contract_path=self.old_shown, threshold=self.options.threshold(),
+        text = report.render_text(self.items, contract_path=self.old_shown, threshold=self.options.threshold(),
                                   title=f"Interface drift of {self.new_shown}")
+        return text + (f"\n{rule_levels.turned_off_text(self.turned_off)}.\n" if self.turned_off else "")
 
     def to_json(self) -> list[dict[str, Any]]:
         return [{"contract": self.old_shown, **item} for item in report.to_json(self.items)]
 
 
-def load_nodes(path: str | Path) -> tuple[Contract, str]:
-    """A contract file of either kind as a node ``Contract`` (the nodes and options a diff reads)."""
-    if system_contract.is_system_contract(path):
-        system = system_contract.load(path)
-        as_contract = _as_contract(system)
-        assert as_contract is not None
-        return as_contract, "system"
-    return contract_module.load(path), "node"
+def said_middleware(path: str | Path) -> str | None:
+    """The middleware a system contract says it runs on (``rmw:``, its ``target: {env:}``); None
+    for a node contract or a system contract that does not say."""
+    if not contract_kind.is_system_file(path):
+        return None
+    return system_contract.load(path).middleware()
 
 
 def diff_system(old_path: str | Path, new_path: str | Path, options: Sequence[OptionLayer] = ()) -> SystemDiff:
     """Compare the nodes of two contracts of which at least one is a system contract, with the
     drift rules (raises ContractError)."""
-    old, _ = load_nodes(old_path)
-    new, _ = load_nodes(new_path)
+    old, _ = contract_kind.load(old_path)
+    new, _ = contract_kind.load(new_path)
     old_shown = display(old_path)
     opts = Layers(strong_options=options).options(old, shown=old_shown)
+    # a system contract that says which middleware it runs on is judged for it (NEW's word first)
+    said = next((m for m in (said_middleware(new_path), said_middleware(old_path)) if m is not None), None)
+    if said is not None:
+        opts = dataclasses.replace(opts, rmw=said)
     lines = line_index(Path(new_path).read_text(encoding="utf-8"))
-    return SystemDiff(old_shown, display(new_path), opts, drift.compare(old.nodes, new.nodes, opts), lines)
+    leveled = rule_levels.apply(drift.compare(old.nodes, new.nodes, opts), opts.rules)  # the project's levels
+    return SystemDiff(old_shown, display(new_path), opts, leveled.items, lines, leveled.off)

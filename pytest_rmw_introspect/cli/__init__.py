@@ -21,6 +21,8 @@ One line per module (:func:`main` here is the console script):
 - ``option_flags``: the flags of the option tables (``model.option_tables``)
 - ``exit_status``: the exit statuses
 - ``formats``: what the commands print or write (contract, JSON, NoDL, raw; ``--summary``)
+- ``emit``: the one writer of a report command's outcome in each ``--format`` (text, json, markdown, github, sarif)
+- ``recordings``: ``check --bag``: the options that go with a recording, and the recording read once
 - ``system_contracts``: system contracts on the command line (``capture --launch``, ``*.system.yaml``)
 - ``launch_options``: the launch-file options, declared and read without the system pipeline
 - ``live_options``: ``--live`` and ``--parameter-timeout``, declared without the live check
@@ -103,9 +105,9 @@ def _several_captures(args: argparse.Namespace) -> bool:
     contracts = list(getattr(args, "contracts", ()))
     if len(contracts) != 1:
         return len(contracts) > 1
-    from .system_contracts import is_system
+    from .system_contracts import checks_as_system
 
-    return is_system(Path(contracts[0]), args)
+    return checks_as_system(Path(contracts[0]), args)
 
 
 def _run_reporting_errors(args: argparse.Namespace, command: list[str] | None) -> int:

@@ -7,14 +7,12 @@ golden written with ``--update`` and an exit status."""
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import shlex
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .._version import __version__
 from ..errors import GoldenWriteError, UsageError
 from ..model.option_tables import COMPARISON, TARGET, FrontEnd
 from . import option_flags
@@ -86,6 +84,12 @@ def add_parser(sub: Any) -> None:
                      help="check only this CI job's share of the contracts: job I of N (e.g. 2/4); the contracts are "
                      "sorted by path and dealt round-robin, so the N jobs together check each exactly once")
     add_launch(chk)
+    chk.add_argument("--bag", metavar="PATH",  # check --bag (cli.recordings)
+                     help="check a recording instead of running each contract's target: a rosbag2 bag directory "
+                     "(metadata.yaml; sqlite3 or mcap storage), an .mcap or a .db3 file. Each recorded topic's type, "
+                     "type hash and offered QoS against the contracts' publishers and subscriptions; contract topics "
+                     "the recording lacks, recorded topics no contract declares, and each topic's message count "
+                     "(docs/recordings.md)")
     chk.add_argument("-v", "--verbose", action="store_true",
                      help="a passing system contract names every node it matched (else it says how many nodes in "
                      "how many processes)")
@@ -164,9 +168,10 @@ def contract_files_given(given: list[str]) -> list[str]:
 def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     from ..check import golden_record, pipeline, sharding
     from ..check.outcome import Verdict, decide
-    from ..compare import ci_report, sarif
-    from . import baselines, system_contracts
-    from .formats import append_summary, print_json, say_notes
+    from ..compare import ci_report
+    from . import baselines, recordings, system_contracts
+    from .emit import Report, emit
+    from .formats import append_summary, say_notes
     from .ros_setup import Setup
 
     if args.update:
@@ -189,6 +194,8 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
         from . import live as live_check
 
         live_check.refuse_with_live(args, command)
+        if args.bag:
+            raise UsageError("--live checks the running graph and --bag a recording: give one of them")
         if args.watch:
             return live_check.cmd_watch(args)
         live_graph = live_check.read(args)
@@ -197,25 +204,28 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     layers = pipeline.Layers(strong_target=[(target, cwd, "command line")] if target else [],
                              strong_options=[(compare_from_args(args), "command line")])
     setup = Setup()
+    bag = recordings.start(args, command) if args.bag else None  # check --bag: a recording, nothing runs
     checked: list[Checked] = []
     status = EXIT_OK
     all_items: list[dict[str, Any]] = []
     for_ci: list[ContractOutcome] = []
     noted: dict[str, list[str]] = {}
-    for shown in args.contracts:
+    for shown in bag.order(args.contracts) if bag else args.contracts:
         path = Path(shown)
         result: Checked
         if live_graph is not None:  # --live (issue 52)
             result = live_check.check_one(path, shown, live_graph, layers)
-        elif system_contracts.is_system(path, args):
+        elif bag is not None:
+            result = bag.result(path, shown)
+        elif system_contracts.checks_as_system(path, args):
             result = system_contracts.check_system_contract(args, path, shown, command, setup.ros, setup.library)
         else:
             result = pipeline.check_contract(path, library=setup.library, ros=setup.ros, layers=layers, shown=shown,
                                              allow_missing=args.update, no_target=_no_target)
         baselines.apply(baseline, result)
         checked.append(result)
-        outcome = decide(result, update=args.update, accept_command=accept_command(args, shown, command),
-                         verbose=args.verbose)
+        how = bag.how_to_accept if bag else accept_command(args, shown, command)
+        outcome = decide(result, update=args.update, accept_command=how, verbose=args.verbose)
         all_items += outcome.json
         for note in result.check_notes():  # said once per run, after the reports
             noted.setdefault(note, []).append(shown)
@@ -256,14 +266,9 @@ def cmd_check(args: argparse.Namespace, command: list[str] | None) -> int:
     baselines.finish(args, baseline, checked, [Path(c) for c in args.contracts])
     if args.write_baseline and status == EXIT_DRIFT:
         status = EXIT_OK  # today's findings are what the baseline records
+    # the text report was written contract by contract, as each was checked
+    report = Report(text="", data=all_items, outcomes=for_ci)
     if args.summary:
-        append_summary(args.summary, ci_report.drift_markdown(for_ci))
-    if args.format == "json":
-        print(json.dumps(all_items, indent=2, default=str))
-    elif args.format == "markdown":
-        sys.stdout.write(ci_report.drift_markdown(for_ci))
-    elif args.format == "github":
-        sys.stdout.write(ci_report.drift_github(for_ci))
-    elif args.format == "sarif":
-        print_json(sarif.drift_log(for_ci, tool_version=__version__))
+        append_summary(args.summary, report.markdown())
+    emit(report, args.format)
     return status

@@ -5,13 +5,12 @@ nothing is run."""
 from __future__ import annotations
 
 import argparse
-import json
-import sys
+from pathlib import Path
 from typing import Any
 
-from .._version import __version__
 from ..errors import UsageError
-from ..model.option_tables import FrontEnd
+from ..model.option_tables import GATE, FrontEnd
+from . import option_flags
 from .arguments import add_compare, add_format, compare_from_args
 from .exit_status import EXIT_DRIFT, EXIT_OK
 
@@ -30,7 +29,7 @@ changes unless --fail-on says otherwise. A contract with `interface_version: MAJ
 at REF and now is judged by semantic versioning: a BREAKING change needs a MAJOR bump, a RISKY
 one at least a MINOR bump (the message says which version to write); changes the bump covers
 are accepted. With system
-contracts (--system, or those git tracks here) a changed topic, service or action is checked
+contracts (--against-system, or those git tracks here) a changed topic, service or action is checked
 against the nodes that use it: one that no longer fits them is BREAKING and named. The git
 history must hold REF: in CI fetch the base branch (actions/checkout `fetch-depth: 0`).
 
@@ -55,14 +54,9 @@ def add_parser(sub: Any) -> None:
                      help="OLD NEW: the contract as it was and as it is now; with --against: the contracts to compare "
                      "(default: every contract git tracks under the current directory, found by its content)")
     gate = dif.add_argument_group("the pull-request gate (docs/ci.md)")
-    gate.add_argument("--against", metavar="REF",
-                      help="compare every contract with its version at the git revision REF: a branch, tag or commit, "
-                      "or BASE...HEAD (their merge base, as git diff reads it); renamed, added and removed contract "
-                      "files included; interface_version bumps judged by semantic versioning; fails on BREAKING "
-                      "unless --fail-on says otherwise")
-    gate.add_argument("--system", action="append", dest="against_systems", metavar="FILE",
-                      help="a system contract whose nodes judge who consumes a changed interface (repeatable; "
-                      "default: every *.system.yaml git tracks under the current directory)")
+    option_flags.add(gate, GATE.exposed(FrontEnd.GATE))
+    # the gate's consumer systems were given as --system before the option tables named them
+    gate.add_argument("--system", action="append", dest="against_system", metavar="FILE", help=argparse.SUPPRESS)
     gate.add_argument("--baseline", metavar="FILE",
                       help="fail only on findings that FILE (written by `check --write-baseline`) does not hold")
     gate.add_argument("--summary", metavar="FILE",
@@ -78,11 +72,10 @@ def cmd_diff(args: argparse.Namespace) -> int:
 
         return cmd_gate(args)
     from ..check import pipeline
-    from ..compare import ci_report, sarif
     from . import system_contracts
-    from .formats import print_json
+    from .emit import Report, emit
 
-    given = [flag for flag, value in (("--system", args.against_systems), ("--baseline", args.baseline),
+    given = [flag for flag, value in (("--against-system", args.against_system), ("--baseline", args.baseline),
                                       ("--summary", args.summary)) if value]
     if given:
         raise UsageError(f"{' and '.join(given)} go with --against REF (the gate against a git revision), not with "
@@ -90,18 +83,12 @@ def cmd_diff(args: argparse.Namespace) -> int:
     if len(args.files) != 2:
         raise UsageError(f"diff compares two files, OLD and NEW ({len(args.files)} given); to compare every contract "
                          "with a git revision: rmw-introspect diff --against REF [CONTRACT...]")
+    from ..model import contract_kind
+
     args.old, args.new = args.files
-    if system_contracts.any_system([args.old, args.new]):
+    if any(Path(p).exists() and contract_kind.is_system_file(p) for p in (args.old, args.new)):
         return system_contracts.cmd_diff(args)
     result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    elif args.format == "markdown":
-        sys.stdout.write(ci_report.drift_markdown([result.for_ci()], title=f"Interface drift of {result.new_shown}"))
-    elif args.format == "github":
-        sys.stdout.write(ci_report.drift_github([result.for_ci()]))
-    elif args.format == "sarif":
-        print_json(sarif.drift_log([result.for_ci()], tool_version=__version__))
-    else:
-        sys.stdout.write(result.render_text())
+    emit(Report(text=result.render_text, data=result.to_json(), outcomes=[result.for_ci()],
+                title=f"Interface drift of {result.new_shown}"), args.format)
     return EXIT_DRIFT if result.failed else EXIT_OK

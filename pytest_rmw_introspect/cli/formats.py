@@ -16,7 +16,7 @@ from ..model import nodl
 from ..model import qos as qos_module
 from ..model.contract_shapes import ContractNodes, InterfaceEntry, empty_node
 from ..model.unstable_names import NameRules
-from ..model.vocabulary import KIND_TO_LIST, LIFECYCLE, LIFECYCLE_UNKNOWN, PARAMETERS
+from ..model.vocabulary import KIND_TO_LIST, LIFECYCLE, LIFECYCLE_UNKNOWN, PARAMETERS, TOPIC_KINDS
 from ..run.target import TargetSpec
 
 if TYPE_CHECKING:  # the capture model is imported by the runner while the target starts
@@ -41,7 +41,7 @@ def nodl_documents(cap: Capture, *, raw: bool) -> str:
         if owner is None or not e.alive:
             continue
         entry: InterfaceEntry = {"name": e.name, "type": e.type}
-        if e.kind in ("publisher", "subscription"):
+        if e.kind in TOPIC_KINDS:
             entry["qos"] = qos_module.from_capture(e.qos)
         nodes[owner.fqn][KIND_TO_LIST[e.kind]].append(entry)
     return nodl.render(nodes)

@@ -5,17 +5,16 @@ hands over to ``cmd_gate``)."""
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
-from .._version import __version__
 from ..check import gate
 from ..compare import baseline as baseline_module
-from ..compare import ci_report, sarif
+from ..compare import ci_report
 from ..errors import RmwIntrospectError
 from .arguments import compare_from_args
+from .emit import Report, emit
 from .exit_status import EXIT_DRIFT, EXIT_ERROR, EXIT_OK
-from .formats import append_summary, print_json
+from .formats import append_summary
 
 
 def cmd_gate(args: argparse.Namespace) -> int:
@@ -23,7 +22,7 @@ def cmd_gate(args: argparse.Namespace) -> int:
     fail_on = options.pop("fail_on", None)
     baseline = baseline_module.load(args.baseline) if args.baseline else None
     try:
-        result = gate.run(args.against, args.files, systems=args.against_systems,
+        result = gate.run(args.against, args.files, systems=args.against_system,
                           options=[(options, "command line")], fail_on=fail_on, baseline=baseline)
     except RmwIntrospectError as exc:  # exit 2 (cli.main says it): the job summary and annotations say it too
         if args.summary:
@@ -34,21 +33,11 @@ def cmd_gate(args: argparse.Namespace) -> int:
         raise
     for contract in result.errors:
         print(f"rmw-introspect: {contract.error}", file=sys.stderr)
-    markdown = ci_report.drift_markdown(result.for_ci(), title=result.title(), intro=result.intro())
+    report = Report(text=result.render_text, data=result.to_json(), outcomes=result.for_ci(), title=result.title(),
+                    intro=result.intro(), notice=f"{result.title()}: {'; '.join(result.intro())}")
     if args.summary:
-        append_summary(args.summary, markdown)
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    elif args.format == "markdown":
-        sys.stdout.write(markdown)
-    elif args.format == "github":
-        print(ci_report.annotation("notice", f"{result.title()}: {'; '.join(result.intro())}",
-                                   title="rmw-introspect gate"))
-        sys.stdout.write(ci_report.drift_github(result.for_ci()))
-    elif args.format == "sarif":
-        print_json(sarif.drift_log(result.for_ci(), tool_version=__version__))
-    else:
-        sys.stdout.write(result.render_text())
+        append_summary(args.summary, report.markdown())
+    emit(report, args.format)
     if result.errors:
         return EXIT_ERROR
     return EXIT_DRIFT if result.failed else EXIT_OK

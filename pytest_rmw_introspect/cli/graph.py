@@ -54,7 +54,10 @@ def cmd_graph(args: argparse.Namespace) -> int:
     from . import formats
 
     loaded = system_pipeline.load_any(args.contracts)
-    items = system_pipeline.compatibility_items(loaded, strict_system_default=args.strict_system_default)
+    from ..compare.compatibility import NOTES
+
+    items = [item for item in system_pipeline.compatibility_items(loaded, strict_system_default=args.strict_system_default)
+             if item.rule not in NOTES]  # notes (a pair only DDS would refuse) are no problem to draw
     title = args.title or drawing_title(args.contracts, any_system=loaded.any_system)
     drawing = graph_module.build(loaded.processes, items, title=title)
     formats.emit(graph_module.render(drawing, args.format, threshold=parse_threshold(args.fail_on)), args.output)

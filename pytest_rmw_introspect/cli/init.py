@@ -122,7 +122,8 @@ def _capture_all(package: str, executables: list[str], timing: dict[str, float],
 
 def cmd_init(args: argparse.Namespace) -> int:
     from ..check import golden
-    from ..run.target import TargetSpec, package_executables
+    from ..run.executables import package_executables
+    from ..run.target import TargetSpec
     from .ros_setup import Setup
 
     setup = Setup()

@@ -7,33 +7,33 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, cast
 
-from .._version import __version__
 from ..check import system_pipeline
 from ..check.pipeline import Layers
-from ..compare import sarif
 from ..compare.compatibility import propose_external
 from ..errors import TargetConfigError, UsageError
-from ..model import system_contract
+from ..model import contract_kind, system_contract
+from ..model.contract_kind import Kind
 from ..model.contract_shapes import TargetBlock
 from ..run import system_capture
 from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
 from . import formats
 from .arguments import compare_from_args, target_from_args
+from .emit import Report, emit
 from .exit_status import EXIT_DRIFT, EXIT_OK
 from .launch_options import launch_arguments, launch_block, wants_launch
 
 
-def is_system(path: Path, args: argparse.Namespace | None = None) -> bool:
+def checks_as_system(path: Path, args: argparse.Namespace | None = None) -> bool:
     """A system contract: ``*.system.yaml``, a file that says ``system_version``, or (for a
     contract still to be created) any path when a launch file is given."""
     if path.exists():
-        return system_contract.is_system_contract(path)
-    return path.name.endswith(system_contract.SUFFIX) or (args is not None and wants_launch(args))
+        return contract_kind.is_system_file(path)
+    return contract_kind.kind_of_name(path) is Kind.SYSTEM or (args is not None and wants_launch(args))
 
 
 def _process_target(args: argparse.Namespace, command: list[str] | None) -> dict[str, Any]:
@@ -112,14 +112,9 @@ def check_system_contract(args: argparse.Namespace, path: Path, shown: str, comm
 
 def cmd_diff(args: argparse.Namespace) -> int:
     result = system_pipeline.diff_system(args.old, args.new, [(compare_from_args(args), "command line")])
-    if args.format == "json":
-        print(json.dumps(result.to_json(), indent=2, default=str))
-    elif args.format == "sarif":
-        formats.print_json(sarif.drift_log([result.for_ci()], tool_version=__version__))
-    else:
-        sys.stdout.write(result.render_text())
+    emit(Report(text=result.render_text, data=result.to_json(), outcomes=[result.for_ci()],
+                title=f"Interface drift of {result.new_shown}"), args.format)
     return EXIT_DRIFT if result.failed else EXIT_OK
 
 
-def any_system(paths: Sequence[str]) -> bool:
-    return any(Path(p).exists() and system_contract.is_system_contract(p) for p in paths)
+

@@ -1,16 +1,14 @@
 """``rmw-introspect validate``: contract files checked without running anything (a pre-commit
 hook): it imports only the contract loaders, and only once its arguments are valid. A file
 is a system contract exactly when every other command takes it for one
-(``system_contract.is_system_contract``: ``*.system.yaml`` or ``system_version:``)."""
+(``model.contract_kind``: ``*.system.yaml`` or ``system_version:``)."""
 
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from typing import Any
 
-from .._version import __version__
 from ..errors import ContractError
 from .exit_status import EXIT_ERROR, EXIT_OK
 
@@ -46,38 +44,28 @@ def add_parser(sub: Any) -> None:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     """Load every contract (nothing runs): one line per file, exit 2 when any is invalid."""
-    from ..compare import sarif
-    from ..compare.ci_report import annotation
+    from .emit import Report, emit
 
-    status = EXIT_OK
-    invalid: list[tuple[str, int | None, str]] = []
+    valid: list[str] = []
+    invalid: list[tuple[str, int | None, str, str]] = []
     for shown in args.contracts:
         try:
-            summary = _validated(shown)
+            valid.append(f"{shown}: {_validated(shown)}\n")
         except ContractError as exc:
-            status = EXIT_ERROR
-            invalid.append((shown, exc.line, str(exc)))
-            if args.format == "sarif":
-                continue
-            if args.format == "github":
-                print(annotation("error", exc.reason, file=shown, line=exc.line, title="invalid contract"))
-            else:
+            invalid.append((shown, exc.line, str(exc), exc.reason))
+            if args.format == "text":
                 print(f"rmw-introspect: {exc}", file=sys.stderr)
-            continue
-        if args.format == "text":
-            print(f"{shown}: {summary}")
-    if args.format == "sarif":
-        print(json.dumps(sarif.invalid_log(invalid, tool_version=__version__), indent=2))
-    return status
+    emit(Report(text="".join(valid), data=None, invalid=invalid), args.format)
+    return EXIT_ERROR if invalid else EXIT_OK
 
 
 def _validated(shown: str) -> str:
     """What a valid file holds, in words (raises ContractError)."""
     from ..compare import acceptance
     from ..model import contract as contract_module
-    from ..model import system_contract
+    from ..model import contract_kind, system_contract
 
-    if system_contract.is_system_contract(shown):
+    if contract_kind.is_system_file(shown):
         system = system_contract.load(shown)
         acceptance.check_rules(system.accept)  # a rule id no check has would never match
         count = len(system.processes)

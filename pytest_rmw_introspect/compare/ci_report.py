@@ -58,7 +58,7 @@ class ContractOutcome:
 
 
 def _counts(items: Sequence[DriftItem | CompatItem]) -> str:
-    return ", ".join(f"{sum(1 for i in items if i.severity is s)} {s.name.lower()}" for s in reversed(Severity))
+    return report.counts(items)
 
 
 def _cell(text: str) -> str:
@@ -79,6 +79,8 @@ def _result_cell(outcome: ContractOutcome) -> str:
         return "✅ matches"
     if outcome.failed:
         return f"❌ {_counts(everything)}"
+    if report.notes_only(everything):
+        return f"✅ matches ({_counts(everything)})"
     return f"⚠️ {_counts(everything)} (below the fail threshold: {THRESHOLD_WORDS[outcome.threshold]})"
 
 
@@ -90,11 +92,12 @@ def _drift_bullets(items: Sequence[DriftItem], threshold: Severity) -> list[str]
         group = [i for i in items if i.severity is severity]
         if not group:
             continue
-        note = "" if severity >= threshold else " (below the fail threshold)"
+        note = " (notes, never failing)" if severity is Severity.NOTE else \
+            "" if severity >= threshold else " (below the fail threshold)"
         lines += ["", f"**{severity.name}** ({len(group)}){note}", ""]
         for item in group:
             where = f"`{item.node}`" if item.kind == "node" else f"`{item.node}` {LABELS.get(item.kind, item.kind)} `{item.name}`"
-            lines.append(f"- {where}: `{item.rule}` {item.message}")
+            lines.append(f"- {where}: `{item.rule}` {item.message}{report.set_by(item)}")
     return lines
 
 
@@ -141,7 +144,7 @@ def _system_bullets(items: Sequence[CompatItem]) -> list[str]:
         for process in kept:
             for item in process.items[:report.FINDINGS_SHOWN]:
                 ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
-                lines.append(f"  - `{process.place}` `{item.name}`: {ends}: {item.message}")
+                lines.append(f"  - `{process.place}` `{item.name}`: {ends}: {item.message}{report.set_by(item)}")
             if len(process.items) > report.FINDINGS_SHOWN:
                 lines.append(f"  - `{process.place}`: … and {len(process.items) - report.FINDINGS_SHOWN} more")
         if more_processes:
@@ -153,7 +156,8 @@ def _drift_bullets_at_scale(items: Sequence[DriftItem], threshold: Severity) -> 
     """Drift in many nodes (``report.at_scale``) by rule and node, cut like the text report."""
     lines: list[str] = []
     for group in report.drift_by_rule_and_node(items):
-        note = "" if group.severity >= threshold else " (below the fail threshold)"
+        note = " (a note, never failing)" if group.severity is Severity.NOTE else \
+            "" if group.severity >= threshold else " (below the fail threshold)"
         lines += ["", f"- {group.severity.name}{note} `{group.rule}`: {group.count} change(s) in "
                       f"{len(group.places)} node(s)"]
         kept, more_nodes, more_changes = group.shown()
@@ -235,11 +239,18 @@ def annotation(level: str, message: str, *, file: str | None = None, line: int |
     return f"::{level} {','.join(props)}::{_escape_data(message)}" if props else f"::{level}::{_escape_data(message)}"
 
 
+def _title(item: DriftItem | CompatItem) -> str:
+    """An annotation's title: the rule and its level (and who set it, when the project did)."""
+    return f"{item.rule} ({item.severity.name}{' set by the project' if item.level_set_by else ''})"
+
+
 def annotation_level(severity: Severity, threshold: Severity) -> str:
     """The annotation a finding gets: ``error`` when it fails the gate, except a SAFE one (it breaks
     nothing: ``warning`` even when ``--fail-on any`` fails on it); below the threshold ``warning``,
     or ``notice`` for a SAFE one."""
     fails = severity >= threshold
+    if severity is Severity.NOTE:
+        return "notice"
     if severity == Severity.SAFE:
         return "warning" if fails else "notice"
     return "error" if fails else "warning"
@@ -263,11 +274,11 @@ def drift_github(outcomes: Sequence[ContractOutcome]) -> str:
             what = item.node if item.kind == "node" else f"{item.node} {LABELS.get(item.kind, item.kind)} {item.name}"
             lines.append(annotation(level, f"{what}: {item.message}", file=o.contract,
                                     line=line_of(o.lines, item.node, item.kind, item.name),
-                                    title=f"{item.rule} ({item.severity.name})"))
+                                    title=_title(item)))
         for item, more in counted:
             lines.append(annotation(annotation_level(item.severity, o.threshold),
                                     f"{more} more change(s) of this rule not annotated (all of them: --format json "
-                                    "or sarif)", file=o.contract, title=f"{item.rule} ({item.severity.name})"))
+                                    "or sarif)", file=o.contract, title=_title(item)))
         if o.system_items:
             lines.append(compat_github(o.system_items, threshold=o.system_threshold, lines={o.contract: o.lines},
                                        file=o.contract, cut=True).rstrip("\n"))
@@ -332,10 +343,10 @@ def compat_github(items: Sequence[CompatItem], *, threshold: Severity,
         ends = f"{item.provider} → {item.requester}" if item.provider else str(item.requester)
         out.append(annotation(level, f"{item.name}: {ends}: {item.message}", file=where,
                               line=line_of(index, item.requester.node, item.requester.kind, item.name),
-                              title=f"{item.rule} ({item.severity.name})"))
+                              title=_title(item)))
     for item, message in counted:
         out.append(annotation(annotation_level(item.severity, threshold), message,
                               file=file or (file_of(item.requester.label) if file_of else item.requester.label),
-                              title=f"{item.rule} ({item.severity.name})"))
+                              title=_title(item)))
     out += acceptance_github(accepted, stale)
     return "\n".join(out) + ("\n" if out else "")

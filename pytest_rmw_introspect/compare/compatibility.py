@@ -12,11 +12,11 @@ The rules and their severities are in docs/drift-rules.md ("Compatibility rules"
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
-from ..model import qos, tally
+from ..model import middlewares, qos, tally
 from ..model.contract_shapes import ContractNode, InterfaceEntry, QosFields
 from ..model.vocabulary import (
     LABELS,
@@ -29,7 +29,7 @@ from ..model.vocabulary import (
     ListName,
     Severity,
 )
-from . import launch_given, wiring
+from . import launch_given, recording_rules, wiring
 
 _WITHOUT_PROVIDER = {
     "subscriptions": "SUBSCRIPTION_WITHOUT_PUBLISHER",
@@ -47,6 +47,8 @@ RULES: dict[str, Severity] = {
     "TYPE_HASH_MISMATCH": Severity.BREAKING,
     "QOS_INCOMPATIBLE": Severity.BREAKING,
     "QOS_MAYBE_INCOMPATIBLE": Severity.RISKY,
+    # a note, not a finding (``NOTES``): the system runs on a middleware that matches any QoS
+    "QOS_DDS_WOULD_REFUSE": Severity.NOTE,
     "SUBSCRIPTION_WITHOUT_PUBLISHER": Severity.RISKY,
     "CLIENT_WITHOUT_SERVER": Severity.RISKY,
     "ACTION_CLIENT_WITHOUT_SERVER": Severity.RISKY,
@@ -59,6 +61,8 @@ RULES: dict[str, Severity] = {
     **wiring.RULES,
     # what the launch file gives a node and the node ignores (compare.launch_given)
     **launch_given.RULES,
+    # what a recording shows (check --bag: compare.recordings)
+    **recording_rules.RULES,
 }
 
 #: rule id → what it reports, for the docs and SARIF's rule descriptions (the "what" column of
@@ -66,8 +70,17 @@ RULES: dict[str, Severity] = {
 SUMMARIES: dict[str, str] = {
     "TYPE_MISMATCH": "the two ends use different type names",
     "TYPE_HASH_MISMATCH": "same type name, different hash (or action hash mapping)",
-    "QOS_INCOMPATIBLE": "rmw's QoS rules (`qos.profile_compatibility`) say ERROR (topics)",
-    "QOS_MAYBE_INCOMPATIBLE": "rmw's QoS rules (`qos.profile_compatibility`) say WARNING (topics)",
+    "QOS_INCOMPATIBLE": (
+        "the QoS rules of the system's middleware (`qos.profile_compatibility`) say ERROR: a topic's publisher and "
+        "subscription, or a service's client and server (requests or responses)"
+    ),
+    "QOS_MAYBE_INCOMPATIBLE": (
+        "the QoS rules of the system's middleware (`qos.profile_compatibility`) say WARNING (topics and services)"
+    ),
+    "QOS_DDS_WOULD_REFUSE": (
+        "the system runs on a middleware that matches any QoS (rmw_zenoh_cpp), and the DDS rules would refuse "
+        "the pair (a note)"
+    ),
     "SUBSCRIPTION_WITHOUT_PUBLISHER": "nobody publishes a subscribed topic",
     "CLIENT_WITHOUT_SERVER": "nobody serves a called service",
     "ACTION_CLIENT_WITHOUT_SERVER": "nobody serves an action with a client",
@@ -105,13 +118,17 @@ SUMMARIES: dict[str, str] = {
         "a parameter name the launch file gives a node (a parameters file key, `<param>`, `-p`) that cannot be a "
         "ROS parameter name: a space, a parenthesis, a colon, a comma"
     ),
+    "REMAP_NEAR_MISS": (
+        "a remapping the launch file gives a node changed none of its names, and its `from` is a near miss of a "
+        "name the node does create (a typo: the node stays unwired)"
+    ),
     "REMAP_UNUSED": (
-        "a remapping the launch file gives a node changed none of its names, and a connection was meant: another "
-        "node of the system uses the remapping's target, or its `from` is a near miss of a name the node created"
+        "a remapping the launch file gives a node changed none of its names (its `from` is no near miss), and "
+        "another node of the system uses its target: a note"
     ),
     "REMAP_UNUSED_UNCONNECTED": (
-        "a remapping the launch file gives a node changed none of its names, and nothing shows a connection was "
-        "meant (no other node uses its target, its `from` is no near miss); identity remappings are not judged"
+        "a remapping the launch file gives a node changed none of its names, no other node uses its target and "
+        "its `from` is no near miss: a note; identity remappings are not judged"
     ),
     "PARAM_PATH_MISSING": (
         "a node's string parameter (as captured, overrides applied) points at a file of a package that is missing:"
@@ -127,7 +144,13 @@ SUMMARIES: dict[str, str] = {
         "a node's string parameter names a hardware device the capture machine lacks: `/dev/...` (with or "
         "without a `:baud` suffix), `serial:///dev/...`"
     ),
+    **recording_rules.SUMMARIES,
 }
+
+
+#: rules whose items are notes (shown once per run, never failing: the front ends take them out
+#: of the findings), the launch file's (``launch_given.NOTES``) and the middleware's
+NOTES = launch_given.NOTES | {"QOS_DDS_WOULD_REFUSE"}
 
 
 @dataclass(frozen=True, order=True)
@@ -150,6 +173,8 @@ class CompatItem:
     message: str
     #: the provider's name when it differs from ``name`` (a mis-wired name: ``*_NAME_MISMATCH``)
     other_name: str | None = None
+    #: where the project set this rule's level (``compare.rule_levels``: the option ``rules``); None: its default
+    level_set_by: str | None = None
 
     def __post_init__(self) -> None:
         tally.note("rule", self.rule)  # the test suite's exercised set (model.tally; issue 48)
@@ -191,7 +216,8 @@ def implied_endpoints(fqn: str, node: ContractNode) -> list[tuple[ListName, Inte
 
 
 def check_compatibility(
-    contracts: Mapping[str, Mapping[str, ContractNode]], *, strict_system_default: bool = False
+    contracts: Mapping[str, Mapping[str, ContractNode]], *, strict_system_default: bool = False,
+    rmw: str | None = None,
 ) -> list[CompatItem]:
     """Incompatibilities between the nodes of several contracts, most severe first.
 
@@ -199,6 +225,9 @@ def check_compatibility(
     A policy left at SYSTEM_DEFAULT on *both* ends resolves to the same middleware default and is
     not reported (every rmw profile leaves liveliness there, so rmw would warn about nearly every
     pair); ``strict_system_default=True`` reports exactly what rmw_dds_common answers.
+    ``rmw``: the middleware the system runs on (``model.middlewares``; None: the DDS rules of
+    rmw_dds_common); on one that matches any QoS, a pair the DDS rules refuse is a
+    ``QOS_DDS_WOULD_REFUSE`` note.
     """
     endpoints: dict[str, dict[str, list[_Found]]] = {}  # kind → name → endpoints
     for label, nodes in contracts.items():
@@ -220,7 +249,7 @@ def check_compatibility(
                 if not providers:
                     items.append(_missing_peer(missing_rule, name, requester))
                 for provider in providers:
-                    items += _check_pair(name, provider, requester, strict_system_default)
+                    items += _check_pair(name, provider, requester, strict_system_default, rmw)
     return sorted(items, key=_sort_key)
 
 
@@ -236,7 +265,8 @@ def _missing_peer(rule: str, name: str, requester: _Found) -> CompatItem:
     return _item(rule, name, requester, None, f"{missing} in these contracts")
 
 
-def _check_pair(name: str, provider: _Found, requester: _Found, strict: bool) -> list[CompatItem]:
+def _check_pair(name: str, provider: _Found, requester: _Found, strict: bool,
+                rmw: str | None = None) -> list[CompatItem]:
     offered, requested = provider.entry, requester.entry
     if offered.get("type") and requested.get("type") and offered["type"] != requested["type"]:
         # nothing else matters between endpoints of different types
@@ -249,18 +279,43 @@ def _check_pair(name: str, provider: _Found, requester: _Found, strict: bool) ->
         items.append(_item("TYPE_HASH_MISMATCH", name, requester, provider,
                            "the two ends were built from different definitions of "
                            f"{offered.get('type') or requested.get('type')}"))
-    if requester.endpoint.kind == "subscriptions" and "qos" in offered and "qos" in requested:
+    return items + _check_qos(name, provider, requester, strict, rmw)
+
+
+# ------------------------------------------------------------- QoS per middleware (issue 49)
+
+def _check_qos(name: str, provider: _Found, requester: _Found, strict: bool, rmw: str | None) -> list[CompatItem]:
+    """The QoS of a pair judged for the middleware ``rmw``: a topic's publisher and subscription
+    (when both state a QoS), a service's server and client (``qos.service_compatibility``; a
+    service entry without ``qos`` has the services default, the only one a capture leaves
+    unwritten). Actions are not judged (their QoS is not in contracts)."""
+    offered, requested = provider.entry, requester.entry
+    if requester.endpoint.kind == "subscriptions":
+        if "qos" not in offered or "qos" not in requested:
+            return []
         pub_qos, sub_qos = qos.expand(offered["qos"]), qos.expand(requested["qos"])
-        if not strict:
-            pub_qos, sub_qos = _settle_shared_system_defaults(pub_qos, sub_qos)
-        compatibility, reason = qos.profile_compatibility(pub_qos, sub_qos)
-        if compatibility is qos.Compatibility.ERROR:
-            items.append(_item("QOS_INCOMPATIBLE", name, requester, provider,
-                               _strip_levels(reason)))
-        elif compatibility is qos.Compatibility.WARNING:
-            items.append(_item("QOS_MAYBE_INCOMPATIBLE", name, requester, provider,
-                               _strip_levels(reason)))
-    return items
+        judge: Callable[[Any, Any, str | None], tuple[qos.Compatibility, str]] = qos.profile_compatibility
+    elif requester.endpoint.kind == "service_clients":
+        pub_qos = qos.expand(offered.get("qos") or "services_default")
+        sub_qos = qos.expand(requested.get("qos") or "services_default")
+        judge = qos.service_compatibility
+    else:
+        return []
+    if not strict:
+        pub_qos, sub_qos = _settle_shared_system_defaults(pub_qos, sub_qos)
+    middleware = middlewares.get(rmw)
+    compatibility, reason = judge(pub_qos, sub_qos, None if strict and middleware and middleware.refuses else rmw)
+    if compatibility is qos.Compatibility.ERROR:
+        return [_item("QOS_INCOMPATIBLE", name, requester, provider, _strip_levels(reason))]
+    if compatibility is qos.Compatibility.WARNING:
+        return [_item("QOS_MAYBE_INCOMPATIBLE", name, requester, provider, _strip_levels(reason))]
+    if middleware is not None and not middleware.refuses:
+        dds, dds_reason = judge(pub_qos, sub_qos, None)
+        if dds is qos.Compatibility.ERROR:
+            return [_item("QOS_DDS_WOULD_REFUSE", name, requester, provider,
+                          f"{middleware.name} connects these whatever their QoS, a DDS middleware would refuse the "
+                          f"match ({_strip_levels(dds_reason)}): it matters if the system moves to DDS")]
+    return []
 
 
 # Identical weak values: neither an error nor a warning under any rule.
@@ -318,7 +373,7 @@ _MULTIPLE: dict[ListName, str] = {"service_servers": "SERVICE_MULTIPLE_SERVERS",
 
 def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[str, Mapping[str, str]] | None = None,
                    missing_path: launch_given.MissingPath | None = None,
-                   strict_system_default: bool = False) -> list[CompatItem]:
+                   strict_system_default: bool = False, rmw: str | None = None) -> list[CompatItem]:
     """Every compatibility rule over the processes a launch file starts: the connections between all
     their nodes (:func:`check_compatibility`, one label per process), with requesters nobody provides
     judged against the declared outside world ``external`` (``compare.wiring``: declared, a
@@ -326,8 +381,10 @@ def check_launched(processes: Sequence[LaunchedProcess], *, external: Mapping[st
     actions with more than one server, processes that did not create the node the launch file
     names (or created none), and what the launch file gives a node that it ignores
     (``compare.launch_given``; with ``missing_path``, parameter values that point at files that
-    do not exist). Most severe first."""
-    connections = check_compatibility({p.label: p.nodes for p in processes}, strict_system_default=strict_system_default)
+    do not exist). ``rmw``: the middleware the system runs on (:func:`check_compatibility`).
+    Most severe first."""
+    connections = check_compatibility({p.label: p.nodes for p in processes}, strict_system_default=strict_system_default,
+                                      rmw=rmw)
     missing = set(_WITHOUT_PROVIDER.values())
     items = [item for item in connections if item.rule not in missing]
     items += _judge_dangling(processes, [item for item in connections if item.rule in missing], external)

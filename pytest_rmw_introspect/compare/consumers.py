@@ -53,9 +53,10 @@ def _peers(systems: Mapping[str, ContractNodes], own: set[str], kind: str,
 
 
 def judge(items: Sequence[DriftItem], new_nodes: ContractNodes, old_nodes: ContractNodes,
-          systems: Mapping[str, ContractNodes]) -> list[DriftItem]:
+          systems: Mapping[str, ContractNodes], rmw: str | None = None) -> list[DriftItem]:
     """``items`` with what the systems say of each, and the ``CONSUMER_INCOMPATIBLE`` findings
-    (once per interface and peer, after the interface's first item)."""
+    (once per interface and peer, after the interface's first item); QoS judged for the
+    middleware ``rmw`` (the ``rmw`` option; None: the DDS rules)."""
     if not systems:
         return list(items)
     own = set(new_nodes) | set(old_nodes)
@@ -69,7 +70,7 @@ def judge(items: Sequence[DriftItem], new_nodes: ContractNodes, old_nodes: Contr
         key = (item.node, item.kind, item.name)
         first = key not in judged
         if first:
-            judged[key] = _interface(item, new_nodes, own, systems, where)
+            judged[key] = _interface(item, new_nodes, own, systems, where, rmw)
         said, findings = judged[key]
         out.append(replace(item, message=f"{item.message} ({said})"))
         if first:
@@ -78,7 +79,7 @@ def judge(items: Sequence[DriftItem], new_nodes: ContractNodes, old_nodes: Contr
 
 
 def _interface(item: DriftItem, new_nodes: ContractNodes, own: set[str], systems: Mapping[str, ContractNodes],
-               where: str) -> tuple[str, list[DriftItem]]:
+               where: str, rmw: str | None = None) -> tuple[str, list[DriftItem]]:
     """What the systems say of the changed interface of ``item``, and the findings of peers it no
     longer fits."""
     provides = item.kind in CONSUMER_OF
@@ -96,7 +97,7 @@ def _interface(item: DriftItem, new_nodes: ContractNodes, own: set[str], systems
         return f"used by the {peer_words}", findings
     for label, node, entry in peers:
         ends: dict[str, Any] = {"contract": {item.node: {item.kind: [new_entry]}}, label: {node: {peer_kind: [entry]}}}
-        pair = check_compatibility(ends)
+        pair = check_compatibility(ends, rmw=rmw)  # QoS for the middleware the gate is given (--rmw)
         findings += [_finding(item, label, node, peer_kind, f"the {LABELS[peer_kind]} of {node} in {label} no longer "
                               f"fits: [{problem.rule}] {problem.message}")
                      for problem in pair if problem.provider is not None and problem.severity is Severity.BREAKING]

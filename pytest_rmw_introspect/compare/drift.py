@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from ..errors import OptionError
-from ..model import qos, tally, untrusted
+from ..model import middlewares, qos, tally, untrusted
 from ..model import types as type_model
 from ..model.contract_shapes import ContractNode, InterfaceEntry
 from ..model.vocabulary import (
@@ -27,6 +27,7 @@ from ..model.vocabulary import (
     LISTS,
     PARAMETERS,
     PROVIDER_OF,
+    SERVICE_LISTS,
     TOPIC_LISTS,
     Severity,
 )
@@ -51,6 +52,8 @@ class DriftItem:
     rule: str  # stable rule id, see RULES
     severity: Severity
     message: str  # one line for people
+    #: where the project set this rule's level (``compare.rule_levels``: the option ``rules``); None: its default
+    level_set_by: str | None = None
 
     def __post_init__(self) -> None:
         tally.note("rule", self.rule)  # the test suite's exercised set (model.tally; issue 48)
@@ -143,6 +146,8 @@ RULES: dict[str, Rule] = _rules(
     Rule("QOS_LIFESPAN_EXTENDED", _S, "publisher lifespan extended or unset"),
     Rule("QOS_LIFESPAN_NO_EFFECT", _S, "subscription lifespan changed (a publisher-only policy)"),
     Rule("QOS_NAMESPACE_CONVENTIONS_CHANGED", _B, "avoid_ros_namespace_conventions changed"),
+    Rule("SERVICE_QOS_CHANGED", _B, "a service server's or client's reliability, durability, deadline or liveliness "
+         "changed"),
     Rule("TYPE_DESCRIPTION_MISSING", _S, "the contract's types: section lacks a type the interface uses"),
     Rule("TYPE_LOCK_CHANGED", _B, "a type an interface uses, or one it nests, differs from the package's type lock"),
     Rule("TYPE_NOT_LOCKED", _R, "an interface uses a type the package's type lock does not list"),
@@ -213,7 +218,8 @@ def compare(
         return True
 
     # a rename brings the other changes of the endpoint along: the options apply to them too
-    return sorted(filter(wanted, _pair_renames(list(filter(wanted, items)))), key=_sort_key)
+    items = _pair_renames(list(filter(wanted, items)))
+    return sorted(_for_middleware(filter(wanted, items), options.rmw), key=_sort_key)
 
 
 def attribute_to_distribution(items: list[DriftItem], expected: str | None, actual: str | None) -> list[DriftItem]:
@@ -378,6 +384,8 @@ def _compared(node: str, kind: str, entry: InterfaceEntry) -> dict[str, Any]:
             compared["qos"] = qos.expand(entry["qos"])
         except ValueError as error:
             raise ValueError(f"{node} {LABELS[kind]} {entry.get('name')}: {error}") from None
+    elif kind in SERVICE_LISTS:
+        compared["qos"] = _service_qos(node, kind, entry)
     return compared
 
 
@@ -671,6 +679,11 @@ def _qos_item(node: str, kind: str, key: str, field_name: str, old: Any, new: An
     def item(rule_id: str, message: str) -> DriftItem:
         return _item(node, kind, key, change, old, new, rule_id, message)
 
+    if kind in SERVICE_LISTS:
+        word = _MATCHING_POLICIES[field_name][1]
+        return item("SERVICE_QOS_CHANGED", f"service {word} {old_text} -> {new_text}: a DDS middleware serves a "
+                    f"client only when its {word} and the server's agree (requests one way, responses the other): "
+                    f"peers with the old {word} are no longer served")
     if field_name in _MATCHING_POLICIES:
         stem, word = _MATCHING_POLICIES[field_name]
         old_low, old_high = _strength(field_name, old, offering)
@@ -717,6 +730,38 @@ def _qos_item(node: str, kind: str, key: str, field_name: str, old: Any, new: An
                     f"{old_text} -> {new_text}: the name on the wire changes, existing peers no "
                     "longer match")
     raise AssertionError(f"unexpected QoS field {field_name!r}")  # pragma: no cover
+
+
+# --------------------------------------------------------------- QoS per middleware (issue 49)
+
+def _service_qos(node: str, kind: str, entry: InterfaceEntry) -> dict[str, Any]:
+    """What is compared of a service's QoS: the policies that decide whether a client is served
+    (a DDS middleware matches requests and responses like topics), ``services_default`` when the
+    entry states none (a capture writes a service's QoS only when these differ from it)."""
+    try:
+        explicit = qos.expand(entry.get("qos") or "services_default")
+    except ValueError as error:
+        raise ValueError(f"{node} {LABELS[kind]} {entry.get('name')}: {error}") from None
+    return {field_name: explicit[field_name] for field_name in qos.MATCHING_FIELDS}
+
+
+#: the rules that are BREAKING because a DDS middleware refuses the match
+_REFUSED_MATCH = frozenset({rule for rule in RULES if rule.startswith("QOS_")
+                            and rule.endswith(("_WEAKENED", "_REQUEST_RAISED"))} | {"SERVICE_QOS_CHANGED"})
+
+
+def _for_middleware(items: Iterable[DriftItem], rmw: str | None) -> list[DriftItem]:
+    """``items`` judged for the middleware ``rmw`` (``ComparisonOptions.rmw``): on one that matches
+    any QoS (rmw_zenoh_cpp) a QoS change refuses no peer, so what a DDS middleware would refuse
+    is RISKY there (what the peers get still changes: a weaker reliability loses messages)."""
+    middleware = middlewares.get(rmw)
+    if middleware is None or middleware.refuses:
+        return list(items)
+    return [dataclasses.replace(item, severity=Severity.RISKY,
+                                message=f"{item.message} (under DDS; {middleware.name} matches any QoS: nothing is "
+                                        "refused there, but what the peers get changes)")
+            if item.rule in _REFUSED_MATCH and item.severity >= Severity.BREAKING else item
+            for item in items]
 
 
 # --------------------------------------------------------------------------- ordering

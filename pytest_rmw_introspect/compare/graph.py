@@ -34,7 +34,7 @@ CATEGORY = {
     "service_servers": "service", "service_clients": "service",
     "action_servers": "action", "action_clients": "action",
 }
-COLORS = {Severity.BREAKING: "#d62728", Severity.RISKY: "#ff7f0e", Severity.SAFE: "#1f77b4"}
+COLORS = {Severity.BREAKING: "#d62728", Severity.RISKY: "#ff7f0e", Severity.SAFE: "#1f77b4", Severity.NOTE: "#7f7f7f"}
 _CONNECTION_RULES = {"TYPE_MISMATCH", "TYPE_HASH_MISMATCH", "QOS_INCOMPATIBLE", "QOS_MAYBE_INCOMPATIBLE"}
 
 

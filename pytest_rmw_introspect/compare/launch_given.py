@@ -6,15 +6,17 @@ of the node's names. Each is a configuration that "works" and has no effect, the
 misconfiguration a robot ships with. :func:`check` compares what each process of a launched
 system was given (:class:`Given`, built from the launch file by ``check.system_pipeline``)
 with what its nodes declared and created (their capture), and returns one finding per ignored
-setting: ``PARAM_NOT_DECLARED``, ``PARAMS_FILE_SECTION_UNMATCHED``, ``REMAP_UNUSED``, and a
-given parameter name that no ROS parameter can have, ``PARAM_NAME_INVALID``. Each rule's severity
-is the one its record on real bring-ups supports (docs/drift-rules.md, "Compatibility rules"): a
-remapping that changed nothing is BREAKING only with evidence that a connection was meant
-(``REMAP_UNUSED``; without: ``REMAP_UNUSED_UNCONNECTED``, RISKY), and a parameter value that
-points at nothing is BREAKING only for the files of an installed package
-(``PARAM_PATH_MISSING``), RISKY for a file of the capture machine (``PARAM_PATH_MACHINE_LOCAL``,
-never for a parameter the node writes: :func:`node_writes`) and a note for a hardware device
-(``PARAM_DEVICE_ABSENT``: the capture machine is not the robot).
+setting: ``PARAM_NOT_DECLARED``, ``PARAMS_FILE_SECTION_UNMATCHED``, ``REMAP_NEAR_MISS`` and the
+``REMAP_UNUSED*`` notes, and a given parameter name that no ROS parameter can have,
+``PARAM_NAME_INVALID``. Each rule's severity is the one its record on real bring-ups supports
+(docs/drift-rules.md, "Compatibility rules"): a remapping that changed nothing is a note
+(``REMAP_UNUSED`` when another node uses its target, ``REMAP_UNUSED_UNCONNECTED`` when none does:
+dead remappings are common in real launch files and harmless) unless its ``from`` is a near miss
+of a name the node does create (``REMAP_NEAR_MISS``, BREAKING: the typo that leaves the node
+unwired); a parameter value that points at nothing is BREAKING only for the files of an
+installed package (``PARAM_PATH_MISSING``), a note for a file of the capture machine
+(``PARAM_PATH_MACHINE_LOCAL``, never for a parameter the node writes: :func:`node_writes`) and
+for a hardware device (``PARAM_DEVICE_ABSENT``: the capture machine is not the robot).
 
 Parameters files are matched as rclcpp and rclpy match them: a section key is a fully
 qualified node name (a leading ``/`` is added when missing, so ``lidar:`` is the node
@@ -31,6 +33,7 @@ from typing import Any, Literal
 
 from ..model.contract_shapes import ContractNode
 from ..model.name_patterns import section_key_matches
+from ..model.parameters import flatten
 from ..model.vocabulary import LISTS, PARAMETERS, Severity, is_infrastructure_parameter
 from .similarity import typo_distance
 from .wiring import near_miss
@@ -39,11 +42,12 @@ RULES: dict[str, Severity] = {
     "PARAM_NOT_DECLARED": Severity.BREAKING,
     "PARAM_NAME_INVALID": Severity.BREAKING,
     "PARAMS_FILE_SECTION_UNMATCHED": Severity.BREAKING,
-    "REMAP_UNUSED": Severity.BREAKING,
-    "REMAP_UNUSED_UNCONNECTED": Severity.RISKY,
+    "REMAP_NEAR_MISS": Severity.BREAKING,
+    "REMAP_UNUSED": Severity.NOTE,
+    "REMAP_UNUSED_UNCONNECTED": Severity.NOTE,
     "PARAM_PATH_MISSING": Severity.BREAKING,
-    "PARAM_PATH_MACHINE_LOCAL": Severity.RISKY,
-    "PARAM_DEVICE_ABSENT": Severity.SAFE,
+    "PARAM_PATH_MACHINE_LOCAL": Severity.NOTE,
+    "PARAM_DEVICE_ABSENT": Severity.NOTE,
 }
 #: rules reported among the notes of a check, not as findings (a note never fails, at any threshold)
 NOTES = frozenset({"PARAM_DEVICE_ABSENT"})
@@ -119,22 +123,13 @@ def sections(data: Any) -> tuple[tuple[str, tuple[str, ...]], ...]:
     def walk(mapping: Mapping, path: list[str]) -> None:
         for key, value in mapping.items():
             if key == "ros__parameters" and path:
-                found.append(("/".join(path), tuple(_flatten(value))))
+                found.append(("/".join(path), tuple(flatten(value))))
             elif isinstance(value, Mapping):
                 walk(value, [*path, str(key)])
 
     if isinstance(data, Mapping):
         walk(data, [])
     return tuple(found)
-
-
-def _flatten(value: Any, prefix: str = "") -> list[str]:
-    if not isinstance(value, Mapping):
-        return [prefix] if prefix else []
-    names: list[str] = []
-    for key, inner in value.items():
-        names += _flatten(inner, f"{prefix}{key}.") if isinstance(inner, Mapping) else [f"{prefix}{key}"]
-    return names
 
 
 def section_matches(key: str, fqn: str) -> bool:
@@ -329,9 +324,10 @@ def _closest(name: str, declared: set[str]) -> str | None:
 def _unused_remappings(process: Any, given: Given, nodes: Mapping[str, ContractNode],
                        expected: str | None, system: _System) -> list[Finding]:
     """The remappings of ``given`` that change none of the names of ``nodes`` (a process's
-    nodes, or the one node a component's load request made): BREAKING with evidence that a
-    connection was meant (another node uses the target; the source is a near miss of a name
-    the node created), RISKY without (a name the node creates in some configurations only)."""
+    nodes, or the one node a component's load request made): ``REMAP_NEAR_MISS`` (BREAKING)
+    when the source is a near miss of a name the node created (a typo: the node stays
+    unwired), else a note, whether or not another node uses the target (a leftover, or a name
+    the node creates in some configurations only)."""
     out: list[Finding] = []
     if not nodes:
         return out
@@ -347,15 +343,21 @@ def _unused_remappings(process: Any, given: Given, nodes: Mapping[str, ContractN
             continue
         others = system.used_elsewhere(meant, nodes)
         near = sorted((found[0], name) for name in own if (found := near_miss(wanted, name)) is not None)
-        if others:
-            evidence = f"; {', '.join(others)} use{'s' if len(others) == 1 else ''} {meant}, so a connection was meant"
-        elif near:
-            evidence = f"; did you mean `{near[0][1]}`, a name the node did create?"
+        if near:
+            rule = "REMAP_NEAR_MISS"
+            evidence = (f"; did you mean `{near[0][1]}`, a name the node does create? (`{wanted}` is a near miss of it: "
+                        "the node stays unwired)")
+        elif others:
+            rule = "REMAP_UNUSED"
+            evidence = (f"; {', '.join(others)} use{'s' if len(others) == 1 else ''} {meant}, but this node creates "
+                        f"nothing named {wanted} (a leftover remapping, or a name it creates in other configurations "
+                        "only: a note)")
         else:
+            rule = "REMAP_UNUSED_UNCONNECTED"
             evidence = ("; no other node uses the target either (a name the node creates in some configurations "
-                        "only?)")
+                        "only?: a note)")
         out.append(Finding(
-            "REMAP_UNUSED" if others or near else "REMAP_UNUSED_UNCONNECTED", process.label, expected or fqn,
+            rule, process.label, expected or fqn,
             f"{source}:={target}",
             f"the remapping {source} -> {target} (at {given.where or 'the launch file'}) changed none of the names of "
             f"{', '.join(sorted(nodes))}: no topic, service or action is named {meant}, so the node never used "

@@ -18,6 +18,8 @@ from ..errors import OptionError
 from ..model.option_tables import COMPARISON, Shape
 from ..model.qos import FIELDS as QOS_FIELDS
 from ..model.vocabulary import Severity, parse_threshold
+from . import rule_levels
+from .rule_levels import RuleLevel
 
 #: every comparison option, in table order
 OPTION_KEYS = COMPARISON.names()
@@ -47,6 +49,11 @@ class ComparisonOptions:
     #: the least severe system problem that fails a system contract's check (its compatibility
     #: rules; a node contract has none)
     system_fail_on: str = "breaking"
+    #: the middleware whose QoS rules judge contracts that do not say (``model.middlewares``; None:
+    #: the DDS rules of rmw_dds_common)
+    rmw: str | None = None
+    #: the project's levels of rules (``compare.rule_levels``), every layer's keys merged
+    rules: tuple[RuleLevel, ...] = ()
 
     def ignores_parameter(self, name: str) -> bool:
         """Whether the parameter ``name`` is not compared at all (``ignore_parameters``)."""
@@ -139,6 +146,8 @@ def parse_one(key: str, value: Any, source: str) -> Any:
         raise OptionError(f"{source}: unknown option {key!r}; known: {', '.join(OPTION_KEYS)}")
     if key == "ignore_qos":
         return _ignore_qos(value, source)
+    if key == "rules":
+        return rule_levels.parse(value, source)
     shape = COMPARISON[key].shape
     if shape is Shape.CHOICE:
         return _choice(value, key, source)
@@ -157,5 +166,8 @@ def resolve(*layers: tuple[Mapping[str, Any] | None, str]) -> ComparisonOptions:
     """Combine ``(values, source)`` layers given weakest first (``option_tables.stack`` orders them)."""
     merged: dict[str, Any] = {}
     for values, source in layers:
-        merged.update(parse_layer(values, source))
+        parsed = parse_layer(values, source)
+        if "rules" in parsed:  # merged key by key: a stronger layer wins the keys it sets
+            parsed["rules"] = rule_levels.merge(merged.get("rules", ()), parsed["rules"])
+        merged.update(parsed)
     return ComparisonOptions(**merged)

@@ -25,12 +25,22 @@ def fails(items: Iterable[DriftItem | CompatItem], threshold: Severity) -> bool:
     return any(item.severity >= threshold for item in items)
 
 
-def _counts(items: Sequence) -> str:
+def counts(items: Sequence) -> str:
+    """"1 breaking, 0 risky, 2 safe" (and ", 1 note" when there are notes: a note never fails)."""
     parts = [
         f"{sum(1 for i in items if i.severity is severity)} {severity.name.lower()}"
         for severity in reversed(Severity)
+        if severity is not Severity.NOTE or any(i.severity is Severity.NOTE for i in items)
     ]
     return ", ".join(parts)
+
+
+_counts = counts
+
+
+def notes_only(items: Iterable[DriftItem | CompatItem]) -> bool:
+    """True when every item is a note (``Severity.NOTE``: shown, never failing)."""
+    return all(item.severity is Severity.NOTE for item in items)
 
 
 def _plural(count: int, word: str) -> str:
@@ -39,7 +49,9 @@ def _plural(count: int, word: str) -> str:
 
 def _section_header(severity: Severity, count: int, threshold: Severity) -> str:
     header = f"{severity.name} ({count})"
-    if severity < threshold:
+    if severity is Severity.NOTE:
+        header += " - notes, never failing"
+    elif severity < threshold:
         header += f" - below the fail threshold ({THRESHOLD_WORDS[threshold]}), not failing"
     return header
 
@@ -93,8 +105,14 @@ def _drift_change(item: DriftItem) -> str:
     return line
 
 
+def set_by(item: DriftItem | CompatItem) -> str:
+    """`` (RISKY, set by rules: in contracts/x.yaml: options)`` when the project set the item's
+    level (``compare.rule_levels``), else nothing."""
+    return f" ({item.severity.name}, {item.level_set_by})" if item.level_set_by else ""
+
+
 def _drift_line(item: DriftItem) -> str:
-    return f"[{item.rule}] {_drift_change(item)}"
+    return f"[{item.rule}] {_drift_change(item)}{set_by(item)}"
 
 
 def render_text(
@@ -199,7 +217,7 @@ def _plain(value: Any) -> Any:
 
 
 def to_json(items: Iterable[DriftItem]) -> list[dict[str, Any]]:
-    """Plain dicts for machines; ``severity`` as its name ("BREAKING", "RISKY", "SAFE")."""
+    """Plain dicts for machines; ``severity`` as its name ("BREAKING", "RISKY", "SAFE", "NOTE")."""
     return [
         {
             "node": item.node,
@@ -211,6 +229,7 @@ def to_json(items: Iterable[DriftItem]) -> list[dict[str, Any]]:
             "old": _plain(item.old),
             "new": _plain(item.new),
             "message": item.message,
+            **({"level_set_by": item.level_set_by} if item.level_set_by else {}),
         }
         for item in items
     ]
@@ -250,7 +269,7 @@ def render_compat_text(
                 ends = f"{item.provider} and {item.requester}"
             else:
                 ends = f"{item.provider} -> {item.requester}"
-            lines.append(f"    [{item.rule}] {ends}: {item.message}")
+            lines.append(f"    [{item.rule}] {ends}: {item.message}{set_by(item)}")
     lines += render_acceptances(accepted, stale)
     return "\n".join(lines) + "\n"
 
@@ -271,6 +290,7 @@ def compat_to_json(items: Iterable[CompatItem]) -> list[dict[str, Any]]:
             "provider": _endpoint_json(item.provider),
             "message": item.message,
             **({"other_name": item.other_name} if item.other_name else {}),
+            **({"level_set_by": item.level_set_by} if item.level_set_by else {}),
         }
         for item in items
     ]
@@ -366,7 +386,7 @@ def left_out(places: int, findings: int, *, place: str = "process", noun: str = 
 def drift_place_line(item: DriftItem) -> str:
     """One drift item under its node in a report at scale: the interface, then the change."""
     what = "" if item.kind == "node" else f"{LABELS.get(item.kind, item.kind)} {item.name}: "
-    return what + _drift_change(item)
+    return what + _drift_change(item) + set_by(item)
 
 
 def _rule_lines(groups: Sequence[RuleGroup], all_items: Sequence[Any], threshold: Severity, *, noun: str,
@@ -404,7 +424,7 @@ def render_system_problems(items: Sequence[CompatItem], *, threshold: Severity =
     lines = [f"{heading}: {_plural(len(items), 'problem')} in {len(processes)} process"
              f"{'' if len(processes) == 1 else 'es'} ({_counts(items)})", _verdict(items, threshold)]
     lines += _rule_lines(by_rule_and_process(items), items, threshold, noun="finding", place="process",
-                         line=lambda item: f"{item.name}: {finding_ends(item)}: {item.message}")
+                         line=lambda item: f"{item.name}: {finding_ends(item)}: {item.message}{set_by(item)}")
     return "\n".join(lines) + "\n"
 
 

@@ -5,7 +5,7 @@ One run of the tool ``rmw-introspect`` (``tool_version``: the version the front 
 compare layer does not import it). Its ``rules`` are every rule of docs/drift-rules.md (drift,
 field-level type, parameter and compatibility rules) plus the tool's own (a contract that could not be
 checked or is invalid), each with its description and a default level from its severity
-(BREAKING error, RISKY warning, SAFE note). One result per drift item or system
+(BREAKING error, RISKY warning, SAFE and NOTE note). One result per drift item or system
 problem, on the contract line of its interface (else of its node, else the file). A result's
 level says whether it fails the run: ``error`` at or above the fail threshold, otherwise the
 default level of its severity capped at ``warning``.
@@ -48,7 +48,7 @@ TOOL_RULES: dict[str, tuple[Severity, str]] = {
                        "before it hides a new one"),
 }
 
-_DEFAULT_LEVEL = {Severity.BREAKING: "error", Severity.RISKY: "warning", Severity.SAFE: "note"}
+_DEFAULT_LEVEL = {Severity.BREAKING: "error", Severity.RISKY: "warning", Severity.SAFE: "note", Severity.NOTE: "note"}
 
 
 def rules() -> dict[str, tuple[Severity, str]]:
@@ -63,7 +63,7 @@ def level(severity: Severity, threshold: Severity) -> str:
     """``error`` when ``severity`` fails the run, else its default level capped at ``warning``."""
     if severity >= threshold:
         return "error"
-    return "note" if severity is Severity.SAFE else "warning"
+    return "note" if severity <= Severity.SAFE else "warning"
 
 
 def _descriptor(rule_id: str, severity: Severity, summary: str) -> dict[str, Any]:
@@ -110,6 +110,11 @@ def _launch_locations(item: CompatItem, launched_at: Mapping[str, str]) -> list[
     return related
 
 
+def _set_by(item: DriftItem | CompatItem) -> dict[str, str]:
+    """A result's ``levelSetBy`` property when the project set its rule's level (``rules``)."""
+    return {"levelSetBy": item.level_set_by} if item.level_set_by else {}
+
+
 class _Log:
     """One SARIF run being filled: results refer to the rule table by index."""
 
@@ -144,7 +149,7 @@ class _Log:
                  _location(file, line_of(lines, item.node, item.kind, item.name), logical),
                  fingerprint=findings.fingerprint(item),
                  properties={"severity": item.severity.name, "node": item.node, "kind": item.kind,
-                             "name": item.name, "change": item.change}, accepted_by=accepted_by)
+                             "name": item.name, "change": item.change, **_set_by(item)}, accepted_by=accepted_by)
 
     def add_compat(self, item: CompatItem, *, file: str, lines: LineIndex, threshold: Severity,
                    accepted_by: Acceptance | None = None, launched_at: Mapping[str, str] | None = None) -> None:
@@ -154,7 +159,8 @@ class _Log:
                            f"{item.requester.node}/{item.requester.kind}/{item.name}"),
                  fingerprint=findings.fingerprint(item),
                  properties={"severity": item.severity.name, "name": item.name,
-                             "requester": item.requester.label, "provider": item.provider.label if item.provider else None},
+                             "requester": item.requester.label, "provider": item.provider.label if item.provider else None,
+                             **_set_by(item)},
                  accepted_by=accepted_by)
         related = _launch_locations(item, launched_at or {})
         if related:

@@ -18,6 +18,7 @@ from typing import Any
 
 from ..errors import ComponentParameterError
 from ..model import untrusted
+from ..model.parameters import flatten
 from .result import ComponentParameter, LaunchParameter
 
 
@@ -40,16 +41,6 @@ def typed(name: str, value: Any) -> ComponentParameter:
                                   "string, or a list of one of those)")
 
 
-def _flatten(value: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
-    out: dict[str, Any] = {}
-    for key, inner in value.items():
-        if isinstance(inner, Mapping):
-            out.update(_flatten(inner, f"{prefix}{key}."))
-        else:
-            out[f"{prefix}{key}"] = inner
-    return out
-
-
 def file_sections(path: Path) -> dict[str, dict[str, Any]]:
     """A parameters file's node sections, keyed as launch_ros keys them (namespaces and node
     name joined with ``/``, without a leading one), each with its flattened parameters."""
@@ -63,7 +54,7 @@ def file_sections(path: Path) -> dict[str, dict[str, Any]]:
     def walk(mapping: Mapping[str, Any], keys: list[str]) -> None:
         for key, value in mapping.items():
             if key == "ros__parameters" and isinstance(value, Mapping):
-                found["/".join(keys)] = _flatten(value)
+                found["/".join(keys)] = flatten(value)
                 return
             if isinstance(value, Mapping):
                 walk(value, [*keys, str(key).lstrip("/")])

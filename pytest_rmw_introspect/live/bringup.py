@@ -33,8 +33,7 @@ from typing import IO, Any
 from ..errors import LiveGraphError
 from ..launch import reader as launch_reader
 from ..launch.result import LaunchedNode
-from ..run import ros_env, system_capture
-from ..run import target as target_module
+from ..run import resolution, ros_env, system_capture
 from ..run.target import TargetSpec
 from .graph import LiveGraph, LiveSettings, read_graph, without_recording
 
@@ -187,7 +186,7 @@ def start(processes: Sequence[LaunchedNode | TargetSpec], *, ros: Any = None, do
             directory = system.workdir / str(index)
             directory.mkdir()
             process = node if isinstance(node, TargetSpec) else system_capture.process_spec(node, TargetSpec(), directory)
-            resolved = target_module.resolve(process, workdir=directory, library=_NO_LIBRARY, ros=ros,
+            resolved = resolution.resolve(process, workdir=directory, library=_NO_LIBRARY, ros=ros,
                                              cold_note="a live bring-up")
             process_env = isolated_env(domain.id, {**resolved.env, **{k: v for k, v in system.env.items()
                                                                       if k == "RMW_IMPLEMENTATION"}})

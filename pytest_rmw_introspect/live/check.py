@@ -34,7 +34,7 @@ from ..compare.ci_report import ContractOutcome
 from ..compare.compatibility import LaunchedProcess, check_launched
 from ..errors import RmwIntrospectError
 from ..model import contract as contract_module
-from ..model import nodl, system_contract
+from ..model import contract_kind, nodl, system_contract
 from ..model import qos as qos_module
 from ..model.capture import Capture
 from ..model.contract import Contract
@@ -224,7 +224,7 @@ class LiveCheckResult(ContractCheck[Any, LiveSpec, LiveView]):
 
 def load(path: Path) -> Contract | SystemContract:
     """A node contract (or NoDL document) or a system contract (raises an RmwIntrospectError)."""
-    if system_contract.is_system_contract(path):
+    if contract_kind.is_system_file(path):
         return system_contract.load(path)
     return contract_module.load(path)
 

@@ -4,6 +4,7 @@ One line per module:
 
 - ``vocabulary``: interface lists, labels, action parts, severities, ``fail_on`` words
 - ``qos``: QoS spellings, expansion, named profiles, compatibility
+- ``middlewares``: the middlewares (rmw implementations) the QoS rules know, and which one a system runs on
 - ``capture``: one process's capture (``Capture``) and the runner's facts about its run (``RunFacts``)
 - ``capture_file``: the middleware's capture file: its format, its raw records, reading and checking it (its only reader)
 - ``capture_view``: the contract view of a capture: nodes, their six interface lists, actions grouped
@@ -15,6 +16,7 @@ One line per module:
 - ``parameters``: a node's parameters and lifecycle state, captured and in contracts
 - ``portable``: parameter values written portably (an install location as a token), what they point at
 - ``option_tables``: the comparison and target options, their front ends and precedence
+- ``recording``: rosbag2 recordings (a bag directory, an MCAP or sqlite3 file) read for their topics, QoS and counts
 - ``contract``: contract files: load, validate, render, update
 - ``contract_kind``: whether a file is a contract and of which kind (node, marker golden, system,
   NoDL), by its content: the one place every command and pytest ask

@@ -29,7 +29,7 @@ from . import qos as qos_module
 from . import types as type_model
 from . import untrusted
 from .parameters import Lifecycle, Parameter, Probe
-from .vocabulary import KIND_TO_LIST
+from .vocabulary import KIND_TO_LIST, TOPIC_KINDS
 
 FORMAT = "rmw_introspect_capture"
 FORMAT_VERSIONS = (1,)
@@ -320,7 +320,7 @@ def parse(data: Any, *, path: Path | None) -> CaptureFields:
             _require(kind in KIND_TO_LIST, path, f"{where}: unknown kind {kind!r}")
             qos = e.get("qos") or {}
             _require(isinstance(qos, Mapping), path, f"{where}: `qos` is not an object")
-            if kind in ("publisher", "subscription"):
+            if kind in TOPIC_KINDS:
                 qos_module.from_capture(qos)  # ValueError: a QoS value the middleware never writes
             endpoints.append(
                 Endpoint(

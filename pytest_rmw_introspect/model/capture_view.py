@@ -50,6 +50,7 @@ from .vocabulary import (
     LOGGER_SERVICES,
     PARAMETER_SERVICES,
     PARAMETERS,
+    TOPIC_KINDS,
 )
 
 SIM_CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
@@ -204,7 +205,7 @@ def is_infrastructure(endpoint: Endpoint, node_fqn: str) -> bool:
     rosout, parameter_events = INFRASTRUCTURE_TOPICS
     if name == rosout and kind == "publisher":
         return True
-    if name == parameter_events and kind in ("publisher", "subscription"):
+    if name == parameter_events and kind in TOPIC_KINDS:
         return True
     prefix = node_fqn.rstrip("/") + "/"
     if not name.startswith(prefix):
@@ -285,6 +286,17 @@ def _contract_qos(raw: Mapping[str, Any]) -> QosFields:
     return qos_module.from_capture(raw)
 
 
+def _service_qos(endpoint: Endpoint) -> QosFields | None:
+    """A service server's or client's QoS where it matters (``qos.service_from_capture``); None
+    for anything else, or a QoS the rules cannot read."""
+    if endpoint.kind not in ("service", "client"):
+        return None
+    try:
+        return qos_module.service_from_capture(endpoint.qos)
+    except ValueError:
+        return None
+
+
 def build_view(
     raw_nodes: list[RawNode],
     endpoints: list[Endpoint],
@@ -335,14 +347,14 @@ def build_view(
                 first = target_list[idx]
                 target_list[idx] = Interface(first.name, first.type, first.type_hash, first.qos, first.endpoints + (e,))
                 continue
-            is_topic = e.kind in ("publisher", "subscription")
+            is_topic = e.kind in TOPIC_KINDS
             seen[key] = len(target_list)
             target_list.append(
                 Interface(
                     name=e.name,
                     type=e.type,
                     type_hash=e.type_hash,
-                    qos=_contract_qos(e.qos) if is_topic else None,
+                    qos=_contract_qos(e.qos) if is_topic else _service_qos(e),
                     endpoints=(e,),
                 )
             )

@@ -59,9 +59,18 @@ from . import qos as qos_module
 from . import types as type_model
 from . import unstable_names as unstable_model
 from .contract_shapes import ContractNode, ContractNodes, ContractOptions, InterfaceEntry, ParameterEntry, TargetBlock
-from .locate import LineIndex, line_index
+from .locate import LineIndex, line_at, line_index, node_at
 from .paths import shown
-from .vocabulary import ACTION_HASHED_PARTS, DESTROYED_AT, DESTROYED_AT_TOLERANCE_S, LABELS, LIFECYCLE, LISTS, PARAMETERS
+from .vocabulary import (
+    ACTION_HASHED_PARTS,
+    DESTROYED_AT,
+    DESTROYED_AT_TOLERANCE_S,
+    LABELS,
+    LIFECYCLE,
+    LISTS,
+    PARAMETERS,
+    SERVICE_LISTS,
+)
 
 CONTRACT_VERSION = 1
 ENTRY_KEYS = ("name", "type", "type_hash", "qos", DESTROYED_AT)
@@ -166,30 +175,6 @@ def format_location(path: Iterator[Any] | list[Any] | tuple[Any, ...]) -> str:
     return out
 
 
-def _node_at(root: yaml.Node | None, path: list[Any]) -> yaml.Node | None:
-    """The YAML node at ``path`` (or the deepest ancestor found), for line numbers."""
-    node = root
-    for part in path:
-        if isinstance(node, yaml.MappingNode):
-            nxt = None
-            for k, v in node.value:
-                if isinstance(k, yaml.ScalarNode) and k.value == str(part):
-                    nxt = v
-            if nxt is None:
-                return node
-            node = nxt
-        elif isinstance(node, yaml.SequenceNode) and isinstance(part, int) and 0 <= part < len(node.value):
-            node = node.value[part]
-        else:
-            return node
-    return node
-
-
-def _line(root: yaml.Node | None, path: list[Any]) -> int | None:
-    node = _node_at(root, path)
-    return node.start_mark.line + 1 if node is not None else None
-
-
 # ---------------------------------------------------------------------------- loading
 
 
@@ -213,7 +198,7 @@ def _schema_error(root: yaml.Node | None, data: Any, path: Path | None) -> Contr
 
 def _key_line(root: yaml.Node | None, location: list[Any], key: str) -> int | None:
     """The line of ``key`` itself in the mapping at ``location`` (None: not found)."""
-    node = _node_at(root, location)
+    node = node_at(root, location)
     if isinstance(node, yaml.MappingNode):
         for k, _ in node.value:
             if isinstance(k, yaml.ScalarNode) and k.value == key:
@@ -227,7 +212,7 @@ def _problem(root: yaml.Node | None, error: Any, reason_of: Callable[[Any], str]
     location = list(error.absolute_path)
     if "propertyNames" in error.absolute_schema_path and isinstance(error.instance, str):
         location.append(error.instance)  # point at the offending key itself
-    line = _line(root, location)
+    line = line_at(root, location)
     if error.validator == "additionalProperties" and isinstance(error.instance, Mapping):
         unknown = [k for k in error.instance if k not in (error.schema.get("properties") or {})]
         if unknown:
@@ -381,7 +366,7 @@ def _loads(text: str, path: Path | None) -> Contract:
         raise error
     too_broad = unstable_model.refused(data)
     if too_broad is not None:
-        raise ContractError(path, format_location(too_broad[0]), too_broad[1], line=_line(root, too_broad[0]))
+        raise ContractError(path, format_location(too_broad[0]), too_broad[1], line=line_at(root, too_broad[0]))
     nodes = normalize_nodes(data.get("nodes") or {})
     _check_semantics(root, nodes, path)
     types = None
@@ -390,7 +375,7 @@ def _loads(text: str, path: Path | None) -> Contract:
             types = type_model.from_contract(data[type_model.SECTION_KEY])
         except SectionError as exc:
             raise ContractError(path, format_location(exc.location), exc.reason,
-                                line=_line(root, exc.location)) from None
+                                line=line_at(root, exc.location)) from None
     return Contract(
         path=path,
         nodes=nodes,
@@ -403,7 +388,7 @@ def _loads(text: str, path: Path | None) -> Contract:
         ros_distribution=data.get(DISTRIBUTION_KEY),
         interface_version=data.get(VERSION_KEY),
         accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY), source=shown(path) if path else "<contract>",
-                                       line_of=lambda i: _line(root, [acceptance.SECTION_KEY, i])),
+                                       line_of=lambda i: line_at(root, [acceptance.SECTION_KEY, i])),
         unstable_names=unstable_model.from_entries(data.get(unstable_model.SECTION_KEY)),
     )
 
@@ -440,7 +425,7 @@ def check_parameters(root: yaml.Node | None, nodes: Mapping[str, ContractNode], 
         except EntryProblem as problem:
             where = ["nodes", fqn, PARAMETERS, *problem.location]
             raise ContractError(path, format_location(where), f"{problem.reason} (node {fqn})",
-                                line=_line(root, where)) from None
+                                line=line_at(root, where)) from None
 
 
 def _check_semantics(root: yaml.Node | None, nodes: ContractNodes, path: Path | None) -> None:
@@ -458,7 +443,7 @@ def _check_semantics(root: yaml.Node | None, nodes: ContractNodes, path: Path | 
                         format_location(where + ["name"]),
                         f"duplicate {LABELS[list_name]} {name!r} in node {fqn} "
                         f"(also at {list_name}[{first_index[name]}]); each name may appear once per list",
-                        line=_line(root, where + ["name"]),
+                        line=line_at(root, where + ["name"]),
                     )
                 first_index[name] = i
                 if "qos" in entry:
@@ -466,7 +451,7 @@ def _check_semantics(root: yaml.Node | None, nodes: ContractNodes, path: Path | 
                         qos_module.expand(entry["qos"])
                     except ValueError as exc:
                         raise ContractError(
-                            path, format_location(where + ["qos"]), str(exc), line=_line(root, where + ["qos"])
+                            path, format_location(where + ["qos"]), str(exc), line=line_at(root, where + ["qos"])
                         ) from None
 
 
@@ -686,8 +671,11 @@ def preserve_spelling(old_nodes: Mapping[str, ContractNode], new_nodes: Mapping[
                 if "type_hash" not in old:
                     entry.pop("type_hash", None)
                 if "qos" in entry:
+                    # a service without `qos` has the services default (a capture writes it only
+                    # where it differs): a new value is written; a topic's is not compared
                     if "qos" not in old:
-                        entry.pop("qos")
+                        if list_name not in SERVICE_LISTS:
+                            entry.pop("qos")
                     else:
                         try:
                             if qos_module.expand(old["qos"]) == qos_module.expand(entry["qos"]):

@@ -29,10 +29,12 @@ import re
 from pathlib import Path
 
 from ..errors import InputError
-from . import tally, untrusted
+from . import contract, system_contract, tally, untrusted
+from .contract import Contract
+from .system_contract import SystemContract
 
 #: names that make a file a contract of a kind whatever it holds (its loader reports a broken one)
-SYSTEM_SUFFIX = ".system.yaml"
+SYSTEM_SUFFIX = system_contract.SUFFIX
 NODE_SUFFIX = ".interfaces.yaml"
 _NODL_NAME = re.compile(r"\.nodl\.(ya?ml|json)$")
 #: the files whose content is looked at (anything else is never a contract)
@@ -110,3 +112,30 @@ def is_system_file(path: str | Path) -> bool:
 def is_system_text(text: str, name: str | Path = "") -> bool:
     """A system contract's text (by :func:`kind_of_text`)."""
     return kind_of_text(text, name) is Kind.SYSTEM
+
+
+# ---------------------------------------------------------------------------- loading either kind
+def as_node_contract(system: SystemContract) -> Contract:
+    """What a comparison of nodes reads of a system contract (its nodes, ``target:``, ``options:``,
+    ``accept:``, ``interface_version`` and text), as a node contract."""
+    return Contract(path=system.path, nodes=system.nodes, target=system.target,
+                    options=system.options, text=system.text, accept=system.accept,
+                    interface_version=system.interface_version)
+
+
+def loads(text: str, label: str | Path) -> tuple[Contract, Kind]:
+    """A contract's text of any kind as the node contract a comparison reads, and its kind (a text
+    that says no kind is read as a node contract: its loader says what is missing); ``label``
+    names it in messages. Raises ContractError."""
+    kind = kind_of_text(text, label)
+    if kind is Kind.SYSTEM:
+        return as_node_contract(system_contract.loads(text, path=str(label))), kind
+    return contract.loads(text, path=str(label)), kind or Kind.NODE
+
+
+def load(path: str | Path) -> tuple[Contract, Kind]:
+    """The contract file at ``path``, of any kind, as :func:`loads` (raises ContractError)."""
+    if is_system_file(path):
+        return as_node_contract(system_contract.load(path)), Kind.SYSTEM
+    loaded = contract.load(path)
+    return loaded, kind_of_file(path) or Kind.NODE

@@ -134,6 +134,7 @@ class ContractOptions(TypedDict, total=False):
     include_types: bool
     ignore_parameters: bool | list[str]
     ignore_parameter_values: bool | list[str]
+    rules: Mapping[str, str]  # issue 49: rule id or fnmatch pattern → off | note | safe | risky | breaking
     system_fail_on: str
 
 

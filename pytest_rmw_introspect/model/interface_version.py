@@ -87,7 +87,8 @@ def made(old: Version, new: Version) -> Bump:
 
 
 def needed(severity: Severity) -> Bump:
-    return {Severity.BREAKING: Bump.MAJOR, Severity.RISKY: Bump.MINOR, Severity.SAFE: Bump.PATCH}[severity]
+    return {Severity.BREAKING: Bump.MAJOR, Severity.RISKY: Bump.MINOR, Severity.SAFE: Bump.PATCH,
+            Severity.NOTE: Bump.NONE}[severity]
 
 
 def needed_by(items: Sequence[_Graded]) -> Bump:
@@ -107,6 +108,7 @@ def advice(items: Sequence[_Graded], version: str | None, *, base: str | None = 
     next change is judged against it. Not ``base_known`` (``check --update``, ``pytest
     --update-golden``: they never change the version): the bump is owed to the version at the base
     revision the pull request goes to, which an update cannot know; the gate against it decides."""
+    items = [item for item in items if item.severity > Severity.NOTE]  # a note needs no bump
     need = needed_by(items)
     worst = max((item.severity for item in items), default=None)
     changes = f"these {worst.name} change(s)" if worst is not None else "no change"

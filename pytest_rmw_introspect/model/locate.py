@@ -1,7 +1,11 @@
-"""Where things are written in a contract file: the line of each node and interface entry, for
+"""Where things are written in a YAML file: the node and line at a path of keys and list indices
+(for the errors of every loader), and the line of each node and interface entry of a contract, for
 annotations that point at the contract (``--format github``)."""
 
 from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
 
 import yaml
 
@@ -23,6 +27,29 @@ def _child(mapping: yaml.Node, key: str) -> yaml.Node | None:
             child: yaml.Node = v
             return child
     return None
+
+
+def node_at(root: yaml.Node | None, path: Sequence[Any]) -> yaml.Node | None:
+    """The YAML node at ``path`` (mapping keys and list indices) under ``root``, or the deepest
+    ancestor of it that exists."""
+    node = root
+    for part in path:
+        if isinstance(node, yaml.MappingNode):
+            found = _child(node, str(part))
+            if found is None:
+                return node
+            node = found
+        elif isinstance(node, yaml.SequenceNode) and isinstance(part, int) and 0 <= part < len(node.value):
+            node = node.value[part]
+        else:
+            return node
+    return node
+
+
+def line_at(root: yaml.Node | None, path: Sequence[Any], first: int = 1) -> int | None:
+    """The line of :func:`node_at` (``first``: the number of the text's first line)."""
+    node = node_at(root, path)
+    return node.start_mark.line + first if node is not None else None
 
 
 def line_index(text: str) -> LineIndex:

@@ -216,20 +216,9 @@ def _split(text: str) -> list[tuple[int, str, str | None]]:
 
 
 def _line(root: Any, path: Sequence[Any], first: int) -> int | None:
-    import yaml
+    from .locate import line_at  # with PyYAML: only a document with a problem is located
 
-    node = root
-    for part in path:
-        if isinstance(node, yaml.MappingNode):
-            found = next((v for k, v in node.value if isinstance(k, yaml.ScalarNode) and k.value == str(part)), None)
-            if found is None:
-                break
-            node = found
-        elif isinstance(node, yaml.SequenceNode) and isinstance(part, int) and 0 <= part < len(node.value):
-            node = node.value[part]
-        else:
-            break
-    return node.start_mark.line + first if node is not None else None
+    return line_at(root, path, first)
 
 
 def _key_lines(root: Any, key: str, first: int) -> dict[str, int]:

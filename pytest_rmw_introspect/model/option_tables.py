@@ -21,8 +21,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
+from .middlewares import KNOWN as MIDDLEWARES
 from .qos import FIELDS as QOS_FIELDS
-from .vocabulary import DEFAULT_LIFECYCLE_TARGET, FAIL_ON, LIFECYCLE_TARGETS
+from .vocabulary import DEFAULT_LIFECYCLE_TARGET, FAIL_ON, LIFECYCLE_TARGETS, RULE_LEVELS
 
 #: the largest settle, timeout or horizon accepted (a day); beyond it a value is a mistake
 MAX_SECONDS = 86_400.0
@@ -38,6 +39,8 @@ class FrontEnd(enum.Enum):
     CONTRACT = "contract key"  # the `options:` or `target:` block of a node contract
     SYSTEM = "system contract key"  # a system contract's `options:` / `target:`, @pytest.mark.system_contract
     MARKER = "marker argument"  # keyword arguments of @pytest.mark.interfaces
+    GATE = "rmw-introspect diff --against flag"  # the pull-request gate's own flags
+    ACTION = "GitHub action input"  # an input of action.yml
 
 
 class Source(enum.Enum):
@@ -97,10 +100,23 @@ class Option:
     metavar: str | None = None
     #: the rmw-introspect flag when it is not ``--<name with dashes>``; ``dest`` stays ``name``
     cli_flag: str | None = None
+    #: the pytest option when it is not ``--rmw-introspect-<name with dashes>`` (the gate's:
+    #: ``pytest --against REF``, as ``rmw-introspect diff --against REF``)
+    pytest_name: str | None = None
 
     @property
     def pytest_flag(self) -> str:
-        return "--rmw-introspect-" + self.name.replace("_", "-")
+        return self.pytest_name or "--rmw-introspect-" + self.name.replace("_", "-")
+
+    @property
+    def pytest_dest(self) -> str:
+        """Where pytest keeps the option's value (``config.getoption``)."""
+        return "rmw_introspect_" + self.name
+
+    @property
+    def action_input(self) -> str:
+        """The input of the GitHub action (``action.yml``): the name with dashes."""
+        return self.name.replace("_", "-")
 
     @property
     def ini_key(self) -> str:
@@ -206,6 +222,13 @@ COMPARISON = Family(
         Option("ignore_qos", Shape.WORDS, frozenset(), "QoS fields not to compare: a list of field names "
                "(depth, history) or true for all", _COMPARISON_EVERYWHERE,
                _true_or_unique({"enum": list(QOS_FIELDS)}), "true, or a list of QoS fields", metavar="FIELDS"),
+        # the middleware QoS is judged for (issue 49 item 3): a command line's and a session's, for the
+        # contracts that do not say; a system contract says it with its own top-level `rmw:` key
+        Option("rmw", Shape.CHOICE, None, "the middleware (rmw implementation) whose QoS rules judge the contracts "
+               "that do not say which one they run on (a system contract's `rmw:`, or RMW_IMPLEMENTATION in its "
+               "launch environment)", frozenset({FrontEnd.PYTEST, FrontEnd.INI, FrontEnd.CLI, FrontEnd.DIFF}),
+               {"enum": list(MIDDLEWARES)}, " | ".join(MIDDLEWARES), default_text="not set: the DDS rules of "
+               "rmw_dds_common", choices=tuple(MIDDLEWARES), metavar="NAME"),
         Option("allow_extra", Shape.SWITCH, False, "interfaces and nodes the contract does not list are not drift",
                _COMPARISON_EVERYWHERE, _BOOLEAN, "true or false"),
         Option("include_infrastructure", Shape.SWITCH, False, "also capture and compare /rosout, /parameter_events, "
@@ -222,6 +245,15 @@ COMPARISON = Family(
         Option("ignore_parameter_values", Shape.WORDS, frozenset(), "parameters whose default values are not "
                "compared: true (no value is compared), or a list of names or patterns", _COMPARISON_EVERYWHERE,
                _true_or_unique(_TEXT), "true, or a list of name patterns", metavar="PATTERNS"),
+        # ---- issue 49: rule levels per project (compare.rule_levels) ----
+        Option("rules", Shape.REPEATED, (), "the project's level of a rule: a mapping of rule ids, or fnmatch "
+               "patterns of them (`QOS_*`), to off, note, safe, risky or breaking (on a command line RULE=LEVEL); "
+               "an exact id wins over a pattern, a longer pattern over a shorter one", _COMPARISON_EVERYWHERE,
+               {"type": "object", "propertyNames": {"pattern": "^[A-Z0-9_*?\\[\\]!]+$"},
+                "additionalProperties": {"enum": list(RULE_LEVELS)}}, "mapping of rule ids or patterns to levels",
+               default_text="every rule at its default level (docs/drift-rules.md)", metavar="RULE=LEVEL",
+               cli_flag="--rule"),
+        # ---- end of issue 49's rows ----
         Option("system_fail_on", Shape.CHOICE, "breaking", "least severe system problem that fails a system "
                "contract's check (as `compat --fail-on`)", _SYSTEM_ONLY, {"enum": list(FAIL_ON)}, " | ".join(FAIL_ON),
                choices=FAIL_ON),
@@ -322,3 +354,24 @@ def family(name: str) -> Family:
         return FAMILIES[name]
     except KeyError:
         raise KeyError(f"no option family {name!r}; known: {', '.join(FAMILIES)}") from None
+
+
+# ---------------------------------------------------------------------------- the gate
+_GATE_EVERYWHERE = frozenset({FrontEnd.GATE, FrontEnd.PYTEST, FrontEnd.ACTION})
+
+GATE = Family(
+    name="gate",
+    title="The pull-request gate",
+    block="",
+    description="The flags of the gate against a git revision (docs/ci.md): `rmw-introspect diff --against`, "
+                "`pytest --against` and the GitHub action's inputs, one name each.",
+    options=(
+        Option("against", Shape.TEXT, None, "compare every contract with its version at the git revision REF (a "
+               "branch, tag or commit, or BASE...HEAD: their merge base), without running anything; renamed, added "
+               "and removed contract files included, interface_version bumps judged by semantic versioning",
+               _GATE_EVERYWHERE, _TEXT, "git revision", metavar="REF", pytest_name="--against"),
+        Option("against_system", Shape.REPEATED, None, "a system contract whose nodes judge who consumes a changed "
+               "interface (default: every system contract git tracks here)", _GATE_EVERYWHERE,
+               {"type": "array", "items": _PATH}, "paths", metavar="FILE", pytest_name="--against-system"),
+    ),
+)

@@ -66,6 +66,19 @@ _SPECIAL_DOUBLES = {"nan": math.nan, "inf": math.inf, "-inf": -math.inf}
 # ---------------------------------------------------------------------- values
 
 
+def flatten(value: Any, prefix: str = "") -> dict[str, Any]:
+    """A nested parameter mapping as ROS names its parameters, dotted (``{a: {b: 1}}`` is
+    ``{"a.b": 1}``); a value that is not a mapping gives nothing."""
+    out: dict[str, Any] = {}
+    if isinstance(value, Mapping):
+        for key, inner in value.items():
+            if isinstance(inner, Mapping):
+                out.update(flatten(inner, f"{prefix}{key}."))
+            else:
+                out[f"{prefix}{key}"] = inner
+    return out
+
+
 def _is_int(value: Any) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
 

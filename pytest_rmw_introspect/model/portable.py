@@ -28,6 +28,13 @@ _DEVICE = re.compile(r"^/dev/([^:]+)(:\d+)?$")
 #: URLs of hardware links (MAVROS's ``fcu_url``, serial bridges): ``serial://``, ``serial-hwfc://``
 _SERIAL_URL = re.compile(r"^serial(?:-hwfc)?://(/dev/[^:?]+)")
 _NETWORK_URL = re.compile(r"^(?:udp|tcp)(?:-[a-z]+)?://")
+#: a device path anywhere in a text (an error message, a parameters file)
+_DEVICE_IN_TEXT = re.compile(r"(?<![\w/])/dev/(?:[A-Za-z0-9_.+-]+/)*[A-Za-z0-9_.+-]+")
+
+
+def device_paths_in(text: str) -> list[str]:
+    """Every ``/dev/...`` path written in ``text``, in order."""
+    return _DEVICE_IN_TEXT.findall(text)
 
 
 def portable_value(value: Any, shares: Mapping[str, str], home: str | None = None) -> Any:

@@ -18,6 +18,7 @@ import enum
 from collections.abc import Mapping
 from typing import Any, Literal, cast, get_args
 
+from . import middlewares
 from .contract_shapes import QosFields
 
 
@@ -74,6 +75,10 @@ ENUM_FIELDS: dict[str, type[enum.StrEnum]] = {
 }
 DurationField = Literal["deadline_ns", "lifespan_ns", "liveliness_lease_duration_ns"]
 DURATION_FIELDS: tuple[DurationField, ...] = get_args(DurationField)
+
+#: the fields that decide whether two endpoints match (a service's QoS is compared on these only)
+MATCHING_FIELDS: tuple[QosField, ...] = ("reliability", "durability", "deadline_ns", "liveliness",
+                                         "liveliness_lease_duration_ns")
 
 DURATION_UNSPECIFIED = 0
 DURATION_INFINITE = -1
@@ -238,6 +243,16 @@ def from_capture(raw_qos: Mapping[str, Any]) -> QosFields:
     return contract
 
 
+def service_from_capture(raw_qos: Mapping[str, Any]) -> QosFields | None:
+    """A service server's or client's raw capture QoS → its contract form: the matching fields
+    (:data:`MATCHING_FIELDS`) that differ from ``services_default``, None when none does (the
+    QoS nearly every service has; history and depth never decide whether a client is served)."""
+    explicit = expand(raw_qos)
+    default = PROFILES["services_default"]
+    differing = {f: explicit[f] for f in MATCHING_FIELDS if explicit[f] != default[f]}
+    return cast(QosFields, differing) if differing else None
+
+
 def profile_name(qos: Any) -> str | None:
     """The name of the standard profile ``qos`` equals (in any accepted shape), else None."""
     explicit = expand(qos)
@@ -329,15 +344,40 @@ def _policy_warning(policy: str, offered: str, requested: str, weak: str, strong
     return []
 
 
-def profile_compatibility(offered: Any, requested: Any) -> tuple[Compatibility, str]:
+def settle_system_defaults(qos: Any, rmw: str | None, *, offering: bool) -> QosFields:
+    """``qos`` (any shape) with the policies left at SYSTEM_DEFAULT as the middleware ``rmw``
+    creates them (``middlewares``: a publisher's as a DataWriter's, a subscription's as a
+    DataReader's); unchanged for a middleware whose defaults are not known, or None."""
+    resolved = _resolve(qos)
+    middleware = middlewares.get(rmw)
+    if middleware is None:
+        return resolved
+    defaults = middleware.writer_defaults if offering else middleware.reader_defaults
+    settled: dict[str, Any] = dict(resolved)
+    for policy, value in defaults.items():
+        if settled[policy] == "SYSTEM_DEFAULT":
+            settled[policy] = value
+    return cast(QosFields, settled)
+
+
+def profile_compatibility(offered: Any, requested: Any, rmw: str | None = None) -> tuple[Compatibility, str]:
     """Can a publisher with QoS ``offered`` reach a subscription with QoS ``requested``?
 
     Accepts any QoS shape (raw capture, contract or explicit). Returns the compatibility and a
     reason ("" when OK; errors first, then warnings, joined by "; "). History, depth and lifespan
     are never compared; BEST_AVAILABLE policies are resolved at creation and never conflict.
+
+    ``rmw``: the middleware the two ends run on (``middlewares.KNOWN``; None: rmw_dds_common's
+    rules as they are). A middleware that matches whatever the QoS (rmw_zenoh_cpp) answers OK;
+    one whose SYSTEM_DEFAULT resolution is known (Fast DDS, Cyclone DDS) is judged on the
+    policies it really creates (:func:`settle_system_defaults`). Raises ValueError for an
+    unknown ``rmw``.
     """
-    pub = _resolve(offered)
-    sub = _resolve(requested)
+    middleware = middlewares.get(rmw)
+    if middleware is not None and not middleware.refuses:
+        return Compatibility.OK, ""
+    pub = settle_system_defaults(offered, rmw, offering=True)
+    sub = settle_system_defaults(requested, rmw, offering=False)
 
     errors: list[str] = []
     if pub["reliability"] == "BEST_EFFORT" and sub["reliability"] == "RELIABLE":
@@ -352,8 +392,13 @@ def profile_compatibility(offered: Any, requested: Any) -> tuple[Compatibility, 
         pub["liveliness_lease_duration_ns"],
         sub["liveliness_lease_duration_ns"],
     )
+    settled = [f"{side} {policy} {value}" for side, given, now in (("publisher", _resolve(offered), pub),
+                                                                   ("subscription", _resolve(requested), sub))
+               for policy, value in now.items()
+               if policy in ("reliability", "durability") and given[policy] == "SYSTEM_DEFAULT" != value]  # type: ignore[literal-required]
+    because = f" ({rmw} creates SYSTEM_DEFAULT as {', '.join(settled)})" if settled else ""
     if errors:
-        return Compatibility.ERROR, "; ".join(f"ERROR: {e}" for e in errors)
+        return Compatibility.ERROR, "; ".join(f"ERROR: {e}" for e in errors) + because
 
     warnings = (
         _policy_warning("reliability", pub["reliability"], sub["reliability"],
@@ -366,3 +411,26 @@ def profile_compatibility(offered: Any, requested: Any) -> tuple[Compatibility, 
     if warnings:
         return Compatibility.WARNING, "; ".join(f"WARNING: {w}" for w in warnings)
     return Compatibility.OK, ""
+
+
+def service_compatibility(server: Any, client: Any, rmw: str | None = None) -> tuple[Compatibility, str]:
+    """Can a service client with QoS ``client`` reach a server with QoS ``server``?
+
+    A DDS middleware carries a service on two topics, each end with its one QoS: requests (the
+    client's writer, the server's reader) and responses (the server's writer, the client's
+    reader); the client gets an answer only when both match (witnessed on Fast DDS: a
+    BEST_EFFORT client of a RELIABLE server, and a RELIABLE client of a BEST_EFFORT server, are
+    never served). So a pair is judged with :func:`profile_compatibility` both ways, the worse
+    answer wins, and the reason names the direction."""
+    worst, reasons = Compatibility.OK, list[str]()
+    for direction, offered, requested, writer, reader in (("requests", client, server, "client", "server"),
+                                                          ("responses", server, client, "server", "client")):
+        compatibility, reason = profile_compatibility(offered, requested, rmw)
+        if compatibility > worst:
+            worst, reasons = compatibility, []
+        if compatibility is worst and compatibility is not Compatibility.OK:
+            for part in reason.split("; "):
+                level, _, text = part.partition(": ")
+                text = text.replace("publisher", writer).replace("subscription", reader)
+                reasons.append(f"{level}: {text} ({direction})")
+    return worst, "; ".join(reasons)

@@ -10,6 +10,7 @@
       file: robot.launch.xml         # (or `path: launch/robot.launch.xml`, relative to this file)
       arguments: {use_lidar: "true"}
       allow_unsupported: false       # true: capture what the launch reader supports, note the rest
+    rmw: rmw_cyclonedds_cpp          # optional: the middleware the robot runs (its QoS rules judge QoS)
     target: {timeout: 30}            # optional: settle, timeout, horizon, lifecycle, read_parameters, env
     options: {fail_on: any, system_fail_on: breaking}
     external:                        # what comes from outside the launch files, and who provides it
@@ -51,17 +52,20 @@ from typing import Any, Literal, cast, get_args
 import yaml
 
 from ..errors import ContractError, InputError
-from . import acceptance, contract_kind, stand_ins, untrusted
+from . import acceptance, middlewares, stand_ins, untrusted
 from . import contract as contract_module
 from . import qos as qos_module
 from . import unstable_names as unstable_model
 from .contract_shapes import ContractNode, ContractNodes, ContractOptions, LaunchBlock, ProcessEntry, TargetBlock, empty_node
+from .locate import line_at
 from .option_tables import COMPARISON, TARGET, FrontEnd, schema_definition
 from .paths import shown
 from .stand_ins import StandIn
 from .vocabulary import LABELS, LISTS
 
 SYSTEM_VERSION = 1
+#: the key that says which middleware the system runs on (``model.middlewares``)
+RMW_KEY = "rmw"
 SUFFIX = ".system.yaml"
 #: target options that apply to every process of a system
 SYSTEM_TARGET_KEYS = TARGET.names(FrontEnd.SYSTEM)
@@ -75,11 +79,6 @@ DEFAULT_HEADER = (
     "# `rmw-introspect check --update`; comments and keys above `processes:` are kept.\n"
     f"system_version: {SYSTEM_VERSION}\n"
 )
-
-
-def is_system_contract(path: str | Path) -> bool:
-    """A system contract file (``model.contract_kind``: ``system_version:``, or ``*.system.yaml``)."""
-    return contract_kind.is_system_file(path)
 
 
 @functools.lru_cache(maxsize=1)
@@ -138,6 +137,9 @@ def schema() -> dict[str, Any]:
             "system_version": {"const": SYSTEM_VERSION},
             contract_module.VERSION_KEY: {"$ref": "#/definitions/interface_version"},
             "launch": {"$ref": "#/definitions/launch"},
+            RMW_KEY: {"description": "The middleware (rmw implementation) the system runs on: QoS is judged by its "
+                                     "rules (default: RMW_IMPLEMENTATION in the launch environment, else the DDS "
+                                     "rules of rmw_dds_common).", "enum": list(middlewares.KNOWN)},
             "target": {"$ref": "#/definitions/system_target"},
             "options": {"$ref": "#/definitions/options"},
             "external": {"$ref": "#/definitions/external"},
@@ -172,6 +174,20 @@ class SystemContract:
     unstable_names: tuple[unstable_model.NamePattern, ...] = ()
     #: the version of the interface it promises (``interface_version: MAJOR.MINOR.PATCH``), if stated
     interface_version: str | None = None
+    #: the middleware it says it runs on (``rmw:``), if stated
+    rmw: str | None = None
+
+    def middleware(self, option: str | None = None, launched: Sequence[tuple[str, Mapping[str, str]]] = ()) -> str | None:
+        """The middleware whose QoS rules judge this system: ``rmw:``, else RMW_IMPLEMENTATION in its
+        launch environment (its ``target: {env:}`` and what the launch file gives each process,
+        ``launched``: where, environment), else ``option`` (``--rmw``), else None (the DDS rules).
+        Raises ContractError when the launch environment names a middleware the rules do not know,
+        or several."""
+        if self.rmw is not None:
+            return self.rmw
+        shown_path = shown(self.path) if self.path else "<system contract>"
+        environments = [("target.env", (self.target or {}).get("env") or {}), *launched]
+        return middlewares.choose(environments, option, shown=shown_path)
 
     def process_nodes(self) -> list[tuple[ProcessEntry, ContractNodes]]:
         """Each process with the contract entries of the nodes it created."""
@@ -180,21 +196,6 @@ class SystemContract:
 
 
 # ---------------------------------------------------------------------------- loading
-
-
-def _where(root: yaml.Node | None, location: Sequence[Any]) -> int | None:
-    node = root
-    for part in location:
-        if isinstance(node, yaml.MappingNode):
-            found = [v for k, v in node.value if isinstance(k, yaml.ScalarNode) and k.value == str(part)]
-            if not found:
-                break
-            node = found[-1]
-        elif isinstance(node, yaml.SequenceNode) and isinstance(part, int) and 0 <= part < len(node.value):
-            node = node.value[part]
-        else:
-            break
-    return node.start_mark.line + 1 if node is not None else None
 
 
 def load(path: str | Path) -> SystemContract:
@@ -230,18 +231,18 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
         raise ContractError(path, None, "this is a node contract (it says `contract_version`), but a name ending "
                             f"in {SUFFIX} marks a system contract: rename it to NAME.interfaces.yaml, or make it "
                             "a system contract (`system_version: 1` and `launch:`)",
-                            line=_where(root, ["contract_version"]))
+                            line=line_at(root, ["contract_version"]))
     _validate(root, data, path)
     # validated by the schema from here on: the blocks have the keys and value types of their shapes
     launch = cast(LaunchBlock, dict(data["launch"]))
     has_file = "file" in launch or "package" in launch
     if has_file == ("path" in launch) or ("file" in launch) != ("package" in launch):
         raise ContractError(path, "launch", "name the launch file with `package` and `file` (like ros2 launch), "
-                            "or with `path` (relative to this file), not both", line=_where(root, ["launch"]))
+                            "or with `path` (relative to this file), not both", line=line_at(root, ["launch"]))
     too_broad = unstable_model.refused(data)
     if too_broad is not None:
         raise ContractError(path, contract_module.format_location(too_broad[0]), too_broad[1],
-                            line=_where(root, too_broad[0]))
+                            line=line_at(root, too_broad[0]))
     nodes = contract_module.normalize_nodes(data.get("nodes") or {})
     for fqn, node in nodes.items():
         for list_name in LISTS:
@@ -251,32 +252,32 @@ def loads(text: str, *, path: str | Path | None = None) -> SystemContract:
                 if entry["name"] in seen:
                     raise ContractError(path, contract_module.format_location(location + ["name"]),
                                         f"duplicate {LABELS[list_name]} {entry['name']!r} in node {fqn}",
-                                        line=_where(root, location))
+                                        line=line_at(root, location))
                 seen.add(entry["name"])
                 if "qos" in entry:
                     try:
                         qos_module.expand(entry["qos"])
                     except ValueError as exc:
                         raise ContractError(path, contract_module.format_location(location + ["qos"]), str(exc),
-                                            line=_where(root, location + ["qos"])) from None
+                                            line=line_at(root, location + ["qos"])) from None
     contract_module.check_parameters(root, nodes, path)
     processes = [cast(ProcessEntry, dict(p)) for p in data.get("processes") or []]
     for i, process in enumerate(processes):
         for fqn in process.get("nodes") or []:
             if fqn not in nodes:
                 raise ContractError(path, f"processes[{i}].nodes", f"node {fqn} is not listed under `nodes:`",
-                                    line=_where(root, ["processes", i, "nodes"]))
+                                    line=line_at(root, ["processes", i, "nodes"]))
     return SystemContract(path=path, launch=launch, processes=processes, nodes=nodes,
                           target=cast(TargetBlock, dict(data["target"])) if data.get("target") is not None else None,
                           options=cast(ContractOptions, dict(data.get("options") or {})), text=text,
                           accept=acceptance.from_entries(data.get(acceptance.SECTION_KEY),
                                                          source=shown(path) if path else "<system contract>",
-                                                         line_of=lambda i: _where(root, [acceptance.SECTION_KEY, i])),
+                                                         line_of=lambda i: line_at(root, [acceptance.SECTION_KEY, i])),
                           external={k: dict(v) for k, v in (data.get("external") or {}).items() if v},
                           stand_ins=stand_ins.from_entries(data.get(stand_ins.SECTION_KEY),
-                                                           line_of=lambda i: _where(root, [stand_ins.SECTION_KEY, i])),
+                                                           line_of=lambda i: line_at(root, [stand_ins.SECTION_KEY, i])),
                           unstable_names=unstable_model.from_entries(data.get(unstable_model.SECTION_KEY)),
-                          interface_version=data.get(contract_module.VERSION_KEY))
+                          interface_version=data.get(contract_module.VERSION_KEY), rmw=data.get(RMW_KEY))
 
 
 def _validate(root: yaml.Node | None, data: Any, path: Path | None) -> None:

@@ -65,6 +65,9 @@ KIND_TO_LIST: dict[str, ListName] = {
     "client": "service_clients",
 }
 
+#: Raw endpoint kinds (as the middleware records them) of a topic's ends.
+TOPIC_KINDS: tuple[str, ...] = ("publisher", "subscription")
+
 #: The services and topics an action is made of (``/fib/_action/send_goal``, ...).
 ACTION_SERVICES: tuple[str, ...] = ("send_goal", "cancel_goal", "get_result")
 ACTION_TOPICS: tuple[str, ...] = ("feedback", "status")
@@ -152,8 +155,11 @@ LIFECYCLE_TRANSITIONS: tuple[str, ...] = tuple(TRANSITION_FROM_STATE)
 
 
 class Severity(enum.IntEnum):
-    """How much a change or a mismatch can hurt the node's peers."""
+    """How much a change or a mismatch can hurt the node's peers. ``NOTE`` is below every
+    ``fail_on`` threshold: shown in every report, never failing, never drift a golden update
+    must accept (a dead remapping, a file of the robot the capture machine lacks)."""
 
+    NOTE = -1
     SAFE = 0
     RISKY = 1
     BREAKING = 2
@@ -166,6 +172,8 @@ THRESHOLDS: dict[str, Severity] = {
     "breaking": Severity.BREAKING,
 }
 FAIL_ON: tuple[str, ...] = tuple(THRESHOLDS)
+#: the levels the option ``rules`` gives a rule (``compare.rule_levels``): ``off`` drops its findings
+RULE_LEVELS: tuple[str, ...] = ("off", "note", "safe", "risky", "breaking")
 THRESHOLD_WORDS: dict[Severity, str] = {severity: word for word, severity in THRESHOLDS.items()}
 
 

@@ -19,6 +19,7 @@ def check_compatible(
     fail_on: str = "breaking",
     strict_system_default: bool = False,
     base_dir: str | Path | None = None,
+    rmw: str | None = None,
 ) -> CompatibilityResult:
     """Fail the calling test unless the nodes of the given contracts fit together.
 
@@ -36,6 +37,8 @@ def check_compatible(
     ``breaking``) is the least severe problem that fails; the failure message is the system
     check report (``report.render_compat_text``). Relative paths are relative to ``base_dir``,
     by default the directory of the calling test file (like the ``interfaces`` marker).
+    ``rmw``: the middleware whose QoS rules judge contracts that do not say which one they run
+    on (``rmw_zenoh_cpp``, ...; docs/drift-rules.md, "QoS per middleware").
     Returns the :class:`CompatibilityResult` when the test does not fail, so it can assert more.
     A contract that cannot be loaded fails the test with the loader's message.
     """
@@ -44,7 +47,8 @@ def check_compatible(
         base_dir = Path(caller).parent if caller and os.path.exists(caller) else None
     try:
         result = system_pipeline.check_contracts(contract_paths, fail_on=fail_on,
-                                                 strict_system_default=strict_system_default, base_dir=base_dir)
+                                                 strict_system_default=strict_system_default, base_dir=base_dir,
+                                                 rmw=rmw)
     except RmwIntrospectError as exc:
         pytest.fail(str(exc), pytrace=False)
     if result.failed:

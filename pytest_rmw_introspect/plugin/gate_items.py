@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any
 import pytest
 
 from ..errors import RmwIntrospectError
-from ..model.option_tables import COMPARISON
+from ..model.option_tables import COMPARISON, GATE
 from . import option_flags
 from .session import state
 
@@ -41,22 +41,14 @@ _LOOKED_AT = pytest.StashKey[list[str]]()
 
 def addoption(parser: pytest.Parser) -> None:
     group = parser.getgroup("rmw-introspect")
-    group.addoption("--against", dest="rmw_introspect_against", metavar="REF", default=None,
-                    help="the pull-request gate: one item per contract git tracks here (found by its content; none "
-                    "is a usage error) comparing it with its version at the git "
-                    "revision REF (a branch, tag, commit or BASE...HEAD), without running anything: renamed, added "
-                    "and removed contracts included, interface_version bumps judged by semantic versioning "
-                    "(docs/ci.md)")
-    group.addoption("--against-system", dest="rmw_introspect_against_system", metavar="FILE", action="append",
-                    default=None, help="a system contract whose nodes judge who consumes a changed interface "
-                    "(repeatable; default: every system contract git tracks here)")
+    option_flags.add_gate(group, GATE)
 
 
 def version_advice(config: pytest.Config, path: Path, advice: str) -> str:
     """The ``interface_version`` advice of a golden ``--update-golden`` just wrote (``advice``:
     the update's own, which cannot know the base): with ``--against REF`` what the gate against
     REF decides of it (``check.gate.update_advice``), else ``advice``."""
-    against = config.getoption("rmw_introspect_against", None)
+    against = config.getoption(GATE["against"].pytest_dest, None)
     if not against:
         return advice
     from ..check import gate
@@ -90,7 +82,7 @@ class GateItem(pytest.Item):
 
 @pytest.hookimpl(tryfirst=True)  # before -k/-m deselect: they select gate items like any other
 def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config, items: list[pytest.Item]) -> None:
-    against = config.getoption("rmw_introspect_against", None)
+    against = config.getoption(GATE["against"].pytest_dest, None)
     if not against:
         return
     from ..check import gate  # the gate and the comparison pipeline (~40 ms): only with --against
@@ -102,7 +94,7 @@ def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config
     try:
         known = (baseline.load(session_state.baseline_path, session_state.display(session_state.baseline_path))
                  if session_state.baseline_path is not None else None)
-        result = gate.run(against, systems=config.getoption("rmw_introspect_against_system", None),
+        result = gate.run(against, systems=config.getoption(GATE["against_system"].pytest_dest, None),
                           options=[(options, "pytest command line")], fail_on=fail_on, baseline=known,
                           cwd=config.invocation_params.dir)
     except RmwIntrospectError as exc:
@@ -126,7 +118,7 @@ def terminal_summary(terminalreporter: pytest.TerminalReporter, config: pytest.C
     """What the gate looked at, once at the end of the session (a gate must say what it read).
     Under xdist the controller collects nothing: it reads the gate itself (files only, no target
     is run); a gate that could not run said so as a usage error already."""
-    against = config.getoption("rmw_introspect_against", None)
+    against = config.getoption(GATE["against"].pytest_dest, None)
     if not against or hasattr(config, "workerinput"):
         return
     said = config.stash.get(_LOOKED_AT, None)
@@ -134,7 +126,7 @@ def terminal_summary(terminalreporter: pytest.TerminalReporter, config: pytest.C
         from ..check import gate
 
         try:
-            said = _looked_at(gate.run(against, systems=config.getoption("rmw_introspect_against_system", None),
+            said = _looked_at(gate.run(against, systems=config.getoption(GATE["against_system"].pytest_dest, None),
                                        cwd=config.invocation_params.dir))
         except RmwIntrospectError:
             return

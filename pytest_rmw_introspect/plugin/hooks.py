@@ -18,6 +18,7 @@ from typing import Any
 import pytest
 
 from ..errors import RmwIntrospectError, SetupError
+from ..model import contract_kind
 from ..run import prewarm
 from ..run.warm import client as warm
 from . import items, lookahead, marker, marker_goldens, session, system_marker, verdict
@@ -146,7 +147,7 @@ def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.Fil
         # rclpy while the rest is collected (a `-k` that deselects every contract item wastes it);
         # a system contract's processes start warm from it too (issue 42)
         _warm_up(parent.config)
-        if system_marker.is_system_file(file_path):
+        if contract_kind.is_system_file(file_path):
             return system_marker.SystemContractFile.from_parent(parent, path=file_path)
         return items.ContractFile.from_parent(parent, path=file_path)
     return None

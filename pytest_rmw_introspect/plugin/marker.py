@@ -17,6 +17,8 @@ from typing import TYPE_CHECKING, Any
 import pytest
 
 from ..errors import OptionError, RmwIntrospectError
+from ..model import contract_kind
+from ..model.contract_kind import Kind
 from ..model.option_tables import COMPARISON, TARGET, FrontEnd
 from ..run.target import merge
 from . import verdict
@@ -139,8 +141,8 @@ def golden_target(contract: Contract | None, path: Path, target_kw: dict[str, An
     target keywords, the result names nothing to run, or the golden is a NoDL document."""
     from ..check import golden
 
-    if not target_kw or (contract is not None and contract.nodl is not None) or path.name.endswith(
-            (".nodl.yaml", ".nodl.yml", ".nodl.json")):
+    if not target_kw or (contract is not None and contract.nodl is not None) or \
+            contract_kind.kind_of_name(path) is Kind.NODL:
         return None
     own = dict(contract.target) if contract is not None and contract.target else None
     base = path.absolute().parent

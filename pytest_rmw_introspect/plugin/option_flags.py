@@ -20,6 +20,14 @@ def add(group: pytest.OptionGroup, parser: pytest.Parser, family: Family) -> Non
         parser.addini(option.ini_key, _ini_help(option), type=kind, default=default)
 
 
+def add_gate(group: pytest.OptionGroup, family: Family) -> None:
+    """The gate's pytest options (``--against``, ...: named as ``rmw-introspect diff`` names
+    them), their values kept as ``rmw_introspect_<name>``."""
+    for option in family.exposed(FrontEnd.PYTEST):
+        group.addoption(option.pytest_flag, dest=option.pytest_dest, default=None, help=option.flag_help(),
+                        **_flag_kind(option))
+
+
 def _flag_kind(option: Option) -> dict[str, Any]:
     if option.shape is Shape.SWITCH:
         # a switch that is off by default is switched on; one that is on says true or false
@@ -28,6 +36,8 @@ def _flag_kind(option: Option) -> dict[str, Any]:
         return {"choices": option.choices}
     if option.shape is Shape.SECONDS:
         return {"type": float, "metavar": "SECONDS"}
+    if option.shape is Shape.REPEATED:
+        return {"action": "append", "metavar": option.metavar}
     assert option.shape in (Shape.WORDS, Shape.TEXT), option.name  # a new shape needs its flag here
     return {"metavar": option.metavar or option.name.upper()}
 
@@ -35,13 +45,14 @@ def _flag_kind(option: Option) -> dict[str, Any]:
 def _ini_kind(option: Option) -> tuple[Literal["bool", "args", "string"], Any]:
     if option.shape is Shape.SWITCH and option.default is False:
         return "bool", False
-    if option.shape is Shape.WORDS:
+    if option.shape in (Shape.WORDS, Shape.REPEATED):
         return "args", []
     return "string", ""
 
 
 def _ini_help(option: Option) -> str:
-    kind = "names separated by spaces, or 'all'" if option.shape is Shape.WORDS else option.type_text
+    kind = {Shape.WORDS: "names separated by spaces, or 'all'",
+            Shape.REPEATED: f"{option.metavar or 'items'} separated by spaces"}.get(option.shape, option.type_text)
     shown = f"; default: {option.shown_default}" if option.shown_default else ""
     return f"{option.help} ({kind}{shown})"
 

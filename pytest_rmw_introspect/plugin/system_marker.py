@@ -177,10 +177,6 @@ def rmw_introspect_system_marker_check(request: pytest.FixtureRequest) -> None:
 # ---------------------------------------------------------------------------- contract files
 
 
-def is_system_file(path: Path) -> bool:
-    return system_contract.is_system_contract(path)
-
-
 class SystemContractFile(pytest.File):
     """A system contract file: one :class:`SystemContractItem`."""
 

@@ -57,6 +57,11 @@ def apply(item: pytest.Item, result: Checked, session_state: SessionState) -> No
         item.user_properties.append((STOOD_IN_PROPERTY, f"{session_state.display(result.path)}\t{stood_in}"))
     for note in result.check_notes():  # said once, in the terminal summary, not in every report
         item.user_properties.append((NOTE_PROPERTY, f"{session_state.display(result.path)}\t{note}"))
+    if outcome.verdict is Verdict.PASS:  # a pass with findings of the level NOTE: they are said in the summary
+        for found in outcome.json:
+            if found.get("severity") == "NOTE" and not found.get("accepted"):
+                item.user_properties.append((NOTE_PROPERTY, f"{session_state.display(result.path)}\t"
+                                             f"[{found.get('rule')}] {found.get('message')}"))
     if outcome.json:
         # the machine-readable drift on the report (JUnit writes it as a <property>)
         item.user_properties.append((DRIFT_PROPERTY, json.dumps(outcome.json, sort_keys=True, default=str)))

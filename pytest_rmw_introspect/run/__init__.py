@@ -2,7 +2,9 @@
 
 One line per module:
 
-- ``target``: what to run and how, as one validated spec, resolved into what the runner starts
+- ``target``: what to run, as one validated spec (each target option's meaning, the layers merged, its ROS arguments)
+- ``executables``: which program a spec names (``ros2 run``'s ament index lookup, console scripts, entry points) and its command line
+- ``resolution``: a spec resolved into what the runner starts (command line, environment, warm or cold and why)
 - ``ros_env``: the detected ROS 2 install and the middleware's activation environment
 - ``editable``: ament_python packages installed with ``pip install -e .``, made into symlink prefixes as colcon would
 - ``cache``: where the plugin keeps what it builds and makes (``RMW_INTROSPECT_CACHE``)

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from ..model.capture import Capture
+from .ros_env import RosEnvironment
 from .runner import run
 from .target import TargetSpec
 
@@ -20,7 +21,7 @@ def capture(
     *,
     include_infrastructure: bool = False,
     library: str | Path | None = None,
-    ros: Any = None,
+    ros: RosEnvironment | None = None,
     base_dir: str | Path | None = None,
     keep_files: bool | None = None,
     **options: Any,

@@ -3,7 +3,7 @@
 The pytest plugin calls :func:`warm_up` at the start of a session so that the server imports
 rclpy while the session collects and sets up; the first capture then starts warm. A server
 serves targets of one environment and working directory (``warm.client.server_key``): the
-environment is the one the runner gives such a target (``target.environment``).
+environment is the one the runner gives such a target (``resolution.environment``).
 """
 
 from __future__ import annotations
@@ -11,13 +11,13 @@ from __future__ import annotations
 import os
 import tempfile
 from pathlib import Path
-from typing import Any
 
 from . import middleware, ros_env
-from .target import OUTPUT_PATTERN, TargetSpec, environment
+from .resolution import OUTPUT_PATTERN, environment
+from .target import TargetSpec
 
 
-def warm_up(spec: TargetSpec | None = None, *, library: str | Path | None = None, ros: Any = None,
+def warm_up(spec: TargetSpec | None = None, *, library: str | Path | None = None, ros: ros_env.RosEnvironment | None = None,
             wait: float = 0.0, python: str | None = None) -> str | None:
     """Start the warm start server for targets like ``spec`` (default: a target with no `env` of
     its own, in the current directory) ahead of their captures, waiting up to ``wait`` seconds

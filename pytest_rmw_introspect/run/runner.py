@@ -1,6 +1,6 @@
 """Run a target on the recording middleware and read its capture.
 
-The runner starts what ``target.resolve`` made of the target (``ResolvedTarget``: command line,
+The runner starts what ``resolution.resolve`` made of the target (``ResolvedTarget``: command line,
 environment, working directory, warm or cold start) and asks the target module nothing else.
 The process gets the middleware's activation environment (``ros_env.activation_env``), a
 capture file of its own (``RMW_INTROSPECT_OUTPUT`` in a fresh temporary directory, so
@@ -76,11 +76,12 @@ from ..errors import (
 from ..model import tally
 from . import failure_hints, process, progress, ros_env
 from .deadline import Watchdog
-from .target import resolve
+from .resolution import resolve
 
 if TYPE_CHECKING:
     from ..model.capture import Capture, OtherProcess
-    from .target import ResolvedTarget, TargetSpec
+    from .resolution import ResolvedTarget
+    from .target import TargetSpec
     from .warm.client import WarmChild
 
 # Imported when first needed, not here: the capture model (its dataclasses cost ~30 ms to create)
@@ -360,7 +361,7 @@ def run(
     spec: TargetSpec,
     *,
     library: str | Path | None = None,
-    ros: Any = None,
+    ros: ros_env.RosEnvironment | None = None,
     include_infrastructure: bool = False,
     keep_files: bool | None = None,
     python: str | None = None,
@@ -419,10 +420,10 @@ class _Run:
     wall_time: float | None = None
 
     @classmethod
-    def begin(cls, spec: TargetSpec, *, library: str | Path | None, ros: Any, python: str | None,
+    def begin(cls, spec: TargetSpec, *, library: str | Path | None, ros: ros_env.RosEnvironment | None, python: str | None,
               cold_note: str | None, include_infrastructure: bool, keep_files: bool) -> _Run:
         """A working directory of its own (stale ones of killed runners swept now and then) and
-        the target resolved into it (``target.resolve``), with its deadline not yet started."""
+        the target resolved into it (``resolution.resolve``), with its deadline not yet started."""
         global _last_sweep
         if time.monotonic() - _last_sweep > _SWEEP_EVERY_S:  # a listing of the temporary directory: not per capture
             _last_sweep = time.monotonic()

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import copy
 import os
-import re
 import shlex
 import shutil
 import tempfile
@@ -40,6 +39,7 @@ from ..model import untrusted
 from ..model.capture import Capture
 from ..model.contract_shapes import ContractNode, ContractNodes, LaunchBlock, ProcessEntry, TargetBlock
 from ..model.paths import shown
+from ..model.portable import device_paths_in
 from ..model.stand_ins import StoodIn
 from ..model.unstable_names import NODE_KEY as UNSTABLE_NAME
 from ..model.unstable_names import NameRules, contract_keys
@@ -82,7 +82,7 @@ class LaunchSpec:
         return block
 
 
-def ament_prefixes(ros: Any = None) -> list[Path]:
+def ament_prefixes(ros: ros_env.RosEnvironment | None = None) -> list[Path]:
     """The prefixes ``$(find-pkg-share)`` and ``ros2 launch PACKAGE`` search: AMENT_PREFIX_PATH,
     then those of the detected install."""
     return ros_env.ament_prefixes(tuple(getattr(ros, "ament_prefixes", ()) or ()))
@@ -276,23 +276,19 @@ STAND_IN_ADVICE = (
     "as named below), then add this block to the system contract above `processes:` (no contract yet: write one "
     "with `system_version: 1`, the `launch:` block and this block, and run `rmw-introspect check FILE --update`):")
 
-#: a device path in a process's error output or parameters
-_DEVICE = re.compile(r"(?<![\w/])/dev/(?:[A-Za-z0-9_.+-]+/)*[A-Za-z0-9_.+-]+")
-
-
 def device_of(process: LaunchedNode, error_text: str) -> str | None:
     """The device a process that failed probably lacks: a ``/dev/...`` path that is not on this
     machine, named in its error output or in the parameters the launch file gives it."""
-    candidates = _DEVICE.findall(error_text)
+    candidates = device_paths_in(error_text)
     for parameter in process.parameters:
-        candidates += _DEVICE.findall(str(parameter.value)) if parameter.value is not None else []
-        candidates += _DEVICE.findall(parameter.file_text or "")
+        candidates += device_paths_in(str(parameter.value)) if parameter.value is not None else []
+        candidates += device_paths_in(parameter.file_text or "")
         if parameter.file is not None:
             try:
-                candidates += _DEVICE.findall(untrusted.read_text(Path(parameter.file)))
+                candidates += device_paths_in(untrusted.read_text(Path(parameter.file)))
             except (OSError, InputError):
                 pass
-    candidates += [m for word in process.ros_arguments for m in _DEVICE.findall(word)]
+    candidates += [m for word in process.ros_arguments for m in device_paths_in(word)]
     return next((c for c in candidates if not os.path.exists(c)), None)
 
 
@@ -397,7 +393,7 @@ def capture_system(
     *,
     target: TargetSpec | None = None,
     library: str | Path | None = None,
-    ros: Any = None,
+    ros: ros_env.RosEnvironment | None = None,
     include_infrastructure: bool = False,
     jobs: int | None = None,
     launch: LaunchResult | None = None,

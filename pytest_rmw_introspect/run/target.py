@@ -4,10 +4,10 @@ The same keys are accepted everywhere (the capture API, a contract's ``target`` 
 ``interfaces`` marker's keyword arguments, and some of them as pytest options, ini keys and
 ``rmw-introspect`` flags): the table ``model.option_tables.TARGET`` names them with their types,
 defaults, help and front ends (``options_reference.render_markdown("target")`` renders it). This
-module decides what each value means (:func:`_convert`) and how a target is started:
-:func:`resolve` turns a :class:`TargetSpec` into a :class:`ResolvedTarget` (command line,
-complete environment, working directory, warm or cold start and why), the one value the runner
-starts.
+module decides what each value means (:func:`_convert`), merges the layers that give them
+(:func:`merge`) and writes a spec's ROS arguments (:func:`ros_arguments`). Which program a spec
+names is ``run.executables``; how it is started (its command line, environment and warm or cold
+start) is ``run.resolution``.
 
 Exactly one of ``package``+``executable``, ``command``, ``script``, ``module``, ``entry_point``
 names the target. Relative paths (``script``, ``params_file``, ``cwd`` and a ``command`` whose
@@ -16,27 +16,21 @@ first element contains a ``/``) are relative to the file that named them.
 
 from __future__ import annotations
 
-import difflib
 import math
 import os
 import re
 import shlex
-import shutil
 import sys
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
-from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from ..errors import ExecutableNotFound, TargetConfigError
-from ..model import ament_index, editable_installs
+from ..errors import TargetConfigError
+from ..model import ament_index
 from ..model.option_tables import MAX_SECONDS, TARGET
+from ..model.parameters import flatten
 from ..model.vocabulary import DEFAULT_LIFECYCLE_TARGET, LIFECYCLE_TARGETS
-from . import middleware, ros_env
-
-if TYPE_CHECKING:
-    from .warm.client import Plan
 
 DEFAULT_TIMEOUT: float = TARGET["timeout"].default
 DEFAULT_SETTLE: float = TARGET["settle"].default
@@ -194,8 +188,10 @@ class TargetSpec:
         if missing == "package":
             return (f"Target package/executable is incomplete: `package` is missing (executable "
                     f"'{self.executable}' was given): name the ROS package that installs it.")
+        from .executables import package_executables, python_path  # the lookup, for this message only
+
         prefixes = ament_index.env_prefixes()
-        names = package_executables(str(self.package), [*prefixes, Path(sys.prefix)], _python_path(self))
+        names = package_executables(str(self.package), [*prefixes, Path(sys.prefix)], python_path(self))
         listed = (f"The package has these executables: {', '.join(names)}" if names else
                   f"No executable of package '{self.package}' was found (is it installed?)")
         return (f"Target package/executable is incomplete: `executable` is missing for package "
@@ -406,25 +402,14 @@ def merge(*layers: tuple[Mapping[str, Any] | None, str | Path | None, str]) -> T
 # ---------------------------------------------------------------------- parameters
 
 
-def _flatten(params: Mapping[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
-    out: list[tuple[str, Any]] = []
-    for name, value in params.items():
-        full = f"{prefix}{name}"
-        if isinstance(value, Mapping):
-            out.extend(_flatten(value, full + "."))
-        else:
-            out.append((full, value))
-    return out
-
-
-def yaml_value(value: Any) -> str:
+def ros_argument_value(value: Any) -> str:
     """Encode a parameter value the way rcl parses ``-p name:=<value>`` (a YAML scalar or flow list).
 
     Strings that YAML would read as something else (``"true"``, ``"1"``, ``""``) are quoted;
     floats always carry a decimal point so that ``1.0`` stays a double.
     """
     if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(yaml_value(v) for v in value) + "]"
+        return "[" + ", ".join(ros_argument_value(v) for v in value) + "]"
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, int):
@@ -470,371 +455,8 @@ def ros_arguments(spec: TargetSpec) -> list[str]:
         args += ["-r", f"__node:={spec.node_name}"]
     for a, b in spec.remappings:
         args += ["-r", f"{a}:={b}"]
-    for name, value in _flatten(spec.parameters):
-        args += ["-p", f"{name}:={yaml_value(value)}"]
+    for name, value in flatten(spec.parameters).items():
+        args += ["-p", f"{name}:={ros_argument_value(value)}"]
     if spec.params_file is not None:
         args += ["--params-file", str(spec.params_file)]
     return ["--ros-args", *args] if args else []
-
-
-# ---------------------------------------------------------------------- ament index
-
-
-def find_executable(package: str, executable: str, prefixes: Sequence[Path]) -> Path:
-    """Find ``<prefix>/lib/<package>/<executable>`` like ``ros2 run``.
-
-    A prefix provides ``package`` when it has
-    ``share/ament_index/resource_index/packages/<package>``. The first prefix (in
-    ``AMENT_PREFIX_PATH`` order) providing the package wins, like ``ros2 run``.
-    """
-    providers = ament_index.providers(package, prefixes)
-    searched = [str(p) for p in prefixes]
-    if not providers:
-        raise ExecutableNotFound(
-            f"Package '{package}' was not found in the ament index. Searched the prefixes "
-            f"{searched or '(none: AMENT_PREFIX_PATH is empty)'}"
-            " for share/ament_index/resource_index/packages/" + package + ". Build and source the "
-            "workspace that provides it (or add its install prefix to AMENT_PREFIX_PATH)."
-            + editable_installs.not_found_hint(package, if_absent=False),
-            target=f"{package}/{executable}",
-            searched=searched,
-        )
-    prefix = providers[0]
-    lib_dir = prefix / "lib" / package
-    candidate = lib_dir / executable
-    available = sorted(
-        p.name for p in lib_dir.iterdir() if p.is_file() and os.access(p, os.X_OK)
-    ) if lib_dir.is_dir() else []
-    if not candidate.is_file():
-        also = [str(p) for p in providers[1:] if (p / "lib" / package / executable).is_file()]
-        hint = ""
-        if also:
-            hint = (
-                f" Other prefixes do have it ({', '.join(also)}) but {prefix} comes first in "
-                "AMENT_PREFIX_PATH and shadows them."
-            )
-        raise ExecutableNotFound(
-            f"Executable '{executable}' not found in package '{package}' (looked for {candidate}). "
-            + (f"The package has these executables: {', '.join(available)}." if available
-               else f"The package has no executables in {lib_dir}.")
-            + hint,
-            target=f"{package}/{executable}",
-            searched=[str(candidate)],
-            found=available,
-        )
-    if not os.access(candidate, os.X_OK):
-        raise ExecutableNotFound(
-            f"{candidate} exists but is not executable (chmod +x it, or install it with "
-            "`install(TARGETS ...)` / a console script entry point).",
-            target=f"{package}/{executable}",
-            searched=[str(candidate)],
-        )
-    return candidate
-
-
-def package_executables(package: str, prefixes: Sequence[Path], python_path: Sequence[str] = ()) -> list[str]:
-    """Every executable ``package`` installs: ``lib/<package>/*`` of the first prefix that has the
-    package (like ``ros2 run``), else the console scripts of the Python distribution ``package``."""
-    providers = ament_index.providers(package, prefixes)
-    if providers:
-        lib_dir = providers[0] / "lib" / package
-        return sorted(p.name for p in lib_dir.iterdir() if p.is_file() and os.access(p, os.X_OK)) if lib_dir.is_dir() else []
-    return sorted(console_scripts(package, list(python_path) or sys.path) or {})
-
-
-def closest(name: str, candidates: Sequence[str]) -> str:
-    """`` Did you mean 'x'?`` for the candidate closest to a mistyped ``name`` (empty if none is close)."""
-    match = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
-    return f" Did you mean '{match[0]}'?" if match else ""
-
-
-def build_argv(spec: TargetSpec, prefixes: Sequence[Path] = (), python: str | None = None) -> list[str]:
-    """The full command line of ``spec`` (``prefixes``: the ament prefixes to search)."""
-    spec.validate()
-    python = python or sys.executable
-    kind = spec.kind
-    if kind == "executable":
-        assert spec.package and spec.executable
-        try:
-            base = [str(find_executable(spec.package, spec.executable, prefixes))]
-        except ExecutableNotFound as not_installed:
-            # an ament_python package developed in a venv (`pip install -e .`): its executables
-            # are console scripts in the venv's bin/, not in lib/<package>/
-            scripts = console_scripts(spec.package, _python_path(spec))
-            if not scripts or spec.executable not in scripts:
-                in_index = bool(ament_index.providers(spec.package, prefixes))
-                raise _no_console_script(spec.package, spec.executable, scripts, in_index, not_installed) from None
-            base = entry_point_argv(scripts[spec.executable], python, name=spec.executable)
-    elif kind == "script":
-        assert spec.script is not None
-        if not spec.script.is_file():
-            raise ExecutableNotFound(
-                f"Python script {spec.script} does not exist.",
-                target=spec.describe(),
-                searched=[str(spec.script)],
-            )
-        base = [python, str(spec.script)]
-    elif kind == "module":
-        base = [python, "-m", str(spec.module)]
-    elif kind == "entry_point":
-        assert spec.entry_point is not None
-        base = entry_point_argv(spec.entry_point, python)
-    else:
-        assert spec.command is not None
-        base = list(spec.command)
-        base[0] = _which(base[0], spec)
-    if spec.params_file is not None and not spec.params_file.is_file():
-        raise TargetConfigError(f"params_file {spec.params_file} does not exist.")
-    return [*base, *spec.arguments, *ros_arguments(spec)]
-
-
-def _no_console_script(package: str, executable: str, scripts: dict[str, str] | None, in_index: bool,
-                       not_installed: ExecutableNotFound) -> ExecutableNotFound:
-    """The error for an executable found neither in the ament index nor among the console scripts
-    of a Python distribution named ``package``: led by what the user does have."""
-    if scripts is None and not in_index:  # neither an ament package nor a Python distribution
-        return ExecutableNotFound(
-            f"{not_installed} No Python distribution named '{package}' is installed either (an "
-            "ament_python package developed in a venv is installed with `pip install -e .`).",
-            target=not_installed.target, searched=not_installed.searched, found=not_installed.found)
-    if in_index or scripts is None:  # an ament package: find_executable listed its executables already
-        return ExecutableNotFound(f"{not_installed}{closest(executable, not_installed.found)}",
-                                  target=not_installed.target, searched=not_installed.searched,
-                                  found=not_installed.found)
-    names = sorted(scripts)
-    listed = (f"its console scripts are: {', '.join(names)}.{closest(executable, names)}" if names else
-              "it has no console scripts (declare them under `entry_points={'console_scripts': [...]}` "
-              "in setup.py, or `[project.scripts]` in pyproject.toml, and reinstall it).")
-    return ExecutableNotFound(
-        f"Executable '{executable}' not found in package '{package}': the package is installed as a Python "
-        f"distribution (pip), not in the ament index, and {listed}",
-        target=not_installed.target, searched=not_installed.searched, found=names)
-
-
-#: what pip's console-script wrapper does: import the module, call the function, exit with its result
-_ENTRY_POINT_LAUNCHER = (
-    "import importlib, sys\n"
-    "target = sys.argv.pop(1)\n"
-    "module, _, attribute = target.partition(':')\n"
-    "sys.argv[0] = sys.argv.pop(1)\n"
-    "function = importlib.import_module(module)\n"
-    "for part in attribute.split('.'):\n"
-    "    function = getattr(function, part)\n"
-    "sys.exit(function())\n"
-)
-
-
-def entry_point_argv(entry_point: str, python: str, name: str | None = None) -> list[str]:
-    """The command line that calls ``package.module:function`` like its console script;
-    ``sys.argv[0]`` is ``name`` (the script's name) or the function's."""
-    return [python, "-c", _ENTRY_POINT_LAUNCHER, entry_point, name or entry_point.rpartition(":")[2]]
-
-
-def command_as_typed(argv: Sequence[str]) -> list[str]:
-    """``argv`` as the user would type it: a console script started through our launcher
-    (:func:`entry_point_argv`) is shown as the script (``<venv>/bin/<name>`` when it is there)."""
-    if len(argv) >= 5 and argv[1] == "-c" and argv[2] == _ENTRY_POINT_LAUNCHER:
-        name = argv[4]
-        script = Path(argv[0]).parent / name
-        return [str(script) if script.is_file() else name, *argv[5:]]
-    return list(argv)
-
-
-def _python_path(spec: TargetSpec) -> list[str]:
-    """Where the target's interpreter finds distributions: its PYTHONPATH, then ours."""
-    extra = [p for p in (spec.env.get("PYTHONPATH") or os.environ.get("PYTHONPATH") or "").split(os.pathsep) if p]
-    return [*extra, *sys.path]
-
-
-def _normalized(name: str) -> str:
-    return re.sub(r"[-_.]+", "-", name).lower()
-
-
-def console_scripts(package: str, path: Sequence[str]) -> dict[str, str] | None:
-    """The ``console_scripts`` entry points (name -> ``module:function``) of the Python distribution
-    named ``package`` (``-``/``_`` and case ignored) found on ``path``; None if there is no such
-    distribution (an empty mapping if it has no console scripts)."""
-    from importlib import metadata  # ~15 ms (+ email): only console scripts need it
-
-    wanted = _normalized(package)
-    for dist in metadata.distributions(path=list(path)):
-        if _normalized(dist.metadata["Name"] or "") == wanted:
-            return {ep.name: str(ep.value) for ep in dist.entry_points if ep.group == "console_scripts"}
-    return None
-
-
-def _which(program: str, spec: TargetSpec) -> str:
-    if "/" in program:
-        if not os.path.isfile(program):
-            raise ExecutableNotFound(
-                f"Command {program} does not exist.", target=spec.describe(), searched=[program]
-            )
-        if not os.access(program, os.X_OK):
-            raise ExecutableNotFound(
-                f"Command {program} is not executable (chmod +x it).",
-                target=spec.describe(),
-                searched=[program],
-            )
-        return program
-    found = shutil.which(program, path=(spec.env or {}).get("PATH") or os.environ.get("PATH"))
-    if found is None:
-        raise ExecutableNotFound(
-            f"Command '{program}' was not found on PATH.",
-            target=spec.describe(),
-            searched=(os.environ.get("PATH") or "").split(os.pathsep),
-        )
-    return found
-
-
-# ---------------------------------------------------------------------- resolution
-
-#: the directory of a capture's files that rcl's log files go to (``ROS_LOG_DIR``)
-LOG_DIR = "ros_log"
-#: the capture file of each process (the middleware substitutes the process id: every ROS
-#: process of the target writes its own file)
-OUTPUT_PATTERN = "capture.<pid>.json"
-
-
-def environment(
-    spec: TargetSpec,
-    library: Path,
-    ros: Any,
-    output: Path,
-    base: Mapping[str, str] | None = None,
-) -> dict[str, str]:
-    """The complete environment of the target process; ``output`` may contain ``<pid>``, which
-    the middleware replaces with each process's id. rcl's log files of the capture go to
-    ``ros_log`` beside ``output`` (``ROS_LOG_DIR``), unless the environment or the target's
-    ``env`` says where logs go (``ROS_LOG_DIR`` or ``ROS_HOME``)."""
-    env = dict(os.environ if base is None else base)
-    # the target's own variables first, then the activation merged with them: a target's
-    # LD_PRELOAD, LD_LIBRARY_PATH or AMENT_PREFIX_PATH extends the middleware's, never drops it
-    env.update(spec.env)
-    if "ROS_LOG_DIR" not in env and "ROS_HOME" not in env:
-        # A capture is an analysis of the node, not a run of it: its log file (one per process,
-        # as `ros2 run` writes) is removed with the capture's files instead of piling up in
-        # ~/.ros/log, a file per capture and CI run; RMW_INTROSPECT_KEEP_FILES keeps it.
-        env["ROS_LOG_DIR"] = str(Path(output).parent / LOG_DIR)
-    env.update(ros_env.activation_env(library, ros, base=env))
-    env["RMW_INTROSPECT_OUTPUT"] = str(output)
-    env["RMW_INTROSPECT_FORMAT"] = "json"
-    env["RMW_INTROSPECT_EXIT"] = "1"
-    env["RMW_INTROSPECT_AUTO_EXPORT"] = "1"
-    env["RMW_INTROSPECT_SETTLE_MS"] = str(max(0, round(spec.effective_settle() * 1000)))
-    env["RMW_INTROSPECT_HORIZON_MS"] = str(max(0, round(spec.effective_horizon() * 1000)))
-    env["RMW_INTROSPECT_LIFECYCLE"] = spec.effective_lifecycle()
-    env["RMW_INTROSPECT_PARAMETERS"] = "1" if spec.effective_read_parameters() else "0"
-    if spec.stimuli:
-        env["RMW_INTROSPECT_STIMULI"] = ",".join(spec.stimuli)
-    env.setdefault("PYTHONUNBUFFERED", "1")
-    # numpy's OpenBLAS (rclpy imports numpy) starts a worker thread per core that spins for 2^28
-    # cycles before it sleeps: ~40 ms of a core, at the start of every cold Python target, during
-    # which the middleware cannot prove the process idle. 2^4 cycles: they sleep at once. (A warm
-    # child has no such threads: its server loaded OpenBLAS single-threaded.)
-    env.setdefault("OPENBLAS_THREAD_TIMEOUT", "4")
-    return env
-
-
-@dataclass(frozen=True)
-class ResolvedTarget:
-    """A target resolved into what the runner starts (:func:`resolve`): everything the runner
-    needs to start it, wait for it and word its errors, so that it asks the spec nothing more.
-    Frozen, its mappings read-only."""
-
-    #: a short name for messages (``TargetSpec.describe``)
-    name: str
-    #: where each of its processes writes its capture file (``<pid>``: the process id)
-    output: Path
-    #: the full command line
-    argv: tuple[str, ...]
-    #: the command line as messages show it (:func:`command_as_typed`: a console script as itself)
-    shown_argv: tuple[str, ...]
-    #: the complete environment of the process (:func:`environment`)
-    env: Mapping[str, str]
-    #: its working directory (None: the runner's)
-    cwd: Path | None
-    #: seconds to wait for it before it is stopped
-    timeout: float
-    #: the lifecycle state the middleware drives lifecycle nodes to
-    lifecycle: str
-    #: the topics and services the middleware sends a default message or request to
-    stimuli: tuple[str, ...]
-    #: how it starts warm (forked from a warm start server); None: it starts cold
-    warm: Plan | None
-    #: why it starts cold (None: it starts warm)
-    cold_because: str | None
-    #: the module of a ``module`` target and the target's own ``env:`` (where ``python -m``
-    #: finds it: asked only when it created no node)
-    module: str | None
-    own_env: Mapping[str, str]
-    #: the ament prefixes its executables and packages were looked up in
-    prefixes: tuple[Path, ...]
-    #: the ROS 2 distribution it runs on (None: not known)
-    ros_distribution: str | None
-
-    @property
-    def how(self) -> str:
-        """``warm`` or ``cold``."""
-        return "cold" if self.warm is None else "warm"
-
-    def started_cold(self, because: str) -> ResolvedTarget:
-        """The same target, started cold ``because`` (a warm start that failed)."""
-        return replace(self, warm=None, cold_because=because)
-
-
-def resolve(
-    spec: TargetSpec,
-    *,
-    workdir: Path,
-    library: str | Path | None = None,
-    ros: Any = None,
-    python: str | None = None,
-    cold_note: str | None = None,
-) -> ResolvedTarget:
-    """Resolve ``spec`` into what the runner starts, its capture files in ``workdir``
-    (:data:`OUTPUT_PATTERN`) and its log files beside them. ``library``: the middleware library (default: ``middleware.ensure_library``);
-    ``ros``: the ROS environment (default: ``ros_env.detect()``); ``python``: the interpreter of
-    Python targets (default: this one); ``cold_note``: start it cold, for this reason, without
-    asking whether it could start warm. Raises :class:`TargetConfigError` for a spec that names
-    no target (or two), :class:`ExecutableNotFound` for one that cannot be found."""
-    spec.validate()
-    ros = ros or ros_env.detect()
-    if library is None:
-        library = middleware.ensure_library(ros)
-    # like `ros2 run`: AMENT_PREFIX_PATH as it is now, then the prefixes of the detected install
-    prefixes = ros_env.ament_prefixes(tuple(getattr(ros, "ament_prefixes", ())))
-    argv = build_argv(spec, prefixes, python=python)
-    output = workdir / OUTPUT_PATTERN
-    env = environment(spec, Path(library), ros, output)
-    describe = spec.describe()
-    if spec.cwd is not None and not spec.cwd.is_dir():
-        raise ExecutableNotFound(f"Working directory {spec.cwd} of target {describe} does not exist.", target=describe)
-    warm: Plan | None = None
-    because = cold_note
-    if because is None:
-        because = "cold_start asked for it" if spec.cold_start else None
-    if because is None:
-        from .warm import client as warm_client
-
-        how = warm_client.plan(argv, env, python)
-        if isinstance(how, warm_client.Plan):
-            warm = how
-        else:
-            because = how
-    return ResolvedTarget(
-        name=describe,
-        output=output,
-        argv=tuple(argv),
-        shown_argv=tuple(command_as_typed(argv)),
-        env=MappingProxyType(env),
-        cwd=spec.cwd,
-        timeout=spec.effective_timeout(),
-        lifecycle=spec.effective_lifecycle(),
-        stimuli=spec.stimuli,
-        warm=warm,
-        cold_because=because,
-        module=spec.module,
-        own_env=MappingProxyType(dict(spec.env)),
-        prefixes=tuple(prefixes),
-        ros_distribution=getattr(ros, "distro", None),
-    )

@@ -147,10 +147,22 @@ def venv_wheels(venv: Path) -> list[str]:
     return sorted(p.name.removesuffix(".dist-info") for p in site_packages(venv).glob("ros_*.dist-info"))
 
 
+def _tool_version(tool: str) -> str:
+    """The first line of ``tool --version`` ('' when it cannot say)."""
+    try:
+        out = subprocess.run([tool, "--version"], capture_output=True, text=True, timeout=60).stdout
+    except (OSError, subprocess.TimeoutExpired):
+        return ""
+    return (out.splitlines() or [""])[0]
+
+
 def overlay_key(commits: dict[str, str], venv: Path) -> str:
+    """What the overlay is built from: the checkouts, the venv's ROS 2 wheels, the lock, this
+    script and its fixups, the Python, the compiler and CMake (not where any of them is)."""
     h = hashlib.sha256()
     for part in [json.dumps(commits, sort_keys=True), "\n".join(venv_wheels(venv)), LOCK.read_text(),
-                 Path(__file__).read_text(), FIXUPS.read_text(), sys.version]:
+                 Path(__file__).read_text(), FIXUPS.read_text(), sys.version, _tool_version("g++"),
+                 _tool_version("cmake")]:
         h.update(part.encode() + b"\0")
     return h.hexdigest()[:16]
 

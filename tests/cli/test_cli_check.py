@@ -268,3 +268,39 @@ def test_check_update_never_changes_the_interface_version_but_says_which_bump_it
             "write interface_version: 1.5.0, unless 1.4.2 already is such a bump over the base") in updated.stderr, \
         updated.stderr
     assert cli.read("talker.interfaces.yaml") == talker_contract(target=TALKER, depth=10, header=versioned)
+
+
+def test_the_project_sets_the_level_of_a_rule(cli):
+    """Issue 49: `rules:` in the contract's options and `--rule RULE=LEVEL` (stronger, key by key):
+    a level the project set is said with the finding, `off` is counted, and a rule id that does
+    not exist is an error naming where it was set and the closest id."""
+    options = "options:\n  rules: {QOS_DEPTH_*: note}\n"
+    cli.write("talker.interfaces.yaml", talker_contract(target=TALKER, depth=3).replace("nodes:", options + "nodes:", 1))
+    noted = cli("check", "talker.interfaces.yaml")
+    assert noted.returncode == 0, noted
+    assert "talker.interfaces.yaml: 1 change (0 breaking, 0 risky, 0 safe, 1 note)" in noted.stdout, noted
+    assert "NOTE (1) - notes, never failing" in noted.stdout
+    assert ("[QOS_DEPTH_INCREASED] depth 3 -> 10: more samples are queued; matching is unaffected (NOTE, set by "
+            "rules `QOS_DEPTH_*`: in talker.interfaces.yaml: options)") in noted.stdout, noted
+
+    off = cli("check", "talker.interfaces.yaml", "--rule", "QOS_DEPTH_INCREASED=off", "--rule", "SUB_ADDED=breaking",
+              "--format", "json")
+    assert off.returncode == 0 and json.loads(off.stdout) == [], off
+    said = cli("check", "talker.interfaces.yaml", "--rule", "QOS_DEPTH_INCREASED=off")
+    assert said.stdout == ("talker.interfaces.yaml: matches (/talker); 1 finding turned off by the project's "
+                           "rules\n"), said
+    risky = cli("check", "talker.interfaces.yaml", "--rule", "QOS_DEPTH_INCREASED=risky", "--format", "json")
+    assert risky.returncode == 1, risky
+    [item] = json.loads(risky.stdout)
+    assert (item["severity"], item["level_set_by"]) == ("RISKY", "set by rules: in command line"), item
+
+    unknown = cli("check", "talker.interfaces.yaml", "--rule", "QOS_DEPTH_INCREASD=off")
+    assert unknown.returncode == 2, unknown
+    assert ("command line: `rules`: unknown rule id QOS_DEPTH_INCREASD; the closest known rule id is "
+            "QOS_DEPTH_INCREASED") in unknown.stderr, unknown
+    cli.write("bad.interfaces.yaml", talker_contract(target=TALKER).replace(
+        "nodes:", "options:\n  rules: {QOS_DEPTH_INCREASED: loud}\nnodes:", 1))
+    bad = cli("check", "bad.interfaces.yaml")
+    assert bad.returncode == 2, bad
+    assert ("invalid contract bad.interfaces.yaml:5: at options.rules.QOS_DEPTH_INCREASED: 'loud' is not one of: "
+            "off, note, safe, risky, breaking") in bad.stderr and "Traceback" not in bad.stderr, bad

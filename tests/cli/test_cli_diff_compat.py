@@ -311,3 +311,18 @@ def test_compat_with_a_baseline_fails_only_on_new_problems(cli_nodes_only):
     assert both.returncode == 2 and "not both" in both.stderr, both
     missing = cli("compat", "talker.yaml", "--baseline", "nowhere.json")
     assert missing.returncode == 2 and "baseline nowhere.json: the file does not exist" in missing.stderr, missing
+
+
+def test_diff_takes_the_project_s_rule_levels(cli_nodes_only):
+    """Issue 49: `diff --rule` and the old contract's `rules:`, as a check takes them."""
+    cli = cli_nodes_only
+    cli.write("old.yaml", talker_contract().replace("nodes:", "options: {rules: {PUB_RENAMED: risky}}\nnodes:"))
+    cli.write("new.yaml", talker_contract(reliability="BEST_EFFORT").replace("/chatter", "/speech"))
+    result = cli("diff", "old.yaml", "new.yaml", "--rule", "QOS_RELIABILITY_*=off", "--fail-on", "breaking")
+    assert result.returncode == 0, result
+    assert "[PUB_RENAMED] publisher /chatter looks renamed to /speech" in result.stdout, result
+    assert "stop receiving data (RISKY, set by rules: in old.yaml: options)\n" in result.stdout, result
+    assert "1 finding turned off by the project's rules" in result.stdout
+    bad = cli("diff", "old.yaml", "new.yaml", "--rule", "QOS_RELIABILITY_WEAKEND=off")
+    assert bad.returncode == 2 and ("`rules`: unknown rule id QOS_RELIABILITY_WEAKEND; the closest known rule id "
+                                    "is QOS_RELIABILITY_WEAKENED") in bad.stderr, bad

@@ -85,7 +85,7 @@ BUGS = {
     "a global parameter the node does not declare": ("undeclared_global_parameter:=true",
                                                      [("PARAM_NOT_DECLARED", "frame_idd")]),
     "a remapping whose from the node does not use": (
-        "detector_from:=sacn", [("REMAP_UNUSED", "sacn:=lidar/scan"), ("TOPIC_NAME_MISMATCH", "/robot1/scan")]),
+        "detector_from:=sacn", [("REMAP_NEAR_MISS", "sacn:=lidar/scan"), ("TOPIC_NAME_MISMATCH", "/robot1/scan")]),
 }
 
 

@@ -3,8 +3,8 @@ nodes (issue 37): a camera driver whose launch file gives it a serial device, a 
 calibration file of an installed package inside a `file://` URL, a data file in the home
 directory, an output file, an identity remapping and a remapping for an interface the node
 creates only in some configurations (not here). On a machine without the device or the data file, the
-correct system passes the default gate (the device a note, the data file and the remapping
-RISKY); a missing installed calibration file and a comment that lost its `#` fail it. And the
+correct system passes the default gate (the device, the data file and the remapping are notes,
+level NOTE); a missing installed calibration file and a comment that lost its `#` fail it. And the
 correct system checked against its own golden on another machine (another home directory,
 another install prefix, no devices) shows no drift and no finding."""
 
@@ -83,11 +83,19 @@ def test_the_rules_judge_by_evidence(camera, tmp_path):
     checked = camera("check", "camera.system.yaml", "--format", "json", env=here, timeout=180)
     assert checked.returncode == 0, checked
     # no device, udp link, installed calibration in file://, output file or identity remapping is a finding
-    assert system_findings(checked) == [("PARAM_PATH_MACHINE_LOCAL", "route_file", "RISKY"),
-                                        ("REMAP_UNUSED_UNCONNECTED", "imu:=imu/data", "RISKY")]
+    assert system_findings(checked) == [("PARAM_PATH_MACHINE_LOCAL", "route_file", "NOTE"),
+                                        ("REMAP_UNUSED_UNCONNECTED", "imu:=imu/data", "NOTE")]
     # the device is a note
     assert ("note: camera.system.yaml: /robot1/camera: parameter `port` is '/dev/ttyFAKE37:57600': the device "
             "/dev/ttyFAKE37, which this machine does not have (not judged: the robot has it)\n") in checked.stderr
+
+    # the project's rule levels apply to the system rules (issue 49): a dead remapping made to fail,
+    # the machine-local file turned off
+    strict = camera("check", "camera.system.yaml", "--rule", "REMAP_UNUSED*=breaking", "--rule",
+                    "PARAM_PATH_MACHINE_LOCAL=off", "--format", "json", env=here, timeout=180)
+    assert strict.returncode == 1, strict
+    assert [(i["rule"], i["severity"], i.get("level_set_by")) for i in json.loads(strict.stdout)] == [
+        ("REMAP_UNUSED_UNCONNECTED", "BREAKING", "set by rules `REMAP_UNUSED*`: in command line")]
 
     missing_calibration = camera("check", "camera.system.yaml", "--launch-arg", "calibration:=front.yaml",
                                  "--format", "json", env=here, timeout=180)

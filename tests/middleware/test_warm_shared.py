@@ -20,7 +20,8 @@ import warm_helpers as w
 from rmwi_processes import alive, wait_gone
 
 from pytest_rmw_introspect.run import ros_env
-from pytest_rmw_introspect.run.target import TargetSpec, environment
+from pytest_rmw_introspect.run.resolution import environment
+from pytest_rmw_introspect.run.target import TargetSpec
 from pytest_rmw_introspect.run.warm import client as warm
 
 TALKER = str(w.NODES / "talker.py")

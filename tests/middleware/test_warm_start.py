@@ -20,7 +20,8 @@ from rmwi_processes import wait_gone
 
 from pytest_rmw_introspect.errors import TargetExited, TargetTimeout
 from pytest_rmw_introspect.run import process, runner
-from pytest_rmw_introspect.run.target import LOG_DIR, TargetSpec
+from pytest_rmw_introspect.run.resolution import LOG_DIR
+from pytest_rmw_introspect.run.target import TargetSpec
 from pytest_rmw_introspect.run.warm import client as warm
 
 TALKER = str(w.NODES / "talker.py")

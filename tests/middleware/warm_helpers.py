@@ -12,7 +12,7 @@ from typing import Any
 
 from pytest_rmw_introspect.errors import TargetError
 from pytest_rmw_introspect.model.capture import Capture
-from pytest_rmw_introspect.run import middleware, prewarm, ros_env, runner, target
+from pytest_rmw_introspect.run import middleware, prewarm, resolution, ros_env, runner
 from pytest_rmw_introspect.run.target import TargetSpec
 from pytest_rmw_introspect.run.warm import client as warm
 
@@ -130,7 +130,7 @@ def server_for(spec_options: dict[str, Any] | None = None) -> warm.WarmServer:
     reason = prewarm.warm_up(spec, wait=60.0)
     assert reason is None, reason
     library = middleware.ensure_library()
-    env = target.environment(spec, Path(library), ros_env.detect(), Path("/unused"))
+    env = resolution.environment(spec, Path(library), ros_env.detect(), Path("/unused"))
     server = warm.POOL.server(env, str(spec.cwd or os.getcwd()), wait=60.0)
     assert isinstance(server, warm.WarmServer), server
     return server

@@ -133,7 +133,7 @@ def test_a_component_s_remapping_that_changes_none_of_its_names_is_found(tmp_pat
     # used by the monitor only) is not the talker's to use
     robot = ROBOT.replace("PLUGIN", "rmw_introspect_examples_cpp::Listener").replace(
         "remappings=[('chatter', 'status')]", "remappings=[('chater', 'status')]")
-    unused, line = one_finding(tmp_path, env, robot, "REMAP_UNUSED", "plugin='rmw_introspect_examples_cpp::Talker'")
+    unused, line = one_finding(tmp_path, env, robot, "REMAP_NEAR_MISS", "plugin='rmw_introspect_examples_cpp::Talker'")
     assert (unused["name"], unused["severity"]) == ("chater:=status", "BREAKING"), unused
     assert "/robot/talker" in json.dumps(unused)
     assert f"the remapping chater -> status (at robot.launch.py:{line}) changed none of the names of /robot/talker:" \

@@ -95,3 +95,23 @@ def test_marker_tests_attach_the_drift_items_too(project):
     assert "[QOS_DEPTH_INCREASED] depth 3 -> 10" in failure.text
     assert "pytest --update-golden test_nodes.py::test_drift" in failure.text
     assert found["test_nodes::test_below_threshold"].find("failure") is None
+
+
+def test_a_marker_sets_a_rule_s_level_and_the_junit_property_says_so(project):
+    """Issue 49: the marker keyword `rules`; the finding it made a note passes and is kept, with
+    its level and who set it, in the JUnit property."""
+    script = project.node("talker.py")
+    project.write("contracts/talker.yaml", talker(script, depth=3, target=False))
+    project.test(f"""
+        @pytest.mark.interfaces("contracts/talker.yaml", script={script!r}, rules={{"QOS_DEPTH_*": "note"}})
+        def test_noted(interfaces):
+            pass
+    """)
+    result = project.run("--junitxml=report.xml")
+    result.assert_outcomes(passed=1, skipped=1)  # (the contract file itself has no target: skipped)
+    [item] = drift_property(cases(project.path / "report.xml")["test_nodes::test_noted"])
+    assert (item["rule"], item["severity"]) == ("QOS_DEPTH_INCREASED", "NOTE")
+    assert item["level_set_by"].startswith("set by rules `QOS_DEPTH_*`: in "), item
+    # the note is said in the session's summary too
+    result.stdout.fnmatch_lines(["*rmw-introspect: notes*",
+                                 "contracts/talker.yaml: [[]QOS_DEPTH_INCREASED] depth 3 -> 10*"])

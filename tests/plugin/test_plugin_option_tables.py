@@ -31,6 +31,10 @@ VALUES = {
     "cold_start": ([], "true"),
     "lifecycle": (["inactive"], "unconfigured"),
     "read_parameters": (["false"], "false"),
+    # issue 49: rule levels per project
+    "rules": (["SUB_ADDED=breaking"], "QOS_DEPTH_*=note SUB_ADDED=risky"),
+    # issue 49: the middleware whose QoS rules judge the contracts
+    "rmw": (["rmw_zenoh_cpp"], "rmw_cyclonedds_cpp"),
 }
 
 
@@ -78,6 +82,9 @@ def test_every_option_and_ini_key_reaches_its_layer(project):
     assert layers["cli_options"]["ignore_parameter_values"] == ["rate", "speed"]
     assert layers["ini_target"]["settle"] == 0.25 and layers["cli_target"]["timeout"] == 7.0
     assert layers["ini_target"]["cold_start"] is True and layers["cli_target"]["read_parameters"] == "false"
+    assert [(r.split("key='")[1].split("'")[0], r.split("level='")[1].split("'")[0])
+            for r in layers["ini_options"]["rules"]] == [("QOS_DEPTH_*", "note"), ("SUB_ADDED", "risky")]
+    assert "level='breaking'" in layers["cli_options"]["rules"][0]
 
 
 def test_a_bad_ini_value_names_the_key(project):

@@ -9,7 +9,8 @@ name. The node declares its parameters first, then creates its interfaces, so an
 may come from a parameter as in the original (``{scan_topic}``, slam_toolbox's scan topic); a
 placeholder naming a list parameter makes one interface per element (``{node_names}/change_state``,
 a lifecycle manager's clients of the nodes it manages); a node name may take the program's
-arguments (``spawner_{arg0}``). ``nodes_also`` lists further nodes of
+arguments (``spawner_{arg0}``); an interface with ``when: PARAMETER`` is created only when that
+boolean parameter is true (a driver's optional streams). ``nodes_also`` lists further nodes of
 the same process (a controller manager's controllers). Nothing is published or served: a capture
 only needs the graph."""
 
@@ -77,6 +78,8 @@ def build(node: Node, spec: dict[str, Any]) -> list[Any]:
     for kind in KINDS:
         for template, entry in (spec.get(kind) or {}).items():
             entry = entry if isinstance(entry, dict) else {"type": entry}
+            if "when" in entry and not values[entry["when"]]:  # created in some configurations only
+                continue
             cls = interface_type(entry["type"])
             qos = PROFILES[entry.get("qos", "default")]
             for name in expand(template, values):

@@ -122,10 +122,27 @@ def _controller(config: pytest.Config) -> bool:
         and bool(getattr(config.option, "numprocesses", 0))
 
 
+#: the pid of the run's first pytest process (the xdist controller, or the one process of -n 0),
+#: set by it: a pytest that a test starts inherits it and keeps out of the report
+RUN = "RMWI_TEST_COST_RUN"
+
+
+def _nested(config: pytest.Config) -> bool:
+    """A pytest that a test of the measured run started (not the run, nor one of its xdist
+    workers): its targets count for that test through the tally file it inherited, if any; it must
+    not start a report of its own (a subprocess whose environment dropped ``RMW_INTROSPECT_*`` but
+    kept ``RMWI_TEST_COST``, like the overlay tier's, once deleted the run's records)."""
+    owner = os.environ.get(RUN)
+    if not owner or owner == str(os.getpid()):
+        return False
+    return not (hasattr(config, "workerinput") and str(os.getppid()) == owner)
+
+
 def pytest_configure(config: pytest.Config) -> None:
     directory = _directory()
-    if directory is None or os.environ.get(TALLY) and not hasattr(config, "workerinput"):
+    if directory is None or _nested(config):
         return  # off, or a pytest a test started (its tally goes to that test's file)
+    os.environ.setdefault(RUN, str(os.getpid()))
     directory.mkdir(parents=True, exist_ok=True)
     if not hasattr(config, "workerinput"):  # a new report: the files of the last one go
         for old in (*directory.glob("*.jsonl"), *directory.glob("*.tally")):
@@ -164,7 +181,7 @@ def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None):
 
 def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> None:
     directory = _directory()
-    if directory is None or hasattr(config, "workerinput") or (os.environ.get(TALLY) and _KEY not in config.stash):
+    if directory is None or hasattr(config, "workerinput") or _nested(config) or os.environ.get(RUN) != str(os.getpid()):
         return
     report = summarize(load_records(directory))
     (directory / "report.json").write_text(json.dumps(report, indent=1) + "\n", encoding="utf-8")

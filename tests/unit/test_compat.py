@@ -160,15 +160,17 @@ def test_tolerates_missing_lists():
 
 def test_rules_table_is_complete():
     assert set(compatibility.RULES) == {row for rows in (
-        ["TYPE_MISMATCH", "TYPE_HASH_MISMATCH", "QOS_INCOMPATIBLE", "QOS_MAYBE_INCOMPATIBLE",
+        ["TYPE_MISMATCH", "TYPE_HASH_MISMATCH", "QOS_INCOMPATIBLE", "QOS_MAYBE_INCOMPATIBLE", "QOS_DDS_WOULD_REFUSE",
          "SUBSCRIPTION_WITHOUT_PUBLISHER", "CLIENT_WITHOUT_SERVER",
          "ACTION_CLIENT_WITHOUT_SERVER"],
         # system contracts only (check_launched)
         ["DUPLICATE_NODE_NAME", "SERVICE_MULTIPLE_SERVERS", "ACTION_MULTIPLE_SERVERS",
          "LAUNCHED_NODE_NOT_CREATED", "DANGLING_SUBSCRIPTION", "DANGLING_SERVICE_CLIENT", "DANGLING_ACTION_CLIENT",
          "TOPIC_NAME_MISMATCH", "SERVICE_NAME_MISMATCH", "ACTION_NAME_MISMATCH", "EXTERNAL_UNUSED",
-         "PARAM_NOT_DECLARED", "PARAM_NAME_INVALID", "PARAMS_FILE_SECTION_UNMATCHED", "REMAP_UNUSED",
-         "REMAP_UNUSED_UNCONNECTED", "PARAM_PATH_MISSING", "PARAM_PATH_MACHINE_LOCAL", "PARAM_DEVICE_ABSENT"])
+         "PARAM_NOT_DECLARED", "PARAM_NAME_INVALID", "PARAMS_FILE_SECTION_UNMATCHED", "REMAP_NEAR_MISS",
+         "REMAP_UNUSED", "REMAP_UNUSED_UNCONNECTED", "PARAM_PATH_MISSING", "PARAM_PATH_MACHINE_LOCAL", "PARAM_DEVICE_ABSENT"],
+        # recordings only (check --bag: compare.recordings)
+        ["CONTRACT_TOPIC_NOT_RECORDED", "RECORDED_TOPIC_SILENT", "RECORDED_TOPIC_UNDECLARED"])
         for row in rows}
 
 
@@ -227,7 +229,7 @@ def test_docs_list_every_system_rule_with_its_severity():
     import re
 
     text = (pathlib.Path(__file__).parents[2] / "docs" / "drift-rules.md").read_text()
-    documented = dict(re.findall(r"^\| `([A-Z_]+)` \|[^|]*\| (BREAKING|RISKY|SAFE) \|", text,
+    documented = dict(re.findall(r"^\| `([A-Z_]+)` \|[^|]*\| (BREAKING|RISKY|SAFE|NOTE) \|", text,
                                  flags=re.MULTILINE))
     for rule, severity in compatibility.RULES.items():
         assert documented.get(rule) == severity.name, rule

@@ -123,6 +123,6 @@ def test_a_component_s_own_remappings_are_judged_on_its_own_node():
     # unused: the talker's publisher is not named `chatter` (a typo in the component or the rule);
     # the listener's subscription to /robot/status does not count for the talker's own rule
     [(rule, node, name, message)] = findings("/robot/chater")
-    assert (rule, node, name) == ("REMAP_UNUSED", "/robot/talker", "chatter:=status")
+    assert (rule, node, name) == ("REMAP_NEAR_MISS", "/robot/talker", "chatter:=status")
     assert message.startswith(f"the remapping chatter -> status (at {TALKER.where}) changed none of the names of "
                               "/robot/talker:")

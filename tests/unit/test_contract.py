@@ -208,8 +208,8 @@ BAD = [
     ("contract_version: 1\nnodes:\n  /t:\n    publishers:\n      - {name: /a}\n", "nodes./t.publishers[0]", 5, "'type' is required"),
     ("contract_version: 1\nnodes:\n  /t:\n    servers: []\n", "nodes./t", 4, "unknown key 'servers'"),
     (
-        "contract_version: 1\nnodes:\n  /t:\n    service_servers:\n      - {name: /a, type: std_srvs/srv/Empty, qos: default}\n",
-        "nodes./t.service_servers[0]", 5, "unknown key 'qos'; allowed: destroyed_at, name, type, type_hash",
+        "contract_version: 1\nnodes:\n  /t:\n    service_servers:\n      - {name: /a, type: std_srvs/srv/Empty, depth: 5}\n",
+        "nodes./t.service_servers[0]", 5, "unknown key 'depth'; allowed: destroyed_at, name, qos, type, type_hash",
     ),
     ("contract_version: 1\noptions: {fail_on: sometimes}\nnodes: {}\n", "options.fail_on", 2, "'sometimes' is not one of: any, risky, breaking"),
     ("contract_version: 1\noptions: {ignore_qos: [depth, color]}\nnodes: {}\n", "options.ignore_qos[1]", 2, "'color' is not one of"),
@@ -390,6 +390,16 @@ def test_preserve_spelling_keeps_equivalent_qos_and_omitted_fields():
     assert pubs["/changed"]["qos"]["depth"] == 10
     assert pubs["/new"]["type_hash"] == HASH
     assert out["/m"]["publishers"] == []
+
+
+def test_preserve_spelling_writes_a_service_qos_the_old_entry_did_not_state():
+    # a service entry without `qos` has the services default (issue 49 item 4): an update of a
+    # service whose QoS changed writes the new one, where a topic's unstated QoS stays unstated
+    old = {"/n": {"service_servers": [{"name": "/reset", "type": "std_srvs/srv/Trigger"}]}}
+    new = {"/n": {"service_servers": [{"name": "/reset", "type": "std_srvs/srv/Trigger",
+                                       "qos": {"reliability": "BEST_EFFORT"}}]}}
+    out = contract.preserve_spelling(old, new)
+    assert out["/n"]["service_servers"][0]["qos"] == {"reliability": "BEST_EFFORT"}
 
 
 def test_scalar_quoting():

@@ -6,7 +6,9 @@ test that wrote them, its subprocesses' included, and reports per tier."""
 from __future__ import annotations
 
 import json
+import os
 import textwrap
+from pathlib import Path
 
 import cost_report
 import pytest
@@ -97,10 +99,14 @@ def test_the_plugin_attributes_each_start_to_the_test_that_caused_it_and_its_sub
     monkeypatch.setenv(tally.ENV, "restored-after-the-test")
     monkeypatch.delenv(tally.ENV)
     monkeypatch.setattr(tally, "_seen", set())
+    monkeypatch.delenv(cost_report.RUN, raising=False)
     directory = pytester.path / "cost"
     monkeypatch.setenv(cost_report.ENV, str(directory))
-    pytester.makepyfile(textwrap.dedent("""
-        import subprocess, sys
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(Path(cost_report.__file__).parent),
+                                                      os.environ.get("PYTHONPATH", "")]))
+    pytester.makepyfile(test_nested="def test_inner():\n    pass\n")
+    pytester.makepyfile(test_cost_plugin=textwrap.dedent("""
+        import os, subprocess, sys
         from pytest_rmw_introspect.model import tally
 
         def test_none():
@@ -111,12 +117,20 @@ def test_the_plugin_attributes_each_start_to_the_test_that_caused_it_and_its_sub
             tally.note("start", "warm")
             subprocess.run([sys.executable, "-c", "from pytest_rmw_introspect.model import tally; "
                             "tally.note('start', 'cold'); tally.note('command', 'check')"], check=True)
+
+        def test_a_pytest_of_its_own_with_the_tally_dropped():
+            # as the overlay tier's subprocesses: RMW_INTROSPECT_* gone, RMWI_TEST_COST kept
+            env = {k: v for k, v in os.environ.items() if not k.startswith("RMW_INTROSPECT_")}
+            subprocess.run([sys.executable, "-m", "pytest", "-p", "cost_report", "-p", "no:cacheprovider", "-q",
+                            "test_nested.py"], env=env, check=True)
     """))
-    result = pytester.runpytest("-p", "cost_report", "-p", "no:cacheprovider")
-    result.assert_outcomes(passed=2)
+    result = pytester.runpytest("-p", "cost_report", "-p", "no:cacheprovider", "test_cost_plugin.py")
+    result.assert_outcomes(passed=3)
     report = json.loads((directory / "report.json").read_text())
     starts = {t["nodeid"].split("::")[1]: (t["starts"], t["cold"], t["warm"]) for t in report["tests"]}
-    assert starts == {"test_none": (0, 0, 0), "test_two_here_and_one_in_a_subprocess": (3, 2, 1)}
+    # the nested pytest neither reset the run's records nor added its own
+    assert starts == {"test_none": (0, 0, 0), "test_two_here_and_one_in_a_subprocess": (3, 2, 1),
+                      "test_a_pytest_of_its_own_with_the_tally_dropped": (0, 0, 0)}
     assert report["tiers"]["unit"]["starts"] == 3
     assert report["exercised"]["unit"] == {"command": ["check"]}
-    result.stdout.fnmatch_lines(["*test cost*", "*unit*2*3*"])
+    result.stdout.fnmatch_lines(["*test cost*", "unit*3*3*"])

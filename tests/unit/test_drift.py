@@ -306,7 +306,8 @@ def test_every_rule_has_a_test_row():
     from test_type_lock import TESTED_RULES as TYPE_LOCK_RULES  # the package's type lock
 
     tested = {row[2] for row in PRESENCE_ROWS} | {row[4] for row in QOS_ROWS} | {
-        "NODE_ADDED", "NODE_REMOVED", "TYPE_CHANGED", "TYPE_HASH_CHANGED", "TYPE_HASH_DISTRIBUTION_CHANGED"} \
+        "NODE_ADDED", "NODE_REMOVED", "TYPE_CHANGED", "TYPE_HASH_CHANGED", "TYPE_HASH_DISTRIBUTION_CHANGED",
+        "SERVICE_QOS_CHANGED"} \
         | set(RENAME_RULES.values()) \
         | TYPE_DESCRIPTION_RULES | PARAMETER_RULES | TYPE_LOCK_RULES | DESTRUCTION_RULES | GATE_RULES
     assert tested == set(drift.RULES)
@@ -368,11 +369,47 @@ def test_invalid_qos_is_reported_with_its_location():
         compare(nodes("publishers", entry(qos={"reliability": "MAYBE"})), {})
 
 
-def test_services_and_actions_have_no_qos_comparison():
-    items = compare(nodes("service_servers", entry("/srv", "std_srvs/srv/Trigger", qos="default")),
-                    nodes("service_servers", entry("/srv", "std_srvs/srv/Trigger",
-                                                   qos="sensor_data")))
-    assert items == []
+def test_a_service_qos_is_compared_on_the_policies_that_decide_whether_a_client_is_served():
+    # issue 49 item 4: depth and history never decide it (default and sensor_data differ in depth too)
+    item = only(compare(nodes("service_servers", entry("/srv", "std_srvs/srv/Trigger", qos="default")),
+                        nodes("service_servers", entry("/srv", "std_srvs/srv/Trigger", qos="sensor_data"))))
+    assert (item.rule, item.change, item.old, item.new) == ("SERVICE_QOS_CHANGED", "qos.reliability", "RELIABLE",
+                                                            "BEST_EFFORT")
+    assert item.severity is Severity.BREAKING and "no longer served" in item.message
+    assert compare(nodes("service_clients", entry("/srv", "std_srvs/srv/Trigger", qos="default")),
+                   nodes("service_clients", entry("/srv", "std_srvs/srv/Trigger", qos={"depth": 1}))) == []
+
+
+def test_a_service_entry_without_qos_has_the_services_default():
+    # a capture writes a service's QoS only where it differs from services_default, and contracts
+    # written before that have none: both mean the services default
+    plain = nodes("service_clients", entry("/srv", "std_srvs/srv/Trigger"))
+    assert compare(plain, nodes("service_clients", entry("/srv", "std_srvs/srv/Trigger", qos="services_default"))) == []
+    item = only(compare(plain, nodes("service_clients", entry("/srv", "std_srvs/srv/Trigger",
+                                                               qos={"durability": "TRANSIENT_LOCAL"}))))
+    assert (item.rule, item.change) == ("SERVICE_QOS_CHANGED", "qos.durability")
+
+
+def test_actions_have_no_qos_comparison():
+    assert compare(nodes("action_servers", entry("/fib", "test_msgs/action/Fibonacci")),
+                   nodes("action_servers", entry("/fib", "test_msgs/action/Fibonacci"))) == []
+
+
+def test_on_a_middleware_that_matches_any_qos_a_refused_match_is_risky():
+    # issue 49 item 3: rmw_zenoh_cpp connects whatever the QoS; what the peers get still changes
+    old = nodes("publishers", entry(qos="default"))
+    new = nodes("publishers", entry(qos="sensor_data"))
+    dds = [i for i in compare(old, new) if i.rule == "QOS_RELIABILITY_WEAKENED"]
+    zenoh = [i for i in compare(old, new, CompareOptions(rmw="rmw_zenoh_cpp")) if i.rule == "QOS_RELIABILITY_WEAKENED"]
+    assert [i.severity for i in dds] == [Severity.BREAKING]
+    assert [i.severity for i in zenoh] == [Severity.RISKY] and "rmw_zenoh_cpp matches any QoS" in zenoh[0].message
+    service = compare(nodes("service_servers", entry("/srv", "std_srvs/srv/Trigger")),
+                      nodes("service_servers", entry("/srv", "std_srvs/srv/Trigger", qos={"reliability": "BEST_EFFORT"})),
+                      CompareOptions(rmw="rmw_zenoh_cpp"))
+    assert [(i.rule, i.severity) for i in service] == [("SERVICE_QOS_CHANGED", Severity.RISKY)]
+    # a DDS middleware refuses as the DDS rules say
+    assert [i.severity for i in compare(old, new, CompareOptions(rmw="rmw_cyclonedds_cpp"))
+            if i.rule == "QOS_RELIABILITY_WEAKENED"] == [Severity.BREAKING]
 
 
 # --------------------------------------------------------------------------- partial input

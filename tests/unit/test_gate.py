@@ -216,7 +216,7 @@ def test_a_change_nothing_consumes_says_so(repo, capsys):
     repo.git("branch", "-f", "base")
     repo.write(TALKER, node_contract(publishers=endpoint("/chatter", reliability="BEST_EFFORT"), version="1.2.0"))
     repo.commit("weaker")
-    status, items = as_json(capsys, "base", "--system", "robot.system.yaml", TALKER)
+    status, items = as_json(capsys, "base", "--against-system", "robot.system.yaml", TALKER)
     assert status == 1  # still BREAKING: not silently downgraded
     (weakened,) = [i for i in items if i["rule"] == "QOS_RELIABILITY_WEAKENED"]
     assert weakened["severity"] == "BREAKING" and weakened["message"].endswith("(no consumer in robot.system.yaml)")
@@ -344,7 +344,7 @@ def test_diff_without_against_still_takes_two_files(repo, capsys):
     assert main(["diff", TALKER]) == 2
     assert "diff compares two files, OLD and NEW (1 given)" in capsys.readouterr().err
     assert main(["diff", TALKER, TALKER, "--system", "x.system.yaml"]) == 2
-    assert "--system go with --against REF" in capsys.readouterr().err
+    assert "--against-system go with --against REF" in capsys.readouterr().err
     assert main(["diff", TALKER, TALKER]) == 0
 
 
@@ -392,3 +392,23 @@ def test_a_malformed_version_is_refused_by_the_schema(tmp_path):
     with pytest.raises(ContractError, match="interface_version"):
         contract.loads(node_contract(version="1.2"), path="x.interfaces.yaml")
     assert contract.loads(node_contract(version="1.2.0")).interface_version == "1.2.0"
+
+
+def test_the_project_s_rule_levels_apply_to_the_gate(repo, capsys):
+    """Issue 49: `--rule` on `diff --against`: a level set by the project decides the version the
+    change needs and is said with the finding; `off` is counted."""
+    repo.write(TALKER, node_contract(publishers=endpoint("/chatter", depth=5), version="1.2.1"))
+    repo.commit("depth 5")
+    status, items = as_json(capsys, "main", "--rule", "QOS_DEPTH_*=note")
+    assert status == 0, items
+    assert [(i["rule"], i["severity"], i.get("level_set_by")) for i in items] == [
+        ("QOS_DEPTH_DECREASED", "NOTE", "set by rules `QOS_DEPTH_*`: in command line")]
+    status, out, err = gate(capsys, "main", "--rule", "QOS_DEPTH_DECREASED=off")
+    assert status == 0, out + err
+    assert "1 finding turned off by the project's rules" in out
+    status, items = as_json(capsys, "main", "--rule", "INTERFACE_VERSION_BUMP_MISSING=risky")
+    assert status == 0 and {i["rule"]: i["severity"] for i in items} == {
+        "INTERFACE_VERSION_BUMP_MISSING": "RISKY", "QOS_DEPTH_DECREASED": "RISKY"}, items
+    status, out, err = gate(capsys, "main", "--rule", "QOS_DEPTH_DECREASD=off")
+    assert status == 2 and ("`rules`: unknown rule id QOS_DEPTH_DECREASD; the closest known rule id is "
+                            "QOS_DEPTH_DECREASED") in err, out + err

@@ -51,14 +51,20 @@ LOCAL_IMPORTS = {
     ("model.contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a contract needs it",
     ("model.system_contract", "jsonschema"): "jsonschema costs ~80 ms; only validating a system contract needs it",
     ("compare.drift", "deepdiff"): "deepdiff costs 0.1-0.2 s; only comparing needs it",
+    ("compare.rule_levels", "pytest_rmw_introspect.compare"): "the tables of every rule (with the drift rules' "
+                                                              "deepdiff, 0.1-0.2 s) only when a project sets `rules`",
     ("cli", "pytest_rmw_introspect.cli.system_contracts"): "`--help`, usage errors and `capture` of one target "
                                                            "answer without the system pipeline",
     ("cli", "pytest_rmw_introspect.run.warm"): "`capture` (one target, started cold), `--help` and usage errors answer "
                                           "without the warm start client (~15 ms)",
     ("run.runner", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only when a target may start warm: "
                                                  "`rmw-introspect capture` starts its one target cold without it",
-    ("run.target", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only to plan a start that may be "
-                                                 "warm: `rmw-introspect capture` resolves its one target cold without it",
+    ("run.resolution", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only to plan a start that "
+                                                     "may be warm: `rmw-introspect capture` resolves its one target "
+                                                     "cold without it",
+    ("run.target", "pytest_rmw_introspect.run.executables"): "the spec's modules form no cycle: the executables "
+                                                             "lookup (which reads the spec) only to list a "
+                                                             "package's executables in an error message",
     ("run.prewarm", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only when a session starts a "
                                                   "warm start server ahead of its captures",
     ("run.runner", "pytest_rmw_introspect.model.capture"): "the capture model (~30 ms of dataclass creation) is "
@@ -67,13 +73,15 @@ LOCAL_IMPORTS = {
                                                                      "imported with it, once a target has ended",
     ("run.ros_env", "importlib"): "importlib.metadata (+ email) costs ~10 ms; only a venv without the "
                                    "ros-<distro>-rclpy dist-info needs the scan of installed distributions",
-    ("run.target", "importlib"): "importlib.metadata (+ email) costs ~15 ms; only console scripts and packages "
+    ("run.executables", "importlib"): "importlib.metadata (+ email) costs ~15 ms; only console scripts and packages "
                                  "without an ament index need the scan of installed distributions",
     ("model.untrusted", "yaml"): "PyYAML costs ~20 ms; `rmw-introspect capture` reads JSON captures only",
     ("model.yaml_blocks", "yaml"): "PyYAML costs ~20 ms; only writing a contract needs it",
     ("model.types", "yaml"): "PyYAML costs ~20 ms; only writing a `types:` section needs it",
     ("model.nodl", "yaml"): "PyYAML costs ~20 ms; `capture --format nodl` starts without it",
     ("model.nodl", "jsonschema"): "jsonschema costs ~80 ms; only validating a NoDL document needs it",
+    ("model.nodl", "pytest_rmw_introspect.model.locate"): "the YAML locator (with PyYAML, ~20 ms): only a NoDL "
+                                                          "document with a problem is located",
     ("model.nodl", "referencing"): "jsonschema's reference registry: only validating a NoDL document needs it",
     ("model.nodl", "referencing.jsonschema"): "as referencing: only validating a NoDL document needs it",
     ("run.target", "yaml"): "PyYAML costs ~20 ms; only a string parameter value on the command line needs it",
@@ -350,6 +358,7 @@ FOR_THE_PARSER = {"pytest_rmw_introspect", "pytest_rmw_introspect._version", "py
                   "pytest_rmw_introspect.model", "pytest_rmw_introspect.model.option_tables",
                   "pytest_rmw_introspect.model.vocabulary", "pytest_rmw_introspect.model.qos",
                   "pytest_rmw_introspect.model.contract_shapes",
+                  "pytest_rmw_introspect.model.middlewares",  # the `--rmw` choices: a table, errors alone
                   "pytest_rmw_introspect.model.tally",  # the test suite's accounting: os alone (issue 48)
                   *(f"{NAME}.{module}" for module in COMMAND_MODULES)}
 

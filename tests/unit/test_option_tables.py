@@ -40,6 +40,7 @@ from pytest_rmw_introspect.run.target import TARGET_KEYS, TargetSpec
 SAMPLES: dict[str, tuple[Any, list[str]]] = {
     "ignore_type_hash": (True, ["--ignore-type-hash"]),
     "ignore_qos": (["depth"], ["--ignore-qos", "depth"]),
+    "rmw": ("rmw_zenoh_cpp", ["--rmw", "rmw_zenoh_cpp"]),
     "allow_extra": (True, ["--allow-extra"]),
     "include_infrastructure": (True, ["--include-ros-infra"]),
     "fail_on": ("risky", ["--fail-on", "risky"]),
@@ -47,6 +48,8 @@ SAMPLES: dict[str, tuple[Any, list[str]]] = {
     "ignore_parameters": (["qos_overrides.*"], ["--ignore-parameters", "qos_overrides.*"]),
     "ignore_parameter_values": (["rate"], ["--ignore-parameter-values", "rate"]),
     "system_fail_on": ("any", ["--system-fail-on", "any"]),
+    # issue 49: rule levels per project
+    "rules": ({"SUB_ADDED": "breaking"}, ["--rule", "SUB_ADDED=breaking"]),
     "package": ("demo_pkg", ["--package", "demo_pkg"]),
     "executable": ("talker", ["--executable", "talker"]),
     "command": (["echo", "hi"], []),
@@ -302,3 +305,26 @@ def test_an_unknown_family_names_the_known_ones():
 def test_the_module_prints_a_page(capsys):
     assert options_reference.main(["target"]) == 0
     assert capsys.readouterr().out == options_reference.render_markdown("target")
+
+
+# ---------------------------------------------------------------------------- the gate's options
+def test_the_gate_has_one_name_per_option_in_the_cli_pytest_and_the_action(pytester):
+    """issue 51 item 4: `against` and `against_system` are rows of the GATE table, spelled from it
+    by `rmw-introspect diff`, by pytest and by the action's inputs."""
+    import yaml
+
+    from pytest_rmw_introspect.model.option_tables import GATE
+
+    diff = next(a for a in build_parser()._subparsers._group_actions[0].choices.items() if a[0] == "diff")[1]
+    cli_flags = {flag: action.dest for action in diff._actions for flag in action.option_strings}
+    inputs = yaml.safe_load((Path(__file__).parents[2] / "action.yml").read_text())["inputs"]
+    pytest_help = pytester.runpytest("--help").stdout.str()
+    for option in GATE.options:
+        assert option.flag == option.pytest_flag == "--" + option.action_input, option.name
+        assert cli_flags[option.flag] == option.name
+        assert f"{option.pytest_flag}=" in pytest_help
+        assert option.action_input in inputs, f"action.yml has no input {option.action_input}"
+    action = (Path(__file__).parents[2] / "action.yml").read_text()
+    assert "--against-system \"$system\"" in action and "--against \"$RMWI_AGAINST\"" in action
+    # the CLI's old spelling of --against-system is still read, under the one name
+    assert cli_flags["--system"] == "against_system"

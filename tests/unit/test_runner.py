@@ -28,7 +28,7 @@ from pytest_rmw_introspect.errors import (
 )
 from pytest_rmw_introspect.model.capture import Capture
 from pytest_rmw_introspect.model.capture_diagnoses import stimulus_problems
-from pytest_rmw_introspect.run import api, process, runner
+from pytest_rmw_introspect.run import api, executables, process, resolution, runner
 from pytest_rmw_introspect.run import target as target_module
 from pytest_rmw_introspect.run.ros_env import RosEnvironment
 from pytest_rmw_introspect.run.target import TargetSpec
@@ -269,7 +269,7 @@ def test_activation_environment_for_wheels(tmp_path, library):
     ros = RosEnvironment(kind="wheels", prefix=tmp_path, distro="jazzy", ament_prefixes=(tmp_path,),
                          library_dirs=(tmp_path / "lib",))
     spec = TargetSpec.from_mapping({"module": "m", "settle": 0.05, "env": {"RMW_INTROSPECT_VERBOSE": "1"}})
-    env = target_module.environment(spec, library, ros, tmp_path / "c.json", base={"PATH": os.environ["PATH"]})
+    env = resolution.environment(spec, library, ros, tmp_path / "c.json", base={"PATH": os.environ["PATH"]})
     assert env["LD_PRELOAD"].split()[0] == str(library.resolve())
     assert env["RMW_INTROSPECT_OUTPUT"] == str(tmp_path / "c.json")
     assert env["RMW_INTROSPECT_SETTLE_MS"] == "50"
@@ -283,9 +283,9 @@ def test_stimuli_reach_the_middleware_only_when_given(tmp_path, library):
                          library_dirs=(tmp_path / "lib",))
     base = {"PATH": os.environ["PATH"]}
     spec = TargetSpec.from_mapping({"module": "m", "stimuli": ["/camera_info", "/calibrate"]})
-    env = target_module.environment(spec, library, ros, tmp_path / "c.json", base=base)
+    env = resolution.environment(spec, library, ros, tmp_path / "c.json", base=base)
     assert env["RMW_INTROSPECT_STIMULI"] == "/camera_info,/calibrate"
-    off = target_module.environment(TargetSpec.from_mapping({"module": "m"}), library, ros, tmp_path / "c.json", base=base)
+    off = resolution.environment(TargetSpec.from_mapping({"module": "m"}), library, ros, tmp_path / "c.json", base=base)
     assert "RMW_INTROSPECT_STIMULI" not in off
 
 
@@ -553,7 +553,7 @@ def test_the_target_env_extends_the_activation_instead_of_replacing_it(tmp_path,
                          library_dirs=(tmp_path / "lib",))
     spec = TargetSpec.from_mapping({"module": "m", "env": {
         "LD_PRELOAD": "/opt/libmine.so", "RMW_IMPLEMENTATION": "rmw_fastrtps_cpp", "LD_LIBRARY_PATH": "/mine"}})
-    env = target_module.environment(spec, library, ros, tmp_path / "c.json", base={"PATH": os.environ["PATH"]})
+    env = resolution.environment(spec, library, ros, tmp_path / "c.json", base={"PATH": os.environ["PATH"]})
     assert env["LD_PRELOAD"].split() == [str(library.resolve()), "/opt/libmine.so"]
     assert env["RMW_IMPLEMENTATION"] == "rmw_introspect_cpp"
     assert env["LD_LIBRARY_PATH"].split(":") == [str(tmp_path / "lib"), "/mine"]
@@ -752,7 +752,7 @@ def test_waiting_for_the_exit_does_not_reap_the_process():
 
 def test_the_variables_a_target_env_may_not_set_are_those_the_runner_sets(tmp_path, ros, library):
     spec = TargetSpec.from_mapping({"module": "m", "stimuli": ["/x"]})
-    env = target_module.environment(spec, library, ros, tmp_path / "c.json", base={"PATH": os.environ["PATH"]})
+    env = resolution.environment(spec, library, ros, tmp_path / "c.json", base={"PATH": os.environ["PATH"]})
     owned = {name for name in env if name.startswith("RMW_INTROSPECT_")}
     assert owned == set(target_module.RUNNER_VARIABLES)
 
@@ -762,12 +762,12 @@ def test_the_log_files_of_a_capture_go_with_its_files_unless_the_user_says_where
     output = tmp_path / "work" / "capture.<pid>.json"
     base = {"PATH": os.environ["PATH"], "HOME": "/home/someone"}
     spec = TargetSpec.from_mapping({"module": "m"})
-    assert target_module.environment(spec, library, ros, output, base=base)["ROS_LOG_DIR"] == str(tmp_path / "work" / "ros_log")
+    assert resolution.environment(spec, library, ros, output, base=base)["ROS_LOG_DIR"] == str(tmp_path / "work" / "ros_log")
     for where in ({"ROS_LOG_DIR": "/var/log/ros"}, {"ROS_HOME": "/srv/ros"}):
         # in the environment the check runs in, or in the target's env: the user's choice stands
-        env = target_module.environment(spec, library, ros, output, base={**base, **where})
+        env = resolution.environment(spec, library, ros, output, base={**base, **where})
         assert env.get("ROS_LOG_DIR") == where.get("ROS_LOG_DIR"), where
-        env = target_module.environment(TargetSpec.from_mapping({"module": "m", "env": where}), library, ros, output,
+        env = resolution.environment(TargetSpec.from_mapping({"module": "m", "env": where}), library, ros, output,
                                  base=base)
         assert env.get("ROS_LOG_DIR") == where.get("ROS_LOG_DIR"), where
 
@@ -884,14 +884,18 @@ def test_openblas_threads_of_a_target_sleep_at_once_unless_the_user_says_otherwi
     output = tmp_path / "work" / "capture.<pid>.json"
     base = {"PATH": os.environ["PATH"]}
     spec = TargetSpec.from_mapping({"module": "m"})
-    assert target_module.environment(spec, library, ros, output, base=base)["OPENBLAS_THREAD_TIMEOUT"] == "4"
-    assert target_module.environment(spec, library, ros, output,
+    assert resolution.environment(spec, library, ros, output, base=base)["OPENBLAS_THREAD_TIMEOUT"] == "4"
+    assert resolution.environment(spec, library, ros, output,
                               base={**base, "OPENBLAS_THREAD_TIMEOUT": "28"})["OPENBLAS_THREAD_TIMEOUT"] == "28"
     own = TargetSpec.from_mapping({"module": "m", "env": {"OPENBLAS_THREAD_TIMEOUT": "30"}})
-    assert target_module.environment(own, library, ros, output, base=base)["OPENBLAS_THREAD_TIMEOUT"] == "30"
+    assert resolution.environment(own, library, ros, output, base=base)["OPENBLAS_THREAD_TIMEOUT"] == "30"
+_TARGET_MODULES = ("target", "executables", "resolution")
+
+
 def _runtime_imports_from_target(tree: ast.AST) -> list[str]:
-    """The names a module imports from ``run.target`` at run time (``TYPE_CHECKING`` blocks
-    left out), at any depth; the module itself counts as ``<module>``."""
+    """The names a module imports from ``run.target``, ``run.executables`` and ``run.resolution`` at
+    run time (``TYPE_CHECKING`` blocks left out), at any depth; a module itself counts as
+    ``<module>``."""
     names: list[str] = []
 
     def visit(node: ast.AST) -> None:
@@ -901,12 +905,13 @@ def _runtime_imports_from_target(tree: ast.AST) -> list[str]:
             return
         if isinstance(node, ast.ImportFrom):
             module = ("." * node.level) + (node.module or "")
-            if module in (".target", "pytest_rmw_introspect.run.target"):
+            if module.rpartition(".")[2] in _TARGET_MODULES and module.lstrip(".").startswith(("run.", "pytest_rmw_introspect.run.", *_TARGET_MODULES)):
                 names.extend(alias.name for alias in node.names)
             elif module in (".", "pytest_rmw_introspect.run"):
-                names.extend("<module>" for alias in node.names if alias.name == "target")
+                names.extend("<module>" for alias in node.names if alias.name in _TARGET_MODULES)
         elif isinstance(node, ast.Import):
-            names.extend("<module>" for alias in node.names if alias.name == "pytest_rmw_introspect.run.target")
+            names.extend("<module>" for alias in node.names
+                         if alias.name in {f"pytest_rmw_introspect.run.{m}" for m in _TARGET_MODULES})
         for child in ast.iter_child_nodes(node):
             visit(child)
 
@@ -915,20 +920,21 @@ def _runtime_imports_from_target(tree: ast.AST) -> list[str]:
 
 
 def test_the_runner_imports_only_the_resolution_of_a_target():
-    """The runner starts what ``target.resolve`` made of a spec and asks the target module nothing
-    else (it once called build_argv, module_main_hint and the spec's queries during a capture)."""
+    """The runner starts what ``resolution.resolve`` made of a spec and asks the target modules
+    nothing else (it once called build_argv, module_main_hint and the spec's queries during a capture)."""
     tree = ast.parse(Path(runner.__file__).read_text(encoding="utf-8"))
     assert _runtime_imports_from_target(tree) == ["resolve"]
     # the check itself sees every way of importing from the target module
-    probe = ast.parse("from .target import TargetSpec, resolve\nfrom . import target\n"
-                      "def f():\n    from pytest_rmw_introspect.run.target import build_argv\n"
-                      "if TYPE_CHECKING:\n    from .target import ResolvedTarget\n")
+    probe = ast.parse("from .target import TargetSpec\nfrom .resolution import resolve\nfrom . import target\n"
+                      "def f():\n    from pytest_rmw_introspect.run.executables import build_argv\n"
+                      "if TYPE_CHECKING:\n    from .resolution import ResolvedTarget\n")
     assert _runtime_imports_from_target(probe) == ["TargetSpec", "resolve", "<module>", "build_argv"]
 
 
 def test_a_capture_calls_into_the_target_module_once(tmp_path, ros, library):
     """A trace of one capture (a module target that created no node: the path that asked the
-    target module the most) enters ``run/target.py`` from the runner once, to resolve it."""
+    target modules the most) enters ``run/target.py``, ``run/executables.py`` and
+    ``run/resolution.py`` from the runner once, to resolve it."""
     script = fake(tmp_path, "write(nodes=False)\n")
     (tmp_path / "fake_pkg").mkdir()
     (tmp_path / "fake_pkg" / "__init__.py").write_text("")
@@ -938,7 +944,8 @@ def test_a_capture_calls_into_the_target_module_once(tmp_path, ros, library):
     calls: list[str] = []
 
     def profile(frame, event, arg):
-        if (event == "call" and frame.f_code.co_filename == target_module.__file__
+        if (event == "call" and frame.f_code.co_filename in (target_module.__file__, resolution.__file__,
+                                                             executables.__file__)
                 and frame.f_back is not None and frame.f_back.f_code.co_filename == runner.__file__):
             calls.append(frame.f_code.co_name)
 

@@ -12,7 +12,7 @@ from pytest_rmw_introspect.compare import report
 from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
 from pytest_rmw_introspect.errors import ContractError, TargetConfigError, UsageError
 from pytest_rmw_introspect.launch.result import LaunchedNode, LaunchParameter, Where
-from pytest_rmw_introspect.model import system_contract
+from pytest_rmw_introspect.model import contract_kind, system_contract
 from pytest_rmw_introspect.model.vocabulary import Severity
 from pytest_rmw_introspect.run import system_capture
 from pytest_rmw_introspect.run.target import TargetSpec
@@ -72,13 +72,13 @@ def test_load_a_system_contract(tmp_path):
     assert [p["executable"] for p in loaded.processes] == ["talker", "listener"]
     assert sorted(loaded.nodes) == ["/robot/listener", "/robot/talker"]
     assert [sorted(nodes) for _p, nodes in loaded.process_nodes()] == [["/robot/talker"], ["/robot/listener"]]
-    assert system_contract.is_system_contract(path)
+    assert contract_kind.is_system_file(path)
     other = tmp_path / "named_otherwise.yaml"
     other.write_text(GOOD.replace("# header comment, kept\n", ""))
-    assert system_contract.is_system_contract(other)
+    assert contract_kind.is_system_file(other)
     plain = tmp_path / "talker.interfaces.yaml"
     plain.write_text("contract_version: 1\nnodes: {}\n")
-    assert not system_contract.is_system_contract(plain)
+    assert not contract_kind.is_system_file(plain)
 
 
 def test_writing_is_deterministic_and_keeps_the_header(tmp_path):

@@ -14,13 +14,13 @@ from pytest_rmw_introspect.errors import (
     TargetConfigError,
     TargetError,
 )
-from pytest_rmw_introspect.run import failure_hints, target
+from pytest_rmw_introspect.run import executables, failure_hints, target
+from pytest_rmw_introspect.run.executables import build_argv
 from pytest_rmw_introspect.run.target import (
     TargetSpec,
-    build_argv,
     merge,
+    ros_argument_value,
     ros_arguments,
-    yaml_value,
 )
 
 
@@ -50,13 +50,13 @@ def test_executable_is_found_in_the_prefix_that_provides_the_package(tmp_path):
 def test_first_prefix_providing_the_package_wins_like_ros2_run(tmp_path):
     a = make_prefix(tmp_path / "a", "demo", {"talker": True})
     b = make_prefix(tmp_path / "b", "demo", {"talker": True})
-    assert target.find_executable("demo", "talker", [a, b]) == a / "lib" / "demo" / "talker"
+    assert executables.find_executable("demo", "talker", [a, b]) == a / "lib" / "demo" / "talker"
 
 
 def test_missing_package_lists_the_searched_prefixes(tmp_path):
     a = make_prefix(tmp_path / "a", "other", {})
     with pytest.raises(ExecutableNotFound) as info:
-        target.find_executable("demo", "talker", [a])
+        executables.find_executable("demo", "talker", [a])
     msg = str(info.value)
     assert "Package 'demo' was not found in the ament index" in msg
     assert str(a) in msg
@@ -66,7 +66,7 @@ def test_missing_package_lists_the_searched_prefixes(tmp_path):
 def test_missing_executable_lists_the_executables_the_package_has(tmp_path):
     a = make_prefix(tmp_path / "a", "demo", {"listener": True, "talker_py": True, "data.txt": False})
     with pytest.raises(ExecutableNotFound) as info:
-        target.find_executable("demo", "talker", [a])
+        executables.find_executable("demo", "talker", [a])
     msg = str(info.value)
     assert "Executable 'talker' not found in package 'demo'" in msg
     assert "listener, talker_py" in msg
@@ -78,13 +78,13 @@ def test_shadowed_executable_in_a_later_prefix_is_mentioned(tmp_path):
     a = make_prefix(tmp_path / "a", "demo", {"listener": True})
     b = make_prefix(tmp_path / "b", "demo", {"talker": True})
     with pytest.raises(ExecutableNotFound, match="shadows them"):
-        target.find_executable("demo", "talker", [a, b])
+        executables.find_executable("demo", "talker", [a, b])
 
 
 def test_non_executable_file_is_refused(tmp_path):
     a = make_prefix(tmp_path / "a", "demo", {"talker": False})
     with pytest.raises(ExecutableNotFound, match="not executable"):
-        target.find_executable("demo", "talker", [a])
+        executables.find_executable("demo", "talker", [a])
 
 
 # ---------------------------------------------------------------------------- argv
@@ -203,19 +203,19 @@ def test_missing_params_file_is_a_config_error(tmp_path):
     ],
 )
 def test_parameter_values_are_yaml_encoded(value, encoded):
-    assert yaml_value(value) == encoded
+    assert ros_argument_value(value) == encoded
 
 
 def test_parameter_values_round_trip_through_yaml():
     import yaml
 
     for value in [True, 3, 2.0, 1e-9, "str", "true", "", "null", "~", "0x10", [1, 2], ["a", "b"]]:
-        assert yaml.safe_load(yaml_value(value)) == value
+        assert yaml.safe_load(ros_argument_value(value)) == value
 
 
 def test_unsupported_parameter_value_is_refused():
     with pytest.raises(TargetConfigError, match="cannot hold"):
-        yaml_value(object())
+        ros_argument_value(object())
 
 
 # ---------------------------------------------------------------------------- validation & merging
@@ -373,7 +373,7 @@ def test_to_mapping_round_trips():
 def test_an_entry_point_target_calls_the_function_like_its_console_script(tmp_path):
     spec = TargetSpec.from_mapping({"entry_point": "my_pkg.camera:main", "arguments": ["--x"], "namespace": "/a"})
     assert spec.kind == "entry_point" and spec.describe() == "entry point my_pkg.camera:main"
-    argv = target.build_argv(spec, python="/py")
+    argv = executables.build_argv(spec, python="/py")
     assert argv[:2] == ["/py", "-c"] and argv[3:] == ["my_pkg.camera:main", "main", "--x", "--ros-args", "-r", "__ns:=/a"]
     module = tmp_path / "ep_demo_mod.py"
     module.write_text("import sys\ndef main():\n    print(sys.argv)\n    return 3\n")
@@ -406,15 +406,15 @@ def _fake_distribution(site, name, scripts):
 def test_a_package_executable_falls_back_to_a_console_script(tmp_path):
     site = tmp_path / "site"
     _fake_distribution(site, "my-camera_pkg", {"camera": "my_camera_pkg.camera:main"})
-    assert target.console_scripts("my_camera_pkg", [str(site)]) == {"camera": "my_camera_pkg.camera:main"}
-    assert target.console_scripts("My-Camera-Pkg", [str(site)]) == {"camera": "my_camera_pkg.camera:main"}
-    assert target.console_scripts("no_such_pkg", [str(site)]) is None  # no such distribution
+    assert executables.console_scripts("my_camera_pkg", [str(site)]) == {"camera": "my_camera_pkg.camera:main"}
+    assert executables.console_scripts("My-Camera-Pkg", [str(site)]) == {"camera": "my_camera_pkg.camera:main"}
+    assert executables.console_scripts("no_such_pkg", [str(site)]) is None  # no such distribution
     spec = TargetSpec.from_mapping({"package": "my_camera_pkg", "executable": "camera",
                                     "env": {"PYTHONPATH": str(site)}})
-    argv = target.build_argv(spec, prefixes=[], python="/py")
+    argv = executables.build_argv(spec, prefixes=[], python="/py")
     assert argv[3:5] == ["my_camera_pkg.camera:main", "camera"]
     with pytest.raises(ExecutableNotFound) as info:
-        target.build_argv(TargetSpec.from_mapping({"package": "my_camera_pkg", "executable": "lidar",
+        executables.build_argv(TargetSpec.from_mapping({"package": "my_camera_pkg", "executable": "lidar",
                                                    "env": {"PYTHONPATH": str(site)}}), prefixes=[])
     assert str(info.value) == ("Executable 'lidar' not found in package 'my_camera_pkg': the package is installed as "
                                "a Python distribution (pip), not in the ament index, and its console scripts are: camera.")
@@ -426,7 +426,7 @@ def test_a_mistyped_console_script_lists_the_packages_scripts_and_suggests_the_c
     _fake_distribution(site, "sensor_relay", {"relay": "sensor_relay.relay:main", "monitor": "sensor_relay.mon:main"})
     spec = TargetSpec.from_mapping({"package": "sensor_relay", "executable": "rleay", "env": {"PYTHONPATH": str(site)}})
     with pytest.raises(ExecutableNotFound) as info:
-        target.build_argv(spec, prefixes=[tmp_path / "empty_prefix"])
+        executables.build_argv(spec, prefixes=[tmp_path / "empty_prefix"])
     message = str(info.value)
     assert message.startswith("Executable 'rleay' not found in package 'sensor_relay': the package is installed "
                               "as a Python distribution (pip), not in the ament index"), message
@@ -440,13 +440,13 @@ def test_a_distribution_without_console_scripts_says_how_to_declare_them(tmp_pat
     _fake_distribution(site, "sensor_relay", {})
     spec = TargetSpec.from_mapping({"package": "sensor_relay", "executable": "relay", "env": {"PYTHONPATH": str(site)}})
     with pytest.raises(ExecutableNotFound, match=r"it has no console scripts \(declare them under `entry_points="):
-        target.build_argv(spec, prefixes=[])
+        executables.build_argv(spec, prefixes=[])
 
 
 def test_a_package_in_neither_place_says_both_were_searched(tmp_path):
     spec = TargetSpec.from_mapping({"package": "no_such_pkg", "executable": "x", "env": {"PYTHONPATH": str(tmp_path)}})
     with pytest.raises(ExecutableNotFound) as info:
-        target.build_argv(spec, prefixes=[tmp_path])
+        executables.build_argv(spec, prefixes=[tmp_path])
     message = str(info.value)
     assert message.startswith("Package 'no_such_pkg' was not found in the ament index.")
     assert "No Python distribution named 'no_such_pkg' is installed either" in message
@@ -462,7 +462,7 @@ def test_a_mistyped_executable_of_an_ament_package_gets_the_closest_suggested(tm
         exe.chmod(0o755)
     spec = TargetSpec.from_mapping({"package": "cam_pkg", "executable": "camera_nod", "env": {"PYTHONPATH": str(tmp_path)}})
     with pytest.raises(ExecutableNotFound) as info:
-        target.build_argv(spec, prefixes=[tmp_path])
+        executables.build_argv(spec, prefixes=[tmp_path])
     assert str(info.value).endswith("The package has these executables: camera_node, lidar_node. "
                                     "Did you mean 'camera_node'?"), str(info.value)
 
@@ -475,18 +475,18 @@ def test_messages_show_a_console_script_as_the_users_command_shell_quoted(tmp_pa
     python = bin_dir / "python"
     spec = TargetSpec.from_mapping({"package": "sensor_relay", "executable": "relay", "env": {"PYTHONPATH": str(site)},
                                     "parameters": {"label": "a b"}})
-    argv = target.build_argv(spec, prefixes=[], python=str(python))
+    argv = executables.build_argv(spec, prefixes=[], python=str(python))
     assert argv[1] == "-c"  # started through our launcher ...
-    assert target.command_as_typed(argv) == ["relay", "--ros-args", "-p", "label:=a b"]  # ... shown as the script
+    assert executables.command_as_typed(argv) == ["relay", "--ros-args", "-p", "label:=a b"]  # ... shown as the script
     (bin_dir / "relay").write_text("#!/bin/sh\n")
-    shown = target.command_as_typed(argv)
+    shown = executables.command_as_typed(argv)
     assert shown[0] == str(bin_dir / "relay")
     from pytest_rmw_introspect.errors import TargetExited
 
     message = str(TargetExited("sensor_relay/relay", 1, "boom", argv=shown))
     assert f"Command: {bin_dir / 'relay'} --ros-args -p 'label:=a b'" in message
     assert "importlib" not in message
-    assert target.command_as_typed(["/usr/bin/env", "x"]) == ["/usr/bin/env", "x"]  # anything else as it is
+    assert executables.command_as_typed(["/usr/bin/env", "x"]) == ["/usr/bin/env", "x"]  # anything else as it is
 
 
 def test_a_module_with_main_but_no_main_block_gets_a_hint(tmp_path):

@@ -83,3 +83,38 @@ def test_the_stand_in_advice_is_given_where_a_node_without_its_device_fails():
     assert "Hardware processes" in checked.render_text()
     checked.drift_items = []  # the node matches: a note, and no advice
     assert checked.stand_in_advice() == [] and "stand_ins" not in checked.render_text()
+
+
+def dead_remap() -> CompatItem:
+    return CompatItem("REMAP_UNUSED", Severity.NOTE, "/gps_imu/filter:=/imu/filter",
+                      ContractEndpoint("python #2", "/base", "node"), None,
+                      "the remapping /gps_imu/filter -> /imu/filter changed none of the names of /base")
+
+
+def test_a_note_is_shown_in_every_format_and_fails_no_threshold():
+    """Severity.NOTE: below SAFE, shown by text, JSON, markdown, github and SARIF, never failing
+    (not at fail_on any, not at system_fail_on any), and no drift an update must accept."""
+    from pytest_rmw_introspect.compare import sarif
+    from pytest_rmw_introspect.model.vocabulary import parse_threshold
+
+    checked = result(dead_remap(), drift=False)
+    for word in ("any", "risky", "breaking"):
+        checked.options = ComparisonOptions(fail_on=word, system_fail_on=word)
+        assert not checked.failed, word
+    assert not checked.drifted
+    outcome = decide(checked, update=False)
+    assert outcome.verdict is Verdict.PASS and not outcome.failed
+    assert outcome.message.startswith("robot.system.yaml: matches (")
+    assert outcome.message.endswith("; 1 note")
+    assert "NOTE (1) - notes, never failing" in outcome.report
+    assert "0 breaking, 0 risky, 0 safe, 1 note" in outcome.report
+    assert "[REMAP_UNUSED]" in outcome.report
+    assert [(i["rule"], i["severity"]) for i in outcome.json] == [("REMAP_UNUSED", "NOTE")]
+    assert decide(checked, update=True).verdict is Verdict.PASS  # nothing for an update to write
+    ci = checked.for_ci()
+    assert not ci.failed
+    assert "✅ matches (0 breaking, 0 risky, 0 safe, 1 note)" in ci_report.drift_markdown([ci])
+    assert ci_report.annotation_level(Severity.NOTE, parse_threshold("any")) == "notice"
+    assert sarif.level(Severity.NOTE, parse_threshold("any")) == "note"
+    levels = [r["level"] for r in sarif.drift_log([ci], tool_version="0")["runs"][0]["results"]]
+    assert levels == ["note"]

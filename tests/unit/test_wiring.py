@@ -388,7 +388,7 @@ def test_one_file_for_the_whole_robot_is_matched_against_every_node_it_is_given_
     assert "/c would match it but is not given this file" in items[0].message
 
 
-def test_a_remapping_that_changed_no_name_is_breaking_with_evidence_and_risky_without():
+def test_a_remapping_that_changed_no_name_is_breaking_as_a_near_miss_and_a_note_otherwise():
     lidar = node(pubs=[("/robot1/lidar/scan", SCAN)])
     ok = given(remappings=[("scan", "lidar/scan"), ("__ns", "/robot1")])
     assert check_launched([LaunchedProcess("l", "/robot1/lidar", {"/robot1/lidar": lidar}, given=ok)],
@@ -398,23 +398,23 @@ def test_a_remapping_that_changed_no_name_is_breaking_with_evidence_and_risky_wi
     items = check_launched([LaunchedProcess("l", "/robot1/lidar", {"/robot1/lidar": lidar}, given=typo)],
                            external={"subscriptions": {"/robot1/scan": "rviz"}})
     # `sacn` is a near miss of the node's own /robot1/scan; nothing says `~/out` was meant to connect
-    assert found(items) == [("REMAP_UNUSED", "sacn:=lidar/scan", None),
+    assert found(items) == [("REMAP_NEAR_MISS", "sacn:=lidar/scan", None),
                             ("REMAP_UNUSED_UNCONNECTED", "~/out:=status", None)]
     by_name = {i.name: i for i in items}
     assert by_name["sacn:=lidar/scan"].severity is Severity.BREAKING
-    assert by_name["~/out:=status"].severity is Severity.RISKY
+    assert by_name["~/out:=status"].severity is Severity.NOTE
     assert by_name["sacn:=lidar/scan"].message == (
         "the remapping sacn -> lidar/scan (at robot.launch.xml:7) changed none of the names of /robot1/lidar: no "
         "topic, service or action is named /robot1/lidar/scan, so the node never used /robot1/sacn; did you mean "
-        "`/robot1/scan`, a name the node did create?")
+        "`/robot1/scan`, a name the node does create? (`/robot1/sacn` is a near miss of it: the node stays unwired)")
     assert by_name["~/out:=status"].message.endswith(
         "so the node never used /robot1/lidar/out; no other node uses the target either (a name the node creates "
-        "in some configurations only?)")
+        "in some configurations only?: a note)")
     assert not report.fails(items[1:], Severity.BREAKING)
     assert launch_given.resolve("~/out", "/robot1/lidar") == "/robot1/lidar/out"
 
 
-def test_a_remapping_whose_target_another_node_uses_is_breaking():
+def test_a_dead_remapping_whose_target_another_node_uses_is_a_note():
     # the camera driver creates `image` only with `publish_raw: true`; the remap was for the detector
     camera = node(pubs=[("/cam/compressed", "sensor_msgs/msg/CompressedImage")])
     detector = node(subs=[("/cam/image_raw", "sensor_msgs/msg/Image")])
@@ -424,8 +424,10 @@ def test_a_remapping_whose_target_another_node_uses_is_breaking():
                            external={"publishers": {"/cam/image_raw": "bag"},
                                      "subscriptions": {"/cam/compressed": "rviz"}})
     assert found(items) == [("REMAP_UNUSED", "image:=/cam/image_raw", None)]
-    assert items[0].severity is Severity.BREAKING
-    assert items[0].message.endswith("; /detector uses /cam/image_raw, so a connection was meant")
+    assert items[0].severity is Severity.NOTE and not report.fails(items, Severity.SAFE)
+    assert items[0].message.endswith("; /detector uses /cam/image_raw, but this node creates nothing named "
+                                     "/cam/image (a leftover remapping, or a name it creates in other "
+                                     "configurations only: a note)")
 
 
 def test_identity_remappings_are_no_finding():
@@ -589,8 +591,8 @@ def test_a_path_parameter_to_a_missing_file_is_breaking():
 
 @pytest.mark.parametrize("where, rule, severity", [
     ("package", "PARAM_PATH_MISSING", Severity.BREAKING),
-    ("machine", "PARAM_PATH_MACHINE_LOCAL", Severity.RISKY),
-    ("device", "PARAM_DEVICE_ABSENT", Severity.SAFE),
+    ("machine", "PARAM_PATH_MACHINE_LOCAL", Severity.NOTE),
+    ("device", "PARAM_DEVICE_ABSENT", Severity.NOTE),
 ])
 def test_whose_file_is_missing_decides_the_rule(where, rule, severity):
     driver = node(parameters=["port", "output_file", "log_dir", "save_path", "map.out_file", "data_folder"])

@@ -152,7 +152,7 @@ class RunningSystem:
             self.workdir = None
 
 
-def bring_up(launch: Mapping[str, Any], *, base_dir: str | Path, ros: Any = None,
+def bring_up(launch: Mapping[str, Any], *, base_dir: str | Path, ros: ros_env.RosEnvironment | None = None,
              domain: Domain | None = None, env: Mapping[str, str] | None = None) -> RunningSystem:
     """Start every process of the ``launch:`` block ``launch`` (relative paths to ``base_dir``) on
     the real middleware in a domain of its own (``domain``, default: :func:`reserve_domain`);
@@ -171,7 +171,7 @@ def bring_up(launch: Mapping[str, Any], *, base_dir: str | Path, ros: Any = None
     return start(launched.nodes, ros=ros, domain=domain, env=env)
 
 
-def start(processes: Sequence[LaunchedNode | TargetSpec], *, ros: Any = None, domain: Domain | None = None,
+def start(processes: Sequence[LaunchedNode | TargetSpec], *, ros: ros_env.RosEnvironment | None = None, domain: Domain | None = None,
           env: Mapping[str, str] | None = None) -> RunningSystem:
     """Start ``processes`` (a launch file's, or targets of node contracts) on the real middleware
     in a domain of their own (``domain``, default: :func:`reserve_domain`); nothing is left
@@ -205,7 +205,7 @@ def start(processes: Sequence[LaunchedNode | TargetSpec], *, ros: Any = None, do
 
 
 @contextlib.contextmanager
-def running(launch: Mapping[str, Any], *, base_dir: str | Path, ros: Any = None) -> Iterator[RunningSystem]:
+def running(launch: Mapping[str, Any], *, base_dir: str | Path, ros: ros_env.RosEnvironment | None = None) -> Iterator[RunningSystem]:
     """:func:`bring_up` for a ``with`` block: stopped at its end, whatever happens."""
     system = bring_up(launch, base_dir=base_dir, ros=ros)
     try:

@@ -27,3 +27,20 @@ def test_the_model_and_check_layers_are_checked_strictly():
     settings = {**config, **overrides[0]}
     missing = {name: value for name, value in strict_assignments if settings.get(name) != value}
     assert missing == {}, f"pyproject.toml: [[tool.mypy.overrides]] for {STRICT_LAYERS} lacks these --strict settings"
+
+
+def test_the_ros_environment_is_typed_where_it_is_passed():
+    """issue 51 item 5: a ``ros`` parameter is a ``RosEnvironment`` (or a callable making one), never
+    ``Any``: eight signatures once took ``ros: Any``."""
+    import ast
+
+    package = PYPROJECT.parent / "pytest_rmw_introspect"
+    untyped = []
+    for path in sorted(package.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                arguments = node.args
+                for arg in (*arguments.posonlyargs, *arguments.args, *arguments.kwonlyargs):
+                    if arg.arg == "ros" and (arg.annotation is None or ast.unparse(arg.annotation) == "Any"):
+                        untyped.append(f"{path.relative_to(package)}:{node.lineno} {node.name}")
+    assert not untyped, f"type `ros` as ros_env.RosEnvironment: {untyped}"

@@ -118,6 +118,8 @@ class Decision:
     why: str
     key: str
     files: dict[str, str]
+    #: the commit checked out when the files were read (what a green full run vouches for)
+    commit: str = ""
 
 
 def decide(root: Path, dimension: Dimension, run: dict[str, Any], records: Path,
@@ -126,20 +128,22 @@ def decide(root: Path, dimension: Dimension, run: dict[str, Any], records: Path,
     The reason names the files that differ from the newest full run recorded."""
     files = content(root, dimension)
     run_key = key(dimension, files, run)
+    head = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"], capture_output=True, text=True)
+    commit = head.stdout.strip() if head.returncode == 0 else ""
     if force:
-        return Decision(True, f"in full ({FORCE_FULL}=1)", run_key, files)
+        return Decision(True, f"in full ({FORCE_FULL}=1)", run_key, files, commit)
     if (records / f"{dimension.name}-{run_key}.json").is_file():
         return Decision(False, "selected: a full run passed on this machine for the same content of its "
-                        f"{len(files)} files (tests/dimensions.toml)", run_key, files)
+                        f"{len(files)} files (tests/dimensions.toml)", run_key, files, commit)
     newest = _newest(records, dimension.name)
     if newest is None:
-        return Decision(True, "in full: no full run recorded on this machine yet", run_key, files)
+        return Decision(True, "in full: no full run recorded on this machine yet", run_key, files, commit)
     before = newest.get("files", {})
     changed = sorted(p for p in set(files) | set(before) if files.get(p) != before.get(p))
     shown = ", ".join(changed[:5]) + (f" and {len(changed) - 5} more" if len(changed) > 5 else "")
     why = f"changed since the last full run ({newest.get('when', '?')}): {shown}" if changed \
         else "the run's options or the Python differ from the last full run's"
-    return Decision(True, f"in full: {why}", run_key, files)
+    return Decision(True, f"in full: {why}", run_key, files, commit)
 
 
 def _newest(records: Path, name: str) -> dict[str, Any] | None:
@@ -155,11 +159,10 @@ def _newest(records: Path, name: str) -> dict[str, Any] | None:
 def record(records: Path, dimension: Dimension, decision: Decision, keep: int = 20) -> Path:
     """Write the record of a green full run (and drop all but the ``keep`` newest)."""
     records.mkdir(parents=True, exist_ok=True)
-    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True)
     path = records / f"{dimension.name}-{decision.key}.json"
     tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps({"dimension": dimension.name, "when": datetime.datetime.now(datetime.UTC)
-                               .strftime("%Y-%m-%d %H:%M UTC"), "commit": commit.stdout.strip(),
+                               .strftime("%Y-%m-%d %H:%M UTC"), "commit": decision.commit,
                                "python": sys.version.split()[0], "files": decision.files}, indent=1),
                    encoding="utf-8")
     tmp.replace(path)

@@ -54,7 +54,7 @@ std::set<std::string> exported_symbols(const std::string & library)
 
 TEST(ExportedSymbols, exactly_the_rmw_api)
 {
-  const auto expected = read_list(std::string(RMWI_TEST_DIR) + "/exported_symbols.txt");
+  const auto expected = read_list(std::string(RMWI_TEST_DATA_DIR) + "/exported_symbols.txt");
   // 95 rmw_* + rcutils_steady_time_now, rcutils_system_time_now + the four sleeps
   ASSERT_EQ(101u, expected.size());
   const std::set<std::string> sleeps = {"clock_nanosleep", "nanosleep", "usleep", "sleep"};

@@ -31,7 +31,7 @@ from .launch_options import launch_block, wants_launch
 from .ros_setup import Setup
 
 
-def settings(args: argparse.Namespace) -> LiveSettings:
+def settings(args: argparse.Namespace, expect: tuple[str, ...] = ()) -> LiveSettings:
     settle = args.settle if args.settle is not None else DEFAULT_SETTLE
     timeout = args.timeout if args.timeout is not None else DEFAULT_TIMEOUT
     parameters = args.parameter_timeout if args.parameter_timeout is not None else DEFAULT_PARAMETER_TIMEOUT
@@ -39,7 +39,7 @@ def settings(args: argparse.Namespace) -> LiveSettings:
         raise UsageError("--settle must not be negative, --timeout and --parameter-timeout must be positive")
     if settle > timeout:
         raise UsageError(f"--settle {settle:g} is longer than --timeout {timeout:g}: the graph could never settle")
-    return LiveSettings(settle=settle, timeout=timeout, parameter_timeout=parameters)
+    return LiveSettings(settle=settle, timeout=timeout, parameter_timeout=parameters, expect=expect)
 
 
 def refuse_with_live(args: argparse.Namespace, command: list[str] | None, *, launch: bool = False) -> None:
@@ -58,9 +58,8 @@ def refuse_with_live(args: argparse.Namespace, command: list[str] | None, *, lau
 def read(args: argparse.Namespace, include_infrastructure: bool = True) -> LiveGraph:
     """The running graph, read once for the whole run; every contract of ``check`` is loaded
     first, so that a contract that cannot be used is an error before the graph is joined."""
-    for shown in getattr(args, "contracts", None) or ():
-        live_check.load(Path(shown))
-    return read_graph(settings(args), ros=Setup().ros(), include_infrastructure=include_infrastructure)
+    expect = live_check.expected_nodes([live_check.load(Path(shown)) for shown in getattr(args, "contracts", None) or ()])
+    return read_graph(settings(args, expect), ros=Setup().ros(), include_infrastructure=include_infrastructure)
 
 
 def check_one(path: Path, shown: str, graph: LiveGraph, layers: Layers) -> live_check.LiveCheckResult:
@@ -112,14 +111,13 @@ def cmd_watch(args: argparse.Namespace) -> int:
         raise UsageError("--duration must be positive")
     if args.baseline or args.write_baseline or args.summary:
         raise UsageError("--watch takes no --baseline, --write-baseline or --summary; run check --live for them")
-    for shown in args.contracts:
-        live_check.load(Path(shown))
+    expect = live_check.expected_nodes([live_check.load(Path(shown)) for shown in args.contracts])
     layers = Layers(strong_options=[(compare_from_args(args), "command line")])
     started = time.monotonic()
     changes = snapshots = 0
     graph: LiveGraph | None = None
     previous: Any = None
-    stream = watch_graph(settings(args), args.duration or 0.0, ros=Setup().ros())
+    stream = watch_graph(settings(args, expect), args.duration or 0.0, ros=Setup().ros())
     try:
         for graph in stream:
             snapshots += 1

@@ -113,17 +113,21 @@ class RunningSystem:
                 out.append(f"{process.args!s} exited with {process.returncode}: {tail}")
         return out
 
-    def wait_until_up(self, timeout: float = 30.0, settle: float = 1.0, nodes: Collection[str] = ()) -> LiveGraph:
+    def wait_until_up(self, timeout: float = 30.0, settle: float = 1.0, nodes: Collection[str] = (),
+                      expect: Collection[str] = ()) -> LiveGraph:
         """Read the graph until every node the launch file names is in it (but those of processes
         that have ended), and ``nodes``, at most ``timeout`` seconds; the last graph read (raises
-        LiveGraphError)."""
+        LiveGraphError). The reader also waits a while for ``expect`` (the nodes a contract names,
+        which may be absent: that is the check's finding, ``LiveSettings.expect``)."""
         deadline = time.monotonic() + timeout
         while True:
             left = max(settle + 0.5, deadline - time.monotonic())
-            graph = read_graph(LiveSettings(settle=settle, timeout=left), base_env=self.env)
             running = [name for name, process in zip(self.expected, self.processes, strict=True)
                        if name is not None and process.poll() is None]
-            missing = sorted((set(running) | set(nodes)) - set(graph.capture.nodes))
+            wanted = set(running) | set(nodes)
+            graph = read_graph(LiveSettings(settle=settle, timeout=left, expect=tuple(sorted(wanted | set(expect)))),
+                               base_env=self.env)
+            missing = sorted(wanted - set(graph.capture.nodes))
             if not missing:
                 return graph
             if time.monotonic() >= deadline:

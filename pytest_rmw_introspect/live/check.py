@@ -22,7 +22,7 @@ rules that judge it, ``PARAM_NOT_DECLARED`` and its kin, need the launch file an
 from __future__ import annotations
 
 import copy
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, cast
@@ -42,7 +42,7 @@ from ..model.contract_shapes import ContractNode, ContractNodes
 from ..model.locate import line_index
 from ..model.paths import shown as display
 from ..model.system_contract import SystemContract
-from ..model.unstable_names import NameRules
+from ..model.unstable_names import NameRules, is_pattern_key
 from ..model.vocabulary import LIFECYCLE, LISTS, PARAMETERS
 from .graph import LiveGraph
 
@@ -227,6 +227,19 @@ def load(path: Path) -> Contract | SystemContract:
     if contract_kind.is_system_file(path):
         return system_contract.load(path)
     return contract_module.load(path)
+
+
+def expected_nodes(contracts: Iterable[Contract | SystemContract]) -> tuple[str, ...]:
+    """The nodes ``contracts`` name literally and expect running (not a pattern key, not a node
+    the program destroyed itself, not a NoDL document's, which is bound to the graph by type): the
+    reader waits for them before it counts the graph as stable (``LiveSettings.expect``)."""
+    names: set[str] = set()
+    for contract in contracts:
+        if isinstance(contract, Contract) and contract.nodl is not None:
+            continue
+        names.update(fqn for fqn, node in contract.nodes.items()
+                     if not is_pattern_key(fqn) and node.get("destroyed_at") is None)
+    return tuple(sorted(names))
 
 
 def check_contract(path: str | Path, graph: LiveGraph, *, layers: Layers | None = None,

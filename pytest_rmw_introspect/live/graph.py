@@ -25,7 +25,7 @@ from ..errors import CaptureFormatError, LiveGraphError
 from ..model.capture import Capture
 from ..run import ros_env
 from ..run.ros_env import RosEnvironment
-from . import DEFAULT_PARAMETER_TIMEOUT, DEFAULT_SETTLE, DEFAULT_TIMEOUT, EXIT_EMPTY, EXIT_WRONG_MIDDLEWARE
+from . import ABSENT_AFTER, DEFAULT_PARAMETER_TIMEOUT, DEFAULT_SETTLE, DEFAULT_TIMEOUT, EXIT_EMPTY, EXIT_WRONG_MIDDLEWARE
 
 #: the middleware of the PyPI wheels (the only one they have: selection is compiled out)
 WHEELS_MIDDLEWARE = "rmw_fastrtps_cpp"
@@ -39,6 +39,8 @@ class LiveSettings:
     settle: float = DEFAULT_SETTLE
     timeout: float = DEFAULT_TIMEOUT
     parameter_timeout: float = DEFAULT_PARAMETER_TIMEOUT
+    #: the nodes the contracts name: the reader waits for them (:data:`ABSENT_AFTER`)
+    expect: tuple[str, ...] = ()
 
 
 @dataclass
@@ -60,6 +62,8 @@ class LiveGraph:
     at: float = 0.0
     #: other live readers that were in the graph (left out of it)
     other_readers: list[str] = field(default_factory=list)
+    #: nodes the contracts name that the graph did not show (waited for, then read without them)
+    expected_absent: list[str] = field(default_factory=list)
 
     def describe(self) -> str:
         return f"the running graph of ROS_DOMAIN_ID {self.domain_id} ({self.rmw_implementation})"
@@ -73,6 +77,10 @@ class LiveGraph:
         if not self.settled:
             out.append(f"the graph was still changing after {self.settings.timeout:g} s (--timeout): it was read as it "
                        "was then")
+        absent = [n for n in self.expected_absent if nodes is None or n in nodes]
+        if absent and self.settled:
+            out.append(f"waited for node(s) the contracts name until the graph had not changed for "
+                       f"{max(self.settings.settle, ABSENT_AFTER):g} s; not running: {', '.join(absent)}")
         if self.other_readers:
             out.append(f"other live readers were in the graph, left out of it: {', '.join(self.other_readers)}")
         if parameters:
@@ -139,7 +147,8 @@ def reader_environment(ros: RosEnvironment, base: Mapping[str, str] | None = Non
 
 def _reader_command(settings: LiveSettings) -> list[str]:
     return [sys.executable, "-m", "pytest_rmw_introspect.live.reader", "--settle", f"{settings.settle:g}",
-            "--timeout", f"{settings.timeout:g}", "--parameter-timeout", f"{settings.parameter_timeout:g}"]
+            "--timeout", f"{settings.timeout:g}", "--parameter-timeout", f"{settings.parameter_timeout:g}",
+            *(f"--expect={fqn}" for fqn in settings.expect)]
 
 
 def _nothing_running(domain: str, settings: LiveSettings, env: Mapping[str, str]) -> str:
@@ -193,7 +202,8 @@ def parse_answer(text: str, settings: LiveSettings, *, include_infrastructure: b
                      parameters_unanswered=list(live.get("parameters_unanswered", [])),
                      lifecycle_unanswered=list(live.get("lifecycle_unanswered", [])),
                      environment_notes=notes, at=float(live.get("at", 0.0)),
-                     other_readers=list(live.get("other_readers", [])))
+                     other_readers=list(live.get("other_readers", [])),
+                     expected_absent=list(live.get("expected_absent", [])))
 
 
 def watch_graph(settings: LiveSettings, duration: float, *, ros: RosEnvironment | None = None,

@@ -1,10 +1,12 @@
 """The live reader: one process that joins the running ROS 2 graph and writes what it sees.
 
-Run as ``python -m pytest_rmw_introspect.live.reader --settle S --timeout T --parameter-timeout P``
-by ``live.graph`` (never by hand: the environment it gets is checked there), on the middleware
+Run as ``python -m pytest_rmw_introspect.live.reader --settle S --timeout T --parameter-timeout P
+[--expect FQN ...]`` by ``live.graph`` (never by hand: the environment it gets is checked there), on the middleware
 of its environment (``RMW_IMPLEMENTATION``, ``ROS_DOMAIN_ID``, ``ROS_AUTOMATIC_DISCOVERY_RANGE``).
 It waits until the graph (nodes, topics and their endpoints, each node's services and clients)
-has not changed for ``S`` seconds, at most ``T`` seconds, saying on stderr what it waits for;
+has not changed for ``S`` seconds (for ``live.ABSENT_AFTER`` seconds while a node of ``--expect``,
+which the contracts name, is not in it: discovery comes in bursts), at most ``T`` seconds, saying
+on stderr what it waits for;
 then reads every node, every publisher and subscription with its type, type hash and QoS as the
 middleware reports them (``get_publishers_info_by_topic``, ``get_subscriptions_info_by_topic``),
 every service server and client per node, each node's parameters through its own parameter
@@ -17,7 +19,7 @@ graph settled, the nodes whose services did not answer).
 Its own node (hidden, ``_rmw_introspect_live_<pid>``, without parameter services or rosout) is
 left out of what it writes, and is destroyed with its context before the process ends.
 
-It imports nothing of the package but ``live``'s exit statuses: it runs in the reader process only.
+It imports nothing of the package but ``live``'s exit statuses and times: it runs in the reader process only.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import math
 import os
 import sys
 import time
+from collections.abc import Collection
 from typing import Any
 
 import rclpy
@@ -36,7 +39,7 @@ from rcl_interfaces.srv import DescribeParameters, GetParameters, ListParameters
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.utilities import get_rmw_implementation_identifier
 
-from . import EXIT_EMPTY, EXIT_WRONG_MIDDLEWARE
+from . import ABSENT_AFTER, EXIT_EMPTY, EXIT_WRONG_MIDDLEWARE
 
 #: rcl_interfaces/msg/ParameterType → the capture's (NoDL) spelling
 PARAMETER_TYPES = {1: "bool", 2: "integer", 3: "double", 4: "string", 5: "byte_array", 6: "bool_array",
@@ -337,12 +340,15 @@ def _parameter(name: str, value: Any, descriptor: Any) -> dict[str, Any]:
     }
 
 
-def wait_stable(reader: Reader, settle: float, timeout: float) -> tuple[bool, float]:
+def wait_stable(reader: Reader, settle: float, timeout: float,
+                expect: Collection[str] = ()) -> tuple[bool, float, list[str]]:
     """Poll the graph until it has not changed for ``settle`` seconds with a node in it, and
-    :data:`JOIN_WINDOW` seconds have passed since joining, at most ``timeout`` seconds; (settled,
-    seconds waited)."""
+    :data:`JOIN_WINDOW` seconds have passed since joining, at most ``timeout`` seconds; while a
+    node of ``expect`` (the nodes the contracts name) is not in it, until it has not changed for
+    ``live.ABSENT_AFTER`` seconds. (settled, seconds waited, the expected nodes not seen)."""
     start = time.monotonic()
     last, since, said = None, start, 0.0
+    wanted = set(expect)
     while True:
         reader.spin_once(0.05)
         now = time.monotonic()
@@ -350,16 +356,24 @@ def wait_stable(reader: Reader, settle: float, timeout: float) -> tuple[bool, fl
         if current != last:
             last, since = current, now
         nodes = len(current[0])
-        if nodes and now - since >= settle and now - start >= min(JOIN_WINDOW, timeout):
-            return True, now - start
+        missing = sorted(wanted - {_fqn(namespace, name) for name, namespace, _ in current[0]})
+        quiet = settle if not missing else max(settle, ABSENT_AFTER)
+        if nodes and now - since >= quiet and now - start >= min(JOIN_WINDOW, timeout):
+            return True, now - start, missing
         if now - start >= timeout:
-            return False, now - start
+            return False, now - start, missing
         if now - said >= 1.0:
             said = now
-            what = (f"{nodes} node(s), {len(current[1])} topic(s); unchanged for {now - since:.1f} s of {settle:g} s"
+            what = (f"{nodes} node(s), {len(current[1])} topic(s); unchanged for {now - since:.1f} s of {quiet:g} s"
                     if nodes else "no node yet")
+            if missing:
+                what += f"; not seen yet: {_listed(missing)}"
             say(f"waiting for the graph to be stable: {what} ({now - start:.0f} s of at most {timeout:g} s)")
         time.sleep(0.1)
+
+
+def _listed(names: list[str], most: int = 5) -> str:
+    return ", ".join(names[:most]) + (f" and {len(names) - most} more" if len(names) > most else "")
 
 
 def snapshot(reader: Reader, args: argparse.Namespace, live: dict[str, Any], identifier: str, *,
@@ -413,6 +427,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--settle", type=float, default=2.0)
     parser.add_argument("--timeout", type=float, default=30.0)
     parser.add_argument("--parameter-timeout", type=float, default=5.0)
+    parser.add_argument("--expect", action="append", default=[], metavar="FQN",
+                        help="a node the contracts name: wait for it (repeatable)")
     parser.add_argument("--watch", action="store_true", help="a new answer (one JSON line) at every change")
     parser.add_argument("--duration", type=float, default=0.0, help="with --watch: seconds to watch (0: until Ctrl-C)")
     args = parser.parse_args(argv)
@@ -433,9 +449,10 @@ def main(argv: list[str] | None = None) -> int:
         reader = Reader(node, executor)
         domain = context.get_domain_id()
         say(f"joined ROS_DOMAIN_ID {domain} on {identifier}; waiting for the graph to be stable for {args.settle:g} s")
-        settled, waited = wait_stable(reader, args.settle, args.timeout)
+        settled, waited, absent = wait_stable(reader, args.settle, args.timeout, args.expect)
         live: dict[str, Any] = {"domain_id": domain, "rmw_implementation": identifier, "settled": settled,
                                 "waited_s": round(waited, 2), "settle_s": args.settle, "timeout_s": args.timeout,
+                                "expected_absent": absent,
                                 "parameter_timeout_s": args.parameter_timeout, "hidden": [reader.own]}
         answer = snapshot(reader, args, live, identifier, parameters=True)
         if answer is None:

@@ -20,7 +20,7 @@ ends. The live check is ``check --live``'s (``live.check``): the same rules, thr
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Collection, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -50,9 +50,10 @@ class LiveSystem:
     def domain_id(self) -> int:
         return self.system.domain_id
 
-    def read(self, *, settle: float = 1.0, timeout: float = 30.0) -> LiveGraph:
-        """The running graph, once every node the launch file names is in it."""
-        graph = self.system.wait_until_up(timeout=timeout, settle=settle)
+    def read(self, *, settle: float = 1.0, timeout: float = 30.0, expect: Collection[str] = ()) -> LiveGraph:
+        """The running graph, once every node the launch file names is in it (and, for a while,
+        ``expect``: the nodes a contract names)."""
+        graph = self.system.wait_until_up(timeout=timeout, settle=settle, expect=expect)
         self.graphs.append(graph)
         return graph
 
@@ -65,10 +66,21 @@ class LiveSystem:
         if not path.is_absolute():
             path = Path(self.item.path).parent / path
         layers = self.session_state.layers(strong_options=[(options, f"live_system().check() of {self.item.nodeid}")])
-        graph = self.graphs[-1] if self.graphs else self.read()
+        graph = self.graphs[-1] if self.graphs else self.read(expect=_named_by(path))
         result = live_check.check_contract(path, graph, layers=layers, shown=self.session_state.display(path))
         verdict.apply(self.item, result, self.session_state)
         return result
+
+
+def _named_by(path: Path) -> tuple[str, ...]:
+    """The nodes the contract at ``path`` names, to wait for (none when it cannot be read: the
+    check says why)."""
+    from ..live import check as live_check
+
+    try:
+        return live_check.expected_nodes([live_check.load(path)])
+    except RmwIntrospectError:
+        return ()
 
 
 #: What ``live_system`` returns: call it with a launch file to bring the system up.
@@ -120,7 +132,7 @@ def bring_up_for_marker(request: pytest.FixtureRequest, path: Path, launch: Mapp
 
     system = bringup.bring_up(launch, base_dir=base_dir, ros=state(request.config).ros())
     request.addfinalizer(system.stop)
-    return LiveMarkerState(system=system, graph=system.wait_until_up(), layers=layers)
+    return LiveMarkerState(system=system, graph=system.wait_until_up(expect=_named_by(path)), layers=layers)
 
 
 def check_marker(item: pytest.Item, path: Path, live: LiveMarkerState, session_state: SessionState) -> None:

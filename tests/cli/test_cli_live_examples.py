@@ -53,8 +53,9 @@ def test_every_example_node_runs_on_fast_dds_as_its_capture_says(cli: Cli):
         system.wait_until_up(nodes={name for f, contract in zip(files, contracts, strict=True)
                                     if f.name.removesuffix(".interfaces.yaml") not in ONE_SHOT
                                     for name in contract.nodes})  # every other node is up
-        # settle 4 s: discovery of a dozen processes comes in bursts (a Kilted run missed the C talker at 1.5 s)
-        result = cli("check", "--live", "--settle", "4", *files, "--format", "json",
+        # the default settle: discovery of a dozen processes comes in bursts (a Kilted run missed the C talker
+        # at 1.5 s), and the reader waits for every node the contracts name (the one-shot ones, gone, 10 s)
+        result = cli("check", "--live", *files, "--format", "json",
                      env={k: system.env[k] for k in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")}, timeout=120)
     finally:
         system.stop()

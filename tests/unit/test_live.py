@@ -67,3 +67,73 @@ def test_what_the_graph_cannot_show_is_taken_from_the_contract_and_noted():
     assert any("QoS history and depth, which the middleware does not report" in n for n in notes)
     assert any("QoS reliability the contract leaves to the middleware" in n for n in notes)
     assert "qos" in live["/n"]["publishers"][0] and live["/n"]["publishers"][0]["qos"]["history"] == "UNKNOWN"  # untouched
+
+
+class _FakeClock:
+    """time.monotonic and time.sleep of the reader, advanced by the reader's own sleeps."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def monotonic(self) -> float:
+        return self.now
+
+    def sleep(self, seconds: float) -> None:
+        self.now += seconds
+
+
+class _BurstyGraph:
+    """A graph whose nodes are discovered at given times (a second burst after a quiet gap)."""
+
+    def __init__(self, clock: _FakeClock, arrivals: dict[str, float]) -> None:
+        self.clock, self.arrivals = clock, arrivals
+
+    def spin_once(self, timeout: float) -> None:
+        self.clock.now += timeout
+
+    def signature(self):
+        seen = sorted((fqn[1:], "/", "/") for fqn, at in self.arrivals.items() if at <= self.clock.now)
+        return (seen, [], [], [])
+
+
+def test_the_reader_waits_for_the_nodes_the_contracts_name_through_a_gap_in_discovery(monkeypatch):
+    from pytest_rmw_introspect.live import ABSENT_AFTER, reader
+
+    clock = _FakeClock()
+    monkeypatch.setattr(reader, "time", clock)
+    monkeypatch.setattr(reader, "say", lambda text: None)
+    arrivals = {"/talker": 0.5, "/listener": 0.6, "/c_talker": 6.5}  # the second burst 6 s after the first
+    settled, waited, absent = reader.wait_stable(_BurstyGraph(clock, arrivals), 1.5, 30.0)
+    assert settled and absent == [] and waited < 6.5  # without --expect: read before the second burst
+
+    clock.now = 0.0
+    settled, waited, absent = reader.wait_stable(_BurstyGraph(clock, arrivals), 1.5, 30.0,
+                                                 ["/talker", "/listener", "/c_talker"])
+    assert settled and absent == [] and 6.5 + 1.5 <= waited < 6.5 + 3  # waited for it, then settled as usual
+
+    clock.now = 0.0  # a node the contract names that never comes: absent once the graph was quiet long enough
+    settled, waited, absent = reader.wait_stable(_BurstyGraph(clock, arrivals), 1.5, 30.0, ["/talker", "/gone"])
+    assert settled and absent == ["/gone"] and ABSENT_AFTER <= waited < 6.5 + ABSENT_AFTER + 1
+
+    clock.now = 0.0  # and --timeout bounds it all
+    settled, waited, absent = reader.wait_stable(_BurstyGraph(clock, arrivals), 1.5, 5.0, ["/talker", "/gone"])
+    assert not settled and absent == ["/gone"] and 5.0 <= waited < 5.5
+
+
+def test_the_nodes_to_wait_for_are_those_a_contract_names_literally(tmp_path):
+    from pytest_rmw_introspect.live.check import expected_nodes, load
+
+    (tmp_path / "a.yaml").write_text(
+        "contract_version: 1\nnodes:\n"
+        "  /robot/talker:\n    publishers: []\n"
+        "  /anonymous_*:\n    publishers: []\n"
+        "  /once:\n    destroyed_at: 0.5\n    publishers: []\n")
+    (tmp_path / "b.yaml").write_text("contract_version: 1\nnodes:\n  /robot/listener:\n    subscriptions: []\n")
+    contracts = [load(tmp_path / "a.yaml"), load(tmp_path / "b.yaml")]
+    assert expected_nodes(contracts) == ("/robot/listener", "/robot/talker")
+
+
+def test_a_node_the_contracts_name_that_did_not_come_is_a_note_not_an_error():
+    graph = _graph(expected_absent=["/gone"])
+    assert any("not running: /gone" in note and "10 s" in note for note in graph.notes())
+    assert not [n for n in graph.notes(nodes=["/other"]) if "not running" in n]

@@ -39,7 +39,7 @@ def add_compare(parser: argparse.ArgumentParser, front_end: FrontEnd = FrontEnd.
     option_flags.add_group(parser, COMPARISON, front_end, "comparison options (override the contract's options: block)")
 
 
-REPORT_FORMATS = ("text", "json", "markdown", "github", "sarif")
+REPORT_FORMATS = ("text", "json", "markdown", "github", "sarif", "junit")
 
 
 def add_format(parser: argparse.ArgumentParser) -> None:
@@ -48,7 +48,8 @@ def add_format(parser: argparse.ArgumentParser) -> None:
                         help="text: the report for people (default); json: machine-readable items; "
                         "markdown: a summary table and the grouped drift (a pull-request comment, "
                         "$GITHUB_STEP_SUMMARY); github: GitHub Actions annotations on the contract lines; "
-                        "sarif: a SARIF 2.1.0 log (GitHub code scanning), a result per finding on its contract line")
+                        "sarif: a SARIF 2.1.0 log (GitHub code scanning), a result per finding on its contract line; "
+                        "junit: JUnit XML, a test case per contract (GitLab, Jenkins, test-report actions)")
 
 
 def add_baseline(parser: argparse.ArgumentParser) -> None:

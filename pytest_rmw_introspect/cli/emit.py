@@ -1,4 +1,5 @@
-"""The one writer of a command's report in each ``--format`` (text, json, markdown, github, sarif).
+"""The one writer of a command's report in each ``--format`` (text, json, markdown, github, sarif,
+junit).
 
 A command that reports drift or incompatibility (``check``, ``diff``, ``diff --against``,
 ``compat``) describes its outcome as a :class:`Report` and hands it to :func:`emit`; no command
@@ -15,7 +16,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, TextIO
 
 from .._version import __version__
-from ..compare import ci_report, sarif
+from ..compare import ci_report, junit, sarif
 
 if TYPE_CHECKING:
     from ..check.pipeline import CompatibilityResult
@@ -31,7 +32,8 @@ class Report:
     (markdown, github, sarif) are written from, or ``compat``: the system check of ``compat``.
     ``title`` and ``intro`` head the Markdown report; ``notice`` is an annotation said first
     under ``--format github`` (the gate: what it looked at). ``invalid``: the files ``validate``
-    refused, each ``(file, line, message, reason)``."""
+    refused, each ``(file, line, message, reason)``, and ``read`` every file it read (each a JUnit test
+    case)."""
 
     text: str | Callable[[], str]
     data: Any
@@ -41,6 +43,7 @@ class Report:
     intro: Sequence[str] = ()
     notice: str | None = None
     invalid: Sequence[tuple[str, int | None, str, str]] | None = None
+    read: Sequence[str] = ()
 
     def markdown(self) -> str:
         """The Markdown report (what ``--summary FILE`` appends, too)."""
@@ -73,6 +76,16 @@ class Report:
                                     stale=compat.stale)
         return sarif.drift_log(self.outcomes, tool_version=__version__)
 
+    def junit(self) -> str:
+        """JUnit XML: a test case per contract (``compare.junit``)."""
+        if self.invalid is not None:
+            return junit.invalid_junit(self.read, [(file, line, message) for file, line, message, _r in self.invalid])
+        compat = self.compat
+        if compat is not None:
+            return junit.compat_junit(compat.items, threshold=compat.threshold, labels=compat.labels,
+                                      file_of=compat.file_of)
+        return junit.drift_junit(self.outcomes)
+
     def rendered_text(self) -> str:
         return self.text() if callable(self.text) else self.text
 
@@ -84,6 +97,7 @@ WRITERS: dict[str, Callable[[Report], str]] = {
     "markdown": Report.markdown,
     "github": Report.github,
     "sarif": lambda report: json.dumps(report.sarif(), indent=2) + "\n",
+    "junit": Report.junit,
 }
 
 

@@ -36,9 +36,10 @@ def add_parser(sub: Any) -> None:
                          "files saying system_version:) are read as system contracts.",
                          epilog=VALIDATE_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     val.add_argument("contracts", nargs="+", metavar="CONTRACT", help="contract files (YAML), node or system contracts")
-    val.add_argument("--format", choices=("text", "github", "sarif"), default="text",
+    val.add_argument("--format", choices=("text", "github", "sarif", "junit"), default="text",
                      help="text: one line per file (default); github: an annotation per invalid file; "
-                     "sarif: a SARIF 2.1.0 log with a result per invalid file")
+                     "sarif: a SARIF 2.1.0 log with a result per invalid file; junit: JUnit XML, a test case "
+                     "per file")
     val.set_defaults(handler=cmd_validate)
 
 
@@ -55,7 +56,7 @@ def cmd_validate(args: argparse.Namespace) -> int:
             invalid.append((shown, exc.line, str(exc), exc.reason))
             if args.format == "text":
                 print(f"rmw-introspect: {exc}", file=sys.stderr)
-    emit(Report(text="".join(valid), data=None, invalid=invalid), args.format)
+    emit(Report(text="".join(valid), data=None, invalid=invalid, read=list(args.contracts)), args.format)
     return EXIT_ERROR if invalid else EXIT_OK
 
 

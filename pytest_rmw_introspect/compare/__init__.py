@@ -23,6 +23,7 @@ One line per module:
 - ``ci_report``: Markdown and GitHub workflow annotations
 - ``rule_levels``: the option ``rules``, a project's level of each rule, and the list of every rule id
 - ``sarif``: SARIF 2.1.0 logs
+- ``junit``: JUnit XML (a test case per contract)
 - ``graph``: a system drawn (Mermaid, Graphviz DOT, HTML) with the findings on it
 
 It may import ``model`` and ``errors``; it never runs anything.

@@ -11,15 +11,16 @@ from __future__ import annotations
 
 import json
 import subprocess
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
 from test_check_bag import LISTENER, SYSTEM, TALKER, bag, topic
 
 from pytest_rmw_introspect import cli
-from pytest_rmw_introspect.compare import ci_report
+from pytest_rmw_introspect.compare import ci_report, junit
 
-FORMATS = ("text", "json", "markdown", "github", "sarif")
+FORMATS = ("text", "json", "markdown", "github", "sarif", "junit")
 
 
 def _weakened(text: str) -> str:
@@ -37,6 +38,9 @@ def _looks_like(fmt: str, out: str) -> None:
         assert out.startswith("## "), out[:200]
     elif fmt == "github":
         assert all(line.startswith("::") for line in out.splitlines()), out[:300]
+    elif fmt == "junit":
+        suites = ET.fromstring(out)
+        assert suites.tag == "testsuites" and suites.find("testsuite/testcase") is not None, out[:300]
     else:
         assert not out.startswith(("{", "## ", "::")), out[:200]
 
@@ -75,7 +79,8 @@ def test_diff(contracts, capsys, kind, fmt):
     outcome = result.for_ci()
     expected = {"text": result.render_text(), "json": result.to_json(),
                 "markdown": ci_report.drift_markdown([outcome], title=f"Interface drift of {new}"),
-                "github": ci_report.drift_github([outcome]), "sarif": "QOS_RELIABILITY_WEAKENED"}[fmt]
+                "github": ci_report.drift_github([outcome]), "sarif": "QOS_RELIABILITY_WEAKENED",
+                "junit": junit.drift_junit([outcome])}[fmt]
     _compare(fmt, out, expected)
 
 
@@ -96,7 +101,8 @@ def test_diff_against_a_revision(contracts, capsys, kind, fmt):
     result = gate.run("HEAD", [KINDS[kind]])
     expected = {"text": result.render_text(), "json": result.to_json(),
                 "markdown": ci_report.drift_markdown(result.for_ci(), title=result.title(), intro=result.intro()),
-                "github": ci_report.drift_github(result.for_ci()), "sarif": "QOS_RELIABILITY_WEAKENED"}[fmt]
+                "github": ci_report.drift_github(result.for_ci()), "sarif": "QOS_RELIABILITY_WEAKENED",
+                "junit": junit.drift_junit(result.for_ci())}[fmt]
     if fmt == "github":  # the gate says first what it looked at
         out = out.split("\n", 1)[1]
     _compare(fmt, out, expected)
@@ -116,7 +122,9 @@ def test_compat(contracts, capsys, kind, fmt):
                 "markdown": ci_report.compat_markdown(result.items, threshold=result.threshold, labels=result.labels),
                 "github": ci_report.compat_github(result.items, threshold=result.threshold, lines=result.lines,
                                                   file_of=result.file_of),
-                "sarif": "QOS_INCOMPATIBLE"}[fmt]
+                "sarif": "QOS_INCOMPATIBLE",
+                "junit": junit.compat_junit(result.items, threshold=result.threshold, labels=result.labels,
+                                            file_of=result.file_of)}[fmt]
     _compare(fmt, out, expected)
 
 
@@ -131,7 +139,7 @@ def test_check_of_a_recording(contracts, capsys, kind, fmt):
     assert "QOS_RELIABILITY_WEAKENED" in out or fmt == "text" and "reliability" in out
 
 
-@pytest.mark.parametrize("fmt", ("text", "github", "sarif"))
+@pytest.mark.parametrize("fmt", ("text", "github", "sarif", "junit"))
 @pytest.mark.parametrize("kind", sorted(KINDS))
 def test_validate(contracts, capsys, kind, fmt):
     broken = Path(KINDS[kind]).read_text().replace("nodes:", "nodez:", 1)
@@ -143,6 +151,11 @@ def test_validate(contracts, capsys, kind, fmt):
         assert out.startswith(f"{KINDS[kind]}: valid ")
     elif fmt == "github":
         assert out.count("::error ") == 1 and "broken." in out
+    elif fmt == "junit":
+        cases = {case.get("name"): case for case in ET.fromstring(out).iter("testcase")}
+        assert cases[KINDS[kind]].find("failure") is None
+        failure = cases[f"broken.{KINDS[kind].split('.', 1)[1]}"].find("failure")
+        assert failure.get("message") == "invalid contract" and "'nodes' is required" in failure.text
     else:
         assert [r["ruleId"] for r in json.loads(out)["runs"][0]["results"]] == ["CONTRACT_INVALID"]
 

@@ -131,7 +131,7 @@ def test_compat_threshold(cli_nodes_only):
                                  "--timeout SECONDS", "{yaml,json,nodl}", "--raw", "--include-ros-infra",
                                  "-o FILE", "NoDL v2"]),
         (("check", "--help"), ["CONTRACT", "--update", "--fail-on {any,risky,breaking}", "--ignore-type-hash",
-                               "--ignore-qos FIELDS", "--allow-extra", "--include-ros-infra", "--format {text,json,markdown,github,sarif}",
+                               "--ignore-qos FIELDS", "--allow-extra", "--include-ros-infra", "--format {text,json,markdown,github,sarif,junit}",
                                "refused when the CI environment variable is set", "2 errors"]),
         (("diff", "--help"), ["OLD", "NEW", "--fail-on", "--format"]),
         (("compat", "--help"), ["CONTRACT", "--fail-on", "--strict-system-default", "--format"]),

@@ -52,7 +52,7 @@ from ..model.interface_version import Bump
 from ..model.locate import LineIndex
 from ..model.vocabulary import Severity, parse_threshold
 from .contract_files import NOT_A_CONTRACT, counted, kinds_text, skipped_text
-from .pipeline import Layers, OptionLayer, compare_contracts
+from .pipeline import Layers, OptionLayer, compare_contracts, said_middleware
 from .revision import Revision, open_revision
 
 #: the gate's threshold when the command line gives none
@@ -415,6 +415,7 @@ def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractN
     except ContractError as exc:
         result.error = str(exc)
         return result
+    opts = said_middleware(old, new, opts)  # a system contract is judged for the middleware it says it runs on
     items = compare_contracts(old, new, dataclasses.replace(opts, fail_on=threshold.name.lower()))
     if systems and not contract_kind.is_system_text(new.text or old.text, name):
         items = consumers.judge(items, new.nodes, old.nodes, systems, rmw=opts.rmw)

@@ -36,11 +36,12 @@ from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions, resolve
 from ..errors import LifecycleTransitionFailed, RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
-from ..model import nodl, type_lock
+from ..model import contract_kind, nodl, type_lock
 from ..model import types as type_model
 from ..model.acceptance import Acceptance
 from ..model.capture import Capture
 from ..model.contract import Contract
+from ..model.contract_kind import Kind
 from ..model.locate import LineIndex
 from ..model.option_tables import PRECEDENCE, Source, stack
 from ..model.paths import shown as display
@@ -349,7 +350,8 @@ def check_contract(
 
 @dataclass
 class DiffResult:
-    """Two contract files compared: ``old`` plays the contract, ``new`` the capture."""
+    """Two contract files compared, node or system contracts alike: ``old`` plays the contract,
+    ``new`` the capture (``kind``: what NEW is)."""
 
     old: Contract
     new: Contract
@@ -359,6 +361,7 @@ class DiffResult:
     items: list[DriftItem]
     #: how many findings the project's ``rules`` turned off (``compare.rule_levels``)
     turned_off: int = 0
+    kind: Kind = Kind.NODE
 
     @property
     def threshold(self) -> Severity:
@@ -388,8 +391,9 @@ def diff_contracts(
     new_path: str | Path,
     options: Sequence[OptionLayer] | Mapping[str, Any] | ComparisonOptions | None = None,
 ) -> DiffResult:
-    """Compare two contract files without running anything: ``old`` plays the contract,
-    ``new`` the capture, so the rules and severities are those of a check.
+    """Compare two contract files of any kind (node contracts, marker goldens, NoDL documents,
+    system contracts; ``model.contract_kind``) without running anything: ``old`` plays the
+    contract, ``new`` the capture, so the rules and severities are those of a check.
 
     ``options``: a :class:`ComparisonOptions`, a mapping of option values, or layers stacked on
     top of the old contract's ``options:`` block. ``include_infrastructure`` has no effect
@@ -397,8 +401,8 @@ def diff_contracts(
     changed type is reported field by field. Raises :class:`ContractError`.
     """
     old_shown, new_shown = display(old_path), display(new_path)
-    old = contract_module.load(old_path)
-    new = contract_module.load(new_path)
+    old, _ = contract_kind.load(old_path)
+    new, kind = contract_kind.load(new_path)
     if isinstance(options, ComparisonOptions):
         opts = options
     else:
@@ -407,8 +411,16 @@ def diff_contracts(
         else:
             layers = options or ()
         opts = Layers(strong_options=layers).options(old, shown=old_shown)
+    opts = said_middleware(old, new, opts)
     leveled = rule_levels.apply(compare_contracts(old, new, opts), opts.rules)  # the project's levels of rules
-    return DiffResult(old, new, old_shown, new_shown, opts, leveled.items, leveled.off)
+    return DiffResult(old, new, old_shown, new_shown, opts, leveled.items, leveled.off, kind)
+
+
+def said_middleware(old: Contract, new: Contract, options: ComparisonOptions) -> ComparisonOptions:
+    """``options`` judging for the middleware a system contract of the pair says it runs on
+    (NEW's word first; it wins over the option ``rmw``, which is for contracts that do not say)."""
+    said = new.middleware or old.middleware
+    return dataclasses.replace(options, rmw=said) if said is not None else options
 
 
 def compare_contracts(old: Contract, new: Contract, options: ComparisonOptions) -> list[DriftItem]:

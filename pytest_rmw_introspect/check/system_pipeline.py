@@ -16,19 +16,19 @@ then
 :class:`SystemCheckResult` is what ``check.outcome.decide`` reads, like a ``CheckResult``; its
 ``items`` are the drift and then the system problems, ``drifted`` says whether the golden
 differs. :func:`load_any` and :func:`check_contracts` run the compatibility rules on contract files
-without capturing (``compat``, ``graph``); :func:`diff_system` compares two system contracts.
+without capturing (``compat``, ``graph``); ``pipeline.diff_contracts`` compares two contracts of any kind.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import os
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import acceptance, drift, launch_given, report, rule_levels
+from ..compare import acceptance, drift, launch_given, rule_levels
 from ..compare.ci_report import ContractOutcome
 from ..compare.compatibility import (
     NOTES,
@@ -38,7 +38,6 @@ from ..compare.compatibility import (
     check_launched,
     propose_external,
 )
-from ..compare.drift import DriftItem
 from ..compare.launch_given import Given
 from ..compare.options import ComparisonOptions
 from ..errors import RmwIntrospectError, TargetConfigError, UsageError
@@ -59,7 +58,7 @@ from ..run.ros_env import RosEnvironment
 from ..run.system_capture import LaunchSpec, ProcessCapture, SystemCapture
 from ..run.target import TargetSpec
 from . import golden, launch_settings
-from .pipeline import CompatibilityResult, Layers, OptionLayer, judge_compatibility, read_as_asked
+from .pipeline import CompatibilityResult, Layers, judge_compatibility, read_as_asked
 from .result import ContractCheck
 
 NO_LAYERS = Layers()
@@ -493,59 +492,3 @@ def check_contracts(
                                threshold=threshold, lines=loaded.lines, accepted=judged.accepted,
                                stale=judged.stale, file_of=loaded.file_of,
                                notes=[f"{i.name}: {i.message}" for i in items if i.rule in NOTES])
-
-
-@dataclass
-class SystemDiff:
-    """Two system contracts compared (``old`` plays the contract, ``new`` the capture)."""
-
-    old_shown: str
-    new_shown: str
-    options: ComparisonOptions
-    items: list[DriftItem]
-    #: where NEW lists its nodes and interfaces, for the CI formats
-    lines: LineIndex = field(default_factory=dict)
-    #: how many findings the project's ``rules`` turned off (``compare.rule_levels``)
-    turned_off: int = 0
-
-    @property
-    def failed(self) -> bool:
-        return report.fails(self.items, self.options.threshold())
-
-    def for_ci(self) -> ContractOutcome:
-        """For the CI formats: results point at NEW, the file a pull request changes."""
-        return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.options.threshold(),
-                               lines=self.lines,
-                               notes=[rule_levels.turned_off_text(self.turned_off)] if self.turned_off else [])
-
-    def render_text(self) -> str:
-        text = report.render_text(self.items, contract_path=self.old_shown, threshold=self.options.threshold(),
-                                  title=f"Interface drift of {self.new_shown}")
-        return text + (f"\n{rule_levels.turned_off_text(self.turned_off)}.\n" if self.turned_off else "")
-
-    def to_json(self) -> list[dict[str, Any]]:
-        return [{"contract": self.old_shown, **item} for item in report.to_json(self.items)]
-
-
-def said_middleware(path: str | Path) -> str | None:
-    """The middleware a system contract says it runs on (``rmw:``, its ``target: {env:}``); None
-    for a node contract or a system contract that does not say."""
-    if not contract_kind.is_system_file(path):
-        return None
-    return system_contract.load(path).middleware()
-
-
-def diff_system(old_path: str | Path, new_path: str | Path, options: Sequence[OptionLayer] = ()) -> SystemDiff:
-    """Compare the nodes of two contracts of which at least one is a system contract, with the
-    drift rules (raises ContractError)."""
-    old, _ = contract_kind.load(old_path)
-    new, _ = contract_kind.load(new_path)
-    old_shown = display(old_path)
-    opts = Layers(strong_options=options).options(old, shown=old_shown)
-    # a system contract that says which middleware it runs on is judged for it (NEW's word first)
-    said = next((m for m in (said_middleware(new_path), said_middleware(old_path)) if m is not None), None)
-    if said is not None:
-        opts = dataclasses.replace(opts, rmw=said)
-    lines = line_index(Path(new_path).read_text(encoding="utf-8"))
-    leveled = rule_levels.apply(drift.compare(old.nodes, new.nodes, opts), opts.rules)  # the project's levels
-    return SystemDiff(old_shown, display(new_path), opts, leveled.items, lines, leveled.off)

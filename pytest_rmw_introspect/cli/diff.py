@@ -5,7 +5,6 @@ nothing is run."""
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import Any
 
 from ..errors import UsageError
@@ -72,7 +71,6 @@ def cmd_diff(args: argparse.Namespace) -> int:
 
         return cmd_gate(args)
     from ..check import pipeline
-    from . import system_contracts
     from .emit import Report, emit
 
     given = [flag for flag, value in (("--against-system", args.against_system), ("--baseline", args.baseline),
@@ -83,12 +81,8 @@ def cmd_diff(args: argparse.Namespace) -> int:
     if len(args.files) != 2:
         raise UsageError(f"diff compares two files, OLD and NEW ({len(args.files)} given); to compare every contract "
                          "with a git revision: rmw-introspect diff --against REF [CONTRACT...]")
-    from ..model import contract_kind
-
-    args.old, args.new = args.files
-    if any(Path(p).exists() and contract_kind.is_system_file(p) for p in (args.old, args.new)):
-        return system_contracts.cmd_diff(args)
-    result = pipeline.diff_contracts(args.old, args.new, [(compare_from_args(args), "command line")])
+    old, new = args.files
+    result = pipeline.diff_contracts(old, new, [(compare_from_args(args), "command line")])
     emit(Report(text=result.render_text, data=result.to_json(), outcomes=[result.for_ci()],
                 title=f"Interface drift of {result.new_shown}"), args.format)
     return EXIT_DRIFT if result.failed else EXIT_OK

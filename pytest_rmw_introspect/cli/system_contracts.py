@@ -23,8 +23,7 @@ from ..run.ros_env import RosEnvironment
 from ..run.target import TargetSpec
 from . import formats
 from .arguments import compare_from_args, target_from_args
-from .emit import Report, emit
-from .exit_status import EXIT_DRIFT, EXIT_OK
+from .exit_status import EXIT_OK
 from .launch_options import launch_arguments, launch_block, wants_launch
 
 
@@ -108,13 +107,3 @@ def check_system_contract(args: argparse.Namespace, path: Path, shown: str, comm
     return system_pipeline.check_system_contract(
         path, library=library, ros=ros, layers=layers, launch=block, launch_base=cwd, launch_arguments=arguments,
         shown=shown, allow_missing=args.update, jobs=args.jobs)
-
-
-def cmd_diff(args: argparse.Namespace) -> int:
-    result = system_pipeline.diff_system(args.old, args.new, [(compare_from_args(args), "command line")])
-    emit(Report(text=result.render_text, data=result.to_json(), outcomes=[result.for_ci()],
-                title=f"Interface drift of {result.new_shown}"), args.format)
-    return EXIT_DRIFT if result.failed else EXIT_OK
-
-
-

@@ -117,6 +117,9 @@ class Contract:
     nodl: nodl.NodlSource | None = None
     #: the patterns of node names that change every run it declares (``unstable_names:``)
     unstable_names: tuple[unstable_model.NamePattern, ...] = ()
+    #: read from a system contract (``model.contract_kind.as_node_contract``): the middleware it
+    #: says it runs on (``rmw:``, its launch environment), which its comparisons follow
+    middleware: str | None = None
 
     def name_rules(self) -> unstable_model.NameRules:
         """What decides the keys of captured nodes checked against this contract: its declared

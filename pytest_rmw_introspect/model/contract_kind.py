@@ -117,10 +117,11 @@ def is_system_text(text: str, name: str | Path = "") -> bool:
 # ---------------------------------------------------------------------------- loading either kind
 def as_node_contract(system: SystemContract) -> Contract:
     """What a comparison of nodes reads of a system contract (its nodes, ``target:``, ``options:``,
-    ``accept:``, ``interface_version`` and text), as a node contract."""
+    ``accept:``, ``interface_version``, text and the middleware it says it runs on), as a node
+    contract."""
     return Contract(path=system.path, nodes=system.nodes, target=system.target,
                     options=system.options, text=system.text, accept=system.accept,
-                    interface_version=system.interface_version)
+                    interface_version=system.interface_version, middleware=system.middleware())
 
 
 def loads(text: str, label: str | Path) -> tuple[Contract, Kind]:

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect.check import system_pipeline
+from pytest_rmw_introspect.check import pipeline, system_pipeline
 from pytest_rmw_introspect.cli.parser import build_parser
 from pytest_rmw_introspect.compare import compatibility
 from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_compatibility, check_launched
@@ -270,13 +270,37 @@ def test_diff_of_system_contracts_takes_the_middleware_they_say(tmp_path):
     def weakened(diff):
         return [i.severity for i in diff.items if i.rule == "QOS_RELIABILITY_WEAKENED"]
 
-    assert weakened(system_pipeline.diff_system(old, new)) == [Severity.BREAKING]
+    assert weakened(pipeline.diff_contracts(old, new)) == [Severity.BREAKING]
     new.write_text(HEADER + "rmw: rmw_zenoh_cpp\n" + NODES)
-    diff = system_pipeline.diff_system(old, new)
+    diff = pipeline.diff_contracts(old, new)
     assert diff.options.rmw == "rmw_zenoh_cpp" and weakened(diff) == [Severity.RISKY]
     # what a contract says beats --rmw
-    assert system_pipeline.diff_system(old, new, [({"rmw": "rmw_cyclonedds_cpp"}, "command line")]).options.rmw == \
+    assert pipeline.diff_contracts(old, new, [({"rmw": "rmw_cyclonedds_cpp"}, "command line")]).options.rmw == \
         "rmw_zenoh_cpp"
+
+
+def test_the_gate_judges_a_system_contract_for_the_middleware_it_says(tmp_path, monkeypatch):
+    """``diff --against`` compares by ``diff``'s path: a system contract that moved to Zenoh weakens
+    its camera's reliability without a BREAKING finding (the gate once judged it by the DDS rules)."""
+    import subprocess
+
+    from pytest_rmw_introspect.check import gate
+
+    monkeypatch.chdir(tmp_path)
+    subprocess.run(["git", "init", "-q", "-b", "main"], check=True)
+    for config in (["user.email", "t@example.com"], ["user.name", "t"]):
+        subprocess.run(["git", "config", *config], check=True)
+    contract = write(tmp_path, "", name="robot.system.yaml")
+    contract.write_text(HEADER + NODES.replace("qos: sensor_data", "qos: default"))
+    subprocess.run(["git", "add", "robot.system.yaml"], check=True)
+    subprocess.run(["git", "commit", "-q", "-m", "robot"], check=True)
+    contract.write_text(HEADER + NODES)  # the camera publishes BEST_EFFORT now
+    assert [i.severity for i in gate.run("HEAD", ["robot.system.yaml"]).contracts[0].items
+            if i.rule == "QOS_RELIABILITY_WEAKENED"] == [Severity.BREAKING]
+    contract.write_text(HEADER + "rmw: rmw_zenoh_cpp\n" + NODES)
+    [compared] = gate.run("HEAD", ["robot.system.yaml"]).contracts
+    assert [i.severity for i in compared.items if i.rule == "QOS_RELIABILITY_WEAKENED"] == [Severity.RISKY]
+    assert not compared.failed
 
 
 def test_the_consumers_of_a_changed_interface_are_judged_for_the_middleware():

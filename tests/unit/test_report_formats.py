@@ -69,12 +69,12 @@ KINDS = {"node": "talker.interfaces.yaml", "system": "robot.system.yaml"}
 @pytest.mark.parametrize("fmt", FORMATS)
 @pytest.mark.parametrize("kind", sorted(KINDS))
 def test_diff(contracts, capsys, kind, fmt):
-    from pytest_rmw_introspect.check import pipeline, system_pipeline
+    from pytest_rmw_introspect.check import pipeline
 
     new = KINDS[kind]
     status, out = _run(capsys, "diff", f"old/{new}", new, "--format", fmt)
     assert status == 1
-    result = (system_pipeline.diff_system if kind == "system" else pipeline.diff_contracts)(
+    result = pipeline.diff_contracts(
         f"old/{new}", new, [({}, "command line")])
     outcome = result.for_ci()
     expected = {"text": result.render_text(), "json": result.to_json(),

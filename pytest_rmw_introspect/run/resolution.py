@@ -9,16 +9,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING
 
 from ..errors import ExecutableNotFound
 from . import middleware, ros_env
 from .executables import build_argv, command_as_typed
 from .target import TargetSpec
-
-if TYPE_CHECKING:
-    from .warm.client import Plan
-
+from .warm.plan import Plan, plan
 
 #: the directory of a capture's files that rcl's log files go to (``ROS_LOG_DIR``)
 LOG_DIR = "ros_log"
@@ -146,10 +142,8 @@ def resolve(
     if because is None:
         because = "cold_start asked for it" if spec.cold_start else None
     if because is None:
-        from .warm import client as warm_client
-
-        how = warm_client.plan(argv, env, python)
-        if isinstance(how, warm_client.Plan):
+        how = plan(argv, env, python)
+        if isinstance(how, Plan):
             warm = how
         else:
             because = how

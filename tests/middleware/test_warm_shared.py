@@ -23,6 +23,7 @@ from pytest_rmw_introspect.run import ros_env
 from pytest_rmw_introspect.run.resolution import environment
 from pytest_rmw_introspect.run.target import TargetSpec
 from pytest_rmw_introspect.run.warm import client as warm
+from pytest_rmw_introspect.run.warm import plan as warm_plan
 
 TALKER = str(w.NODES / "talker.py")
 
@@ -186,7 +187,7 @@ def test_a_runner_of_another_user_is_refused(runners, middleware_library):
     scope = owner.proc.args[-1]
     env = environment(TargetSpec.from_mapping({"script": TALKER}), middleware_library,
                              ros_env.detect(), Path("/unused"))
-    address = warm.shared_address(scope, warm.server_key(env, os.getcwd()))
+    address = warm.shared_address(scope, warm_plan.server_key(env, os.getcwd()))
     read_end, write_end = os.pipe()
     pid = os.fork()
     if pid == 0:  # as user nobody: connect, and report what the server says

@@ -59,9 +59,6 @@ LOCAL_IMPORTS = {
                                           "without the warm start client (~15 ms)",
     ("run.runner", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only when a target may start warm: "
                                                  "`rmw-introspect capture` starts its one target cold without it",
-    ("run.resolution", "pytest_rmw_introspect.run.warm"): "the warm start client (~15 ms) only to plan a start that "
-                                                     "may be warm: `rmw-introspect capture` resolves its one target "
-                                                     "cold without it",
     ("run.target", "pytest_rmw_introspect.run.executables"): "the spec's modules form no cycle: the executables "
                                                              "lookup (which reads the spec) only to list a "
                                                              "package's executables in an error message",
@@ -71,6 +68,8 @@ LOCAL_IMPORTS = {
                                                            "imported while the first target starts, not before it",
     ("run.runner", "pytest_rmw_introspect.model.capture_diagnoses"): "the errors' diagnoses read the capture model: "
                                                                      "imported with it, once a target has ended",
+    ("run.warm.plan", "socket"): "socket (+ selectors) only to plan a warm start: `rmw-introspect capture` plans "
+                                 "its one target cold without it",
     ("run.ros_env", "importlib"): "importlib.metadata (+ email) costs ~10 ms; only a venv without the "
                                    "ros-<distro>-rclpy dist-info needs the scan of installed distributions",
     ("run.executables", "importlib"): "importlib.metadata (+ email) costs ~15 ms; only console scripts and packages "

@@ -21,6 +21,7 @@ from pytest_rmw_introspect.errors import TargetConfigError
 from pytest_rmw_introspect.run import runner
 from pytest_rmw_introspect.run.target import TARGET_KEYS, TargetSpec
 from pytest_rmw_introspect.run.warm import client as warm
+from pytest_rmw_introspect.run.warm import plan as warm_plan
 from pytest_rmw_introspect.run.warm import server as warm_server
 
 PY = sys.executable
@@ -38,22 +39,22 @@ def _exe(path: Path, text: str) -> Path:
 def test_a_script_run_by_this_interpreter_starts_warm(tmp_path):
     script = tmp_path / "node.py"
     script.write_text("pass\n")
-    plan = warm.plan([PY, str(script), "a", "--ros-args", "-r", "__ns:=/x"], {})
-    assert plan == warm.Plan("script", str(script), (str(script), "a", "--ros-args", "-r", "__ns:=/x"),
+    plan = warm_plan.plan([PY, str(script), "a", "--ros-args", "-r", "__ns:=/x"], {})
+    assert plan == warm_plan.Plan("script", str(script), (str(script), "a", "--ros-args", "-r", "__ns:=/x"),
                              (PY, str(script), "a", "--ros-args", "-r", "__ns:=/x"), PY)
 
 
 def test_a_module_starts_warm_with_argv_as_python_dash_m_gives_it():
-    plan = warm.plan([PY, "-m", "pkg.node", "x"], {})
-    assert isinstance(plan, warm.Plan)
+    plan = warm_plan.plan([PY, "-m", "pkg.node", "x"], {})
+    assert isinstance(plan, warm_plan.Plan)
     assert (plan.kind, plan.target, plan.argv, plan.orig_argv) == ("module", "pkg.node", ("-m", "x"),
                                                                   (PY, "-m", "pkg.node", "x"))
 
 
 def test_an_executable_whose_shebang_names_this_interpreter_starts_warm(tmp_path):
     exe = _exe(tmp_path / "talker", f"#!{PY}\nimport sys\n")
-    plan = warm.plan([str(exe), "--ros-args"], {})
-    assert isinstance(plan, warm.Plan)
+    plan = warm_plan.plan([str(exe), "--ros-args"], {})
+    assert isinstance(plan, warm_plan.Plan)
     # what the kernel makes of it: `interpreter executable args...`
     assert (plan.kind, plan.target, plan.argv, plan.orig_argv) == ("script", str(exe), (str(exe), "--ros-args"),
                                                                   (PY, str(exe), "--ros-args"))
@@ -62,9 +63,9 @@ def test_an_executable_whose_shebang_names_this_interpreter_starts_warm(tmp_path
 def test_an_env_shebang_is_resolved_on_the_targets_path(tmp_path):
     name = Path(PY).name
     exe = _exe(tmp_path / "talker", f"#!/usr/bin/env {name}\n")
-    plan = warm.plan([str(exe)], {"PATH": str(Path(PY).parent)})
-    assert isinstance(plan, warm.Plan) and plan.orig_argv == (name, str(exe)) and plan.executable == PY
-    assert warm.plan([str(exe)], {"PATH": str(tmp_path)}) == f"its #! line names {name}, which is not on PATH"
+    plan = warm_plan.plan([str(exe)], {"PATH": str(Path(PY).parent)})
+    assert isinstance(plan, warm_plan.Plan) and plan.orig_argv == (name, str(exe)) and plan.executable == PY
+    assert warm_plan.plan([str(exe)], {"PATH": str(tmp_path)}) == f"its #! line names {name}, which is not on PATH"
 
 
 @pytest.mark.parametrize("make, reason", [
@@ -81,7 +82,7 @@ def test_an_env_shebang_is_resolved_on_the_targets_path(tmp_path):
     (lambda d: [], "empty command"),
 ])
 def test_commands_that_start_cold_and_why(tmp_path, make, reason):
-    assert warm.plan(make(tmp_path), {}) == reason.replace("{d}", str(tmp_path))
+    assert warm_plan.plan(make(tmp_path), {}) == reason.replace("{d}", str(tmp_path))
 
 
 def test_zip_archives_and_compiled_python_start_cold(tmp_path):
@@ -91,18 +92,18 @@ def test_zip_archives_and_compiled_python_start_cold(tmp_path):
     compiled = tmp_path / "node.pyc"
     compiled.write_bytes(b"\xa7\r\r\n" + bytes(12))
     for path in (archive, compiled):
-        assert warm.plan([PY, str(path)], {}) == "the script is a zip archive or compiled Python"
+        assert warm_plan.plan([PY, str(path)], {}) == "the script is a zip archive or compiled Python"
 
 
 def test_another_interpreter_starts_cold(tmp_path):
     other = tmp_path / "python3"
     other.symlink_to(os.path.realpath(PY))  # the same binary, but not this environment's prefix
-    assert not warm.same_interpreter(str(other))
-    assert warm.plan([str(other), "x.py"], {}) == f"another Python interpreter ({other})"
-    assert warm.same_interpreter(PY)
+    assert not warm_plan.same_interpreter(str(other))
+    assert warm_plan.plan([str(other), "x.py"], {}) == f"another Python interpreter ({other})"
+    assert warm_plan.same_interpreter(PY)
     sibling = Path(PY).parent / "python3"
     if sibling.exists() and os.path.realpath(sibling) == os.path.realpath(PY):
-        assert warm.same_interpreter(str(sibling))
+        assert warm_plan.same_interpreter(str(sibling))
 
 
 # ---------------------------------------------------------------------------- keys
@@ -111,25 +112,25 @@ def test_another_interpreter_starts_cold(tmp_path):
 def test_the_server_key_is_the_environment_that_changes_imports():
     base = {"PATH": "/bin", "LD_PRELOAD": "/lib/mw.so", "LD_LIBRARY_PATH": "/venv/lib", "PYTHONPATH": "/ws",
             "AMENT_PREFIX_PATH": "/venv", "ROS_DOMAIN_ID": "3", "RMW_INTROSPECT_OUTPUT": "/tmp/a", "MY_NODE": "x"}
-    key = warm.server_key(base, "/here")
+    key = warm_plan.server_key(base, "/here")
     # variables a node reads itself, per-capture middleware settings: same server
     for name, value in (("MY_NODE", "y"), ("ROS_DOMAIN_ID", "4"), ("RMW_INTROSPECT_OUTPUT", "/tmp/b"),
                         ("PATH", "/usr/bin"), ("WARM_FACT", "1")):
-        assert warm.server_key({**base, name: value}, "/elsewhere") == key, name
+        assert warm_plan.server_key({**base, name: value}, "/elsewhere") == key, name
     # what the interpreter, the dynamic loader or the imports read: another server
     for name, value in (("PYTHONPATH", "/other"), ("LD_PRELOAD", "/lib/asan.so /lib/mw.so"), ("LD_LIBRARY_PATH", "/x"),
                         ("AMENT_PREFIX_PATH", "/ws:/venv"), ("PYTHONHASHSEED", "0"), ("LANG", "C"),
                         ("RCUTILS_CONSOLE_OUTPUT_FORMAT", "{message}"), ("OPENBLAS_NUM_THREADS", "1")):
-        assert warm.server_key({**base, name: value}, "/here") != key, name
-    assert warm.server_key(base, "/here", python="/other/python") != key
-    assert warm.server_environment(base) == {"LD_PRELOAD": "/lib/mw.so", "LD_LIBRARY_PATH": "/venv/lib",
+        assert warm_plan.server_key({**base, name: value}, "/here") != key, name
+    assert warm_plan.server_key(base, "/here", python="/other/python") != key
+    assert warm_plan.server_environment(base) == {"LD_PRELOAD": "/lib/mw.so", "LD_LIBRARY_PATH": "/venv/lib",
                                              "PYTHONPATH": "/ws", "AMENT_PREFIX_PATH": "/venv"}
 
 
 def test_a_relative_pythonpath_keys_the_server_on_the_working_directory():
     env = {"PYTHONPATH": "src:/abs"}
-    assert warm.server_key(env, "/a") != warm.server_key(env, "/b")
-    assert warm.server_key({"PYTHONPATH": "/abs"}, "/a") == warm.server_key({"PYTHONPATH": "/abs"}, "/b")
+    assert warm_plan.server_key(env, "/a") != warm_plan.server_key(env, "/b")
+    assert warm_plan.server_key({"PYTHONPATH": "/abs"}, "/a") == warm_plan.server_key({"PYTHONPATH": "/abs"}, "/b")
 
 
 def test_message_types_name_their_python_modules():
@@ -210,10 +211,10 @@ def test_a_server_is_told_each_message_type_once():
 
 
 def test_the_shared_address_names_user_scope_and_key():
-    key = warm.server_key({"PYTHONPATH": "/a"}, "/")
+    key = warm_plan.server_key({"PYTHONPATH": "/a"}, "/")
     address = warm.shared_address("scope1", key)
     assert address.startswith(b"\0rmw-introspect-warm/") and f"/{os.getuid()}/scope1/".encode() in address
-    assert warm.shared_address("scope1", warm.server_key({"PYTHONPATH": "/b"}, "/")) != address
+    assert warm.shared_address("scope1", warm_plan.server_key({"PYTHONPATH": "/b"}, "/")) != address
     assert warm.shared_address("scope2", key) != address
 
 

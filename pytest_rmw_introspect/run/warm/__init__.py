@@ -2,9 +2,11 @@
 
 One line per module:
 
-- ``client``: the runner's side: which commands start warm, the pool of servers, the forked child
+- ``plan``: which commands start warm and which server each needs (pure: no process, no socket)
+- ``client``: the runner's side: the pool of servers, the forked child
 - ``server``: the server process: preloads rclpy, forks one child per capture
 
 Only ``run.target`` (which targets start warm), ``run.runner`` (starting them) and
-``run.prewarm`` use it; it imports nothing of the package but ``run.process``.
+``run.prewarm`` use it (``client`` names the plan's functions too); it imports nothing of the
+package but ``run.process``.
 """

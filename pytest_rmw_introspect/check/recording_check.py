@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import acceptance, report
+from ..compare import acceptance, report, rule_levels
 from ..compare import recordings as compare_recordings
 from ..compare.ci_report import ContractOutcome
 from ..compare.options import ComparisonOptions
@@ -168,7 +168,7 @@ class RecordingCheckResult(ContractCheck[Contract | _NoPromises, RecordingSpec, 
         return out
 
     def notes(self) -> list[str]:
-        return list(self.recording.notes) if self.own else []
+        return [*(self.recording.notes if self.own else []), *self.rule_level_notes()]
 
     def render_text(self, accept_command: str | None = None) -> str:
         if self.error is not None:
@@ -299,7 +299,9 @@ class BagCheck:
 
     @staticmethod
     def _judge(result: RecordingCheckResult, items: Sequence[object], accept: Sequence[Acceptance]) -> None:
-        judged = acceptance.judge(items, accept, rules=compare_recordings.CHECKED_RULES)  # type: ignore[arg-type]
+        leveled = rule_levels.apply(items, result.options.rules)  # the project's levels of rules, as check's
+        result.turned_off = leveled.off
+        judged = acceptance.judge(leveled.items, accept, rules=compare_recordings.CHECKED_RULES)
         result.keep(judged.kept, judged.accepted)
         result.stale = judged.stale
 

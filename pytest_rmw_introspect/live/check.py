@@ -29,7 +29,7 @@ from typing import Any, cast
 
 from ..check.pipeline import Layers
 from ..check.result import ContractCheck
-from ..compare import acceptance, drift
+from ..compare import acceptance, drift, rule_levels
 from ..compare.ci_report import ContractOutcome
 from ..compare.compatibility import LaunchedProcess, check_launched
 from ..errors import RmwIntrospectError
@@ -197,7 +197,7 @@ class LiveCheckResult(ContractCheck[Any, LiveSpec, LiveView]):
         return self.notes() if not self.items and self.error is None else []
 
     def notes(self) -> list[str]:
-        return self.capture.notes() if self.capture is not None else []
+        return [*(self.capture.notes() if self.capture is not None else []), *self.rule_level_notes()]
 
     def title(self) -> str:
         return f"Interface drift of {self.spec.describe()}" if self.spec is not None else "Interface drift (live)"
@@ -277,6 +277,9 @@ def check_contract(path: str | Path, graph: LiveGraph, *, layers: Layers | None 
         processes = [LaunchedProcess(label=fqn, expected=None, nodes={fqn: node}, launched=False)
                      for fqn, node in everything.items()]
         items += check_launched(processes, external=contract.external)
+    leveled = rule_levels.apply(items, options.rules)  # the project's levels of rules, as check applies them
+    result.turned_off = leveled.off
+    items = leveled.items
     judged = acceptance.judge(drift.sort_items([i for i in items if isinstance(i, drift.DriftItem)])
                               + [i for i in items if not isinstance(i, drift.DriftItem)], contract.accept,
                               rules=acceptance.DRIFT_RULES | (acceptance.SYSTEM_RULES if is_system else frozenset()))

@@ -229,6 +229,16 @@ def test_a_type_hash_of_another_distribution_is_said_so(tmp_path, contracts, cap
     assert "[TYPE_HASH_DISTRIBUTION_CHANGED]" in out and "between ROS 2 humble (the contract) and jazzy" in out
 
 
+def test_the_projects_rule_levels_apply_to_a_recording_as_to_a_capture(tmp_path, contracts, capsys):
+    bag(tmp_path, [topic(type_hash=OTHER_HASH), topic("/debug_image", "sensor_msgs/msg/Image", count=7)])
+    assert check("--bag", "rec", *contracts, "--rule", "TYPE_HASH_*=note", "--rule", "RECORDED_TOPIC_UNDECLARED=off",
+                 "--fail-on", "any") == 0
+    out, err = capsys.readouterr()
+    assert "[TYPE_HASH_CHANGED]" in out and "(NOTE, set by rules `TYPE_HASH_*`: in command line)" in out, out
+    assert "[RECORDED_TOPIC_UNDECLARED]" not in out
+    assert (out + err).count("1 finding turned off by the project's rules") == 1, out + err
+
+
 def test_a_recording_without_type_hashes_compares_none(tmp_path, contracts, capsys):
     bag(tmp_path, [topic(type_hash="")], version=6)
     assert check("--bag", "rec", *contracts) == 0

@@ -137,3 +137,29 @@ def test_a_node_the_contracts_name_that_did_not_come_is_a_note_not_an_error():
     graph = _graph(expected_absent=["/gone"])
     assert any("not running: /gone" in note and "10 s" in note for note in graph.notes())
     assert not [n for n in graph.notes(nodes=["/other"]) if "not running" in n]
+
+
+def test_the_projects_rule_levels_apply_to_a_live_graph_as_to_a_capture(tmp_path):
+    """A node someone started by hand beside the system: NODE_ADDED and PUB_ADDED, which the project turned off,
+    and a QoS change it lowered to a note."""
+    from test_destruction_drift import raw_endpoint, raw_node
+
+    from pytest_rmw_introspect.live.check import check_contract
+
+    endpoints = [raw_endpoint(10, 1, "/talker", "/chatter"), raw_endpoint(11, 2, "/by_hand", "/debug")]
+    endpoints[0]["qos"] = {**endpoints[0]["qos"], "depth": 5}
+    capture = Capture.from_dict({"format": "rmw_introspect_capture", "format_version": 1, "format_minor": 4,
+                                 "state": "live", "nodes": [raw_node(1, "talker"), raw_node(2, "by_hand")],
+                                 "endpoints": endpoints})
+    graph = LiveGraph(capture=capture, domain_id=7, rmw_implementation="rmw_fastrtps_cpp", settled=True, waited=1.0,
+                      settings=LiveSettings())
+    (tmp_path / "robot.system.yaml").write_text(
+        "system_version: 1\nlaunch: {path: robot.launch.xml}\nprocesses:\n  - {executable: talker, nodes: [/talker]}\n"
+        "options:\n  rules: {'*_ADDED': 'off', QOS_DEPTH_DECREASED: note}\n"
+        "nodes:\n  /talker:\n    publishers:\n      - name: /chatter\n        type: std_msgs/msg/String\n"
+        "        qos: {history: KEEP_LAST, depth: 10, reliability: RELIABLE, durability: VOLATILE}\n")
+    result = check_contract(tmp_path / "robot.system.yaml", graph)
+    assert result.error is None, result.error
+    assert [(i.rule, i.severity.name) for i in result.drift_items] == [("QOS_DEPTH_DECREASED", "NOTE")]
+    assert not result.failed and result.turned_off == 2
+    assert "2 findings turned off by the project's rules" in result.notes()

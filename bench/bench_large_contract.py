@@ -39,7 +39,7 @@ RUNNER = textwrap.dedent("""
     from pytest_rmw_introspect.model import untrusted
     if sys.argv[1] == "pure":
         untrusted.LOADER = yaml.SafeLoader
-    from pytest_rmw_introspect.check.pipeline import diff_contracts
+    from pytest_rmw_introspect.check.diff import diff_contracts
     started = time.perf_counter()
     result = diff_contracts(sys.argv[2], sys.argv[3])
     wall = time.perf_counter() - started

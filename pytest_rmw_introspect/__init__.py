@@ -37,7 +37,8 @@ from typing import TYPE_CHECKING, Any
 from ._version import __version__
 
 if TYPE_CHECKING:
-    from .check.pipeline import CompatibilityResult, DiffResult, diff_contracts
+    from .check.diff import DiffResult, diff_contracts
+    from .check.pipeline import CompatibilityResult
     from .compare.compatibility import CompatItem
     from .compare.drift import DriftItem
     from .compare.options import ComparisonOptions
@@ -74,8 +75,8 @@ if TYPE_CHECKING:
 #: `python -X importtime`: eager imports made `rmw-introspect --help` ~60 ms slower.
 _LAZY: dict[str, tuple[str, str]] = {
     "CompatibilityResult": ("check.pipeline", "CompatibilityResult"),
-    "DiffResult": ("check.pipeline", "DiffResult"),
-    "diff_contracts": ("check.pipeline", "diff_contracts"),
+    "DiffResult": ("check.diff", "DiffResult"),
+    "diff_contracts": ("check.diff", "diff_contracts"),
     "DriftItem": ("compare.drift", "DriftItem"),
     "ComparisonOptions": ("compare.options", "ComparisonOptions"),
     "CompatItem": ("compare.compatibility", "CompatItem"),

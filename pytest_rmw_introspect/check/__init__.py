@@ -2,10 +2,12 @@
 
 One line per module:
 
-- ``pipeline``: contract → layered target and options → capture → drift → result; diffs and
-  compatibility checks over files
-- ``system_pipeline``: the same for a system contract (a launch file's processes), its diffs and
-  the compatibility rules over contract files of either kind
+- ``pipeline``: contract → layered target and options → capture → drift → result; compatibility
+  checks over files
+- ``system_pipeline``: the same for a system contract (a launch file's processes), and the
+  compatibility rules over contract files of either kind
+- ``diff``: the one diff core: a contract against another version of itself, any kind (``diff``,
+  the gate) → ``DiffResult``
 - ``recording_check``: ``check --bag``: contracts checked against a recording, a result per contract and one for it
 - ``result``: the one result core of node and system checks (findings, thresholds, the golden's nodes)
 - ``launch_settings``: what a launch file gives each process, as ``compare.launch_given`` reads it

@@ -11,9 +11,9 @@ nothing. A contract it cannot read, now or at REF (a FIFO, too large, a git LFS 
 link out of the repository: ``check.revision``), is an error of its own entry (exit 2), and so is a
 tracked YAML file it cannot read that changed since REF; one that did not change is named on a
 line of the report. The report's first line counts the contracts of each kind, the next names the tracked
-YAML files that are not contracts. Each pair is compared with the rules of ``diff``
-(``pipeline.compare_contracts``; the contract's ``options:`` apply, the command line's on top),
-then judged in this order:
+YAML files that are not contracts. Each pair is compared by ``diff``'s core (``check.diff``:
+``compare_contracts``, one :class:`~.diff.DiffResult` per pair; the contract's ``options:`` apply,
+the command line's on top), then judged in this order:
 
 1. consumers (``compare.consumers``): a node contract's changed interfaces against the system
    contracts at hand;
@@ -36,12 +36,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..compare import acceptance, consumers, drift, report, rule_levels, versioning
-from ..compare.acceptance import Accepted
+from ..compare import acceptance, consumers, drift, rule_levels, versioning
 from ..compare.baseline import Baseline
 from ..compare.ci_report import ContractOutcome
 from ..compare.drift import DriftItem
-from ..compare.rule_levels import RuleLevel
 from ..errors import ContractError, NoContracts, RevisionError
 from ..model import contract as contract_module
 from ..model import contract_kind, system_contract
@@ -52,7 +50,8 @@ from ..model.interface_version import Bump
 from ..model.locate import LineIndex
 from ..model.vocabulary import Severity, parse_threshold
 from .contract_files import NOT_A_CONTRACT, counted, kinds_text, skipped_text
-from .pipeline import Layers, OptionLayer, compare_contracts, said_middleware
+from .diff import DiffResult, compare_contracts, said_middleware
+from .pipeline import Layers, OptionLayer
 from .revision import Revision, open_revision
 
 #: the gate's threshold when the command line gives none
@@ -63,70 +62,12 @@ _NODE_LINE = re.compile(r"^  (/[^:\s]*):", re.M)
 
 
 @dataclass
-class GateContract:
-    """One contract compared with its version at REF."""
-
-    shown: str  # the file as it is now (a removed one: as it was)
-    path: Path  # the file in the work tree (a removed one: where it was)
-    before: str | None  # ``REF:path`` (None: added since REF)
-    status: str  # added | removed | renamed | changed | unchanged
-    kind: Kind = Kind.NODE  # what the file is now (a removed one: what it was)
-    threshold: Severity = Severity.BREAKING
-    items: list[DriftItem] = field(default_factory=list)
-    accepted: list[Accepted] = field(default_factory=list)
-    notes: list[str] = field(default_factory=list)
-    error: str | None = None
-    nodes: list[str] = field(default_factory=list)
-    lines: LineIndex = field(default_factory=dict)
-    #: the project's levels of rules (``compare.rule_levels``) and how many findings they turned off
-    rules: tuple[RuleLevel, ...] = ()
-    turned_off: int = 0
-    #: the bump the drift needs under semantic versioning, and the versions at REF and now
-    needs: Bump = Bump.NONE
-    versions: tuple[str | None, str | None] = (None, None)
-
-    @property
-    def failed(self) -> bool:
-        return self.error is not None or report.fails(self.items, self.threshold)
-
-    def heading(self) -> str:
-        if self.status == "renamed":
-            return f"{self.shown} (renamed from {self.before})"
-        if self.status == "added":
-            return f"{self.shown} (added since the base revision)"
-        if self.status == "removed":
-            return f"{self.shown} (removed: everything it promised is gone)"
-        if self.status == "unreadable":
-            return f"{self.shown} (could not be read)"
-        return self.shown
-
-    def render_text(self) -> str:
-        if self.error is not None:
-            return f"{self.shown}: error: {self.error}\n"
-        text = report.render_text(self.items, contract_path=self.before, threshold=self.threshold,
-                                  title=f"Interface drift of {self.heading()}", accepted=self.accepted)
-        return text + "".join(f"  note: {note}\n" for note in self.notes)
-
-    def to_json(self) -> list[dict[str, Any]]:
-        where = {"contract": self.shown, "against": self.before, "status": self.status}
-        if self.error is not None:
-            return [{**where, "error": self.error}]
-        return ([{**where, **item} for item in report.to_json(self.items)]
-                + [{**where, **item} for item in report.accepted_to_json(self.accepted)])
-
-    def for_ci(self) -> ContractOutcome:
-        return ContractOutcome(contract=self.shown, items=self.items, threshold=self.threshold, nodes=self.nodes,
-                               error=self.error, lines=self.lines, accepted=self.accepted,
-                               notes=tuple(self.notes))
-
-
-@dataclass
 class GateResult:
     """Every contract against REF."""
 
     against: str
     commit: str
-    contracts: list[GateContract]
+    contracts: list[DiffResult]
     systems: list[str]
     #: the tracked YAML files under the directory that are not contracts (shown names; none when
     #: the contracts were named)
@@ -139,12 +80,12 @@ class GateResult:
         return any(c.failed and c.error is None for c in self.contracts)
 
     @property
-    def errors(self) -> list[GateContract]:
+    def errors(self) -> list[DiffResult]:
         return [c for c in self.contracts if c.error is not None]
 
-    def ordered(self) -> list[GateContract]:
+    def ordered(self) -> list[DiffResult]:
         """Errors and failing contracts first, then by their worst finding (breaking changes lead)."""
-        def rank(c: GateContract) -> tuple[int, int, str]:
+        def rank(c: DiffResult) -> tuple[int, int, str]:
             worst = max((item.severity for item in c.items), default=-2)
             return (0 if c.error else 1, -int(c.failed) * 10 - int(worst), c.shown)
         return sorted(self.contracts, key=rank)
@@ -334,7 +275,7 @@ def run(against: str, contracts: Sequence[str | Path] = (), *, systems: Sequence
     """Compare every contract with its version at ``against``. Raises RevisionError (no git
     repository, no such revision, a shallow clone without it) and ContractError (a ``--against-system``
     file that does not load); a contract that does not load now or at REF is an error of its own
-    entry (``GateContract.error``); no contract at all is :class:`NoContracts`."""
+    entry (``DiffResult.error``); no contract at all is :class:`NoContracts`."""
     revision = open_revision(against, cwd)
     found = pairs(revision, contracts)
     unreadable, unread = ([], []) if contracts else _unreadable(revision, found)
@@ -351,20 +292,20 @@ def run(against: str, contracts: Sequence[str | Path] = (), *, systems: Sequence
                       unread=unread)
 
 
-def _unreadable(revision: Revision, found: Sequence[Pair]) -> tuple[list[GateContract], list[str]]:
+def _unreadable(revision: Revision, found: Sequence[Pair]) -> tuple[list[DiffResult], list[str]]:
     """The tracked YAML files the gate could not read (``Survey.unread``) and paired with no
     contract: an error entry each for one that changed since REF and cannot be read now (it may be
     a contract that changed: the gate cannot tell), a line of the report for the others."""
     paired = {name for pair in found for name in (pair.old, pair.new) if name}
-    errors: list[GateContract] = []
+    errors: list[DiffResult] = []
     said: list[str] = []
     for name, why in sorted(revision.survey().unread.items()):
         if name in paired:
             continue
         shown = revision.shown(name)
         if revision.changed(name) and revision.text_now(name) is None:
-            errors.append(GateContract(
-                shown=shown, path=revision.top / name, before=None, status="unreadable",
+            errors.append(DiffResult(
+                shown=shown, against=None, revision=revision.ref, path=revision.top / name, status="unreadable",
                 kind=contract_kind.kind_of_name(name) or Kind.NODE,
                 error=f"{shown} {why}\n  It changed since {revision.ref} and the gate cannot tell whether it is a "
                       "contract: make it readable (or, if it is no contract, name the contracts to compare)"))
@@ -394,13 +335,13 @@ def update_advice(against: str, path: str | Path, *, cwd: str | Path | None = No
 
 def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractNodes], *,
                  options: Sequence[OptionLayer] = (), threshold: Severity = Severity.BREAKING,
-                 baseline: Baseline | None = None) -> GateContract:
+                 baseline: Baseline | None = None) -> DiffResult:
     """One contract against its file at REF (a file unchanged since REF is not loaded)."""
     name = pair.new or pair.old
     assert name is not None
     shown = revision.shown(name)
-    result = GateContract(shown=shown, path=revision.top / name, status=pair.status, threshold=threshold,
-                          before=revision.at_ref(pair.old) if pair.old else None, kind=kind_of_pair(revision, pair))
+    result = DiffResult(shown=shown, against=revision.at_ref(pair.old) if pair.old else None, revision=revision.ref,
+                        path=revision.top / name, status=pair.status, fail_at=threshold, kind=kind_of_pair(revision, pair))
     if _unchanged(revision, pair):  # nothing to compare, nothing to load (most contracts of a pull request)
         result.status = "unchanged" if pair.old == pair.new else "renamed"
         result.nodes = sorted(_NODE_LINE.findall(revision.text_now(pair.new or "") or ""))
@@ -419,7 +360,7 @@ def compare_pair(revision: Revision, pair: Pair, systems: Mapping[str, ContractN
     items = compare_contracts(old, new, dataclasses.replace(opts, fail_on=threshold.name.lower()))
     if systems and not contract_kind.is_system_text(new.text or old.text, name):
         items = consumers.judge(items, new.nodes, old.nodes, systems, rmw=opts.rmw)
-    result.rules = opts.rules
+    result.rules, result.options, result.old, result.new = opts.rules, opts, old, new
     _judge(result, drift.sort_items(items), old, new, baseline, revision.ref)
     result.nodes = sorted((new if pair.new is not None else old).nodes)
     result.lines = _lines(new) if pair.new is not None else {}
@@ -460,7 +401,7 @@ def _load_pair(revision: Revision, pair: Pair, shown: str) -> tuple[Contract, Co
     return old, new
 
 
-def _judge(result: GateContract, items: list[DriftItem], old: Contract, new: Contract,
+def _judge(result: DiffResult, items: list[DriftItem], old: Contract, new: Contract,
            baseline: Baseline | None, ref: str) -> None:
     """The versions, then the contract's ``accept:`` entries, then the baseline."""
     present = new if result.status != "removed" else old

@@ -15,7 +15,7 @@ command line), and ``strong`` layers, above it (marker keyword arguments, the ta
     outcome.decide(result, update=False, accept_command="...")
 
 :func:`check` does both and never raises an :class:`~pytest_rmw_introspect.errors.RmwIntrospectError`:
-it is put on ``result.error``. :func:`diff_contracts` compares two contract files without running
+it is put on ``result.error``. ``check.diff`` compares two contract files without running
 anything; ``system_pipeline.check_contracts`` runs the compatibility check over contract files.
 """
 
@@ -36,12 +36,11 @@ from ..compare.drift import DriftItem
 from ..compare.options import ComparisonOptions, resolve
 from ..errors import LifecycleTransitionFailed, RmwIntrospectError, TargetConfigError
 from ..model import contract as contract_module
-from ..model import contract_kind, nodl, type_lock
+from ..model import nodl, type_lock
 from ..model import types as type_model
 from ..model.acceptance import Acceptance
 from ..model.capture import Capture
 from ..model.contract import Contract
-from ..model.contract_kind import Kind
 from ..model.locate import LineIndex
 from ..model.option_tables import PRECEDENCE, Source, stack
 from ..model.paths import shown as display
@@ -343,97 +342,6 @@ def check_contract(
         if prepared is not None:
             result.contract, result.spec, result.options = prepared.contract, prepared.spec, prepared.options
         return result
-
-
-# ---------------------------------------------------------------------------- diff
-
-
-@dataclass
-class DiffResult:
-    """Two contract files compared, node or system contracts alike: ``old`` plays the contract,
-    ``new`` the capture (``kind``: what NEW is)."""
-
-    old: Contract
-    new: Contract
-    old_shown: str
-    new_shown: str
-    options: ComparisonOptions
-    items: list[DriftItem]
-    #: how many findings the project's ``rules`` turned off (``compare.rule_levels``)
-    turned_off: int = 0
-    kind: Kind = Kind.NODE
-
-    @property
-    def threshold(self) -> Severity:
-        return self.options.threshold()
-
-    @property
-    def failed(self) -> bool:
-        return report.fails(self.items, self.threshold)
-
-    def render_text(self) -> str:
-        text = report.render_text(self.items, contract_path=self.old_shown, threshold=self.threshold,
-                                  title=f"Interface drift of {self.new_shown}")
-        return text + (f"\n{rule_levels.turned_off_text(self.turned_off)}.\n" if self.turned_off else "")
-
-    def to_json(self) -> list[dict[str, Any]]:
-        return [{"contract": self.old_shown, **item} for item in report.to_json(self.items)]
-
-    def for_ci(self) -> ContractOutcome:
-        """For the CI formats: annotations point at NEW, the file a pull request changes."""
-        return ContractOutcome(contract=self.new_shown, items=self.items, threshold=self.threshold,
-                               nodes=sorted(self.new.nodes), lines=self.new.lines(),
-                               notes=[rule_levels.turned_off_text(self.turned_off)] if self.turned_off else [])
-
-
-def diff_contracts(
-    old_path: str | Path,
-    new_path: str | Path,
-    options: Sequence[OptionLayer] | Mapping[str, Any] | ComparisonOptions | None = None,
-) -> DiffResult:
-    """Compare two contract files of any kind (node contracts, marker goldens, NoDL documents,
-    system contracts; ``model.contract_kind``) without running anything: ``old`` plays the
-    contract, ``new`` the capture, so the rules and severities are those of a check.
-
-    ``options``: a :class:`ComparisonOptions`, a mapping of option values, or layers stacked on
-    top of the old contract's ``options:`` block. ``include_infrastructure`` has no effect
-    (both files already list what they list). When both files have a ``types:`` section, a
-    changed type is reported field by field. Raises :class:`ContractError`.
-    """
-    old_shown, new_shown = display(old_path), display(new_path)
-    old, _ = contract_kind.load(old_path)
-    new, kind = contract_kind.load(new_path)
-    if isinstance(options, ComparisonOptions):
-        opts = options
-    else:
-        if isinstance(options, Mapping):
-            layers: Sequence[OptionLayer] = [(options, "diff_contracts()")]
-        else:
-            layers = options or ()
-        opts = Layers(strong_options=layers).options(old, shown=old_shown)
-    opts = said_middleware(old, new, opts)
-    leveled = rule_levels.apply(compare_contracts(old, new, opts), opts.rules)  # the project's levels of rules
-    return DiffResult(old, new, old_shown, new_shown, opts, leveled.items, leveled.off, kind)
-
-
-def said_middleware(old: Contract, new: Contract, options: ComparisonOptions) -> ComparisonOptions:
-    """``options`` judging for the middleware a system contract of the pair says it runs on
-    (NEW's word first; it wins over the option ``rmw``, which is for contracts that do not say)."""
-    said = new.middleware or old.middleware
-    return dataclasses.replace(options, rmw=said) if said is not None else options
-
-
-def compare_contracts(old: Contract, new: Contract, options: ComparisonOptions) -> list[DriftItem]:
-    """The drift from ``old`` (playing the contract) to ``new`` (playing the capture): what a NoDL
-    side does not state is not compared; type sections field by field; distributions noted."""
-    old_nodes, new_nodes = old.nodes, new.nodes
-    if old.nodl is not None:  # what a NoDL side does not state is not compared
-        new_nodes = nodl.project(new_nodes, old_nodes)
-    if new.nodl is not None:
-        old_nodes = nodl.project(old_nodes, new_nodes)
-    return drift.attribute_to_distribution(
-        drift.compare(old_nodes, new_nodes, options, expected_types=old.types, actual_types=new.types),
-        old.ros_distribution, new.ros_distribution)
 
 
 # --------------------------------------------------------------------- compatibility checks

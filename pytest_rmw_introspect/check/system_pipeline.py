@@ -16,7 +16,7 @@ then
 :class:`SystemCheckResult` is what ``check.outcome.decide`` reads, like a ``CheckResult``; its
 ``items`` are the drift and then the system problems, ``drifted`` says whether the golden
 differs. :func:`load_any` and :func:`check_contracts` run the compatibility rules on contract files
-without capturing (``compat``, ``graph``); ``pipeline.diff_contracts`` compares two contracts of any kind.
+without capturing (``compat``, ``graph``); ``check.diff`` compares two contracts of any kind.
 """
 
 from __future__ import annotations

@@ -70,7 +70,7 @@ def cmd_diff(args: argparse.Namespace) -> int:
         from .gate import cmd_gate
 
         return cmd_gate(args)
-    from ..check import pipeline
+    from ..check import diff
     from .emit import Report, emit
 
     given = [flag for flag, value in (("--against-system", args.against_system), ("--baseline", args.baseline),
@@ -82,7 +82,7 @@ def cmd_diff(args: argparse.Namespace) -> int:
         raise UsageError(f"diff compares two files, OLD and NEW ({len(args.files)} given); to compare every contract "
                          "with a git revision: rmw-introspect diff --against REF [CONTRACT...]")
     old, new = args.files
-    result = pipeline.diff_contracts(old, new, [(compare_from_args(args), "command line")])
+    result = diff.diff_contracts(old, new, [(compare_from_args(args), "command line")])
     emit(Report(text=result.render_text, data=result.to_json(), outcomes=[result.for_ci()],
-                title=f"Interface drift of {result.new_shown}"), args.format)
+                title=f"Interface drift of {result.shown}"), args.format)
     return EXIT_DRIFT if result.failed else EXIT_OK

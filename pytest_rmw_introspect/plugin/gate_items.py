@@ -33,7 +33,8 @@ from . import option_flags
 from .session import state
 
 if TYPE_CHECKING:  # the gate (and the comparison pipeline) is imported when --against is given
-    from ..check.gate import GateContract, GateResult
+    from ..check.diff import DiffResult
+    from ..check.gate import GateResult
 
 #: what the gate of this session looked at (``GateResult.intro``), for the terminal summary
 _LOOKED_AT = pytest.StashKey[list[str]]()
@@ -62,7 +63,7 @@ def version_advice(config: pytest.Config, path: Path, advice: str) -> str:
 class GateItem(pytest.Item):
     """One contract against its version at REF."""
 
-    def __init__(self, *, compared: GateContract, against: str, **kwargs: Any) -> None:
+    def __init__(self, *, compared: DiffResult, against: str, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.compared = compared
         self.against = against
@@ -77,7 +78,7 @@ class GateItem(pytest.Item):
             pytest.fail(compared.render_text(), pytrace=False)
 
     def reportinfo(self) -> tuple[Path, int, str]:
-        return self.compared.path, 0, f"interface gate {self.compared.shown} against {self.against}"
+        return self.compared.path or self.path, 0, f"interface gate {self.compared.shown} against {self.against}"
 
 
 @pytest.hookimpl(tryfirst=True)  # before -k/-m deselect: they select gate items like any other

@@ -8,7 +8,7 @@ from __future__ import annotations
 import pytest
 
 from pytest_rmw_introspect import cli
-from pytest_rmw_introspect.check import pipeline
+from pytest_rmw_introspect.check import diff
 
 GOOD = """contract_version: 1
 nodes:
@@ -65,7 +65,7 @@ def test_a_programming_error_is_not_reported_as_a_user_error(contract, monkeypat
     def broken(*args, **kwargs):
         raise ValueError("an internal invariant broke")
 
-    monkeypatch.setattr(pipeline, "diff_contracts", broken)
+    monkeypatch.setattr(diff, "diff_contracts", broken)
     with pytest.raises(ValueError, match="an internal invariant broke"):
         cli.main(["diff", str(contract), str(contract)])
     assert "rmw-introspect: an internal invariant broke" not in capsys.readouterr().err

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from pytest_rmw_introspect.check import pipeline, system_pipeline
+from pytest_rmw_introspect.check import diff, system_pipeline
 from pytest_rmw_introspect.cli.parser import build_parser
 from pytest_rmw_introspect.compare import compatibility
 from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_compatibility, check_launched
@@ -249,14 +249,13 @@ nodes:
 
 
 def test_diff_judges_qos_drift_for_the_middleware(tmp_path):
-    from pytest_rmw_introspect.check import pipeline
 
     old, new = tmp_path / "old.interfaces.yaml", tmp_path / "new.interfaces.yaml"
     old.write_text(NODE.format(qos="default"))
     new.write_text(NODE.format(qos="sensor_data"))
-    weakened = [i for i in pipeline.diff_contracts(old, new).items if i.rule == "QOS_RELIABILITY_WEAKENED"]
+    weakened = [i for i in diff.diff_contracts(old, new).items if i.rule == "QOS_RELIABILITY_WEAKENED"]
     assert [i.severity for i in weakened] == [Severity.BREAKING]
-    zenoh = [i for i in pipeline.diff_contracts(old, new, {"rmw": "rmw_zenoh_cpp"}).items
+    zenoh = [i for i in diff.diff_contracts(old, new, {"rmw": "rmw_zenoh_cpp"}).items
              if i.rule == "QOS_RELIABILITY_WEAKENED"]
     assert [i.severity for i in zenoh] == [Severity.RISKY]
 
@@ -267,15 +266,15 @@ def test_diff_of_system_contracts_takes_the_middleware_they_say(tmp_path):
     old.write_text(HEADER + reliable)
     new = write(tmp_path, "", name="new.system.yaml")  # the camera now publishes BEST_EFFORT
 
-    def weakened(diff):
-        return [i.severity for i in diff.items if i.rule == "QOS_RELIABILITY_WEAKENED"]
+    def weakened(result):
+        return [i.severity for i in result.items if i.rule == "QOS_RELIABILITY_WEAKENED"]
 
-    assert weakened(pipeline.diff_contracts(old, new)) == [Severity.BREAKING]
+    assert weakened(diff.diff_contracts(old, new)) == [Severity.BREAKING]
     new.write_text(HEADER + "rmw: rmw_zenoh_cpp\n" + NODES)
-    diff = pipeline.diff_contracts(old, new)
-    assert diff.options.rmw == "rmw_zenoh_cpp" and weakened(diff) == [Severity.RISKY]
+    result = diff.diff_contracts(old, new)
+    assert result.options.rmw == "rmw_zenoh_cpp" and weakened(result) == [Severity.RISKY]
     # what a contract says beats --rmw
-    assert pipeline.diff_contracts(old, new, [({"rmw": "rmw_cyclonedds_cpp"}, "command line")]).options.rmw == \
+    assert diff.diff_contracts(old, new, [({"rmw": "rmw_cyclonedds_cpp"}, "command line")]).options.rmw == \
         "rmw_zenoh_cpp"
 
 

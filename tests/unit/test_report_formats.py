@@ -69,12 +69,12 @@ KINDS = {"node": "talker.interfaces.yaml", "system": "robot.system.yaml"}
 @pytest.mark.parametrize("fmt", FORMATS)
 @pytest.mark.parametrize("kind", sorted(KINDS))
 def test_diff(contracts, capsys, kind, fmt):
-    from pytest_rmw_introspect.check import pipeline
+    from pytest_rmw_introspect.check import diff
 
     new = KINDS[kind]
     status, out = _run(capsys, "diff", f"old/{new}", new, "--format", fmt)
     assert status == 1
-    result = pipeline.diff_contracts(
+    result = diff.diff_contracts(
         f"old/{new}", new, [({}, "command line")])
     outcome = result.for_ci()
     expected = {"text": result.render_text(), "json": result.to_json(),

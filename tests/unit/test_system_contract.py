@@ -7,7 +7,7 @@ import textwrap
 
 import pytest
 
-from pytest_rmw_introspect.check import pipeline, system_pipeline
+from pytest_rmw_introspect.check import diff, system_pipeline
 from pytest_rmw_introspect.compare import report
 from pytest_rmw_introspect.compare.compatibility import LaunchedProcess, check_launched
 from pytest_rmw_introspect.errors import ContractError, TargetConfigError, UsageError
@@ -263,10 +263,10 @@ def test_diff_of_system_contracts(tmp_path):
     old.write_text(GOOD)
     new = tmp_path / "new.system.yaml"
     new.write_text(GOOD.replace("reliability: BEST_EFFORT", "reliability: RELIABLE"))
-    result = pipeline.diff_contracts(old, new)
+    result = diff.diff_contracts(old, new)
     assert [i.rule for i in result.items] == ["QOS_RELIABILITY_STRENGTHENED"]
     assert not result.failed  # the old contract says fail_on: risky, and a stronger offer is SAFE
-    strict = pipeline.diff_contracts(old, new, [({"fail_on": "any"}, "test")])
+    strict = diff.diff_contracts(old, new, [({"fail_on": "any"}, "test")])
     assert strict.failed
     assert "QOS_RELIABILITY_STRENGTHENED" in result.render_text()
     assert result.to_json()[0]["contract"].endswith("old.system.yaml")

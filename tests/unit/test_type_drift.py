@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from type_tables import describe
 
-from pytest_rmw_introspect.check import pipeline
+from pytest_rmw_introspect.check import diff, pipeline
 from pytest_rmw_introspect.compare import type_drift
 from pytest_rmw_introspect.compare.drift import compare
 from pytest_rmw_introspect.compare.options import ComparisonOptions, parse_layer
@@ -398,7 +398,7 @@ def test_diff_contracts_shows_the_field_level_changes(tmp_path):
     old = _contract_file(tmp_path / "old.yaml", NODES, before)
     new = _contract_file(tmp_path / "new.yaml", changed_nodes(),
                          scan_with([SCAN[0], "float64 angle_min", *SCAN[2:]]))
-    result = pipeline.diff_contracts(old, new)
+    result = diff.diff_contracts(old, new)
     assert [(i.rule, i.old, i.new) for i in result.items] == [
         ("TYPE_HASH_CHANGED", HASH, OTHER_HASH),
         ("TYPE_FIELD_RETYPED", "float32 angle_min", "float64 angle_min"),
@@ -407,4 +407,4 @@ def test_diff_contracts_shows_the_field_level_changes(tmp_path):
     # a file without a section: nothing to compare field by field, and nothing missing (diff never requires it)
     bare = tmp_path / "bare.yaml"
     bare.write_text("contract_version: 1\n" + contract_module.dump_nodes(changed_nodes()))
-    assert [i.rule for i in pipeline.diff_contracts(old, bare, {"include_types": True}).items] == ["TYPE_HASH_CHANGED"]
+    assert [i.rule for i in diff.diff_contracts(old, bare, {"include_types": True}).items] == ["TYPE_HASH_CHANGED"]

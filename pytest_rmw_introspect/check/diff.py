@@ -8,6 +8,13 @@ middleware (:func:`said_middleware`: a system contract is judged for the middlew
 runs on) whichever command asked. Each pair becomes one :class:`DiffResult`, which every report
 format reads (``cli/emit.py``): two files (``diff OLD NEW``), or a contract against its file at a
 git revision (``check.gate``: its status, interface versions, ``accept:`` entries and baseline).
+
+A ``DiffResult`` is not a ``check.result.ContractCheck``: that core's half is the capture and the
+golden (what ran, what an update writes, what the contract would gain), which a diff has none of.
+What a diff and a check share is below it: ``compare.drift.compare`` (which
+:func:`compare_contracts` wraps with the NoDL projection and the distribution's type hashes),
+``compare.rule_levels``, ``compare.acceptance`` and the report model (``compare.report``,
+``ContractOutcome`` for the CI formats).
 """
 
 from __future__ import annotations

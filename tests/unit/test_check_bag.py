@@ -8,6 +8,7 @@ them. No ROS process runs."""
 from __future__ import annotations
 
 import json
+import re
 import sqlite3
 from pathlib import Path
 
@@ -532,3 +533,48 @@ def test_nothing_runs_and_nothing_is_written_with_a_recording(tmp_path, contract
     assert "nothing runs, so target and launch options" in capsys.readouterr().err
     assert check("--bag", "rec", "--shard", "1/2", *contracts) == 2
     assert "a recording is checked against every contract at once" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------------------- offered QoS as rosbag2 writes it
+
+
+@pytest.mark.parametrize(("profile", "expected"), [
+    ({"reliability": "2", "durability": "transient_local", "liveliness": "manual_by_node", "depth": 7,
+      "deadline": None, "lifespan": 5, "liveliness_lease_duration": {"sec": 2147483647, "nsec": 4294967295},
+      "avoid_ros_namespace_conventions": True},
+     {"reliability": "BEST_EFFORT", "durability": "TRANSIENT_LOCAL", "liveliness": "UNKNOWN", "depth": 7,
+      "deadline_ns": 0, "lifespan_ns": 5, "liveliness_lease_duration_ns": -1, "avoid_ros_namespace_conventions": True}),
+    ({"history": 1, "deadline": {"sec": 1, "nsec": 5}, "depth": -1},
+     {"history": "KEEP_LAST", "deadline_ns": 1_000_000_005}),
+])
+def test_an_offered_profile_is_read_in_every_spelling_rosbag2_wrote(profile, expected):
+    assert recording_model.parse_qos_profile(profile, "rec/metadata.yaml") == expected
+
+
+@pytest.mark.parametrize(("value", "said"), [
+    ("not a profile", "an offered QoS profile is not a mapping"),
+    ({"reliability": True}, "QoS reliability True is not a policy value"),
+    ({"reliability": 9}, "QoS reliability 9 is not one of rmw's values"),
+    ({"durability": "sometimes"}, "QoS durability 'sometimes' is not one of rmw's values"),
+    ({"deadline": "soon"}, "QoS deadline 'soon' is not a duration"),
+])
+def test_an_offered_profile_that_is_no_qos_names_the_file_and_the_policy(value, said):
+    with pytest.raises(recording_model.RecordingError, match=re.escape(f"rec/metadata.yaml: {said}")):
+        recording_model.parse_qos_profile(value, "rec/metadata.yaml")
+
+
+def test_offered_profiles_as_a_yaml_string_a_list_or_nothing():
+    assert recording_model.parse_qos_profiles(None, "x") == () == recording_model.parse_qos_profiles("", "x")
+    assert recording_model.parse_qos_profiles("# nothing\n", "x") == ()
+    assert recording_model.parse_qos_profiles("- {reliability: 1}\n", "x") == ({"reliability": "RELIABLE"},)
+    with pytest.raises(recording_model.RecordingError, match="x: offered_qos_profiles is not a list"):
+        recording_model.parse_qos_profiles("reliability: 1\n", "x")
+
+
+def test_a_contract_that_cannot_be_read_is_an_error_of_its_own_and_the_others_are_checked(tmp_path, contracts, capsys):
+    bag(tmp_path, [topic(count=5)])
+    Path("broken.interfaces.yaml").write_text("contract_version: 1\nnodez: {}\n")
+    assert check("--bag", "rec", "broken.interfaces.yaml", *contracts) == 2
+    out, err = capsys.readouterr()
+    assert "broken.interfaces.yaml" in err and "'nodes' is required" in err, err
+    assert "talker.interfaces.yaml: matches" in out

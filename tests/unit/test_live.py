@@ -4,6 +4,8 @@ only ever read from real processes (tests/cli/test_cli_live*.py, tests/plugin/te
 
 from __future__ import annotations
 
+import re
+import sys
 from pathlib import Path
 
 import pytest
@@ -163,3 +165,80 @@ def test_the_projects_rule_levels_apply_to_a_live_graph_as_to_a_capture(tmp_path
     assert [(i.rule, i.severity.name) for i in result.drift_items] == [("QOS_DEPTH_DECREASED", "NOTE")]
     assert not result.failed and result.turned_off == 2
     assert "2 findings turned off by the project's rules" in result.notes()
+
+
+# ---------------------------------------------------------------------------- usage and the reader's answers
+
+
+@pytest.mark.parametrize(("argv", "said"), [
+    (["check", "--live", "--settle", "-1", "c.yaml"], "--settle must not be negative"),
+    (["check", "--live", "--settle", "9", "--timeout", "3", "c.yaml"], "--settle 9 is longer than --timeout 3"),
+    (["check", "--live", "--update", "c.yaml"], "--live does not update contracts"),
+    (["check", "--live", "--package", "p", "--executable", "e", "c.yaml"], "a target to run"),
+    (["check", "--live", "--launch", "robot.launch.xml", "c.yaml"], "a launch file (--launch, --launch-package) is not run"),
+    (["capture", "--live", "--format", "nodl"], "writes a system contract (--format yaml) or JSON"),
+    (["capture", "--live"], "give its launch file"),
+    (["check", "--live", "--watch", "--format", "sarif", "c.yaml"], "--format text or json"),
+    (["check", "--live", "--watch", "--duration", "0", "c.yaml"], "--duration must be positive"),
+    (["check", "--live", "--watch", "--summary", "s.md", "c.yaml"], "--watch takes no --baseline"),
+])
+def test_what_the_live_commands_refuse_before_joining_the_graph(tmp_path, monkeypatch, capsys, argv, said):
+    from pytest_rmw_introspect import cli
+    from pytest_rmw_introspect.live import graph as live_graph
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "c.yaml").write_text("contract_version: 1\nnodes:\n  /talker:\n    publishers: []\n")
+    monkeypatch.setattr(live_graph.subprocess, "run", lambda *a, **k: pytest.fail("the graph was joined"))
+    monkeypatch.setattr(live_graph.subprocess, "Popen", lambda *a, **k: pytest.fail("the graph was joined"))
+    assert cli.main(argv) == 2
+    assert said in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("status", "said"), [
+    (3, "nothing is running in ROS_DOMAIN_ID 42"), (4, "found itself on the recording middleware"),
+    (1, "the live reader failed (exit status 1) in ROS_DOMAIN_ID 42"),
+])
+def test_each_way_the_reader_can_end_is_a_clear_error(monkeypatch, status, said):
+    """The reader's exit statuses (``live.EXIT_*``), with a stand-in reader that only exits."""
+    from pytest_rmw_introspect.live import graph as live_graph
+
+    monkeypatch.setattr(live_graph, "_reader_command", lambda settings: [sys.executable, "-c", f"raise SystemExit({status})"])
+    with pytest.raises(LiveGraphError, match=re.escape(said)):
+        live_graph.read_graph(LiveSettings(timeout=1), ros=WHEELS_ENV, base_env={"ROS_DOMAIN_ID": "42"})
+
+
+@pytest.mark.parametrize("text", ["", "{", '{"capture": {}}', '{"live": {}, "capture": {"format": "other"}}'])
+def test_an_answer_the_reader_did_not_finish_is_a_clear_error(text):
+    from pytest_rmw_introspect.live.graph import parse_answer
+
+    with pytest.raises(LiveGraphError, match="the live reader's answer could not be read"):
+        parse_answer(text, LiveSettings(), include_infrastructure=False, notes=[], domain="0")
+
+
+def test_an_empty_answer_while_watching_is_an_empty_graph_and_every_read_note_is_said():
+    from pytest_rmw_introspect.live.graph import parse_answer
+
+    graph = parse_answer('{"live": {"domain_id": 3, "settled": false, "other_readers": ["/_rmw_introspect_live_9"], '
+                         '"parameters_unanswered": ["/a"], "lifecycle_unanswered": ["/b"]}}', LiveSettings(timeout=7),
+                         include_infrastructure=False, notes=[], domain="0")
+    assert graph.capture.nodes == {} and graph.domain_id == 3
+    notes = graph.notes()
+    assert notes[0] == "the graph was still changing after 7 s (--timeout): it was read as it was then"
+    assert any("other live readers" in n for n in notes) and any("parameters not read" in n and "/a" in n for n in notes)
+    assert any("lifecycle state not read" in n and "/b" in n for n in notes)
+    assert graph.notes(nodes=["/c"]) == notes[:2]  # the rest is about other nodes
+
+
+def test_a_live_view_is_written_as_a_capture_is_and_a_live_check_never_writes_a_contract():
+    from pytest_rmw_introspect.errors import RmwIntrospectError
+    from pytest_rmw_introspect.live.check import LiveCheckResult, LiveView
+
+    nodes = {"/n": _node(publishers=[{"name": "/a", "type": "std_msgs/msg/String", "type_hash": "RIHS01_" + "1" * 64,
+                                      "qos": "default"}])}
+    view = LiveView(graph=_graph(), nodes=nodes)
+    bare = view.to_contract_nodes(with_type_hash=False, with_qos=False)
+    assert bare["/n"]["publishers"] == [{"name": "/a", "type": "std_msgs/msg/String"}]
+    assert nodes["/n"]["publishers"][0]["qos"] == "default"  # the view itself is left as it is
+    assert view.summary() == "live graph of ROS_DOMAIN_ID 7: 0 node(s): "
+    with pytest.raises(RmwIntrospectError, match="capture --live -o FILE"):
+        LiveCheckResult(path=Path("c.yaml"), shown="c.yaml").update()

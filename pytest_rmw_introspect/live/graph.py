@@ -62,6 +62,8 @@ class LiveGraph:
     at: float = 0.0
     #: other live readers that were in the graph (left out of it)
     other_readers: list[str] = field(default_factory=list)
+    #: the nodes of `ros2 launch` that were in the graph (left out of it: no part of the system)
+    launchers: list[str] = field(default_factory=list)
     #: nodes the contracts name that the graph did not show (waited for, then read without them)
     expected_absent: list[str] = field(default_factory=list)
 
@@ -83,6 +85,9 @@ class LiveGraph:
                        f"{max(self.settings.settle, ABSENT_AFTER):g} s; not running: {', '.join(absent)}")
         if self.other_readers:
             out.append(f"other live readers were in the graph, left out of it: {', '.join(self.other_readers)}")
+        if self.launchers:
+            out.append(f"the node of `ros2 launch` (launch_ros, which drives lifecycle nodes and loads components) was "
+                       f"in the graph, left out of it: {', '.join(self.launchers)}")
         if parameters:
             out.append(f"parameters not read (the node's parameter services did not answer within "
                        f"{self.settings.parameter_timeout:g} s), not compared: {', '.join(parameters)}")
@@ -202,7 +207,7 @@ def parse_answer(text: str, settings: LiveSettings, *, include_infrastructure: b
                      parameters_unanswered=list(live.get("parameters_unanswered", [])),
                      lifecycle_unanswered=list(live.get("lifecycle_unanswered", [])),
                      environment_notes=notes, at=float(live.get("at", 0.0)),
-                     other_readers=list(live.get("other_readers", [])),
+                     other_readers=list(live.get("other_readers", [])), launchers=list(live.get("launchers", [])),
                      expected_absent=list(live.get("expected_absent", [])))
 
 

@@ -28,6 +28,7 @@ import argparse
 import json
 import math
 import os
+import re
 import sys
 import time
 from collections.abc import Collection
@@ -51,6 +52,9 @@ _VALUE_FIELDS = {1: "bool_value", 2: "integer_value", 3: "double_value", 4: "str
 RECORDING_MIDDLEWARE = "rmw_introspect_cpp"
 #: the node name prefix of the ros2 command line's daemon: not part of any system
 ROS2CLI_DAEMON = "_ros2cli_daemon_"
+#: the node `ros2 launch` (launch_ros) adds to the graph, ``/launch_ros_<pid>``: it drives lifecycle
+#: nodes and loads components for the launch file, and is no part of the system it starts
+LAUNCHER = re.compile(r"launch_ros_[0-9]+")
 #: the node name prefix of live readers (this one's and others': not part of any system)
 READER_PREFIX = "_rmw_introspect_live_"
 INFINITE_NS = 9_223_372_036_854_775_807
@@ -101,6 +105,7 @@ class Reader:
         self.own = node.get_fully_qualified_name()
         #: other live readers seen in the graph (left out like this one)
         self.other_readers: set[str] = set()
+        self.launchers: set[str] = set()
 
     def spin_once(self, timeout: float) -> None:
         self.executor.spin_once(timeout_sec=timeout)
@@ -114,6 +119,9 @@ class Reader:
                 continue
             if name.startswith(READER_PREFIX):
                 self.other_readers.add(_fqn(namespace, name))
+                continue
+            if namespace in ("", "/") and LAUNCHER.fullmatch(name):
+                self.launchers.add(_fqn(namespace, name))
                 continue
             out.append((name, namespace, enclave))
         return sorted(out)
@@ -392,7 +400,8 @@ def snapshot(reader: Reader, args: argparse.Namespace, live: dict[str, Any], ide
     capture = {"format": "rmw_introspect_capture", "format_version": 1, "format_minor": 0,
                "rmw_implementation": identifier, "pid": None, "argv": [], "state": "live",
                "nodes": records, "endpoints": endpoints}
-    return {"capture": capture, "live": {**live, "at": time.time(), "other_readers": sorted(reader.other_readers)}}
+    return {"capture": capture, "live": {**live, "at": time.time(), "other_readers": sorted(reader.other_readers),
+                                         "launchers": sorted(reader.launchers)}}
 
 
 def watch(reader: Reader, args: argparse.Namespace, live: dict[str, Any], identifier: str) -> None:

@@ -219,14 +219,16 @@ def test_an_empty_answer_while_watching_is_an_empty_graph_and_every_read_note_is
     from pytest_rmw_introspect.live.graph import parse_answer
 
     graph = parse_answer('{"live": {"domain_id": 3, "settled": false, "other_readers": ["/_rmw_introspect_live_9"], '
-                         '"parameters_unanswered": ["/a"], "lifecycle_unanswered": ["/b"]}}', LiveSettings(timeout=7),
+                         '"launchers": ["/launch_ros_12"], "parameters_unanswered": ["/a"], '
+                         '"lifecycle_unanswered": ["/b"]}}', LiveSettings(timeout=7),
                          include_infrastructure=False, notes=[], domain="0")
     assert graph.capture.nodes == {} and graph.domain_id == 3
     notes = graph.notes()
     assert notes[0] == "the graph was still changing after 7 s (--timeout): it was read as it was then"
     assert any("other live readers" in n for n in notes) and any("parameters not read" in n and "/a" in n for n in notes)
     assert any("lifecycle state not read" in n and "/b" in n for n in notes)
-    assert graph.notes(nodes=["/c"]) == notes[:2]  # the rest is about other nodes
+    assert any(n.startswith("the node of `ros2 launch`") and n.endswith("left out of it: /launch_ros_12") for n in notes)
+    assert graph.notes(nodes=["/c"]) == notes[:3]  # the rest is about other nodes
 
 
 def test_a_live_view_is_written_as_a_capture_is_and_a_live_check_never_writes_a_contract():

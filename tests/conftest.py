@@ -22,7 +22,22 @@ pytest_plugins = ["pytester", "middleware_fixtures", "cost_report", "dimensions"
 #           when asked for by name (`-m slow`, `make test-slow`, a block of their own in .ci/run) and
 #           are deselected from every other run
 # Everything else (tests/unit) is the fast tier: `make test-fast` = pytest -m "not e2e and not plugin".
+import signal  # noqa: E402
+
 import pytest  # noqa: E402
+
+# ---------------------------------------------------------------------------- SIGINT and SIGQUIT
+# A shell without job control starts a background command (`make test &`, `(cmd &)` in a script)
+# with SIGINT and SIGQUIT ignored, and an ignored signal stays ignored in every process started
+# after: the runner passes it on to its targets, on purpose (tests/middleware/test_ignored_signals.py
+# tests that, in processes that ignore them by themselves). The other tests of a stop (its grace
+# periods, an interrupted capture, the setpriv wrapper, which a runner that ignores a signal does
+# without) expect what a terminal gives: the run takes Python's own dispositions back. (Three runs
+# started that way failed on it: `ci-run` and both coverage runs of 2026-12-07.)
+if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+if signal.getsignal(signal.SIGQUIT) == signal.SIG_IGN:
+    signal.signal(signal.SIGQUIT, signal.SIG_DFL)
 
 _TIERS = {"middleware": ("e2e",), "cli": ("e2e",), "cmake": ("e2e",), "docs": ("e2e",), "precision": ("e2e",),
           "plugin": ("plugin",), "overlay": ("e2e", "overlay"), "dist": ("slow",)}

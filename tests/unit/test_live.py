@@ -187,6 +187,7 @@ def test_what_the_live_commands_refuse_before_joining_the_graph(tmp_path, monkey
     from pytest_rmw_introspect.live import graph as live_graph
 
     monkeypatch.chdir(tmp_path)
+    monkeypatch.delenv("CI", raising=False)  # (in CI, --update is refused for being in CI first)
     (tmp_path / "c.yaml").write_text("contract_version: 1\nnodes:\n  /talker:\n    publishers: []\n")
     monkeypatch.setattr(live_graph.subprocess, "run", lambda *a, **k: pytest.fail("the graph was joined"))
     monkeypatch.setattr(live_graph.subprocess, "Popen", lambda *a, **k: pytest.fail("the graph was joined"))

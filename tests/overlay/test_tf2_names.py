@@ -2,7 +2,8 @@
 overlay: an rclcpp node with a tf2_ros::TransformListener (whose own node is
 transform_listener_impl_<address>), tf2_ros's static_transform_publisher
 (static_transform_publisher_<16 random characters>) and buffer_server (a listener too). Each is
-captured once, then checked ten times in a row with no drift; a real rename still drifts."""
+captured once, then checked ten times in a row with no drift; a real rename still drifts. All
+three, running on Fast DDS, also check live against their captures (the patterns match)."""
 
 from __future__ import annotations
 
@@ -96,3 +97,50 @@ def test_buffer_server(tf2, tmp_path):
     assert [e["name"] for e in nodes["/tf_buffer"]["action_servers"]] == ["/tf2_buffer_server"]
     report = renamed(env, tmp_path, "tf_buffer2")
     assert "/tf_buffer" in report and "/tf_buffer2" in report
+
+
+
+def test_the_tf_programs_run_on_fast_dds_as_their_captures_say(tf2, overlay, tmp_path):
+    """The live check as an independent truth for these rclcpp programs (issue 52 item 5): each is
+    captured on the recording middleware, then all run together on Fast DDS (a domain of their own)
+    and one `check --live` compares the graph with the captures: the names that change every run
+    (``/transform_listener_impl_*``, ``/static_transform_publisher_*``) are matched by the contracts'
+    patterns, and nothing differs."""
+    import json
+    import os
+    import signal
+
+    from pytest_rmw_introspect.live import bringup
+
+    env, programs = tf2
+    tf2_ros = overlay.install / "lib" / "tf2_ros"
+    static = ["--x", "1.5", "--frame-id", "map", "--child-frame-id", "base_link"]
+    targets = {"reader": ([programs / "tf_reader"], ["--", programs / "tf_reader"]),
+               "static": ([tf2_ros / "static_transform_publisher", *static],
+                          ["--package", "tf2_ros", "--executable", "static_transform_publisher",
+                           *(f"--arg={a}" for a in static)]),
+               "buffer": ([tf2_ros / "buffer_server"], ["--package", "tf2_ros", "--executable", "buffer_server"])}
+    for name, (_argv, target) in targets.items():
+        captured = cli(env, tmp_path, "capture", "-o", f"{name}.interfaces.yaml", *target)
+        assert captured.returncode == 0, captured.stderr
+    domain = bringup.reserve_domain()
+    live_env = bringup.isolated_env(domain.id, env)
+    running = [subprocess.Popen([str(a) for a in argv], env=live_env, stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL, start_new_session=True) for argv, _ in targets.values()]
+    try:
+        checked = subprocess.run([*CLI, "check", "--live", *(f"{name}.interfaces.yaml" for name in targets),
+                                  "--format", "json"], cwd=tmp_path, env=live_env, capture_output=True, text=True,
+                                 timeout=180, check=False)
+        assert all(process.poll() is None for process in running), [p.args for p in running if p.poll() is not None]
+    finally:
+        for process in running:
+            if process.poll() is None:
+                os.killpg(process.pid, signal.SIGINT)
+        for process in running:
+            try:
+                process.wait(timeout=15)
+            except subprocess.TimeoutExpired:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()
+        domain.release()
+    assert (checked.returncode, json.loads(checked.stdout or "null")) == (0, []), checked.stdout + checked.stderr

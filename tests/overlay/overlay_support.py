@@ -13,6 +13,7 @@ import importlib.util
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 from dataclasses import dataclass
@@ -159,3 +160,17 @@ def build_c_node(overlay: Overlay) -> Path:
                        f"-DPYTHON_LIBDIR={sysconfig.get_config_var('LIBDIR')}",
                        f"-DPYTHON_LIBRARY_NAME=python{sysconfig.get_config_var('LDVERSION')}")
     return dest / "build" / "rmwi_c_node"
+
+
+def stop(processes: list[subprocess.Popen], grace: float = 15.0) -> None:
+    """SIGINT to each process group, as Ctrl-C does; SIGKILL to what is left after ``grace``
+    seconds (a loaded machine; a C++ listener once spun for an hour after its SIGINT)."""
+    for process in processes:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGINT)
+    for process in processes:
+        try:
+            process.communicate(timeout=grace)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.communicate()

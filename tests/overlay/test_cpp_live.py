@@ -13,13 +13,12 @@ from __future__ import annotations
 import json
 import os
 import re
-import signal
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
 
 import pytest
-from overlay_support import CPP_EXAMPLES, with_prefix
+from overlay_support import CPP_EXAMPLES, stop, with_prefix
 
 from pytest_rmw_introspect.live import bringup
 
@@ -89,16 +88,3 @@ def test_the_cpp_example_robot_with_its_components_runs_on_fast_dds_as_its_syste
     assert found == [("LIFECYCLE_STATE_CHANGED", "/robot/lifecycle_talker"), ("PUB_REMOVED", "/robot/lifecycle_talker")], \
         result.stdout
     assert any("was in the graph, left out of it: /launch_ros_" in line for line in lines), result.stdout
-
-
-def stop(processes: list[subprocess.Popen]) -> None:
-    """SIGINT to each process group, as Ctrl-C does; SIGKILL to what is left after 15 s (a loaded machine)."""
-    for process in processes:
-        if process.poll() is None:
-            os.killpg(process.pid, signal.SIGINT)
-    for process in processes:
-        try:
-            process.communicate(timeout=15)
-        except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGKILL)
-            process.communicate()

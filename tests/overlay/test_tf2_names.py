@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from overlay_support import REPO, cmake_build, with_prefix
+from overlay_support import REPO, cmake_build, stop, with_prefix
 
 CLI = [sys.executable, "-m", "pytest_rmw_introspect"]
 SOURCES = REPO / "tests" / "overlay" / "tf2_nodes"
@@ -107,8 +107,6 @@ def test_the_tf_programs_run_on_fast_dds_as_their_captures_say(tf2, overlay, tmp
     (``/transform_listener_impl_*``, ``/static_transform_publisher_*``) are matched by the contracts'
     patterns, and nothing differs."""
     import json
-    import os
-    import signal
 
     from pytest_rmw_introspect.live import bringup
 
@@ -133,14 +131,6 @@ def test_the_tf_programs_run_on_fast_dds_as_their_captures_say(tf2, overlay, tmp
                                  timeout=180, check=False)
         assert all(process.poll() is None for process in running), [p.args for p in running if p.poll() is not None]
     finally:
-        for process in running:
-            if process.poll() is None:
-                os.killpg(process.pid, signal.SIGINT)
-        for process in running:
-            try:
-                process.wait(timeout=15)
-            except subprocess.TimeoutExpired:
-                os.killpg(process.pid, signal.SIGKILL)
-                process.wait()
+        stop(running)
         domain.release()
     assert (checked.returncode, json.loads(checked.stdout or "null")) == (0, []), checked.stdout + checked.stderr

@@ -364,7 +364,7 @@ def wait_stable(reader: Reader, settle: float, timeout: float,
         if current != last:
             last, since = current, now
         nodes = len(current[0])
-        missing = sorted(wanted - {_fqn(namespace, name) for name, namespace, _ in current[0]})
+        missing = _missing(wanted, current)
         quiet = settle if not missing else max(settle, ABSENT_AFTER)
         if nodes and now - since >= quiet and now - start >= min(JOIN_WINDOW, timeout):
             return True, now - start, missing
@@ -378,6 +378,11 @@ def wait_stable(reader: Reader, settle: float, timeout: float,
                 what += f"; not seen yet: {_listed(missing)}"
             say(f"waiting for the graph to be stable: {what} ({now - start:.0f} s of at most {timeout:g} s)")
         time.sleep(0.1)
+
+
+def _missing(wanted: Collection[str], signature: tuple) -> list[str]:
+    """The nodes of ``wanted`` (fully qualified names) not in the graph of ``signature``."""
+    return sorted(set(wanted) - {_fqn(namespace, name) for name, namespace, _ in signature[0]})
 
 
 def _listed(names: list[str], most: int = 5) -> str:
@@ -425,7 +430,9 @@ def watch(reader: Reader, args: argparse.Namespace, live: dict[str, Any], identi
                 if newer != current:
                     current, since = newer, time.monotonic()
             last = current
-            answer = snapshot(reader, args, {**live, "settled": True, "waited_s": 0.0}, identifier, parameters=False)
+            # what is missing now, not what was missing at the first answer
+            now = {**live, "settled": True, "waited_s": 0.0, "expected_absent": _missing(args.expect, current)}
+            answer = snapshot(reader, args, now, identifier, parameters=False)
             print(json.dumps(answer if answer is not None else {"live": {**live, "at": time.time()}}), flush=True)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass

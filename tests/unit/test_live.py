@@ -122,6 +122,22 @@ def test_the_reader_waits_for_the_nodes_the_contracts_name_through_a_gap_in_disc
     assert not settled and absent == ["/gone"] and 5.0 <= waited < 5.5
 
 
+def test_each_answer_while_watching_names_the_nodes_missing_then_not_those_missing_at_the_start(monkeypatch):
+    import argparse
+
+    from pytest_rmw_introspect.live import reader
+
+    clock = _FakeClock()
+    monkeypatch.setattr(reader, "time", clock)
+    answers = []
+    monkeypatch.setattr(reader, "snapshot", lambda _r, _a, live, _i, parameters: answers.append(live) or {"live": live})
+    monkeypatch.setattr("builtins.print", lambda *args, **kwargs: None)
+    arrivals = {"/talker": 0.0, "/c_talker": 20.0}  # came late, after the first answer said it was absent
+    args = argparse.Namespace(duration=30.0, settle=1.5, expect=["/talker", "/c_talker", "/gone"])
+    reader.watch(_BurstyGraph(clock, arrivals), args, {"expected_absent": ["/c_talker", "/gone"]}, "rmw_fastrtps_cpp")
+    assert [answer["expected_absent"] for answer in answers] == [["/gone"]]
+
+
 def test_the_nodes_to_wait_for_are_those_a_contract_names_literally(tmp_path):
     from pytest_rmw_introspect.live.check import expected_nodes, load
 

@@ -47,6 +47,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(ROOT / "tests" / "support"))
+import build_identity  # noqa: E402  (shared with the middleware tests' builds: what a build is built from)
+
 TESTS = [
     "test_init_shutdown", "test_init_options", "test_create_destroy_node", "test_publisher",
     "test_subscription", "test_serialize_deserialize", "test_publisher_allocator",
@@ -150,27 +153,6 @@ def checkout_id(path: Path) -> str:
     return head.stdout.strip() + ("+" + hashlib.sha256(diff).hexdigest()[:12] if diff else "")
 
 
-def prefix_id(prefix: Path, is_venv: bool) -> str:
-    """What the suite is built against: a venv's ROS 2 wheels (name-version: every venv made from
-    the same lock has the same ones, wherever it is) and its Python; another prefix by its path
-    and its rmw version."""
-    if is_venv:
-        wheels = sorted(p.name for p in prefix.glob("lib/python3*/site-packages/ros_*.dist-info"))
-        pythons = sorted(p.name for p in prefix.glob("lib/python3*"))
-        return "\n".join([*pythons, *wheels])
-    package_xml = prefix / "share" / "rmw" / "package.xml"
-    return f"{prefix.resolve()}\n" + (hashlib.sha256(package_xml.read_bytes()).hexdigest()
-                                       if package_xml.is_file() else "")
-
-
-def _first_line(cmd: list[str]) -> str:
-    try:
-        out = subprocess.run(cmd, capture_output=True, text=True, timeout=60).stdout
-    except (OSError, subprocess.TimeoutExpired):
-        return ""
-    return (out.splitlines() or [""])[0]
-
-
 def _configured_source(tree: Path) -> str | None:
     """The source directory a CMake build tree was configured for (None: not configured)."""
     cache = tree / "CMakeCache.txt"
@@ -180,14 +162,14 @@ def _configured_source(tree: Path) -> str | None:
     return found.group(1) if found else None
 
 
-def build_key(test_dir: Path, tools_dir: Path, prefix: Path, is_venv: bool) -> str:
+def build_key(test_dir: Path, tools_dir: Path, prefix: Path) -> str:
     """The cache key of a build: what it is built from (the two checkouts' commits and changes,
     the ROS 2 prefix's content, this directory's CMakeLists.txt, the compiler and CMake), not
     where those are: a fresh clone with a new venv of the same lock reuses the build (issue 48)."""
     h = hashlib.sha256()
-    for part in (checkout_id(test_dir), checkout_id(tools_dir), prefix_id(prefix, is_venv),
-                 (HERE / "CMakeLists.txt").read_text(), _first_line(["c++", "--version"]),
-                 _first_line(["cmake", "--version"])):
+    for part in (checkout_id(test_dir), checkout_id(tools_dir), build_identity.prefix_identity(prefix),
+                 (HERE / "CMakeLists.txt").read_text(), build_identity.first_line(["c++", "--version"]),
+                 build_identity.first_line(["cmake", "--version"])):
         h.update(part.encode() + b"\0")
     return h.hexdigest()[:16]
 
@@ -197,7 +179,7 @@ def build(test_dir: Path, tools_dir: Path, prefix: Path, is_venv: bool, python: 
     """Build (incrementally) and return the directory holding the 16 gtest binaries. A complete
     build of the same key (``built.json``, written last) is reused as it is: the binaries find the
     current prefix's libraries through LD_LIBRARY_PATH (library_env), which the run sets."""
-    key = build_key(test_dir, tools_dir, prefix, is_venv)
+    key = build_key(test_dir, tools_dir, prefix)
     root = build_root / key
     tests_build = root / "test_rmw_implementation"
     done = root / "built.json"
@@ -519,7 +501,7 @@ def main(argv: list[str] | None = None) -> int:
         if is_venv:
             ensure_build_wheels(prefix, python)
         if args.no_build:
-            tests_build = args.build_dir / build_key(test_dir, tools_dir, prefix, is_venv) / "test_rmw_implementation"
+            tests_build = args.build_dir / build_key(test_dir, tools_dir, prefix) / "test_rmw_implementation"
         else:
             tests_build = build(test_dir, tools_dir, prefix, is_venv, python, args.build_dir, args.jobs)
         interpose = tests_build.parent / "osrf_testing_tools_cpp-install" / "lib" / \

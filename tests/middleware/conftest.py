@@ -12,6 +12,7 @@ from typing import Any
 
 import pytest
 import rmwi_helpers as h
+from build_identity import prefix_identity, toolchain_identity
 from source_trees import tree_hash
 
 from pytest_rmw_introspect.run import middleware
@@ -21,11 +22,14 @@ SOURCES = REPO / "rmw_introspect_cpp"
 
 
 def _build_key(root: Path) -> str:
-    """A cache key for a build of ``root`` against this environment's ROS prefix: its sources
-    and the prefix (a Jazzy venv, a Kilted venv, a sourced install), so that two environments
-    never reuse, or reconfigure, each other's build."""
-    keyed = h.ament_prefix_path() + "\0" + tree_hash(root)
-    return hashlib.sha256(keyed.encode()).hexdigest()[:16]
+    """A cache key for a build of ``root`` against this environment's ROS prefixes: its sources,
+    what the prefixes hold (a Jazzy venv, a Kilted venv, a sourced install) and the toolchain,
+    not where they are. Two environments never reuse, or reconfigure, each other's build, and a
+    fresh clone's new venv of the same lock reuses the build of the clone before it (issue 48):
+    the binaries find the current venv's libraries through ``LD_LIBRARY_PATH``
+    (``h.ros_environment``), which is searched before the run path they were linked with."""
+    keyed = [tree_hash(root), *(prefix_identity(p) for p in h.ament_prefixes()), toolchain_identity()]
+    return hashlib.sha256("\0".join(keyed).encode()).hexdigest()[:16]
 
 
 def _building(dest: Path) -> Any:

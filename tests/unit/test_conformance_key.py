@@ -48,12 +48,12 @@ def _checkout(where: Path) -> Path:
 def test_the_key_follows_content_not_paths(run: ModuleType, tmp_path: Path) -> None:
     tests, tools = _checkout(tmp_path / "tests"), _checkout(tmp_path / "tools")
     wheels = ["ros_rmw-7.3.2", "ros_rcl-9.2.8"]
-    first = run.build_key(tests, tools, _venv(tmp_path / "clone1" / ".venv", wheels), True)
-    assert run.build_key(tests, tools, _venv(tmp_path / "clone2" / ".venv", wheels), True) == first
+    first = run.build_key(tests, tools, _venv(tmp_path / "clone1" / ".venv", wheels))
+    assert run.build_key(tests, tools, _venv(tmp_path / "clone2" / ".venv", wheels)) == first
     other = _venv(tmp_path / "clone3" / ".venv", ["ros_rmw-7.3.3", "ros_rcl-9.2.8"])
-    assert run.build_key(tests, tools, other, True) != first
+    assert run.build_key(tests, tools, other) != first
     (tests / "a.txt").write_text("changed\n")  # an uncommitted change of the sources
-    assert run.build_key(tests, tools, tmp_path / "clone1" / ".venv", True) != first
+    assert run.build_key(tests, tools, tmp_path / "clone1" / ".venv") != first
 
 
 def test_a_build_tree_of_another_clone_is_recognised(run: ModuleType, tmp_path: Path) -> None:

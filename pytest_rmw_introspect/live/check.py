@@ -274,7 +274,10 @@ def check_contract(path: str | Path, graph: LiveGraph, *, layers: Layers | None 
     items: list[Any] = drift.compare(contract.nodes, actual, options)
     if is_system:
         assert isinstance(contract, SystemContract)
-        processes = [LaunchedProcess(label=fqn, expected=None, nodes={fqn: node}, launched=False)
+        # one process per node (the graph does not say which process started which node); a name
+        # that more than one node has stands for them all: DUPLICATE_NODE_NAME, as on a capture
+        processes = [LaunchedProcess(label=fqn, expected=None, nodes={fqn: node}, launched=False,
+                                     duplicates=(fqn,) * (graph.duplicate_nodes.get(fqn, 1) - 1))
                      for fqn, node in everything.items()]
         items += check_launched(processes, external=contract.external)
     leveled = rule_levels.apply(items, options.rules)  # the project's levels of rules, as check applies them

@@ -66,6 +66,9 @@ class LiveGraph:
     launchers: list[str] = field(default_factory=list)
     #: nodes the contracts name that the graph did not show (waited for, then read without them)
     expected_absent: list[str] = field(default_factory=list)
+    #: names that more than one node in the graph has (fully qualified name: how many); the
+    #: capture holds each name once, with the interfaces of all of them
+    duplicate_nodes: dict[str, int] = field(default_factory=dict)
 
     def describe(self) -> str:
         return f"the running graph of ROS_DOMAIN_ID {self.domain_id} ({self.rmw_implementation})"
@@ -88,6 +91,10 @@ class LiveGraph:
         if self.launchers:
             out.append(f"the node of `ros2 launch` (launch_ros, which drives lifecycle nodes and loads components) was "
                        f"in the graph, left out of it: {', '.join(self.launchers)}")
+        duplicates = {n: c for n, c in self.duplicate_nodes.items() if nodes is None or n in nodes}
+        if duplicates:
+            named = ", ".join(f"{c} nodes named {n}" for n, c in duplicates.items())
+            out.append(f"the graph has {named}: their interfaces are read together, as one node's")
         if parameters:
             out.append(f"parameters not read (the node's parameter services did not answer within "
                        f"{self.settings.parameter_timeout:g} s), not compared: {', '.join(parameters)}")
@@ -208,7 +215,8 @@ def parse_answer(text: str, settings: LiveSettings, *, include_infrastructure: b
                      lifecycle_unanswered=list(live.get("lifecycle_unanswered", [])),
                      environment_notes=notes, at=float(live.get("at", 0.0)),
                      other_readers=list(live.get("other_readers", [])), launchers=list(live.get("launchers", [])),
-                     expected_absent=list(live.get("expected_absent", [])))
+                     expected_absent=list(live.get("expected_absent", [])),
+                     duplicate_nodes={str(k): int(v) for k, v in (live.get("duplicate_nodes") or {}).items()})
 
 
 def watch_graph(settings: LiveSettings, duration: float, *, ros: RosEnvironment | None = None,

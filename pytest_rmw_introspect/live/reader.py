@@ -31,6 +31,7 @@ import os
 import re
 import sys
 import time
+from collections import Counter
 from collections.abc import Collection
 from typing import Any
 
@@ -106,6 +107,8 @@ class Reader:
         #: other live readers seen in the graph (left out like this one)
         self.other_readers: set[str] = set()
         self.launchers: set[str] = set()
+        #: the names more than one node of the last read has (fully qualified name: how many)
+        self.duplicates: dict[str, int] = {}
 
     def spin_once(self, timeout: float) -> None:
         self.executor.spin_once(timeout_sec=timeout)
@@ -143,7 +146,10 @@ class Reader:
     def read(self) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
         """The nodes and endpoints of the graph, as capture records."""
         records: dict[str, dict[str, Any]] = {}
-        for name, namespace, enclave in self.nodes():
+        listed = self.nodes()  # each node once, so two nodes of one name are listed twice
+        named = Counter(_fqn(namespace, name) for name, namespace, _ in listed)
+        self.duplicates = {fqn: count for fqn, count in sorted(named.items()) if count > 1}
+        for name, namespace, enclave in listed:
             fqn = _fqn(namespace, name)
             if fqn not in records:
                 records[fqn] = {"id": len(records) + 1, "seq": len(records) + 1, "name": name, "namespace": namespace,
@@ -406,7 +412,7 @@ def snapshot(reader: Reader, args: argparse.Namespace, live: dict[str, Any], ide
                "rmw_implementation": identifier, "pid": None, "argv": [], "state": "live",
                "nodes": records, "endpoints": endpoints}
     return {"capture": capture, "live": {**live, "at": time.time(), "other_readers": sorted(reader.other_readers),
-                                         "launchers": sorted(reader.launchers)}}
+                                         "launchers": sorted(reader.launchers), "duplicate_nodes": reader.duplicates}}
 
 
 def watch(reader: Reader, args: argparse.Namespace, live: dict[str, Any], identifier: str) -> None:

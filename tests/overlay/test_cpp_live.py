@@ -5,8 +5,10 @@ with the nodes' contracts, which are the recording middleware's captures. Beyond
 a live graph cannot show, the one difference is the lifecycle node nobody drives: a capture drives
 it to `active`, here it stays `unconfigured`, without the publisher it creates on activation.
 The same for the C++ example robot's launch file (a component container, a lifecycle node, an
-action server), run by launch_ros as `ros2 launch` runs it. About 7 s each on a shared 2-core
-machine, the build of the C++ examples aside (shared with the tier)."""
+action server), run by launch_ros as `ros2 launch` runs it. And the tier's timing programs (spin_some
+loops, self-cancelling timers, sleep and WallRate loops, parked threads under sim time), each
+captured and then checked live: no difference at all. About 7 s each on a shared 2-core machine
+(15 s for the timing programs, captured first), the builds aside (shared with the tier)."""
 
 from __future__ import annotations
 
@@ -88,3 +90,43 @@ def test_the_cpp_example_robot_with_its_components_runs_on_fast_dds_as_its_syste
     assert found == [("LIFECYCLE_STATE_CHANGED", "/robot/lifecycle_talker"), ("PUB_REMOVED", "/robot/lifecycle_talker")], \
         result.stdout
     assert any("was in the graph, left out of it: /launch_ros_" in line for line in lines), result.stdout
+
+
+#: the overlay tier's other rclcpp programs (tests/overlay/cpp_polling and tf2_nodes): fixtures of the
+#: capture's settle timing (spin_some loops, self-cancelling timers, sleep_for and WallRate loops,
+#: parked threads under sim time) with no contract files of their own
+POLLING = ["action_poller", "cancelled_timers", "sleep_loop", "wall_rate_loop"]
+
+
+def test_the_overlay_timing_programs_run_on_fast_dds_as_their_captures_say(overlay, tmp_path):
+    """Each program captured on the recording middleware into a node contract, then all of them run
+    on Fast DDS and checked live against those contracts: the warp, the idle proofs and the
+    probes change how a capture waits, not what it records."""
+    from overlay_support import REPO, cmake_build
+
+    polling = cmake_build(overlay, REPO / "tests" / "overlay" / "cpp_polling", "cpp_polling") / "install"
+    programs = [[str(polling / "lib" / "rmwi_cpp_polling" / name)] for name in POLLING]
+    env = overlay.env()
+    if (overlay.install / "share" / "tf2_ros").is_dir():  # late_starter needs tf2_ros in the overlay
+        tf2 = cmake_build(overlay, REPO / "tests" / "overlay" / "tf2_nodes", "tf2_nodes") / "install"
+        programs.append([str(tf2 / "lib" / "rmwi_tf2_nodes" / "late_starter"), "--ros-args", "-p", "use_sim_time:=true"])
+        env = with_prefix(env, tf2)
+    contracts = []
+    for command in programs:
+        contract = tmp_path / f"{os.path.basename(command[0])}.interfaces.yaml"
+        captured = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", "capture", "-o", str(contract), "--",
+                                   *command], env=env, capture_output=True, text=True, timeout=120)
+        assert captured.returncode == 0, captured.stderr
+        contracts.append(contract)
+    domain = bringup.reserve_domain()
+    live_env = bringup.isolated_env(domain.id, env)
+    running = [subprocess.Popen(command, env=live_env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                start_new_session=True) for command in programs]
+    try:
+        result = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", "check", "--live", *map(str, contracts),
+                                 "--format", "json"], env=live_env, capture_output=True, text=True, timeout=180)
+        assert all(p.poll() is None for p in running), [p.args for p in running if p.poll() is not None]
+    finally:
+        stop(running)
+        domain.release()
+    assert result.returncode == 0 and json.loads(result.stdout) == [], result.stdout + result.stderr

@@ -237,7 +237,7 @@ def test_an_empty_answer_while_watching_is_an_empty_graph_and_every_read_note_is
 
     graph = parse_answer('{"live": {"domain_id": 3, "settled": false, "other_readers": ["/_rmw_introspect_live_9"], '
                          '"launchers": ["/launch_ros_12"], "parameters_unanswered": ["/a"], '
-                         '"lifecycle_unanswered": ["/b"]}}', LiveSettings(timeout=7),
+                         '"lifecycle_unanswered": ["/b"], "duplicate_nodes": {"/d": 2}}}', LiveSettings(timeout=7),
                          include_infrastructure=False, notes=[], domain="0")
     assert graph.capture.nodes == {} and graph.domain_id == 3
     notes = graph.notes()
@@ -245,6 +245,7 @@ def test_an_empty_answer_while_watching_is_an_empty_graph_and_every_read_note_is
     assert any("other live readers" in n for n in notes) and any("parameters not read" in n and "/a" in n for n in notes)
     assert any("lifecycle state not read" in n and "/b" in n for n in notes)
     assert any(n.startswith("the node of `ros2 launch`") and n.endswith("left out of it: /launch_ros_12") for n in notes)
+    assert "the graph has 2 nodes named /d: their interfaces are read together, as one node's" in notes
     assert graph.notes(nodes=["/c"]) == notes[:3]  # the rest is about other nodes
 
 

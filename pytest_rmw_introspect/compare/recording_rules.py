@@ -11,6 +11,7 @@ RULES: dict[str, Severity] = {
     "CONTRACT_TOPIC_NOT_RECORDED": Severity.RISKY,
     "RECORDED_TOPIC_SILENT": Severity.RISKY,
     "RECORDED_TOPIC_UNDECLARED": Severity.RISKY,
+    "RECORDED_TOPIC_EXTRA_PUBLISHER": Severity.RISKY,
 }
 #: rule id → what it reports (docs/drift-rules.md, "Compatibility rules")
 SUMMARIES: dict[str, str] = {
@@ -25,5 +26,9 @@ SUMMARIES: dict[str, str] = {
     "RECORDED_TOPIC_UNDECLARED": (
         "`check --bag`: a recorded topic that no contract's publisher declares, nor a system contract's "
         "`external:` publishers"
+    ),
+    "RECORDED_TOPIC_EXTRA_PUBLISHER": (
+        "`check --bag`: the recorder found more publishers of a declared topic than the contracts declare (a node "
+        "they do not know publishes it too)"
     ),
 }

@@ -17,7 +17,10 @@ not which node published. So it is judged by the rules that already exist, on wh
 * what the rules of a recording add (:data:`RULES`, system problems judged with ``system_fail_on``):
   a contract's publisher whose topic is not in the recording (RISKY: a recording may be of a subset
   of the topics), one whose topic was recorded without a message (RISKY: the recorder found a
-  publisher, nothing was published), and a recorded topic no contract declares (RISKY).
+  publisher, nothing was published), a recorded topic no contract declares (RISKY), and a declared
+  topic the recorder found more publishers of than the contracts declare (RISKY: a node they do not
+  know publishes it too; not judged where a pattern node name of ``unstable_names`` declares it,
+  which stands for any number of nodes, nor for an ``external:`` topic).
 
 Infrastructure topics (``/rosout``, ``/parameter_events``) and rosbag2's own
 (``/events/write_split``) are left out unless ``include_infrastructure``; an action's hidden topics
@@ -30,7 +33,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, cast
 
-from ..model import qos
+from ..model import qos, unstable_names
 from ..model.contract_shapes import ContractNode, ContractNodes, InterfaceEntry, QosFields, empty_node
 from ..model.recording import RecordedTopic, Recording
 from ..model.vocabulary import ACTION_LISTS, INFRASTRUCTURE_TOPICS
@@ -196,21 +199,29 @@ def _action_of(name: str) -> str | None:
 def undeclared(recording: Recording, contracts: Sequence[tuple[str, ContractNodes]],
                external: Iterable[Mapping[str, Mapping[str, str]]], options: ComparisonOptions) -> list[CompatItem]:
     """The recorded topics that no contract's publisher declares, nor an ``external:`` block's
-    publishers (an action's hidden topics: no contract's action of that name)."""
+    publishers (an action's hidden topics: no contract's action of that name), and the declared
+    ones the recorder found more publishers of than the contracts declare."""
     published: set[str] = set()
+    publishers: dict[str, list[tuple[str, str]]] = {}  # topic → (node, contract) of each declared publisher
     subscribed: dict[str, list[str]] = {}
     actions: set[str] = set()
     for label, nodes in contracts:
         for fqn, node in nodes.items():
-            published.update(str(e.get("name")) for e in (node or {}).get("publishers") or [])
+            for e in (node or {}).get("publishers") or []:
+                published.add(str(e.get("name")))
+                publishers.setdefault(str(e.get("name")), []).append((fqn, label))
             for e in (node or {}).get("subscriptions") or []:
                 subscribed.setdefault(str(e.get("name")), []).append(f"{fqn} ({label})")
             for kind in ACTION_LISTS:
                 actions.update(str(e.get("name")) for e in (node or {}).get(kind) or [])
+    outside: set[str] = set()
     for block in external:
-        published.update((block or {}).get("publishers") or {})
+        outside.update((block or {}).get("publishers") or {})
+    published |= outside
     items = []
     for topic in recording.topics:
+        if topic.name in published and not is_left_out(topic.name, options) and topic.name not in outside:
+            items += _extra_publishers(recording, topic, publishers.get(topic.name, []))
         if topic.name in published or is_left_out(topic.name, options) or _action_of(topic.name) in actions:
             continue
         count = "no message" if topic.message_count == 0 else (
@@ -224,3 +235,21 @@ def undeclared(recording: Recording, contracts: Sequence[tuple[str, ContractNode
                                 f"the recording holds {topic.name} ({topic.type}, {count}), which no contract's "
                                 f"publisher declares{tail}"))
     return items
+
+
+def _extra_publishers(recording: Recording, topic: RecordedTopic, declared: list[tuple[str, str]]) -> list[CompatItem]:
+    """RECORDED_TOPIC_EXTRA_PUBLISHER when the recorder found more publishers of ``topic`` (one
+    offered QoS profile each) than ``declared`` ((node, contract) of each publisher the contracts
+    declare). Fewer is no finding: rosbag2 keeps the profiles of the publishers it found when it
+    subscribed, not of those that came later. A pattern node name stands for any number of nodes."""
+    if (not declared or len(topic.qos_profiles) <= len(declared)
+            or any(unstable_names.is_pattern_key(fqn) for fqn, _ in declared)):
+        return []
+    end = ContractEndpoint(f"recording {recording.shown}", UNKNOWN_NODE, "publishers")
+    named = ", ".join(f"{fqn} ({label})" for fqn, label in declared)
+    return [CompatItem(
+        "RECORDED_TOPIC_EXTRA_PUBLISHER", RULES["RECORDED_TOPIC_EXTRA_PUBLISHER"], topic.name, end, None,
+        f"the recorder found {len(topic.qos_profiles)} publishers of {topic.name} ({topic.type}); the contracts declare "
+        f"{len(declared)}: {named}. A node they do not know publishes it too (a node started by hand, a "
+        "second instance, a remapping onto this name): give it a contract, or declare it in a system contract's "
+        "`external: publishers`")]

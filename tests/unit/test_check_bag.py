@@ -272,6 +272,24 @@ def test_a_topic_no_contract_declares_is_reported_with_its_count(tmp_path, contr
     assert check("--bag", "rec", "--system-fail-on", "risky", *contracts) == 1
 
 
+def test_a_declared_topic_with_more_publishers_than_declared_names_the_ones_declared(tmp_path, contracts, capsys):
+    """Someone's node publishes /chatter too: the recorder found two publishers, one is declared."""
+    bag(tmp_path, [topic(profiles=[{}, {}])])
+    assert check("--bag", "rec", *contracts) == 0  # RISKY: below system_fail_on (breaking)
+    out = capsys.readouterr().out
+    assert "[RECORDED_TOPIC_EXTRA_PUBLISHER]" in out and "UNDECLARED" not in out
+    assert ("the recorder found 2 publishers of /chatter (std_msgs/msg/String); the contracts declare 1: /talker "
+            "(talker.interfaces.yaml). A node they do not know publishes it too") in out
+    assert check("--bag", "rec", "--system-fail-on", "risky", *contracts) == 1
+    capsys.readouterr()
+    # a second node that declares it, or a pattern name (any number of nodes), accounts for it
+    Path("relay.interfaces.yaml").write_text(TALKER.replace("/talker:", "/relay:"))
+    assert check("--bag", "rec", "--system-fail-on", "risky", *contracts, "relay.interfaces.yaml") == 0
+    Path("talker.interfaces.yaml").write_text(TALKER.replace("/talker:", "/talker_*:\n    unstable_name: one per robot arm"))
+    bag(tmp_path, [topic(profiles=[{}, {}, {}])], name="three")
+    assert check("--bag", "three", "--system-fail-on", "risky", *contracts) == 0, capsys.readouterr().out
+
+
 def test_a_contract_topic_missing_from_the_recording_is_said_risky(tmp_path, contracts, capsys):
     bag(tmp_path, [topic("/other", count=1)])
     assert check("--bag", "rec", "--system-fail-on", "risky", "talker.interfaces.yaml") == 1

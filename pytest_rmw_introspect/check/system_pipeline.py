@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -387,6 +387,8 @@ class LoadedContracts:
     #: the middleware each system contract among them runs on, when it says (``rmw:``, its
     #: ``target: {env:}``), by label
     middlewares: dict[str, str] = field(default_factory=dict)
+    #: the rule levels each file's ``options: rules`` sets, by label
+    rules: dict[str, tuple[rule_levels.RuleLevel, ...]] = field(default_factory=dict)
 
     def middleware(self, option: str | None = None) -> str | None:
         """The middleware whose QoS rules judge these contracts: the one their system contracts
@@ -424,6 +426,7 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
     any_system = False
     external: dict[str, dict[str, str]] = {}
     said: dict[str, str] = {}
+    levels: dict[str, tuple[rule_levels.RuleLevel, ...]] = {}
     paths = list(paths)
     for p in paths:
         path = Path(os.path.expanduser(str(p)))
@@ -446,15 +449,19 @@ def load_any(paths: Iterable[str | Path], *, base_dir: str | Path | None = None)
             acceptance.check_rules(system.accept)
             accept += system.accept
             lines[label] = line_index(system.text)
+            options = system.options
         else:
             contract = contract_module.load(path)
             processes.append(LaunchedProcess(label=label, expected=None, nodes=contract.nodes, launched=False))
             acceptance.check_rules(contract.accept)
             accept += contract.accept
             lines[label] = contract.lines()
+            options = contract.options
+        if options.get("rules"):
+            levels[label] = rule_levels.parse(options["rules"], f"{label}: options")
     if not labels:
         raise UsageError("no contracts given to the compatibility check")
-    return LoadedContracts(labels, processes, any_system, accept, external, lines, said)
+    return LoadedContracts(labels, processes, any_system, accept, external, lines, said, levels)
 
 
 def compatibility_items(loaded: LoadedContracts, *, strict_system_default: bool = False,
@@ -476,19 +483,41 @@ def check_contracts(
     strict_system_default: bool = False,
     base_dir: str | Path | None = None,
     rmw: str | None = None,
+    rules: Sequence[rule_levels.RuleLevel] = (),
 ) -> CompatibilityResult:
     """Load contract files of either kind (:func:`load_any`) and check that their nodes fit
     together (:func:`compatibility_items`), judged by their ``accept:`` entries (an entry accepts
     a problem one of whose ends is in its own file). Labels are the paths as shown (relative to
     the current directory). ``rmw``: the middleware for contracts that do not say (``--rmw``).
     Notes (``compatibility.NOTES``) are kept apart from the problems: they never fail.
-    Raises ContractError, UsageError (no contract given, or system contracts on different
-    middlewares), or OptionError for a bad ``fail_on``."""
+    ``rules``: the command line's rule levels, over each file's ``options: rules``
+    (:func:`levels_by_ends`). Raises ContractError, UsageError (no contract given, or system
+    contracts on different middlewares), or OptionError for a bad ``fail_on`` or rule level."""
     threshold = parse_threshold(fail_on)
     loaded = load_any(contract_paths, base_dir=base_dir)
     items = compatibility_items(loaded, strict_system_default=strict_system_default, rmw=rmw)
-    judged = judge_compatibility([i for i in items if i.rule not in NOTES], loaded.accept, loaded.file_of)
+    leveled = levels_by_ends(items, loaded, rules)
+    notes = [f"{i.name}: {i.message}" for i in leveled.items if i.rule in NOTES and not i.level_set_by]
+    judged = judge_compatibility([i for i in leveled.items if i.rule not in NOTES or i.level_set_by], loaded.accept,
+                                 loaded.file_of)
     return CompatibilityResult(labels=loaded.labels, items=[i for i in judged.kept if isinstance(i, CompatItem)],
                                threshold=threshold, lines=loaded.lines, accepted=judged.accepted,
                                stale=judged.stale, file_of=loaded.file_of,
-                               notes=[f"{i.name}: {i.message}" for i in items if i.rule in NOTES])
+                               notes=[*notes, *([rule_levels.turned_off_text(leveled.off)] if leveled.off else [])])
+
+
+def levels_by_ends(items: Sequence[CompatItem], loaded: LoadedContracts,
+                   rules: Sequence[rule_levels.RuleLevel] = ()) -> rule_levels.Applied:
+    """The problems at the levels the project gives their rules: the command line's ``rules``
+    over the ``options: rules`` of the file of each end (as an ``accept:`` entry applies to a
+    problem one of whose ends is in its file); when the two files set different levels, the more
+    severe (``rule_levels.apply_each``)."""
+    if not rules and not loaded.rules:
+        return rule_levels.Applied(list(items))
+
+    def entries_of(item: CompatItem) -> list[tuple[rule_levels.RuleLevel, ...]]:
+        ends = [item.requester, *([item.provider] if item.provider else [])]
+        files = dict.fromkeys(loaded.file_of(end.label) for end in ends)
+        return [rule_levels.merge(loaded.rules.get(file, ()), rules) for file in files]
+
+    return rule_levels.apply_each(items, entries_of)

@@ -8,6 +8,7 @@ from typing import Any
 
 from ..model.option_tables import COMPARISON
 from ..model.vocabulary import FAIL_ON
+from . import option_flags
 from .arguments import add_baseline, add_format
 from .exit_status import EXIT_DRIFT, EXIT_OK
 
@@ -18,7 +19,9 @@ compatibility (incompatible QoS is BREAKING, possibly incompatible RISKY); a req
 any provider is RISKY. A policy left at SYSTEM_DEFAULT on both ends is not reported unless
 --strict-system-default. QoS is judged for the middleware a system contract says it runs on
 (`rmw:`, or RMW_IMPLEMENTATION in its launch environment), else --rmw, else by the DDS rules.
-Rules: docs/drift-rules.md ("Compatibility rules", "QoS per middleware").
+Rules: docs/drift-rules.md ("Compatibility rules", "QoS per middleware"). A problem gets the
+level a contract's `options: rules` gives its rule in the file of either end (the more severe
+when both set one), under --rule.
 
 --fail-on defaults to `breaking` here (a partial system lacking some publisher is common).
 exit status: 0 compatible (or problems below --fail-on), 1 problems at or above --fail-on,
@@ -39,6 +42,7 @@ def add_parser(sub: Any) -> None:
     rmw = COMPARISON["rmw"]
     com.add_argument(rmw.flag, dest="rmw", default=None, choices=rmw.choices, metavar=rmw.metavar,
                      help=rmw.flag_help() + f": one of {', '.join(rmw.choices)}")
+    option_flags.add(com, [COMPARISON["rules"]])
     add_format(com)
     add_baseline(com)
     com.set_defaults(handler=cmd_compat)
@@ -46,12 +50,15 @@ def add_parser(sub: Any) -> None:
 
 def cmd_compat(args: argparse.Namespace) -> int:
     from ..check import system_pipeline
+    from ..compare import rule_levels
     from . import baselines
     from .emit import Report, emit
 
     baseline = baselines.load(args)
+    rules = rule_levels.parse(args.rules, "command line") if args.rules else ()
     result = system_pipeline.check_contracts(args.contracts, fail_on=args.fail_on,
-                                             strict_system_default=args.strict_system_default, rmw=args.rmw)
+                                             strict_system_default=args.strict_system_default, rmw=args.rmw,
+                                             rules=rules)
     baselines.apply(baseline, result)
     baselines.finish(args, baseline, [result])
     emit(Report(text=result.render_text, data=result.to_json(), compat=result), args.format)

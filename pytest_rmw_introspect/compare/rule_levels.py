@@ -30,7 +30,7 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import fnmatch
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
@@ -191,13 +191,26 @@ def apply(items: Iterable[F], entries: Sequence[RuleLevel]) -> Applied:
     ``level_set_by``) at the levels ``entries`` give them; ``off`` drops an item."""
     if not entries:
         return Applied(list(items))
+    return apply_each(items, lambda item: [entries])
+
+
+def _severest(decided: list[RuleLevel]) -> RuleLevel:
+    return max(decided, key=lambda e: -2 if e.severity is None else int(e.severity))
+
+
+def apply_each(items: Iterable[F], entries_of: Callable[[F], Sequence[Sequence[RuleLevel]]]) -> Applied:
+    """As :func:`apply`, with each item's levels from the layers ``entries_of(item)`` gives (the
+    files of a system problem's two ends, say): the most severe level any of them sets (``off`` the
+    least), so that no file can make light of what another calls serious."""
     out: list[Any] = []
     off = 0
     for item in items:
-        entry = level_of(item.rule, entries)  # type: ignore[attr-defined]
-        if entry is None:
+        decided = [e for entries in entries_of(item) if (e := level_of(item.rule, entries)) is not None]  # type: ignore[attr-defined]
+        if not decided:
             out.append(item)
-        elif entry.severity is None:
+            continue
+        entry = _severest(decided)
+        if entry.severity is None:
             off += 1
         else:
             out.append(dataclasses.replace(item, severity=entry.severity,  # type: ignore[type-var]

@@ -197,6 +197,10 @@ def test_the_projects_rule_levels_apply_to_a_live_graph_as_to_a_capture(tmp_path
     (["check", "--live", "--watch", "--format", "sarif", "c.yaml"], "--format text or json"),
     (["check", "--live", "--watch", "--duration", "0", "c.yaml"], "--duration must be positive"),
     (["check", "--live", "--watch", "--summary", "s.md", "c.yaml"], "--watch takes no --baseline"),
+    (["check", "--watch", "c.yaml"], "--watch, --duration and --parameter-timeout are for a running graph"),
+    (["check", "--parameter-timeout", "3", "c.yaml"], "are for a running graph: give --live too"),
+    (["check", "--live", "--bag", "rec", "c.yaml"], "--live checks the running graph and --bag a recording"),
+    (["capture", "--parameter-timeout", "3", "--script", "n.py"], "--parameter-timeout is for a running graph"),
 ])
 def test_what_the_live_commands_refuse_before_joining_the_graph(tmp_path, monkeypatch, capsys, argv, said):
     from pytest_rmw_introspect import cli

@@ -62,11 +62,16 @@ class Overlay:
 
 
 def find_overlay() -> Overlay | None:
-    """The newest complete overlay in the cache built for this venv's ROS 2 wheels, if any."""
+    """The newest complete overlay in the cache built for this venv's ROS 2 wheels and its Python,
+    if any. (The wheels' names are the same for every Python, so an overlay built for the 3.11 venv
+    was found for the 3.12 one, whose interpreter cannot import its rclpy: its rcl then refused the
+    middleware, and the tier failed instead of saying there is no overlay for this venv.)"""
     root = builder().find_built(Path(sys.prefix))
     if root is None:
         return None
     info = json.loads((root / "overlay.json").read_text())
+    if f"/python{sys.version_info.major}.{sys.version_info.minor}/" not in str(info.get("python_path", "")) + "/":
+        return None
     return Overlay(root, Path(info["prefix"]), info)
 
 

@@ -18,9 +18,10 @@ import re
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import pytest
-from overlay_support import CPP_EXAMPLES, stop, with_prefix
+from overlay_support import CPP_EXAMPLES, REPO, cmake_build, stop, with_prefix
 
 from pytest_rmw_introspect.live import bringup
 
@@ -31,25 +32,34 @@ EXPECTED = {"lifecycle_talker.interfaces.yaml": {"LIFECYCLE_STATE_CHANGED", "PUB
 pytestmark = pytest.mark.timeout(1800)  # the first test of a session may build the C++ examples
 
 
-def test_every_cpp_example_node_runs_on_fast_dds_as_its_capture_says(overlay, cpp_examples):
+def check_running(programs: list[list[str]], contracts: list[Path], env: dict[str, str]) -> tuple[
+        subprocess.CompletedProcess, int]:
+    """``programs`` run on Fast DDS in a domain of their own (localhost discovery), checked live
+    against ``contracts`` in one `check --live --format json` run; every program still running when
+    it ended, then stopped. (The check's result, the domain id.)"""
     domain = bringup.reserve_domain()
-    env = bringup.isolated_env(domain.id, with_prefix(overlay.env(), cpp_examples))
-    nodes = [subprocess.Popen([str(cpp_examples / "lib" / PACKAGE / p.name.removesuffix(".interfaces.yaml"))],
-                              env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-             for p in CONTRACTS]
+    live_env = bringup.isolated_env(domain.id, env)
+    running = [subprocess.Popen(command, env=live_env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                start_new_session=True) for command in programs]
     try:
-        result = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", "check", "--live", *map(str, CONTRACTS),
-                                 "--format", "json"], env=env, capture_output=True, text=True, timeout=180)
-        assert all(node.poll() is None for node in nodes), [node.args for node in nodes if node.poll() is not None]
+        result = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", "check", "--live", *map(str, contracts),
+                                 "--format", "json"], env=live_env, capture_output=True, text=True, timeout=180)
+        assert all(p.poll() is None for p in running), [p.args for p in running if p.poll() is not None]
     finally:
-        stop(nodes)
+        stop(running)
         domain.release()
+    return result, domain.id
+
+
+def test_every_cpp_example_node_runs_on_fast_dds_as_its_capture_says(overlay, cpp_examples):
+    programs = [[str(cpp_examples / "lib" / PACKAGE / p.name.removesuffix(".interfaces.yaml"))] for p in CONTRACTS]
+    result, domain_id = check_running(programs, CONTRACTS, with_prefix(overlay.env(), cpp_examples))
     assert result.returncode == 1, result.stdout + result.stderr
     found: dict[str, set[str]] = {}
     for item in json.loads(result.stdout):
         found.setdefault(os.path.basename(item["contract"]), set()).add(item["rule"])
     assert found == EXPECTED, (found, result.stderr)
-    assert f"joined ROS_DOMAIN_ID {domain.id} on rmw_fastrtps_cpp" in result.stderr, result.stderr
+    assert f"joined ROS_DOMAIN_ID {domain_id} on rmw_fastrtps_cpp" in result.stderr, result.stderr
 
 
 #: launch_ros's own LaunchService runs a launch file as `ros2 launch` does (the overlay has launch_ros)
@@ -102,8 +112,6 @@ def test_the_overlay_timing_programs_run_on_fast_dds_as_their_captures_say(overl
     """Each program captured on the recording middleware into a node contract, then all of them run
     on Fast DDS and checked live against those contracts: the warp, the idle proofs and the
     probes change how a capture waits, not what it records."""
-    from overlay_support import REPO, cmake_build
-
     polling = cmake_build(overlay, REPO / "tests" / "overlay" / "cpp_polling", "cpp_polling") / "install"
     programs = [[str(polling / "lib" / "rmwi_cpp_polling" / name)] for name in POLLING]
     env = overlay.env()
@@ -118,15 +126,5 @@ def test_the_overlay_timing_programs_run_on_fast_dds_as_their_captures_say(overl
                                    *command], env=env, capture_output=True, text=True, timeout=120)
         assert captured.returncode == 0, captured.stderr
         contracts.append(contract)
-    domain = bringup.reserve_domain()
-    live_env = bringup.isolated_env(domain.id, env)
-    running = [subprocess.Popen(command, env=live_env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                                start_new_session=True) for command in programs]
-    try:
-        result = subprocess.run([sys.executable, "-m", "pytest_rmw_introspect", "check", "--live", *map(str, contracts),
-                                 "--format", "json"], env=live_env, capture_output=True, text=True, timeout=180)
-        assert all(p.poll() is None for p in running), [p.args for p in running if p.poll() is not None]
-    finally:
-        stop(running)
-        domain.release()
+    result, _ = check_running(programs, contracts, env)
     assert result.returncode == 0 and json.loads(result.stdout) == [], result.stdout + result.stderr

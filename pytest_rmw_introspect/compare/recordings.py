@@ -201,14 +201,12 @@ def undeclared(recording: Recording, contracts: Sequence[tuple[str, ContractNode
     """The recorded topics that no contract's publisher declares, nor an ``external:`` block's
     publishers (an action's hidden topics: no contract's action of that name), and the declared
     ones the recorder found more publishers of than the contracts declare."""
-    published: set[str] = set()
     publishers: dict[str, list[tuple[str, str]]] = {}  # topic → (node, contract) of each declared publisher
     subscribed: dict[str, list[str]] = {}
     actions: set[str] = set()
     for label, nodes in contracts:
         for fqn, node in nodes.items():
             for e in (node or {}).get("publishers") or []:
-                published.add(str(e.get("name")))
                 publishers.setdefault(str(e.get("name")), []).append((fqn, label))
             for e in (node or {}).get("subscriptions") or []:
                 subscribed.setdefault(str(e.get("name")), []).append(f"{fqn} ({label})")
@@ -217,7 +215,7 @@ def undeclared(recording: Recording, contracts: Sequence[tuple[str, ContractNode
     outside: set[str] = set()
     for block in external:
         outside.update((block or {}).get("publishers") or {})
-    published |= outside
+    published = set(publishers) | outside
     items = []
     for topic in recording.topics:
         if topic.name in published and not is_left_out(topic.name, options) and topic.name not in outside:

@@ -11,10 +11,13 @@ where the recording middleware sees it settle, whatever the middleware answers a
 server (an action server counts as ready only when its three services are available *and*
 its feedback and status topics have publishers).
 
-Once the goal is accepted it asks for the result, and asks again every two seconds until the
-answer comes: on DDS a service response can be lost when it is sent before the server has
-matched the client's response reader (seen once in this package's smoke test: all the
-feedback arrived, the result never did). A result request is idempotent; the first answer wins.
+Both of its requests are asked again until they are answered: on DDS a service response can be
+lost when it is sent before the server has matched the client's response reader (seen in this
+package's smoke test: all the feedback arrived, the result never did; and in this project's CI,
+where the goal's answer never came). The goal is sent again, as a new goal, when no answer comes
+within five seconds (the first accepted goal wins; the server finishes any other one on its
+own), and the result is asked for every two seconds until it comes (a result request is
+idempotent; the first answer wins).
 
 Parameter: ``order`` (int, ``10``).
 """
@@ -25,6 +28,9 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.task import Future
 from test_msgs.action import Fibonacci
+
+#: seconds to wait for the server's answer to a goal before sending the goal again
+GOAL_ANSWER_TIMEOUT = 5.0
 
 
 class FibonacciClient(Node):
@@ -37,6 +43,7 @@ class FibonacciClient(Node):
         self._action_client = ActionClient(self, Fibonacci, 'fibonacci')
         self._wait_timer = self.create_timer(0.5, self._send_goal_when_ready)
         self._goal_handle = None
+        self._goal_timer = None
         self._result_timer = None
 
     def _send_goal_when_ready(self):
@@ -45,6 +52,13 @@ class FibonacciClient(Node):
                 'waiting for the fibonacci action server...', throttle_duration_sec=5.0)
             return
         self._wait_timer.cancel()
+        self._goal_timer = self.create_timer(GOAL_ANSWER_TIMEOUT, self._send_goal)
+        self._send_goal()
+
+    def _send_goal(self):
+        if self._goal_handle is not None or self.result.done():
+            self._goal_timer.cancel()
+            return
         self.get_logger().info(f'Sending goal: order {self.order}')
         self._action_client.send_goal_async(
             Fibonacci.Goal(order=self.order), feedback_callback=self._on_feedback,
@@ -52,6 +66,9 @@ class FibonacciClient(Node):
 
     def _on_goal_response(self, goal_future):
         goal_handle = goal_future.result()
+        if self._goal_handle is not None or self.result.done():
+            return  # a goal sent again: the first answer counts
+        self._goal_timer.cancel()
         if not goal_handle.accepted:
             self.get_logger().warn('Goal rejected')
             self.result.set_result(None)

@@ -9,6 +9,11 @@ client sends its request and then waits for an answer that never comes: the proc
 while it waits, and the capture holds everything it created. With a real middleware and a
 running ``motor_enable_server`` it prints the answer and exits.
 
+It asks again when no answer comes within five seconds: on DDS a response is lost when the
+server sends it before it has matched this client's response reader (Fast DDS waits 100 ms for
+that match, and discovery on a loaded machine can take longer; seen in this project's CI, where
+the client then waited forever). Setting the motors is idempotent, so asking twice is safe.
+
 Parameter: ``enable`` (bool, ``true``): the value to request.
 """
 
@@ -16,6 +21,9 @@ import rclpy
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from std_srvs.srv import SetBool
+
+#: seconds to wait for an answer before asking again
+ANSWER_TIMEOUT = 5.0
 
 
 class MotorEnableClient(Node):
@@ -31,14 +39,23 @@ class MotorEnableClient(Node):
             self.get_logger().info(f'{self.client.srv_name} not available, waiting...')
         return self.client.call_async(SetBool.Request(data=self.enable))
 
+    def call_until_answered(self):
+        """Call the server and wait for its answer, asking again after ``ANSWER_TIMEOUT``."""
+        while True:
+            future = self.call()
+            rclpy.spin_until_future_complete(self, future, timeout_sec=ANSWER_TIMEOUT)
+            if future.done():
+                return future.result()
+            self.client.remove_pending_request(future)
+            self.get_logger().warn(
+                f'no answer from {self.client.srv_name} in {ANSWER_TIMEOUT:.0f} s, asking again')
+
 
 def main(args=None):
     rclpy.init(args=args)
     node = MotorEnableClient()
     try:
-        future = node.call()
-        rclpy.spin_until_future_complete(node, future)
-        response = future.result()
+        response = node.call_until_answered()
         node.get_logger().info(f'success={response.success}: {response.message}')
     except (KeyboardInterrupt, ExternalShutdownException):
         pass

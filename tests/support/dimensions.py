@@ -184,8 +184,34 @@ def selected(nodeid: str, select: tuple[str, ...]) -> bool:
     return False
 
 
+#: pytest options under which a green exit is no full run: nothing runs, or only a part does
+PARTIAL_RUN_OPTIONS = {"collectonly": "--collect-only", "setuponly": "--setup-only", "setupplan": "--setup-plan",
+                       "lf": "--last-failed", "stepwise": "--stepwise", "stepwise_skip": "--stepwise-skip"}
+
+
+def not_a_full_run(options: Any, ran: int) -> str | None:
+    """Why a green exit of a tier that was to run in full must not be recorded as a full run (a
+    collection alone once recorded one, and the next CI then ran the selection), or None."""
+    for dest, flag in PARTIAL_RUN_OPTIONS.items():
+        if getattr(options, dest, False):
+            return f"{flag} runs no test or a part of them"
+    return None if ran else "no test ran"
+
+
+class _Ran:
+    """Counts the tests that ran (their call reports: in the xdist controller, its workers')."""
+
+    def __init__(self) -> None:
+        self.count = 0
+
+    def pytest_runtest_logreport(self, report: pytest.TestReport) -> None:
+        if report.when == "call":
+            self.count += 1
+
+
 # ---------------------------------------------------------------------------- the pytest plugin
 _DECISION = pytest.StashKey[tuple[Dimension, Decision]]()
+_RAN = pytest.StashKey[_Ran]()
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -208,6 +234,8 @@ def pytest_configure(config: pytest.Config) -> None:
     decision = decide(ROOT, dimension, _run_options(config), record_dir(),
                       force=os.environ.get(FORCE_FULL) == "1")
     config.stash[_DECISION] = (dimension, decision)
+    config.stash[_RAN] = _Ran()
+    config.pluginmanager.register(config.stash[_RAN], "rmwi-dimension-ran")
 
 
 def pytest_report_header(config: pytest.Config) -> str | None:
@@ -237,6 +265,11 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
         return
     dimension, decision = config.stash[_DECISION]
     whole = config.args_source != pytest.Config.ArgsSource.ARGS  # no paths of the caller's own
-    if decision.full and exitstatus == 0 and whole:
-        path = record(record_dir(), dimension, decision)
-        config.get_terminal_writer().line(f"dimension {dimension.name}: a green full run recorded ({path})")
+    if not (decision.full and exitstatus == 0 and whole):
+        return
+    why_not = not_a_full_run(config.option, config.stash[_RAN].count)
+    if why_not:
+        config.get_terminal_writer().line(f"dimension {dimension.name}: no full run recorded: {why_not}")
+        return
+    path = record(record_dir(), dimension, decision)
+    config.get_terminal_writer().line(f"dimension {dimension.name}: a green full run recorded ({path})")

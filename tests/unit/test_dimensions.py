@@ -4,6 +4,7 @@ the code moves."""
 
 from __future__ import annotations
 
+import argparse
 import ast
 import os
 import time
@@ -141,3 +142,14 @@ def test_every_module_using_what_a_dimension_is_about_makes_it_run_in_full(name:
                and path.relative_to(ROOT).as_posix() not in covered]
     assert not missing, f"tests/dimensions.toml [{name}]: add to full_when (they import " \
                         f"{', '.join(dimension.sensitive_imports)}): {missing}"
+
+
+def test_a_green_exit_that_ran_nothing_or_a_part_is_no_full_run():
+    """A collection alone once recorded a full Kilted run, and the next CI ran the selection."""
+    options = argparse.Namespace(collectonly=False, setuponly=False, setupplan=False, lf=False, stepwise=False,
+                                 stepwise_skip=False)
+    assert dimensions.not_a_full_run(options, ran=818) is None
+    assert dimensions.not_a_full_run(options, ran=0) == "no test ran"
+    for dest, flag in dimensions.PARTIAL_RUN_OPTIONS.items():
+        why = dimensions.not_a_full_run(argparse.Namespace(**{**vars(options), dest: True}), ran=818)
+        assert why and flag in why, dest

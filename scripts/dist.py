@@ -45,8 +45,16 @@ def run(cmd: list[str], **kwargs) -> subprocess.CompletedProcess[str]:
     return subprocess.run(cmd, check=True, text=True, **kwargs)
 
 
+def venv_dir(distro: str) -> Path:
+    """The venv of ``make bootstrap DISTRO=<distro>``: Python 3.11's, else 3.12's (.ci/run makes
+    Kilted's on 3.12; the library does not depend on the Python), else where 3.11's would be."""
+    base = ".venv" if distro == "jazzy" else f".venv-{distro}"
+    found = [ROOT / name for name in (base, f"{base}-py312") if (ROOT / name / "bin" / "python").is_file()]
+    return found[0] if found else ROOT / base
+
+
 def venv_python(distro: str) -> Path:
-    return ROOT / (".venv" if distro == "jazzy" else f".venv-{distro}") / "bin" / "python"
+    return venv_dir(distro) / "bin" / "python"
 
 
 def needed(library: Path) -> list[str]:

@@ -2,12 +2,23 @@
 
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 
-#: the ROS 2 Kilted venv of `make bootstrap DISTRO=kilted` (.ci/run makes it before the slow tier)
-KILTED_VENV = ROOT / ".venv-kilted"
+
+def _dist_script():
+    """scripts/dist.py, which the wheel fixture runs: the venvs it builds each library with."""
+    spec = importlib.util.spec_from_file_location("rmwi_dist_script", ROOT / "scripts" / "dist.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+#: the ROS 2 Kilted venv of `make bootstrap DISTRO=kilted` (Python 3.11's, else 3.12's: .ci/run's
+#: kilted tier makes that one before the slow tier)
+KILTED_VENV = _dist_script().venv_dir("kilted")
 
 
 def wheel_distros() -> list[str]:

@@ -11,9 +11,14 @@ files, the dimension's own definition, the Python that runs it and the run's ``-
 any such file, on any branch, runs the tier in full once more.
 
     pytest --dimension python ...       # the tier of .ci/run: selected or full, as above
+    pytest --dimension python --dimension distro ...   # one tier for two dimensions (below)
     RMWI_DIMENSION_FULL=1 pytest --dimension python ...   # in full, whatever the record
 
-Without ``--dimension`` nothing changes. The selection stays honest as the code moves because
+One tier may run several dimensions (Kilted on Python 3.12 is both another distribution and
+another Python): it runs the union of their selections, or in full when any of them must, and
+a green full run is recorded for each. A dimension with no ``full_when`` (``full_run`` says
+where its full run happens instead) always runs its selection. Without ``--dimension`` nothing
+changes. The selection stays honest as the code moves because
 ``tests/unit/test_dimensions.py`` fails when a package module imports a library a dimension
 is about (``sensitive_imports``) without being under that dimension's ``full_when``, or when a
 ``select`` entry names no test.
@@ -52,13 +57,15 @@ class Dimension:
     select: tuple[str, ...]
     full_when: tuple[str, ...]
     sensitive_imports: tuple[str, ...]
+    #: where the dimension's full run happens when it has none of its own (no ``full_when``)
+    full_run: str = ""
 
 
 def load(path: Path = DEFINITIONS) -> dict[str, Dimension]:
     """The dimensions of ``tests/dimensions.toml``, by name."""
     data = tomllib.loads(path.read_text(encoding="utf-8"))
     return {name: Dimension(name, table["title"], tuple(table["select"]), tuple(table["full_when"]),
-                            tuple(table.get("sensitive_imports", ())))
+                            tuple(table.get("sensitive_imports", ())), table.get("full_run", ""))
             for name, table in data.items()}
 
 
@@ -130,6 +137,9 @@ def decide(root: Path, dimension: Dimension, run: dict[str, Any], records: Path,
     run_key = key(dimension, files, run)
     head = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"], capture_output=True, text=True)
     commit = head.stdout.strip() if head.returncode == 0 else ""
+    if not dimension.full_when:
+        return Decision(False, f"selected: it has no full run of its own ({dimension.full_run})", run_key, files,
+                        commit)
     if force:
         return Decision(True, f"in full ({FORCE_FULL}=1)", run_key, files, commit)
     if (records / f"{dimension.name}-{run_key}.json").is_file():
@@ -189,9 +199,11 @@ PARTIAL_RUN_OPTIONS = {"collectonly": "--collect-only", "setuponly": "--setup-on
                        "lf": "--last-failed", "stepwise": "--stepwise", "stepwise_skip": "--stepwise-skip"}
 
 
-def not_a_full_run(options: Any, ran: int) -> str | None:
+def not_a_full_run(options: Any, ran: int, paths_given: bool = False) -> str | None:
     """Why a green exit of a tier that was to run in full must not be recorded as a full run (a
     collection alone once recorded one, and the next CI then ran the selection), or None."""
+    if paths_given:
+        return "paths on the command line run a part of the tier"
     for dest, flag in PARTIAL_RUN_OPTIONS.items():
         if getattr(options, dest, False):
             return f"{flag} runs no test or a part of them"
@@ -199,7 +211,8 @@ def not_a_full_run(options: Any, ran: int) -> str | None:
 
 
 class _Ran:
-    """Counts the tests that ran (their call reports: in the xdist controller, its workers')."""
+    """Counts the tests that ran (their call reports: in the xdist controller, its workers'). The
+    terminal reporter's stats hold the same counts, but not under ``-p no:terminal``."""
 
     def __init__(self) -> None:
         self.count = 0
@@ -210,14 +223,17 @@ class _Ran:
 
 
 # ---------------------------------------------------------------------------- the pytest plugin
-_DECISION = pytest.StashKey[tuple[Dimension, Decision]]()
+_DECISIONS = pytest.StashKey[list[tuple[Dimension, Decision]]]()
 _RAN = pytest.StashKey[_Ran]()
+#: what the end of the run says of its records (written in the terminal summary, on a line of its own)
+_RECORDED = pytest.StashKey[list[str]]()
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
-    parser.addoption("--dimension", default=None, choices=sorted(load()),
+    parser.addoption("--dimension", action="append", default=[], choices=sorted(load()),
                      help="run a CI dimension's tier: its selection of tests/dimensions.toml, or in full "
-                          "when a file it depends on changed since its last green full run here")
+                          "when a file it depends on changed since its last green full run here "
+                          "(repeat it for a tier that covers several dimensions)")
 
 
 def _run_options(config: pytest.Config) -> dict[str, Any]:
@@ -227,33 +243,42 @@ def _run_options(config: pytest.Config) -> dict[str, Any]:
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    name = config.getoption("--dimension", None)
-    if not name:
+    names = list(dict.fromkeys(config.getoption("--dimension", None) or []))
+    if not names:
         return
-    dimension = load()[name]
-    decision = decide(ROOT, dimension, _run_options(config), record_dir(),
-                      force=os.environ.get(FORCE_FULL) == "1")
-    config.stash[_DECISION] = (dimension, decision)
+    defined = load()
+    force = os.environ.get(FORCE_FULL) == "1"
+    config.stash[_DECISIONS] = [(defined[name], decide(ROOT, defined[name], _run_options(config), record_dir(),
+                                                       force=force and bool(defined[name].full_when)))
+                                for name in names]
     config.stash[_RAN] = _Ran()
+    config.stash[_RECORDED] = []
     config.pluginmanager.register(config.stash[_RAN], "rmwi-dimension-ran")
 
 
-def pytest_report_header(config: pytest.Config) -> str | None:
-    if _DECISION not in config.stash:
+def _in_full(config: pytest.Config) -> list[str]:
+    """The dimensions of this run that must run in full (the tier then runs in full)."""
+    return [dimension.name for dimension, decision in config.stash[_DECISIONS] if decision.full]
+
+
+def pytest_report_header(config: pytest.Config) -> list[str] | None:
+    if _DECISIONS not in config.stash:
         return None
-    dimension, decision = config.stash[_DECISION]
-    return f"dimension {dimension.name} ({dimension.title}): {decision.why}"
+    full = _in_full(config)
+    lines = []
+    for dimension, decision in config.stash[_DECISIONS]:
+        also = f"; the tier runs in full for {', '.join(full)}" if full and not decision.full else ""
+        lines.append(f"dimension {dimension.name} ({dimension.title}): {decision.why}{also}")
+    return lines
 
 
 @pytest.hookimpl(trylast=True)
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    if _DECISION not in config.stash:
+    if _DECISIONS not in config.stash or _in_full(config):
         return
-    dimension, decision = config.stash[_DECISION]
-    if decision.full:
-        return
-    kept = [item for item in items if selected(item.nodeid, dimension.select)]
-    dropped = [item for item in items if not selected(item.nodeid, dimension.select)]
+    select = tuple(entry for dimension, _ in config.stash[_DECISIONS] for entry in dimension.select)
+    kept = [item for item in items if selected(item.nodeid, select)]
+    dropped = [item for item in items if not selected(item.nodeid, select)]
     if dropped:
         config.hook.pytest_deselected(items=dropped)
         items[:] = kept
@@ -261,15 +286,23 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     config = session.config
-    if _DECISION not in config.stash or hasattr(config, "workerinput"):
+    if _DECISIONS not in config.stash or hasattr(config, "workerinput"):
         return
-    dimension, decision = config.stash[_DECISION]
-    whole = config.args_source != pytest.Config.ArgsSource.ARGS  # no paths of the caller's own
-    if not (decision.full and exitstatus == 0 and whole):
+    if not (_in_full(config) and exitstatus == 0):
         return
-    why_not = not_a_full_run(config.option, config.stash[_RAN].count)
-    if why_not:
-        config.get_terminal_writer().line(f"dimension {dimension.name}: no full run recorded: {why_not}")
-        return
-    path = record(record_dir(), dimension, decision)
-    config.get_terminal_writer().line(f"dimension {dimension.name}: a green full run recorded ({path})")
+    said = config.stash[_RECORDED]
+    why_not = not_a_full_run(config.option, config.stash[_RAN].count,
+                             paths_given=config.args_source == pytest.Config.ArgsSource.ARGS)
+    for dimension, decision in config.stash[_DECISIONS]:
+        if not dimension.full_when:
+            continue
+        if why_not:
+            said.append(f"dimension {dimension.name}: no full run recorded: {why_not}")
+        else:
+            said.append(f"dimension {dimension.name}: a green full run recorded "
+                        f"({record(record_dir(), dimension, decision)})")
+
+
+def pytest_terminal_summary(terminalreporter: Any, exitstatus: int, config: pytest.Config) -> None:
+    for line in config.stash.get(_RECORDED, []):
+        terminalreporter.write_line(line)

@@ -97,11 +97,26 @@ def test_selection_by_directory_file_and_node_id():
 
 
 # ---------------------------------------------------------------------------- honesty of the file
-def test_the_three_dimensions_of_ci_are_defined_and_ci_runs_them():
-    assert set(DEFINED) == {"python", "deps", "distro"}
+def test_the_dimensions_of_ci_are_defined_and_ci_runs_them():
+    assert set(DEFINED) == {"python", "deps", "distro", "jazzy-py312"}
     ci = (ROOT / ".ci" / "run").read_text()
     for name in DEFINED:
         assert f"--dimension {name}" in ci, f".ci/run runs no tier with --dimension {name}"
+
+
+@pytest.mark.parametrize("name", sorted(DEFINED))
+def test_a_dimension_without_a_full_run_of_its_own_says_where_it_happens(name: str):
+    dimension = DEFINED[name]
+    assert bool(dimension.full_when) != bool(dimension.full_run), \
+        f"tests/dimensions.toml [{name}]: give either full_when or full_run (where its full run happens)"
+
+
+def test_a_dimension_without_full_when_always_runs_its_selection(tree: Path, tmp_path_factory):
+    records = tmp_path_factory.mktemp("records")
+    dimension = _dimension(full_when=(), full_run="in the kilted tier")
+    for force in (False, True):
+        decision = dimensions.decide(tree, dimension, RUN, records, force=force)
+        assert not decision.full and "no full run of its own (in the kilted tier)" in decision.why
 
 
 @pytest.mark.parametrize("name", sorted(DEFINED))
@@ -153,3 +168,55 @@ def test_a_green_exit_that_ran_nothing_or_a_part_is_no_full_run():
     for dest, flag in dimensions.PARTIAL_RUN_OPTIONS.items():
         why = dimensions.not_a_full_run(argparse.Namespace(**{**vars(options), dest: True}), ran=818)
         assert why and flag in why, dest
+    assert "paths on the command line" in dimensions.not_a_full_run(options, ran=818, paths_given=True)
+
+
+# ---------------------------------------------------------------------------- one tier, two dimensions
+_TESTS = {"tests/middleware/test_python_nodes.py": "def test_node():\n    pass\n",  # jazzy-py312's
+          "tests/cli/test_cli_capture.py": "def test_capture():\n    pass\n",  # python's
+          "tests/cmake/test_ctest.py": "def test_ctest():\n    pass\n"}  # nobody's
+
+
+@pytest.fixture
+def suite(pytester: pytest.Pytester, tmp_path_factory, monkeypatch) -> pytest.Pytester:
+    for path, text in _TESTS.items():
+        (pytester.path / path).parent.mkdir(parents=True, exist_ok=True)
+        (pytester.path / path).write_text(text)
+    monkeypatch.setenv("RMW_INTROSPECT_CACHE", str(tmp_path_factory.mktemp("cache")))
+    monkeypatch.delenv(dimensions.FORCE_FULL, raising=False)
+    return pytester
+
+
+#: in-process runs of files named like the suite's own: importlib mode keeps them apart in sys.modules
+_IN_PROCESS = ("-p", "dimensions", "-p", "no:cacheprovider", "--import-mode=importlib")
+
+
+def _run(suite: pytest.Pytester, *names: str) -> pytest.RunResult:
+    return suite.runpytest_inprocess(*_IN_PROCESS, *(f"--dimension={name}" for name in names))
+
+
+def test_a_tier_of_two_dimensions_runs_in_full_for_either_and_records_each(suite: pytest.Pytester):
+    """The kilted tier is Kilted and Python 3.12 at once: in full while either must be, then the
+    union of their selections; a dimension with no full run of its own records nothing."""
+    alone = _run(suite, "jazzy-py312")
+    alone.assert_outcomes(passed=1, deselected=2)
+    alone.stdout.fnmatch_lines(["dimension jazzy-py312 (*): selected: it has no full run of its own (*)"])
+    assert "recorded" not in alone.stdout.str()
+
+    first = _run(suite, "jazzy-py312", "python")
+    first.assert_outcomes(passed=3)
+    first.stdout.fnmatch_lines(["dimension jazzy-py312 (*): selected: *; the tier runs in full for python",
+                                "dimension python (*): in full: no full run recorded*"])
+    # the record's line is a line of its own, after the tests' progress
+    first.stdout.re_match_lines([r"^dimension python: a green full run recorded \(.*python-\w+\.json\)$"])
+    assert "dimension jazzy-py312: a green full run" not in first.stdout.str()
+
+    again = _run(suite, "jazzy-py312", "python")
+    again.assert_outcomes(passed=2, deselected=1)
+    again.stdout.fnmatch_lines(["dimension python (*): selected: a full run passed on this machine*"])
+
+
+def test_a_tier_run_with_paths_of_its_own_records_no_full_run_and_says_why(suite: pytest.Pytester):
+    result = suite.runpytest_inprocess(*_IN_PROCESS, "--dimension=python", "tests/cmake")
+    result.assert_outcomes(passed=1)
+    result.stdout.fnmatch_lines(["dimension python: no full run recorded: paths on the command line run a part*"])

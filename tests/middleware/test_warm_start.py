@@ -31,6 +31,17 @@ def capture(**options):
     return runner.run(TargetSpec.from_mapping(options), warm_wait=60.0)
 
 
+@pytest.fixture(autouse=True)
+def _room_for_servers_of_their_own():
+    """Tests here start servers for environments of their own (``LC_RMWI_TEST=...``), and a runner
+    keeps at most warm.MAX_SERVERS, ending one only after it idled IDLE_BEFORE_EVICTION: the servers
+    other tests of this worker started seconds before would leave no room, and the test's target
+    would start cold (CI's Jazzy-on-3.12 selection ran four such tests in a row on one worker).
+    End them when fewer than two more would fit."""
+    if len(warm.POOL.servers()) > warm.MAX_SERVERS - 2:
+        warm.shutdown()
+
+
 def test_each_capture_reads_its_own_settings_after_the_fork():
     server = w.server_for()
     fast = capture(script=TALKER, settle=0.05, horizon=0)

@@ -88,10 +88,13 @@ PRELOAD_TYPES = (
     "std_msgs/msg/String",  # loads std_msgs' C type support: the package most nodes use
 )
 #: seconds an ``os._exit()`` of the target waits at most for the capture the middleware has pending
-PENDING_CAPTURE_WAIT = 1.0
+PENDING_CAPTURE_WAIT = 2.0
 #: the middleware writes a progress snapshot 20 ms after its last change (rmw_introspect_cpp's
-#: session): a capture file left unchanged this long after a write is the last one to come
-CAPTURE_QUIET = 0.06
+#: session): a capture file left unchanged this long after a write is the last one to come. Not
+#: 20 ms: a snapshot taken before the node was created can land just after os._exit() is called,
+#: and on a loaded 2-core machine the writer thread may wait well over 60 ms to write the next
+#: (a fresh-clone CI read "no node created" from such a warm os._exit target, 2026-12-08)
+CAPTURE_QUIET = 0.25
 MAX_MESSAGE = 1 << 20
 SPAWN_FDS = 4  # reply socket, stdin, stdout, stderr
 _PR_SET_PDEATHSIG = 1
